@@ -1,0 +1,95 @@
+//! Triangle meshes (indexed, structure of arrays) and axis-aligned bounds.
+
+use glam::{Vec2, Vec3};
+
+/// An indexed triangle mesh in world space.
+#[derive(Clone, Debug, Default)]
+pub struct Mesh {
+    /// Vertex positions [scene units].
+    pub positions: Vec<Vec3>,
+    /// Triangles as indices into `positions`.
+    pub indices: Vec<[u32; 3]>,
+    /// Optional per-vertex shading normals (unit).
+    pub normals: Option<Vec<Vec3>>,
+    /// Optional per-vertex texture coordinates.
+    pub uvs: Option<Vec<Vec2>>,
+}
+
+impl Mesh {
+    /// A mesh from positions and triangles.
+    pub fn new(positions: Vec<Vec3>, indices: Vec<[u32; 3]>) -> Self {
+        Self { positions, indices, normals: None, uvs: None }
+    }
+
+    /// Number of triangles.
+    pub fn len(&self) -> usize {
+        self.indices.len()
+    }
+
+    /// True when the mesh has no triangles.
+    pub fn is_empty(&self) -> bool {
+        self.indices.is_empty()
+    }
+
+    /// The three vertices of triangle `i`.
+    #[inline]
+    pub fn triangle(&self, i: usize) -> [Vec3; 3] {
+        let [a, b, c] = self.indices[i];
+        [self.positions[a as usize], self.positions[b as usize], self.positions[c as usize]]
+    }
+
+    /// Area of triangle `i` [scene units²].
+    pub fn triangle_area(&self, i: usize) -> f32 {
+        let [a, b, c] = self.triangle(i);
+        0.5 * (b - a).cross(c - a).length()
+    }
+
+    /// Total surface area.
+    pub fn area(&self) -> f32 {
+        (0..self.len()).map(|i| self.triangle_area(i)).sum()
+    }
+
+    /// Bounds of all vertices.
+    pub fn bounds(&self) -> Bounds3 {
+        self.positions.iter().fold(Bounds3::EMPTY, |b, &p| b.union_point(p))
+    }
+}
+
+/// An axis-aligned box.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Bounds3 {
+    /// Lower corner.
+    pub min: Vec3,
+    /// Upper corner.
+    pub max: Vec3,
+}
+
+impl Bounds3 {
+    /// The empty box (union identity).
+    pub const EMPTY: Self = Self { min: Vec3::splat(f32::INFINITY), max: Vec3::splat(f32::NEG_INFINITY) };
+
+    /// Grows the box to contain `p`.
+    pub fn union_point(self, p: Vec3) -> Self {
+        Self { min: self.min.min(p), max: self.max.max(p) }
+    }
+
+    /// Smallest box containing both.
+    pub fn union(self, o: Self) -> Self {
+        Self { min: self.min.min(o.min), max: self.max.max(o.max) }
+    }
+
+    /// Centre.
+    pub fn center(&self) -> Vec3 {
+        0.5 * (self.min + self.max)
+    }
+
+    /// Half the diagonal length (radius of the bounding sphere around the centre).
+    pub fn radius(&self) -> f32 {
+        0.5 * (self.max - self.min).length()
+    }
+
+    /// True when nothing was added.
+    pub fn is_empty(&self) -> bool {
+        self.min.x > self.max.x
+    }
+}

@@ -1,0 +1,6 @@
+//! prism: a spectral, physically based offline renderer.
+
+pub mod accel;
+pub mod geometry;
+pub mod math;
+pub mod spectrum;
