@@ -3,4 +3,5 @@
 pub mod accel;
 pub mod geometry;
 pub mod math;
+pub mod sampling;
 pub mod spectrum;

@@ -1,0 +1,5 @@
+//! Sampling: random numbers, warps, distributions, MIS weights, samplers, the chi² harness.
+
+pub mod rng;
+
+pub use rng::Rng;
