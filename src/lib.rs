@@ -1,7 +1,40 @@
 //! prism: a spectral, physically based offline renderer.
+//!
+//! Rendering the built-in Cornell box in a few lines:
+//! ```no_run
+//! use prism::{accel::AccelKind, render::*, scene::SceneBuilder};
+//! let scene = SceneBuilder::cornell_box().build(AccelKind::Obvhs).unwrap();
+//! let settings = RenderSettings {
+//!     resolution: (64, 64),
+//!     spp: 4,
+//!     seed: 0,
+//!     sampler: SamplerKind::Sobol,
+//!     filter: prism::filter::Filter::by_name("box").unwrap(),
+//!     integrator: Default::default(),
+//!     time_limit: None,
+//! };
+//! let (film, stats) = render(&scene, &settings, |_| {});
+//! assert_eq!(stats.samples, 64 * 64 * 4);
+//! let xyz = film.xyz(32, 32);
+//! ```
 
 pub mod accel;
+pub mod bench;
+pub mod bsdf;
+pub mod camera;
+pub mod checkpoint;
+pub mod cli;
+pub mod film;
+pub mod filter;
 pub mod geometry;
+pub mod image;
+pub mod integrator;
+pub mod io;
+pub mod light;
+pub mod material;
 pub mod math;
+pub mod measure;
+pub mod render;
 pub mod sampling;
+pub mod scene;
 pub mod spectrum;

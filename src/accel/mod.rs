@@ -1,6 +1,10 @@
 //! Ray intersection. One trait, two backends: Intel Embree (feature `embree`) and the pure-Rust
 //! obvhs BVH. Nothing backend-specific leaves this module.
 
+#[cfg(feature = "embree")]
+pub mod embree;
+pub mod obvhs;
+
 use crate::geometry::{Bounds3, Hit, Ray};
 
 /// A ray-intersection accelerator over a set of triangle meshes.
@@ -13,4 +17,59 @@ pub trait Accel: Send + Sync {
     fn bounds(&self) -> Bounds3;
     /// Backend name, as on the command line.
     fn name(&self) -> &'static str;
+}
+
+
+/// The backends, as named on the command line.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum AccelKind {
+    /// Intel Embree 3 (feature `embree`).
+    Embree,
+    /// The pure-Rust obvhs CWBVH.
+    Obvhs,
+}
+
+impl AccelKind {
+    /// Parses "embree" or "obvhs".
+    pub fn parse(name: &str) -> Result<Self, String> {
+        match name {
+            "embree" => Ok(AccelKind::Embree),
+            "obvhs" => Ok(AccelKind::Obvhs),
+            other => Err(format!("unknown accelerator '{other}' (valid: embree, obvhs)")),
+        }
+    }
+
+    /// The default: Embree when compiled in, else obvhs.
+    pub fn default_available() -> Self {
+        if cfg!(feature = "embree") {
+            AccelKind::Embree
+        } else {
+            AccelKind::Obvhs
+        }
+    }
+
+    /// The name.
+    pub fn name(self) -> &'static str {
+        match self {
+            AccelKind::Embree => "embree",
+            AccelKind::Obvhs => "obvhs",
+        }
+    }
+}
+
+/// Builds the chosen backend over `meshes` (geometry id = mesh index).
+pub fn build(kind: AccelKind, meshes: &[crate::geometry::Mesh]) -> Result<Box<dyn Accel>, String> {
+    match kind {
+        #[cfg(feature = "embree")]
+        AccelKind::Embree => Ok(Box::new(embree::EmbreeAccel::new(meshes).map_err(|e| e.to_string())?)),
+        #[cfg(not(feature = "embree"))]
+        AccelKind::Embree => Err("this prism was built without Embree (feature `embree`); use --accel obvhs".into()),
+        AccelKind::Obvhs => Ok(Box::new(obvhs::ObvhsAccel::new(meshes))),
+    }
+}
+
+/// Per-thread set-up a backend needs on every render thread (Embree: FTZ/DAZ).
+pub fn init_render_thread() {
+    #[cfg(feature = "embree")]
+    embree::set_flush_denormals();
 }

@@ -49,9 +49,27 @@ impl Mesh {
         (0..self.len()).map(|i| self.triangle_area(i)).sum()
     }
 
+    /// Drops triangles with out-of-range indices, non-finite vertices or zero area; returns how
+    /// many were dropped. Vertices are kept, so per-vertex data stays aligned.
+    pub fn remove_degenerate(&mut self) -> usize {
+        let before = self.indices.len();
+        let pos = &self.positions;
+        self.indices.retain(|t| {
+            if t.iter().any(|&i| i as usize >= pos.len()) {
+                return false;
+            }
+            let [a, b, c] = t.map(|i| pos[i as usize]);
+            a.is_finite() && b.is_finite() && c.is_finite() && (b - a).cross(c - a).length_squared() > 0.0
+        });
+        before - self.indices.len()
+    }
+
     /// Bounds of all vertices.
     pub fn bounds(&self) -> Bounds3 {
-        self.positions.iter().fold(Bounds3::EMPTY, |b, &p| b.union_point(p))
+        self.indices
+            .iter()
+            .flat_map(|t| t.iter())
+            .fold(Bounds3::EMPTY, |b, &i| b.union_point(self.positions[i as usize]))
     }
 }
 

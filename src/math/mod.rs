@@ -1,9 +1,11 @@
-//! Math: glam re-exports, orthonormal frames.
+//! Math: glam re-exports, orthonormal frames, robust ray-origin offsets.
 
 mod frame;
+pub mod offset;
 
 pub use frame::Frame;
-pub use glam::{Mat3, Mat4, Vec2, Vec3, Vec4};
+pub use glam::{DVec3, Mat3, Mat4, Vec2, Vec3, Vec4};
+pub use offset::{offset_ray_origin, triangle_point};
 
 /// π as f32.
 pub const PI: f32 = std::f32::consts::PI;

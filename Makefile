@@ -1,0 +1,28 @@
+# prism: two commands on a fresh Debian 12 machine (see README).
+#   make render   installs what is missing, builds, renders the default scene to prism.png
+#   make test     runs the whole test suite (both feature sets)
+
+CARGO ?= cargo
+SPP ?= 64
+
+.PHONY: deps render test test-default test-pure lint bench docs
+
+deps:
+	bash scripts/install-deps.sh
+
+render: deps
+	$(CARGO) build --release
+	./target/release/prism render --spp $(SPP) --resolution 512x512 -o prism.png
+
+test: deps test-default test-pure
+
+test-default:
+	$(CARGO) test --release
+
+test-pure:
+	$(CARGO) test --release --no-default-features
+
+lint:
+	$(CARGO) fmt --check
+	$(CARGO) clippy --all-targets -- -D warnings
+	$(CARGO) clippy --all-targets --no-default-features -- -D warnings

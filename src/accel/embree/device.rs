@@ -1,0 +1,81 @@
+//! An Embree device: created once per accelerator, released in Drop. Embree's error callback
+//! reports into the log and keeps the last message so failures become a clear error.
+
+use super::ffi;
+use std::ffi::{c_char, c_void, CStr};
+use std::sync::Mutex;
+
+/// Why an Embree call failed.
+#[derive(Debug, thiserror::Error)]
+pub enum EmbreeError {
+    /// `rtcNewDevice` returned null.
+    #[error("could not create the Embree device: {0}")]
+    Device(String),
+    /// A later call reported an error through the device.
+    #[error("Embree error: {0}")]
+    Call(String),
+}
+
+/// Owns an `RTCDevice`. The boxed `last_error` is the callback's user pointer, so it must not move.
+pub struct Device {
+    raw: ffi::RTCDevice,
+    last_error: Box<Mutex<Option<String>>>,
+}
+
+// SAFETY: an RTCDevice is reference counted and internally synchronised; Embree allows using it
+// from any thread. The error slot is behind a Mutex.
+unsafe impl Send for Device {}
+// SAFETY: see above; shared references only read the handle or lock the Mutex.
+unsafe impl Sync for Device {}
+
+unsafe extern "C" fn on_error(user: *mut c_void, code: ffi::RTCError, msg: *const c_char) {
+    let text = if msg.is_null() {
+        format!("code {code}")
+    } else {
+        // SAFETY: Embree passes a NUL-terminated message valid for the duration of the call.
+        format!("{} (code {code})", unsafe { CStr::from_ptr(msg) }.to_string_lossy())
+    };
+    log::error!("embree: {text}");
+    // SAFETY: `user` is the address of the Device's boxed Mutex, alive as long as the device.
+    let slot = unsafe { &*(user as *const Mutex<Option<String>>) };
+    if let Ok(mut s) = slot.lock() {
+        *s = Some(text);
+    }
+}
+
+impl Device {
+    /// Creates a device with Embree's default configuration.
+    pub fn new() -> Result<Self, EmbreeError> {
+        // SAFETY: a null config string asks for the defaults.
+        let raw = unsafe { ffi::rtcNewDevice(std::ptr::null()) };
+        if raw.is_null() {
+            // SAFETY: querying the error of a null device reports device-creation errors.
+            let code = unsafe { ffi::rtcGetDeviceError(std::ptr::null_mut()) };
+            return Err(EmbreeError::Device(format!(
+                "rtcNewDevice failed with code {code} (is the CPU supported and memory available?)"
+            )));
+        }
+        let last_error = Box::new(Mutex::new(None));
+        let user = &*last_error as *const Mutex<Option<String>> as *mut c_void;
+        // SAFETY: `raw` is a valid device; `user` stays valid until Drop releases the device.
+        unsafe { ffi::rtcSetDeviceErrorFunction(raw, Some(on_error), user) };
+        Ok(Self { raw, last_error })
+    }
+
+    /// The raw handle, for the scene module.
+    pub(super) fn raw(&self) -> ffi::RTCDevice {
+        self.raw
+    }
+
+    /// Takes the last error the callback reported, if any.
+    pub fn take_error(&self) -> Option<String> {
+        self.last_error.lock().ok().and_then(|mut s| s.take())
+    }
+}
+
+impl Drop for Device {
+    fn drop(&mut self) {
+        // SAFETY: `raw` came from rtcNewDevice and is released exactly once.
+        unsafe { ffi::rtcReleaseDevice(self.raw) };
+    }
+}

@@ -1,0 +1,105 @@
+//! Intel Embree 3 backend (feature `embree`). Embree types never leave this module; everything
+//! specific to Embree 3 (vs 4) is in ffi.rs, device.rs and scene.rs.
+
+mod device;
+mod ffi;
+mod scene;
+
+pub use device::EmbreeError;
+
+use super::Accel;
+use crate::geometry::{Bounds3, Hit, Mesh, Ray};
+
+/// BVH build quality, as Embree names it.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum BuildQuality {
+    /// Fast build, slower traversal.
+    Low,
+    /// Embree's default.
+    #[default]
+    Medium,
+    /// Slower build (spatial splits), fastest traversal.
+    High,
+}
+
+/// Ray intersection through Embree.
+pub struct EmbreeAccel {
+    scene: scene::Scene,
+}
+
+impl EmbreeAccel {
+    /// Builds an Embree scene over `meshes` (geometry id = mesh index).
+    pub fn new(meshes: &[Mesh]) -> Result<Self, EmbreeError> {
+        Self::with_quality(meshes, BuildQuality::Medium)
+    }
+
+    /// Builds with the given quality.
+    pub fn with_quality(meshes: &[Mesh], quality: BuildQuality) -> Result<Self, EmbreeError> {
+        let q = match quality {
+            BuildQuality::Low => ffi::RTCBuildQuality_RTC_BUILD_QUALITY_LOW,
+            BuildQuality::Medium => ffi::RTCBuildQuality_RTC_BUILD_QUALITY_MEDIUM,
+            BuildQuality::High => ffi::RTCBuildQuality_RTC_BUILD_QUALITY_HIGH,
+        };
+        let device = device::Device::new()?;
+        Ok(Self { scene: scene::Scene::build(device, meshes, q)? })
+    }
+
+    /// Traces `rays` through raw `rtcIntersect1` with no conversion to prism's types, returning
+    /// the number of hits: the baseline for measuring the wrapper's overhead (benches/accel.rs).
+    #[doc(hidden)]
+    pub fn raw_trace_count(&self, rays: &[Ray]) -> usize {
+        let mut hits = 0;
+        for r in rays {
+            let mut rh = ffi::RTCRayHit {
+                ray: ffi::RTCRay {
+                    org_x: r.o.x,
+                    org_y: r.o.y,
+                    org_z: r.o.z,
+                    dir_x: r.d.x,
+                    dir_y: r.d.y,
+                    dir_z: r.d.z,
+                    tfar: r.t_max,
+                    mask: u32::MAX,
+                    ..Default::default()
+                },
+                hit: ffi::RTCHit { geomID: ffi::RTC_INVALID_GEOMETRY_ID, ..Default::default() },
+            };
+            self.scene.raw_intersect(&mut rh);
+            hits += (rh.hit.geomID != ffi::RTC_INVALID_GEOMETRY_ID) as usize;
+        }
+        hits
+    }
+}
+
+impl Accel for EmbreeAccel {
+    #[inline]
+    fn intersect(&self, ray: &Ray) -> Option<Hit> {
+        self.scene.intersect(ray)
+    }
+    #[inline]
+    fn occluded(&self, ray: &Ray) -> bool {
+        self.scene.occluded(ray)
+    }
+    fn bounds(&self) -> Bounds3 {
+        self.scene.bounds()
+    }
+    fn name(&self) -> &'static str {
+        "embree"
+    }
+}
+
+/// Sets flush-to-zero and denormals-are-zero in this thread's MXCSR, as Embree's documentation
+/// asks of every thread that traces rays (denormal arithmetic is slow in its kernels).
+pub fn set_flush_denormals() {
+    #[cfg(target_arch = "x86_64")]
+    {
+        let mut csr: u32 = 0;
+        // SAFETY: stmxcsr/ldmxcsr read and write this thread's SSE control register; setting the
+        // FTZ (bit 15) and DAZ (bit 6) bits only changes denormal handling.
+        unsafe {
+            std::arch::asm!("stmxcsr [{}]", in(reg) &mut csr, options(nostack));
+            csr |= (1 << 15) | (1 << 6);
+            std::arch::asm!("ldmxcsr [{}]", in(reg) &csr, options(nostack));
+        }
+    }
+}

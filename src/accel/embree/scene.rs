@@ -1,0 +1,183 @@
+//! An Embree scene of triangle meshes: built and committed once, then queried from many threads.
+
+use super::device::{Device, EmbreeError};
+use super::ffi;
+use crate::geometry::{Bounds3, Hit, Mesh, Ray};
+use glam::Vec3;
+
+/// Owns an `RTCScene` (and keeps its device alive).
+pub struct Scene {
+    raw: ffi::RTCScene,
+    device: Device,
+    bounds: Bounds3,
+}
+
+// SAFETY: after rtcCommitScene an Embree scene is immutable and its queries are thread-safe
+// (Embree API docs, "rtcIntersect1"); we never modify it after construction.
+unsafe impl Send for Scene {}
+// SAFETY: see above.
+unsafe impl Sync for Scene {}
+
+impl Scene {
+    /// Builds a robust scene (RTC_SCENE_FLAG_ROBUST: no leaks through shared edges) with one
+    /// triangle geometry per mesh; geometry ids equal mesh indices. Empty meshes are skipped.
+    pub fn build(device: Device, meshes: &[Mesh], quality: ffi::RTCBuildQuality) -> Result<Self, EmbreeError> {
+        let dev = device.raw();
+        // SAFETY: `dev` is a valid device.
+        let raw = unsafe { ffi::rtcNewScene(dev) };
+        if raw.is_null() {
+            return Err(EmbreeError::Call(device.take_error().unwrap_or_else(|| "rtcNewScene failed".into())));
+        }
+        let mut scene = Self { raw, device, bounds: Bounds3::EMPTY };
+        // SAFETY: `raw` is a valid, uncommitted scene.
+        unsafe {
+            ffi::rtcSetSceneFlags(raw, ffi::RTCSceneFlags_RTC_SCENE_FLAG_ROBUST);
+            ffi::rtcSetSceneBuildQuality(raw, quality);
+        }
+        let mut bounds = Bounds3::EMPTY;
+        for (id, mesh) in meshes.iter().enumerate() {
+            if mesh.is_empty() {
+                continue;
+            }
+            scene.attach_mesh(mesh, id as u32)?;
+            bounds = bounds.union(mesh.bounds());
+        }
+        // SAFETY: all geometries are committed and attached.
+        unsafe { ffi::rtcCommitScene(raw) };
+        if let Some(e) = scene.device.take_error() {
+            return Err(EmbreeError::Call(e));
+        }
+        scene.bounds = bounds;
+        Ok(scene)
+    }
+
+    fn attach_mesh(&self, mesh: &Mesh, id: u32) -> Result<(), EmbreeError> {
+        let dev = self.device.raw();
+        // SAFETY: valid device; the geometry is released below after attaching (the scene keeps
+        // its own reference).
+        unsafe {
+            let geom = ffi::rtcNewGeometry(dev, ffi::RTCGeometryType_RTC_GEOMETRY_TYPE_TRIANGLE);
+            if geom.is_null() {
+                return Err(EmbreeError::Call(self.device.take_error().unwrap_or_default()));
+            }
+            // Embree-allocated buffers are padded for the 16-byte loads past the last vertex.
+            let vb = ffi::rtcSetNewGeometryBuffer(
+                geom,
+                ffi::RTCBufferType_RTC_BUFFER_TYPE_VERTEX,
+                0,
+                ffi::RTCFormat_RTC_FORMAT_FLOAT3,
+                12,
+                mesh.positions.len(),
+            ) as *mut [f32; 3];
+            let ib = ffi::rtcSetNewGeometryBuffer(
+                geom,
+                ffi::RTCBufferType_RTC_BUFFER_TYPE_INDEX,
+                0,
+                ffi::RTCFormat_RTC_FORMAT_UINT3,
+                12,
+                mesh.indices.len(),
+            ) as *mut [u32; 3];
+            if vb.is_null() || ib.is_null() {
+                ffi::rtcReleaseGeometry(geom);
+                return Err(EmbreeError::Call(
+                    self.device.take_error().unwrap_or_else(|| "out of memory for geometry buffers".into()),
+                ));
+            }
+            let verts = std::slice::from_raw_parts_mut(vb, mesh.positions.len());
+            for (dst, p) in verts.iter_mut().zip(&mesh.positions) {
+                *dst = p.to_array();
+            }
+            let idx = std::slice::from_raw_parts_mut(ib, mesh.indices.len());
+            idx.copy_from_slice(&mesh.indices);
+            ffi::rtcCommitGeometry(geom);
+            ffi::rtcAttachGeometryByID(self.raw, geom, id);
+            ffi::rtcReleaseGeometry(geom);
+        }
+        match self.device.take_error() {
+            Some(e) => Err(EmbreeError::Call(e)),
+            None => Ok(()),
+        }
+    }
+
+    /// Bounds of all attached meshes.
+    pub fn bounds(&self) -> Bounds3 {
+        self.bounds
+    }
+
+    #[inline]
+    fn context() -> ffi::RTCIntersectContext {
+        // rtcInitIntersectContext is force-inlined in the header, so bindgen does not emit it.
+        ffi::RTCIntersectContext {
+            flags: ffi::RTCIntersectContextFlags_RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT,
+            filter: None,
+            instID: [ffi::RTC_INVALID_GEOMETRY_ID; ffi::RTC_MAX_INSTANCE_LEVEL_COUNT as usize],
+        }
+    }
+
+    #[inline]
+    fn rtc_ray(ray: &Ray) -> ffi::RTCRay {
+        ffi::RTCRay {
+            org_x: ray.o.x,
+            org_y: ray.o.y,
+            org_z: ray.o.z,
+            tnear: 0.0,
+            dir_x: ray.d.x,
+            dir_y: ray.d.y,
+            dir_z: ray.d.z,
+            time: 0.0,
+            tfar: ray.t_max,
+            mask: u32::MAX,
+            id: 0,
+            flags: 0,
+        }
+    }
+
+    /// Closest hit.
+    #[inline]
+    pub fn intersect(&self, ray: &Ray) -> Option<Hit> {
+        let mut ctx = Self::context();
+        let mut rh = ffi::RTCRayHit {
+            ray: Self::rtc_ray(ray),
+            hit: ffi::RTCHit { geomID: ffi::RTC_INVALID_GEOMETRY_ID, ..Default::default() },
+        };
+        // SAFETY: committed scene; ctx and rh are valid, properly aligned locals.
+        unsafe { ffi::rtcIntersect1(self.raw, &mut ctx, &mut rh) };
+        if rh.hit.geomID == ffi::RTC_INVALID_GEOMETRY_ID {
+            return None;
+        }
+        Some(Hit {
+            t: rh.ray.tfar,
+            geom_id: rh.hit.geomID,
+            prim_id: rh.hit.primID,
+            u: rh.hit.u,
+            v: rh.hit.v,
+            ng: Vec3::new(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z),
+        })
+    }
+
+    /// Any hit before `ray.t_max`.
+    #[inline]
+    pub fn occluded(&self, ray: &Ray) -> bool {
+        let mut ctx = Self::context();
+        let mut r = Self::rtc_ray(ray);
+        // SAFETY: committed scene; ctx and r are valid, properly aligned locals.
+        unsafe { ffi::rtcOccluded1(self.raw, &mut ctx, &mut r) };
+        // Embree sets tfar to -inf when an occluder was found.
+        r.tfar == f32::NEG_INFINITY
+    }
+
+    /// Raw closest-hit call on a prepared RTCRayHit, for the wrapper-overhead benchmark.
+    #[doc(hidden)]
+    pub fn raw_intersect(&self, rh: &mut ffi::RTCRayHit) {
+        let mut ctx = Self::context();
+        // SAFETY: committed scene; the caller's ray-hit is a valid, aligned struct.
+        unsafe { ffi::rtcIntersect1(self.raw, &mut ctx, rh) };
+    }
+}
+
+impl Drop for Scene {
+    fn drop(&mut self) {
+        // SAFETY: `raw` came from rtcNewScene and is released exactly once, before the device.
+        unsafe { ffi::rtcReleaseScene(self.raw) };
+    }
+}

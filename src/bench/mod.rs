@@ -1,0 +1,217 @@
+//! `prism bench`: how fast a scene converges, on which backend and sampler. Renders a ladder of
+//! sample counts, measures time, throughput and memory, and the error of each image against a
+//! converged reference; writes CSV, JSON and plots.
+
+mod plot;
+
+pub use plot::{plot_error_vs_time, plot_rays_per_s};
+
+use crate::accel::AccelKind;
+use crate::cli::render::film_to_image;
+use crate::filter::Filter;
+use crate::image::{metrics, Image};
+use crate::integrator::PathIntegrator;
+use crate::render::{render, RenderSettings, SamplerKind};
+use crate::scene::{Scene, SceneBuilder};
+use crate::spectrum::ColorSpace;
+use anyhow::{Context, Result};
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// One rendered point of the ladder.
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
+pub struct BenchPoint {
+    /// Backend.
+    pub accel: String,
+    /// Sampler.
+    pub sampler: String,
+    /// Samples per pixel.
+    pub spp: u64,
+    /// Wall time of the render [s] (excluding the scene build).
+    pub time_s: f64,
+    /// Camera samples per second.
+    pub samples_per_s: f64,
+    /// Rays (camera, continuation, shadow) per second.
+    pub rays_per_s: f64,
+    /// Accelerator and light build time [s].
+    pub build_s: f64,
+    /// Resident memory added by building the scene [bytes].
+    pub scene_bytes: i64,
+    /// Peak resident memory of the process so far [bytes].
+    pub peak_rss_bytes: u64,
+    /// Root-mean-square error against the reference (linear RGB).
+    pub rmse: f64,
+    /// Relative MSE against the reference.
+    pub rel_mse: f64,
+    /// Mean absolute error.
+    pub mae: f64,
+}
+
+/// What to benchmark.
+#[derive(Clone, Debug)]
+pub struct BenchConfig {
+    /// pbrt-v4 scene (None: the Cornell box).
+    pub scene: Option<PathBuf>,
+    /// Backends to compare.
+    pub accels: Vec<AccelKind>,
+    /// Samplers to compare.
+    pub samplers: Vec<SamplerKind>,
+    /// Sample counts.
+    pub ladder: Vec<u64>,
+    /// Reference image (None: render and cache one).
+    pub reference: Option<PathBuf>,
+    /// Samples per pixel of a rendered reference.
+    pub reference_spp: u64,
+    /// Output directory.
+    pub out: PathBuf,
+    /// Image size.
+    pub resolution: (u32, u32),
+    /// Maximum path depth.
+    pub max_depth: u32,
+}
+
+/// Resident set size (current, peak) of this process [bytes], from /proc/self/status.
+pub fn rss_bytes() -> (u64, u64) {
+    let text = std::fs::read_to_string("/proc/self/status").unwrap_or_default();
+    let field = |name: &str| {
+        text.lines()
+            .find(|l| l.starts_with(name))
+            .and_then(|l| l.split_whitespace().nth(1))
+            .and_then(|v| v.parse::<u64>().ok())
+            .map_or(0, |kb| kb * 1024)
+    };
+    (field("VmRSS:"), field("VmHWM:"))
+}
+
+fn load(cfg: &BenchConfig) -> Result<SceneBuilder> {
+    Ok(match &cfg.scene {
+        None => SceneBuilder::cornell_box(),
+        Some(p) => crate::cli::render::load_scene_file(p, false)?.0,
+    })
+}
+
+fn settings(cfg: &BenchConfig, spp: u64, sampler: SamplerKind, seed: u64) -> RenderSettings {
+    RenderSettings {
+        resolution: cfg.resolution,
+        spp,
+        seed,
+        sampler,
+        filter: Filter::by_name("box").expect("built in"),
+        integrator: PathIntegrator { max_depth: cfg.max_depth, ..Default::default() },
+        time_limit: None,
+    }
+}
+
+fn render_image(scene: &Scene, s: &RenderSettings) -> (Image, f64, crate::integrator::Stats) {
+    let t0 = Instant::now();
+    let (film, stats) = render(scene, s, |_| {});
+    (film_to_image(&film, ColorSpace::srgb()), t0.elapsed().as_secs_f64(), stats)
+}
+
+/// The reference: the given image, or a cached render whose settings match, or a new render.
+fn reference(cfg: &BenchConfig) -> Result<Image> {
+    if let Some(p) = &cfg.reference {
+        return crate::image::read(p).with_context(|| format!("reading the reference {}", p.display()));
+    }
+    let path = cfg.out.join("reference.exr");
+    let meta_path = cfg.out.join("reference.json");
+    let meta = serde_json::json!({
+        "scene": cfg.scene.as_ref().map(|p| p.display().to_string()).unwrap_or_else(|| "cornell-box".into()),
+        "spp": cfg.reference_spp,
+        "resolution": [cfg.resolution.0, cfg.resolution.1],
+        "max_depth": cfg.max_depth,
+        "sampler": "sobol",
+        "seed": 0xfeed,
+        "filter": "box",
+    });
+    if let (Ok(old), Ok(img)) = (std::fs::read_to_string(&meta_path), crate::image::read(&path)) {
+        if serde_json::from_str::<serde_json::Value>(&old).ok().as_ref() == Some(&meta) {
+            eprintln!("bench: using the cached reference {}", path.display());
+            return Ok(img);
+        }
+    }
+    eprintln!("bench: rendering a reference at {} spp (cached in {})", cfg.reference_spp, path.display());
+    let scene = load(cfg)?.build(AccelKind::default_available())?;
+    let (img, _, _) = render_image(&scene, &settings(cfg, cfg.reference_spp, SamplerKind::Sobol, 0xfeed));
+    crate::image::write(&path, &img)?;
+    crate::io::write_atomic(&meta_path, serde_json::to_string_pretty(&meta)?.as_bytes())?;
+    Ok(img)
+}
+
+/// Runs the whole ladder for every backend and sampler.
+pub fn run(cfg: &BenchConfig) -> Result<Vec<BenchPoint>> {
+    std::fs::create_dir_all(&cfg.out).with_context(|| format!("creating {}", cfg.out.display()))?;
+    let reference = reference(cfg)?;
+    let mut points = Vec::new();
+    for &accel in &cfg.accels {
+        let (rss0, _) = rss_bytes();
+        let t0 = Instant::now();
+        let scene = load(cfg)?.build(accel)?;
+        let build_s = t0.elapsed().as_secs_f64();
+        let scene_bytes = rss_bytes().0 as i64 - rss0 as i64;
+        for &sampler in &cfg.samplers {
+            for &spp in &cfg.ladder {
+                // A different seed from the reference's, so errors are not correlated with it.
+                let (img, time_s, stats) = render_image(&scene, &settings(cfg, spp, sampler, 1));
+                let m = metrics::compare(&img, &reference)?;
+                let p = BenchPoint {
+                    accel: accel.name().into(),
+                    sampler: format!("{sampler:?}").to_lowercase(),
+                    spp,
+                    time_s,
+                    samples_per_s: stats.samples as f64 / time_s,
+                    rays_per_s: stats.rays as f64 / time_s,
+                    build_s,
+                    scene_bytes,
+                    peak_rss_bytes: rss_bytes().1,
+                    rmse: m.rmse,
+                    rel_mse: m.rel_mse,
+                    mae: m.mae,
+                };
+                eprintln!(
+                    "bench: {:6} {:11} {:5} spp  {:8.3} s  {:6.2} M rays/s  RMSE {:.4e}",
+                    p.accel,
+                    p.sampler,
+                    p.spp,
+                    p.time_s,
+                    p.rays_per_s / 1e6,
+                    p.rmse
+                );
+                points.push(p);
+            }
+        }
+    }
+    write_outputs(&cfg.out, &points)?;
+    Ok(points)
+}
+
+/// Writes bench.csv, bench.json and the plots into `dir`.
+pub fn write_outputs(dir: &Path, points: &[BenchPoint]) -> Result<()> {
+    let mut csv = String::from(
+        "accel,sampler,spp,time_s,samples_per_s,rays_per_s,build_s,scene_bytes,peak_rss_bytes,rmse,rel_mse,mae\n",
+    );
+    for p in points {
+        csv += &format!(
+            "{},{},{},{},{},{},{},{},{},{},{},{}\n",
+            p.accel,
+            p.sampler,
+            p.spp,
+            p.time_s,
+            p.samples_per_s,
+            p.rays_per_s,
+            p.build_s,
+            p.scene_bytes,
+            p.peak_rss_bytes,
+            p.rmse,
+            p.rel_mse,
+            p.mae
+        );
+    }
+    crate::io::write_atomic(&dir.join("bench.csv"), csv.as_bytes())?;
+    crate::io::write_atomic(&dir.join("bench.json"), serde_json::to_string_pretty(points)?.as_bytes())?;
+    for ext in ["png", "svg"] {
+        plot_error_vs_time(points, &dir.join(format!("error_vs_time.{ext}")))?;
+        plot_rays_per_s(points, &dir.join(format!("rays_per_s.{ext}")))?;
+    }
+    Ok(())
+}

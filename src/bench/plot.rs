@@ -1,0 +1,171 @@
+//! Plots of a benchmark: error against time on log–log axes with the ideal 1/√t slope, and a
+//! bar chart of rays per second. PNG or SVG by extension (plotters; DejaVu Sans embedded, so no
+//! system fonts are needed).
+
+use super::BenchPoint;
+use anyhow::{anyhow, Result};
+use plotters::coord::Shift;
+use plotters::prelude::*;
+use std::path::Path;
+use std::sync::Once;
+
+fn register_font() {
+    static ONCE: Once = Once::new();
+    ONCE.call_once(|| {
+        let _ = plotters::style::register_font("sans-serif", FontStyle::Normal, dejavu::sans::regular());
+    });
+}
+
+const SIZE: (u32, u32) = (900, 600);
+const PALETTE: [RGBColor; 6] = [
+    RGBColor(31, 119, 180),
+    RGBColor(255, 127, 14),
+    RGBColor(44, 160, 44),
+    RGBColor(214, 39, 40),
+    RGBColor(148, 103, 189),
+    RGBColor(140, 86, 75),
+];
+
+/// The (backend, sampler) curves in first-seen order.
+fn series(points: &[BenchPoint]) -> Vec<(String, Vec<&BenchPoint>)> {
+    let mut out: Vec<(String, Vec<&BenchPoint>)> = Vec::new();
+    for p in points {
+        let key = format!("{} / {}", p.accel, p.sampler);
+        match out.iter_mut().find(|(k, _)| *k == key) {
+            Some((_, v)) => v.push(p),
+            None => out.push((key, vec![p])),
+        }
+    }
+    out
+}
+
+fn with_backend(path: &Path, draw: impl Fn(DrawingArea<SVGBackend, Shift>) -> Result<()>, draw_png: impl Fn(DrawingArea<BitMapBackend, Shift>) -> Result<()>) -> Result<()> {
+    register_font();
+    // Draw into a temporary file and rename, like every other output.
+    let tmp = crate::io::temp_path_for(path);
+    let result = if path.extension().is_some_and(|e| e == "svg") {
+        draw(SVGBackend::new(&tmp, SIZE).into_drawing_area())
+    } else {
+        draw_png(BitMapBackend::new(&tmp, SIZE).into_drawing_area())
+    };
+    match result.and_then(|_| std::fs::rename(&tmp, path).map_err(Into::into)) {
+        Ok(()) => Ok(()),
+        Err(e) => {
+            let _ = std::fs::remove_file(&tmp);
+            Err(e)
+        }
+    }
+}
+
+fn error_chart<DB: DrawingBackend>(root: DrawingArea<DB, Shift>, points: &[BenchPoint]) -> Result<()>
+where
+    DB::ErrorType: 'static,
+{
+    let err = |e: DrawingAreaErrorKind<DB::ErrorType>| anyhow!("plotting: {e:?}");
+    root.fill(&WHITE).map_err(err)?;
+    let pts: Vec<&BenchPoint> = points.iter().filter(|p| p.time_s > 0.0 && p.rmse > 0.0).collect();
+    if pts.is_empty() {
+        return Ok(());
+    }
+    let (tmin, tmax) = pts.iter().fold((f64::MAX, 0f64), |(a, b), p| (a.min(p.time_s), b.max(p.time_s)));
+    let (emin, emax) = pts.iter().fold((f64::MAX, 0f64), |(a, b), p| (a.min(p.rmse), b.max(p.rmse)));
+    let mut chart = ChartBuilder::on(&root)
+        .caption("RMSE against render time (log–log)", ("sans-serif", 24))
+        .margin(16)
+        .x_label_area_size(48)
+        .y_label_area_size(72)
+        .build_cartesian_2d((tmin / 1.5..tmax * 1.5).log_scale(), (emin / 1.5..emax * 1.5).log_scale())
+        .map_err(err)?;
+    chart
+        .configure_mesh()
+        .x_desc("time [s]")
+        .y_desc("RMSE vs reference (linear RGB)")
+        .label_style(("sans-serif", 14))
+        .draw()
+        .map_err(err)?;
+    for (i, (name, s)) in series(points).into_iter().enumerate() {
+        let c = PALETTE[i % PALETTE.len()];
+        let data: Vec<(f64, f64)> = s.iter().filter(|p| p.time_s > 0.0 && p.rmse > 0.0).map(|p| (p.time_s, p.rmse)).collect();
+        chart
+            .draw_series(LineSeries::new(data.clone(), c.stroke_width(2)))
+            .map_err(err)?
+            .label(name)
+            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], c.stroke_width(2)));
+        chart.draw_series(data.iter().map(|&p| Circle::new(p, 4, c.filled()))).map_err(err)?;
+        if i == 0 {
+            // Ideal Monte Carlo convergence through this curve's first point: RMSE ∝ 1/√t.
+            let (t0, e0) = data[0];
+            let ideal: Vec<(f64, f64)> = [tmin / 1.5, tmax * 1.5].iter().map(|&t| (t, e0 * (t0 / t).sqrt())).collect();
+            chart
+                .draw_series(LineSeries::new(ideal, BLACK.mix(0.5).stroke_width(1)))
+                .map_err(err)?
+                .label("ideal 1/√t")
+                .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], BLACK.mix(0.5)));
+        }
+    }
+    chart
+        .configure_series_labels()
+        .background_style(WHITE.mix(0.9))
+        .border_style(BLACK)
+        .label_font(("sans-serif", 14))
+        .draw()
+        .map_err(err)?;
+    root.present().map_err(err)?;
+    Ok(())
+}
+
+fn rays_chart<DB: DrawingBackend>(root: DrawingArea<DB, Shift>, points: &[BenchPoint]) -> Result<()>
+where
+    DB::ErrorType: 'static,
+{
+    let err = |e: DrawingAreaErrorKind<DB::ErrorType>| anyhow!("plotting: {e:?}");
+    root.fill(&WHITE).map_err(err)?;
+    // Throughput of each curve at its largest sample count (the steadiest figure).
+    let bars: Vec<(String, f64)> = series(points)
+        .into_iter()
+        .filter_map(|(k, s)| s.iter().max_by_key(|p| p.spp).map(|p| (k, p.rays_per_s / 1e6)))
+        .collect();
+    let ymax = bars.iter().map(|b| b.1).fold(0.0, f64::max).max(1e-3) * 1.2;
+    let n = bars.len() as u32;
+    let mut chart = ChartBuilder::on(&root)
+        .caption("Rays per second in the path tracer", ("sans-serif", 24))
+        .margin(16)
+        .x_label_area_size(48)
+        .y_label_area_size(72)
+        .build_cartesian_2d((0u32..n).into_segmented(), 0.0..ymax)
+        .map_err(err)?;
+    let names: Vec<String> = bars.iter().map(|b| b.0.clone()).collect();
+    chart
+        .configure_mesh()
+        .y_desc("M rays/s")
+        .x_label_formatter(&|v| match v {
+            SegmentValue::CenterOf(i) => names.get(*i as usize).cloned().unwrap_or_default(),
+            _ => String::new(),
+        })
+        .label_style(("sans-serif", 14))
+        .draw()
+        .map_err(err)?;
+    chart
+        .draw_series(bars.iter().enumerate().map(|(i, b)| {
+            let c = PALETTE[i % PALETTE.len()];
+            let mut r = Rectangle::new(
+                [(SegmentValue::Exact(i as u32), 0.0), (SegmentValue::Exact(i as u32 + 1), b.1)],
+                c.filled(),
+            );
+            r.set_margin(0, 0, 20, 20);
+            r
+        }))
+        .map_err(err)?;
+    root.present().map_err(err)?;
+    Ok(())
+}
+
+/// Error against time, one curve per backend/sampler, with the ideal 1/√t slope.
+pub fn plot_error_vs_time(points: &[BenchPoint], path: &Path) -> Result<()> {
+    with_backend(path, |a| error_chart(a, points), |a| error_chart(a, points))
+}
+
+/// Rays per second per backend/sampler.
+pub fn plot_rays_per_s(points: &[BenchPoint], path: &Path) -> Result<()> {
+    with_backend(path, |a| rays_chart(a, points), |a| rays_chart(a, points))
+}

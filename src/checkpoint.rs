@@ -1,0 +1,192 @@
+//! Film files: the accumulated sums of a render with the sample range they hold and a fingerprint
+//! of the settings that produced them. Used for checkpoints (`--checkpoint-every`, `--resume`) and
+//! for renders split into parts (`--part i/N`, `prism merge`). Written atomically.
+//!
+//! Layout: the magic line `PRISMFILM 1\n`, a u32 little-endian header length, a JSON header, then
+//! per pixel X, Y, Z, weight as f64 and the sample count as u64, all little-endian.
+
+use crate::film::{Film, Pixel};
+use glam::DVec3;
+use std::io::Read;
+use std::ops::Range;
+use std::path::Path;
+
+const MAGIC: &[u8] = b"PRISMFILM 1\n";
+/// Largest image a film file may describe (guards allocation on corrupt input).
+const MAX_PIXELS: u64 = 1 << 28;
+
+/// What a film file holds besides the pixels.
+#[derive(Clone, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub struct FilmHeader {
+    /// Image width.
+    pub width: u32,
+    /// Image height.
+    pub height: u32,
+    /// Sample indices accumulated (every pixel has the same).
+    pub samples: Range<u64>,
+    /// Total samples per pixel the whole render is meant to have.
+    pub spp_total: u64,
+    /// Settings and scene fingerprint: parts and checkpoints only combine when equal.
+    pub fingerprint: String,
+}
+
+/// Errors reading or combining film files.
+#[derive(Debug, thiserror::Error)]
+pub enum FilmFileError {
+    /// I/O failure.
+    #[error("{path}: {source}")]
+    Io {
+        /// File.
+        path: String,
+        /// Cause.
+        source: std::io::Error,
+    },
+    /// Not a prism film file or damaged.
+    #[error("{0}: not a prism film file, or damaged ({1})")]
+    Format(String, String),
+    /// Files that do not belong together.
+    #[error("{0}")]
+    Mismatch(String),
+}
+
+/// Serialises `film` with `header` to `path` atomically.
+pub fn save(path: &Path, film: &Film, header: &FilmHeader) -> Result<(), FilmFileError> {
+    let json = serde_json::to_vec(header).expect("header serialises");
+    let mut buf = Vec::with_capacity(MAGIC.len() + 4 + json.len() + film.pixels.len() * 40);
+    buf.extend_from_slice(MAGIC);
+    buf.extend_from_slice(&(json.len() as u32).to_le_bytes());
+    buf.extend_from_slice(&json);
+    for p in &film.pixels {
+        for v in [p.xyz_sum.x, p.xyz_sum.y, p.xyz_sum.z, p.weight_sum] {
+            buf.extend_from_slice(&v.to_le_bytes());
+        }
+        buf.extend_from_slice(&p.samples.to_le_bytes());
+    }
+    crate::io::write_atomic(path, &buf).map_err(|e| FilmFileError::Io { path: path.display().to_string(), source: e })
+}
+
+/// Reads a film file.
+pub fn load(path: &Path) -> Result<(Film, FilmHeader), FilmFileError> {
+    let name = path.display().to_string();
+    let io = |e| FilmFileError::Io { path: name.clone(), source: e };
+    let bad = |why: &str| FilmFileError::Format(name.clone(), why.to_string());
+    let mut f = std::fs::File::open(path).map_err(io)?;
+    let mut magic = [0u8; 12];
+    f.read_exact(&mut magic).map_err(|_| bad("too short"))?;
+    if magic != MAGIC {
+        return Err(bad("wrong magic"));
+    }
+    let mut len = [0u8; 4];
+    f.read_exact(&mut len).map_err(|_| bad("too short"))?;
+    let len = u32::from_le_bytes(len) as usize;
+    if len > 1 << 20 {
+        return Err(bad("header too large"));
+    }
+    let mut json = vec![0u8; len];
+    f.read_exact(&mut json).map_err(|_| bad("truncated header"))?;
+    let header: FilmHeader = serde_json::from_slice(&json).map_err(|e| bad(&e.to_string()))?;
+    let n = header.width as u64 * header.height as u64;
+    if n == 0 || n > MAX_PIXELS {
+        return Err(bad("absurd image size"));
+    }
+    let mut data = Vec::new();
+    f.read_to_end(&mut data).map_err(io)?;
+    if data.len() as u64 != n * 40 {
+        return Err(bad("pixel data has the wrong length"));
+    }
+    let mut film = Film::new(header.width, header.height);
+    for (p, c) in film.pixels.iter_mut().zip(data.chunks_exact(40)) {
+        let f64_at = |i: usize| f64::from_le_bytes(c[i * 8..i * 8 + 8].try_into().expect("8 bytes"));
+        *p = Pixel {
+            xyz_sum: DVec3::new(f64_at(0), f64_at(1), f64_at(2)),
+            weight_sum: f64_at(3),
+            samples: u64::from_le_bytes(c[32..40].try_into().expect("8 bytes")),
+        };
+    }
+    Ok((film, header))
+}
+
+/// Combines parts of one render: same size and fingerprint, disjoint sample ranges. The result
+/// holds the union of the samples, summed in the order of their sample ranges.
+pub fn merge(mut parts: Vec<(Film, FilmHeader)>) -> Result<(Film, FilmHeader), FilmFileError> {
+    if parts.is_empty() {
+        return Err(FilmFileError::Mismatch("no parts to merge".into()));
+    }
+    parts.sort_by_key(|(_, h)| h.samples.start);
+    let (mut film, mut header) = parts.remove(0);
+    for (f, h) in parts {
+        if (h.width, h.height) != (header.width, header.height) {
+            return Err(FilmFileError::Mismatch(format!(
+                "parts differ in size: {}x{} vs {}x{}",
+                h.width, h.height, header.width, header.height
+            )));
+        }
+        if h.fingerprint != header.fingerprint {
+            return Err(FilmFileError::Mismatch("parts come from different scenes or settings".into()));
+        }
+        if h.samples.start < header.samples.end {
+            return Err(FilmFileError::Mismatch(format!(
+                "sample ranges overlap: {:?} and {:?}",
+                header.samples, h.samples
+            )));
+        }
+        film.merge(&f);
+        header.samples.end = h.samples.end;
+    }
+    Ok((film, header))
+}
+
+/// The sample range of part `i` (1-based) of `n` of a render with `spp` samples per pixel.
+pub fn part_range(i: u64, n: u64, spp: u64) -> Range<u64> {
+    ((i - 1) * spp / n)..(i * spp / n)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::Vec3;
+
+    fn film(seed: f32) -> Film {
+        let mut f = Film::new(3, 2);
+        for y in 0..2 {
+            for x in 0..3 {
+                f.add_sample(x, y, Vec3::new(seed + x as f32, y as f32, 0.5), 1.0);
+            }
+        }
+        f
+    }
+
+    #[test]
+    fn save_load_round_trip_and_merge() {
+        let dir = std::env::temp_dir().join(format!("prism-film-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let h = |r: Range<u64>| FilmHeader { width: 3, height: 2, samples: r, spp_total: 4, fingerprint: "x".into() };
+        let (a, b) = (film(1.0), film(2.0));
+        save(&dir.join("a.film"), &a, &h(0..2)).unwrap();
+        save(&dir.join("b.film"), &b, &h(2..4)).unwrap();
+        let la = load(&dir.join("a.film")).unwrap();
+        assert_eq!(la.0.pixels, a.pixels);
+        assert_eq!(la.1, h(0..2));
+        let lb = load(&dir.join("b.film")).unwrap();
+        let (m, mh) = merge(vec![lb, la.clone()]).unwrap();
+        assert_eq!(mh.samples, 0..4);
+        assert_eq!(m.pixels[0].samples, 2);
+        assert!(merge(vec![la.clone(), la]).is_err(), "overlapping ranges must be refused");
+        std::fs::write(dir.join("bad.film"), b"PRISMFILM 1\n\xff\xff\xff\x7f").unwrap();
+        assert!(matches!(load(&dir.join("bad.film")), Err(FilmFileError::Format(..))));
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn parts_cover_the_samples_disjointly() {
+        for (n, spp) in [(1, 7), (3, 7), (4, 16), (5, 3)] {
+            let mut next = 0;
+            for i in 1..=n {
+                let r = part_range(i, n, spp);
+                assert_eq!(r.start, next);
+                next = r.end;
+            }
+            assert_eq!(next, spp);
+        }
+    }
+}

@@ -1,0 +1,122 @@
+//! `prism bench` and `prism compare`.
+
+use crate::accel::AccelKind;
+use crate::bench::{self, BenchConfig};
+use crate::render::SamplerKind;
+use anyhow::{bail, Context, Result};
+use std::path::PathBuf;
+
+/// Arguments of `prism bench`.
+#[derive(clap::Args, Debug)]
+pub struct BenchArgs {
+    /// pbrt-v4 scene (default: the built-in Cornell box).
+    pub scene: Option<PathBuf>,
+    /// Backends, comma separated.
+    #[arg(long, default_value = "embree,obvhs")]
+    pub accel: String,
+    /// Samplers, comma separated.
+    #[arg(long, default_value = "independent,sobol")]
+    pub sampler: String,
+    /// Sample counts, comma separated.
+    #[arg(long, default_value = "1,4,16,64,256")]
+    pub spp_ladder: String,
+    /// Reference image (EXR); without one, a reference is rendered and cached in --out.
+    #[arg(long)]
+    pub reference: Option<PathBuf>,
+    /// Samples per pixel of a rendered reference.
+    #[arg(long, default_value_t = 4096)]
+    pub reference_spp: u64,
+    /// Output directory for CSV, JSON and plots.
+    #[arg(long, default_value = "bench-out")]
+    pub out: PathBuf,
+    /// Image size as WxH.
+    #[arg(long, default_value = "256x256")]
+    pub resolution: String,
+    /// Maximum path depth.
+    #[arg(long, default_value_t = 8)]
+    pub max_depth: u32,
+    /// Worker threads (default: all cores).
+    #[arg(long)]
+    pub threads: Option<usize>,
+}
+
+fn list<T>(s: &str, what: &str, parse: impl Fn(&str) -> Result<T>) -> Result<Vec<T>> {
+    let v: Vec<T> = s.split(',').map(|x| parse(x.trim())).collect::<Result<_>>()?;
+    if v.is_empty() {
+        bail!("{what} is empty");
+    }
+    Ok(v)
+}
+
+/// Runs `prism bench`.
+pub fn run(a: &BenchArgs) -> Result<()> {
+    let accels = list(&a.accel, "--accel", |s| AccelKind::parse(s).map_err(anyhow::Error::msg))?;
+    let samplers = list(&a.sampler, "--sampler", |s| match s {
+        "independent" => Ok(SamplerKind::Independent),
+        "sobol" => Ok(SamplerKind::Sobol),
+        o => bail!("unknown sampler '{o}' (valid: independent, sobol)"),
+    })?;
+    let ladder = list(&a.spp_ladder, "--spp-ladder", |s| {
+        let n: u64 = s.parse().with_context(|| format!("--spp-ladder: '{s}' is not a count"))?;
+        if n == 0 {
+            bail!("--spp-ladder: counts must be positive");
+        }
+        Ok(n)
+    })?;
+    let (w, h) = a
+        .resolution
+        .split_once('x')
+        .and_then(|(w, h)| Some((w.parse::<u32>().ok()?, h.parse::<u32>().ok()?)))
+        .filter(|&(w, h)| w > 0 && h > 0)
+        .with_context(|| format!("--resolution '{}' is not WxH", a.resolution))?;
+    let cfg = BenchConfig {
+        scene: a.scene.clone(),
+        accels,
+        samplers,
+        ladder,
+        reference: a.reference.clone(),
+        reference_spp: a.reference_spp,
+        out: a.out.clone(),
+        resolution: (w, h),
+        max_depth: a.max_depth,
+    };
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(a.threads.unwrap_or(0))
+        .start_handler(|_| crate::accel::init_render_thread())
+        .build()?;
+    pool.install(|| bench::run(&cfg))?;
+    eprintln!("bench: wrote bench.csv, bench.json, error_vs_time.{{png,svg}}, rays_per_s.{{png,svg}} in {}", a.out.display());
+    Ok(())
+}
+
+/// Arguments of `prism compare`.
+#[derive(clap::Args, Debug)]
+pub struct CompareArgs {
+    /// Test image.
+    pub a: PathBuf,
+    /// Reference image.
+    pub b: PathBuf,
+    /// Write a false-colour |A−B| image here.
+    #[arg(long)]
+    pub diff: Option<PathBuf>,
+    /// Print JSON.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// Runs `prism compare`.
+pub fn compare(a: &CompareArgs) -> Result<()> {
+    let ia = crate::image::read(&a.a).with_context(|| format!("reading {}", a.a.display()))?;
+    let ib = crate::image::read(&a.b).with_context(|| format!("reading {}", a.b.display()))?;
+    let m = crate::image::metrics::compare(&ia, &ib)?;
+    if a.json {
+        println!("{}", serde_json::to_string_pretty(&m)?);
+    } else {
+        println!("RMSE    {:.6e}\nrelMSE  {:.6e}\nMAE     {:.6e}\nmax|Δ|  {:.6e}", m.rmse, m.rel_mse, m.mae, m.max_abs);
+    }
+    if let Some(d) = &a.diff {
+        let img = crate::image::metrics::false_colour_difference(&ia, &ib)?;
+        crate::image::write(d, &img).with_context(|| format!("writing {}", d.display()))?;
+    }
+    Ok(())
+}

@@ -1,0 +1,431 @@
+//! `prism render`: load a scene (or the built-in Cornell box), render it, write the image.
+
+use crate::accel::AccelKind;
+use crate::filter::Filter;
+use crate::film::Film;
+use crate::image::Image;
+use crate::integrator::{PathIntegrator, Stats};
+use crate::render::{render, RenderSettings, SamplerKind};
+use crate::scene::pbrt::FileSettings;
+use crate::scene::{Scene, SceneBuilder};
+use crate::spectrum::ColorSpace;
+use anyhow::{bail, Context, Result};
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+
+/// Arguments of `prism render`.
+#[derive(clap::Args, Debug)]
+pub struct RenderArgs {
+    /// pbrt-v4 scene file; without one, the built-in Cornell box.
+    pub scene: Option<PathBuf>,
+    /// Samples per pixel.
+    #[arg(long)]
+    pub spp: Option<i64>,
+    /// Intersection backend: embree or obvhs.
+    #[arg(long)]
+    pub accel: Option<String>,
+    /// Output image; the format follows the extension (.exr linear float; .png/.jpg/.tif sRGB).
+    #[arg(short = 'o', long = "output")]
+    pub output: Option<PathBuf>,
+    /// Worker threads (default: all cores).
+    #[arg(long)]
+    pub threads: Option<usize>,
+    /// Seed of all random decisions [default: the file's, else 0].
+    #[arg(long)]
+    pub seed: Option<u64>,
+    /// Image size as WxH.
+    #[arg(long)]
+    pub resolution: Option<String>,
+    /// Write timing figures as JSON to this file.
+    #[arg(long)]
+    pub stats_json: Option<PathBuf>,
+    /// Sampler: independent or sobol [default: the file's, else sobol].
+    #[arg(long)]
+    pub sampler: Option<String>,
+    /// Pixel filter: box, gaussian or mitchell [default: the file's, else gaussian].
+    #[arg(long)]
+    pub filter: Option<String>,
+    /// Maximum path depth [default: the file's, else 8].
+    #[arg(long)]
+    pub max_depth: Option<u32>,
+    /// Output colour space: srgb, rec2020, acescg, aces2065-1, display-p3 [default: srgb].
+    #[arg(long)]
+    pub color_space: Option<String>,
+    /// Treat features prism does not render as errors instead of warnings.
+    #[arg(long)]
+    pub strict: bool,
+    /// Stop at the end of the pass during which this many seconds have passed (e.g. 30 or 30s).
+    #[arg(long)]
+    pub time_limit: Option<String>,
+    /// Save the accumulated film to OUTPUT.ckpt at the end of a pass at most this often (e.g. 60s).
+    #[arg(long)]
+    pub checkpoint_every: Option<String>,
+    /// Continue from OUTPUT.ckpt (written by --checkpoint-every) instead of starting over.
+    #[arg(long)]
+    pub resume: bool,
+    /// Render only part i of N (e.g. 2/8): a disjoint share of the samples. Write it to a .film
+    /// output and combine the parts with `prism merge`.
+    #[arg(long)]
+    pub part: Option<String>,
+}
+
+/// Timing and throughput figures of a render (`--stats-json`).
+#[derive(serde::Serialize, Debug)]
+pub struct RenderStats {
+    /// Wall time of the render loop [s].
+    pub elapsed_s: f64,
+    /// Samples per pixel actually taken.
+    pub spp: u64,
+    /// Image width.
+    pub width: u32,
+    /// Image height.
+    pub height: u32,
+    /// Rays traced.
+    pub rays: u64,
+    /// Rays per second.
+    pub rays_per_s: f64,
+    /// Camera samples per second.
+    pub samples_per_s: f64,
+    /// Backend.
+    pub accel: String,
+    /// Discarded non-finite samples.
+    pub nonfinite_samples: u64,
+    /// Scene build time (accelerator and lights) [s].
+    pub build_s: f64,
+}
+
+fn parse_resolution(s: &str) -> Result<(u32, u32)> {
+    let (w, h) = s.split_once(['x', 'X']).with_context(|| format!("resolution '{s}' is not WxH"))?;
+    let w: i64 = w.trim().parse().with_context(|| format!("resolution '{s}' is not WxH"))?;
+    let h: i64 = h.trim().parse().with_context(|| format!("resolution '{s}' is not WxH"))?;
+    if w <= 0 || h <= 0 {
+        bail!("resolution must be positive, got {w}x{h}");
+    }
+    if w > 32768 || h > 32768 {
+        bail!("resolution {w}x{h} is larger than 32768 on a side");
+    }
+    Ok((w as u32, h as u32))
+}
+
+/// Parses "30", "30s", "2m", "1h" into a duration.
+pub fn parse_duration(s: &str) -> Result<Duration> {
+    let s = s.trim();
+    let (num, mult) = match s.chars().last() {
+        Some('s') => (&s[..s.len() - 1], 1.0),
+        Some('m') => (&s[..s.len() - 1], 60.0),
+        Some('h') => (&s[..s.len() - 1], 3600.0),
+        _ => (s, 1.0),
+    };
+    let v: f64 = num.parse().with_context(|| format!("'{s}' is not a duration (e.g. 30s, 2m)"))?;
+    if !(v.is_finite() && v > 0.0) {
+        bail!("duration '{s}' must be positive");
+    }
+    Ok(Duration::from_secs_f64(v * mult))
+}
+
+/// Converts the film's XYZ to linear RGB in `space`.
+pub fn film_to_image(film: &Film, space: &ColorSpace) -> Image {
+    let mut data = Vec::with_capacity(film.pixels.len() * 3);
+    for y in 0..film.height {
+        for x in 0..film.width {
+            let rgb = space.xyz_to_rgb(film.xyz(x, y));
+            data.extend_from_slice(&rgb.to_array());
+        }
+    }
+    Image { width: film.width, height: film.height, channels: 3, data }
+}
+
+/// Validated settings and I/O choices for one render.
+pub struct Job {
+    /// The scene.
+    pub scene: Scene,
+    /// Settings.
+    pub settings: RenderSettings,
+    /// Output path.
+    pub output: PathBuf,
+    /// Output colour space.
+    pub space: &'static ColorSpace,
+    /// Scene build time [s].
+    pub build_s: f64,
+}
+
+/// Checks every argument and loads the scene, before any rendering starts. Command-line values
+/// override the scene file's, which override prism's defaults.
+pub fn prepare(args: &RenderArgs) -> Result<Job> {
+    if let Some(n) = args.spp {
+        if n <= 0 {
+            bail!("--spp must be a positive number of samples, got {n}");
+        }
+    }
+    let accel = match &args.accel {
+        Some(a) => AccelKind::parse(a).map_err(anyhow::Error::msg)?,
+        None => AccelKind::default_available(),
+    };
+    let resolution = args.resolution.as_deref().map(parse_resolution).transpose()?;
+    let time_limit = args.time_limit.as_deref().map(parse_duration).transpose()?;
+
+    let (builder, file) = match &args.scene {
+        None => (SceneBuilder::cornell_box(), FileSettings::default()),
+        Some(path) => load_scene_file(path, args.strict)?,
+    };
+    let sampler = match args.sampler.as_deref().or(file.sampler.as_deref()).unwrap_or("sobol") {
+        "independent" => SamplerKind::Independent,
+        "sobol" | "zsobol" | "paddedsobol" => SamplerKind::Sobol,
+        other => bail!("unknown sampler '{other}' (valid: independent, sobol)"),
+    };
+    let filter_name = args.filter.as_deref().or(file.filter.as_deref()).unwrap_or("gaussian");
+    let filter = match Filter::by_name(filter_name) {
+        Some(f) => f,
+        None if args.filter.is_none() => {
+            log::warn!("the scene's pixel filter '{filter_name}' is not available; using gaussian");
+            Filter::by_name("gaussian").expect("built in")
+        }
+        None => bail!("unknown filter '{filter_name}' (valid: box, gaussian, mitchell)"),
+    };
+    let space_name = args.color_space.as_deref().unwrap_or("srgb");
+    let space = ColorSpace::by_name(space_name).with_context(|| {
+        format!("unknown colour space '{space_name}' (valid: srgb, rec2020, acescg, aces2065-1, display-p3)")
+    })?;
+    let output = args
+        .output
+        .clone()
+        .or_else(|| file.filename.clone().map(|f| f.with_extension(f.extension().map_or("png".into(), |e| e.to_os_string()))))
+        .unwrap_or_else(|| PathBuf::from("prism.png"));
+    check_output(&output)?;
+
+    for w in &builder.warnings {
+        log::warn!("{w}");
+    }
+    let t0 = Instant::now();
+    let scene = builder.build(accel).context("building the scene")?;
+    let build_s = t0.elapsed().as_secs_f64();
+    let max_depth = args.max_depth.or(file.max_depth).unwrap_or(8);
+    let integrator = PathIntegrator { max_depth, ..Default::default() };
+    let settings = RenderSettings {
+        resolution: resolution.or(file.resolution).unwrap_or((256, 256)),
+        spp: args.spp.map(|n| n as u64).or(file.spp).unwrap_or(16),
+        seed: args.seed.or(file.seed).unwrap_or(0),
+        sampler,
+        filter,
+        integrator,
+        time_limit,
+    };
+    Ok(Job { scene, settings, output, space, build_s })
+}
+
+/// Parses a pbrt-v4 file and maps it onto a builder, printing its warnings.
+pub(crate) fn load_scene_file(path: &Path, strict: bool) -> Result<(SceneBuilder, FileSettings)> {
+    if !path.exists() {
+        bail!("scene file '{}' does not exist", path.display());
+    }
+    let opts = crate::scene::ParseOptions { strict, ..Default::default() };
+    let (desc, mut warnings) = crate::scene::parse_file(path, &opts)?;
+    let (builder, settings) = crate::scene::pbrt::build(&desc, &mut warnings)?;
+    warnings.extend(desc.report_unused());
+    for w in &warnings {
+        log::warn!("{w}");
+    }
+    Ok((builder, settings))
+}
+
+/// Extensions `prism render -o` accepts.
+const OUTPUT_EXTENSIONS: [&str; 8] = ["exr", "png", "jpg", "jpeg", "tif", "tiff", "hdr", "film"];
+
+/// Fails early, before rendering, on an output that could not be written.
+pub fn check_output(path: &Path) -> Result<()> {
+    let ext = path.extension().map(|e| e.to_string_lossy().to_lowercase()).unwrap_or_default();
+    if !OUTPUT_EXTENSIONS.contains(&ext.as_str()) {
+        bail!(
+            "unsupported output format '{}' for {} (valid: {})",
+            if ext.is_empty() { "(none)" } else { &ext },
+            path.display(),
+            OUTPUT_EXTENSIONS.join(", ")
+        );
+    }
+    crate::io::check_dir_writable(path).with_context(|| format!("cannot write {}", path.display()))
+}
+
+/// Parses "i/N" with 1 ≤ i ≤ N.
+fn parse_part(s: &str) -> Result<(u64, u64)> {
+    let (i, n) = s.split_once('/').with_context(|| format!("--part '{s}' is not i/N"))?;
+    let (i, n): (u64, u64) = (
+        i.trim().parse().with_context(|| format!("--part '{s}' is not i/N"))?,
+        n.trim().parse().with_context(|| format!("--part '{s}' is not i/N"))?,
+    );
+    if n == 0 || i == 0 || i > n {
+        bail!("--part {s}: need 1 <= i <= N");
+    }
+    Ok((i, n))
+}
+
+/// What identifies a render: parts and checkpoints combine only when this is equal.
+fn fingerprint(args: &RenderArgs, job: &Job) -> String {
+    let scene_id = match &args.scene {
+        None => "cornell-box".to_string(),
+        Some(p) => {
+            let bytes = std::fs::read(p).unwrap_or_default();
+            format!("{}:{:016x}", p.display(), crate::sampling::rng::hash64(&[bytes.len() as u64, fnv(&bytes)]))
+        }
+    };
+    let st = &job.settings;
+    format!(
+        "{scene_id}|{}x{}|spp {}|seed {}|{:?}|{:?}|depth {}|{}",
+        st.resolution.0,
+        st.resolution.1,
+        st.spp,
+        st.seed,
+        st.sampler,
+        st.filter.kind(),
+        st.integrator.max_depth,
+        job.scene.accel.name()
+    )
+}
+
+fn fnv(bytes: &[u8]) -> u64 {
+    bytes.iter().fold(0xcbf2_9ce4_8422_2325u64, |h, &b| (h ^ b as u64).wrapping_mul(0x0100_0000_01b3))
+}
+
+/// Runs `prism render`.
+pub fn run(args: &RenderArgs) -> Result<()> {
+    if args.threads == Some(0) {
+        bail!("--threads must be at least 1");
+    }
+    let job = prepare(args)?;
+    let spp = job.settings.spp;
+    let range = match &args.part {
+        Some(p) => {
+            let (i, n) = parse_part(p)?;
+            crate::checkpoint::part_range(i, n, spp)
+        }
+        None => 0..spp,
+    };
+    let film_output = job.output.extension().is_some_and(|e| e == "film");
+    if args.part.is_some() && !film_output {
+        bail!("--part writes a share of the samples: give a .film output and combine with `prism merge`");
+    }
+    let fp = fingerprint(args, &job);
+    let ckpt_path = PathBuf::from(format!("{}.ckpt", job.output.display()));
+    let ckpt_every = args.checkpoint_every.as_deref().map(parse_duration).transpose()?;
+    let (w, h) = job.settings.resolution;
+    let header = |samples: std::ops::Range<u64>| crate::checkpoint::FilmHeader {
+        width: w,
+        height: h,
+        samples,
+        spp_total: spp,
+        fingerprint: fp.clone(),
+    };
+
+    let mut film = Film::new(w, h);
+    let mut start = range.start;
+    if args.resume {
+        let (f, hd) = crate::checkpoint::load(&ckpt_path)
+            .with_context(|| format!("--resume: reading the checkpoint {}", ckpt_path.display()))?;
+        if hd.fingerprint != fp || (hd.width, hd.height) != (w, h) || hd.samples.start != range.start {
+            bail!("--resume: {} was written by a different scene or settings", ckpt_path.display());
+        }
+        film = f;
+        start = hd.samples.end.min(range.end);
+        eprintln!("prism: resuming at sample {start} of {}", range.end);
+    }
+
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(args.threads.unwrap_or(0))
+        .start_handler(|_| crate::accel::init_render_thread())
+        .build()
+        .context("starting worker threads")?;
+    let bar = indicatif::ProgressBar::new(range.end - range.start);
+    bar.set_style(
+        indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} spp  {elapsed_precise} eta {eta}")
+            .expect("static template"),
+    );
+    bar.set_position(start - range.start);
+    let t0 = Instant::now();
+    let mut last_ckpt = Instant::now();
+    let mut ckpt_error = None;
+    let stats = pool.install(|| {
+        crate::render::render_range(&job.scene, &job.settings, &mut film, start..range.end, |film, done| {
+            bar.set_position(done - range.start);
+            if let Some(every) = ckpt_every {
+                if last_ckpt.elapsed() >= every && done < range.end {
+                    if let Err(e) = crate::checkpoint::save(&ckpt_path, film, &header(range.start..done)) {
+                        ckpt_error = Some(e);
+                        return false;
+                    }
+                    last_ckpt = Instant::now();
+                }
+            }
+            true
+        })
+    });
+    if let Some(e) = ckpt_error {
+        return Err(e).context("writing a checkpoint");
+    }
+    let elapsed = t0.elapsed().as_secs_f64();
+    bar.finish_and_clear();
+    let done = range.start + film.pixels.first().map_or(0, |p| p.samples);
+
+    if film_output {
+        crate::checkpoint::save(&job.output, &film, &header(range.start..done))?;
+    } else {
+        let image = film_to_image(&film, job.space);
+        crate::image::write(&job.output, &image).with_context(|| format!("writing {}", job.output.display()))?;
+    }
+    if ckpt_every.is_some() && done >= range.end {
+        let _ = std::fs::remove_file(&ckpt_path);
+    }
+    let rs = summarize(&job, &stats, elapsed);
+    eprintln!(
+        "{}: {}x{} {} spp in {:.2} s  ({:.3} M samples/s, {:.2} M rays/s, {})",
+        job.output.display(),
+        rs.width,
+        rs.height,
+        done - range.start,
+        rs.elapsed_s,
+        rs.samples_per_s / 1e6,
+        rs.rays_per_s / 1e6,
+        rs.accel
+    );
+    if stats.nonfinite > 0 {
+        if let Some((x, y, s, d)) = stats.nonfinite_at.first() {
+            log::warn!("discarded {} non-finite samples; the first at pixel ({x}, {y}), sample {s}, depth {d}", stats.nonfinite);
+        }
+    }
+    if let Some(p) = &args.stats_json {
+        let text = serde_json::to_string_pretty(&rs)?;
+        crate::io::write_atomic(p, text.as_bytes()).with_context(|| format!("writing {}", p.display()))?;
+    }
+    Ok(())
+}
+
+fn summarize(job: &Job, stats: &Stats, elapsed: f64) -> RenderStats {
+    let (w, h) = job.settings.resolution;
+    let pixels = w as u64 * h as u64;
+    RenderStats {
+        elapsed_s: elapsed,
+        spp: if pixels > 0 { stats.samples / pixels } else { 0 },
+        width: w,
+        height: h,
+        rays: stats.rays,
+        rays_per_s: stats.rays as f64 / elapsed.max(1e-9),
+        samples_per_s: stats.samples as f64 / elapsed.max(1e-9),
+        accel: job.scene.accel.name().to_string(),
+        nonfinite_samples: stats.nonfinite,
+        build_s: job.build_s,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn resolution_and_duration_parsing() {
+        assert_eq!(parse_resolution("640x480").unwrap(), (640, 480));
+        assert!(parse_resolution("0x10").is_err());
+        assert!(parse_resolution("-5x10").is_err());
+        assert!(parse_resolution("abc").is_err());
+        assert_eq!(parse_duration("30s").unwrap(), Duration::from_secs(30));
+        assert_eq!(parse_duration("2m").unwrap(), Duration::from_secs(120));
+        assert!(parse_duration("-1").is_err());
+    }
+}

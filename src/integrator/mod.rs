@@ -1,0 +1,34 @@
+//! Integrators: estimators of the radiance arriving at the camera.
+
+mod path;
+
+pub use path::{DirectStrategy, PathIntegrator};
+
+/// Counters gathered while rendering (summed over threads).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Stats {
+    /// Rays traced (camera, continuation and shadow).
+    pub rays: u64,
+    /// Camera samples taken.
+    pub samples: u64,
+    /// Samples whose estimate was NaN or infinite and was discarded.
+    pub nonfinite: u64,
+    /// Where the first few non-finite samples happened: (x, y, sample index, path depth).
+    pub nonfinite_at: Vec<(u32, u32, u64, u32)>,
+    /// Depth reached by the last traced path (for locating non-finite samples).
+    pub last_depth: u32,
+}
+
+impl Stats {
+    /// Adds another thread's counters.
+    pub fn merge(&mut self, o: &Stats) {
+        self.rays += o.rays;
+        self.samples += o.samples;
+        self.nonfinite += o.nonfinite;
+        for &p in &o.nonfinite_at {
+            if self.nonfinite_at.len() < 16 {
+                self.nonfinite_at.push(p);
+            }
+        }
+    }
+}

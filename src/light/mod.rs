@@ -1,0 +1,110 @@
+//! Light sources in SI units (lecture: "Radiometry"). Spectral quantities are per nanometre:
+//! radiance L [W/(sr·m²·nm)], intensity I [W/(sr·nm)], irradiance E [W/(m²·nm)], flux Φ [W/nm].
+//! A light's `power` parameter is its radiometric flux integrated over 360–830 nm [W].
+
+mod area;
+mod distant;
+mod envmap;
+mod infinite;
+mod point;
+mod sampler;
+
+pub use area::AreaLight;
+pub use distant::DistantLight;
+pub use envmap::EnvMapLight;
+pub use infinite::UniformInfiniteLight;
+pub use point::{PointLight, SpotFalloff, SpotLight};
+pub use sampler::LightSampler;
+
+use crate::spectrum::{SampledSpectrum, SampledWavelengths};
+use glam::{Vec2, Vec3};
+
+/// A sample of incident light at a reference point, produced by [`Light::sample_li`].
+#[derive(Clone, Copy, Debug)]
+pub struct LightSample {
+    /// Incident radiance along `wi` (for delta lights, I/r² or E: the value the estimator
+    /// multiplies by f·cos θ, with `pdf` = 1).
+    pub li: SampledSpectrum,
+    /// Unit direction from the reference point toward the light.
+    pub wi: Vec3,
+    /// Solid-angle density of `wi` [1/sr], or 1 for a delta light.
+    pub pdf: f32,
+    /// Point on the light (shadow-ray target); unused when `dist` is infinite.
+    pub p_light: Vec3,
+    /// Distance to `p_light`, or ∞ for lights at infinity.
+    pub dist: f32,
+}
+
+/// Every light prism renders. A closed set, dispatched by `match` (see design.md).
+#[derive(Clone, Debug)]
+pub enum Light {
+    /// Isotropic point light.
+    Point(PointLight),
+    /// Spotlight (Warn's cos^s model or pbrt-v4's smoothstep cone).
+    Spot(SpotLight),
+    /// One emissive triangle of a diffuse area light.
+    Area(AreaLight),
+    /// Directional light at infinity.
+    Distant(DistantLight),
+    /// Constant radiance from every direction.
+    UniformInfinite(UniformInfiniteLight),
+    /// Radiance from an equirectangular environment image.
+    EnvMap(EnvMapLight),
+}
+
+impl Light {
+    /// True for lights described by a delta distribution (no MIS with BSDF sampling).
+    pub fn is_delta(&self) -> bool {
+        matches!(self, Light::Point(_) | Light::Spot(_) | Light::Distant(_))
+    }
+
+    /// Samples incident light at `p` (with `u` in [0,1)²).
+    pub fn sample_li(&self, p: Vec3, u: Vec2, w: &SampledWavelengths) -> Option<LightSample> {
+        match self {
+            Light::Point(l) => l.sample_li(p, w),
+            Light::Spot(l) => l.sample_li(p, w),
+            Light::Area(l) => l.sample_li(p, u, w),
+            Light::Distant(l) => l.sample_li(w),
+            Light::UniformInfinite(l) => l.sample_li(u, w),
+            Light::EnvMap(l) => l.sample_li(u, w),
+        }
+    }
+
+    /// Solid-angle density with which `sample_li` at `p` picks direction `wi`, given that a ray
+    /// from `p` along `wi` reaches the light at `p_light` with light normal `n_light` (area
+    /// lights) or escapes the scene (infinite lights).
+    pub fn pdf_li(&self, p: Vec3, wi: Vec3, p_light: Vec3, n_light: Vec3) -> f32 {
+        match self {
+            Light::Area(l) => l.pdf_li(p, wi, p_light, n_light),
+            Light::UniformInfinite(_) => infinite::uniform_sphere_pdf(),
+            Light::EnvMap(l) => l.pdf_li(wi),
+            _ => 0.0,
+        }
+    }
+
+    /// Approximate total emitted flux (any consistent unit), used only to choose lights.
+    pub fn power(&self, scene_radius: f32) -> f32 {
+        match self {
+            Light::Point(l) => l.power(),
+            Light::Spot(l) => l.power(),
+            Light::Area(l) => l.power(),
+            Light::Distant(l) => l.power(scene_radius),
+            Light::UniformInfinite(l) => l.power(scene_radius),
+            Light::EnvMap(l) => l.power(scene_radius),
+        }
+    }
+
+    /// True for lights at infinity that rays escaping the scene see.
+    pub fn is_infinite(&self) -> bool {
+        matches!(self, Light::UniformInfinite(_) | Light::EnvMap(_))
+    }
+
+    /// Radiance arriving along an escaping ray with direction `d` (0 for other lights).
+    pub fn escaped_radiance(&self, d: Vec3, w: &SampledWavelengths) -> SampledSpectrum {
+        match self {
+            Light::UniformInfinite(l) => l.le(w),
+            Light::EnvMap(l) => l.le(d, w),
+            _ => SampledSpectrum::zero(),
+        }
+    }
+}

@@ -1,0 +1,196 @@
+//! Point and spot lights. Intensity I [W/(sr·nm)]; E at distance r is I cos θ / r²
+//! (lecture: isotropic point light I = Φ/4π, E = Φ/(4πr²); Warn's spotlight I(ω) = I₀ cos^s θ).
+
+use super::LightSample;
+use crate::math::{Frame, PI};
+use crate::spectrum::{SampledWavelengths, Spectrum};
+use glam::Vec3;
+use std::sync::Arc;
+
+/// Isotropic point light.
+#[derive(Clone, Debug)]
+pub struct PointLight {
+    /// Position [scene units].
+    pub position: Vec3,
+    /// Spectral shape of the intensity.
+    pub spectrum: Arc<Spectrum>,
+    /// Multiplier turning `spectrum` into intensity I [W/(sr·nm)].
+    pub scale: f32,
+}
+
+impl PointLight {
+    /// A point light of intensity `scale · spectrum(λ)`.
+    pub fn new(position: Vec3, spectrum: Arc<Spectrum>, scale: f32) -> Self {
+        Self { position, spectrum, scale }
+    }
+
+    /// A point light emitting total flux `flux` [W] over 360–830 nm: I = Φ / 4π (lecture).
+    pub fn with_flux(position: Vec3, spectrum: Arc<Spectrum>, flux: f32) -> Self {
+        let scale = flux / (4.0 * PI * spectral_integral(&spectrum));
+        Self { position, spectrum, scale }
+    }
+
+    pub(super) fn sample_li(&self, p: Vec3, w: &SampledWavelengths) -> Option<LightSample> {
+        let d = self.position - p;
+        let r2 = d.length_squared();
+        if r2 == 0.0 {
+            return None;
+        }
+        let dist = r2.sqrt();
+        let li = self.spectrum.sample(w) * (self.scale / r2);
+        Some(LightSample { li, wi: d / dist, pdf: 1.0, p_light: self.position, dist })
+    }
+
+    pub(super) fn power(&self) -> f32 {
+        4.0 * PI * self.scale * spectral_integral(&self.spectrum)
+    }
+}
+
+/// How a spotlight's intensity falls off with the angle θ from its axis.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum SpotFalloff {
+    /// Warn 1983: I(θ) = I₀ cos^s θ on the forward hemisphere; flux Φ = 2π I₀ / (s+1).
+    Warn {
+        /// Exponent s ≥ 0.
+        exponent: f32,
+    },
+    /// pbrt-v4: full intensity inside `cos_start`, smoothstep to zero at `cos_end`.
+    Cone {
+        /// cos of the angle where the falloff begins.
+        cos_start: f32,
+        /// cos of the total cone angle.
+        cos_end: f32,
+    },
+}
+
+impl SpotFalloff {
+    /// I(θ)/I₀ for cos θ.
+    #[inline]
+    pub fn factor(&self, cos_theta: f32) -> f32 {
+        match *self {
+            SpotFalloff::Warn { exponent } => {
+                if cos_theta <= 0.0 {
+                    0.0
+                } else {
+                    cos_theta.powf(exponent)
+                }
+            }
+            SpotFalloff::Cone { cos_start, cos_end } => smoothstep(cos_theta, cos_end, cos_start),
+        }
+    }
+
+    /// ∫ I(ω)/I₀ dω over the sphere [sr]: Φ = I₀ × this.
+    pub fn solid_angle_integral(&self) -> f32 {
+        match *self {
+            // Lecture: ∫_{H²} cos^s θ dω = 2π/(s+1).
+            SpotFalloff::Warn { exponent } => 2.0 * PI / (exponent + 1.0),
+            // pbrt-v4 SpotLight::Phi: 2π((1 − cosStart) + (cosStart − cosEnd)/2).
+            SpotFalloff::Cone { cos_start, cos_end } => 2.0 * PI * ((1.0 - cos_start) + (cos_start - cos_end) / 2.0),
+        }
+    }
+}
+
+fn smoothstep(x: f32, a: f32, b: f32) -> f32 {
+    if a == b {
+        return if x < a { 0.0 } else { 1.0 };
+    }
+    let t = ((x - a) / (b - a)).clamp(0.0, 1.0);
+    t * t * (3.0 - 2.0 * t)
+}
+
+/// A spotlight at `position` pointing along `frame.n`.
+#[derive(Clone, Debug)]
+pub struct SpotLight {
+    /// Position [scene units].
+    pub position: Vec3,
+    /// Frame whose normal is the spot axis.
+    pub frame: Frame,
+    /// Spectral shape of the on-axis intensity I₀.
+    pub spectrum: Arc<Spectrum>,
+    /// Multiplier turning `spectrum` into I₀ [W/(sr·nm)].
+    pub scale: f32,
+    /// Angular falloff.
+    pub falloff: SpotFalloff,
+}
+
+impl SpotLight {
+    /// A spotlight with on-axis intensity `scale · spectrum(λ)`.
+    pub fn new(position: Vec3, axis: Vec3, spectrum: Arc<Spectrum>, scale: f32, falloff: SpotFalloff) -> Self {
+        Self { position, frame: Frame::from_normal(axis.normalize()), spectrum, scale, falloff }
+    }
+
+    /// A spotlight emitting total flux `flux` [W] over 360–830 nm: I₀ = Φ / ∫(I/I₀)dω
+    /// (for Warn's model, I₀ = Φ (s+1) / 2π).
+    pub fn with_flux(position: Vec3, axis: Vec3, spectrum: Arc<Spectrum>, flux: f32, falloff: SpotFalloff) -> Self {
+        let scale = flux / (falloff.solid_angle_integral() * spectral_integral(&spectrum));
+        Self::new(position, axis, spectrum, scale, falloff)
+    }
+
+    pub(super) fn sample_li(&self, p: Vec3, w: &SampledWavelengths) -> Option<LightSample> {
+        let d = self.position - p;
+        let r2 = d.length_squared();
+        if r2 == 0.0 {
+            return None;
+        }
+        let dist = r2.sqrt();
+        let wi = d / dist;
+        let f = self.falloff.factor(self.frame.n.dot(-wi));
+        if f == 0.0 {
+            return None;
+        }
+        let li = self.spectrum.sample(w) * (self.scale * f / r2);
+        Some(LightSample { li, wi, pdf: 1.0, p_light: self.position, dist })
+    }
+
+    pub(super) fn power(&self) -> f32 {
+        self.scale * self.falloff.solid_angle_integral() * spectral_integral(&self.spectrum)
+    }
+}
+
+/// ∫ s(λ) dλ over 360–830 nm [nm × the spectrum's unit], by the trapezoid rule at 1 nm.
+pub(crate) fn spectral_integral(s: &Spectrum) -> f32 {
+    let mut acc = 0.0f64;
+    let mut prev = s.eval(360.0) as f64;
+    for l in 361..=830 {
+        let v = s.eval(l as f32) as f64;
+        acc += 0.5 * (prev + v);
+        prev = v;
+    }
+    acc as f32
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn warn_flux_integral_matches_lecture_closed_form() {
+        // Numerically integrate cos^s θ over the hemisphere and compare with 2π/(s+1).
+        for s in [0.0f32, 1.0, 10.0, 100.0] {
+            let f = SpotFalloff::Warn { exponent: s };
+            let n = 200_000;
+            let mut acc = 0.0f64;
+            for i in 0..n {
+                let mu = (i as f64 + 0.5) / n as f64; // cos θ
+                acc += f.factor(mu as f32) as f64;
+            }
+            let numeric = 2.0 * std::f64::consts::PI * acc / n as f64;
+            let closed = f.solid_angle_integral() as f64;
+            assert!((numeric - closed).abs() / closed < 1e-3, "s={s}: {numeric} vs {closed}");
+        }
+    }
+
+    #[test]
+    fn cone_flux_integral_matches_numeric() {
+        let f = SpotFalloff::Cone { cos_start: 30f32.to_radians().cos(), cos_end: 45f32.to_radians().cos() };
+        let n = 400_000;
+        let mut acc = 0.0f64;
+        for i in 0..n {
+            let mu = -1.0 + 2.0 * (i as f64 + 0.5) / n as f64;
+            acc += f.factor(mu as f32) as f64;
+        }
+        let numeric = 2.0 * std::f64::consts::PI * acc * 2.0 / n as f64;
+        let closed = f.solid_angle_integral() as f64;
+        assert!((numeric - closed).abs() / closed < 1e-3, "{numeric} vs {closed}");
+    }
+}

@@ -1,0 +1,171 @@
+//! Materials: what a surface is made of, turned into a BSDF at each hit by evaluating textures and
+//! spectra at the path's wavelengths. Materials hold spectra, never RGB triplets.
+
+mod texture;
+
+pub use texture::{FloatTexture, ImageTexture, SpectrumTexture};
+
+use crate::bsdf::{
+    Bsdf, Bxdf, CoatedDiffuse, Conductor, Dielectric, Diffuse, DiffuseTransmission, ThinDielectric, TrowbridgeReitz,
+};
+use crate::spectrum::{SampledSpectrum, SampledWavelengths, Spectrum};
+use glam::{Vec2, Vec3};
+
+/// Index of refraction: constant, or a spectrum η(λ) (dispersive when it varies).
+#[derive(Clone, Debug)]
+pub enum Ior {
+    /// The same η at every wavelength.
+    Constant(f32),
+    /// η(λ) (Sellmeier/Cauchy glasses, tabulated data).
+    Spectral(Spectrum),
+}
+
+impl Ior {
+    /// True when η varies with wavelength, so refraction separates wavelengths.
+    pub fn is_dispersive(&self) -> bool {
+        match self {
+            Ior::Constant(_) => false,
+            Ior::Spectral(s) => (s.eval(400.0) - s.eval(700.0)).abs() > 1e-6,
+        }
+    }
+}
+
+/// Microfacet roughness of a material: per-direction values and whether they are "roughness"
+/// (remapped to α as pbrt-v4's `remaproughness`) or α directly.
+#[derive(Clone, Debug)]
+pub struct Roughness {
+    /// Roughness along u.
+    pub u: FloatTexture,
+    /// Roughness along v.
+    pub v: FloatTexture,
+    /// Map roughness → α with `TrowbridgeReitz::roughness_to_alpha`.
+    pub remap: bool,
+}
+
+impl Roughness {
+    /// Isotropic constant roughness (α = value, no remapping).
+    pub fn alpha(a: f32) -> Self {
+        Self { u: FloatTexture::Constant(a), v: FloatTexture::Constant(a), remap: false }
+    }
+
+    fn distribution(&self, uv: Vec2) -> TrowbridgeReitz {
+        let (mut au, mut av) = (self.u.eval(uv), self.v.eval(uv));
+        if self.remap {
+            au = TrowbridgeReitz::roughness_to_alpha(au);
+            av = TrowbridgeReitz::roughness_to_alpha(av);
+        }
+        TrowbridgeReitz::new(au, av)
+    }
+}
+
+/// Every material prism renders (pbrt-v4 names in comments).
+#[derive(Clone, Debug)]
+pub enum Material {
+    /// "diffuse": Lambertian reflectance ρ.
+    Diffuse {
+        /// Reflectance ρ(λ) ∈ [0, 1].
+        reflectance: SpectrumTexture,
+    },
+    /// "diffusetransmission".
+    DiffuseTransmission {
+        /// Reflectance.
+        reflectance: SpectrumTexture,
+        /// Transmittance.
+        transmittance: SpectrumTexture,
+        /// Multiplier on both.
+        scale: f32,
+    },
+    /// "conductor": Fresnel from complex η + ik over a Trowbridge–Reitz microfacet distribution.
+    Conductor {
+        /// Real part of the index.
+        eta: Spectrum,
+        /// Imaginary part (absorption).
+        k: Spectrum,
+        /// Roughness.
+        roughness: Roughness,
+    },
+    /// "dielectric": rough or smooth refracting interface.
+    Dielectric {
+        /// Index of refraction (inside over outside).
+        eta: Ior,
+        /// Roughness.
+        roughness: Roughness,
+    },
+    /// "thindielectric": a thin smooth slab (window pane).
+    ThinDielectric {
+        /// Index of refraction.
+        eta: f32,
+    },
+    /// "coateddiffuse": a rough dielectric coat over a Lambertian base.
+    CoatedDiffuse {
+        /// Base reflectance.
+        reflectance: SpectrumTexture,
+        /// Coat roughness.
+        roughness: Roughness,
+        /// Coat index of refraction.
+        eta: f32,
+    },
+}
+
+/// The local geometry a material needs at a hit.
+#[derive(Clone, Copy, Debug)]
+pub struct ShadingPoint {
+    /// Shading normal (unit).
+    pub ns: Vec3,
+    /// Geometric normal (unit).
+    pub ng: Vec3,
+    /// ∂p/∂u, for anisotropic frames (may be zero).
+    pub dpdu: Vec3,
+    /// Texture coordinates.
+    pub uv: Vec2,
+}
+
+impl Material {
+    /// A Lambertian material with constant reflectance spectrum.
+    pub fn diffuse(reflectance: Spectrum) -> Self {
+        Material::Diffuse { reflectance: SpectrumTexture::Constant(reflectance) }
+    }
+
+    /// True when any lobe of this material can change a path's wavelengths' directions
+    /// differently (so secondary wavelengths must be terminated at it).
+    pub fn is_dispersive(&self) -> bool {
+        matches!(self, Material::Dielectric { eta, .. } if eta.is_dispersive())
+    }
+
+    /// The BSDF at a hit for the path's wavelengths. A dispersive dielectric terminates the
+    /// secondary wavelengths (η is evaluated at the hero wavelength only).
+    pub fn bsdf(&self, sp: &ShadingPoint, w: &mut SampledWavelengths) -> Bsdf {
+        let bxdf: Bxdf = match self {
+            Material::Diffuse { reflectance } => Diffuse::new(clamp01(reflectance.eval(sp.uv, w))).into(),
+            Material::DiffuseTransmission { reflectance, transmittance, scale } => DiffuseTransmission::new(
+                clamp01(reflectance.eval(sp.uv, w) * *scale),
+                clamp01(transmittance.eval(sp.uv, w) * *scale),
+            )
+            .into(),
+            Material::Conductor { eta, k, roughness } => {
+                Conductor::new(roughness.distribution(sp.uv), eta.sample(w), k.sample(w)).into()
+            }
+            Material::Dielectric { eta, roughness } => {
+                let e = match eta {
+                    Ior::Constant(e) => *e,
+                    Ior::Spectral(s) => {
+                        if eta.is_dispersive() {
+                            w.terminate_secondary();
+                        }
+                        s.eval(w.lambda[0])
+                    }
+                };
+                Dielectric::new(e, roughness.distribution(sp.uv)).into()
+            }
+            Material::ThinDielectric { eta } => ThinDielectric::new(*eta).into(),
+            Material::CoatedDiffuse { reflectance, roughness, eta } => {
+                CoatedDiffuse::new(clamp01(reflectance.eval(sp.uv, w)), *eta, roughness.distribution(sp.uv)).into()
+            }
+        };
+        Bsdf::new(sp.ns, sp.dpdu, sp.ng, bxdf)
+    }
+}
+
+fn clamp01(s: SampledSpectrum) -> SampledSpectrum {
+    s.map(|x| x.clamp(0.0, 1.0))
+}

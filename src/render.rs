@@ -1,0 +1,138 @@
+//! The render loop: passes of samples over the image, parallel over bands of rows with rayon.
+//! Every sample's random numbers depend only on (pixel, sample index, seed), and each pixel adds
+//! its samples in index order, so the image is bit-identical for any thread count, and a render
+//! can be split into disjoint sample ranges and merged.
+
+use crate::filter::Filter;
+use crate::film::Film;
+use crate::integrator::{PathIntegrator, Stats};
+use crate::sampling::Sampler;
+use crate::scene::Scene;
+use crate::spectrum::SampledWavelengths;
+use glam::Vec2;
+use rayon::prelude::*;
+use std::ops::Range;
+use std::time::{Duration, Instant};
+
+/// Rows per parallel work item.
+const BAND_ROWS: usize = 4;
+
+/// Which sampler generates the sample dimensions.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SamplerKind {
+    /// Independent uniform random numbers.
+    Independent,
+    /// Owen-scrambled Sobol (low discrepancy).
+    Sobol,
+}
+
+impl SamplerKind {
+    fn make(self) -> Sampler {
+        match self {
+            SamplerKind::Independent => Sampler::independent(),
+            SamplerKind::Sobol => Sampler::sobol(),
+        }
+    }
+}
+
+/// Everything about a render that is not the scene.
+#[derive(Clone, Debug)]
+pub struct RenderSettings {
+    /// Image size [pixels].
+    pub resolution: (u32, u32),
+    /// Samples per pixel.
+    pub spp: u64,
+    /// Seed of all random decisions.
+    pub seed: u64,
+    /// Sampler.
+    pub sampler: SamplerKind,
+    /// Pixel filter.
+    pub filter: Filter,
+    /// Path tracer settings.
+    pub integrator: PathIntegrator,
+    /// Stop after the pass during which this much time has passed.
+    pub time_limit: Option<Duration>,
+}
+
+/// One pass's worth of work: samples `range` of every pixel.
+pub fn render_pass(scene: &Scene, settings: &RenderSettings, film: &mut Film, range: Range<u64>) -> Stats {
+    let camera = scene.camera.camera(settings.resolution);
+    let width = film.width as usize;
+    film.pixels
+        .par_chunks_mut(width * BAND_ROWS)
+        .enumerate()
+        .map(|(band, pixels)| {
+            let mut stats = Stats::default();
+            let mut sampler = settings.sampler.make();
+            for (i, px) in pixels.iter_mut().enumerate() {
+                let x = (i % width) as u32;
+                let y = (band * BAND_ROWS + i / width) as u32;
+                for s in range.clone() {
+                    sampler.start_pixel_sample((x, y), s, settings.seed);
+                    let mut lambdas = SampledWavelengths::sample_visible(sampler.get_1d());
+                    let (offset, weight) = settings.filter.sample(sampler.get_pixel_2d());
+                    let p_film = Vec2::new(x as f32 + 0.5, y as f32 + 0.5) + offset;
+                    let ray = camera.generate_ray(p_film, sampler.get_2d());
+                    let l = settings.integrator.li(scene, ray, &mut lambdas, &mut sampler, &mut stats);
+                    stats.samples += 1;
+                    let xyz = l.to_xyz(&lambdas);
+                    if !xyz.is_finite() {
+                        stats.nonfinite += 1;
+                        if stats.nonfinite_at.len() < 16 {
+                            stats.nonfinite_at.push((x, y, s, stats.last_depth));
+                        }
+                        continue;
+                    }
+                    px.xyz_sum += xyz.as_dvec3() * weight as f64;
+                    px.weight_sum += weight as f64;
+                    px.samples += 1;
+                }
+            }
+            stats
+        })
+        .reduce(Stats::default, |mut a, b| {
+            a.merge(&b);
+            a
+        })
+}
+
+/// Renders `settings.spp` samples per pixel (or fewer if the time limit ends it), in passes
+/// of growing size, calling `progress(samples_done)` after each pass.
+pub fn render(scene: &Scene, settings: &RenderSettings, mut progress: impl FnMut(u64)) -> (Film, Stats) {
+    let (w, h) = settings.resolution;
+    let mut film = Film::new(w, h);
+    let stats = render_range(scene, settings, &mut film, 0..settings.spp, |_, done| {
+        progress(done);
+        true
+    });
+    (film, stats)
+}
+
+/// Adds samples `range` of every pixel to `film`, in passes of 1, 1, 2, 4, … 16 samples. After
+/// each pass `after_pass(film, end_of_samples_so_far)` may save a checkpoint or report progress;
+/// returning false stops. Stops early, at the end of a pass, once `settings.time_limit` is over.
+pub fn render_range(
+    scene: &Scene,
+    settings: &RenderSettings,
+    film: &mut Film,
+    range: Range<u64>,
+    mut after_pass: impl FnMut(&Film, u64) -> bool,
+) -> Stats {
+    let mut stats = Stats::default();
+    let start = Instant::now();
+    let mut done = range.start;
+    let mut pass = 1u64;
+    while done < range.end {
+        let n = pass.min(range.end - done);
+        stats.merge(&render_pass(scene, settings, film, done..done + n));
+        done += n;
+        if !after_pass(film, done) {
+            break;
+        }
+        if settings.time_limit.is_some_and(|t| start.elapsed() >= t) {
+            break;
+        }
+        pass = (pass * 2).min(16);
+    }
+    stats
+}

@@ -1,0 +1,100 @@
+//! The local geometry at a ray hit, recomputed from the mesh (not the backend) so that both
+//! backends give identical shading and a bounded error for robust ray spawning.
+
+use super::Scene;
+use crate::geometry::{Hit, Ray};
+use crate::material::ShadingPoint;
+use crate::math::{offset_ray_origin, triangle_point};
+use glam::{Vec2, Vec3};
+
+/// A point on a surface where a ray hit.
+#[derive(Clone, Copy, Debug)]
+pub struct SurfaceInteraction {
+    /// Hit point.
+    pub p: Vec3,
+    /// Per-axis bound on the absolute error of `p`.
+    pub p_err: Vec3,
+    /// Shading data for the material.
+    pub shading: ShadingPoint,
+    /// Unit direction back along the incoming ray.
+    pub wo: Vec3,
+    /// Mesh index.
+    pub mesh: u32,
+    /// Triangle index within the mesh.
+    pub prim: u32,
+}
+
+impl SurfaceInteraction {
+    /// Builds the interaction for `hit` of `ray` in `scene`.
+    pub fn new(scene: &Scene, ray: &Ray, hit: &Hit) -> Self {
+        let mesh = &scene.meshes[hit.geom_id as usize];
+        let tri = mesh.indices[hit.prim_id as usize];
+        let p = mesh.triangle(hit.prim_id as usize);
+        let b = [1.0 - hit.u - hit.v, hit.u, hit.v];
+        let (point, p_err) = triangle_point(p, b);
+        let ng = (p[1] - p[0]).cross(p[2] - p[0]).normalize_or_zero();
+        let uv = match &mesh.uvs {
+            Some(uvs) => uvs[tri[0] as usize] * b[0] + uvs[tri[1] as usize] * b[1] + uvs[tri[2] as usize] * b[2],
+            None => Vec2::new(b[1] + b[2], b[2]),
+        };
+        let mut ns = ng;
+        let mut ng_oriented = ng;
+        if let Some(normals) = &mesh.normals {
+            let n = normals[tri[0] as usize] * b[0] + normals[tri[1] as usize] * b[1] + normals[tri[2] as usize] * b[2];
+            if n.length_squared() > 0.0 && n.is_finite() {
+                ns = n.normalize();
+                // pbrt-v4: the geometric normal follows the side of the interpolated normal.
+                if ng.dot(ns) < 0.0 {
+                    ng_oriented = -ng;
+                }
+            }
+        }
+        let dpdu = match &mesh.uvs {
+            Some(uvs) => {
+                let (duv02, duv12) = (uvs[tri[0] as usize] - uvs[tri[2] as usize], uvs[tri[1] as usize] - uvs[tri[2] as usize]);
+                let (dp02, dp12) = (p[0] - p[2], p[1] - p[2]);
+                let det = duv02.x * duv12.y - duv02.y * duv12.x;
+                if det.abs() > 1e-12 {
+                    (dp02 * duv12.y - dp12 * duv02.y) / det
+                } else {
+                    p[1] - p[0]
+                }
+            }
+            None => p[1] - p[0],
+        };
+        Self {
+            p: point,
+            p_err,
+            shading: ShadingPoint { ns, ng: ng_oriented, dpdu, uv },
+            wo: -ray.d.normalize(),
+            mesh: hit.geom_id,
+            prim: hit.prim_id,
+        }
+    }
+
+    /// A virtual surface point (a sensor) at `p` facing `n`, not part of any mesh.
+    pub fn sensor(p: Vec3, n: Vec3) -> Self {
+        Self {
+            p,
+            p_err: p.abs() * crate::math::offset::gamma(4),
+            shading: ShadingPoint { ns: n, ng: n, dpdu: Vec3::ZERO, uv: Vec2::ZERO },
+            wo: n,
+            mesh: u32::MAX,
+            prim: u32::MAX,
+        }
+    }
+
+    /// A ray leaving the surface along `d`, its origin offset past the error bound of `p`.
+    #[inline]
+    pub fn spawn_ray(&self, d: Vec3) -> Ray {
+        Ray::new(offset_ray_origin(self.p, self.p_err, self.shading.ng, d), d)
+    }
+
+    /// A shadow ray from this point to `target` (a point on a light), stopping just short of it.
+    #[inline]
+    pub fn spawn_ray_to(&self, target: Vec3) -> Ray {
+        let o = offset_ray_origin(self.p, self.p_err, self.shading.ng, target - self.p);
+        // pbrt-v4's ShadowEpsilon: stop at 1 − 1e-4 of the way to avoid hitting the light itself.
+        Ray::segment(o, target - o, 1.0 - 1e-4)
+    }
+}

@@ -1,0 +1,232 @@
+//! Scenes: a builder that collects meshes, materials and lights (from the built-in Cornell box or
+//! a pbrt-v4 file), and the render-ready [`Scene`] with its accelerator.
+
+mod cornell;
+mod interaction;
+
+pub use cornell::add_cornell_box;
+pub use interaction::SurfaceInteraction;
+
+use crate::accel::{self, Accel, AccelKind};
+use crate::camera::Camera;
+use crate::geometry::Mesh;
+use crate::light::{AreaLight, Light, LightSampler};
+use crate::material::Material;
+use crate::spectrum::Spectrum;
+use glam::{Mat4, Vec3};
+use std::sync::Arc;
+
+/// Emission of an area light attached to a mesh: radiance `scale · spectrum(λ)`.
+#[derive(Clone, Debug)]
+pub struct Emission {
+    /// Spectral shape.
+    pub spectrum: Spectrum,
+    /// Multiplier to radiance [W/(sr·m²·nm)].
+    pub scale: f32,
+    /// Emits from both sides.
+    pub two_sided: bool,
+}
+
+/// Camera parameters independent of the image resolution.
+#[derive(Clone, Debug)]
+pub struct CameraDesc {
+    /// Camera space → world space.
+    pub camera_to_world: Mat4,
+    /// Field of view along the shorter image axis [degrees].
+    pub fov_deg: f32,
+    /// Thin-lens radius (0: pinhole).
+    pub lens_radius: f32,
+    /// Focal distance.
+    pub focal_distance: f32,
+    /// Optional screen window.
+    pub screen_window: Option<[f32; 4]>,
+}
+
+impl CameraDesc {
+    /// The camera for an image of `resolution`.
+    pub fn camera(&self, resolution: (u32, u32)) -> Camera {
+        Camera::perspective(
+            self.camera_to_world,
+            resolution,
+            self.fov_deg,
+            self.lens_radius,
+            self.focal_distance,
+            self.screen_window,
+        )
+    }
+}
+
+/// Why a scene could not be built.
+#[derive(Debug, thiserror::Error)]
+pub enum BuildError {
+    /// The accelerator failed (e.g. Embree device creation).
+    #[error("{0}")]
+    Accel(String),
+    /// No camera was given.
+    #[error("the scene has no camera")]
+    NoCamera,
+}
+
+/// Collects a scene's parts before the accelerator is built.
+#[derive(Default)]
+pub struct SceneBuilder {
+    meshes: Vec<Mesh>,
+    mesh_material: Vec<u32>,
+    mesh_emission: Vec<Option<Emission>>,
+    materials: Vec<Material>,
+    lights: Vec<Light>,
+    camera: Option<CameraDesc>,
+    /// Warnings collected while building (degenerate geometry, …).
+    pub warnings: Vec<String>,
+}
+
+impl SceneBuilder {
+    /// An empty builder.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// The built-in default scene (the Cornell box).
+    pub fn cornell_box() -> Self {
+        let mut b = Self::new();
+        add_cornell_box(&mut b);
+        b
+    }
+
+    /// Adds a material, returning its id.
+    pub fn add_material(&mut self, m: Material) -> u32 {
+        self.materials.push(m);
+        self.materials.len() as u32 - 1
+    }
+
+    /// Adds a mesh with a material and optional area emission, returning its id. Triangles with
+    /// non-finite vertices or zero area are dropped with one warning naming the mesh.
+    pub fn add_mesh(&mut self, mut mesh: Mesh, material: u32, emission: Option<Emission>) -> u32 {
+        let id = self.meshes.len() as u32;
+        let dropped = mesh.remove_degenerate();
+        if dropped > 0 {
+            self.warnings.push(format!("mesh {id}: skipped {dropped} degenerate triangle(s) (zero area or NaN/Inf vertices)"));
+        }
+        self.meshes.push(mesh);
+        self.mesh_material.push(material);
+        self.mesh_emission.push(emission);
+        id
+    }
+
+    /// Adds a light that is not attached to geometry.
+    pub fn add_light(&mut self, l: Light) {
+        self.lights.push(l);
+    }
+
+    /// Sets a pinhole camera.
+    pub fn set_camera(&mut self, camera_to_world: Mat4, fov_deg: f32) {
+        self.camera =
+            Some(CameraDesc { camera_to_world, fov_deg, lens_radius: 0.0, focal_distance: 1e6, screen_window: None });
+    }
+
+    /// Sets a full camera description.
+    pub fn set_camera_desc(&mut self, c: CameraDesc) {
+        self.camera = Some(c);
+    }
+
+    /// Applies `m` (a similarity: rotation, uniform scale, translation) to all geometry, lights
+    /// and the camera. Used to test that nothing depends on the scene's scale or position.
+    pub fn transform(&mut self, m: Mat4) {
+        for mesh in self.meshes.iter_mut() {
+            *mesh = mesh.transformed(&m);
+        }
+        if let Some(c) = self.camera.as_mut() {
+            // Keep the camera frame orthonormal: move the origin, rotate the axes, do not scale.
+            let scale = m.transform_vector3(Vec3::X).length();
+            c.camera_to_world = m * c.camera_to_world * Mat4::from_scale(Vec3::splat(1.0 / scale));
+            c.focal_distance *= scale;
+            c.lens_radius *= scale;
+        }
+        assert!(self.lights.is_empty(), "SceneBuilder::transform: transform lights before adding them");
+    }
+
+    /// Builds the accelerator and the lights.
+    pub fn build(self, accel_kind: AccelKind) -> Result<Scene, BuildError> {
+        let camera = self.camera.ok_or(BuildError::NoCamera)?;
+        let accel = accel::build(accel_kind, &self.meshes).map_err(BuildError::Accel)?;
+        let mut lights = self.lights;
+        let mut mesh_light_offset = vec![u32::MAX; self.meshes.len()];
+        for (mi, (mesh, em)) in self.meshes.iter().zip(&self.mesh_emission).enumerate() {
+            let Some(em) = em else { continue };
+            mesh_light_offset[mi] = lights.len() as u32;
+            let spectrum = Arc::new(em.spectrum.clone());
+            for prim in 0..mesh.len() {
+                let p = mesh.triangle(prim);
+                let n = (p[1] - p[0]).cross(p[2] - p[0]);
+                lights.push(Light::Area(AreaLight {
+                    p,
+                    n: n.normalize_or_zero(),
+                    area: 0.5 * n.length(),
+                    spectrum: spectrum.clone(),
+                    scale: em.scale,
+                    two_sided: em.two_sided,
+                    mesh: mi as u32,
+                    prim: prim as u32,
+                }));
+            }
+        }
+        let bounds = accel.bounds();
+        let radius = if bounds.is_empty() { 1.0 } else { bounds.radius().max(1e-6) };
+        let light_sampler = LightSampler::new(&lights, radius);
+        let infinite_lights = lights.iter().enumerate().filter(|(_, l)| l.is_infinite()).map(|(i, _)| i).collect();
+        Ok(Scene {
+            accel,
+            meshes: self.meshes,
+            mesh_material: self.mesh_material,
+            mesh_light_offset,
+            materials: self.materials,
+            lights,
+            infinite_lights,
+            light_sampler,
+            camera,
+            scene_center: if bounds.is_empty() { Vec3::ZERO } else { bounds.center() },
+            scene_radius: radius,
+        })
+    }
+}
+
+/// A scene ready to render.
+pub struct Scene {
+    /// Ray intersection.
+    pub accel: Box<dyn Accel>,
+    /// Geometry (geometry id = index).
+    pub meshes: Vec<Mesh>,
+    /// Material id of each mesh.
+    pub mesh_material: Vec<u32>,
+    /// Index of the first area light of each emissive mesh (light of triangle i = offset + i),
+    /// `u32::MAX` for meshes that do not emit.
+    pub mesh_light_offset: Vec<u32>,
+    /// Materials.
+    pub materials: Vec<Material>,
+    /// All lights (area lights one per emissive triangle).
+    pub lights: Vec<Light>,
+    /// Indices of lights seen by rays that escape the scene.
+    pub infinite_lights: Vec<usize>,
+    /// Power-proportional light choice.
+    pub light_sampler: LightSampler,
+    /// The camera.
+    pub camera: CameraDesc,
+    /// Centre of the scene bounds.
+    pub scene_center: Vec3,
+    /// Radius of the scene's bounding sphere.
+    pub scene_radius: f32,
+}
+
+impl Scene {
+    /// The area light for triangle `prim` of mesh `mesh`, if it emits.
+    #[inline]
+    pub fn area_light_index(&self, mesh: u32, prim: u32) -> Option<usize> {
+        let off = self.mesh_light_offset[mesh as usize];
+        (off != u32::MAX).then(|| (off + prim) as usize)
+    }
+
+    /// True when some material disperses light (model only what the scene needs).
+    pub fn has_dispersion(&self) -> bool {
+        self.materials.iter().any(Material::is_dispersive)
+    }
+}

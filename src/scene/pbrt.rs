@@ -1,0 +1,438 @@
+//! From a parsed pbrt-v4 scene ([`SceneDesc`]) to prism's [`SceneBuilder`]: materials, textures,
+//! lights, shapes, camera and the render settings the file asks for.
+//!
+//! Light spectra follow pbrt-v4: a light's spectrum is normalised to unit luminance (Y = 1 in the
+//! lecture's normalisation, so `"rgb L" [1 1 1]` looks white with value 1), then multiplied by
+//! `scale`. `power` differs on purpose: in prism it is the radiometric flux over 360–830 nm [W].
+
+use super::desc::{LightDesc, MaterialDesc, SceneDesc, ShapeDesc, ShapeGeometry, TextureClass};
+use super::error::{SceneError, Warning};
+use super::params::{FloatOrTexture, ParamSet, SpectrumOrTexture, SpectrumParam};
+use super::{CameraDesc, Emission, SceneBuilder};
+use crate::bsdf::{ior, metals};
+use crate::geometry::Mesh;
+use crate::light::{AreaLight, DistantLight, Light, PointLight, SpotFalloff, SpotLight, UniformInfiniteLight};
+use crate::material::{FloatTexture, ImageTexture, Ior, Material, Roughness, SpectrumTexture};
+use crate::spectrum::{ColorSpace, RgbKind, Spectrum};
+use glam::{Mat4, Vec2, Vec3};
+use std::collections::HashMap;
+use std::sync::Arc;
+
+/// What the file asks of the render (the command line may override each).
+#[derive(Clone, Debug, Default)]
+pub struct FileSettings {
+    /// Film resolution.
+    pub resolution: Option<(u32, u32)>,
+    /// Film "filename".
+    pub filename: Option<std::path::PathBuf>,
+    /// Sampler "pixelsamples".
+    pub spp: Option<u64>,
+    /// Integrator "maxdepth".
+    pub max_depth: Option<u32>,
+    /// PixelFilter type.
+    pub filter: Option<String>,
+    /// Sampler type mapped to prism's ("independent" or "sobol").
+    pub sampler: Option<String>,
+    /// Sampler/Option "seed".
+    pub seed: Option<u64>,
+    /// ColorSpace / film colour space.
+    pub color_space: Option<String>,
+}
+
+/// Turns a desc into a builder; warnings go to `warnings`.
+pub fn build(desc: &SceneDesc, warnings: &mut Vec<Warning>) -> Result<(SceneBuilder, FileSettings), SceneError> {
+    let mut ctx = Ctx { desc, b: SceneBuilder::new(), warnings, materials: HashMap::new() };
+    ctx.camera()?;
+    let settings = ctx.settings();
+    for shape in &desc.shapes {
+        ctx.shape(shape, Mat4::IDENTITY)?;
+    }
+    for inst in &desc.instances {
+        // Instances are flattened into world-space copies (both backends see plain meshes).
+        let obj = &desc.objects[inst.object_index];
+        for shape in &obj.shapes {
+            ctx.shape(shape, inst.world_from_instance)?;
+        }
+    }
+    for l in &desc.lights {
+        ctx.light(l)?;
+    }
+    let Ctx { b, .. } = ctx;
+    Ok((b, settings))
+}
+
+struct Ctx<'a> {
+    desc: &'a SceneDesc,
+    b: SceneBuilder,
+    warnings: &'a mut Vec<Warning>,
+    /// Material id per (kind of reference) key, so shared materials are built once.
+    materials: HashMap<String, u32>,
+}
+
+fn space_of(params: &ParamSet) -> &'static ColorSpace {
+    ColorSpace::by_name(&params.color_space).unwrap_or_else(ColorSpace::srgb)
+}
+
+impl Ctx<'_> {
+    fn warn(&mut self, loc: &super::error::Location, message: String) {
+        self.warnings.push(Warning { loc: loc.clone(), message });
+    }
+
+    fn camera(&mut self) -> Result<(), SceneError> {
+        let c = &self.desc.camera;
+        let p = &c.directive.params;
+        let fov = p.float_or("fov", 90.0);
+        let screen_window = p.floats("screenwindow").filter(|s| s.len() == 4).map(|s| [s[0], s[1], s[2], s[3]]);
+        self.b.set_camera_desc(CameraDesc {
+            camera_to_world: c.camera_from_world.inverse(),
+            fov_deg: fov,
+            lens_radius: p.float_or("lensradius", 0.0),
+            focal_distance: p.float_or("focaldistance", 1e6),
+            screen_window,
+        });
+        Ok(())
+    }
+
+    fn settings(&mut self) -> FileSettings {
+        let d = self.desc;
+        let film = &d.film.params;
+        let res = (film.int("xresolution"), film.int("yresolution"));
+        let resolution = match res {
+            (None, None) => None,
+            (x, y) => Some((x.unwrap_or(1280).max(1) as u32, y.unwrap_or(720).max(1) as u32)),
+        };
+        if film.floats("cropwindow").is_some() {
+            self.warn(&d.film.loc, "Film \"cropwindow\" is not supported; prism renders the full image".into());
+        }
+        let sampler = match d.sampler.kind.as_str() {
+            "independent" => "independent",
+            _ => "sobol",
+        };
+        FileSettings {
+            resolution,
+            filename: film.string("filename").map(Into::into),
+            spp: d.sampler.params.int("pixelsamples").map(|n| n.max(1) as u64),
+            max_depth: d.integrator.params.int("maxdepth").map(|n| n.max(0) as u32),
+            filter: Some(d.filter.kind.clone()),
+            sampler: Some(sampler.to_string()),
+            seed: d.sampler.params.int("seed").or_else(|| d.options.int("seed")).map(|s| s as u64),
+            color_space: Some(d.color_space.clone()),
+        }
+    }
+
+    /// A spectrum for a reflectance-like ("albedo"), unbounded or illuminant parameter.
+    fn spectrum(&mut self, s: &SpectrumParam, kind: RgbKind, params: &ParamSet) -> Result<Spectrum, String> {
+        Ok(match s {
+            SpectrumParam::Rgb(rgb) => Spectrum::from_rgb(*rgb, kind, space_of(params)),
+            SpectrumParam::Blackbody(t) => Spectrum::blackbody(*t),
+            SpectrumParam::Samples(v) => {
+                Spectrum::piecewise_linear(v.iter().map(|p| p.0).collect(), v.iter().map(|p| p.1).collect())
+            }
+            SpectrumParam::Named(n) => named_spectrum(n).ok_or_else(|| format!("unknown named spectrum \"{n}\""))?,
+            SpectrumParam::File(p) => Spectrum::from_spd_file(p).map_err(|e| e.to_string())?,
+        })
+    }
+
+    fn spectrum_texture(
+        &mut self,
+        params: &ParamSet,
+        name: &str,
+        default: f32,
+        loc: &super::error::Location,
+    ) -> Result<SpectrumTexture, SceneError> {
+        match params.spectrum_or_texture(name) {
+            None => Ok(SpectrumTexture::Constant(Spectrum::constant(default))),
+            Some(SpectrumOrTexture::Spectrum(s)) => {
+                let s = s.clone();
+                self.spectrum(&s, RgbKind::Albedo, params)
+                    .map(SpectrumTexture::Constant)
+                    .map_err(|m| SceneError::syntax(loc, name, m))
+            }
+            Some(SpectrumOrTexture::Texture(t)) => self.named_spectrum_texture(t, loc),
+        }
+    }
+
+    fn named_spectrum_texture(&mut self, name: &str, loc: &super::error::Location) -> Result<SpectrumTexture, SceneError> {
+        let Some(t) = self.desc.texture(name, TextureClass::Spectrum) else {
+            return Err(SceneError::syntax(loc, name, format!("no spectrum texture named \"{name}\"")));
+        };
+        let p = &t.params;
+        match t.kind.as_str() {
+            "constant" => self.spectrum_texture(p, "value", 1.0, &t.loc),
+            "checkerboard" => {
+                let even = self.spectrum_texture(p, "tex1", 1.0, &t.loc)?;
+                let odd = self.spectrum_texture(p, "tex2", 0.0, &t.loc)?;
+                let scale = Vec2::new(p.float_or("uscale", 1.0), p.float_or("vscale", 1.0));
+                Ok(SpectrumTexture::Checkerboard { even: Box::new(even), odd: Box::new(odd), scale })
+            }
+            "imagemap" => {
+                let img = self.image(p, &t.loc)?;
+                Ok(SpectrumTexture::Image(ImageTexture { image: img, scale: p.float_or("scale", 1.0) }))
+            }
+            other => {
+                self.warn(&t.loc, format!("texture type \"{other}\" is not supported; prism uses a constant 0.5"));
+                Ok(SpectrumTexture::Constant(Spectrum::constant(0.5)))
+            }
+        }
+    }
+
+    fn image(&mut self, p: &ParamSet, loc: &super::error::Location) -> Result<Arc<crate::image::Image>, SceneError> {
+        let file = p.filename("filename").ok_or_else(|| SceneError::syntax(loc, "imagemap", "missing \"filename\""))?;
+        crate::image::read(&file)
+            .map(Arc::new)
+            .map_err(|e| SceneError::syntax(loc, &file.display().to_string(), format!("cannot read the image: {e}")))
+    }
+
+    fn float_texture(&mut self, p: &ParamSet, name: &str, default: f32) -> Result<FloatTexture, SceneError> {
+        Ok(match p.float_or_texture(name) {
+            None => FloatTexture::Constant(default),
+            Some(FloatOrTexture::Float(v)) => FloatTexture::Constant(v),
+            Some(FloatOrTexture::Texture(t)) => {
+                let t = t.to_string();
+                let Some(td) = self.desc.texture(&t, TextureClass::Float) else {
+                    return Ok(FloatTexture::Constant(default));
+                };
+                let q = &td.params;
+                match td.kind.as_str() {
+                    "constant" => FloatTexture::Constant(q.float_or("value", default)),
+                    "checkerboard" => FloatTexture::Checkerboard {
+                        even: q.float_or("tex1", 1.0),
+                        odd: q.float_or("tex2", 0.0),
+                        scale: Vec2::new(q.float_or("uscale", 1.0), q.float_or("vscale", 1.0)),
+                    },
+                    "imagemap" => {
+                        let loc = td.loc.clone();
+                        FloatTexture::Image(ImageTexture { image: self.image(q, &loc)?, scale: q.float_or("scale", 1.0) })
+                    }
+                    other => {
+                        let loc = td.loc.clone();
+                        self.warn(&loc, format!("float texture type \"{other}\" is not supported; using {default}"));
+                        FloatTexture::Constant(default)
+                    }
+                }
+            }
+        })
+    }
+
+    fn roughness(&mut self, p: &ParamSet) -> Result<Roughness, SceneError> {
+        let base = self.float_texture(p, "roughness", 0.0)?;
+        let u = if p.has("uroughness") { self.float_texture(p, "uroughness", 0.0)? } else { base.clone() };
+        let v = if p.has("vroughness") { self.float_texture(p, "vroughness", 0.0)? } else { base };
+        Ok(Roughness { u, v, remap: p.bool_or("remaproughness", true) })
+    }
+
+    fn material(&mut self, m: Option<&MaterialDesc>) -> Result<u32, SceneError> {
+        let key = m.map_or("default".to_string(), |m| format!("{}:{}:{}", m.loc, m.kind, m.params.len()));
+        if let Some(&id) = self.materials.get(&key) {
+            return Ok(id);
+        }
+        let mat = match m {
+            None => Material::diffuse(Spectrum::constant(0.5)),
+            Some(m) => self.make_material(m)?,
+        };
+        let id = self.b.add_material(mat);
+        self.materials.insert(key, id);
+        Ok(id)
+    }
+
+    fn make_material(&mut self, m: &MaterialDesc) -> Result<Material, SceneError> {
+        let p = &m.params;
+        let loc = &m.loc;
+        Ok(match m.kind.as_str() {
+            "diffuse" => Material::Diffuse { reflectance: self.spectrum_texture(p, "reflectance", 0.5, loc)? },
+            "diffusetransmission" => Material::DiffuseTransmission {
+                reflectance: self.spectrum_texture(p, "reflectance", 0.25, loc)?,
+                transmittance: self.spectrum_texture(p, "transmittance", 0.25, loc)?,
+                scale: p.float_or("scale", 1.0),
+            },
+            "conductor" => {
+                let eta = self.unbounded(p, "eta", "metal-Cu-eta", loc)?;
+                let k = self.unbounded(p, "k", "metal-Cu-k", loc)?;
+                Material::Conductor { eta, k, roughness: self.roughness(p)? }
+            }
+            "dielectric" | "thindielectric" => {
+                let eta = match (p.float("eta"), p.spectrum("eta")) {
+                    (Some(e), _) => Ior::Constant(e),
+                    (None, Some(s)) => {
+                        let s = s.clone();
+                        Ior::Spectral(self.spectrum(&s, RgbKind::Unbounded, p).map_err(|e| SceneError::syntax(loc, "eta", e))?)
+                    }
+                    (None, None) => Ior::Constant(1.5),
+                };
+                if m.kind == "thindielectric" {
+                    let e = match &eta {
+                        Ior::Constant(e) => *e,
+                        Ior::Spectral(s) => s.eval(550.0),
+                    };
+                    Material::ThinDielectric { eta: e }
+                } else {
+                    Material::Dielectric { eta, roughness: self.roughness(p)? }
+                }
+            }
+            "coateddiffuse" => Material::CoatedDiffuse {
+                reflectance: self.spectrum_texture(p, "reflectance", 0.5, loc)?,
+                roughness: self.roughness(p)?,
+                eta: p.float_or("eta", 1.5),
+            },
+            other => {
+                self.warn(loc, format!("material \"{other}\" is not rendered by prism; using diffuse 0.5"));
+                Material::diffuse(Spectrum::constant(0.5))
+            }
+        })
+    }
+
+    fn unbounded(&mut self, p: &ParamSet, name: &str, default: &str, loc: &super::error::Location) -> Result<Spectrum, SceneError> {
+        match p.spectrum(name) {
+            Some(s) => {
+                let s = s.clone();
+                self.spectrum(&s, RgbKind::Unbounded, p).map_err(|e| SceneError::syntax(loc, name, e))
+            }
+            None => p
+                .float(name)
+                .map(Spectrum::constant)
+                .or_else(|| named_spectrum(default))
+                .ok_or_else(|| SceneError::syntax(loc, name, "missing spectrum")),
+        }
+    }
+
+    fn shape(&mut self, s: &ShapeDesc, instance: Mat4) -> Result<(), SceneError> {
+        let world = instance * s.world_from_object;
+        let mesh = match &s.geometry {
+            ShapeGeometry::Mesh(m) => m.transformed(&world),
+            ShapeGeometry::Sphere { radius, z_min, z_max, phi_max } => {
+                super::shapes::tessellate_sphere(*radius, *z_min, *z_max, *phi_max).transformed(&world)
+            }
+        };
+        let mesh = orient(mesh, s.reverse_orientation);
+        let material = self.material(self.desc.material(&s.material))?;
+        let emission = match &s.area_light {
+            None => None,
+            Some(a) => {
+                let p = &a.params;
+                let (spectrum, norm) = self.light_spectrum(p, "L", &a.loc)?;
+                let two_sided = p.bool_or("twosided", false);
+                let mut scale = p.float_or("scale", 1.0) * norm;
+                if let Some(power) = p.float("power") {
+                    scale = AreaLight::scale_for_flux(power, &spectrum, mesh.area(), two_sided);
+                }
+                Some(Emission { spectrum, scale, two_sided })
+            }
+        };
+        self.b.add_mesh(mesh, material, emission);
+        Ok(())
+    }
+
+    /// A light's spectrum and the factor that gives it unit luminance (pbrt-v4's normalisation;
+    /// RGB illuminants are normalised by their illuminant alone so the RGB sets brightness).
+    fn light_spectrum(&mut self, p: &ParamSet, name: &str, loc: &super::error::Location) -> Result<(Spectrum, f32), SceneError> {
+        let space = space_of(p);
+        let white = Spectrum::from_rgb([1.0, 1.0, 1.0], RgbKind::Illuminant, space);
+        let (s, reference) = match p.spectrum(name) {
+            None => (white.clone(), white),
+            Some(sp) => {
+                let sp = sp.clone();
+                let s = self.spectrum(&sp, RgbKind::Illuminant, p).map_err(|e| SceneError::syntax(loc, name, e))?;
+                let r = if matches!(sp, SpectrumParam::Rgb(_)) { white } else { s.clone() };
+                (s, r)
+            }
+        };
+        let y = reference.to_xyz().y;
+        Ok((s, if y > 0.0 { 1.0 / y } else { 0.0 }))
+    }
+
+    fn light(&mut self, l: &LightDesc) -> Result<(), SceneError> {
+        let p = &l.params;
+        let m = l.world_from_light;
+        let scale = p.float_or("scale", 1.0);
+        match l.kind.as_str() {
+            "point" => {
+                let (s, norm) = self.light_spectrum(p, "I", &l.loc)?;
+                let pos = m.transform_point3(p.point3("from").unwrap_or(Vec3::ZERO));
+                let light = match p.float("power") {
+                    Some(phi) => PointLight::with_flux(pos, Arc::new(s), phi),
+                    None => PointLight::new(pos, Arc::new(s), scale * norm),
+                };
+                self.b.add_light(Light::Point(light));
+            }
+            "spot" => {
+                let (s, norm) = self.light_spectrum(p, "I", &l.loc)?;
+                let from = m.transform_point3(p.point3("from").unwrap_or(Vec3::ZERO));
+                let to = m.transform_point3(p.point3("to").unwrap_or(Vec3::Z));
+                let falloff = match p.float("exponent") {
+                    // prism's extension: Warn's cos^s spotlight (lecture).
+                    Some(e) => SpotFalloff::Warn { exponent: e.max(0.0) },
+                    None => {
+                        let cone = p.float_or("coneangle", 30.0);
+                        let delta = p.float_or("conedelta", 5.0);
+                        SpotFalloff::Cone {
+                            cos_start: (cone - delta).to_radians().cos(),
+                            cos_end: cone.to_radians().cos(),
+                        }
+                    }
+                };
+                let light = match p.float("power") {
+                    Some(phi) => SpotLight::with_flux(from, to - from, Arc::new(s), phi, falloff),
+                    None => SpotLight::new(from, to - from, Arc::new(s), scale * norm, falloff),
+                };
+                self.b.add_light(Light::Spot(light));
+            }
+            "distant" => {
+                let (s, norm) = self.light_spectrum(p, "L", &l.loc)?;
+                let from = p.point3("from").unwrap_or(Vec3::ZERO);
+                let to = p.point3("to").unwrap_or(Vec3::Z);
+                let to_light = m.transform_vector3(from - to).normalize_or_zero();
+                let mut e = scale * norm;
+                if let Some(ev) = p.float("illuminance") {
+                    // pbrt-v4: "illuminance" sets the perpendicular illuminance [lux].
+                    e = ev / (crate::measure::K_M as f32 * crate::spectrum::CIE_Y_INTEGRAL * s.to_xyz().y);
+                }
+                self.b.add_light(Light::Distant(DistantLight { to_light, spectrum: Arc::new(s), scale: e }));
+            }
+            "infinite" => {
+                if p.string("filename").is_some() {
+                    self.warn(&l.loc, "environment maps are not rendered yet; prism uses a uniform environment of their average 0.5".into());
+                }
+                let (s, norm) = self.light_spectrum(p, "L", &l.loc)?;
+                self.b.add_light(Light::UniformInfinite(UniformInfiniteLight { spectrum: Arc::new(s), scale: scale * norm }));
+            }
+            other => self.warn(&l.loc, format!("light \"{other}\" is not rendered by prism; skipped")),
+        }
+        Ok(())
+    }
+}
+
+/// Orients triangles as pbrt-v4 does: with per-vertex normals the geometric normal faces them;
+/// otherwise ReverseOrientation flips it. (Mirroring transforms are already handled by
+/// `Mesh::transformed`.)
+fn orient(mut mesh: Mesh, reverse: bool) -> Mesh {
+    if let Some(normals) = &mesh.normals {
+        for t in mesh.indices.iter_mut() {
+            let [a, b, c] = t.map(|i| mesh.positions[i as usize]);
+            let n = (b - a).cross(c - a);
+            let ns = normals[t[0] as usize] + normals[t[1] as usize] + normals[t[2] as usize];
+            if n.dot(ns) < 0.0 {
+                t.swap(1, 2);
+            }
+        }
+    } else if reverse {
+        for t in mesh.indices.iter_mut() {
+            t.swap(1, 2);
+        }
+    }
+    mesh
+}
+
+/// pbrt-v4's named spectra that prism knows: illuminants, metals' η and k, glasses' η.
+pub fn named_spectrum(name: &str) -> Option<Spectrum> {
+    if let Some(s) = Spectrum::named(name) {
+        return Some(s);
+    }
+    if let Some(data) = metals::named(name) {
+        return Some(Spectrum::piecewise_linear(data.iter().map(|p| p.0).collect(), data.iter().map(|p| p.1).collect()));
+    }
+    let glass = name.strip_prefix("glass-").map(|g| g.to_string())?;
+    ior::eta(&glass, 550.0)?;
+    let l: Vec<f32> = (360..=830).step_by(5).map(|x| x as f32).collect();
+    let v: Vec<f32> = l.iter().map(|&x| ior::eta(&glass, x).unwrap_or(1.5)).collect();
+    Some(Spectrum::piecewise_linear(l, v))
+}

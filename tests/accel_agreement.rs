@@ -1,0 +1,125 @@
+//! Embree and obvhs agree: same hit/miss, same primitive, same distance (relative 1e-4) on
+//! coherent and random rays and on rays aimed exactly at shared vertices and edges of closed
+//! meshes; and no ray leaves a closed mesh from inside, on either backend.
+#![cfg(feature = "embree")]
+
+use prism::accel::{embree::EmbreeAccel, obvhs::ObvhsAccel, Accel};
+use prism::geometry::shapes::{axis_box, icosphere, terrain, triangle_soup, uv_sphere};
+use prism::geometry::{Mesh, Ray};
+use prism::sampling::Rng;
+use glam::{Mat4, Vec3};
+
+/// Relative tolerance on hit distances between the two backends' triangle tests.
+const T_REL_TOL: f32 = 1e-4;
+
+fn random_dir(rng: &mut Rng) -> Vec3 {
+    let z = 1.0 - 2.0 * rng.uniform();
+    let r = (1.0 - z * z).max(0.0).sqrt();
+    let phi = 2.0 * std::f32::consts::PI * rng.uniform();
+    Vec3::new(r * phi.cos(), r * phi.sin(), z)
+}
+
+fn scenes() -> Vec<(&'static str, Vec<Mesh>)> {
+    let rot = Mat4::from_rotation_y(0.7) * Mat4::from_rotation_x(0.3);
+    vec![
+        ("icosphere", vec![icosphere(Vec3::ZERO, 1.0, 4)]),
+        ("uv sphere", vec![uv_sphere(Vec3::new(0.2, -0.1, 0.3), 1.3, 40, 80)]),
+        ("rotated box", vec![axis_box(Vec3::splat(-1.0), Vec3::splat(1.0)).transformed(&rot)]),
+        ("terrain + soup", vec![terrain(4.0, 64, 0.5, 3), triangle_soup(2000, Vec3::splat(-2.0), Vec3::splat(2.0), 0.2, 9)]),
+    ]
+}
+
+/// Compares one ray on both backends; returns true if it hit.
+fn agree(name: &str, e: &dyn Accel, o: &dyn Accel, ray: &Ray, exact_prim: bool) -> bool {
+    let (he, ho) = (e.intersect(ray), o.intersect(ray));
+    match (he, ho) {
+        (None, None) => {
+            assert!(!e.occluded(ray) && !o.occluded(ray), "{name}: occluded without a hit {ray:?}");
+            false
+        }
+        (Some(a), Some(b)) => {
+            let tol = T_REL_TOL * a.t.abs().max(1e-3);
+            assert!((a.t - b.t).abs() <= tol, "{name}: t {} vs {} for {ray:?}", a.t, b.t);
+            assert_eq!(a.geom_id, b.geom_id, "{name}: geom for {ray:?}");
+            if exact_prim {
+                assert_eq!(a.prim_id, b.prim_id, "{name}: prim for {ray:?} (t {} vs {})", a.t, b.t);
+            }
+            assert!(e.occluded(ray) && o.occluded(ray), "{name}: hit but not occluded {ray:?}");
+            true
+        }
+        _ => panic!("{name}: embree {he:?} vs obvhs {ho:?} for {ray:?}"),
+    }
+}
+
+#[test]
+fn backends_agree_on_coherent_random_and_edge_rays() {
+    let mut total = 0usize;
+    let mut hits = 0usize;
+    for (name, meshes) in scenes() {
+        let e = EmbreeAccel::new(&meshes).expect("embree device");
+        let o = ObvhsAccel::new(&meshes);
+        let mut rng = Rng::new(11, 0);
+        // Coherent: a 100×100 pinhole grid from outside the scene.
+        let eye = Vec3::new(0.3, 0.4, -6.0);
+        for j in 0..100 {
+            for i in 0..100 {
+                let d = Vec3::new(i as f32 / 50.0 - 1.0, j as f32 / 50.0 - 1.0, 2.5).normalize();
+                hits += agree(name, &e, &o, &Ray::new(eye, d), false) as usize;
+                total += 1;
+            }
+        }
+        // Random rays from random origins.
+        for _ in 0..10_000 {
+            let orig = Vec3::new(rng.uniform(), rng.uniform(), rng.uniform()) * 8.0 - Vec3::splat(4.0);
+            hits += agree(name, &e, &o, &Ray::new(orig, random_dir(&mut rng)), false) as usize;
+            total += 1;
+        }
+        // Rays aimed exactly at vertices and edge midpoints from far outside.
+        let m = &meshes[0];
+        for t in m.indices.iter().take(2_000) {
+            for (a, b) in [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])] {
+                for target in [m.positions[a as usize], 0.5 * (m.positions[a as usize] + m.positions[b as usize])] {
+                    let orig = target + random_dir(&mut rng) * 10.0;
+                    let ray = Ray::new(orig, (target - orig).normalize());
+                    hits += agree(name, &e, &o, &ray, false) as usize;
+                    total += 1;
+                }
+            }
+        }
+    }
+    assert!(total >= 100_000, "only {total} rays");
+    assert!(hits > total / 4, "too few hits ({hits}/{total}): the test would not be testing much");
+}
+
+#[test]
+fn no_ray_escapes_a_closed_mesh_from_inside() {
+    let rot = Mat4::from_translation(Vec3::new(3.0, -2.0, 1.0)) * Mat4::from_rotation_z(0.4);
+    for (name, mesh) in [
+        ("icosphere", icosphere(Vec3::ZERO, 1.0, 3)),
+        ("uv sphere", uv_sphere(Vec3::ZERO, 1.0, 24, 48)),
+        ("transformed box", axis_box(Vec3::splat(-1.0), Vec3::splat(1.0)).transformed(&rot)),
+    ] {
+        let meshes = vec![mesh];
+        let centre = meshes[0].bounds().center();
+        let accels: [Box<dyn Accel>; 2] =
+            [Box::new(EmbreeAccel::new(&meshes).unwrap()), Box::new(ObvhsAccel::new(&meshes))];
+        let m = &meshes[0];
+        let mut rng = Rng::new(3, 1);
+        let mut fired = 0;
+        for accel in &accels {
+            for t in &m.indices {
+                for (a, b) in [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])] {
+                    let (pa, pb) = (m.positions[a as usize], m.positions[b as usize]);
+                    for target in [pa, 0.5 * (pa + pb), pa + (pb - pa) * rng.uniform()] {
+                        // From points inside (near the centre), exactly toward edges and vertices.
+                        let orig = centre + (random_dir(&mut rng) * 0.3 * rng.uniform());
+                        let ray = Ray::new(orig, target - orig);
+                        assert!(accel.intersect(&ray).is_some(), "{name} ({}): escaped {ray:?}", accel.name());
+                        fired += 1;
+                    }
+                }
+            }
+        }
+        assert!(fired > 10_000, "{name}: {fired}");
+    }
+}

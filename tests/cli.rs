@@ -1,0 +1,162 @@
+//! The `prism` binary end to end: clear one-line errors, no half-written files, stats JSON,
+//! split/merge equality, time limits, and resuming after `kill -9`.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn prism() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_prism"))
+}
+
+fn tmpdir(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("prism-cli-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+fn run(args: &[&str]) -> Output {
+    prism().args(args).output().expect("run prism")
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+/// Bad input: a non-zero exit, one line starting "prism: error:", no panic.
+fn assert_clean_error(args: &[&str], needle: &str) {
+    let o = run(args);
+    let e = stderr(&o);
+    assert!(!o.status.success(), "{args:?} succeeded");
+    assert!(!e.contains("panicked"), "{args:?} panicked: {e}");
+    let line = e.lines().find(|l| l.starts_with("prism: error:")).unwrap_or_else(|| panic!("{args:?}: {e}"));
+    assert!(line.contains(needle), "{args:?}: '{line}' lacks '{needle}'");
+}
+
+#[test]
+fn bad_input_gets_one_clear_line() {
+    let d = tmpdir("errors");
+    let out = d.join("x.png");
+    let out = out.to_str().unwrap();
+    assert_clean_error(&["render", "--accel", "optix", "-o", out], "unknown accelerator 'optix'");
+    assert_clean_error(&["render", "/no/such/scene.pbrt", "-o", out], "does not exist");
+    assert_clean_error(&["render", "-o", "/no/such/dir/out.png"], "cannot write");
+    assert_clean_error(&["render", "-o", d.join("out.bmpx").to_str().unwrap()], "unsupported output format 'bmpx'");
+    assert_clean_error(&["render", "--spp", "0", "-o", out], "--spp must be a positive");
+    assert_clean_error(&["render", "--spp", "-3", "-o", out], "--spp must be a positive");
+    assert_clean_error(&["render", "--resolution", "0x64", "-o", out], "resolution must be positive");
+    assert_clean_error(&["render", "--resolution", "-4x64", "-o", out], "resolution must be positive");
+    assert_clean_error(&["render", "--threads", "0", "-o", out], "--threads must be at least 1");
+    assert!(!Path::new(out).exists(), "no image may be written on error");
+}
+
+#[test]
+fn render_writes_image_and_stats_json_and_leaves_no_temp_files() {
+    let d = tmpdir("render");
+    let png = d.join("cb.png");
+    let json = d.join("stats.json");
+    let o = run(&[
+        "render", "--spp", "2", "--resolution", "32x24", "--accel", "obvhs", "-o",
+        png.to_str().unwrap(), "--stats-json", json.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let img = prism::image::read(&png).unwrap();
+    assert_eq!((img.width, img.height), (32, 24));
+    assert!(img.data.iter().any(|&v| v > 0.05), "black image");
+    let stats: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    for key in ["elapsed_s", "spp", "width", "height", "rays", "rays_per_s", "samples_per_s", "accel"] {
+        assert!(stats.get(key).is_some(), "stats lack {key}");
+    }
+    assert_eq!(stats["spp"], 2);
+    assert_eq!(stats["accel"], "obvhs");
+    let leftovers: Vec<_> = std::fs::read_dir(&d).unwrap().filter_map(|e| e.ok()).filter(|e| e.file_name().to_string_lossy().contains(".tmp-")).collect();
+    assert!(leftovers.is_empty(), "temporary files left: {leftovers:?}");
+}
+
+fn film(path: &Path) -> prism::film::Film {
+    prism::checkpoint::load(path).unwrap().0
+}
+
+#[test]
+fn parts_merge_to_the_single_render() {
+    let d = tmpdir("parts");
+    let common = ["--spp", "6", "--resolution", "20x16", "--accel", "obvhs", "--seed", "3"];
+    let whole = d.join("whole.film");
+    let o = prism().arg("render").args(common).args(["-o", whole.to_str().unwrap()]).output().unwrap();
+    assert!(o.status.success(), "{}", stderr(&o));
+    let mut parts = Vec::new();
+    for i in 1..=3 {
+        let p = d.join(format!("part{i}.film"));
+        let o = prism()
+            .arg("render")
+            .args(common)
+            .args(["--part", &format!("{i}/3"), "-o", p.to_str().unwrap()])
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", stderr(&o));
+        parts.push(p);
+    }
+    let merged = d.join("merged.film");
+    let o = prism()
+        .arg("merge")
+        .args(parts.iter().map(|p| p.to_str().unwrap()))
+        .args(["-o", merged.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", stderr(&o));
+    let (a, b) = (film(&whole), film(&merged));
+    for (p, q) in a.pixels.iter().zip(&b.pixels) {
+        assert_eq!(p.samples, q.samples);
+        // The same samples summed in a different grouping: equal up to f64 rounding.
+        assert!((p.xyz_sum - q.xyz_sum).abs().max_element() <= 1e-9 * (1.0 + p.xyz_sum.abs().max_element()));
+    }
+    // Parts from a different render are refused.
+    let other = d.join("other.film");
+    let o = prism().args(["render", "--spp", "6", "--resolution", "20x16", "--accel", "obvhs", "--seed", "4", "--part", "1/3", "-o", other.to_str().unwrap()]).output().unwrap();
+    assert!(o.status.success());
+    let o = prism().args(["merge", other.to_str().unwrap(), parts[1].to_str().unwrap(), "-o", d.join("bad.png").to_str().unwrap()]).output().unwrap();
+    assert!(!o.status.success() && stderr(&o).contains("different scenes or settings"), "{}", stderr(&o));
+}
+
+#[test]
+fn time_limit_stops_at_a_pass_and_writes_a_valid_image() {
+    let d = tmpdir("limit");
+    let out = d.join("t.exr");
+    let t0 = std::time::Instant::now();
+    let o = run(&["render", "--spp", "100000", "--resolution", "16x16", "--accel", "obvhs", "--time-limit", "1s", "-o", out.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(t0.elapsed().as_secs_f64() < 60.0);
+    let img = prism::image::read(&out).unwrap();
+    assert!(img.data.iter().all(|v| v.is_finite()) && img.data.iter().any(|&v| v > 0.0));
+}
+
+#[test]
+fn resume_after_kill_matches_an_uninterrupted_render() {
+    let d = tmpdir("resume");
+    let out = d.join("r.film");
+    let args = ["render", "--spp", "400", "--resolution", "24x24", "--accel", "obvhs", "--threads", "1", "--checkpoint-every", "0.2s", "-o"];
+    let mut child = prism().args(args).arg(&out).spawn().unwrap();
+    let ckpt = PathBuf::from(format!("{}.ckpt", out.display()));
+    let t0 = std::time::Instant::now();
+    while !ckpt.exists() && t0.elapsed().as_secs() < 60 {
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    }
+    std::thread::sleep(std::time::Duration::from_millis(300));
+    child.kill().unwrap(); // SIGKILL
+    child.wait().unwrap();
+    assert!(ckpt.exists(), "no checkpoint was written");
+    let (partial, h) = prism::checkpoint::load(&ckpt).unwrap();
+    assert!(h.samples.end < 400, "the render finished before it was killed");
+    assert!(partial.pixels[0].samples > 0);
+    let o = prism().args(args).arg(&out).arg("--resume").output().unwrap();
+    assert!(o.status.success(), "{}", stderr(&o));
+    let whole = d.join("whole.film");
+    let o = prism().args(args).arg(&whole).output().unwrap();
+    assert!(o.status.success(), "{}", stderr(&o));
+    // Same samples (indices are deterministic), so equal up to summation grouping.
+    let (a, b) = (film(&out), film(&whole));
+    for (p, q) in a.pixels.iter().zip(&b.pixels) {
+        assert_eq!(p.samples, 400);
+        assert!((p.xyz_sum - q.xyz_sum).abs().max_element() <= 1e-9 * (1.0 + p.xyz_sum.abs().max_element()));
+    }
+}

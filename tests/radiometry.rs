@@ -1,0 +1,209 @@
+//! Radiometry in SI units, checked against closed forms (lecture: "Radiometry") with the
+//! measuring instrument (full integrator, mean ± standard error). Tolerances are 3 standard
+//! errors; estimators with zero variance (flat spectra, one delta light) get a 1e-4 relative
+//! allowance for f32 rounding instead.
+
+use glam::{Mat4, Vec3};
+use prism::accel::AccelKind;
+use prism::camera::Camera;
+use prism::geometry::shapes::quad;
+use prism::integrator::{DirectStrategy, PathIntegrator, Stats};
+use prism::light::{AreaLight, DistantLight, Light, PointLight, SpotFalloff, SpotLight, UniformInfiniteLight};
+use prism::material::Material;
+use prism::math::PI;
+use prism::measure::{irradiance, Estimate};
+use prism::sampling::Sampler;
+use prism::scene::{Emission, Scene, SceneBuilder};
+use prism::spectrum::{SampledWavelengths, Spectrum};
+use std::sync::Arc;
+
+fn builder() -> SceneBuilder {
+    let mut b = SceneBuilder::new();
+    b.set_camera(Camera::look_at(Vec3::new(0.0, 0.0, -5.0), Vec3::ZERO, Vec3::Y), 45.0);
+    b
+}
+
+fn build(b: SceneBuilder) -> Scene {
+    b.build(AccelKind::Obvhs).unwrap()
+}
+
+fn assert_close(what: &str, e: Estimate, expected: f64) {
+    let tol = 3.0 * e.std_err + 1e-4 * expected.abs();
+    assert!((e.mean - expected).abs() <= tol, "{what}: measured {} ± {} vs closed form {expected}", e.mean, e.std_err);
+}
+
+fn direct() -> PathIntegrator {
+    PathIntegrator { max_depth: 1, ..Default::default() }
+}
+
+#[test]
+fn point_light_inverse_square_and_lambert_cosine() {
+    let flux = 100.0; // W over 360–830 nm
+    for spectrum in [Spectrum::constant(1.0), Spectrum::blackbody(3000.0)] {
+        let mut b = builder();
+        b.add_light(Light::Point(PointLight::with_flux(Vec3::ZERO, Arc::new(spectrum.clone()), flux)));
+        let scene = build(b);
+        for (r, theta_deg) in [(1.0f32, 0.0f32), (2.5, 0.0), (2.0, 60.0), (3.0, 80.0)] {
+            let p = Vec3::new(0.0, 0.0, r);
+            let t = theta_deg.to_radians();
+            let n = Vec3::new(t.sin(), 0.0, -t.cos()); // tilted away from the light by θ
+            let m = irradiance(&scene, &direct(), p, n, 20_000, 1);
+            let expected = flux as f64 / (4.0 * std::f64::consts::PI * (r * r) as f64) * (t.cos() as f64);
+            assert_close(&format!("point r={r} θ={theta_deg}"), m.irradiance, expected);
+        }
+    }
+}
+
+/// Flux through a sphere of radius `r` around `centre`: Φ = ∫ E dA, by measuring E (normal toward
+/// the centre) at uniformly distributed points, one estimate each.
+fn flux_through_sphere(scene: &Scene, centre: Vec3, r: f32, n: u64) -> Estimate {
+    let integ = direct();
+    let mut sampler = Sampler::independent();
+    let mut stats = Stats::default();
+    let (mut s, mut s2) = (0.0f64, 0.0f64);
+    for i in 0..n {
+        sampler.start_pixel_sample((1, 2), i, 7);
+        let u = sampler.get_2d();
+        let z = 1.0 - 2.0 * u.x;
+        let rr = (1.0 - z * z).max(0.0).sqrt();
+        let phi = 2.0 * PI * u.y;
+        let dir = Vec3::new(rr * phi.cos(), rr * phi.sin(), z);
+        let mut w = SampledWavelengths::sample_uniform(sampler.get_1d());
+        let e = integ.irradiance(scene, centre + dir * r, -dir, &mut w, &mut sampler, &mut stats);
+        let v = 4.0 * std::f64::consts::PI * (r * r) as f64 * e.safe_div(w.pdf()).average() as f64;
+        s += v;
+        s2 += v * v;
+    }
+    let mean = s / n as f64;
+    let var = (s2 / n as f64 - mean * mean) * n as f64 / (n - 1) as f64;
+    Estimate { mean, std_err: (var / n as f64).sqrt() }
+}
+
+#[test]
+fn warn_spotlight_flux_is_two_pi_i0_over_s_plus_one() {
+    let i0 = 5.0f32;
+    for s in [0.0f32, 1.0, 10.0, 100.0] {
+        let mut b = builder();
+        let spot = SpotLight::new(
+            Vec3::ZERO,
+            Vec3::new(0.3, 1.0, 0.2),
+            Arc::new(Spectrum::constant(1.0)),
+            i0,
+            SpotFalloff::Warn { exponent: s },
+        );
+        b.add_light(Light::Spot(spot));
+        let scene = build(b);
+        let phi = flux_through_sphere(&scene, Vec3::ZERO, 3.0, 200_000);
+        // Lecture: Φ = 2π I₀/(s+1) per nm, × 470 nm of flat spectrum.
+        let expected = 2.0 * std::f64::consts::PI * i0 as f64 / (s as f64 + 1.0) * 470.0;
+        assert_close(&format!("Warn s={s}"), phi, expected);
+    }
+}
+
+#[test]
+fn pbrt_spotlight_and_area_light_given_power_emit_that_flux() {
+    let power = 42.0f32;
+    let bb = Spectrum::blackbody(4000.0);
+    // pbrt-v4 cone spotlight with `power`.
+    let mut b = builder();
+    let falloff = SpotFalloff::Cone { cos_start: 20f32.to_radians().cos(), cos_end: 35f32.to_radians().cos() };
+    b.add_light(Light::Spot(SpotLight::with_flux(Vec3::ZERO, Vec3::X, Arc::new(bb.clone()), power, falloff)));
+    let phi = flux_through_sphere(&build(b), Vec3::ZERO, 2.0, 100_000);
+    assert_close("pbrt spot power", phi, power as f64);
+
+    // An area light with `power` on a scaled, rotated, translated mesh (one-sided).
+    let xf = Mat4::from_translation(Vec3::new(0.3, -0.2, 0.1)) * Mat4::from_rotation_x(0.6) * Mat4::from_scale(Vec3::new(0.7, 1.0, 0.3));
+    let mesh = quad(Vec3::new(-0.5, -0.5, 0.0), Vec3::X, Vec3::Y).transformed(&xf);
+    let scale = AreaLight::scale_for_flux(power, &bb, mesh.area(), false);
+    let mut b = builder();
+    let black = b.add_material(Material::diffuse(Spectrum::constant(0.0)));
+    b.add_mesh(mesh, black, Some(Emission { spectrum: bb, scale, two_sided: false }));
+    let phi = flux_through_sphere(&build(b), Vec3::new(0.3, -0.2, 0.1), 2.0, 100_000);
+    assert_close("area power", phi, power as f64);
+}
+
+/// Irradiance at a point on the axis of a parallel a×b rectangle at distance c of radiance L:
+/// E = π L F, with F four times the corner view factor
+/// F_c = 1/(2π) [X/√(1+X²) atan(Y/√(1+X²)) + Y/√(1+Y²) atan(X/√(1+Y²))], X = a/2c, Y = b/2c.
+fn rectangle_irradiance(l: f64, a: f64, b: f64, c: f64) -> f64 {
+    let (x, y) = (a / 2.0 / c, b / 2.0 / c);
+    let fc = (x / (1.0 + x * x).sqrt() * (y / (1.0 + x * x).sqrt()).atan()
+        + y / (1.0 + y * y).sqrt() * (x / (1.0 + y * y).sqrt()).atan())
+        / (2.0 * std::f64::consts::PI);
+    std::f64::consts::PI * l * 4.0 * fc
+}
+
+#[test]
+fn lambertian_emitter_irradiance_matches_view_factor() {
+    let (a, bb, c, l) = (2.0f32, 1.0f32, 1.5f32, 3.0f32);
+    for strategy in [DirectStrategy::Mis, DirectStrategy::LightOnly, DirectStrategy::BsdfOnly] {
+        let mut b = builder();
+        let black = b.add_material(Material::diffuse(Spectrum::constant(0.0)));
+        // Emitter in the plane z = c facing −z (toward the sensor at the origin).
+        let mesh = quad(Vec3::new(-a / 2.0, -bb / 2.0, c), Vec3::new(0.0, bb, 0.0), Vec3::new(a, 0.0, 0.0));
+        b.add_mesh(mesh, black, Some(Emission { spectrum: Spectrum::constant(1.0), scale: l, two_sided: false }));
+        let scene = build(b);
+        let integ = PathIntegrator { max_depth: 1, strategy, ..Default::default() };
+        let m = irradiance(&scene, &integ, Vec3::ZERO, Vec3::Z, 100_000, 3);
+        let expected = rectangle_irradiance(l as f64, a as f64, bb as f64, c as f64) * 470.0;
+        assert_close(&format!("view factor ({strategy:?})"), m.irradiance, expected);
+    }
+}
+
+#[test]
+fn distant_light_irradiance_follows_lambert() {
+    let e0 = 2.0f32;
+    let mut b = builder();
+    let to_light = Vec3::new(0.0, 0.0, 1.0);
+    b.add_light(Light::Distant(DistantLight { to_light, spectrum: Arc::new(Spectrum::constant(1.0)), scale: e0 }));
+    let scene = build(b);
+    for deg in [0.0f32, 30.0, 75.0] {
+        let t = deg.to_radians();
+        let m = irradiance(&scene, &direct(), Vec3::ZERO, Vec3::new(t.sin(), 0.0, t.cos()), 2_000, 4);
+        assert_close(&format!("distant θ={deg}"), m.irradiance, (e0 * t.cos()) as f64 * 470.0);
+    }
+}
+
+#[test]
+fn uniform_environment_gives_pi_l() {
+    let l = 0.5f32;
+    for strategy in [DirectStrategy::Mis, DirectStrategy::LightOnly, DirectStrategy::BsdfOnly] {
+        let mut b = builder();
+        b.add_light(Light::UniformInfinite(UniformInfiniteLight { spectrum: Arc::new(Spectrum::constant(1.0)), scale: l }));
+        let scene = build(b);
+        let integ = PathIntegrator { max_depth: 1, strategy, ..Default::default() };
+        let m = irradiance(&scene, &integ, Vec3::ZERO, Vec3::Y, 50_000, 5);
+        assert_close(&format!("environment ({strategy:?})"), m.irradiance, (PI * l) as f64 * 470.0);
+    }
+}
+
+#[test]
+fn lambertian_reflector_radiance_is_rho_e_over_pi() {
+    // A large diffuse plane of albedo ρ lit by a distant light of perpendicular irradiance E at
+    // incidence θ; the camera sees radiance ρ E cos θ / π (flat spectra → Y is the radiance).
+    let (rho, e0, theta) = (0.6f32, 3.0f32, 40f32.to_radians());
+    let mut b = SceneBuilder::new();
+    let m = b.add_material(Material::diffuse(Spectrum::constant(rho)));
+    b.add_mesh(quad(Vec3::new(-50.0, 0.0, -50.0), Vec3::new(0.0, 0.0, 100.0), Vec3::new(100.0, 0.0, 0.0)), m, None);
+    let to_light = Vec3::new(theta.sin(), theta.cos(), 0.0);
+    b.add_light(Light::Distant(DistantLight { to_light, spectrum: Arc::new(Spectrum::constant(1.0)), scale: e0 }));
+    b.set_camera(Camera::look_at(Vec3::new(0.0, 2.0, -2.0), Vec3::ZERO, Vec3::Y), 20.0);
+    let scene = build(b);
+    let s = prism::render::RenderSettings {
+        resolution: (16, 16),
+        spp: 4,
+        seed: 0,
+        sampler: prism::render::SamplerKind::Independent,
+        filter: prism::filter::Filter::by_name("box").unwrap(),
+        integrator: PathIntegrator { max_depth: 1, ..Default::default() },
+        time_limit: None,
+    };
+    let (film, _) = prism::render::render(&scene, &s, |_| {});
+    let expected = (rho * e0 * theta.cos() / PI) as f64;
+    // Every pixel estimates the same radiance; the spread comes from wavelength sampling.
+    let ys: Vec<f64> = (0..16).flat_map(|y| (0..16).map(move |x| (x, y))).map(|(x, y)| film.xyz(x, y).y as f64).collect();
+    let n = ys.len() as f64;
+    let mean = ys.iter().sum::<f64>() / n;
+    let se = (ys.iter().map(|v| (v - mean) * (v - mean)).sum::<f64>() / (n - 1.0) / n).sqrt();
+    assert_close("ρE/π", Estimate { mean, std_err: se }, expected);
+}
