@@ -1,0 +1,96 @@
+//! The closed set of BxDF models, dispatched by `match` (design.md: enums for closed sets).
+
+use super::{
+    BsdfSample, BxdfFlags, CoatedDiffuse, Conductor, Dielectric, Diffuse, DiffuseTransmission, ThinDielectric,
+    TransportMode,
+};
+use crate::math::{Vec2, Vec3};
+use crate::spectrum::SampledSpectrum;
+
+/// A BxDF built per hit from values at the path's four wavelengths: `Copy`, on the stack.
+/// All directions are in the local shading frame (z = shading normal).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Bxdf {
+    /// Lambertian reflection.
+    Diffuse(Diffuse),
+    /// Lambertian reflection + transmission.
+    DiffuseTransmission(DiffuseTransmission),
+    /// Rough or smooth metal.
+    Conductor(Conductor),
+    /// Rough or smooth dielectric interface.
+    Dielectric(Dielectric),
+    /// Thin smooth dielectric slab.
+    ThinDielectric(ThinDielectric),
+    /// Dielectric coat over a Lambertian base.
+    CoatedDiffuse(CoatedDiffuse),
+}
+
+macro_rules! dispatch {
+    ($self:ident, $b:ident => $e:expr) => {
+        match $self {
+            Bxdf::Diffuse($b) => $e,
+            Bxdf::DiffuseTransmission($b) => $e,
+            Bxdf::Conductor($b) => $e,
+            Bxdf::Dielectric($b) => $e,
+            Bxdf::ThinDielectric($b) => $e,
+            Bxdf::CoatedDiffuse($b) => $e,
+        }
+    };
+}
+
+impl Bxdf {
+    /// f(ωo, ωi) [1/sr] excluding delta lobes; cosine not included.
+    #[inline]
+    pub fn f(&self, wo: Vec3, wi: Vec3, mode: TransportMode) -> SampledSpectrum {
+        dispatch!(self, b => b.f(wo, wi, mode))
+    }
+
+    /// Samples ωi from `uc` (lobe choice) and `u` (direction), both uniform in [0, 1).
+    #[inline]
+    pub fn sample_f(&self, wo: Vec3, uc: f32, u: Vec2, mode: TransportMode) -> Option<BsdfSample> {
+        dispatch!(self, b => b.sample_f(wo, uc, u, mode))
+    }
+
+    /// Density [1/sr] with which [`Self::sample_f`] produces ωi (0 for delta lobes).
+    #[inline]
+    pub fn pdf(&self, wo: Vec3, wi: Vec3, mode: TransportMode) -> f32 {
+        dispatch!(self, b => b.pdf(wo, wi, mode))
+    }
+
+    /// Lobes present.
+    #[inline]
+    pub fn flags(&self) -> BxdfFlags {
+        dispatch!(self, b => b.flags())
+    }
+}
+
+impl From<Diffuse> for Bxdf {
+    fn from(b: Diffuse) -> Self {
+        Bxdf::Diffuse(b)
+    }
+}
+impl From<DiffuseTransmission> for Bxdf {
+    fn from(b: DiffuseTransmission) -> Self {
+        Bxdf::DiffuseTransmission(b)
+    }
+}
+impl From<Conductor> for Bxdf {
+    fn from(b: Conductor) -> Self {
+        Bxdf::Conductor(b)
+    }
+}
+impl From<Dielectric> for Bxdf {
+    fn from(b: Dielectric) -> Self {
+        Bxdf::Dielectric(b)
+    }
+}
+impl From<ThinDielectric> for Bxdf {
+    fn from(b: ThinDielectric) -> Self {
+        Bxdf::ThinDielectric(b)
+    }
+}
+impl From<CoatedDiffuse> for Bxdf {
+    fn from(b: CoatedDiffuse) -> Self {
+        Bxdf::CoatedDiffuse(b)
+    }
+}

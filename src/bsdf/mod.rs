@@ -1,0 +1,37 @@
+//! Scattering functions: BxDFs in the local shading frame (z = normal), enum-dispatched through
+//! [`Bxdf`], and the world-space [`Bsdf`] wrapper the integrator calls at each hit.
+//!
+//! Conventions follow pbrt-v4 (`src/pbrt/bxdfs.h`, `bsdf.h`): `wo` and `wi` both point away
+//! from the surface, `f` excludes the cosine, pdfs are per steradian, delta lobes return
+//! `pdf` 0 from [`Bxdf::pdf`] and are only reachable through [`Bxdf::sample_f`].
+
+mod bxdf;
+mod coated;
+mod conductor;
+mod dielectric;
+mod diffuse;
+mod diffuse_transmission;
+mod flags;
+pub mod fresnel;
+pub mod ior;
+pub mod local;
+pub mod metals;
+mod microfacet;
+mod sample;
+mod thin_dielectric;
+mod world;
+
+#[cfg(test)]
+mod tests;
+
+pub use bxdf::Bxdf;
+pub use coated::CoatedDiffuse;
+pub use conductor::Conductor;
+pub use dielectric::Dielectric;
+pub use diffuse::Diffuse;
+pub use diffuse_transmission::DiffuseTransmission;
+pub use flags::{BxdfFlags, TransportMode};
+pub use microfacet::TrowbridgeReitz;
+pub use sample::BsdfSample;
+pub use thin_dielectric::ThinDielectric;
+pub use world::Bsdf;

@@ -1,0 +1,92 @@
+//! The world-space BSDF at a hit: shading frame + geometric normal + a [`Bxdf`]
+//! (pbrt-v4 `bsdf.h`).
+
+use super::{BsdfSample, Bxdf, BxdfFlags, TransportMode};
+use crate::math::{Frame, Vec2, Vec3};
+use crate::spectrum::SampledSpectrum;
+
+/// A [`Bxdf`] placed in the world. Rejects `wo` in the shading tangent plane, zero pdfs and
+/// non-finite values, so the integrator never sees a NaN from here.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Bsdf {
+    /// Shading frame (n = shading normal).
+    pub frame: Frame,
+    /// Geometric normal (unit).
+    pub ng: Vec3,
+    /// The local scattering model.
+    pub bxdf: Bxdf,
+}
+
+impl Bsdf {
+    /// From the shading normal `ns`, the tangent `dpdu` (first frame axis after Gram–Schmidt),
+    /// the geometric normal `ng` and the model.
+    pub fn new(ns: Vec3, dpdu: Vec3, ng: Vec3, bxdf: Bxdf) -> Self {
+        Self { frame: Frame::from_normal_tangent(ns, dpdu), ng, bxdf }
+    }
+
+    /// World → local shading frame.
+    #[inline]
+    pub fn to_local(&self, v: Vec3) -> Vec3 {
+        self.frame.to_local(v)
+    }
+
+    /// Local shading frame → world.
+    #[inline]
+    pub fn to_world(&self, v: Vec3) -> Vec3 {
+        self.frame.to_world(v)
+    }
+
+    /// Lobes of the model.
+    #[inline]
+    pub fn flags(&self) -> BxdfFlags {
+        self.bxdf.flags()
+    }
+
+    /// f(ωo, ωi) for world directions [1/sr]; 0 when ωo lies in the shading tangent plane or
+    /// the value is not finite.
+    pub fn f(&self, wo: Vec3, wi: Vec3, mode: TransportMode) -> SampledSpectrum {
+        let (wo, wi) = (self.to_local(wo), self.to_local(wi));
+        if wo.z == 0.0 {
+            return SampledSpectrum::zero();
+        }
+        let f = self.bxdf.f(wo, wi, mode);
+        if f.is_finite() {
+            f
+        } else {
+            SampledSpectrum::zero()
+        }
+    }
+
+    /// Samples a world-space ωi; `None` when ωo is in the tangent plane, the sample is black,
+    /// has zero or non-finite density or value, or ωi lies in the tangent plane.
+    pub fn sample_f(&self, wo: Vec3, uc: f32, u: Vec2, mode: TransportMode) -> Option<BsdfSample> {
+        let wo_l = self.to_local(wo);
+        if wo_l.z == 0.0 || self.bxdf.flags().is_empty() {
+            return None;
+        }
+        let mut s = self.bxdf.sample_f(wo_l, uc, u, mode)?;
+        if s.f.is_black() || !(s.pdf > 0.0) || s.wi.z == 0.0 || !s.f.is_finite() || !s.pdf.is_finite() {
+            return None;
+        }
+        s.wi = self.to_world(s.wi);
+        if !s.wi.is_finite() {
+            return None;
+        }
+        Some(s)
+    }
+
+    /// Density of [`Self::sample_f`] for world directions [1/sr]; 0 when ωo lies in the
+    /// tangent plane or the density is not finite.
+    pub fn pdf(&self, wo: Vec3, wi: Vec3, mode: TransportMode) -> f32 {
+        let (wo, wi) = (self.to_local(wo), self.to_local(wi));
+        if wo.z == 0.0 {
+            return 0.0;
+        }
+        let p = self.bxdf.pdf(wo, wi, mode);
+        if p.is_finite() {
+            p
+        } else {
+            0.0
+        }
+    }
+}
