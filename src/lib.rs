@@ -2,6 +2,7 @@
 
 pub mod accel;
 pub mod geometry;
+pub mod image;
 pub mod math;
 pub mod sampling;
 pub mod spectrum;
