@@ -10,12 +10,16 @@ fn main() {
     if env::var_os("CARGO_FEATURE_EMBREE").is_some() {
         build_embree();
     }
+    if env::var_os("CARGO_FEATURE_OIIO").is_some() {
+        build_oiio();
+    }
 }
 
 /// Embree 3 as Debian 12 ships it (`libembree-dev`, 3.13): no pkg-config file, so the include and
 /// library directories come from `EMBREE_DIR` (a prefix with include/ and lib/) or the standard
 /// paths. Everything version-specific (the header path, the library name) is here and in
 /// src/accel/embree/, so an Embree 4 build is a contained change.
+#[cfg(feature = "embree")]
 fn build_embree() {
     println!("cargo:rerun-if-env-changed=EMBREE_DIR");
     let (include_dir, lib_dir) = match env::var_os("EMBREE_DIR") {
@@ -56,3 +60,58 @@ fn build_embree() {
     let out = PathBuf::from(env::var("OUT_DIR").expect("OUT_DIR")).join("embree3_bindings.rs");
     bindings.write_to_file(&out).expect("write Embree bindings");
 }
+
+#[cfg(not(feature = "embree"))]
+fn build_embree() {}
+
+/// Compiles `cpp/oiio_shim.cpp` (C++17) against the system OpenImageIO found by pkg-config and
+/// links it together with `OpenImageIO` and `OpenImageIO_Util`.
+#[cfg(feature = "oiio")]
+fn build_oiio() {
+    println!("cargo:rerun-if-changed=cpp/oiio_shim.h");
+    println!("cargo:rerun-if-changed=cpp/oiio_shim.cpp");
+    println!("cargo:rerun-if-env-changed=PKG_CONFIG_PATH");
+
+    // Probe without emitting link lines yet: the shim's static library must come before the
+    // OIIO shared libraries on the link line, or the linker drops them as unneeded.
+    let oiio = match pkg_config::Config::new()
+        .cargo_metadata(false)
+        .probe("OpenImageIO")
+    {
+        Ok(lib) => lib,
+        Err(e) => panic!(
+            "feature `oiio` needs OpenImageIO: install `libopenimageio-dev` (Debian/Ubuntu) \
+             or build with `--no-default-features` for the pure-Rust image path.\n\
+             pkg-config said: {e}"
+        ),
+    };
+
+    let mut build = cc::Build::new();
+    build
+        .cpp(true)
+        .std("c++17")
+        .file("cpp/oiio_shim.cpp")
+        .include("cpp")
+        .warnings(true);
+    for dir in &oiio.include_paths {
+        build.include(dir);
+    }
+    build.compile("prism_oiio_shim");
+
+    for dir in &oiio.link_paths {
+        println!("cargo:rustc-link-search=native={}", dir.display());
+    }
+    // pkg-config lists both OpenImageIO and OpenImageIO_Util; the shim needs both.
+    let mut libs = oiio.libs.clone();
+    for needed in ["OpenImageIO", "OpenImageIO_Util"] {
+        if !libs.iter().any(|l| l == needed) {
+            libs.push(needed.to_string());
+        }
+    }
+    for lib in libs {
+        println!("cargo:rustc-link-lib={lib}");
+    }
+}
+
+#[cfg(not(feature = "oiio"))]
+fn build_oiio() {}

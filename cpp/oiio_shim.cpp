@@ -1,0 +1,193 @@
+// prism ↔ OpenImageIO shim (see oiio_shim.h). Catches every exception at the boundary.
+#include "oiio_shim.h"
+
+#include <OpenImageIO/imageio.h>
+
+#include <cstring>
+#include <exception>
+#include <string>
+
+using OIIO::ImageInput;
+using OIIO::ImageOutput;
+using OIIO::ImageSpec;
+using OIIO::TypeDesc;
+
+namespace {
+
+void set_error(char *err, size_t err_len, const std::string &msg) {
+    if (err == nullptr || err_len == 0) return;
+    // One line: OIIO messages sometimes carry newlines.
+    std::string line = msg.empty() ? std::string("unknown OpenImageIO error") : msg;
+    for (char &c : line)
+        if (c == '\n' || c == '\r') c = ' ';
+    while (!line.empty() && line.back() == ' ') line.pop_back();
+    size_t n = line.size() < err_len - 1 ? line.size() : err_len - 1;
+    std::memcpy(err, line.data(), n);
+    err[n] = '\0';
+}
+
+// The pending global error, or `fallback` when OIIO has none.
+std::string global_error(const std::string &fallback) {
+    std::string e = OIIO::geterror();
+    return e.empty() ? fallback : e;
+}
+
+bool to_typedesc(int format, TypeDesc &out) {
+    switch (format) {
+    case PRISM_OIIO_HALF: out = TypeDesc::HALF; return true;
+    case PRISM_OIIO_FLOAT: out = TypeDesc::FLOAT; return true;
+    case PRISM_OIIO_UINT8: out = TypeDesc::UINT8; return true;
+    case PRISM_OIIO_UINT16: out = TypeDesc::UINT16; return true;
+    default: return false;
+    }
+}
+
+int from_typedesc(TypeDesc t) {
+    if (t == TypeDesc::HALF) return PRISM_OIIO_HALF;
+    if (t == TypeDesc::FLOAT) return PRISM_OIIO_FLOAT;
+    if (t == TypeDesc::UINT8) return PRISM_OIIO_UINT8;
+    if (t == TypeDesc::UINT16) return PRISM_OIIO_UINT16;
+    return PRISM_OIIO_OTHER;
+}
+
+// Names matching the Rust backend: Y, YA, RGB, RGBA.
+void name_channels(ImageSpec &spec, int channels) {
+    spec.channelnames.clear();
+    switch (channels) {
+    case 1: spec.channelnames = {"Y"}; spec.alpha_channel = -1; break;
+    case 2: spec.channelnames = {"Y", "A"}; spec.alpha_channel = 1; break;
+    case 3: spec.channelnames = {"R", "G", "B"}; spec.alpha_channel = -1; break;
+    default: spec.default_channel_names(); break;
+    }
+}
+
+int write_impl(const char *path, int width, int height, int channels, const float *pixels,
+               int format, int quality, char *err, size_t err_len) {
+    TypeDesc type;
+    if (!to_typedesc(format, type)) {
+        set_error(err, err_len, "unknown pixel format code " + std::to_string(format));
+        return 1;
+    }
+    if (path == nullptr || pixels == nullptr || width <= 0 || height <= 0 || channels <= 0) {
+        set_error(err, err_len, "invalid arguments to prism_oiio_write");
+        return 1;
+    }
+    auto out = ImageOutput::create(path);
+    if (!out) {
+        set_error(err, err_len, global_error(std::string("cannot create a writer for ") + path));
+        return 1;
+    }
+    ImageSpec spec(width, height, channels, type);
+    name_channels(spec, channels);
+    // The caller's alpha is straight (unassociated): store it as given.
+    spec.attribute("oiio:UnassociatedAlpha", 1);
+    if (out->format_name() == std::string("openexr")) spec.attribute("compression", "zip");
+    if (quality > 0) spec.attribute("CompressionQuality", quality);
+    if (!out->open(path, spec)) {
+        set_error(err, err_len, out->geterror());
+        return 1;
+    }
+    bool ok = out->write_image(TypeDesc::FLOAT, pixels);
+    std::string write_err = ok ? std::string() : out->geterror();
+    if (!out->close() && ok) {
+        ok = false;
+        write_err = out->geterror();
+    }
+    if (!ok) {
+        set_error(err, err_len, write_err);
+        return 1;
+    }
+    return 0;
+}
+
+std::unique_ptr<ImageInput> open_input(const char *path) {
+    ImageSpec config;
+    config.attribute("oiio:UnassociatedAlpha", 1);
+    return ImageInput::open(path, &config);
+}
+
+int read_info_impl(const char *path, int *width, int *height, int *channels, int *format,
+                   char *err, size_t err_len) {
+    if (path == nullptr || width == nullptr || height == nullptr || channels == nullptr ||
+        format == nullptr) {
+        set_error(err, err_len, "invalid arguments to prism_oiio_read_info");
+        return 1;
+    }
+    auto in = open_input(path);
+    if (!in) {
+        set_error(err, err_len, global_error(std::string("cannot open ") + path));
+        return 1;
+    }
+    const ImageSpec &spec = in->spec();
+    *width = spec.width;
+    *height = spec.height;
+    *channels = spec.nchannels;
+    *format = from_typedesc(spec.format);
+    in->close();
+    return 0;
+}
+
+int read_impl(const char *path, int width, int height, int channels, float *pixels,
+              size_t pixel_count, char *err, size_t err_len) {
+    if (path == nullptr || pixels == nullptr) {
+        set_error(err, err_len, "invalid arguments to prism_oiio_read");
+        return 1;
+    }
+    auto in = open_input(path);
+    if (!in) {
+        set_error(err, err_len, global_error(std::string("cannot open ") + path));
+        return 1;
+    }
+    const ImageSpec &spec = in->spec();
+    if (spec.width != width || spec.height != height || spec.nchannels != channels ||
+        static_cast<size_t>(width) * static_cast<size_t>(height) * static_cast<size_t>(channels) !=
+            pixel_count) {
+        set_error(err, err_len, "image size changed between info and read");
+        return 1;
+    }
+    if (!in->read_image(0, 0, 0, channels, TypeDesc::FLOAT, pixels)) {
+        set_error(err, err_len, in->geterror());
+        return 1;
+    }
+    in->close();
+    return 0;
+}
+
+} // namespace
+
+extern "C" int prism_oiio_write(const char *path, int width, int height, int channels,
+                                const float *pixels, int format, int quality, char *err,
+                                size_t err_len) {
+    try {
+        return write_impl(path, width, height, channels, pixels, format, quality, err, err_len);
+    } catch (const std::exception &e) {
+        set_error(err, err_len, e.what());
+    } catch (...) {
+        set_error(err, err_len, "unknown C++ exception in prism_oiio_write");
+    }
+    return 1;
+}
+
+extern "C" int prism_oiio_read_info(const char *path, int *width, int *height, int *channels,
+                                    int *format, char *err, size_t err_len) {
+    try {
+        return read_info_impl(path, width, height, channels, format, err, err_len);
+    } catch (const std::exception &e) {
+        set_error(err, err_len, e.what());
+    } catch (...) {
+        set_error(err, err_len, "unknown C++ exception in prism_oiio_read_info");
+    }
+    return 1;
+}
+
+extern "C" int prism_oiio_read(const char *path, int width, int height, int channels,
+                               float *pixels, size_t pixel_count, char *err, size_t err_len) {
+    try {
+        return read_impl(path, width, height, channels, pixels, pixel_count, err, err_len);
+    } catch (const std::exception &e) {
+        set_error(err, err_len, e.what());
+    } catch (...) {
+        set_error(err, err_len, "unknown C++ exception in prism_oiio_read");
+    }
+    return 1;
+}

@@ -1,0 +1,219 @@
+//! Image files: writing and reading linear float images, and comparing them.
+//!
+//! Formats are chosen by extension ([`SUPPORTED_EXTENSIONS`]). OpenEXR and Radiance HDR hold
+//! linear values; PNG, JPEG and TIFF hold sRGB-encoded integers, so writing applies the sRGB
+//! curve (IEC 61966-2-1) to colour channels (never to alpha) and reading removes it.
+//!
+//! Two backends do the work: OpenImageIO through the C++ shim in `cpp/` (feature `oiio`,
+//! the default when enabled) and a pure-Rust path (`exr` and `image` crates). Every write is
+//! atomic: data goes to a temporary file beside the destination that is renamed over it
+//! only once complete.
+
+mod atomic;
+mod colormap;
+mod error;
+mod format;
+pub mod metrics;
+#[cfg(feature = "oiio")]
+mod oiio;
+mod rust_io;
+mod srgb;
+
+use std::path::Path;
+
+pub use error::ImageError;
+pub use format::{FileFormat, SUPPORTED_EXTENSIONS};
+pub use metrics::{compare, false_colour_difference, Metrics};
+
+/// A linear image: `data` holds `width·height·channels` samples, row-major from the top row,
+/// channels interleaved (Y, YA, RGB or RGBA; alpha straight, not premultiplied).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Image {
+    /// Width in pixels.
+    pub width: u32,
+    /// Height in pixels.
+    pub height: u32,
+    /// Samples per pixel.
+    pub channels: u32,
+    /// Interleaved linear samples.
+    pub data: Vec<f32>,
+}
+
+impl Image {
+    /// A black image.
+    pub fn new(width: u32, height: u32, channels: u32) -> Self {
+        let n = width as usize * height as usize * channels as usize;
+        Self {
+            width,
+            height,
+            channels,
+            data: vec![0.0; n],
+        }
+    }
+
+    /// The samples of pixel (`x`, `y`); `None` outside the image.
+    pub fn pixel(&self, x: u32, y: u32) -> Option<&[f32]> {
+        if x >= self.width || y >= self.height {
+            return None;
+        }
+        let c = self.channels as usize;
+        let i = (y as usize * self.width as usize + x as usize) * c;
+        self.data.get(i..i + c)
+    }
+
+    /// Number of samples the size implies, `None` on overflow.
+    fn expected_len(&self) -> Option<usize> {
+        (self.width as usize)
+            .checked_mul(self.height as usize)?
+            .checked_mul(self.channels as usize)
+    }
+
+    /// Checks that the fields agree and describe a non-empty image of 1–4 channels.
+    pub fn validate(&self) -> Result<(), ImageError> {
+        if self.width == 0 || self.height == 0 {
+            return Err(ImageError::InvalidImage(format!(
+                "empty size {}x{}",
+                self.width, self.height
+            )));
+        }
+        if !(1..=4).contains(&self.channels) {
+            return Err(ImageError::InvalidImage(format!(
+                "{} channels (prism writes 1 to 4)",
+                self.channels
+            )));
+        }
+        match self.expected_len() {
+            Some(n) if n == self.data.len() => Ok(()),
+            _ => Err(ImageError::InvalidImage(format!(
+                "{} samples for {}x{}x{}",
+                self.data.len(),
+                self.width,
+                self.height,
+                self.channels
+            ))),
+        }
+    }
+}
+
+/// Which implementation reads and writes files.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Backend {
+    /// OpenImageIO through the C++ shim; only when built with feature `oiio`.
+    Oiio,
+    /// The `exr` and `image` crates.
+    Rust,
+}
+
+impl Backend {
+    /// OpenImageIO when compiled in, else the Rust path.
+    pub fn preferred() -> Self {
+        if cfg!(feature = "oiio") {
+            Self::Oiio
+        } else {
+            Self::Rust
+        }
+    }
+
+    /// The backends compiled into this build.
+    pub fn available() -> &'static [Backend] {
+        if cfg!(feature = "oiio") {
+            &[Self::Oiio, Self::Rust]
+        } else {
+            &[Self::Rust]
+        }
+    }
+}
+
+/// Sample type of OpenEXR output.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ExrSample {
+    /// 16-bit half floats (≈3 significant digits, max 65504): small files.
+    Half,
+    /// 32-bit floats: exact.
+    Float,
+}
+
+/// How [`write_with`] stores an image.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct WriteOptions {
+    /// Implementation to use.
+    pub backend: Backend,
+    /// OpenEXR sample type (default half, as OIIO and pbrt-v4 write).
+    pub exr_sample: ExrSample,
+    /// TIFF with 16-bit instead of 8-bit samples.
+    pub tiff_16bit: bool,
+    /// JPEG quality, 1–100.
+    pub jpeg_quality: u8,
+}
+
+impl Default for WriteOptions {
+    fn default() -> Self {
+        Self {
+            backend: Backend::preferred(),
+            exr_sample: ExrSample::Half,
+            tiff_16bit: false,
+            jpeg_quality: 95,
+        }
+    }
+}
+
+/// Writes `img` to `path` with default options, the format chosen by extension.
+pub fn write(path: &Path, img: &Image) -> Result<(), ImageError> {
+    write_with(path, img, &WriteOptions::default())
+}
+
+/// Writes `img` to `path` atomically: an existing file is replaced only by a complete new
+/// one, and on any error it is left as it was with no temporary file behind.
+pub fn write_with(path: &Path, img: &Image, opts: &WriteOptions) -> Result<(), ImageError> {
+    let format = FileFormat::from_path(path)?;
+    img.validate()?;
+    format.check_channels(path, img.channels)?;
+    check_backend(opts.backend)?;
+    let temp = atomic::TempFile::create(path)?;
+    let result = match opts.backend {
+        #[cfg(feature = "oiio")]
+        Backend::Oiio => oiio::write(temp.path(), format, img, opts),
+        _ => rust_io::write(temp.path(), format, img, opts),
+    };
+    result.map_err(|reason| ImageError::Write {
+        path: path.to_path_buf(),
+        reason,
+    })?;
+    temp.commit()
+}
+
+/// Reads `path` into linear floats with the preferred backend.
+pub fn read(path: &Path) -> Result<Image, ImageError> {
+    read_with(path, Backend::preferred())
+}
+
+/// Reads `path` into linear floats: OpenEXR and HDR as stored, PNG/JPEG/TIFF sRGB-decoded.
+pub fn read_with(path: &Path, backend: Backend) -> Result<Image, ImageError> {
+    let format = FileFormat::from_path(path)?;
+    check_backend(backend)?;
+    if !path.is_file() {
+        return Err(ImageError::NotFound {
+            path: path.to_path_buf(),
+        });
+    }
+    let result = match backend {
+        #[cfg(feature = "oiio")]
+        Backend::Oiio => oiio::read(path),
+        _ => rust_io::read(path, format),
+    };
+    result.map_err(|reason| ImageError::Decode {
+        path: path.to_path_buf(),
+        reason,
+    })
+}
+
+fn check_backend(backend: Backend) -> Result<(), ImageError> {
+    if Backend::available().contains(&backend) {
+        Ok(())
+    } else {
+        Err(ImageError::BackendUnavailable)
+    }
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,203 @@
+//! Safe wrapper over the OpenImageIO C++ shim (`cpp/oiio_shim.{h,cpp}`).
+//!
+//! The only `unsafe` code of the image module lives here. The shim catches every C++
+//! exception and reports failures through a caller-owned message buffer.
+
+use std::ffi::{c_char, c_int, CString};
+use std::path::Path;
+
+use super::format::FileFormat;
+use super::{srgb, ExrSample, Image, WriteOptions};
+
+// Pixel format codes, mirroring `enum prism_oiio_format` in cpp/oiio_shim.h.
+const HALF: c_int = 0;
+const FLOAT: c_int = 1;
+const UINT8: c_int = 2;
+const UINT16: c_int = 3;
+
+/// Size of the message buffer handed to the shim; longer messages are truncated.
+const ERR_LEN: usize = 1024;
+
+mod ffi {
+    use std::ffi::{c_char, c_int};
+
+    extern "C" {
+        pub fn prism_oiio_write(
+            path: *const c_char,
+            width: c_int,
+            height: c_int,
+            channels: c_int,
+            pixels: *const f32,
+            format: c_int,
+            quality: c_int,
+            err: *mut c_char,
+            err_len: usize,
+        ) -> c_int;
+        pub fn prism_oiio_read_info(
+            path: *const c_char,
+            width: *mut c_int,
+            height: *mut c_int,
+            channels: *mut c_int,
+            format: *mut c_int,
+            err: *mut c_char,
+            err_len: usize,
+        ) -> c_int;
+        pub fn prism_oiio_read(
+            path: *const c_char,
+            width: c_int,
+            height: c_int,
+            channels: c_int,
+            pixels: *mut f32,
+            pixel_count: usize,
+            err: *mut c_char,
+            err_len: usize,
+        ) -> c_int;
+    }
+}
+
+fn c_path(path: &Path) -> Result<CString, String> {
+    let s = path.to_str().ok_or("path is not valid UTF-8")?;
+    CString::new(s).map_err(|_| "path contains a NUL byte".to_string())
+}
+
+fn message(buf: &[c_char; ERR_LEN]) -> String {
+    // The shim always NUL-terminates within the buffer; guard anyway by bounding the scan.
+    let bytes: Vec<u8> = buf.iter().take_while(|&&c| c != 0).map(|&c| c as u8).collect();
+    let msg = String::from_utf8_lossy(&bytes).trim().to_string();
+    if msg.is_empty() {
+        "OpenImageIO reported an error without a message".into()
+    } else {
+        msg
+    }
+}
+
+fn to_c_int(v: u32, what: &str) -> Result<c_int, String> {
+    c_int::try_from(v).map_err(|_| format!("{what} {v} is too large for OpenImageIO"))
+}
+
+/// Writes `img` (already validated for `format`) to `path` through OpenImageIO.
+pub(crate) fn write(
+    path: &Path,
+    format: FileFormat,
+    img: &Image,
+    opts: &WriteOptions,
+) -> Result<(), String> {
+    let cpath = c_path(path)?;
+    let c = img.channels as usize;
+    // Integer formats: quantise here exactly as the Rust path does (code / max is exact
+    // enough that OIIO's own round(v·max) returns the same code), so both backends agree.
+    let (pixels, code): (std::borrow::Cow<[f32]>, c_int) = match format {
+        FileFormat::Exr => (
+            img.data.as_slice().into(),
+            match opts.exr_sample {
+                ExrSample::Half => HALF,
+                ExrSample::Float => FLOAT,
+            },
+        ),
+        FileFormat::Hdr => (img.data.as_slice().into(), FLOAT),
+        FileFormat::Tiff if opts.tiff_16bit => (
+            srgb::encode_to_codes(&img.data, c, 65535)
+                .into_iter()
+                .map(|v| v as f32 / 65535.0)
+                .collect::<Vec<f32>>()
+                .into(),
+            UINT16,
+        ),
+        FileFormat::Png | FileFormat::Jpeg | FileFormat::Tiff => (
+            srgb::encode_to_codes(&img.data, c, 255)
+                .into_iter()
+                .map(|v| v as f32 / 255.0)
+                .collect::<Vec<f32>>()
+                .into(),
+            UINT8,
+        ),
+    };
+    let quality = if format == FileFormat::Jpeg {
+        c_int::from(opts.jpeg_quality.clamp(1, 100))
+    } else {
+        0
+    };
+    let mut err = [0 as c_char; ERR_LEN];
+    // SAFETY: `cpath` is a live NUL-terminated string; `pixels` holds exactly
+    // width·height·channels floats (checked by `Image::validate` before we get here) and
+    // outlives the call; `err` is a writable buffer of ERR_LEN bytes whose length we pass.
+    let rc = unsafe {
+        ffi::prism_oiio_write(
+            cpath.as_ptr(),
+            to_c_int(img.width, "width")?,
+            to_c_int(img.height, "height")?,
+            to_c_int(img.channels, "channel count")?,
+            pixels.as_ptr(),
+            code,
+            quality,
+            err.as_mut_ptr(),
+            ERR_LEN,
+        )
+    };
+    if rc == 0 {
+        Ok(())
+    } else {
+        Err(message(&err))
+    }
+}
+
+/// Reads `path` through OpenImageIO into linear floats (integer formats are sRGB-decoded).
+pub(crate) fn read(path: &Path) -> Result<Image, String> {
+    let cpath = c_path(path)?;
+    let (mut w, mut h, mut c, mut fmt): (c_int, c_int, c_int, c_int) = (0, 0, 0, 0);
+    let mut err = [0 as c_char; ERR_LEN];
+    // SAFETY: `cpath` is a live NUL-terminated string; the four out-pointers point at live
+    // local integers; `err` is a writable buffer of ERR_LEN bytes whose length we pass.
+    let rc = unsafe {
+        ffi::prism_oiio_read_info(
+            cpath.as_ptr(),
+            &mut w,
+            &mut h,
+            &mut c,
+            &mut fmt,
+            err.as_mut_ptr(),
+            ERR_LEN,
+        )
+    };
+    if rc != 0 {
+        return Err(message(&err));
+    }
+    if w <= 0 || h <= 0 || c <= 0 {
+        return Err(format!("image reports an empty size {w}x{h}x{c}"));
+    }
+    let count = (w as usize)
+        .checked_mul(h as usize)
+        .and_then(|n| n.checked_mul(c as usize))
+        .ok_or("image too large")?;
+    let mut data: Vec<f32> = Vec::new();
+    data.try_reserve_exact(count)
+        .map_err(|_| format!("cannot allocate {count} samples"))?;
+    data.resize(count, 0.0);
+    // SAFETY: `data` holds exactly `count` = w·h·c writable floats and the shim writes at
+    // most `pixel_count` of them; `cpath` and `err` are as above.
+    let rc = unsafe {
+        ffi::prism_oiio_read(
+            cpath.as_ptr(),
+            w,
+            h,
+            c,
+            data.as_mut_ptr(),
+            count,
+            err.as_mut_ptr(),
+            ERR_LEN,
+        )
+    };
+    if rc != 0 {
+        return Err(message(&err));
+    }
+    if fmt == UINT8 || fmt == UINT16 {
+        srgb::decode_normalised_in_place(&mut data, c as usize);
+    }
+    Ok(Image {
+        width: w as u32,
+        height: h as u32,
+        channels: c as u32,
+        data,
+    })
+}
+

@@ -1,0 +1,213 @@
+//! The pure-Rust image path: OpenEXR through the `exr` crate, everything else through `image`.
+//!
+//! Errors come back as one-line reasons; `super` wraps them with the path.
+
+use std::fs::File;
+use std::io::BufWriter;
+use std::path::Path;
+
+use exr::prelude::{self as exr_p, f16, SmallVec, WritableImage};
+use ::image::{DynamicImage, ImageBuffer, ImageFormat};
+
+use super::format::FileFormat;
+use super::{srgb, ExrSample, Image, WriteOptions};
+
+/// Conventional channel names for 1–4 channels, the same ones the OIIO shim writes.
+pub(crate) fn channel_names(channels: usize) -> &'static [&'static str] {
+    match channels {
+        1 => &["Y"],
+        2 => &["Y", "A"],
+        3 => &["R", "G", "B"],
+        _ => &["R", "G", "B", "A"],
+    }
+}
+
+/// Writes `img` (already validated for `format`) to `path`.
+pub(crate) fn write(
+    path: &Path,
+    format: FileFormat,
+    img: &Image,
+    opts: &WriteOptions,
+) -> Result<(), String> {
+    match format {
+        FileFormat::Exr => write_exr(path, img, opts.exr_sample),
+        FileFormat::Hdr => {
+            let buf = ImageBuffer::from_raw(img.width, img.height, img.data.clone())
+                .ok_or("pixel buffer does not match the image size")?;
+            DynamicImage::ImageRgb32F(buf)
+                .save_with_format(path, ImageFormat::Hdr)
+                .map_err(|e| e.to_string())
+        }
+        FileFormat::Png | FileFormat::Jpeg | FileFormat::Tiff => {
+            let wide = format == FileFormat::Tiff && opts.tiff_16bit;
+            let dynimg = encoded_dynamic_image(img, wide)?;
+            if format == FileFormat::Jpeg {
+                let file = File::create(path).map_err(|e| e.to_string())?;
+                let encoder = ::image::codecs::jpeg::JpegEncoder::new_with_quality(
+                    BufWriter::new(file),
+                    opts.jpeg_quality.clamp(1, 100),
+                );
+                dynimg
+                    .write_with_encoder(encoder)
+                    .map_err(|e| e.to_string())
+            } else {
+                let fmt = if format == FileFormat::Png {
+                    ImageFormat::Png
+                } else {
+                    ImageFormat::Tiff
+                };
+                dynimg
+                    .save_with_format(path, fmt)
+                    .map_err(|e| e.to_string())
+            }
+        }
+    }
+}
+
+/// sRGB-encodes and quantises `img` into an 8- or 16-bit `DynamicImage`.
+fn encoded_dynamic_image(img: &Image, sixteen_bit: bool) -> Result<DynamicImage, String> {
+    let c = img.channels as usize;
+    let (w, h) = (img.width, img.height);
+    let mismatch = || "pixel buffer does not match the image size".to_string();
+    if sixteen_bit {
+        let codes: Vec<u16> = srgb::encode_to_codes(&img.data, c, 65535)
+            .into_iter()
+            .map(|v| v as u16)
+            .collect();
+        Ok(match c {
+            1 => DynamicImage::ImageLuma16(ImageBuffer::from_raw(w, h, codes).ok_or_else(mismatch)?),
+            2 => DynamicImage::ImageLumaA16(ImageBuffer::from_raw(w, h, codes).ok_or_else(mismatch)?),
+            3 => DynamicImage::ImageRgb16(ImageBuffer::from_raw(w, h, codes).ok_or_else(mismatch)?),
+            _ => DynamicImage::ImageRgba16(ImageBuffer::from_raw(w, h, codes).ok_or_else(mismatch)?),
+        })
+    } else {
+        let codes: Vec<u8> = srgb::encode_to_codes(&img.data, c, 255)
+            .into_iter()
+            .map(|v| v as u8)
+            .collect();
+        Ok(match c {
+            1 => DynamicImage::ImageLuma8(ImageBuffer::from_raw(w, h, codes).ok_or_else(mismatch)?),
+            2 => DynamicImage::ImageLumaA8(ImageBuffer::from_raw(w, h, codes).ok_or_else(mismatch)?),
+            3 => DynamicImage::ImageRgb8(ImageBuffer::from_raw(w, h, codes).ok_or_else(mismatch)?),
+            _ => DynamicImage::ImageRgba8(ImageBuffer::from_raw(w, h, codes).ok_or_else(mismatch)?),
+        })
+    }
+}
+
+fn write_exr(path: &Path, img: &Image, sample: ExrSample) -> Result<(), String> {
+    let c = img.channels as usize;
+    let names = channel_names(c);
+    let list: SmallVec<[exr_p::AnyChannel<exr_p::FlatSamples>; 4]> = (0..c)
+        .map(|ch| {
+            let plane = img.data.iter().skip(ch).step_by(c).copied();
+            let samples = match sample {
+                ExrSample::Float => exr_p::FlatSamples::F32(plane.collect()),
+                ExrSample::Half => exr_p::FlatSamples::F16(plane.map(f16::from_f32).collect()),
+            };
+            exr_p::AnyChannel::new(names[ch], samples)
+        })
+        .collect();
+    let layer = exr_p::Layer::new(
+        (img.width as usize, img.height as usize),
+        exr_p::LayerAttributes::default(),
+        exr_p::Encoding::SMALL_LOSSLESS, // ZIP, as OIIO writes
+        exr_p::AnyChannels::sort(list),
+    );
+    exr_p::Image::from_layer(layer)
+        .write()
+        .to_file(path)
+        .map_err(|e| e.to_string())
+}
+
+/// Reads `path` as `format` into linear floats.
+pub(crate) fn read(path: &Path, format: FileFormat) -> Result<Image, String> {
+    match format {
+        FileFormat::Exr => read_exr(path),
+        _ => read_other(path),
+    }
+}
+
+/// Position of an EXR channel in prism's interleaved order: R G B A, or Y A, then the rest.
+fn canonical_rank(name: &str) -> usize {
+    match name {
+        "R" | "Y" => 0,
+        "G" => 1,
+        "B" => 2,
+        "A" => 3,
+        _ => 4,
+    }
+}
+
+fn read_exr(path: &Path) -> Result<Image, String> {
+    let image = exr_p::read_first_flat_layer_from_file(path).map_err(|e| e.to_string())?;
+    let layer = image.layer_data;
+    let (w, h) = (layer.size.width(), layer.size.height());
+    let mut channels: Vec<&exr_p::AnyChannel<exr_p::FlatSamples>> =
+        layer.channel_data.list.iter().collect();
+    // Stable sort keeps the file's alphabetical order among non-canonical names.
+    channels.sort_by_key(|ch| canonical_rank(&ch.name.to_string()));
+    let c = channels.len();
+    if c == 0 || w == 0 || h == 0 {
+        return Err("the first layer has no pixels".into());
+    }
+    let mut data = vec![0.0f32; w * h * c];
+    for (k, ch) in channels.iter().enumerate() {
+        let count = match &ch.sample_data {
+            exr_p::FlatSamples::F16(v) => v.len(),
+            exr_p::FlatSamples::F32(v) => v.len(),
+            exr_p::FlatSamples::U32(v) => v.len(),
+        };
+        if count != w * h {
+            return Err(format!("channel {} is subsampled", ch.name));
+        }
+        let dst = data.iter_mut().skip(k).step_by(c);
+        match &ch.sample_data {
+            exr_p::FlatSamples::F16(v) => dst.zip(v).for_each(|(d, s)| *d = s.to_f32()),
+            exr_p::FlatSamples::F32(v) => dst.zip(v).for_each(|(d, s)| *d = *s),
+            exr_p::FlatSamples::U32(v) => dst.zip(v).for_each(|(d, s)| *d = *s as f32),
+        }
+    }
+    Ok(Image {
+        width: w as u32,
+        height: h as u32,
+        channels: c as u32,
+        data,
+    })
+}
+
+fn read_other(path: &Path) -> Result<Image, String> {
+    let decoded = ::image::ImageReader::open(path)
+        .map_err(|e| e.to_string())?
+        .with_guessed_format()
+        .map_err(|e| e.to_string())?
+        .decode()
+        .map_err(|e| e.to_string())?;
+    let (width, height) = (decoded.width(), decoded.height());
+    let channels = u32::from(decoded.color().channel_count());
+    let (mut data, encoded): (Vec<f32>, bool) = match decoded {
+        DynamicImage::ImageLuma8(b) => (normalise(b.as_raw(), 255.0), true),
+        DynamicImage::ImageLumaA8(b) => (normalise(b.as_raw(), 255.0), true),
+        DynamicImage::ImageRgb8(b) => (normalise(b.as_raw(), 255.0), true),
+        DynamicImage::ImageRgba8(b) => (normalise(b.as_raw(), 255.0), true),
+        DynamicImage::ImageLuma16(b) => (normalise(b.as_raw(), 65535.0), true),
+        DynamicImage::ImageLumaA16(b) => (normalise(b.as_raw(), 65535.0), true),
+        DynamicImage::ImageRgb16(b) => (normalise(b.as_raw(), 65535.0), true),
+        DynamicImage::ImageRgba16(b) => (normalise(b.as_raw(), 65535.0), true),
+        DynamicImage::ImageRgb32F(b) => (b.into_raw(), false),
+        DynamicImage::ImageRgba32F(b) => (b.into_raw(), false),
+        other => return Err(format!("unsupported pixel layout {:?}", other.color())),
+    };
+    if encoded {
+        srgb::decode_normalised_in_place(&mut data, channels as usize);
+    }
+    Ok(Image {
+        width,
+        height,
+        channels,
+        data,
+    })
+}
+
+fn normalise<T: Copy + Into<f32>>(raw: &[T], max_code: f32) -> Vec<f32> {
+    raw.iter().map(|&v| v.into() / max_code).collect()
+}
