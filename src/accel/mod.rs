@@ -1,6 +1,11 @@
 //! Ray intersection. One trait, two backends: Intel Embree (feature `embree`) and the pure-Rust
 //! obvhs BVH. Nothing backend-specific leaves this module.
 
+pub mod obvhs;
+pub mod watertight;
+
+pub use self::obvhs::{BuildQuality, BuildStats, ObvhsAccel};
+
 use crate::geometry::{Bounds3, Hit, Ray};
 
 /// A ray-intersection accelerator over a set of triangle meshes.
