@@ -4,6 +4,9 @@
 #[cfg(feature = "embree")]
 pub mod embree;
 pub mod obvhs;
+pub mod watertight;
+
+pub use self::obvhs::{BuildQuality, BuildStats, ObvhsAccel};
 
 use crate::geometry::{Bounds3, Hit, Ray};
 

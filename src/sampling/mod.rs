@@ -1,8 +1,14 @@
 //! Sampling: random numbers, warps, distributions, MIS weights, samplers, the chi² harness.
 
+pub mod alias;
 pub mod chi2;
+pub mod distribution;
 pub mod mis;
 pub mod rng;
+pub mod sampler;
 pub mod warp;
 
+pub use alias::AliasTable;
+pub use distribution::{Distribution1D, Distribution2D, Sample1D};
 pub use rng::Rng;
+pub use sampler::Sampler;

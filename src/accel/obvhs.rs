@@ -1,0 +1,244 @@
+//! Pure-Rust backend: an obvhs compressed wide BVH8 (Ylitie, Karras, Laine 2017, "Efficient
+//! Incoherent Ray Traversal on GPUs Using Compressed Wide BVHs") built with PLOC, traversed by
+//! obvhs, with our own watertight triangle test ([`super::watertight`]).
+//!
+//! Three details make obvhs' traversal agree with a brute-force loop over the same triangle test:
+//! - Leaf boxes are the triangle boxes grown by a relative 2⁻²⁰ margin, so a ray through a
+//!   triangle's edge or vertex (which lies on its box's face) is never culled by slab rounding.
+//! - obvhs culls boxes ending before t = 10⁻⁴ and clamps 1/d to ±1/ε_f32. We hand it the direction
+//!   scaled by 2⁻²⁰ (t scaled by 2²⁰, exact powers of two) with our own 1/d clamped only at ±10³⁰,
+//!   so both effects fall far below f32 resolution of the scene.
+//! - Its traversal stack holds 32 entries and silently overwrites on overflow; a tree deeper than
+//!   that falls back to a linear scan (reported in [`BuildStats::linear_fallback`]).
+
+use std::time::Duration;
+
+use glam::{Vec3, Vec3A};
+use ::obvhs::{aabb::Aabb, cwbvh::builder::build_cwbvh, cwbvh::CwBvh, ray::RayHit, BvhBuildParams};
+
+use super::watertight::{ShearedRay, TriangleHit};
+use super::Accel;
+use crate::geometry::{Bounds3, Hit, Mesh, Ray};
+
+/// t seen by obvhs = t · T_SCALE (a power of two, so scaling is exact).
+const T_SCALE: f32 = (1u32 << 20) as f32;
+/// Largest inverse-direction magnitude handed to obvhs' slab test (finite: avoids 0·∞ = NaN).
+const INV_DIR_LIMIT: f32 = 1e30;
+/// obvhs' traversal stack size (`cwbvh::TRAVERSAL_STACK_SIZE`, private in obvhs 0.4).
+const OBVHS_STACK: u32 = 32;
+
+/// BVH build effort: faster builds trace slower. Maps to obvhs' `BvhBuildParams` presets.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum BuildQuality {
+    /// PLOC with the smallest search radius, no reinsertion, one triangle per leaf.
+    Fastest,
+    /// Small search radius, light reinsertion.
+    Fast,
+    /// obvhs' balanced preset (about Embree's build time).
+    #[default]
+    Medium,
+    /// Wide search radius and more reinsertion (no triangle splitting).
+    Slow,
+}
+
+impl BuildQuality {
+    fn params(self) -> BvhBuildParams {
+        match self {
+            Self::Fastest => BvhBuildParams::fastest_build(),
+            Self::Fast => BvhBuildParams::fast_build(),
+            Self::Medium => BvhBuildParams::medium_build(),
+            Self::Slow => BvhBuildParams::slow_build(),
+        }
+    }
+}
+
+/// What the build did with its input.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct BuildStats {
+    /// Triangles in the BVH.
+    pub triangles: usize,
+    /// Skipped: zero area, or a NaN/infinite vertex.
+    pub skipped_degenerate: usize,
+    /// Skipped: a vertex index out of range.
+    pub skipped_bad_index: usize,
+    /// Depth of the BVH8 (root = 0).
+    pub max_depth: u32,
+    /// True when the tree is too deep for obvhs' traversal stack and rays use a linear scan.
+    pub linear_fallback: bool,
+}
+
+/// The obvhs CWBVH accelerator over a list of meshes (`geom_id` = index in that list).
+pub struct ObvhsAccel {
+    bvh: CwBvh,
+    /// Triangle vertices in BVH leaf order (`bvh.primitive_indices` order), so a leaf's
+    /// triangles are contiguous in memory.
+    triangles: Vec<[Vec3; 3]>,
+    /// (geom_id, prim_id) for each entry of `triangles`.
+    ids: Vec<(u32, u32)>,
+    bounds: Bounds3,
+    stats: BuildStats,
+}
+
+impl ObvhsAccel {
+    /// Builds with [`BuildQuality::Medium`].
+    pub fn new(meshes: &[Mesh]) -> Self {
+        Self::with_quality(meshes, BuildQuality::default())
+    }
+
+    /// Builds with the given quality. Degenerate triangles and bad indices are skipped and
+    /// counted in [`ObvhsAccel::stats`].
+    pub fn with_quality(meshes: &[Mesh], quality: BuildQuality) -> Self {
+        let mut stats = BuildStats::default();
+        let mut tris = Vec::new();
+        let mut ids = Vec::new();
+        let mut bounds = Bounds3::EMPTY;
+        for (g, mesh) in meshes.iter().enumerate() {
+            for (p, idx) in mesh.indices.iter().enumerate() {
+                let Some(tri) = idx.map(|i| mesh.positions.get(i as usize).copied()).into_iter().collect::<Option<Vec<_>>>() else {
+                    stats.skipped_bad_index += 1;
+                    continue;
+                };
+                let tri = [tri[0], tri[1], tri[2]];
+                let finite = tri.iter().all(|v| v.is_finite());
+                if !finite || (tri[1] - tri[0]).cross(tri[2] - tri[0]) == Vec3::ZERO {
+                    stats.skipped_degenerate += 1;
+                    continue;
+                }
+                bounds = tri.iter().fold(bounds, |b, &v| b.union_point(v));
+                tris.push(tri);
+                ids.push((g as u32, p as u32));
+            }
+        }
+        stats.triangles = tris.len();
+        if tris.is_empty() {
+            return Self { bvh: CwBvh::default(), triangles: tris, ids, bounds, stats };
+        }
+        let boxes: Vec<Aabb> = tris.iter().map(|t| padded_box(t)).collect();
+        let bvh = build_cwbvh(&boxes, quality.params(), &mut Duration::default());
+        let triangles = bvh.primitive_indices.iter().map(|&i| tris[i as usize]).collect();
+        let ids = bvh.primitive_indices.iter().map(|&i| ids[i as usize]).collect();
+        stats.max_depth = max_depth(&bvh);
+        stats.linear_fallback = stats.max_depth + 1 >= OBVHS_STACK;
+        Self { bvh, triangles, ids, bounds, stats }
+    }
+
+    /// Build statistics (skipped triangles, depth).
+    pub fn stats(&self) -> BuildStats {
+        self.stats
+    }
+
+    /// Closest-hit candidate for slot `i`: hit if nearer than `best`, or equally near with smaller
+    /// (geom_id, prim_id), so the result does not depend on traversal order.
+    #[inline]
+    fn closer(&self, r: &ShearedRay, i: usize, best: &mut Option<(TriangleHit, usize)>, t_max: f32) -> bool {
+        let [p0, p1, p2] = self.triangles[i];
+        let limit = best.map_or(t_max, |(h, _)| h.t);
+        match r.intersect(p0, p1, p2, limit) {
+            Some(h) if best.is_none_or(|(b, j)| h.t < b.t || self.ids[i] < self.ids[j]) => {
+                *best = Some((h, i));
+                true
+            }
+            _ => false,
+        }
+    }
+
+    fn hit_record(&self, (h, i): (TriangleHit, usize)) -> Hit {
+        let [p0, p1, p2] = self.triangles[i];
+        let (geom_id, prim_id) = self.ids[i];
+        Hit { t: h.t, geom_id, prim_id, u: h.u, v: h.v, ng: (p1 - p0).cross(p2 - p0) }
+    }
+}
+
+/// The ray as obvhs sees it: direction scaled by 1/T_SCALE, sign-consistent finite 1/d.
+fn obvhs_ray(ray: &Ray, t_max_scaled: f32) -> ::obvhs::ray::Ray {
+    // Adding +0 turns -0 into +0: obvhs picks slab order from `d < 0`, so 1/d must agree in sign.
+    let d = ray.d * (1.0 / T_SCALE) + Vec3::ZERO;
+    let inv = |x: f32| if x == 0.0 { INV_DIR_LIMIT } else { (1.0 / x).clamp(-INV_DIR_LIMIT, INV_DIR_LIMIT) };
+    ::obvhs::ray::Ray {
+        origin: Vec3A::from(ray.o),
+        direction: Vec3A::from(d),
+        inv_direction: Vec3A::new(inv(d.x), inv(d.y), inv(d.z)),
+        tmin: 0.0,
+        tmax: t_max_scaled,
+    }
+}
+
+/// Triangle box grown by 2⁻²⁰ of its largest coordinate magnitude (plus the smallest normal f32),
+/// far more than slab-test rounding and far less than any visible size.
+fn padded_box(t: &[Vec3; 3]) -> Aabb {
+    let min = t[0].min(t[1]).min(t[2]);
+    let max = t[0].max(t[1]).max(t[2]);
+    let pad = Vec3::splat(min.abs().max(max.abs()).max_element() * (1.0 / T_SCALE) + f32::MIN_POSITIVE);
+    Aabb::new(Vec3A::from(min - pad), Vec3A::from(max + pad))
+}
+
+/// Depth of the deepest internal node (root = 0).
+fn max_depth(bvh: &CwBvh) -> u32 {
+    let mut deepest = 0;
+    let mut stack = vec![(0usize, 0u32)];
+    while let Some((n, depth)) = stack.pop() {
+        deepest = deepest.max(depth);
+        let node = &bvh.nodes[n];
+        for ch in 0..8 {
+            if !node.is_child_empty(ch) && !node.is_leaf(ch) {
+                stack.push((node.child_node_index(ch) as usize, depth + 1));
+            }
+        }
+    }
+    deepest
+}
+
+impl Accel for ObvhsAccel {
+    fn intersect(&self, ray: &Ray) -> Option<Hit> {
+        let r = ShearedRay::new(ray.o, ray.d)?;
+        if self.triangles.is_empty() || ray.t_max.is_nan() || ray.t_max <= 0.0 {
+            return None;
+        }
+        let mut best = None;
+        if self.stats.linear_fallback {
+            for i in 0..self.triangles.len() {
+                self.closer(&r, i, &mut best, ray.t_max);
+            }
+        } else {
+            // next_up: obvhs keeps a hit only when t' < tmax, and t = t_max is inside our range.
+            let oray = obvhs_ray(ray, (ray.t_max * T_SCALE).next_up());
+            self.bvh.ray_traverse(oray, &mut RayHit::none(), |_, i| {
+                if self.closer(&r, i, &mut best, ray.t_max) {
+                    best.map_or(f32::INFINITY, |(h, _)| h.t * T_SCALE)
+                } else {
+                    f32::INFINITY
+                }
+            });
+        }
+        best.map(|b| self.hit_record(b))
+    }
+
+    fn occluded(&self, ray: &Ray) -> bool {
+        let Some(r) = ShearedRay::new(ray.o, ray.d) else { return false };
+        if self.triangles.is_empty() || ray.t_max.is_nan() || ray.t_max <= 0.0 {
+            return false;
+        }
+        let blocks = |i: usize| {
+            let [p0, p1, p2] = self.triangles[i];
+            r.intersect(p0, p1, p2, ray.t_max).is_some_and(|h| h.t < ray.t_max)
+        };
+        if self.stats.linear_fallback {
+            return (0..self.triangles.len()).any(blocks);
+        }
+        let oray = obvhs_ray(ray, ray.t_max * T_SCALE);
+        // The traversal stops at the first t' < tmax; 0 always is.
+        !self.bvh.ray_traverse_miss(oray, |_, i| if blocks(i) { 0.0 } else { f32::INFINITY })
+    }
+
+    fn bounds(&self) -> Bounds3 {
+        self.bounds
+    }
+
+    fn name(&self) -> &'static str {
+        "obvhs"
+    }
+}
+
+#[cfg(test)]
+#[path = "obvhs_tests.rs"]
+mod tests;
