@@ -110,7 +110,8 @@ pub fn compare(a: &CompareArgs) -> Result<()> {
     let ib = crate::image::read(&a.b).with_context(|| format!("reading {}", a.b.display()))?;
     let m = crate::image::metrics::compare(&ia, &ib)?;
     if a.json {
-        println!("{}", serde_json::to_string_pretty(&m)?);
+        let j = serde_json::json!({"rmse": m.rmse, "rel_mse": m.rel_mse, "mae": m.mae, "max_abs": m.max_abs});
+        println!("{}", serde_json::to_string_pretty(&j)?);
     } else {
         println!("RMSE    {:.6e}\nrelMSE  {:.6e}\nMAE     {:.6e}\nmax|Δ|  {:.6e}", m.rmse, m.rel_mse, m.mae, m.max_abs);
     }

@@ -65,7 +65,8 @@ impl AreaLight {
         Some(LightSample { li, wi, pdf, p_light, dist })
     }
 
-    pub(super) fn pdf_li(&self, p: Vec3, wi: Vec3, p_light: Vec3, n_light: Vec3) -> f32 {
+    /// Solid-angle density of `sample_li` at `p` choosing the point `p_light` (normal `n_light`).
+    pub fn pdf_li(&self, p: Vec3, wi: Vec3, p_light: Vec3, n_light: Vec3) -> f32 {
         let r2 = (p_light - p).length_squared();
         let cos_l = n_light.normalize_or_zero().dot(-wi).abs();
         if cos_l == 0.0 {

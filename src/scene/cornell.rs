@@ -4,7 +4,8 @@
 //! measured at 400–700 nm every 4 nm and held constant beyond the measured range; the light's
 //! spectrum is given at 400/500/600/700 nm and is zero outside it.
 
-use super::{MaterialDesc, SceneBuilder};
+use super::SceneBuilder;
+use crate::material::Material;
 use crate::geometry::Mesh;
 use crate::spectrum::Spectrum;
 use glam::{Mat4, Vec3};
@@ -64,10 +65,10 @@ fn quads(quads: &[[[f32; 3]; 4]]) -> Mesh {
 
 /// Adds the Cornell box to `b` and sets its camera (35 mm focal length, 25 mm sensor).
 pub fn add_cornell_box(b: &mut SceneBuilder) {
-    let white = b.add_material(MaterialDesc::Diffuse { reflectance: measured_reflectance(&WHITE) });
-    let red = b.add_material(MaterialDesc::Diffuse { reflectance: measured_reflectance(&RED) });
-    let green = b.add_material(MaterialDesc::Diffuse { reflectance: measured_reflectance(&GREEN) });
-    let black = b.add_material(MaterialDesc::Diffuse { reflectance: Spectrum::constant(0.0) });
+    let white = b.add_material(Material::diffuse(measured_reflectance(&WHITE)));
+    let red = b.add_material(Material::diffuse(measured_reflectance(&RED)));
+    let green = b.add_material(Material::diffuse(measured_reflectance(&GREEN)));
+    let black = b.add_material(Material::diffuse(Spectrum::constant(0.0)));
 
     // Floor, ceiling, back wall (white).
     b.add_mesh(
