@@ -1,6 +1,28 @@
 //! Spectral and colorimetric core: sampled spectra, spectral representations, CIE colour
 //! matching, colour spaces and RGB→spectrum upsampling (lecture: "Color").
 
+mod blackbody;
+pub mod cie;
+mod color_space;
+mod data;
+mod illuminant;
+mod jakob_hanika;
+pub mod projection;
+mod rgb_spectrum;
 mod sampled;
+pub mod smits;
+mod spd;
+mod spd_file;
+mod transfer;
 
-pub use sampled::{SampledSpectrum, SampledWavelengths, LAMBDA_MAX, LAMBDA_MIN, N_SPECTRUM_SAMPLES};
+pub use blackbody::{blackbody_peak_radiance, blackbody_radiance};
+pub use color_space::{rgb_to_xyz_from_chromaticities, ColorSpace};
+pub use illuminant::{daylight, normalise_luminance, NAMED_ILLUMINANTS};
+pub use jakob_hanika::{fit_albedo, Fit, RgbToSpectrumTable, SigmoidPolynomial};
+pub use sampled::{
+    sample_visible_wavelength, uniform_wavelength_pdf, visible_wavelength_pdf, SampledSpectrum,
+    SampledWavelengths, LAMBDA_MAX, LAMBDA_MIN, N_SPECTRUM_SAMPLES,
+};
+pub use spd::{PiecewiseConstant, PiecewiseLinear, RgbKind, Spectrum};
+pub use spd_file::{parse_spd, SpdError};
+pub use transfer::{srgb_decode, srgb_encode, srgb_to_u8};
