@@ -167,8 +167,10 @@ mod tests {
         let srgb = ColorSpace::srgb();
         let m_srgb = [[0.4124, 0.3576, 0.1805], [0.2126, 0.7152, 0.0722], [0.0193, 0.1192, 0.9505]];
         assert_matrix(srgb.rgb_to_xyz_f64, m_srgb, 5e-5, "sRGB");
+        // The published inverse is the inverse of the 4-decimal forward matrix, so it
+        // carries that rounding amplified by the inverse's norm (≈ 4): allow 4e-4.
         let inv = [[3.2406, -1.5372, -0.4986], [-0.9689, 1.8758, 0.0415], [0.0557, -0.2040, 1.0570]];
-        assert_matrix(srgb.xyz_to_rgb_f64, inv, 1.5e-4, "sRGB⁻¹");
+        assert_matrix(srgb.xyz_to_rgb_f64, inv, 4e-4, "sRGB⁻¹");
         // ITU-R BT.2087-0 (6 decimals).
         let m2020 = [
             [0.636958, 0.144617, 0.168881],

@@ -108,14 +108,23 @@ mod tests {
             ("stdillum-D65", 0.3127, 0.3290),
             ("stdillum-D50", 0.3457, 0.3585),
             ("stdillum-A", 0.4476, 0.4074),
-            ("stdillum-F2", 0.3721, 0.3751),
-            ("stdillum-F11", 0.3805, 0.3769),
             ("stdillum-E", 0.3333, 0.3333),
             ("illum-acesD60", 0.32168, 0.33767),
         ];
         for (n, x, y) in cases {
             let (gx, gy) = xy(&Spectrum::named(n).unwrap());
             assert!((gx - x).abs() < 1.5e-4 && (gy - y).abs() < 1.5e-4, "{n}: {gx} {gy}");
+        }
+        // The spiky fluorescents depend on how the 5 nm table is interpolated, so compare with
+        // colour-science 0.4.7 on the same definition (linear interpolation to 1 nm, zero
+        // outside, `sd_to_XYZ_integration`); the rule there is a 1 nm rectangle sum, ours is
+        // exact, which differs by < 3e-5 in xy.
+        for (n, x, y) in [
+            ("stdillum-F2", 0.372_084_89, 0.375_289_60),
+            ("stdillum-F11", 0.380_517_96, 0.377_125_87),
+        ] {
+            let (gx, gy) = xy(&Spectrum::named(n).unwrap());
+            assert!((gx - x).abs() < 3e-5 && (gy - y).abs() < 3e-5, "{n}: {gx} {gy}");
         }
     }
 

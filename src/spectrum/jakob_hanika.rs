@@ -29,7 +29,8 @@ fn sigmoid(t: f64) -> f64 {
 /// dσ/dt = ½ (1 + t²)^(−3/2).
 #[inline]
 fn sigmoid_derivative(t: f64) -> f64 {
-    0.5 / (1.0 + t * t).powf(1.5)
+    let s = 1.0 / (1.0 + t * t);
+    0.5 * s * s.sqrt()
 }
 
 /// A spectrum σ(c₀x² + c₁x + c₂) with x = (λ − 360 nm) / 470 nm; values in (0, 1).
@@ -139,12 +140,19 @@ impl SigmoidFitter {
     }
 
     /// Damped Newton iterations from `init` towards RGB(c) = `target`.
-    fn newton(xs: &[f64], ws: &[DVec3], target: DVec3, init: [f64; 3], iters: usize) -> Fit {
+    fn newton(
+        xs: &[f64],
+        ws: &[DVec3],
+        target: DVec3,
+        init: [f64; 3],
+        iters: usize,
+        tolerance: f64,
+    ) -> Fit {
         let mut c = init;
         let (mut rgb, mut jac) = Self::eval(xs, ws, c);
         let mut err = (rgb - target).abs().max_element();
         for _ in 0..iters {
-            if err < Self::TOLERANCE {
+            if err < tolerance {
                 break;
             }
             if jac.determinant().abs() < 1e-300 {
@@ -185,7 +193,7 @@ impl SigmoidFitter {
     /// stalls, walks from the grey of the same mean to the target in small steps
     /// (continuation), as the paper does when building its table.
     pub fn fit(&self, target: DVec3, init: SigmoidPolynomial) -> Fit {
-        let first = Self::newton(&self.x, &self.w, target, init.c, 50);
+        let first = Self::newton(&self.x, &self.w, target, init.c, 50, Self::TOLERANCE);
         if first.residual < Self::TOLERANCE {
             return first;
         }
@@ -195,7 +203,7 @@ impl SigmoidFitter {
         let mut last = first;
         for k in 1..=steps {
             let s = k as f64 / steps as f64;
-            last = Self::newton(&self.x, &self.w, grey + (target - grey) * s, c, 50);
+            last = Self::newton(&self.x, &self.w, grey + (target - grey) * s, c, 50, Self::TOLERANCE);
             c = last.poly.c;
         }
         if last.residual < first.residual {
@@ -206,7 +214,7 @@ impl SigmoidFitter {
     }
 
     fn fit_coarse(&self, target: DVec3, init: [f64; 3]) -> [f64; 3] {
-        Self::newton(&self.coarse_x, &self.coarse_w, target, init, 30).poly.c
+        Self::newton(&self.coarse_x, &self.coarse_w, target, init, 30, 1e-5).poly.c
     }
 }
 
@@ -228,7 +236,7 @@ fn smoothstep(x: f64) -> f64 {
 
 impl RgbToSpectrumTable {
     /// Resolution used for the tables built on first use (see docs/colour.md).
-    pub const DEFAULT_RES: usize = 32;
+    pub const DEFAULT_RES: usize = 16;
 
     /// Builds the table by continuation along z from z = z[res/5] (pbrt-v4's
     /// `rgb2spec_opt` schedule), in parallel over (component, x, y).
@@ -335,6 +343,20 @@ pub fn fit_albedo(rgb: [f64; 3], cs: &ColorSpace) -> Fit {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    #[ignore = "timing probe: cargo test --no-default-features --lib table_build_time -- --ignored --nocapture"]
+    fn table_build_time() {
+        let cs = ColorSpace::srgb();
+        let t0 = std::time::Instant::now();
+        let f = cs.fitter();
+        println!("fitter {:?}", t0.elapsed());
+        for res in [8, 16, 24] {
+            let t0 = std::time::Instant::now();
+            let _ = RgbToSpectrumTable::build(f, res);
+            println!("res {res}: {:?}", t0.elapsed());
+        }
+    }
 
     #[test]
     fn sigmoid_limits_and_derivative() {

@@ -26,3 +26,5 @@ pub use sampled::{
 pub use spd::{PiecewiseConstant, PiecewiseLinear, RgbKind, Spectrum};
 pub use spd_file::{parse_spd, SpdError};
 pub use transfer::{srgb_decode, srgb_encode, srgb_to_u8};
+#[cfg(test)]
+mod truth_tests;
