@@ -5,6 +5,7 @@ mod blackbody;
 pub mod cie;
 mod color_space;
 mod data;
+pub mod display;
 mod illuminant;
 mod jakob_hanika;
 pub mod projection;
@@ -26,5 +27,7 @@ pub use sampled::{
 pub use spd::{PiecewiseConstant, PiecewiseLinear, RgbKind, Spectrum};
 pub use spd_file::{parse_spd, SpdError};
 pub use transfer::{srgb_decode, srgb_encode, srgb_to_u8};
+#[cfg(test)]
+mod metamer_tests;
 #[cfg(test)]
 mod truth_tests;
