@@ -1,8 +1,34 @@
 //! Spectral and colorimetric core: sampled spectra, spectral representations, CIE colour
 //! matching, colour spaces and RGB→spectrum upsampling (lecture: "Color").
 
+mod blackbody;
+pub mod cie;
+mod color_space;
+mod data;
+pub mod display;
+mod illuminant;
+mod jakob_hanika;
+pub mod projection;
+mod rgb_spectrum;
 mod sampled;
+pub mod smits;
+mod spd;
+mod spd_file;
+mod transfer;
 
+pub use blackbody::{blackbody_peak_radiance, blackbody_radiance};
+pub use cie::{xyz_bar, CIE_Y_INTEGRAL};
+pub use color_space::{rgb_to_xyz_from_chromaticities, ColorSpace};
+pub use illuminant::{daylight, normalise_luminance, NAMED_ILLUMINANTS};
+pub use jakob_hanika::{fit_albedo, Fit, RgbToSpectrumTable, SigmoidPolynomial};
 pub use sampled::{
-    SampledSpectrum, SampledWavelengths, LAMBDA_MAX, LAMBDA_MIN, N_SPECTRUM_SAMPLES,
+    sample_visible_wavelength, uniform_wavelength_pdf, visible_wavelength_pdf, SampledSpectrum,
+    SampledWavelengths, LAMBDA_MAX, LAMBDA_MIN, N_SPECTRUM_SAMPLES,
 };
+pub use spd::{PiecewiseConstant, PiecewiseLinear, RgbKind, Spectrum};
+pub use spd_file::{parse_spd, SpdError};
+pub use transfer::{srgb_decode, srgb_encode, srgb_to_u8};
+#[cfg(test)]
+mod metamer_tests;
+#[cfg(test)]
+mod truth_tests;

@@ -1,7 +1,8 @@
 //! Spectral quantities carried along a path: four wavelengths (hero + 3 rotated) and the
 //! values of a spectral quantity at them.
 
-use glam::Vec4;
+use super::cie::{xyz_bar, CIE_Y_INTEGRAL};
+use glam::{Vec3, Vec4};
 use std::ops::{Add, AddAssign, Div, DivAssign, Index, IndexMut, Mul, MulAssign, Sub};
 
 /// Number of wavelengths a path carries (hero wavelength sampling).
@@ -98,6 +99,30 @@ impl SampledSpectrum {
     pub fn to_array(self) -> [f32; 4] {
         self.0.to_array()
     }
+
+    /// Monte Carlo estimate of the lecture's XYZ, X = ∫ S x̄ dλ / ∫ ȳ dλ (Y, Z alike), from the
+    /// values at `w`: (1/4) Σᵢ x̄ȳz̄(λᵢ) sᵢ / pdfᵢ / ∫ȳ, skipping wavelengths whose pdf is 0.
+    /// A spectrum equal to 1 everywhere has E[Y] = 1.
+    pub fn to_xyz(&self, w: &SampledWavelengths) -> Vec3 {
+        let mut acc = Vec3::ZERO;
+        for i in 0..N_SPECTRUM_SAMPLES {
+            if w.pdf[i] != 0.0 {
+                acc += xyz_bar(w.lambda[i]) * (self.0[i] / w.pdf[i]);
+            }
+        }
+        acc / (N_SPECTRUM_SAMPLES as f32 * CIE_Y_INTEGRAL)
+    }
+
+    /// Monte Carlo estimate of the luminance Y (the second component of [`Self::to_xyz`]).
+    pub fn y(&self, w: &SampledWavelengths) -> f32 {
+        let mut acc = 0.0;
+        for i in 0..N_SPECTRUM_SAMPLES {
+            if w.pdf[i] != 0.0 {
+                acc += xyz_bar(w.lambda[i]).y * self.0[i] / w.pdf[i];
+            }
+        }
+        acc / (N_SPECTRUM_SAMPLES as f32 * CIE_Y_INTEGRAL)
+    }
 }
 
 impl Index<usize> for SampledSpectrum {
@@ -191,6 +216,24 @@ impl SampledWavelengths {
         }
     }
 
+    /// Hero sampling with density ∝ 1/cosh²(0.0072 (λ − 538 nm)) on [360, 830] nm, which
+    /// roughly follows the luminous efficiency ȳ and cuts colour noise (pbrt-v4,
+    /// `SampleVisibleWavelengths`). The three other wavelengths rotate `u` by quarters, so
+    /// each has the same marginal density.
+    pub fn sample_visible(u: f32) -> Self {
+        let mut lambda = [0.0; N_SPECTRUM_SAMPLES];
+        let mut pdf = [0.0; N_SPECTRUM_SAMPLES];
+        for i in 0..N_SPECTRUM_SAMPLES {
+            let mut up = u + i as f32 / N_SPECTRUM_SAMPLES as f32;
+            if up > 1.0 {
+                up -= 1.0;
+            }
+            lambda[i] = sample_visible_wavelength(up);
+            pdf[i] = visible_wavelength_pdf(lambda[i]);
+        }
+        Self { lambda, pdf }
+    }
+
     /// Density of the secondary wavelengths as a spectrum (for dividing estimates).
     #[inline]
     pub fn pdf(&self) -> SampledSpectrum {
@@ -214,6 +257,45 @@ impl SampledWavelengths {
             *p = 0.0;
         }
         self.pdf[0] /= N_SPECTRUM_SAMPLES as f32;
+    }
+}
+
+/// Slope a [1/nm] and centre μ [nm] of the visible-wavelength density sech²(a(λ − μ)).
+const VISIBLE_A: f64 = 0.0072;
+const VISIBLE_MU: f64 = 538.0;
+
+/// tanh(a(λ − μ)) at the ends of the range: the CDF of sech² is tanh, up to an affine map.
+fn visible_tanh_bounds() -> (f64, f64) {
+    let lo = (VISIBLE_A * (LAMBDA_MIN as f64 - VISIBLE_MU)).tanh();
+    let hi = (VISIBLE_A * (LAMBDA_MAX as f64 - VISIBLE_MU)).tanh();
+    (lo, hi)
+}
+
+/// Density [1/nm] of [`sample_visible_wavelength`]: a / (tanh(a(830−μ)) − tanh(a(360−μ)))
+/// · sech²(a(λ − μ)) inside [360, 830] nm, 0 outside.
+pub fn visible_wavelength_pdf(lambda: f32) -> f32 {
+    if !(LAMBDA_MIN..=LAMBDA_MAX).contains(&lambda) {
+        return 0.0;
+    }
+    let (lo, hi) = visible_tanh_bounds();
+    let c = (VISIBLE_A * (lambda as f64 - VISIBLE_MU)).cosh();
+    (VISIBLE_A / (hi - lo) / (c * c)) as f32
+}
+
+/// Inverts the CDF of [`visible_wavelength_pdf`]: λ = μ + atanh(lo + u (hi − lo)) / a [nm].
+pub fn sample_visible_wavelength(u: f32) -> f32 {
+    let (lo, hi) = visible_tanh_bounds();
+    let t = lo + (u.clamp(0.0, 1.0) as f64) * (hi - lo);
+    let l = VISIBLE_MU + t.atanh() / VISIBLE_A;
+    (l as f32).clamp(LAMBDA_MIN, LAMBDA_MAX)
+}
+
+/// Density [1/nm] of uniform wavelength sampling over [360, 830] nm.
+pub fn uniform_wavelength_pdf(lambda: f32) -> f32 {
+    if (LAMBDA_MIN..=LAMBDA_MAX).contains(&lambda) {
+        1.0 / (LAMBDA_MAX - LAMBDA_MIN)
+    } else {
+        0.0
     }
 }
 

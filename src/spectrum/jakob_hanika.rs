@@ -1,0 +1,400 @@
+//! RGB → spectrum by Jakob & Hanika, "A Low-Dimensional Function Space for Efficient Spectral
+//! Upsampling", Computer Graphics Forum 38(2), 2019: a reflectance is
+//! S(λ) = σ(c₀x² + c₁x + c₂) with the sigmoid σ(t) = ½ + t / (2√(1 + t²)) (eq. 3) and, here,
+//! x = (λ − 360 nm) / 470 nm (a normalised wavelength keeps the 3×3 system well conditioned).
+//!
+//! The coefficients for a target RGB are found by Newton's method on the three equations
+//! RGB(c) = target (the paper's Gauss–Newton with as many residuals as unknowns), where RGB(c)
+//! is the colour of S lit by the colour space's white, integrated with the same quadrature as
+//! `Spectrum::to_xyz`. A coarse table of coefficients (the paper's 3 × res³ layout, built by
+//! continuation from grey outwards) gives the starting point; the per-colour refinement then
+//! makes the round trip exact to the optimiser tolerance.
+
+use super::cie::{for_each_node, xyz_bar_f64, CIE_LAMBDA_MAX, CIE_LAMBDA_MIN};
+use super::color_space::ColorSpace;
+use glam::{DMat3, DVec3};
+use rayon::prelude::*;
+
+const X_SPAN: f64 = CIE_LAMBDA_MAX - CIE_LAMBDA_MIN;
+
+/// σ(t) = ½ + t / (2√(1 + t²)), with the limits 0 and 1 at ∓∞.
+#[inline]
+fn sigmoid(t: f64) -> f64 {
+    if t.is_infinite() {
+        return if t > 0.0 { 1.0 } else { 0.0 };
+    }
+    0.5 + t / (2.0 * (1.0 + t * t).sqrt())
+}
+
+/// dσ/dt = ½ (1 + t²)^(−3/2).
+#[inline]
+fn sigmoid_derivative(t: f64) -> f64 {
+    let s = 1.0 / (1.0 + t * t);
+    0.5 * s * s.sqrt()
+}
+
+/// A spectrum σ(c₀x² + c₁x + c₂) with x = (λ − 360 nm) / 470 nm; values in (0, 1).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SigmoidPolynomial {
+    /// Polynomial coefficients in the normalised wavelength x (highest degree first).
+    pub c: [f64; 3],
+}
+
+impl SigmoidPolynomial {
+    /// The value at `lambda` [nm].
+    #[inline]
+    pub fn eval_f64(&self, lambda: f64) -> f64 {
+        let x = (lambda - CIE_LAMBDA_MIN) / X_SPAN;
+        sigmoid((self.c[0] * x + self.c[1]) * x + self.c[2])
+    }
+
+    /// The same polynomial in λ [nm] (c₀λ² + c₁λ + c₂), the form pbrt-v4 and colour-science
+    /// store.
+    pub fn coefficients_nm(&self) -> [f64; 3] {
+        let (a, b, c) = (self.c[0], self.c[1], self.c[2]);
+        let (s, o) = (1.0 / X_SPAN, -CIE_LAMBDA_MIN / X_SPAN);
+        // x = sλ + o.
+        [a * s * s, 2.0 * a * s * o + b * s, a * o * o + b * o + c]
+    }
+
+    /// The constant σ⁻¹(v) polynomial (flat spectrum of value `v` in (0, 1)).
+    pub fn flat(v: f64) -> Self {
+        let v = v.clamp(1e-9, 1.0 - 1e-9);
+        Self {
+            c: [0.0, 0.0, (v - 0.5) / (v * (1.0 - v)).sqrt()],
+        }
+    }
+}
+
+/// Quadrature for RGB(c): RGB = Σₖ Wₖ σ(t(xₖ)), with Wₖ = M_XYZ→RGB x̄ȳz̄(λₖ) I(λₖ) wₖ / ∫ I ȳ.
+#[derive(Debug)]
+pub(crate) struct SigmoidFitter {
+    /// Normalised wavelength of each node.
+    x: Vec<f64>,
+    /// RGB weight of each node.
+    w: Vec<DVec3>,
+    /// The same, on a 5 nm grid (for building the table quickly).
+    coarse_x: Vec<f64>,
+    coarse_w: Vec<DVec3>,
+}
+
+/// Result of one fit.
+#[derive(Clone, Copy, Debug)]
+pub struct Fit {
+    /// The coefficients.
+    pub poly: SigmoidPolynomial,
+    /// Largest |RGB(c) − target| component at the end.
+    pub residual: f64,
+}
+
+impl SigmoidFitter {
+    /// Target accuracy of a fit (max abs linear RGB).
+    pub const TOLERANCE: f64 = 1e-7;
+
+    pub(crate) fn new(cs: &ColorSpace) -> Self {
+        let illum = &cs.illuminant;
+        let knots = illum.knots();
+        let build = |step: f64| {
+            let mut xs = Vec::new();
+            let mut ws = Vec::new();
+            let mut y = 0.0;
+            let grid: Vec<f64> = if step > 1.0 {
+                (0..=((X_SPAN / step) as usize)).map(|i| CIE_LAMBDA_MIN + step * i as f64).collect()
+            } else {
+                knots.clone()
+            };
+            for_each_node(CIE_LAMBDA_MIN, CIE_LAMBDA_MAX, &grid, |l, wt| {
+                let e = illum.eval_f64(l) * wt;
+                let xyz = xyz_bar_f64(l) * e;
+                y += xyz.y;
+                xs.push((l - CIE_LAMBDA_MIN) / X_SPAN);
+                ws.push(cs.xyz_to_rgb_f64 * xyz);
+            });
+            ws.iter_mut().for_each(|w| *w /= y);
+            (xs, ws)
+        };
+        let (x, w) = build(1.0);
+        // 5 nm intervals: the coarse rule only feeds the table, refinement uses the fine one.
+        let (coarse_x, coarse_w) = build(5.0);
+        Self { x, w, coarse_x, coarse_w }
+    }
+
+    /// RGB of σ(poly) and its Jacobian with respect to the coefficients.
+    fn eval(xs: &[f64], ws: &[DVec3], c: [f64; 3]) -> (DVec3, DMat3) {
+        let mut rgb = DVec3::ZERO;
+        let (mut j0, mut j1, mut j2) = (DVec3::ZERO, DVec3::ZERO, DVec3::ZERO);
+        for (&x, &w) in xs.iter().zip(ws) {
+            let t = (c[0] * x + c[1]) * x + c[2];
+            rgb += w * sigmoid(t);
+            let d = w * sigmoid_derivative(t);
+            j0 += d * (x * x);
+            j1 += d * x;
+            j2 += d;
+        }
+        (rgb, DMat3::from_cols(j0, j1, j2))
+    }
+
+    /// RGB (linear, this space, lit by its white) of the reflectance σ(poly).
+    pub(crate) fn rgb_of(&self, poly: &SigmoidPolynomial) -> DVec3 {
+        Self::eval(&self.x, &self.w, poly.c).0
+    }
+
+    /// Damped Newton iterations from `init` towards RGB(c) = `target`.
+    fn newton(
+        xs: &[f64],
+        ws: &[DVec3],
+        target: DVec3,
+        init: [f64; 3],
+        iters: usize,
+        tolerance: f64,
+    ) -> Fit {
+        let mut c = init;
+        let (mut rgb, mut jac) = Self::eval(xs, ws, c);
+        let mut err = (rgb - target).abs().max_element();
+        for _ in 0..iters {
+            if err < tolerance {
+                break;
+            }
+            if jac.determinant().abs() < 1e-300 {
+                break;
+            }
+            let delta = jac.inverse() * (target - rgb);
+            if !delta.is_finite() {
+                break;
+            }
+            // Backtrack until the residual decreases (keeps the sigmoid out of saturation).
+            let mut step = 1.0;
+            let mut improved = false;
+            for _ in 0..30 {
+                let cand = [c[0] + step * delta.x, c[1] + step * delta.y, c[2] + step * delta.z];
+                let (r2, j2) = Self::eval(xs, ws, cand);
+                let e2 = (r2 - target).abs().max_element();
+                if e2 < err {
+                    c = cand;
+                    rgb = r2;
+                    jac = j2;
+                    err = e2;
+                    improved = true;
+                    break;
+                }
+                step *= 0.5;
+            }
+            if !improved {
+                break;
+            }
+        }
+        Fit {
+            poly: SigmoidPolynomial { c },
+            residual: err,
+        }
+    }
+
+    /// Fits σ(poly) to `target` (each component in [0, 1]) starting from `init`; if that
+    /// stalls, walks from the grey of the same mean to the target in small steps
+    /// (continuation), as the paper does when building its table.
+    pub fn fit(&self, target: DVec3, init: SigmoidPolynomial) -> Fit {
+        let first = Self::newton(&self.x, &self.w, target, init.c, 50, Self::TOLERANCE);
+        if first.residual < Self::TOLERANCE {
+            return first;
+        }
+        let grey = DVec3::splat(target.element_sum() / 3.0);
+        let mut c = SigmoidPolynomial::flat(grey.x).c;
+        let steps = 16;
+        let mut last = first;
+        for k in 1..=steps {
+            let s = k as f64 / steps as f64;
+            last = Self::newton(&self.x, &self.w, grey + (target - grey) * s, c, 50, Self::TOLERANCE);
+            c = last.poly.c;
+        }
+        if last.residual < first.residual {
+            last
+        } else {
+            first
+        }
+    }
+
+    fn fit_coarse(&self, target: DVec3, init: [f64; 3]) -> [f64; 3] {
+        Self::newton(&self.coarse_x, &self.coarse_w, target, init, 30, 1e-5).poly.c
+    }
+}
+
+/// The Jakob–Hanika coefficient table of one colour space: for each of the 3 choices of the
+/// largest RGB component, `res`³ cells over (z = largest component, remapped by a double
+/// smoothstep to crowd the dark end; x, y = the other two divided by z).
+#[derive(Clone, Debug)]
+pub struct RgbToSpectrumTable {
+    res: usize,
+    /// z value of each z cell.
+    z_nodes: Vec<f64>,
+    /// Coefficients, laid out [max component][z][y][x].
+    coeffs: Vec<[f32; 3]>,
+}
+
+fn smoothstep(x: f64) -> f64 {
+    x * x * (3.0 - 2.0 * x)
+}
+
+impl RgbToSpectrumTable {
+    /// Resolution used for the tables built on first use (see docs/colour.md).
+    pub const DEFAULT_RES: usize = 16;
+
+    /// Builds the table by continuation along z from z = z[res/5] (pbrt-v4's
+    /// `rgb2spec_opt` schedule), in parallel over (component, x, y).
+    pub(crate) fn build(fitter: &SigmoidFitter, res: usize) -> Self {
+        let res = res.max(3);
+        let z_nodes: Vec<f64> = (0..res)
+            .map(|i| smoothstep(smoothstep(i as f64 / (res - 1) as f64)))
+            .collect();
+        let columns: Vec<Vec<[f32; 3]>> = (0..3 * res * res)
+            .into_par_iter()
+            .map(|k| {
+                let l = k / (res * res);
+                let yi = (k / res) % res;
+                let xi = k % res;
+                let x = xi as f64 / (res - 1) as f64;
+                let y = yi as f64 / (res - 1) as f64;
+                let target = |z: f64| {
+                    let mut v = [0.0; 3];
+                    v[l] = z;
+                    v[(l + 1) % 3] = x * z;
+                    v[(l + 2) % 3] = y * z;
+                    DVec3::from_array(v)
+                };
+                let mut col = vec![[0.0f32; 3]; res];
+                let start = res / 5;
+                let mut c = [0.0; 3];
+                for zi in start..res {
+                    c = fitter.fit_coarse(target(z_nodes[zi]), c);
+                    col[zi] = c.map(|v| v as f32);
+                }
+                c = col[start].map(|v| v as f64);
+                for zi in (0..start).rev() {
+                    c = fitter.fit_coarse(target(z_nodes[zi]), c);
+                    col[zi] = c.map(|v| v as f32);
+                }
+                col
+            })
+            .collect();
+        let mut coeffs = vec![[0.0f32; 3]; 3 * res * res * res];
+        for (k, col) in columns.into_iter().enumerate() {
+            let l = k / (res * res);
+            let yi = (k / res) % res;
+            let xi = k % res;
+            for (zi, c) in col.into_iter().enumerate() {
+                coeffs[((l * res + zi) * res + yi) * res + xi] = c;
+            }
+        }
+        Self { res, z_nodes, coeffs }
+    }
+
+    /// Resolution per axis.
+    pub fn resolution(&self) -> usize {
+        self.res
+    }
+
+    /// Trilinearly interpolated coefficients for an RGB in [0, 1]³ (the fast path, no
+    /// refinement: accuracy in docs/colour.md).
+    pub fn lookup(&self, rgb: [f64; 3]) -> SigmoidPolynomial {
+        let rgb = rgb.map(|v| if v.is_finite() { v.clamp(0.0, 1.0) } else { 0.0 });
+        if rgb[0] == rgb[1] && rgb[1] == rgb[2] {
+            return SigmoidPolynomial::flat(rgb[0]);
+        }
+        let l = if rgb[0] >= rgb[1] && rgb[0] >= rgb[2] {
+            0
+        } else if rgb[1] >= rgb[2] {
+            1
+        } else {
+            2
+        };
+        let z = rgb[l];
+        let n = (self.res - 1) as f64;
+        let x = rgb[(l + 1) % 3] / z * n;
+        let y = rgb[(l + 2) % 3] / z * n;
+        let zi = self.z_nodes.partition_point(|&v| v <= z).clamp(1, self.res - 1) - 1;
+        let xi = (x as usize).min(self.res - 2);
+        let yi = (y as usize).min(self.res - 2);
+        let dx = x - xi as f64;
+        let dy = y - yi as f64;
+        let dz = (z - self.z_nodes[zi]) / (self.z_nodes[zi + 1] - self.z_nodes[zi]);
+        let mut c = [0.0f64; 3];
+        for (oz, wz) in [(0, 1.0 - dz), (1, dz)] {
+            for (oy, wy) in [(0, 1.0 - dy), (1, dy)] {
+                for (ox, wx) in [(0, 1.0 - dx), (1, dx)] {
+                    let idx = ((l * self.res + zi + oz) * self.res + yi + oy) * self.res + xi + ox;
+                    let v = self.coeffs[idx];
+                    for k in 0..3 {
+                        c[k] += wz * wy * wx * v[k] as f64;
+                    }
+                }
+            }
+        }
+        SigmoidPolynomial { c }
+    }
+}
+
+/// Jakob–Hanika reflectance for `rgb` ∈ [0, 1]³ in `cs`: table start, then Newton refinement
+/// to [`SigmoidFitter::TOLERANCE`] where the model can reach the colour.
+pub fn fit_albedo(rgb: [f64; 3], cs: &ColorSpace) -> Fit {
+    let rgb = rgb.map(|v| if v.is_finite() { v.clamp(0.0, 1.0) } else { 0.0 });
+    let init = cs.rgb_to_spectrum_table().lookup(rgb);
+    cs.fitter().fit(DVec3::from_array(rgb), init)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    #[ignore = "timing probe: cargo test --no-default-features --lib table_build_time -- --ignored --nocapture"]
+    fn table_build_time() {
+        let cs = ColorSpace::srgb();
+        let t0 = std::time::Instant::now();
+        let f = cs.fitter();
+        println!("fitter {:?}", t0.elapsed());
+        for res in [8, 16, 24] {
+            let t0 = std::time::Instant::now();
+            let _ = RgbToSpectrumTable::build(f, res);
+            println!("res {res}: {:?}", t0.elapsed());
+        }
+    }
+
+    #[test]
+    fn sigmoid_limits_and_derivative() {
+        assert_eq!(sigmoid(0.0), 0.5);
+        assert_eq!(sigmoid(f64::INFINITY), 1.0);
+        assert_eq!(sigmoid(f64::NEG_INFINITY), 0.0);
+        for t in [-3.0, -0.5, 0.2, 4.0] {
+            let h = 1e-6;
+            let fd = (sigmoid(t + h) - sigmoid(t - h)) / (2.0 * h);
+            assert!((fd - sigmoid_derivative(t)).abs() < 1e-8);
+        }
+    }
+
+    #[test]
+    fn coefficients_in_nm_give_the_same_function() {
+        let p = SigmoidPolynomial { c: [3.0, -2.5, 0.4] };
+        let n = p.coefficients_nm();
+        for l in [380.0, 555.0, 700.0] {
+            let t = n[0] * l * l + n[1] * l + n[2];
+            assert!((sigmoid(t) - p.eval_f64(l)).abs() < 1e-9);
+        }
+    }
+
+    #[test]
+    fn jacobian_matches_finite_differences() {
+        let cs = ColorSpace::srgb();
+        let f = cs.fitter();
+        let c = [1.5, -2.0, 0.3];
+        let (_, j) = SigmoidFitter::eval(&f.x, &f.w, c);
+        for k in 0..3 {
+            let h = 1e-6;
+            let mut a = c;
+            let mut b = c;
+            a[k] += h;
+            b[k] -= h;
+            let fd = (SigmoidFitter::eval(&f.x, &f.w, a).0 - SigmoidFitter::eval(&f.x, &f.w, b).0)
+                / (2.0 * h);
+            assert!((fd - j.col(k)).abs().max_element() < 1e-7, "{k}");
+        }
+    }
+}

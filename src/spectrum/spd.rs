@@ -1,0 +1,313 @@
+//! `Spectrum`: a spectral power distribution (or reflectance) as a function of wavelength
+//! (lecture: "Spectral Power Distribution"). A closed set, so an enum: evaluation is a `match`
+//! and tables sit behind `Arc`, making `clone` cheap.
+
+use super::blackbody::{blackbody_normalised, blackbody_peak_radiance};
+use super::cie::xyz_of;
+use super::jakob_hanika::SigmoidPolynomial;
+use super::sampled::{SampledSpectrum, SampledWavelengths, N_SPECTRUM_SAMPLES};
+use glam::{DVec3, Vec3};
+use std::sync::Arc;
+
+/// Samples (λᵢ [nm], vᵢ) of a piecewise-linear function, zero outside [λ₀, λₙ₋₁]
+/// (pbrt-v4 `PiecewiseLinearSpectrum`). Wavelengths strictly increasing.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PiecewiseLinear {
+    lambda: Vec<f64>,
+    value: Vec<f64>,
+}
+
+impl PiecewiseLinear {
+    /// From strictly increasing wavelengths [nm] and values; `None` if the lengths differ,
+    /// there are fewer than two samples, a value is not finite or the wavelengths do not
+    /// increase.
+    pub fn new(lambda: Vec<f64>, value: Vec<f64>) -> Option<Self> {
+        let ok = lambda.len() == value.len()
+            && lambda.len() >= 2
+            && lambda.iter().chain(&value).all(|v| v.is_finite())
+            && lambda.windows(2).all(|w| w[0] < w[1]);
+        ok.then_some(Self { lambda, value })
+    }
+    /// Wavelengths [nm].
+    pub fn lambdas(&self) -> &[f64] {
+        &self.lambda
+    }
+    /// Values at [`Self::lambdas`].
+    pub fn values(&self) -> &[f64] {
+        &self.value
+    }
+    /// Linear interpolation, 0 outside the sampled range.
+    pub fn eval(&self, l: f64) -> f64 {
+        let n = self.lambda.len();
+        if !(l >= self.lambda[0] && l <= self.lambda[n - 1]) {
+            return 0.0;
+        }
+        let i = self.lambda.partition_point(|&x| x <= l).clamp(1, n - 1) - 1;
+        let (l0, l1) = (self.lambda[i], self.lambda[i + 1]);
+        let t = (l - l0) / (l1 - l0);
+        self.value[i] + t * (self.value[i + 1] - self.value[i])
+    }
+    fn scale(&mut self, s: f64) {
+        self.value.iter_mut().for_each(|v| *v *= s);
+    }
+}
+
+/// A piecewise-constant function: value `vᵢ` on [eᵢ, eᵢ₊₁), 0 outside [e₀, eₙ] (edges [nm]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct PiecewiseConstant {
+    edges: Vec<f64>,
+    value: Vec<f64>,
+}
+
+impl PiecewiseConstant {
+    /// From n+1 strictly increasing edges [nm] and n values; `None` if malformed.
+    pub fn new(edges: Vec<f64>, value: Vec<f64>) -> Option<Self> {
+        let ok = edges.len() == value.len() + 1
+            && !value.is_empty()
+            && edges.iter().chain(&value).all(|v| v.is_finite())
+            && edges.windows(2).all(|w| w[0] < w[1]);
+        ok.then_some(Self { edges, value })
+    }
+    /// Bin edges [nm].
+    pub fn edges(&self) -> &[f64] {
+        &self.edges
+    }
+    /// Value per bin.
+    pub fn values(&self) -> &[f64] {
+        &self.value
+    }
+    /// The bin's value, 0 outside the edges (the last edge belongs to the last bin).
+    pub fn eval(&self, l: f64) -> f64 {
+        let n = self.edges.len();
+        if !(l >= self.edges[0] && l <= self.edges[n - 1]) {
+            return 0.0;
+        }
+        let i = self.edges.partition_point(|&x| x <= l).clamp(1, n - 1) - 1;
+        self.value[i]
+    }
+}
+
+/// How an RGB triplet is turned into a spectrum (pbrt-v4's three RGB spectrum classes).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum RgbKind {
+    /// A reflectance in [0, 1]: the sigmoid spectrum itself.
+    Albedo,
+    /// Any non-negative quantity: 2·max(rgb) times the sigmoid fitted to rgb / (2·max).
+    Unbounded,
+    /// Emission: the unbounded spectrum times the colour space's white illuminant.
+    Illuminant,
+}
+
+/// A spectral distribution over wavelength [nm]. Values are in whatever unit the user gives
+/// (radiance, reflectance, ...); see each constructor.
+#[derive(Clone, Debug)]
+pub enum Spectrum {
+    /// The same value at every wavelength.
+    Constant(f32),
+    /// Tabulated, linear between samples, 0 outside.
+    PiecewiseLinear(Arc<PiecewiseLinear>),
+    /// Tabulated bins, 0 outside.
+    PiecewiseConstant(Arc<PiecewiseConstant>),
+    /// Planck's law at `kelvin`, divided by its value at the Wien peak (max = 1).
+    Blackbody {
+        /// Temperature [K].
+        kelvin: f32,
+        /// 1 / B(λ_peak, T) [1 / (W sr⁻¹ m⁻² nm⁻¹)].
+        inv_peak: f64,
+    },
+    /// `scale` · sigmoid(polynomial(λ)) (Jakob & Hanika 2019).
+    Sigmoid {
+        /// The sigmoid polynomial.
+        poly: SigmoidPolynomial,
+        /// Multiplier (1 for albedo, 2·max(rgb) for unbounded/illuminant).
+        scale: f32,
+    },
+    /// The product of two spectra (e.g. an RGB-derived shape times a white illuminant).
+    Product(Arc<(Spectrum, Spectrum)>),
+}
+
+impl Spectrum {
+    /// `v` at every wavelength.
+    pub fn constant(v: f32) -> Self {
+        Spectrum::Constant(v)
+    }
+
+    /// Blackbody emission at `kelvin`, normalised so that its maximum over λ is 1
+    /// (pbrt-v4 `BlackbodySpectrum`). Non-positive or non-finite temperatures give 0.
+    pub fn blackbody(kelvin: f32) -> Self {
+        if !(kelvin > 0.0 && kelvin.is_finite()) {
+            return Spectrum::Constant(0.0);
+        }
+        Spectrum::Blackbody {
+            kelvin,
+            inv_peak: 1.0 / blackbody_peak_radiance(kelvin as f64),
+        }
+    }
+
+    /// The piecewise-linear function through (`lambdas[i]` [nm], `values[i]`), zero outside.
+    /// `None` for fewer than two samples, mismatched lengths, non-finite values or wavelengths
+    /// that do not strictly increase.
+    pub fn piecewise_linear(lambdas: &[f32], values: &[f32]) -> Option<Self> {
+        let l = lambdas.iter().map(|&x| x as f64).collect();
+        let v = values.iter().map(|&x| x as f64).collect();
+        PiecewiseLinear::new(l, v).map(|p| Spectrum::PiecewiseLinear(Arc::new(p)))
+    }
+
+    /// Piecewise-linear from double-precision samples (see [`Self::piecewise_linear`]).
+    pub fn piecewise_linear_f64(lambdas: Vec<f64>, values: Vec<f64>) -> Option<Self> {
+        PiecewiseLinear::new(lambdas, values).map(|p| Spectrum::PiecewiseLinear(Arc::new(p)))
+    }
+
+    /// Piecewise-constant: `values[i]` on [`edges[i]`, `edges[i+1]`) [nm], zero outside.
+    pub fn piecewise_constant(edges: Vec<f64>, values: Vec<f64>) -> Option<Self> {
+        PiecewiseConstant::new(edges, values).map(|p| Spectrum::PiecewiseConstant(Arc::new(p)))
+    }
+
+    /// The value at `lambda` [nm].
+    pub fn eval(&self, lambda: f32) -> f32 {
+        self.eval_f64(lambda as f64) as f32
+    }
+
+    /// The value at `lambda` [nm], in double precision (used by the exact integrals).
+    pub fn eval_f64(&self, l: f64) -> f64 {
+        match self {
+            Spectrum::Constant(v) => *v as f64,
+            Spectrum::PiecewiseLinear(p) => p.eval(l),
+            Spectrum::PiecewiseConstant(p) => p.eval(l),
+            Spectrum::Blackbody { kelvin, inv_peak } => {
+                blackbody_normalised(l, *kelvin as f64, *inv_peak)
+            }
+            Spectrum::Sigmoid { poly, scale } => *scale as f64 * poly.eval_f64(l),
+            Spectrum::Product(p) => p.0.eval_f64(l) * p.1.eval_f64(l),
+        }
+    }
+
+    /// The values at the four wavelengths of `w`.
+    pub fn sample(&self, w: &SampledWavelengths) -> SampledSpectrum {
+        let mut out = [0.0; N_SPECTRUM_SAMPLES];
+        for (o, &l) in out.iter_mut().zip(&w.lambda) {
+            *o = self.eval(l);
+        }
+        SampledSpectrum::new(out)
+    }
+
+    /// Wavelengths [nm] where the spectrum has a kink or a jump (for exact integration).
+    pub fn knots(&self) -> Vec<f64> {
+        match self {
+            Spectrum::PiecewiseLinear(p) => p.lambdas().to_vec(),
+            Spectrum::PiecewiseConstant(p) => p.edges().to_vec(),
+            Spectrum::Product(p) => {
+                let mut k = p.0.knots();
+                k.extend(p.1.knots());
+                k
+            }
+            _ => Vec::new(),
+        }
+    }
+
+    /// XYZ as the lecture writes it, X = ∫ S x̄ dλ / ∫ ȳ dλ (Y, Z alike), integrated exactly
+    /// over the 1 nm CMF table and the spectrum's own knots, in double precision.
+    pub fn to_xyz_f64(&self) -> DVec3 {
+        xyz_of(|l| self.eval_f64(l), &self.knots())
+    }
+
+    /// [`Self::to_xyz_f64`] in single precision.
+    pub fn to_xyz(&self) -> Vec3 {
+        self.to_xyz_f64().as_vec3()
+    }
+
+    /// Luminance Y = ∫ S ȳ / ∫ ȳ.
+    pub fn y(&self) -> f32 {
+        self.to_xyz_f64().y as f32
+    }
+
+    /// `self` times `other`, pointwise.
+    pub fn product(self, other: Spectrum) -> Spectrum {
+        match (&self, &other) {
+            (Spectrum::Constant(a), Spectrum::Constant(b)) => Spectrum::Constant(a * b),
+            _ => Spectrum::Product(Arc::new((self, other))),
+        }
+    }
+
+    /// `self` scaled by `s` (tables are rescaled in place; others become a product).
+    pub fn scaled(self, s: f64) -> Spectrum {
+        match self {
+            Spectrum::Constant(v) => Spectrum::Constant((v as f64 * s) as f32),
+            Spectrum::PiecewiseLinear(p) => {
+                let mut q = (*p).clone();
+                q.scale(s);
+                Spectrum::PiecewiseLinear(Arc::new(q))
+            }
+            other => other.product(Spectrum::Constant(s as f32)),
+        }
+    }
+
+    /// Largest value over 360–830 nm, estimated on the knots and a 1 nm grid.
+    pub fn max_value(&self) -> f64 {
+        let mut m = f64::NEG_INFINITY;
+        for l in (360..=830).map(|l| l as f64).chain(self.knots()) {
+            if (360.0..=830.0).contains(&l) {
+                m = m.max(self.eval_f64(l));
+            }
+        }
+        m
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn piecewise_linear_interpolates_and_is_zero_outside() {
+        let s = Spectrum::piecewise_linear(&[400.0, 500.0, 600.0], &[1.0, 3.0, 2.0]).unwrap();
+        assert_eq!(s.eval(400.0), 1.0);
+        assert_eq!(s.eval(450.0), 2.0);
+        assert_eq!(s.eval(550.0), 2.5);
+        assert_eq!(s.eval(600.0), 2.0);
+        assert_eq!(s.eval(399.9), 0.0);
+        assert_eq!(s.eval(600.1), 0.0);
+        assert_eq!(s.eval(f32::NAN), 0.0);
+    }
+
+    #[test]
+    fn malformed_tables_are_rejected() {
+        assert!(Spectrum::piecewise_linear(&[400.0], &[1.0]).is_none());
+        assert!(Spectrum::piecewise_linear(&[400.0, 400.0], &[1.0, 1.0]).is_none());
+        assert!(Spectrum::piecewise_linear(&[500.0, 400.0], &[1.0, 1.0]).is_none());
+        assert!(Spectrum::piecewise_linear(&[400.0, 500.0], &[1.0, f32::NAN]).is_none());
+        assert!(Spectrum::piecewise_linear(&[400.0, 500.0], &[1.0]).is_none());
+        assert!(Spectrum::piecewise_constant(vec![400.0, 500.0], vec![]).is_none());
+    }
+
+    #[test]
+    fn piecewise_constant_bins() {
+        let s = Spectrum::piecewise_constant(vec![400.0, 500.0, 600.0], vec![1.0, 2.0]).unwrap();
+        assert_eq!(s.eval(450.0), 1.0);
+        assert_eq!(s.eval(500.0), 2.0);
+        assert_eq!(s.eval(600.0), 2.0);
+        assert_eq!(s.eval(600.5), 0.0);
+    }
+
+    #[test]
+    fn constant_one_has_unit_luminance_and_equal_energy_white() {
+        let xyz = Spectrum::constant(1.0).to_xyz_f64();
+        assert!((xyz.y - 1.0).abs() < 1e-12);
+        // Equal-energy white E: ∫x̄/∫ȳ and ∫z̄/∫ȳ from the table's trapezoid sums.
+        assert!((xyz.x - 106.865_403_914 / 106.856_914_916_767).abs() < 1e-9);
+        assert!((xyz.z - 106.891_948_229 / 106.856_914_916_767).abs() < 1e-9);
+    }
+
+    #[test]
+    fn xyz_integration_is_exact_for_a_narrow_triangle() {
+        // A triangle of height 1 and base 2 nm centred on 555 nm: ∫ S ȳ is computable by hand
+        // from the three table values around it (product of two linears on each half).
+        let s = Spectrum::piecewise_linear(&[554.0, 555.0, 556.0], &[0.0, 1.0, 0.0]).unwrap();
+        let y = s.to_xyz_f64().y * crate::spectrum::cie::CIE_Y_INTEGRAL_F64;
+        let t = |i: usize| crate::spectrum::cie::xyz_bar_sample(i).unwrap()[1];
+        let (a, b, c) = (t(194), t(195), t(196));
+        // ∫₀¹ t (a + (b − a) t) dt = a/2 + (b − a)/3, and symmetrically on the right.
+        let want = (a / 2.0 + (b - a) / 3.0) + (c / 2.0 + (b - c) / 3.0);
+        assert!((y - want).abs() < 1e-12, "{y} {want}");
+    }
+}
