@@ -17,10 +17,10 @@ render: deps
 test: deps test-default test-pure
 
 test-default:
-	$(CARGO) test --release
+	$(CARGO) test
 
 test-pure:
-	$(CARGO) test --release --no-default-features
+	$(CARGO) test --no-default-features
 
 lint:
 	$(CARGO) fmt --check

@@ -3,6 +3,7 @@
 //! with an environment-variable override, and a missing one fails with the package to install.
 
 use std::env;
+#[cfg(feature = "embree")]
 use std::path::PathBuf;
 
 fn main() {

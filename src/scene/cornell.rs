@@ -49,7 +49,7 @@ fn measured_reflectance(values: &[f32; 76]) -> Spectrum {
     }
     l.push(830.0);
     v.push(values[75]);
-    Spectrum::piecewise_linear(l, v)
+    Spectrum::piecewise_linear(&l, &v).expect("the measured table is sorted")
 }
 
 fn quads(quads: &[[[f32; 3]; 4]]) -> Mesh {
@@ -108,7 +108,8 @@ pub fn add_cornell_box(b: &mut SceneBuilder) {
     );
     // The light: measured at y = 548.8 (the ceiling's height); lowered 0.1 mm so the two
     // coplanar surfaces do not fight. Faces down; its surface is black.
-    let light = Spectrum::piecewise_linear(LIGHT.iter().map(|p| p.0).collect(), LIGHT.iter().map(|p| p.1).collect());
+    let (ll, lv): (Vec<f32>, Vec<f32>) = LIGHT.iter().copied().unzip();
+    let light = Spectrum::piecewise_linear(&ll, &lv).expect("the measured table is sorted");
     b.add_mesh(
         quads(&[[[343.0, 548.7, 227.0], [343.0, 548.7, 332.0], [213.0, 548.7, 332.0], [213.0, 548.7, 227.0]]]),
         black,

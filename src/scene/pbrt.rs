@@ -126,7 +126,8 @@ impl Ctx<'_> {
             SpectrumParam::Rgb(rgb) => Spectrum::from_rgb(*rgb, kind, space_of(params)),
             SpectrumParam::Blackbody(t) => Spectrum::blackbody(*t),
             SpectrumParam::Samples(v) => {
-                Spectrum::piecewise_linear(v.iter().map(|p| p.0).collect(), v.iter().map(|p| p.1).collect())
+                let (l, x): (Vec<f32>, Vec<f32>) = v.iter().copied().unzip();
+                Spectrum::piecewise_linear(&l, &x).ok_or("spectrum samples must have increasing wavelengths")?
             }
             SpectrumParam::Named(n) => named_spectrum(n).ok_or_else(|| format!("unknown named spectrum \"{n}\""))?,
             SpectrumParam::File(p) => Spectrum::from_spd_file(p).map_err(|e| e.to_string())?,
@@ -428,11 +429,12 @@ pub fn named_spectrum(name: &str) -> Option<Spectrum> {
         return Some(s);
     }
     if let Some(data) = metals::named(name) {
-        return Some(Spectrum::piecewise_linear(data.iter().map(|p| p.0).collect(), data.iter().map(|p| p.1).collect()));
+        let (l, x): (Vec<f32>, Vec<f32>) = data.iter().copied().unzip();
+        return Spectrum::piecewise_linear(&l, &x);
     }
     let glass = name.strip_prefix("glass-").map(|g| g.to_string())?;
     ior::eta(&glass, 550.0)?;
     let l: Vec<f32> = (360..=830).step_by(5).map(|x| x as f32).collect();
     let v: Vec<f32> = l.iter().map(|&x| ior::eta(&glass, x).unwrap_or(1.5)).collect();
-    Some(Spectrum::piecewise_linear(l, v))
+    Spectrum::piecewise_linear(&l, &v)
 }
