@@ -225,7 +225,11 @@ mod tests {
         let m = compare(&a, &b).unwrap();
         assert_eq!(m.max_abs, 1e6);
         // Nearest rank ⌈0.99·1001⌉ = 991 → the 991st smallest value, 0.990.
-        assert!((m.robust_max_abs - 0.990).abs() < 1e-6, "{}", m.robust_max_abs);
+        assert!(
+            (m.robust_max_abs - 0.990).abs() < 1e-6,
+            "{}",
+            m.robust_max_abs
+        );
     }
 
     #[test]
