@@ -131,6 +131,33 @@ fn exr_half_round_trip_is_within_half_precision() {
 }
 
 #[test]
+fn exr_default_is_zip_compressed_half_with_conventional_names() {
+    use exr::prelude::{Compression, MetaData, SampleType};
+    let dir = Scratch::new("exr-header");
+    for &backend in Backend::available() {
+        for channels in 1..=4 {
+            let path = dir.path(&format!("d{channels}.exr"));
+            write_with(&path, &pattern(3, 2, channels, 1.0), &opts(backend)).unwrap();
+            let meta = MetaData::read_from_file(&path, false).unwrap();
+            let header = &meta.headers[0];
+            assert_eq!(header.compression, Compression::ZIP16, "{backend:?}");
+            let mut names: Vec<String> = Vec::new();
+            for ch in &header.channels.list {
+                assert_eq!(ch.sample_type, SampleType::F16, "{backend:?}");
+                names.push(ch.name.to_string());
+            }
+            let expected: &[&str] = match channels {
+                1 => &["Y"],
+                2 => &["A", "Y"],
+                3 => &["B", "G", "R"],
+                _ => &["A", "B", "G", "R"],
+            }; // stored alphabetically, as OpenEXR requires
+            assert_eq!(names, expected, "{backend:?}");
+        }
+    }
+}
+
+#[test]
 fn png_and_tiff_round_trip_within_half_a_code() {
     let dir = Scratch::new("png");
     for &backend in Backend::available() {
@@ -207,11 +234,20 @@ fn backends_read_each_others_files_identically() {
     let dir = Scratch::new("agree");
     for channels in [1, 3, 4] {
         let img = pattern(13, 7, channels, 1.5);
-        for ext in ["exr", "png", "tif"] {
+        for (ext, tiff_16bit) in [
+            ("exr", false),
+            ("png", false),
+            ("tif", false),
+            ("tif", true),
+        ] {
             let mut reads = Vec::new();
             for writer in [Backend::Oiio, Backend::Rust] {
-                let path = dir.path(&format!("{writer:?}-{channels}.{ext}"));
-                write_with(&path, &img, &opts(writer)).unwrap();
+                let path = dir.path(&format!("{writer:?}-{channels}-{tiff_16bit}.{ext}"));
+                let o = WriteOptions {
+                    tiff_16bit,
+                    ..opts(writer)
+                };
+                write_with(&path, &img, &o).unwrap();
                 for reader in [Backend::Oiio, Backend::Rust] {
                     reads.push((writer, reader, read_with(&path, reader).unwrap()));
                 }
