@@ -52,8 +52,8 @@ mod tests {
         assert_eq!(viridis_srgb(-3.0), VIRIDIS[0].1);
         assert_eq!(viridis_srgb(f32::NAN), VIRIDIS[16].1);
         let mid = viridis_srgb(128.0 / 255.0);
-        for j in 0..3 {
-            assert!((mid[j] - VIRIDIS[8].1[j]).abs() < 1e-6);
+        for (m, anchor) in mid.iter().zip(VIRIDIS[8].1) {
+            assert!((m - anchor).abs() < 1e-6);
         }
     }
 

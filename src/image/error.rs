@@ -20,6 +20,17 @@ pub enum ImageError {
         channels: u32,
         accepted: &'static str,
     },
+    /// The image exceeds the format's size limit.
+    #[error(
+        "{path}: {format} images are at most {max} pixels wide and high, not {width}x{height}"
+    )]
+    TooLarge {
+        path: PathBuf,
+        format: &'static str,
+        width: u32,
+        height: u32,
+        max: u32,
+    },
     /// The image's own fields disagree (size, channel count, data length).
     #[error("invalid image: {0}")]
     InvalidImage(String),

@@ -64,6 +64,27 @@ impl FileFormat {
         matches!(self, Self::Exr | Self::Hdr)
     }
 
+    /// Checks the format's size limit. JPEG stops at 65500 (libjpeg's `JPEG_MAX_DIMENSION`);
+    /// checking here matters because OIIO 2.4's JPEG writer lets libjpeg `exit()` the whole
+    /// process on that error instead of returning it.
+    pub(crate) fn check_size(self, path: &Path, width: u32, height: u32) -> Result<(), ImageError> {
+        let max = match self {
+            Self::Jpeg => 65_500,
+            _ => return Ok(()),
+        };
+        if width <= max && height <= max {
+            Ok(())
+        } else {
+            Err(ImageError::TooLarge {
+                path: path.to_path_buf(),
+                format: self.name(),
+                width,
+                height,
+                max,
+            })
+        }
+    }
+
     /// Checks that this format can store `channels` channels.
     pub(crate) fn check_channels(self, path: &Path, channels: u32) -> Result<(), ImageError> {
         let (ok, accepted) = match self {

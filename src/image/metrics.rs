@@ -1,6 +1,8 @@
 //! Error metrics between a test image and a reference, and a false-colour difference image,
 //! for `prism compare`.
 
+use std::fmt;
+
 use super::colormap::viridis_srgb;
 use super::{srgb, Image, ImageError};
 
@@ -38,6 +40,32 @@ pub struct Metrics {
     pub mean_b: f64,
     /// Peak signal-to-noise ratio for peak 1, 10·log10(1/mse) dB; +∞ for identical images.
     pub psnr: f64,
+}
+
+/// A small table for `prism compare`, one metric per line.
+impl fmt::Display for Metrics {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        writeln!(
+            f,
+            "samples    {} ({} non-finite skipped)",
+            self.samples, self.non_finite
+        )?;
+        writeln!(
+            f,
+            "mean       {:.6e} vs reference {:.6e}",
+            self.mean_a, self.mean_b
+        )?;
+        writeln!(f, "MSE        {:.6e}", self.mse)?;
+        writeln!(f, "RMSE       {:.6e}", self.rmse)?;
+        writeln!(f, "relMSE     {:.6e} (eps {REL_MSE_EPSILON})", self.rel_mse)?;
+        writeln!(f, "MAE        {:.6e}", self.mae)?;
+        writeln!(
+            f,
+            "max |a-b|  {:.6e} (p99 per pixel {:.6e})",
+            self.max_abs, self.robust_max_abs
+        )?;
+        write!(f, "PSNR       {:.2} dB", self.psnr)
+    }
 }
 
 fn check_same_size(a: &Image, b: &Image) -> Result<(), ImageError> {
@@ -188,6 +216,12 @@ mod tests {
         assert!((m.rel_mse - rel).abs() < 1e-9, "{} vs {rel}", m.rel_mse);
         assert!((m.psnr - (-10.0 * 1.5f64.log10())).abs() < 1e-9);
         assert!((m.mean_a - 2.5).abs() < 1e-12 && (m.mean_b - 2.0).abs() < 1e-12);
+        let table = m.to_string();
+        assert!(table.contains("MSE        1.500000e0"), "{table}");
+        assert!(
+            table.contains("samples    4 (0 non-finite skipped)"),
+            "{table}"
+        );
     }
 
     #[test]
@@ -225,7 +259,11 @@ mod tests {
         let m = compare(&a, &b).unwrap();
         assert_eq!(m.max_abs, 1e6);
         // Nearest rank ⌈0.99·1001⌉ = 991 → the 991st smallest value, 0.990.
-        assert!((m.robust_max_abs - 0.990).abs() < 1e-6, "{}", m.robust_max_abs);
+        assert!(
+            (m.robust_max_abs - 0.990).abs() < 1e-6,
+            "{}",
+            m.robust_max_abs
+        );
     }
 
     #[test]

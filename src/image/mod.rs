@@ -168,6 +168,7 @@ pub fn write_with(path: &Path, img: &Image, opts: &WriteOptions) -> Result<(), I
     let format = FileFormat::from_path(path)?;
     img.validate()?;
     format.check_channels(path, img.channels)?;
+    format.check_size(path, img.width, img.height)?;
     check_backend(opts.backend)?;
     let temp = atomic::TempFile::create(path)?;
     let result = match opts.backend {
@@ -175,6 +176,8 @@ pub fn write_with(path: &Path, img: &Image, opts: &WriteOptions) -> Result<(), I
         Backend::Oiio => oiio::write(temp.path(), format, img, opts),
         _ => rust_io::write(temp.path(), format, img, opts),
     };
+    #[cfg(test)]
+    let result = result.and_then(|()| tests::injected_failure());
     result.map_err(|reason| ImageError::Write {
         path: path.to_path_buf(),
         reason,

@@ -62,7 +62,11 @@ fn c_path(path: &Path) -> Result<CString, String> {
 
 fn message(buf: &[c_char; ERR_LEN]) -> String {
     // The shim always NUL-terminates within the buffer; guard anyway by bounding the scan.
-    let bytes: Vec<u8> = buf.iter().take_while(|&&c| c != 0).map(|&c| c as u8).collect();
+    let bytes: Vec<u8> = buf
+        .iter()
+        .take_while(|&&c| c != 0)
+        .map(|&c| c as u8)
+        .collect();
     let msg = String::from_utf8_lossy(&bytes).trim().to_string();
     if msg.is_empty() {
         "OpenImageIO reported an error without a message".into()
@@ -190,8 +194,10 @@ pub(crate) fn read(path: &Path) -> Result<Image, String> {
     if rc != 0 {
         return Err(message(&err));
     }
-    if fmt == UINT8 || fmt == UINT16 {
-        srgb::decode_normalised_in_place(&mut data, c as usize);
+    match fmt {
+        UINT8 => srgb::decode_normalised_in_place(&mut data, c as usize, 255),
+        UINT16 => srgb::decode_normalised_in_place(&mut data, c as usize, 65535),
+        _ => {}
     }
     Ok(Image {
         width: w as u32,
@@ -200,4 +206,3 @@ pub(crate) fn read(path: &Path) -> Result<Image, String> {
         data,
     })
 }
-

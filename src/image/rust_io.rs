@@ -6,8 +6,8 @@ use std::fs::File;
 use std::io::BufWriter;
 use std::path::Path;
 
-use exr::prelude::{self as exr_p, f16, SmallVec, WritableImage};
 use ::image::{DynamicImage, ImageBuffer, ImageFormat};
+use exr::prelude::{self as exr_p, f16, SmallVec, WritableImage};
 
 use super::format::FileFormat;
 use super::{srgb, ExrSample, Image, WriteOptions};
@@ -75,10 +75,16 @@ fn encoded_dynamic_image(img: &Image, sixteen_bit: bool) -> Result<DynamicImage,
             .map(|v| v as u16)
             .collect();
         Ok(match c {
-            1 => DynamicImage::ImageLuma16(ImageBuffer::from_raw(w, h, codes).ok_or_else(mismatch)?),
-            2 => DynamicImage::ImageLumaA16(ImageBuffer::from_raw(w, h, codes).ok_or_else(mismatch)?),
+            1 => {
+                DynamicImage::ImageLuma16(ImageBuffer::from_raw(w, h, codes).ok_or_else(mismatch)?)
+            }
+            2 => {
+                DynamicImage::ImageLumaA16(ImageBuffer::from_raw(w, h, codes).ok_or_else(mismatch)?)
+            }
             3 => DynamicImage::ImageRgb16(ImageBuffer::from_raw(w, h, codes).ok_or_else(mismatch)?),
-            _ => DynamicImage::ImageRgba16(ImageBuffer::from_raw(w, h, codes).ok_or_else(mismatch)?),
+            _ => {
+                DynamicImage::ImageRgba16(ImageBuffer::from_raw(w, h, codes).ok_or_else(mismatch)?)
+            }
         })
     } else {
         let codes: Vec<u8> = srgb::encode_to_codes(&img.data, c, 255)
@@ -87,7 +93,9 @@ fn encoded_dynamic_image(img: &Image, sixteen_bit: bool) -> Result<DynamicImage,
             .collect();
         Ok(match c {
             1 => DynamicImage::ImageLuma8(ImageBuffer::from_raw(w, h, codes).ok_or_else(mismatch)?),
-            2 => DynamicImage::ImageLumaA8(ImageBuffer::from_raw(w, h, codes).ok_or_else(mismatch)?),
+            2 => {
+                DynamicImage::ImageLumaA8(ImageBuffer::from_raw(w, h, codes).ok_or_else(mismatch)?)
+            }
             3 => DynamicImage::ImageRgb8(ImageBuffer::from_raw(w, h, codes).ok_or_else(mismatch)?),
             _ => DynamicImage::ImageRgba8(ImageBuffer::from_raw(w, h, codes).ok_or_else(mismatch)?),
         })
@@ -184,21 +192,22 @@ fn read_other(path: &Path) -> Result<Image, String> {
         .map_err(|e| e.to_string())?;
     let (width, height) = (decoded.width(), decoded.height());
     let channels = u32::from(decoded.color().channel_count());
-    let (mut data, encoded): (Vec<f32>, bool) = match decoded {
-        DynamicImage::ImageLuma8(b) => (normalise(b.as_raw(), 255.0), true),
-        DynamicImage::ImageLumaA8(b) => (normalise(b.as_raw(), 255.0), true),
-        DynamicImage::ImageRgb8(b) => (normalise(b.as_raw(), 255.0), true),
-        DynamicImage::ImageRgba8(b) => (normalise(b.as_raw(), 255.0), true),
-        DynamicImage::ImageLuma16(b) => (normalise(b.as_raw(), 65535.0), true),
-        DynamicImage::ImageLumaA16(b) => (normalise(b.as_raw(), 65535.0), true),
-        DynamicImage::ImageRgb16(b) => (normalise(b.as_raw(), 65535.0), true),
-        DynamicImage::ImageRgba16(b) => (normalise(b.as_raw(), 65535.0), true),
-        DynamicImage::ImageRgb32F(b) => (b.into_raw(), false),
-        DynamicImage::ImageRgba32F(b) => (b.into_raw(), false),
+    // `max_code` 0 marks linear float data.
+    let (mut data, max_code): (Vec<f32>, u32) = match decoded {
+        DynamicImage::ImageLuma8(b) => (normalise(b.as_raw(), 255.0), 255),
+        DynamicImage::ImageLumaA8(b) => (normalise(b.as_raw(), 255.0), 255),
+        DynamicImage::ImageRgb8(b) => (normalise(b.as_raw(), 255.0), 255),
+        DynamicImage::ImageRgba8(b) => (normalise(b.as_raw(), 255.0), 255),
+        DynamicImage::ImageLuma16(b) => (normalise(b.as_raw(), 65535.0), 65535),
+        DynamicImage::ImageLumaA16(b) => (normalise(b.as_raw(), 65535.0), 65535),
+        DynamicImage::ImageRgb16(b) => (normalise(b.as_raw(), 65535.0), 65535),
+        DynamicImage::ImageRgba16(b) => (normalise(b.as_raw(), 65535.0), 65535),
+        DynamicImage::ImageRgb32F(b) => (b.into_raw(), 0),
+        DynamicImage::ImageRgba32F(b) => (b.into_raw(), 0),
         other => return Err(format!("unsupported pixel layout {:?}", other.color())),
     };
-    if encoded {
-        srgb::decode_normalised_in_place(&mut data, channels as usize);
+    if max_code > 0 {
+        srgb::decode_normalised_in_place(&mut data, channels as usize, max_code);
     }
     Ok(Image {
         width,

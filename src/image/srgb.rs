@@ -53,11 +53,19 @@ pub(crate) fn encode_to_codes(data: &[f32], channels: usize, max_code: u32) -> V
 }
 
 /// Normalised integer samples in [0,1] → linear values, decoding colour channels only.
-pub(crate) fn decode_normalised_in_place(data: &mut [f32], channels: usize) {
+///
+/// Each sample is first snapped to the exact `code / max_code`: readers normalise in
+/// slightly different ways (OIIO multiplies by 1/255), and snapping makes every backend
+/// return bit-identical values for the same file.
+pub(crate) fn decode_normalised_in_place(data: &mut [f32], channels: usize, max_code: u32) {
+    let max = max_code as f32;
     for (i, v) in data.iter_mut().enumerate() {
-        if !is_alpha(i % channels, channels) {
-            *v = decode(*v);
-        }
+        let snapped = (*v * max).round() / max;
+        *v = if is_alpha(i % channels, channels) {
+            snapped
+        } else {
+            decode(snapped)
+        };
     }
 }
 

@@ -1,8 +1,24 @@
 //! Round trips, backend agreement, error messages and the atomic-write guarantee.
 
 use super::*;
+use std::cell::Cell;
 use std::fs;
 use std::path::PathBuf;
+
+thread_local! {
+    /// Makes the next `write_with` on this thread fail after the backend has written the
+    /// temporary file, as an encoder failing at the last moment would.
+    static FAIL_NEXT_WRITE: Cell<bool> = const { Cell::new(false) };
+}
+
+/// Hook called by `write_with` between encoding and the final rename.
+pub(super) fn injected_failure() -> Result<(), String> {
+    if FAIL_NEXT_WRITE.with(|f| f.replace(false)) {
+        Err("injected failure after encoding".into())
+    } else {
+        Ok(())
+    }
+}
 
 /// A scratch directory removed on drop.
 struct Scratch(PathBuf);
@@ -115,6 +131,33 @@ fn exr_half_round_trip_is_within_half_precision() {
 }
 
 #[test]
+fn exr_default_is_zip_compressed_half_with_conventional_names() {
+    use exr::prelude::{Compression, MetaData, SampleType};
+    let dir = Scratch::new("exr-header");
+    for &backend in Backend::available() {
+        for channels in 1..=4 {
+            let path = dir.path(&format!("d{channels}.exr"));
+            write_with(&path, &pattern(3, 2, channels, 1.0), &opts(backend)).unwrap();
+            let meta = MetaData::read_from_file(&path, false).unwrap();
+            let header = &meta.headers[0];
+            assert_eq!(header.compression, Compression::ZIP16, "{backend:?}");
+            let mut names: Vec<String> = Vec::new();
+            for ch in &header.channels.list {
+                assert_eq!(ch.sample_type, SampleType::F16, "{backend:?}");
+                names.push(ch.name.to_string());
+            }
+            let expected: &[&str] = match channels {
+                1 => &["Y"],
+                2 => &["A", "Y"],
+                3 => &["B", "G", "R"],
+                _ => &["A", "B", "G", "R"],
+            }; // stored alphabetically, as OpenEXR requires
+            assert_eq!(names, expected, "{backend:?}");
+        }
+    }
+}
+
+#[test]
 fn png_and_tiff_round_trip_within_half_a_code() {
     let dir = Scratch::new("png");
     for &backend in Backend::available() {
@@ -191,18 +234,30 @@ fn backends_read_each_others_files_identically() {
     let dir = Scratch::new("agree");
     for channels in [1, 3, 4] {
         let img = pattern(13, 7, channels, 1.5);
-        for ext in ["exr", "png", "tif"] {
+        for (ext, tiff_16bit) in [
+            ("exr", false),
+            ("png", false),
+            ("tif", false),
+            ("tif", true),
+        ] {
             let mut reads = Vec::new();
             for writer in [Backend::Oiio, Backend::Rust] {
-                let path = dir.path(&format!("{writer:?}-{channels}.{ext}"));
-                write_with(&path, &img, &opts(writer)).unwrap();
+                let path = dir.path(&format!("{writer:?}-{channels}-{tiff_16bit}.{ext}"));
+                let o = WriteOptions {
+                    tiff_16bit,
+                    ..opts(writer)
+                };
+                write_with(&path, &img, &o).unwrap();
                 for reader in [Backend::Oiio, Backend::Rust] {
                     reads.push((writer, reader, read_with(&path, reader).unwrap()));
                 }
             }
             // Identical quantisation and identical decoding: all four reads agree exactly.
             for (w, r, im) in &reads[1..] {
-                assert_eq!(im, &reads[0].2, ".{ext} {channels}ch written by {w:?}, read by {r:?}");
+                assert_eq!(
+                    im, &reads[0].2,
+                    ".{ext} {channels}ch written by {w:?}, read by {r:?}"
+                );
             }
         }
     }
@@ -216,11 +271,18 @@ fn unsupported_extension_names_the_supported_ones() {
         let err = write_with(&dir.path("out.bmp"), &img, &opts(backend)).unwrap_err();
         let msg = err.to_string();
         assert!(matches!(err, ImageError::UnsupportedExtension { .. }));
-        assert!(msg.contains("unsupported image extension \".bmp\""), "{msg}");
+        assert!(
+            msg.contains("unsupported image extension \".bmp\""),
+            "{msg}"
+        );
         assert!(msg.contains(".exr, .png, .jpg"), "{msg}");
         assert!(read_with(&dir.path("in.gif"), backend).is_err());
     }
-    assert!(dir.entries().is_empty(), "nothing may be created: {:?}", dir.entries());
+    assert!(
+        dir.entries().is_empty(),
+        "nothing may be created: {:?}",
+        dir.entries()
+    );
 }
 
 #[test]
@@ -245,13 +307,25 @@ fn failed_write_keeps_the_old_file_and_leaves_no_temporary() {
     let dir = Scratch::new("atomic");
     let old = b"previous render".to_vec();
     for &backend in Backend::available() {
-        // JPEG cannot hold a 70000-pixel-wide image: the encoder fails after the temporary
-        // file was created.
+        // An encoder failing after the temporary file was written.
         let target = dir.path("render.jpg");
         fs::write(&target, &old).unwrap();
-        let wide = Image::new(70_000, 1, 3);
-        let err = write_with(&target, &wide, &opts(backend)).unwrap_err();
-        assert!(matches!(err, ImageError::Write { .. }), "{backend:?}: {err}");
+        FAIL_NEXT_WRITE.with(|f| f.set(true));
+        let err = write_with(&target, &pattern(4, 4, 3, 1.0), &opts(backend)).unwrap_err();
+        assert!(
+            matches!(err, ImageError::Write { .. }),
+            "{backend:?}: {err}"
+        );
+        assert_eq!(fs::read(&target).unwrap(), old, "{backend:?}");
+        assert_eq!(dir.entries(), vec!["render.jpg"], "{backend:?}");
+
+        // Over JPEG's size limit: refused before any file is made (OIIO's libjpeg would
+        // otherwise exit the process).
+        let err = write_with(&target, &Image::new(70_000, 1, 3), &opts(backend)).unwrap_err();
+        assert!(
+            matches!(err, ImageError::TooLarge { .. }),
+            "{backend:?}: {err}"
+        );
         assert_eq!(fs::read(&target).unwrap(), old, "{backend:?}");
         assert_eq!(dir.entries(), vec!["render.jpg"], "{backend:?}");
 
@@ -260,9 +334,16 @@ fn failed_write_keeps_the_old_file_and_leaves_no_temporary() {
         let target = dir.path("taken.png");
         fs::create_dir(&target).unwrap();
         let err = write_with(&target, &pattern(2, 2, 3, 1.0), &opts(backend)).unwrap_err();
-        assert!(matches!(err, ImageError::Write { .. }), "{backend:?}: {err}");
+        assert!(
+            matches!(err, ImageError::Write { .. }),
+            "{backend:?}: {err}"
+        );
         assert!(target.is_dir());
-        assert_eq!(dir.entries(), vec!["render.jpg", "taken.png"], "{backend:?}");
+        assert_eq!(
+            dir.entries(),
+            vec!["render.jpg", "taken.png"],
+            "{backend:?}"
+        );
         fs::remove_dir(&target).unwrap();
 
         // A successful write replaces the old file completely.
@@ -270,7 +351,11 @@ fn failed_write_keeps_the_old_file_and_leaves_no_temporary() {
         fs::write(&target, &old).unwrap();
         write_with(&target, &pattern(3, 3, 3, 1.0), &opts(backend)).unwrap();
         assert_eq!(read_with(&target, backend).unwrap().width, 3);
-        assert_eq!(dir.entries(), vec!["render.jpg", "render.png"], "{backend:?}");
+        assert_eq!(
+            dir.entries(),
+            vec!["render.jpg", "render.png"],
+            "{backend:?}"
+        );
         fs::remove_file(&target).unwrap();
     }
 }
@@ -291,8 +376,7 @@ fn bad_images_and_channel_counts_are_rejected_before_writing() {
         assert!(matches!(err, Err(ImageError::InvalidImage(_))));
         let err = write_with(&dir.path("a.exr"), &Image::new(1, 1, 5), &opts(backend));
         assert!(matches!(err, Err(ImageError::InvalidImage(_))));
-        let err = write_with(&dir.path("a.jpg"), &Image::new(2, 2, 4), &opts(backend))
-            .unwrap_err();
+        let err = write_with(&dir.path("a.jpg"), &Image::new(2, 2, 4), &opts(backend)).unwrap_err();
         assert_eq!(
             err.to_string(),
             format!(
@@ -316,10 +400,16 @@ fn reading_missing_or_corrupt_files_fails_cleanly() {
     for &backend in Backend::available() {
         let err = read_with(&dir.path("absent.exr"), backend).unwrap_err();
         assert!(matches!(err, ImageError::NotFound { .. }), "{err}");
-        assert!(err.to_string().ends_with("absent.exr: no such file"), "{err}");
+        assert!(
+            err.to_string().ends_with("absent.exr: no such file"),
+            "{err}"
+        );
         for f in ["garbage.png", "garbage.exr"] {
             let err = read_with(&dir.path(f), backend).unwrap_err();
-            assert!(matches!(err, ImageError::Decode { .. }), "{backend:?} {f}: {err}");
+            assert!(
+                matches!(err, ImageError::Decode { .. }),
+                "{backend:?} {f}: {err}"
+            );
             assert!(!err.to_string().contains('\n'), "one line: {err}");
         }
     }
