@@ -6,8 +6,7 @@ use crate::film::Film;
 use crate::image::Image;
 use crate::integrator::{PathIntegrator, Stats};
 use crate::render::{RenderSettings, SamplerKind};
-#[derive(Default)]
-pub struct FileSettings { resolution: Option<(u32,u32)>, filename: Option<PathBuf>, spp: Option<u64>, max_depth: Option<u32>, filter: Option<String>, sampler: Option<String>, seed: Option<u64>, color_space: Option<String> }
+use crate::scene::pbrt::FileSettings;
 use crate::scene::{Scene, SceneBuilder};
 use crate::spectrum::ColorSpace;
 use anyhow::{bail, Context, Result};
@@ -219,8 +218,14 @@ pub(crate) fn load_scene_file(path: &Path, strict: bool) -> Result<(SceneBuilder
     if !path.exists() {
         bail!("scene file '{}' does not exist", path.display());
     }
-    let _ = strict;
-    bail!("TEMP: parser not merged")
+    let opts = crate::scene::ParseOptions { strict, ..Default::default() };
+    let (desc, mut warnings) = crate::scene::parse_file(path, &opts)?;
+    let (builder, settings) = crate::scene::pbrt::build(&desc, &mut warnings)?;
+    warnings.extend(desc.report_unused());
+    for w in &warnings {
+        log::warn!("{w}");
+    }
+    Ok((builder, settings))
 }
 
 /// Extensions `prism render -o` accepts.

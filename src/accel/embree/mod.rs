@@ -58,6 +58,7 @@ impl EmbreeAccel {
                     dir_x: r.d.x,
                     dir_y: r.d.y,
                     dir_z: r.d.z,
+                    tnear: f32::MIN_POSITIVE,
                     tfar: r.t_max,
                     mask: u32::MAX,
                     ..Default::default()

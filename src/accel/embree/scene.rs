@@ -120,7 +120,10 @@ impl Scene {
             org_x: ray.o.x,
             org_y: ray.o.y,
             org_z: ray.o.z,
-            tnear: 0.0,
+            // The Accel contract is t ∈ (0, t_max]: a spawned ray whose origin lies exactly on
+            // its surface (zero error bound along an axis-aligned normal) must not re-hit it at
+            // t = 0. The smallest normal f32 survives FTZ/DAZ.
+            tnear: f32::MIN_POSITIVE,
             dir_x: ray.d.x,
             dir_y: ray.d.y,
             dir_z: ray.d.z,
