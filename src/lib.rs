@@ -4,4 +4,5 @@ pub mod accel;
 pub mod geometry;
 pub mod math;
 pub mod sampling;
+pub mod scene;
 pub mod spectrum;
