@@ -152,7 +152,11 @@ pub fn tessellate_sphere(radius: f32, z_min: f32, z_max: f32, phi_max: f32, n_th
         for j in 0..=n_phi {
             let u = j as f32 / n_phi as f32;
             let phi = u * phi_max;
-            let d = Vec3::new(theta.sin() * phi.cos(), theta.sin() * phi.sin(), theta.cos());
+            // sin θ from cos θ keeps the poles exact (f32 sin(π) is not 0), so pole triangles
+            // are detected as degenerate below.
+            let z = theta.cos();
+            let s = (1.0 - z * z).max(0.0).sqrt();
+            let d = Vec3::new(s * phi.cos(), s * phi.sin(), z);
             pos.push(radius * d);
             nrm.push(d);
             uvs.push(Vec2::new(u, v));
