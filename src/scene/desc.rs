@@ -215,7 +215,10 @@ pub struct SceneDesc {
 impl SceneDesc {
     /// The named material `name`.
     pub fn named_material(&self, name: &str) -> Option<&MaterialDesc> {
-        self.named_materials.iter().find(|m| m.name == name).map(|m| &m.material)
+        self.named_materials
+            .iter()
+            .find(|m| m.name == name)
+            .map(|m| &m.material)
     }
 
     /// The material a reference points at (`None` for [`MaterialRef::Default`]).
@@ -234,14 +237,23 @@ impl SceneDesc {
 
     /// The texture `name` of class `class` (the last definition wins, as in pbrt-v4).
     pub fn texture(&self, name: &str, class: TextureClass) -> Option<&TextureDesc> {
-        self.textures.iter().rev().find(|t| t.name == name && t.class == class)
+        self.textures
+            .iter()
+            .rev()
+            .find(|t| t.name == name && t.class == class)
     }
 
     /// Warnings for parameters nothing read; call after the scene builder has consumed the desc.
     pub fn report_unused(&self) -> Vec<Warning> {
         let mut w = Vec::new();
-        let mut d = |ps: &ParamSet, what: &str, kind: &str| w.extend(ps.report_unused(&format!("{what} \"{kind}\"")));
-        d(&self.camera.directive.params, "Camera", &self.camera.directive.kind);
+        let mut d = |ps: &ParamSet, what: &str, kind: &str| {
+            w.extend(ps.report_unused(&format!("{what} \"{kind}\"")))
+        };
+        d(
+            &self.camera.directive.params,
+            "Camera",
+            &self.camera.directive.kind,
+        );
         for (name, x) in [
             ("Film", &self.film),
             ("Sampler", &self.sampler),
@@ -250,7 +262,10 @@ impl SceneDesc {
         ] {
             d(&x.params, name, &x.kind);
         }
-        let shapes = self.shapes.iter().chain(self.objects.iter().flat_map(|o| o.shapes.iter()));
+        let shapes = self
+            .shapes
+            .iter()
+            .chain(self.objects.iter().flat_map(|o| o.shapes.iter()));
         for s in shapes {
             d(&s.params, "Shape", &s.kind);
             if let Some(a) = &s.area_light {

@@ -18,8 +18,8 @@ pub mod shapes;
 pub mod tokenizer;
 
 pub use desc::{
-    AreaLightDesc, CameraDesc, Directive, InstanceDesc, LightDesc, MaterialDesc, MaterialRef, NamedMaterial,
-    ObjectDesc, SceneDesc, ShapeDesc, ShapeGeometry, TextureClass, TextureDesc,
+    AreaLightDesc, CameraDesc, Directive, InstanceDesc, LightDesc, MaterialDesc, MaterialRef,
+    NamedMaterial, ObjectDesc, SceneDesc, ShapeDesc, ShapeGeometry, TextureClass, TextureDesc,
 };
 pub use error::{Location, SceneError, Warning};
 pub use params::{FloatOrTexture, ParamSet, ParamValue, SpectrumOrTexture, SpectrumParam};
