@@ -3,6 +3,4 @@
 
 mod sampled;
 
-pub use sampled::{
-    SampledSpectrum, SampledWavelengths, LAMBDA_MAX, LAMBDA_MIN, N_SPECTRUM_SAMPLES,
-};
+pub use sampled::{SampledSpectrum, SampledWavelengths, LAMBDA_MAX, LAMBDA_MIN, N_SPECTRUM_SAMPLES};

@@ -76,12 +76,7 @@ impl SampledSpectrum {
     /// Element-wise map.
     #[inline]
     pub fn map(self, f: impl Fn(f32) -> f32) -> Self {
-        Self(Vec4::new(
-            f(self.0.x),
-            f(self.0.y),
-            f(self.0.z),
-            f(self.0.w),
-        ))
+        Self(Vec4::new(f(self.0.x), f(self.0.y), f(self.0.z), f(self.0.w)))
     }
     /// Element-wise exponential (Beer–Lambert transmittance).
     #[inline]
@@ -233,10 +228,7 @@ mod tests {
             }
             for i in 1..4 {
                 let gap = l[i] - l[i - 1];
-                assert!(
-                    (gap - (LAMBDA_MAX - LAMBDA_MIN) / 4.0).abs() < 1e-3,
-                    "{l:?}"
-                );
+                assert!((gap - (LAMBDA_MAX - LAMBDA_MIN) / 4.0).abs() < 1e-3, "{l:?}");
             }
         }
     }
