@@ -6,7 +6,8 @@
 //! ```
 //! Entry points: [`parse_file`] and [`parse_str`]. After building the renderer's scene from the
 //! desc, call [`SceneDesc::report_unused`] to warn about parameters nothing read.
-//! The supported subset is listed in docs/scene-format.md.
+//! The supported subset is listed in docs/scene-format.md. (`desc::CameraDesc` is not re-exported
+//! here: the renderer's own `scene::CameraDesc` owns that name.)
 
 pub mod desc;
 pub mod error;
@@ -18,8 +19,8 @@ pub mod shapes;
 pub mod tokenizer;
 
 pub use desc::{
-    AreaLightDesc, CameraDesc, Directive, InstanceDesc, LightDesc, MaterialDesc, MaterialRef,
-    NamedMaterial, ObjectDesc, SceneDesc, ShapeDesc, ShapeGeometry, TextureClass, TextureDesc,
+    AreaLightDesc, Directive, InstanceDesc, LightDesc, MaterialDesc, MaterialRef, NamedMaterial,
+    ObjectDesc, SceneDesc, ShapeDesc, ShapeGeometry, TextureClass, TextureDesc,
 };
 pub use error::{Location, SceneError, Warning};
 pub use params::{FloatOrTexture, ParamSet, ParamValue, SpectrumOrTexture, SpectrumParam};

@@ -20,16 +20,21 @@ pub const PBRT_ONLY_SHAPES: &[(&str, &str)] = &[
 ];
 
 /// Materials prism renders.
-pub const PRISM_MATERIALS: &[&str] = &["diffuse", "conductor", "dielectric", "coateddiffuse"];
+pub const PRISM_MATERIALS: &[&str] = &[
+    "diffuse",
+    "conductor",
+    "dielectric",
+    "coateddiffuse",
+    "diffusetransmission",
+    "thindielectric",
+];
 /// pbrt-v4 materials prism replaces, with the replacement type (used with default parameters).
 pub const PBRT_ONLY_MATERIALS: &[(&str, &str)] = &[
     ("coatedconductor", "conductor"),
-    ("diffusetransmission", "diffuse"),
     ("hair", "diffuse"),
     ("measured", "diffuse"),
     ("mix", "diffuse"),
     ("subsurface", "coateddiffuse"),
-    ("thindielectric", "dielectric"),
     // An index-matched dielectric is invisible, which is what "interface" means.
     ("interface", "dielectric"),
 ];
