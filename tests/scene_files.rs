@@ -213,6 +213,31 @@ fn cornell_torus_parses() {
     let torus = d.shapes.iter().find(|s| s.kind == "plymesh").unwrap();
     assert_eq!(mesh_triangles(torus), 48 * 24 * 2);
     assert_eq!(d.material(&torus.material).unwrap().kind, "conductor");
+    // Every wall faces the inside of the box; the light (after ReverseOrientation) faces down.
+    let centre = Vec3::new(0.0, 1.6, 0.0);
+    for s in &d.shapes[..5] {
+        let ShapeGeometry::Mesh(m) = &s.geometry else {
+            panic!("walls are meshes")
+        };
+        for i in 0..m.len() {
+            let [a, b, c] = m.triangle(i);
+            let faces_in = (b - a).cross(c - a).dot(centre - a) > 0.0;
+            assert!(faces_in, "{}: wall triangle {i} faces out", s.loc);
+        }
+    }
+    let ShapeGeometry::Mesh(light) = &lights[0].geometry else {
+        panic!("the light is a mesh")
+    };
+    let [a, b, c] = light.triangle(0);
+    let flip = if lights[0].reverse_orientation {
+        -1.0
+    } else {
+        1.0
+    };
+    assert!(
+        flip * (b - a).cross(c - a).y < 0.0,
+        "the ceiling light emits upwards"
+    );
     // Camera from the included file.
     assert!(d
         .camera

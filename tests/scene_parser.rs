@@ -442,6 +442,23 @@ fn unused_parameters_are_reported_after_building() {
         w,
         ["<string>:2:33: warning: parameter \"float radisu\" of Shape \"sphere\" was not used"]
     );
+    // Unreferenced named materials are not reported; referenced ones are.
+    let (d, _) = parse(&format!(
+        r#"WorldBegin
+MakeNamedMaterial "a" "string type" "diffuse" "float x" 1
+MakeNamedMaterial "b" "string type" "diffuse" "float y" 1
+NamedMaterial "b"
+{TRI}"#
+    ));
+    let w: Vec<String> = d
+        .report_unused()
+        .iter()
+        .map(|w| w.message.clone())
+        .collect();
+    assert_eq!(
+        w,
+        ["parameter \"float y\" of MakeNamedMaterial \"b\" was not used"]
+    );
 }
 
 #[test]

@@ -278,8 +278,17 @@ impl SceneDesc {
         for m in &self.materials {
             d(&m.params, "Material", &m.kind);
         }
+        // Named materials no shape uses are never built (a shared library of materials is
+        // normal), so only referenced ones can have unread parameters worth reporting.
+        let all_shapes = || {
+            self.shapes
+                .iter()
+                .chain(self.objects.iter().flat_map(|o| o.shapes.iter()))
+        };
         for m in &self.named_materials {
-            d(&m.material.params, "MakeNamedMaterial", &m.name);
+            if all_shapes().any(|s| matches!(&s.material, MaterialRef::Named(n) if *n == m.name)) {
+                d(&m.material.params, "MakeNamedMaterial", &m.name);
+            }
         }
         for t in &self.textures {
             d(&t.params, "Texture", &t.name);
