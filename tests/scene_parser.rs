@@ -423,6 +423,9 @@ fn block_placement_and_syntax_errors() {
         err("WorldBegin\nShape \"sphere\" \"float radius\" [ 1"),
         "<string>:2:31: unterminated [ for parameter \"float radius\" (at \"[\")"
     );
+    // A byte-order mark and CRLF line ends are accepted; columns count from after the BOM.
+    let (d, _) = parse("\u{feff}WorldBegin\r\nShape \"sphere\"\r\n");
+    assert_eq!((d.shapes[0].loc.line, d.shapes[0].loc.col), (2, 1));
     assert_eq!(
         err("Rotate 30 0 0 0"),
         "<string>:1:1: rotation axis has zero length (at \"Rotate\")"

@@ -359,6 +359,8 @@ impl<'o> Parser<'o> {
     }
 
     fn parse_text(&mut self, text: &str, file: Arc<Path>) -> Result<(), SceneError> {
+        // Editors on Windows may prepend a UTF-8 byte-order mark.
+        let text = text.strip_prefix('\u{feff}').unwrap_or(text);
         let end = Location::new(file.clone(), text.lines().count().max(1) as u32, 1);
         let mut src = Source {
             tok: Tokenizer::new(text, file),
