@@ -592,3 +592,25 @@ fn plymesh_and_objmesh_load_relative_to_the_scene() {
         .collect();
     assert_eq!(areas, [1.0, 0.5]);
 }
+
+#[test]
+fn large_inline_mesh_parses() {
+    // A 100k-vertex strip: 300k floats and ~100k triangles of text (about 3 MB).
+    let n = 100_000u32;
+    let mut s = String::from("WorldBegin\nShape \"trianglemesh\" \"point3 P\" [");
+    for i in 0..n {
+        s += &format!(" {} {} 0", i / 2, i % 2);
+    }
+    s += " ] \"integer indices\" [";
+    for i in 0..n - 2 {
+        s += &format!(" {} {} {}", i, i + 1, i + 2);
+    }
+    s += " ]\n";
+    let t = std::time::Instant::now();
+    let (d, _) = parse(&s);
+    let ShapeGeometry::Mesh(m) = &d.shapes[0].geometry else {
+        panic!()
+    };
+    assert_eq!((m.positions.len(), m.len()), (n as usize, n as usize - 2));
+    eprintln!("parsed {} bytes in {:?}", s.len(), t.elapsed());
+}
