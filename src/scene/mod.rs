@@ -16,6 +16,7 @@ pub mod names;
 pub mod params;
 pub mod parser;
 pub mod shapes;
+mod source;
 pub mod tokenizer;
 
 pub use desc::{
