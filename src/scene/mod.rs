@@ -2,10 +2,27 @@
 //! a pbrt-v4 file), and the render-ready [`Scene`] with its accelerator.
 
 mod cornell;
+pub mod desc;
+pub mod error;
 mod interaction;
+pub mod mesh_io;
+pub mod names;
+pub mod params;
+pub mod parser;
+pub mod pbrt;
+pub mod shapes;
+mod source;
+pub mod tokenizer;
 
 pub use cornell::add_cornell_box;
+pub use desc::{
+    AreaLightDesc, Directive, InstanceDesc, LightDesc, MaterialDesc, MaterialRef, NamedMaterial, ObjectDesc,
+    SceneDesc, ShapeDesc, ShapeGeometry, TextureClass, TextureDesc,
+};
+pub use error::{Location, SceneError, Warning};
 pub use interaction::SurfaceInteraction;
+pub use params::{FloatOrTexture, ParamSet, ParamValue, SpectrumOrTexture, SpectrumParam};
+pub use parser::{look_at, parse_file, parse_str, ParseOptions};
 
 use crate::accel::{self, Accel, AccelKind};
 use crate::camera::Camera;

@@ -1,0 +1,298 @@
+//! `SceneDesc`: what a scene file says, independent of the renderer's materials and lights.
+//!
+//! Transforms follow pbrt-v4: `world_from_object` maps object space to world space; glam
+//! matrices are column-major like the numbers of pbrt's `Transform` directive.
+
+use std::sync::Arc;
+
+use glam::Mat4;
+
+use super::error::{Location, Warning};
+use super::params::ParamSet;
+use crate::geometry::Mesh;
+
+/// A directive that is just a type and parameters (Film, Sampler, Integrator, PixelFilter, ...).
+#[derive(Clone, Debug)]
+pub struct Directive {
+    /// The type name ("rgb", "zsobol", "path", "gaussian").
+    pub kind: String,
+    /// Its parameters.
+    pub params: ParamSet,
+    /// Where it was written (for defaults: the WorldBegin that applied them).
+    pub loc: Location,
+}
+
+/// The Camera directive.
+#[derive(Clone, Debug)]
+pub struct CameraDesc {
+    /// Type and parameters ("perspective": fov, lensradius, focaldistance, screenwindow, ...).
+    pub directive: Directive,
+    /// The current transform at the Camera directive: camera space from world space.
+    pub camera_from_world: Mat4,
+}
+
+/// Which material a shape uses.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum MaterialRef {
+    /// No Material directive yet: pbrt-v4's default, a "diffuse" material with reflectance 0.5.
+    Default,
+    /// An anonymous `Material` directive: index into [`SceneDesc::materials`].
+    Anonymous(usize),
+    /// `NamedMaterial "name"`: a key of [`SceneDesc::named_materials`] (checked to exist).
+    Named(String),
+}
+
+/// A Material or MakeNamedMaterial directive.
+#[derive(Clone, Debug)]
+pub struct MaterialDesc {
+    /// Material type ("diffuse", "conductor", "dielectric", "coateddiffuse").
+    pub kind: String,
+    /// Its parameters (for MakeNamedMaterial, without "type").
+    pub params: ParamSet,
+    /// Where it was written.
+    pub loc: Location,
+}
+
+/// A named material.
+#[derive(Clone, Debug)]
+pub struct NamedMaterial {
+    /// The name given to MakeNamedMaterial.
+    pub name: String,
+    /// The material.
+    pub material: MaterialDesc,
+}
+
+/// Whether a texture yields floats or spectra.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TextureClass {
+    /// "float"
+    Float,
+    /// "spectrum" (also pbrt-v3's "color")
+    Spectrum,
+}
+
+/// A Texture directive.
+#[derive(Clone, Debug)]
+pub struct TextureDesc {
+    /// Name that "texture" parameters refer to.
+    pub name: String,
+    /// Float or spectrum.
+    pub class: TextureClass,
+    /// Texture type ("imagemap", "checkerboard", ...).
+    pub kind: String,
+    /// Its parameters.
+    pub params: ParamSet,
+    /// World space from texture space (the current transform at the directive).
+    pub world_from_texture: Mat4,
+    /// Where it was written.
+    pub loc: Location,
+}
+
+/// The geometry of a shape, loaded and checked by the parser, in object space.
+#[derive(Clone, Debug)]
+pub enum ShapeGeometry {
+    /// A triangle mesh (trianglemesh, plymesh, objmesh, bilinearmesh, loopsubdiv control mesh).
+    Mesh(Arc<Mesh>),
+    /// pbrt's analytic sphere about the object-space origin; `scene::shapes::tessellate_sphere`
+    /// turns it into a mesh for backends without analytic spheres.
+    Sphere {
+        /// Radius [scene units].
+        radius: f32,
+        /// Lower z clip [scene units].
+        z_min: f32,
+        /// Upper z clip [scene units].
+        z_max: f32,
+        /// Largest azimuth φ [degrees] (360 = full sphere).
+        phi_max: f32,
+    },
+}
+
+/// An AreaLightSource in effect for a shape.
+#[derive(Clone, Debug)]
+pub struct AreaLightDesc {
+    /// "diffuse".
+    pub kind: String,
+    /// Its parameters ("L", "scale", "twosided", "power", "filename").
+    pub params: ParamSet,
+    /// Where it was written.
+    pub loc: Location,
+}
+
+/// A Shape directive.
+#[derive(Clone, Debug)]
+pub struct ShapeDesc {
+    /// Shape type as written ("plymesh", "sphere", ...).
+    pub kind: String,
+    /// Its parameters (geometry parameters are already marked used; "alpha" etc. remain).
+    pub params: ParamSet,
+    /// The loaded geometry in object space.
+    pub geometry: ShapeGeometry,
+    /// World from object (inside ObjectBegin: instance space from object).
+    pub world_from_object: Mat4,
+    /// ReverseOrientation was in effect: flip the normals (pbrt-v4 semantics).
+    pub reverse_orientation: bool,
+    /// The material in effect.
+    pub material: MaterialRef,
+    /// The area light in effect, if any (never set inside object definitions).
+    pub area_light: Option<AreaLightDesc>,
+    /// Where it was written.
+    pub loc: Location,
+}
+
+/// A LightSource directive.
+#[derive(Clone, Debug)]
+pub struct LightDesc {
+    /// Light type ("point", "spot", "distant", "infinite").
+    pub kind: String,
+    /// Its parameters.
+    pub params: ParamSet,
+    /// World from light space.
+    pub world_from_light: Mat4,
+    /// Where it was written.
+    pub loc: Location,
+}
+
+/// An ObjectBegin/ObjectEnd block.
+#[derive(Clone, Debug)]
+pub struct ObjectDesc {
+    /// The object's name.
+    pub name: String,
+    /// Its shapes; their `world_from_object` maps to instance space.
+    pub shapes: Vec<ShapeDesc>,
+    /// Where ObjectBegin was written.
+    pub loc: Location,
+}
+
+/// An ObjectInstance directive.
+#[derive(Clone, Debug)]
+pub struct InstanceDesc {
+    /// The instanced object's name.
+    pub object: String,
+    /// Index into [`SceneDesc::objects`].
+    pub object_index: usize,
+    /// World from instance space: a shape's world transform is
+    /// `world_from_instance * shape.world_from_object`.
+    pub world_from_instance: Mat4,
+    /// Where it was written.
+    pub loc: Location,
+}
+
+/// Everything a scene file describes.
+#[derive(Clone, Debug)]
+pub struct SceneDesc {
+    /// Camera (default: "perspective", identity transform).
+    pub camera: CameraDesc,
+    /// Film (default "rgb").
+    pub film: Directive,
+    /// Sampler (default "zsobol").
+    pub sampler: Directive,
+    /// Integrator (default "path"; pbrt-v4 names prism lacks become "path").
+    pub integrator: Directive,
+    /// PixelFilter (default "gaussian").
+    pub filter: Directive,
+    /// Accelerator, if given (prism picks its own BVH; kept for reference).
+    pub accelerator: Option<Directive>,
+    /// The ColorSpace in effect at WorldBegin ("srgb" by default).
+    pub color_space: String,
+    /// All Option directives merged (e.g. "bool disablepixeljitter", "integer seed").
+    pub options: ParamSet,
+    /// Shapes outside object definitions.
+    pub shapes: Vec<ShapeDesc>,
+    /// Non-area lights.
+    pub lights: Vec<LightDesc>,
+    /// Anonymous materials, referenced by [`MaterialRef::Anonymous`].
+    pub materials: Vec<MaterialDesc>,
+    /// Named materials in definition order.
+    pub named_materials: Vec<NamedMaterial>,
+    /// Textures in definition order (a later one with the same name and class replaces).
+    pub textures: Vec<TextureDesc>,
+    /// Object definitions.
+    pub objects: Vec<ObjectDesc>,
+    /// Object instances.
+    pub instances: Vec<InstanceDesc>,
+}
+
+impl SceneDesc {
+    /// The named material `name`.
+    pub fn named_material(&self, name: &str) -> Option<&MaterialDesc> {
+        self.named_materials
+            .iter()
+            .find(|m| m.name == name)
+            .map(|m| &m.material)
+    }
+
+    /// The material a reference points at (`None` for [`MaterialRef::Default`]).
+    pub fn material(&self, r: &MaterialRef) -> Option<&MaterialDesc> {
+        match r {
+            MaterialRef::Default => None,
+            MaterialRef::Anonymous(i) => self.materials.get(*i),
+            MaterialRef::Named(n) => self.named_material(n),
+        }
+    }
+
+    /// The object definition called `name`.
+    pub fn object(&self, name: &str) -> Option<&ObjectDesc> {
+        self.objects.iter().find(|o| o.name == name)
+    }
+
+    /// The texture `name` of class `class` (the last definition wins, as in pbrt-v4).
+    pub fn texture(&self, name: &str, class: TextureClass) -> Option<&TextureDesc> {
+        self.textures
+            .iter()
+            .rev()
+            .find(|t| t.name == name && t.class == class)
+    }
+
+    /// Warnings for parameters nothing read; call after the scene builder has consumed the desc.
+    pub fn report_unused(&self) -> Vec<Warning> {
+        let mut w = Vec::new();
+        let mut d = |ps: &ParamSet, what: &str, kind: &str| {
+            w.extend(ps.report_unused(&format!("{what} \"{kind}\"")))
+        };
+        d(
+            &self.camera.directive.params,
+            "Camera",
+            &self.camera.directive.kind,
+        );
+        for (name, x) in [
+            ("Film", &self.film),
+            ("Sampler", &self.sampler),
+            ("Integrator", &self.integrator),
+            ("PixelFilter", &self.filter),
+        ] {
+            d(&x.params, name, &x.kind);
+        }
+        let shapes = self
+            .shapes
+            .iter()
+            .chain(self.objects.iter().flat_map(|o| o.shapes.iter()));
+        for s in shapes {
+            d(&s.params, "Shape", &s.kind);
+            if let Some(a) = &s.area_light {
+                d(&a.params, "AreaLightSource", &a.kind);
+            }
+        }
+        for l in &self.lights {
+            d(&l.params, "LightSource", &l.kind);
+        }
+        for m in &self.materials {
+            d(&m.params, "Material", &m.kind);
+        }
+        // Named materials no shape uses are never built (a shared library of materials is
+        // normal), so only referenced ones can have unread parameters worth reporting.
+        let all_shapes = || {
+            self.shapes
+                .iter()
+                .chain(self.objects.iter().flat_map(|o| o.shapes.iter()))
+        };
+        for m in &self.named_materials {
+            if all_shapes().any(|s| matches!(&s.material, MaterialRef::Named(n) if *n == m.name)) {
+                d(&m.material.params, "MakeNamedMaterial", &m.name);
+            }
+        }
+        for t in &self.textures {
+            d(&t.params, "Texture", &t.name);
+        }
+        w
+    }
+}

@@ -1,0 +1,145 @@
+//! Source locations, scene errors and warnings.
+//!
+//! Every message a person reads starts with `file:line:col` so editors can jump to it, and names
+//! the offending token (pbrt-v4 `ErrorExit(&loc, ...)`, Mitsuba's parser errors).
+
+use std::fmt;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+/// A position in a scene file: 1-based line and column (columns count characters).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Location {
+    /// The file the token came from (`<string>` for [`crate::scene::parse_str`]).
+    pub file: Arc<Path>,
+    /// Line, starting at 1.
+    pub line: u32,
+    /// Column in characters, starting at 1.
+    pub col: u32,
+}
+
+impl Location {
+    /// A location in `file`.
+    pub fn new(file: Arc<Path>, line: u32, col: u32) -> Self {
+        Self { file, line, col }
+    }
+
+    /// The directory relative file names written at this location resolve against.
+    pub fn base_dir(&self) -> PathBuf {
+        self.file
+            .parent()
+            .map(Path::to_path_buf)
+            .unwrap_or_default()
+    }
+}
+
+impl fmt::Display for Location {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}:{}:{}", self.file.display(), self.line, self.col)
+    }
+}
+
+/// Everything that stops a scene from loading.
+#[derive(Debug, thiserror::Error)]
+pub enum SceneError {
+    /// Malformed input at a token.
+    #[error("{loc}: {message} (at \"{token}\")")]
+    Syntax {
+        /// Where.
+        loc: Location,
+        /// The offending token as written.
+        token: String,
+        /// What is wrong.
+        message: String,
+    },
+    /// A type name (shape, material, light, ...) that neither prism nor pbrt-v4 knows.
+    #[error("{loc}: unknown {kind} type \"{name}\"; valid {kind} types: {valid}")]
+    UnknownType {
+        /// Where.
+        loc: Location,
+        /// "shape", "material", ...
+        kind: &'static str,
+        /// The name as written.
+        name: String,
+        /// Comma-separated valid names.
+        valid: String,
+    },
+    /// A pbrt-v4 feature prism does not render, under `ParseOptions::strict`.
+    #[error(
+        "{loc}: unsupported feature: {feature} (strict mode; without --strict prism {fallback})"
+    )]
+    Unsupported {
+        /// Where.
+        loc: Location,
+        /// What the file asked for.
+        feature: String,
+        /// What prism does without `--strict`.
+        fallback: String,
+    },
+    /// A file that could not be read (scene, include, mesh).
+    #[error("{loc}: cannot read \"{path}\": {reason}")]
+    Io {
+        /// The directive that named the file.
+        loc: Location,
+        /// The resolved path.
+        path: PathBuf,
+        /// The OS error text.
+        reason: String,
+    },
+    /// Include/Import of a file that is already being read.
+    #[error("{loc}: include cycle: {chain}")]
+    IncludeCycle {
+        /// The Include directive that closes the cycle.
+        loc: Location,
+        /// The files in the cycle, ` -> `-separated.
+        chain: String,
+    },
+    /// A malformed mesh file (PLY/OBJ) named by a shape.
+    #[error("{loc}: mesh file \"{path}\": {message}")]
+    Mesh {
+        /// The Shape directive that named the file.
+        loc: Location,
+        /// The mesh file.
+        path: PathBuf,
+        /// What is wrong.
+        message: String,
+    },
+}
+
+impl SceneError {
+    /// A syntax error at `loc` about `token`.
+    pub fn syntax(loc: &Location, token: &str, message: impl Into<String>) -> Self {
+        Self::Syntax {
+            loc: loc.clone(),
+            token: token.to_string(),
+            message: message.into(),
+        }
+    }
+
+    /// The location the error points at.
+    pub fn location(&self) -> &Location {
+        match self {
+            Self::Syntax { loc, .. }
+            | Self::UnknownType { loc, .. }
+            | Self::Unsupported { loc, .. }
+            | Self::Io { loc, .. }
+            | Self::IncludeCycle { loc, .. }
+            | Self::Mesh { loc, .. } => loc,
+        }
+    }
+}
+
+/// Something a person should know about that does not stop loading.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Warning {
+    /// Where.
+    pub loc: Location,
+    /// What.
+    pub message: String,
+}
+
+impl fmt::Display for Warning {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}: warning: {}", self.loc, self.message)
+    }
+}

@@ -1,0 +1,4 @@
+//! Mesh file readers: PLY (pbrt-v4 "plymesh") and OBJ (prism's "objmesh" extension).
+
+pub mod obj;
+pub mod ply;

@@ -1,0 +1,501 @@
+//! PLY reader (Turk 1994, "The PLY Polygon File Format"): ASCII and binary little/big endian,
+//! vertex x/y/z, nx/ny/nz, u/v (or s/t, texture_u/texture_v), faces via `vertex_indices` or
+//! `vertex_index` lists; quads and larger convex polygons are split into a triangle fan.
+//!
+//! Counts in the header are checked against the bytes present before anything is allocated.
+
+use glam::{Vec2, Vec3};
+
+use crate::geometry::Mesh;
+
+/// Longest polygon accepted (a face list count above this is corrupt data, not geometry).
+pub const MAX_FACE_VERTICES: usize = 64;
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Scalar {
+    I8,
+    U8,
+    I16,
+    U16,
+    I32,
+    U32,
+    F32,
+    F64,
+}
+
+impl Scalar {
+    fn parse(s: &str) -> Option<Self> {
+        Some(match s {
+            "char" | "int8" => Self::I8,
+            "uchar" | "uint8" => Self::U8,
+            "short" | "int16" => Self::I16,
+            "ushort" | "uint16" => Self::U16,
+            "int" | "int32" => Self::I32,
+            "uint" | "uint32" => Self::U32,
+            "float" | "float32" => Self::F32,
+            "double" | "float64" => Self::F64,
+            _ => return None,
+        })
+    }
+
+    fn size(self) -> usize {
+        match self {
+            Self::I8 | Self::U8 => 1,
+            Self::I16 | Self::U16 => 2,
+            Self::I32 | Self::U32 | Self::F32 => 4,
+            Self::F64 => 8,
+        }
+    }
+}
+
+#[derive(Debug)]
+struct Property {
+    name: String,
+    /// `Some(count type)` for list properties.
+    list: Option<Scalar>,
+    ty: Scalar,
+}
+
+#[derive(Debug)]
+struct Element {
+    name: String,
+    count: usize,
+    props: Vec<Property>,
+}
+
+#[derive(Clone, Copy, PartialEq)]
+enum Format {
+    Ascii,
+    Little,
+    Big,
+}
+
+/// Reads values from the body in either encoding.
+struct Body<'a> {
+    data: &'a [u8],
+    pos: usize,
+    format: Format,
+}
+
+impl Body<'_> {
+    fn remaining(&self) -> usize {
+        self.data.len() - self.pos
+    }
+
+    fn value(&mut self, ty: Scalar) -> Result<f64, String> {
+        if self.format == Format::Ascii {
+            while self.pos < self.data.len() && self.data[self.pos].is_ascii_whitespace() {
+                self.pos += 1;
+            }
+            let start = self.pos;
+            while self.pos < self.data.len() && !self.data[self.pos].is_ascii_whitespace() {
+                self.pos += 1;
+            }
+            if start == self.pos {
+                return Err("unexpected end of data".into());
+            }
+            let s = std::str::from_utf8(&self.data[start..self.pos])
+                .map_err(|_| "non-ASCII number".to_string())?;
+            return s.parse::<f64>().map_err(|_| format!("bad number \"{s}\""));
+        }
+        let n = ty.size();
+        if self.remaining() < n {
+            return Err("unexpected end of data".into());
+        }
+        let mut b = [0u8; 8];
+        b[..n].copy_from_slice(&self.data[self.pos..self.pos + n]);
+        self.pos += n;
+        if self.format == Format::Big {
+            b[..n].reverse();
+        }
+        Ok(match ty {
+            Scalar::I8 => b[0] as i8 as f64,
+            Scalar::U8 => b[0] as f64,
+            Scalar::I16 => i16::from_le_bytes([b[0], b[1]]) as f64,
+            Scalar::U16 => u16::from_le_bytes([b[0], b[1]]) as f64,
+            Scalar::I32 => i32::from_le_bytes([b[0], b[1], b[2], b[3]]) as f64,
+            Scalar::U32 => u32::from_le_bytes([b[0], b[1], b[2], b[3]]) as f64,
+            Scalar::F32 => f32::from_le_bytes([b[0], b[1], b[2], b[3]]) as f64,
+            Scalar::F64 => f64::from_le_bytes(b),
+        })
+    }
+}
+
+fn parse_header(text: &str) -> Result<(Format, Vec<Element>), String> {
+    let mut lines = text.lines().map(str::trim);
+    if lines.next() != Some("ply") {
+        return Err("not a PLY file (missing \"ply\" magic)".into());
+    }
+    let mut format = None;
+    let mut elements: Vec<Element> = Vec::new();
+    for line in lines {
+        let w: Vec<&str> = line.split_whitespace().collect();
+        match w.first().copied() {
+            None | Some("comment") | Some("obj_info") => {}
+            Some("format") => {
+                format = Some(match w.get(1).copied() {
+                    Some("ascii") => Format::Ascii,
+                    Some("binary_little_endian") => Format::Little,
+                    Some("binary_big_endian") => Format::Big,
+                    other => return Err(format!("unknown format {:?}", other.unwrap_or(""))),
+                })
+            }
+            Some("element") if w.len() == 3 => {
+                let count = w[2]
+                    .parse::<usize>()
+                    .map_err(|_| format!("bad element count \"{}\"", w[2]))?;
+                elements.push(Element {
+                    name: w[1].into(),
+                    count,
+                    props: Vec::new(),
+                });
+            }
+            Some("property") => {
+                let e = elements.last_mut().ok_or("property before any element")?;
+                let ty = |s: &str| {
+                    Scalar::parse(s).ok_or_else(|| format!("unknown property type \"{s}\""))
+                };
+                let p = match w[..] {
+                    [_, "list", c, t, name] => Property {
+                        name: name.into(),
+                        list: Some(ty(c)?),
+                        ty: ty(t)?,
+                    },
+                    [_, t, name] => Property {
+                        name: name.into(),
+                        list: None,
+                        ty: ty(t)?,
+                    },
+                    _ => return Err(format!("malformed header line \"{line}\"")),
+                };
+                e.props.push(p);
+            }
+            Some("end_header") => return Ok((format.ok_or("missing format line")?, elements)),
+            _ => return Err(format!("malformed header line \"{line}\"")),
+        }
+    }
+    Err("missing end_header".into())
+}
+
+/// Parses a PLY file into a mesh (object space). Errors are human-readable messages.
+pub fn parse(bytes: &[u8]) -> Result<Mesh, String> {
+    let marker = b"end_header";
+    let hdr_end = bytes
+        .windows(marker.len())
+        .position(|w| w == marker)
+        .ok_or("missing end_header")?;
+    let mut body_start = hdr_end + marker.len();
+    // The header ends with "end_header" and one line terminator (\n or \r\n).
+    if bytes.get(body_start) == Some(&b'\r') {
+        body_start += 1;
+    }
+    if bytes.get(body_start) == Some(&b'\n') {
+        body_start += 1;
+    }
+    let header = std::str::from_utf8(&bytes[..body_start]).map_err(|_| "header is not ASCII")?;
+    let (format, elements) = parse_header(header)?;
+    let mut body = Body {
+        data: bytes,
+        pos: body_start,
+        format,
+    };
+
+    let mut positions: Vec<Vec3> = Vec::new();
+    let mut normals: Vec<Vec3> = Vec::new();
+    let mut uvs: Vec<Vec2> = Vec::new();
+    let mut tris: Vec<[u32; 3]> = Vec::new();
+    let mut have_vertices = false;
+    for e in &elements {
+        // Every element takes at least one byte (binary) or two characters (ASCII) per scalar
+        // property; a count the remaining data cannot hold is rejected before allocating.
+        let min_size: usize = e
+            .props
+            .iter()
+            .map(|p| {
+                if format == Format::Ascii {
+                    2
+                } else {
+                    p.list.unwrap_or(p.ty).size()
+                }
+            })
+            .sum::<usize>()
+            .max(1);
+        if e.count
+            .checked_mul(min_size)
+            .is_none_or(|need| need > body.remaining() + 1)
+        {
+            return Err(format!(
+                "element \"{}\" declares {} entries but only {} bytes of data follow",
+                e.name,
+                e.count,
+                body.remaining()
+            ));
+        }
+        let idx = |n: &str| e.props.iter().position(|p| p.name == n && p.list.is_none());
+        let pick =
+            |names: [&str; 2]| -> Option<[usize; 2]> { Some([idx(names[0])?, idx(names[1])?]) };
+        match e.name.as_str() {
+            "vertex" => {
+                if have_vertices {
+                    return Err("more than one vertex element".into());
+                }
+                have_vertices = true;
+                let (Some(x), Some(y), Some(z)) = (idx("x"), idx("y"), idx("z")) else {
+                    return Err("vertex element lacks x, y, z".into());
+                };
+                let n = [idx("nx"), idx("ny"), idx("nz")];
+                let n = if n.iter().all(Option::is_some) {
+                    Some(n.map(Option::unwrap))
+                } else {
+                    None
+                };
+                let uv = pick(["u", "v"])
+                    .or_else(|| pick(["s", "t"]))
+                    .or_else(|| pick(["texture_u", "texture_v"]))
+                    .or_else(|| pick(["texture_s", "texture_t"]));
+                positions.reserve_exact(e.count);
+                let mut vals = vec![0.0f64; e.props.len()];
+                for _ in 0..e.count {
+                    for (k, p) in e.props.iter().enumerate() {
+                        if let Some(ct) = p.list {
+                            // Lists in vertex elements carry nothing prism uses; skip them.
+                            let len = body.value(ct)?;
+                            for _ in 0..list_len(len)? {
+                                body.value(p.ty)?;
+                            }
+                        } else {
+                            vals[k] = body.value(p.ty)?;
+                        }
+                    }
+                    let v = |i: usize| vals[i] as f32;
+                    let p = Vec3::new(v(x), v(y), v(z));
+                    if !p.is_finite() {
+                        return Err(format!("vertex {} is not finite", positions.len()));
+                    }
+                    positions.push(p);
+                    if let Some([a, b, c]) = n {
+                        normals.push(Vec3::new(v(a), v(b), v(c)).normalize_or_zero());
+                    }
+                    if let Some([a, b]) = uv {
+                        uvs.push(Vec2::new(v(a), v(b)));
+                    }
+                }
+            }
+            "face" => {
+                let Some(li) = e.props.iter().position(|p| {
+                    p.list.is_some() && (p.name == "vertex_indices" || p.name == "vertex_index")
+                }) else {
+                    return Err("face element lacks a vertex_indices list".into());
+                };
+                tris.reserve(e.count);
+                let mut poly = Vec::with_capacity(MAX_FACE_VERTICES);
+                for f in 0..e.count {
+                    for (k, p) in e.props.iter().enumerate() {
+                        match p.list {
+                            Some(ct) => {
+                                let len = list_len(body.value(ct)?)?;
+                                poly.clear();
+                                for _ in 0..len {
+                                    let i = body.value(p.ty)?;
+                                    if k == li {
+                                        if !(i >= 0.0 && i <= u32::MAX as f64 && i.fract() == 0.0) {
+                                            return Err(format!(
+                                                "face {f} has invalid vertex index {i}"
+                                            ));
+                                        }
+                                        poly.push(i as u32);
+                                    }
+                                }
+                                if k == li {
+                                    if poly.len() < 3 {
+                                        return Err(format!(
+                                            "face {f} has {} vertices; at least 3 are needed",
+                                            poly.len()
+                                        ));
+                                    }
+                                    for j in 1..poly.len() - 1 {
+                                        tris.push([poly[0], poly[j], poly[j + 1]]);
+                                    }
+                                }
+                            }
+                            None => {
+                                body.value(p.ty)?;
+                            }
+                        }
+                    }
+                }
+            }
+            _ => {
+                for _ in 0..e.count {
+                    for p in &e.props {
+                        if let Some(ct) = p.list {
+                            for _ in 0..list_len(body.value(ct)?)? {
+                                body.value(p.ty)?;
+                            }
+                        } else {
+                            body.value(p.ty)?;
+                        }
+                    }
+                }
+            }
+        }
+    }
+    let n = positions.len();
+    if let Some(t) = tris.iter().find(|t| t.iter().any(|&i| i as usize >= n)) {
+        return Err(format!(
+            "vertex index {} is out of range: the file has {n} vertices",
+            t.iter().max().unwrap_or(&0)
+        ));
+    }
+    let mut mesh = Mesh::new(positions, tris);
+    if !normals.is_empty() {
+        mesh.normals = Some(normals);
+    }
+    if !uvs.is_empty() {
+        mesh.uvs = Some(uvs);
+    }
+    Ok(mesh)
+}
+
+fn list_len(v: f64) -> Result<usize, String> {
+    if v >= 0.0 && v <= MAX_FACE_VERTICES as f64 && v.fract() == 0.0 {
+        Ok(v as usize)
+    } else {
+        Err(format!(
+            "list length {v} is invalid (at most {MAX_FACE_VERTICES})"
+        ))
+    }
+}
+
+/// Writes a binary little-endian or ASCII PLY with positions, optional normals/uvs and faces
+/// (for tests and scene generators).
+pub fn write(mesh: &Mesh, faces: &[Vec<u32>], binary: bool) -> Vec<u8> {
+    let mut h = String::from("ply\n");
+    h += if binary {
+        "format binary_little_endian 1.0\n"
+    } else {
+        "format ascii 1.0\n"
+    };
+    h += "comment written by prism\n";
+    h += &format!(
+        "element vertex {}\nproperty float x\nproperty float y\nproperty float z\n",
+        mesh.positions.len()
+    );
+    if mesh.normals.is_some() {
+        h += "property float nx\nproperty float ny\nproperty float nz\n";
+    }
+    if mesh.uvs.is_some() {
+        h += "property float u\nproperty float v\n";
+    }
+    h += &format!(
+        "element face {}\nproperty list uchar int vertex_indices\nend_header\n",
+        faces.len()
+    );
+    let mut out = h.into_bytes();
+    for (i, p) in mesh.positions.iter().enumerate() {
+        let mut vals = p.to_array().to_vec();
+        if let Some(n) = &mesh.normals {
+            vals.extend(n[i].to_array());
+        }
+        if let Some(uv) = &mesh.uvs {
+            vals.extend(uv[i].to_array());
+        }
+        if binary {
+            vals.iter().for_each(|v| out.extend(v.to_le_bytes()));
+        } else {
+            let line: Vec<String> = vals.iter().map(|v| v.to_string()).collect();
+            out.extend(format!("{}\n", line.join(" ")).into_bytes());
+        }
+    }
+    for f in faces {
+        if binary {
+            out.push(f.len() as u8);
+            f.iter().for_each(|&i| out.extend((i as i32).to_le_bytes()));
+        } else {
+            let line: Vec<String> = f.iter().map(|i| i.to_string()).collect();
+            out.extend(format!("{} {}\n", f.len(), line.join(" ")).into_bytes());
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn quad() -> (Mesh, Vec<Vec<u32>>) {
+        let mut m = Mesh::new(
+            vec![Vec3::ZERO, Vec3::X, Vec3::new(1., 1., 0.), Vec3::Y, Vec3::Z],
+            vec![],
+        );
+        m.normals = Some(vec![Vec3::Z; 5]);
+        m.uvs = Some(vec![Vec2::ZERO, Vec2::X, Vec2::ONE, Vec2::Y, Vec2::ZERO]);
+        (m, vec![vec![0, 1, 2, 3], vec![0, 1, 4]])
+    }
+
+    #[test]
+    fn ascii_and_binary_round_trip_with_quads_split() {
+        let (m, faces) = quad();
+        for binary in [false, true] {
+            let r = parse(&write(&m, &faces, binary)).unwrap();
+            assert_eq!(r.positions, m.positions);
+            assert_eq!(r.indices, vec![[0, 1, 2], [0, 2, 3], [0, 1, 4]]);
+            assert_eq!(r.normals, m.normals);
+            assert_eq!(r.uvs, m.uvs);
+        }
+    }
+
+    #[test]
+    fn big_endian_and_vertex_index_and_st() {
+        let mut b = b"ply\nformat binary_big_endian 1.0\nelement vertex 3\nproperty double x\nproperty double y\n\
+property double z\nproperty float s\nproperty float t\nelement face 1\nproperty list uchar uint vertex_index\nend_header\n"
+            .to_vec();
+        for p in [[0.0f64, 0., 0.], [1., 0., 0.], [0., 2., 0.]] {
+            p.iter().for_each(|v| b.extend(v.to_be_bytes()));
+            b.extend(0.25f32.to_be_bytes());
+            b.extend(0.75f32.to_be_bytes());
+        }
+        b.push(3);
+        [2u32, 1, 0].iter().for_each(|v| b.extend(v.to_be_bytes()));
+        let m = parse(&b).unwrap();
+        assert_eq!(m.positions[2], Vec3::new(0., 2., 0.));
+        assert_eq!(m.indices, vec![[2, 1, 0]]);
+        assert_eq!(m.uvs.unwrap()[1], Vec2::new(0.25, 0.75));
+    }
+
+    #[test]
+    fn errors_are_messages_not_panics() {
+        let (m, faces) = quad();
+        let good = write(&m, &faces, true);
+        let s = |b: &[u8]| parse(b).unwrap_err();
+        assert_eq!(s(b"plx\n"), "missing end_header");
+        assert_eq!(
+            s(b"plx\nend_header\n"),
+            "not a PLY file (missing \"ply\" magic)"
+        );
+        // A header that claims a billion vertices in a tiny file.
+        let huge =
+            String::from_utf8_lossy(&good).replace("element vertex 5", "element vertex 1000000000");
+        let e = s(huge.as_bytes());
+        assert!(
+            e.starts_with("element \"vertex\" declares 1000000000 entries but only"),
+            "{e}"
+        );
+        // Truncated data.
+        assert_eq!(s(&good[..good.len() - 3]), "unexpected end of data");
+        // Index out of range.
+        let mut bad = good.clone();
+        let n = bad.len();
+        bad[n - 4..].copy_from_slice(&9i32.to_le_bytes());
+        assert_eq!(
+            s(&bad),
+            "vertex index 9 is out of range: the file has 5 vertices"
+        );
+        let nan = String::from_utf8_lossy(&write(&m, &faces, false)).replacen(
+            "0 0 0 0 0 1",
+            "nan 0 0 0 0 1",
+            1,
+        );
+        assert_eq!(s(nan.as_bytes()), "vertex 0 is not finite");
+    }
+}

@@ -1,0 +1,189 @@
+//! The type names prism renders, and pbrt-v4's other names with what prism substitutes.
+//!
+//! One place for the lead to extend as materials and lights land: move a name from a
+//! `PBRT_ONLY_*` table into the matching `PRISM_*` list.
+
+/// Shapes prism renders. "objmesh" is prism's extension (docs/scene-format.md).
+pub const PRISM_SHAPES: &[&str] = &[
+    "trianglemesh",
+    "plymesh",
+    "objmesh",
+    "sphere",
+    "bilinearmesh",
+    "loopsubdiv",
+];
+/// pbrt-v4 shapes prism skips (with a warning), and what the warning says prism does.
+pub const PBRT_ONLY_SHAPES: &[(&str, &str)] = &[
+    ("cylinder", "skips the shape"),
+    ("disk", "skips the shape"),
+    ("curve", "skips the shape (hair/curves are not rendered)"),
+];
+
+/// Materials prism renders.
+pub const PRISM_MATERIALS: &[&str] = &[
+    "diffuse",
+    "conductor",
+    "dielectric",
+    "coateddiffuse",
+    "diffusetransmission",
+    "thindielectric",
+];
+/// pbrt-v4 materials prism replaces, with the replacement type (used with default parameters).
+pub const PBRT_ONLY_MATERIALS: &[(&str, &str)] = &[
+    ("coatedconductor", "conductor"),
+    ("hair", "diffuse"),
+    ("measured", "diffuse"),
+    ("mix", "diffuse"),
+    ("subsurface", "coateddiffuse"),
+    // An index-matched dielectric is invisible, which is what "interface" means.
+    ("interface", "dielectric"),
+];
+
+/// Non-area lights prism renders.
+pub const PRISM_LIGHTS: &[&str] = &["point", "spot", "distant", "infinite"];
+/// pbrt-v4 lights prism skips.
+pub const PBRT_ONLY_LIGHTS: &[(&str, &str)] = &[
+    ("goniometric", "skips the light"),
+    ("projection", "skips the light"),
+];
+/// Area lights prism renders.
+pub const PRISM_AREA_LIGHTS: &[&str] = &["diffuse"];
+
+/// Cameras prism renders.
+pub const PRISM_CAMERAS: &[&str] = &["perspective"];
+/// pbrt-v4 cameras prism replaces.
+pub const PBRT_ONLY_CAMERAS: &[(&str, &str)] = &[
+    ("orthographic", "perspective"),
+    ("realistic", "perspective"),
+    ("spherical", "perspective"),
+];
+
+/// Films prism writes.
+pub const PRISM_FILMS: &[&str] = &["rgb", "spectral"];
+/// pbrt-v4 films prism replaces.
+pub const PBRT_ONLY_FILMS: &[(&str, &str)] = &[("gbuffer", "rgb")];
+
+/// Integrators prism runs.
+pub const PRISM_INTEGRATORS: &[&str] = &["path"];
+/// pbrt-v4 integrators prism replaces with its path tracer.
+pub const PBRT_ONLY_INTEGRATORS: &[(&str, &str)] = &[
+    ("ambientocclusion", "path"),
+    ("bdpt", "path"),
+    ("lightpath", "path"),
+    ("mlt", "path"),
+    ("randomwalk", "path"),
+    ("simplepath", "path"),
+    ("simplevolpath", "path"),
+    ("sppm", "path"),
+    ("volpath", "path"),
+];
+
+/// Samplers (all pbrt-v4 names are accepted; the renderer picks its own sequence).
+pub const SAMPLERS: &[&str] = &[
+    "halton",
+    "independent",
+    "paddedsobol",
+    "pmj02bn",
+    "sobol",
+    "stratified",
+    "zsobol",
+];
+/// Pixel reconstruction filters.
+pub const FILTERS: &[&str] = &["box", "gaussian", "mitchell", "sinc", "triangle"];
+/// Colour spaces of RGB parameters.
+pub const COLOR_SPACES: &[&str] = &["srgb", "aces2065-1", "rec2020", "dci-p3"];
+/// Texture types (kept as written; the builder maps them).
+pub const TEXTURES: &[&str] = &[
+    "bilerp",
+    "checkerboard",
+    "constant",
+    "directionmix",
+    "dots",
+    "fbm",
+    "imagemap",
+    "marble",
+    "mix",
+    "ptex",
+    "scale",
+    "windy",
+    "wrinkled",
+];
+
+/// pbrt-v4's built-in named spectra (file-format reference, "Spectra"); any other string
+/// given to a "spectrum" parameter is a file name.
+pub const NAMED_SPECTRA: &[&str] = &[
+    "glass-BK7",
+    "glass-BAF10",
+    "glass-FK51A",
+    "glass-LASF9",
+    "glass-F5",
+    "glass-F10",
+    "glass-F11",
+    "metal-Ag-eta",
+    "metal-Ag-k",
+    "metal-Al-eta",
+    "metal-Al-k",
+    "metal-Au-eta",
+    "metal-Au-k",
+    "metal-Cu-eta",
+    "metal-Cu-k",
+    "metal-CuZn-eta",
+    "metal-CuZn-k",
+    "metal-MgO-eta",
+    "metal-MgO-k",
+    "metal-TiO2-eta",
+    "metal-TiO2-k",
+    "stdillum-A",
+    "stdillum-D50",
+    "stdillum-D65",
+    "stdillum-F1",
+    "stdillum-F2",
+    "stdillum-F3",
+    "stdillum-F4",
+    "stdillum-F5",
+    "stdillum-F6",
+    "stdillum-F7",
+    "stdillum-F8",
+    "stdillum-F9",
+    "stdillum-F10",
+    "stdillum-F11",
+    "stdillum-F12",
+    "illum-acesD60",
+];
+
+/// How a type name is classified.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Lookup {
+    /// prism renders it.
+    Supported,
+    /// pbrt-v4 knows it; prism does what the `&str` says instead.
+    Substitute(&'static str),
+    /// Nobody knows it.
+    Unknown,
+}
+
+/// Classifies `name` against a supported list and a pbrt-only table.
+pub fn lookup(
+    name: &str,
+    supported: &[&str],
+    pbrt_only: &[(&'static str, &'static str)],
+) -> Lookup {
+    if supported.contains(&name) {
+        Lookup::Supported
+    } else if let Some(&(_, s)) = pbrt_only.iter().find(|(n, _)| *n == name) {
+        Lookup::Substitute(s)
+    } else {
+        Lookup::Unknown
+    }
+}
+
+/// All valid names, sorted, comma-separated, for "unknown type" errors.
+pub fn valid_list(supported: &[&str], pbrt_only: &[(&str, &str)]) -> String {
+    let mut v: Vec<&str> = supported
+        .iter()
+        .copied()
+        .chain(pbrt_only.iter().map(|p| p.0))
+        .collect();
+    v.sort_unstable();
+    v.join(", ")
+}

@@ -1,0 +1,678 @@
+//! Typed parameter lists (`"float radius" [2]`) with use tracking.
+//!
+//! Follows pbrt-v4's `ParameterDictionary` (src/pbrt/paramdict.h): each getter marks what it read,
+//! and [`ParamSet::report_unused`] warns about the rest, so typos like `"float radisu"` are seen.
+
+use std::path::PathBuf;
+use std::sync::atomic::{AtomicBool, Ordering};
+
+use glam::{Vec2, Vec3};
+
+use super::error::{Location, SceneError, Warning};
+use super::names::NAMED_SPECTRA;
+use super::tokenizer::{Token, TokenKind};
+
+/// A spectrum as written; the scene builder turns it into a `Spectrum`.
+#[derive(Clone, Debug, PartialEq)]
+pub enum SpectrumParam {
+    /// An RGB triple in the parameter set's colour space.
+    Rgb([f32; 3]),
+    /// A blackbody emitter at this temperature [K] (normalised to peak 1 by pbrt-v4).
+    Blackbody(f32),
+    /// Piecewise-linear samples (wavelength [nm], value), wavelengths increasing.
+    Samples(Vec<(f32, f32)>),
+    /// One of pbrt-v4's built-in spectra ([`NAMED_SPECTRA`]).
+    Named(String),
+    /// A text file of (λ, value) pairs, resolved relative to the file that named it.
+    File(PathBuf),
+}
+
+/// The values of one parameter.
+#[derive(Clone, Debug, PartialEq)]
+pub enum ParamValue {
+    /// "float"
+    Float(Vec<f32>),
+    /// "integer"
+    Integer(Vec<i32>),
+    /// "bool"
+    Bool(Vec<bool>),
+    /// "string"
+    String(Vec<String>),
+    /// "texture": the name of a texture.
+    Texture(String),
+    /// "point3" / "point"
+    Point3(Vec<Vec3>),
+    /// "vector3" / "vector"
+    Vector3(Vec<Vec3>),
+    /// "normal" / "normal3"
+    Normal(Vec<Vec3>),
+    /// "point2"
+    Point2(Vec<Vec2>),
+    /// "vector2"
+    Vector2(Vec<Vec2>),
+    /// "rgb" / "color", "blackbody", "spectrum"
+    Spectrum(SpectrumParam),
+}
+
+/// One named, typed parameter and where it was written.
+#[derive(Debug)]
+pub struct Param {
+    /// Parameter name ("radius").
+    pub name: String,
+    /// Canonical type name as pbrt-v4 spells it ("float", "point3", "rgb", ...).
+    pub type_name: &'static str,
+    /// Values.
+    pub value: ParamValue,
+    /// Location of the `"type name"` declaration.
+    pub loc: Location,
+    used: AtomicBool,
+}
+
+impl Clone for Param {
+    fn clone(&self) -> Self {
+        Self {
+            name: self.name.clone(),
+            type_name: self.type_name,
+            value: self.value.clone(),
+            loc: self.loc.clone(),
+            used: AtomicBool::new(self.used.load(Ordering::Relaxed)),
+        }
+    }
+}
+
+impl Param {
+    /// A parameter that has not been read yet.
+    pub fn new(name: String, type_name: &'static str, value: ParamValue, loc: Location) -> Self {
+        Self {
+            name,
+            type_name,
+            value,
+            loc,
+            used: AtomicBool::new(false),
+        }
+    }
+
+    /// True once a getter read it.
+    pub fn is_used(&self) -> bool {
+        self.used.load(Ordering::Relaxed)
+    }
+
+    fn mark(&self) -> &Self {
+        self.used.store(true, Ordering::Relaxed);
+        self
+    }
+
+    /// Parses a declaration (`"float radius"`) and its value tokens.
+    pub fn parse(decl: &Token, values: &[Token]) -> Result<Self, SceneError> {
+        let loc = &decl.loc;
+        let words: Vec<&str> = decl.text.split_whitespace().collect();
+        let [ty, name] = words[..] else {
+            return Err(SceneError::syntax(
+                loc,
+                &decl.display(),
+                "a parameter declaration must be \"type name\"",
+            ));
+        };
+        let err = |tok: &Token, msg: String| SceneError::syntax(&tok.loc, &tok.display(), msg);
+        let decl_err = |msg: String| SceneError::syntax(loc, &decl.display(), msg);
+        if values.is_empty() {
+            return Err(decl_err(format!("parameter \"{ty} {name}\" has no values")));
+        }
+        let floats =
+            || -> Result<Vec<f32>, SceneError> { values.iter().map(parse_float).collect() };
+        let grouped = |n: usize| -> Result<Vec<f32>, SceneError> {
+            let v = floats()?;
+            if !v.len().is_multiple_of(n) {
+                return Err(decl_err(format!(
+                    "parameter \"{ty} {name}\" has {} values; a multiple of {n} is required",
+                    v.len()
+                )));
+            }
+            Ok(v)
+        };
+        let exactly = |n: usize| -> Result<Vec<f32>, SceneError> {
+            let v = floats()?;
+            if v.len() != n {
+                return Err(decl_err(format!(
+                    "parameter \"{ty} {name}\" has {} values; exactly {n} are required",
+                    v.len()
+                )));
+            }
+            Ok(v)
+        };
+        let strings = || -> Result<Vec<String>, SceneError> {
+            values
+                .iter()
+                .map(|t| match t.kind {
+                    TokenKind::Str => Ok(t.text.clone()),
+                    _ => Err(err(
+                        t,
+                        format!("expected a quoted string for \"{ty} {name}\""),
+                    )),
+                })
+                .collect()
+        };
+        let vec3s = |v: Vec<f32>| {
+            v.chunks_exact(3)
+                .map(|c| Vec3::new(c[0], c[1], c[2]))
+                .collect()
+        };
+        let vec2s = |v: Vec<f32>| v.chunks_exact(2).map(|c| Vec2::new(c[0], c[1])).collect();
+        let (type_name, value) = match ty {
+            "float" => ("float", ParamValue::Float(floats()?)),
+            "integer" => (
+                "integer",
+                ParamValue::Integer(values.iter().map(parse_int).collect::<Result<_, _>>()?),
+            ),
+            "bool" => (
+                "bool",
+                ParamValue::Bool(
+                    values
+                        .iter()
+                        .map(|t| match t.text.as_str() {
+                            "true" => Ok(true),
+                            "false" => Ok(false),
+                            _ => Err(err(t, "expected true or false".into())),
+                        })
+                        .collect::<Result<_, _>>()?,
+                ),
+            ),
+            "string" => ("string", ParamValue::String(strings()?)),
+            "texture" => {
+                let s = strings()?;
+                if s.len() != 1 {
+                    return Err(decl_err(format!(
+                        "parameter \"{ty} {name}\" needs exactly one texture name"
+                    )));
+                }
+                (
+                    "texture",
+                    ParamValue::Texture(s.into_iter().next().unwrap_or_default()),
+                )
+            }
+            "point3" | "point" => ("point3", ParamValue::Point3(vec3s(grouped(3)?))),
+            "vector3" | "vector" => ("vector3", ParamValue::Vector3(vec3s(grouped(3)?))),
+            "normal" | "normal3" => ("normal", ParamValue::Normal(vec3s(grouped(3)?))),
+            "point2" => ("point2", ParamValue::Point2(vec2s(grouped(2)?))),
+            "vector2" => ("vector2", ParamValue::Vector2(vec2s(grouped(2)?))),
+            "rgb" | "color" => {
+                let v = exactly(3)?;
+                (
+                    "rgb",
+                    ParamValue::Spectrum(SpectrumParam::Rgb([v[0], v[1], v[2]])),
+                )
+            }
+            "blackbody" => {
+                let t = exactly(1)?[0];
+                if t <= 0.0 {
+                    return Err(err(
+                        &values[0],
+                        "blackbody temperature must be positive [K]".into(),
+                    ));
+                }
+                (
+                    "blackbody",
+                    ParamValue::Spectrum(SpectrumParam::Blackbody(t)),
+                )
+            }
+            "spectrum" => (
+                "spectrum",
+                ParamValue::Spectrum(parse_spectrum(decl, values, ty, name)?),
+            ),
+            _ => {
+                return Err(decl_err(format!(
+                "unknown parameter type \"{ty}\"; valid types: blackbody, bool, float, integer, \
+                     normal, point2, point3, rgb, spectrum, string, texture, vector2, vector3"
+            )))
+            }
+        };
+        Ok(Self::new(name.to_string(), type_name, value, loc.clone()))
+    }
+}
+
+fn parse_spectrum(
+    decl: &Token,
+    values: &[Token],
+    ty: &str,
+    name: &str,
+) -> Result<SpectrumParam, SceneError> {
+    if values[0].kind == TokenKind::Str {
+        if values.len() != 1 {
+            return Err(SceneError::syntax(
+                &decl.loc,
+                &decl.display(),
+                format!("parameter \"{ty} {name}\" takes one spectrum name or file name"),
+            ));
+        }
+        let s = &values[0].text;
+        return Ok(if NAMED_SPECTRA.contains(&s.as_str()) {
+            SpectrumParam::Named(s.clone())
+        } else {
+            SpectrumParam::File(values[0].loc.base_dir().join(s))
+        });
+    }
+    let v: Vec<f32> = values.iter().map(parse_float).collect::<Result<_, _>>()?;
+    if !v.len().is_multiple_of(2) {
+        return Err(SceneError::syntax(
+            &decl.loc,
+            &decl.display(),
+            format!(
+                "parameter \"{ty} {name}\" has {} values; (wavelength, value) pairs are required",
+                v.len()
+            ),
+        ));
+    }
+    let pairs: Vec<(f32, f32)> = v.chunks_exact(2).map(|c| (c[0], c[1])).collect();
+    for (i, w) in pairs.windows(2).enumerate() {
+        if w[1].0 <= w[0].0 {
+            let t = &values[2 * i + 2];
+            return Err(SceneError::syntax(
+                &t.loc,
+                &t.display(),
+                "spectrum wavelengths must increase",
+            ));
+        }
+    }
+    Ok(SpectrumParam::Samples(pairs))
+}
+
+/// Parses a finite number; NaN, ±Inf and overflow are errors.
+pub fn parse_float(t: &Token) -> Result<f32, SceneError> {
+    let bad = |m: &str| SceneError::syntax(&t.loc, &t.display(), m);
+    if t.kind != TokenKind::Word {
+        return Err(bad("expected a number"));
+    }
+    match t.text.parse::<f32>() {
+        Ok(v) if v.is_finite() => Ok(v),
+        Ok(_) => Err(bad("number is not finite")),
+        Err(_) => Err(bad("expected a number")),
+    }
+}
+
+/// Parses a 32-bit integer.
+pub fn parse_int(t: &Token) -> Result<i32, SceneError> {
+    let bad = |m: &str| SceneError::syntax(&t.loc, &t.display(), m);
+    if t.kind != TokenKind::Word {
+        return Err(bad("expected an integer"));
+    }
+    match t.text.parse::<i64>() {
+        Ok(v) => i32::try_from(v).map_err(|_| bad("integer out of range")),
+        Err(_) => Err(bad("expected an integer")),
+    }
+}
+
+/// A spectrum-valued input that may instead name a texture.
+#[derive(Clone, Debug, PartialEq)]
+pub enum SpectrumOrTexture<'a> {
+    /// A constant spectrum.
+    Spectrum(&'a SpectrumParam),
+    /// A named "spectrum" texture.
+    Texture(&'a str),
+}
+
+/// A float-valued input that may instead name a texture.
+#[derive(Clone, Debug, PartialEq)]
+pub enum FloatOrTexture<'a> {
+    /// A constant.
+    Float(f32),
+    /// A named "float" texture.
+    Texture(&'a str),
+}
+
+/// The parameters of one directive.
+#[derive(Clone, Debug, Default)]
+pub struct ParamSet {
+    params: Vec<Param>,
+    /// Colour space of "rgb" values (the ColorSpace in effect; "srgb" unless changed).
+    pub color_space: String,
+}
+
+macro_rules! getters {
+    ($many:ident, $one:ident, $variant:ident, $t:ty) => {
+        /// All values of this parameter, if present with this type (marks it used).
+        pub fn $many(&self, name: &str) -> Option<&[$t]> {
+            self.find(name, |v| match v {
+                ParamValue::$variant(x) => Some(x.as_slice()),
+                _ => None,
+            })
+        }
+        /// The first value of this parameter, if present with this type (marks it used).
+        pub fn $one(&self, name: &str) -> Option<$t> {
+            self.$many(name).and_then(|v| v.first().cloned())
+        }
+    };
+}
+
+impl ParamSet {
+    /// An empty set in colour space `color_space`.
+    pub fn new(color_space: &str) -> Self {
+        Self {
+            params: Vec::new(),
+            color_space: color_space.to_string(),
+        }
+    }
+
+    /// Adds a parameter; a second parameter with the same name is an error (pbrt-v4 does the same).
+    pub fn push(&mut self, p: Param) -> Result<(), SceneError> {
+        if let Some(old) = self.params.iter().find(|q| q.name == p.name) {
+            return Err(SceneError::syntax(
+                &p.loc,
+                &format!("{} {}", p.type_name, p.name),
+                format!(
+                    "parameter \"{}\" redefined (first defined at {})",
+                    p.name, old.loc
+                ),
+            ));
+        }
+        self.params.push(p);
+        Ok(())
+    }
+
+    /// Adds `defaults` entries whose names are not already present (the `Attribute` directive).
+    pub fn merge_defaults(&mut self, defaults: &ParamSet) {
+        for p in &defaults.params {
+            if !self.has(&p.name) {
+                let mut q = p.clone();
+                q.used = AtomicBool::new(false);
+                self.params.push(q);
+            }
+        }
+    }
+
+    /// True when a parameter with this name exists (does not mark it used).
+    pub fn has(&self, name: &str) -> bool {
+        self.params.iter().any(|p| p.name == name)
+    }
+
+    /// All parameters.
+    pub fn iter(&self) -> impl Iterator<Item = &Param> {
+        self.params.iter()
+    }
+
+    /// Number of parameters.
+    pub fn len(&self) -> usize {
+        self.params.len()
+    }
+
+    /// True when there are none.
+    pub fn is_empty(&self) -> bool {
+        self.params.is_empty()
+    }
+
+    /// The parameter `name` regardless of type, marking it used.
+    pub fn get(&self, name: &str) -> Option<&Param> {
+        self.params.iter().find(|p| p.name == name).map(Param::mark)
+    }
+
+    fn find<'a, T: ?Sized>(
+        &'a self,
+        name: &str,
+        f: impl Fn(&'a ParamValue) -> Option<&'a T>,
+    ) -> Option<&'a T> {
+        let p = self.params.iter().find(|p| p.name == name)?;
+        let v = f(&p.value)?;
+        p.mark();
+        Some(v)
+    }
+
+    getters!(floats, float, Float, f32);
+    getters!(ints, int, Integer, i32);
+    getters!(bools, bool, Bool, bool);
+    getters!(point3s, point3, Point3, Vec3);
+    getters!(vector3s, vector3, Vector3, Vec3);
+    getters!(normals, normal, Normal, Vec3);
+    getters!(point2s, point2, Point2, Vec2);
+    getters!(vector2s, vector2, Vector2, Vec2);
+
+    /// `float(name)` or `default`.
+    pub fn float_or(&self, name: &str, default: f32) -> f32 {
+        self.float(name).unwrap_or(default)
+    }
+
+    /// `int(name)` or `default`.
+    pub fn int_or(&self, name: &str, default: i32) -> i32 {
+        self.int(name).unwrap_or(default)
+    }
+
+    /// `bool(name)` or `default`.
+    pub fn bool_or(&self, name: &str, default: bool) -> bool {
+        self.bool(name).unwrap_or(default)
+    }
+
+    /// All strings of a "string" parameter.
+    pub fn strings(&self, name: &str) -> Option<&[String]> {
+        self.find(name, |v| match v {
+            ParamValue::String(x) => Some(x.as_slice()),
+            _ => None,
+        })
+    }
+
+    /// The first string of a "string" parameter.
+    pub fn string(&self, name: &str) -> Option<&str> {
+        self.strings(name)
+            .and_then(|v| v.first())
+            .map(String::as_str)
+    }
+
+    /// A "string" parameter naming a file, resolved relative to the scene file it was written in.
+    pub fn filename(&self, name: &str) -> Option<PathBuf> {
+        let s = self.string(name)?;
+        let p = self.params.iter().find(|p| p.name == name)?;
+        Some(p.loc.base_dir().join(s))
+    }
+
+    /// A "rgb"/"blackbody"/"spectrum" parameter.
+    pub fn spectrum(&self, name: &str) -> Option<&SpectrumParam> {
+        self.find(name, |v| match v {
+            ParamValue::Spectrum(s) => Some(s),
+            _ => None,
+        })
+    }
+
+    /// A "texture" parameter: the texture's name.
+    pub fn texture(&self, name: &str) -> Option<&str> {
+        self.find(name, |v| match v {
+            ParamValue::Texture(s) => Some(s.as_str()),
+            _ => None,
+        })
+    }
+
+    /// A spectrum or a texture reference (material inputs such as "reflectance").
+    pub fn spectrum_or_texture(&self, name: &str) -> Option<SpectrumOrTexture<'_>> {
+        if let Some(t) = self.texture(name) {
+            return Some(SpectrumOrTexture::Texture(t));
+        }
+        self.spectrum(name).map(SpectrumOrTexture::Spectrum)
+    }
+
+    /// A float or a texture reference (material inputs such as "roughness").
+    pub fn float_or_texture(&self, name: &str) -> Option<FloatOrTexture<'_>> {
+        if let Some(t) = self.texture(name) {
+            return Some(FloatOrTexture::Texture(t));
+        }
+        self.float(name).map(FloatOrTexture::Float)
+    }
+
+    /// Warnings for every parameter no getter has read, naming the directive it belongs to
+    /// (e.g. `Shape "sphere"`).
+    pub fn report_unused(&self, context: &str) -> Vec<Warning> {
+        self.params
+            .iter()
+            .filter(|p| !p.is_used())
+            .map(|p| Warning {
+                loc: p.loc.clone(),
+                message: format!(
+                    "parameter \"{} {}\" of {context} was not used",
+                    p.type_name, p.name
+                ),
+            })
+            .collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::tokenizer::Tokenizer;
+    use std::path::Path;
+    use std::sync::Arc;
+
+    fn toks(s: &str) -> Vec<Token> {
+        let mut t = Tokenizer::new(s, Arc::from(Path::new("dir/p.pbrt")));
+        let mut v = Vec::new();
+        while let Some(x) = t.next_token().unwrap() {
+            v.push(x);
+        }
+        v
+    }
+
+    fn param(decl: &str, vals: &str) -> Result<Param, SceneError> {
+        let d = &toks(&format!("\"{decl}\""))[0];
+        Param::parse(d, &toks(vals))
+    }
+
+    #[test]
+    fn each_type_parses() {
+        assert_eq!(
+            param("float r", "2.5").unwrap().value,
+            ParamValue::Float(vec![2.5])
+        );
+        assert_eq!(
+            param("integer n", "-3 4").unwrap().value,
+            ParamValue::Integer(vec![-3, 4])
+        );
+        assert_eq!(
+            param("bool b", "true \"false\"").unwrap().value,
+            ParamValue::Bool(vec![true, false])
+        );
+        assert_eq!(
+            param("string s", "\"x\"").unwrap().value,
+            ParamValue::String(vec!["x".into()])
+        );
+        assert_eq!(
+            param("texture t", "\"checks\"").unwrap().value,
+            ParamValue::Texture("checks".into())
+        );
+        let p = param("point P", "0 1 2 3 4 5").unwrap();
+        assert_eq!(p.type_name, "point3");
+        assert_eq!(
+            p.value,
+            ParamValue::Point3(vec![Vec3::new(0., 1., 2.), Vec3::new(3., 4., 5.)])
+        );
+        assert_eq!(param("normal3 N", "0 0 1").unwrap().type_name, "normal");
+        assert_eq!(param("vector3 v", "0 0 1").unwrap().type_name, "vector3");
+        assert_eq!(
+            param("point2 uv", "0 1").unwrap().value,
+            ParamValue::Point2(vec![Vec2::new(0., 1.)])
+        );
+        assert_eq!(
+            param("color Kd", ".5 .5 .5").unwrap().value,
+            ParamValue::Spectrum(SpectrumParam::Rgb([0.5; 3]))
+        );
+        assert_eq!(
+            param("blackbody L", "6500").unwrap().value,
+            ParamValue::Spectrum(SpectrumParam::Blackbody(6500.))
+        );
+        assert_eq!(
+            param("spectrum eta", "400 1.5 700 1.4").unwrap().value,
+            ParamValue::Spectrum(SpectrumParam::Samples(vec![(400., 1.5), (700., 1.4)]))
+        );
+        assert_eq!(
+            param("spectrum eta", "\"metal-Cu-eta\"").unwrap().value,
+            ParamValue::Spectrum(SpectrumParam::Named("metal-Cu-eta".into()))
+        );
+        assert_eq!(
+            param("spectrum k", "\"spd/cu.spd\"").unwrap().value,
+            ParamValue::Spectrum(SpectrumParam::File(PathBuf::from("dir/spd/cu.spd")))
+        );
+    }
+
+    #[test]
+    fn error_messages() {
+        let e = |d, v| param(d, v).unwrap_err().to_string();
+        assert_eq!(
+            e("point3 P", "0 1 2 3"),
+            "dir/p.pbrt:1:1: parameter \"point3 P\" has 4 values; a multiple of 3 is required (at \"\"point3 P\"\")"
+        );
+        assert_eq!(
+            e("float x", "nan"),
+            "dir/p.pbrt:1:1: number is not finite (at \"nan\")"
+        );
+        assert_eq!(
+            e("float x", "1 inf"),
+            "dir/p.pbrt:1:3: number is not finite (at \"inf\")"
+        );
+        assert_eq!(
+            e("float x", "1e39"),
+            "dir/p.pbrt:1:1: number is not finite (at \"1e39\")"
+        );
+        assert_eq!(
+            e("integer n", "1.5"),
+            "dir/p.pbrt:1:1: expected an integer (at \"1.5\")"
+        );
+        assert_eq!(
+            e("integer n", "4294967296"),
+            "dir/p.pbrt:1:1: integer out of range (at \"4294967296\")"
+        );
+        assert_eq!(
+            e("float", "1"),
+            "dir/p.pbrt:1:1: a parameter declaration must be \"type name\" (at \"\"float\"\")"
+        );
+        assert_eq!(
+            e("rgb c", "1 1"),
+            "dir/p.pbrt:1:1: parameter \"rgb c\" has 2 values; exactly 3 are required (at \"\"rgb c\"\")"
+        );
+        assert_eq!(
+            e("spectrum s", "500 1 400 1"),
+            "dir/p.pbrt:1:7: spectrum wavelengths must increase (at \"400\")"
+        );
+        assert!(e("quaternion q", "1").contains("unknown parameter type \"quaternion\""));
+        assert_eq!(
+            e("bool b", "yes"),
+            "dir/p.pbrt:1:1: expected true or false (at \"yes\")"
+        );
+    }
+
+    #[test]
+    fn getters_mark_used_and_report_unused_lists_the_rest() {
+        let mut ps = ParamSet::new("srgb");
+        ps.push(param("float radius", "2").unwrap()).unwrap();
+        ps.push(param("float radisu", "3").unwrap()).unwrap();
+        ps.push(param("integer n", "3").unwrap()).unwrap();
+        assert_eq!(ps.float_or("radius", 1.0), 2.0);
+        // Wrong type: not found, not marked.
+        assert_eq!(ps.float("n"), None);
+        let w: Vec<String> = ps
+            .report_unused("Shape \"sphere\"")
+            .iter()
+            .map(|w| w.to_string())
+            .collect();
+        assert_eq!(
+            w,
+            vec![
+                "dir/p.pbrt:1:1: warning: parameter \"float radisu\" of Shape \"sphere\" was not used",
+                "dir/p.pbrt:1:1: warning: parameter \"integer n\" of Shape \"sphere\" was not used",
+            ]
+        );
+        assert!(ps
+            .push(param("float radius", "1").unwrap())
+            .unwrap_err()
+            .to_string()
+            .contains("redefined"));
+    }
+
+    #[test]
+    fn texture_takes_precedence_and_filenames_resolve() {
+        let mut ps = ParamSet::new("srgb");
+        ps.push(param("texture reflectance", "\"t\"").unwrap())
+            .unwrap();
+        ps.push(param("string filename", "\"m.ply\"").unwrap())
+            .unwrap();
+        assert_eq!(
+            ps.spectrum_or_texture("reflectance"),
+            Some(SpectrumOrTexture::Texture("t"))
+        );
+        assert_eq!(ps.filename("filename"), Some(PathBuf::from("dir/m.ply")));
+        assert!(ps.report_unused("x").is_empty());
+    }
+}

@@ -1,0 +1,131 @@
+//! The token stream a parser reads directives from: positional arguments, numbers and
+//! parameter lists (`"type name" value` or `"type name" [ values ]`).
+
+use super::error::{Location, SceneError};
+use super::params::{parse_float, Param, ParamSet};
+use super::tokenizer::{Token, TokenKind, Tokenizer};
+
+/// Tokens of one file with one token of look-ahead.
+pub(super) struct Source<'a> {
+    tok: Tokenizer<'a>,
+    peeked: Option<Token>,
+    /// Where "unexpected end of file" errors point.
+    end: Location,
+}
+
+impl<'a> Source<'a> {
+    /// Reads `text`, reporting locations in `file`.
+    pub(super) fn new(text: &'a str, file: std::sync::Arc<std::path::Path>) -> Self {
+        let end = Location::new(file.clone(), text.lines().count().max(1) as u32, 1);
+        Self {
+            tok: Tokenizer::new(text, file),
+            peeked: None,
+            end,
+        }
+    }
+
+    pub(super) fn peek(&mut self) -> Result<Option<&Token>, SceneError> {
+        if self.peeked.is_none() {
+            self.peeked = self.tok.next_token()?;
+        }
+        Ok(self.peeked.as_ref())
+    }
+
+    pub(super) fn next(&mut self) -> Result<Option<Token>, SceneError> {
+        self.peek()?;
+        Ok(self.peeked.take())
+    }
+
+    /// The next token, which must exist; `what` names what the directive expects.
+    pub(super) fn expect(&mut self, after: &Token, what: &str) -> Result<Token, SceneError> {
+        match self.next()? {
+            Some(t) => Ok(t),
+            None => Err(SceneError::syntax(
+                &self.end,
+                &after.text,
+                format!("unexpected end of file: {} expects {what}", after.text),
+            )),
+        }
+    }
+
+    pub(super) fn string(&mut self, after: &Token, what: &str) -> Result<Token, SceneError> {
+        let t = self.expect(after, what)?;
+        if t.kind != TokenKind::Str {
+            return Err(SceneError::syntax(
+                &t.loc,
+                &t.display(),
+                format!("{} expects {what}", after.text),
+            ));
+        }
+        Ok(t)
+    }
+
+    /// `n` numbers, bare or in one bracketed list.
+    pub(super) fn numbers(&mut self, after: &Token, n: usize) -> Result<Vec<f32>, SceneError> {
+        let bracketed = matches!(self.peek()?, Some(t) if t.kind == TokenKind::Open);
+        if bracketed {
+            self.next()?;
+        }
+        let mut v = Vec::with_capacity(n);
+        for _ in 0..n {
+            let t = self.expect(after, &format!("{n} numbers"))?;
+            if t.kind != TokenKind::Word {
+                return Err(SceneError::syntax(
+                    &t.loc,
+                    &t.display(),
+                    format!("{} expects {n} numbers, found {}", after.text, v.len()),
+                ));
+            }
+            v.push(parse_float(&t)?);
+        }
+        if bracketed {
+            let t = self.expect(after, "\"]\"")?;
+            if t.kind != TokenKind::Close {
+                return Err(SceneError::syntax(
+                    &t.loc,
+                    &t.display(),
+                    format!("{} expects exactly {n} numbers", after.text),
+                ));
+            }
+        }
+        Ok(v)
+    }
+
+    /// A parameter list: `"type name" value` or `"type name" [ values ]`, repeated.
+    pub(super) fn params(&mut self, color_space: &str) -> Result<ParamSet, SceneError> {
+        let mut ps = ParamSet::new(color_space);
+        while matches!(self.peek()?, Some(t) if t.kind == TokenKind::Str) {
+            let decl = self.next()?.expect("peeked");
+            let mut values = Vec::new();
+            let first = self.expect(&decl, "a value")?;
+            match first.kind {
+                TokenKind::Open => loop {
+                    let t = self.next()?.ok_or_else(|| {
+                        SceneError::syntax(
+                            &first.loc,
+                            "[",
+                            format!("unterminated [ for parameter \"{}\"", decl.text),
+                        )
+                    })?;
+                    match t.kind {
+                        TokenKind::Close => break,
+                        TokenKind::Open => {
+                            return Err(SceneError::syntax(
+                                &t.loc,
+                                "[",
+                                "nested [ in a parameter list",
+                            ))
+                        }
+                        _ => values.push(t),
+                    }
+                },
+                TokenKind::Close => {
+                    return Err(SceneError::syntax(&first.loc, "]", "unexpected ]"))
+                }
+                _ => values.push(first),
+            }
+            ps.push(Param::parse(&decl, &values)?)?;
+        }
+        Ok(ps)
+    }
+}
