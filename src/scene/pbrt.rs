@@ -428,7 +428,7 @@ pub fn named_spectrum(name: &str) -> Option<Spectrum> {
     if let Some(s) = Spectrum::named(name) {
         return Some(s);
     }
-    if let Some(data) = metals::named(name) {
+    if let Some(data) = metals::named_spectrum(name) {
         let (l, x): (Vec<f32>, Vec<f32>) = data.iter().copied().unzip();
         return Spectrum::piecewise_linear(&l, &x);
     }
