@@ -14,6 +14,7 @@
 use std::time::Duration;
 
 use glam::{Vec3, Vec3A};
+use rayon::prelude::*;
 use ::obvhs::{aabb::Aabb, cwbvh::builder::build_cwbvh, cwbvh::CwBvh, ray::RayHit, BvhBuildParams};
 
 use super::watertight::{ShearedRay, TriangleHit};
@@ -73,6 +74,8 @@ pub struct ObvhsAccel {
     /// Triangle vertices in BVH leaf order (`bvh.primitive_indices` order), so a leaf's
     /// triangles are contiguous in memory.
     triangles: Vec<[Vec3; 3]>,
+    /// BVH primitive `k` is `triangles[group_start[k]..group_start[k + 1]]`.
+    group_start: Vec<u32>,
     /// (geom_id, prim_id) for each entry of `triangles`.
     ids: Vec<(u32, u32)>,
     bounds: Bounds3,
@@ -111,15 +114,28 @@ impl ObvhsAccel {
         }
         stats.triangles = tris.len();
         if tris.is_empty() {
-            return Self { bvh: CwBvh::default(), triangles: tris, ids, bounds, stats };
+            return Self { bvh: CwBvh::default(), triangles: tris, group_start: vec![0], ids, bounds, stats };
         }
-        let boxes: Vec<Aabb> = tris.iter().map(|t| padded_box(t)).collect();
+        let groups = group_by_centroid_cell(&tris, bounds);
+        let boxes: Vec<Aabb> = groups
+            .iter()
+            .map(|g| g.iter().fold(Aabb::empty(), |b, &i| b.union(&padded_box(&tris[i as usize]))))
+            .collect();
         let bvh = build_cwbvh(&boxes, quality.params(), &mut Duration::default());
-        let triangles = bvh.primitive_indices.iter().map(|&i| tris[i as usize]).collect();
-        let ids = bvh.primitive_indices.iter().map(|&i| ids[i as usize]).collect();
+        let mut triangles = Vec::with_capacity(tris.len());
+        let mut ordered_ids = Vec::with_capacity(tris.len());
+        let mut group_start = Vec::with_capacity(groups.len() + 1);
+        group_start.push(0);
+        for &g in &bvh.primitive_indices {
+            for &i in &groups[g as usize] {
+                triangles.push(tris[i as usize]);
+                ordered_ids.push(ids[i as usize]);
+            }
+            group_start.push(triangles.len() as u32);
+        }
         stats.max_depth = max_depth(&bvh);
         stats.linear_fallback = stats.max_depth + 1 >= OBVHS_STACK;
-        Self { bvh, triangles, ids, bounds, stats }
+        Self { bvh, triangles, group_start, ids: ordered_ids, bounds, stats }
     }
 
     /// Build statistics (skipped triangles, depth).
@@ -140,6 +156,12 @@ impl ObvhsAccel {
             }
             _ => false,
         }
+    }
+
+    /// Indices into `triangles` of BVH primitive `k`.
+    #[inline]
+    fn group(&self, k: usize) -> std::ops::Range<usize> {
+        self.group_start[k] as usize..self.group_start[k + 1] as usize
     }
 
     fn hit_record(&self, (h, i): (TriangleHit, usize)) -> Hit {
@@ -172,6 +194,33 @@ fn padded_box(t: &[Vec3; 3]) -> Aabb {
     Aabb::new(Vec3A::from(min - pad), Vec3A::from(max + pad))
 }
 
+/// Triangles grouped by centroid cell on a 2²⁰-per-axis grid over the scene bounds (about the
+/// resolution of obvhs' 64-bit Morton codes). PLOC turns a run of equal Morton codes into a chain
+/// (coincident copies of a triangle made a tree deep enough to overflow the thread stack), so
+/// each cell becomes one BVH primitive whose triangles are tested in a loop. In ordinary meshes
+/// nearly every cell holds one triangle.
+fn group_by_centroid_cell(tris: &[[Vec3; 3]], bounds: Bounds3) -> Vec<Vec<u32>> {
+    let extent = (bounds.max - bounds.min).max(Vec3::splat(f32::MIN_POSITIVE));
+    let cells = ((1u32 << 20) - 1) as f32;
+    let key = |t: &[Vec3; 3]| {
+        let c = ((t[0] + t[1] + t[2]) / 3.0 - bounds.min) / extent * cells;
+        let q = c.clamp(Vec3::ZERO, Vec3::splat(cells)).as_uvec3();
+        ((q.x as u64) << 40) | ((q.y as u64) << 20) | q.z as u64
+    };
+    let mut order: Vec<(u64, u32)> = tris.par_iter().enumerate().map(|(i, t)| (key(t), i as u32)).collect();
+    // Keys with indices are unique, so the order (and the BVH) is deterministic.
+    order.par_sort_unstable();
+    let mut groups: Vec<Vec<u32>> = Vec::with_capacity(order.len());
+    for (k, (key, i)) in order.iter().enumerate() {
+        if k > 0 && order[k - 1].0 == *key {
+            groups.last_mut().expect("k > 0").push(*i);
+        } else {
+            groups.push(vec![*i]);
+        }
+    }
+    groups
+}
+
 /// Depth of the deepest internal node (root = 0).
 fn max_depth(bvh: &CwBvh) -> u32 {
     let mut deepest = 0;
@@ -202,8 +251,12 @@ impl Accel for ObvhsAccel {
         } else {
             // next_up: obvhs keeps a hit only when t' < tmax, and t = t_max is inside our range.
             let oray = obvhs_ray(ray, (ray.t_max * T_SCALE).next_up());
-            self.bvh.ray_traverse(oray, &mut RayHit::none(), |_, i| {
-                if self.closer(&r, i, &mut best, ray.t_max) {
+            self.bvh.ray_traverse(oray, &mut RayHit::none(), |_, k| {
+                let mut found = false;
+                for i in self.group(k) {
+                    found |= self.closer(&r, i, &mut best, ray.t_max);
+                }
+                if found {
                     best.map_or(f32::INFINITY, |(h, _)| h.t * T_SCALE)
                 } else {
                     f32::INFINITY
@@ -227,7 +280,7 @@ impl Accel for ObvhsAccel {
         }
         let oray = obvhs_ray(ray, ray.t_max * T_SCALE);
         // The traversal stops at the first t' < tmax; 0 always is.
-        !self.bvh.ray_traverse_miss(oray, |_, i| if blocks(i) { 0.0 } else { f32::INFINITY })
+        !self.bvh.ray_traverse_miss(oray, |_, k| if self.group(k).any(blocks) { 0.0 } else { f32::INFINITY })
     }
 
     fn bounds(&self) -> Bounds3 {

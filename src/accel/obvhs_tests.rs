@@ -75,7 +75,7 @@ fn test_rays(meshes: &[Mesh]) -> Vec<Ray> {
     let mut rays = Vec::new();
     // Coherent: a pinhole camera grid looking at the scene.
     let eye = Vec3::new(0.5, 3.0, 9.0);
-    let n = 160;
+    let n = 256;
     for i in 0..n {
         for j in 0..n {
             let x = (j as f32 + 0.5) / n as f32 * 2.0 - 1.0;

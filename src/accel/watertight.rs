@@ -86,17 +86,14 @@ impl ShearedRay {
         let bz = self.sz * b[kz];
         let cz = self.sz * c[kz];
         let t_scaled = u * az + v * bz + w * cz;
-        // t = T/det must lie in (0, t_max]; compare without dividing (paper's sign-aware test).
-        if det < 0.0 {
-            if t_scaled >= 0.0 || t_scaled < t_max * det {
-                return None;
-            }
-        } else if t_scaled <= 0.0 || t_scaled > t_max * det {
+        // t = T/det > 0 needs T and det of the same sign (paper's division-free test).
+        if (det < 0.0 && t_scaled >= 0.0) || (det > 0.0 && t_scaled <= 0.0) {
             return None;
         }
         let inv_det = 1.0 / det;
         let t = t_scaled * inv_det;
-        // Rounding of the division can push t a hair past the bounds checked above.
+        // The range test uses the rounded t itself (not T vs t_max·det) so that a hit reported at
+        // t is found again when t_max = t; `!(..)` also rejects NaN from non-finite vertices.
         if !(t > 0.0 && t <= t_max) {
             return None;
         }
