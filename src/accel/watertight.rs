@@ -55,9 +55,10 @@ impl ShearedRay {
     #[inline]
     pub fn intersect(&self, p0: Vec3, p1: Vec3, p2: Vec3, t_max: f32) -> Option<TriangleHit> {
         let (kx, ky, kz) = (self.kx, self.ky, self.kz);
-        let a = p0 - self.o;
-        let b = p1 - self.o;
-        let c = p2 - self.o;
+        // Arrays index without glam's per-component match; kx, ky, kz < 3 by construction.
+        let a = (p0 - self.o).to_array();
+        let b = (p1 - self.o).to_array();
+        let c = (p2 - self.o).to_array();
         // Shear and scale the vertices into ray space (paper eq. 1).
         let ax = a[kx] - self.sx * a[kz];
         let ay = a[ky] - self.sy * a[kz];
