@@ -13,9 +13,9 @@
 
 use std::time::Duration;
 
+use ::obvhs::{aabb::Aabb, cwbvh::builder::build_cwbvh, cwbvh::CwBvh, ray::RayHit, BvhBuildParams};
 use glam::{Vec3, Vec3A};
 use rayon::prelude::*;
-use ::obvhs::{aabb::Aabb, cwbvh::builder::build_cwbvh, cwbvh::CwBvh, ray::RayHit, BvhBuildParams};
 
 use super::watertight::{ShearedRay, TriangleHit};
 use super::Accel;
@@ -97,7 +97,11 @@ impl ObvhsAccel {
         let mut bounds = Bounds3::EMPTY;
         for (g, mesh) in meshes.iter().enumerate() {
             for (p, idx) in mesh.indices.iter().enumerate() {
-                let Some(tri) = idx.map(|i| mesh.positions.get(i as usize).copied()).into_iter().collect::<Option<Vec<_>>>() else {
+                let Some(tri) = idx
+                    .map(|i| mesh.positions.get(i as usize).copied())
+                    .into_iter()
+                    .collect::<Option<Vec<_>>>()
+                else {
                     stats.skipped_bad_index += 1;
                     continue;
                 };
@@ -114,12 +118,23 @@ impl ObvhsAccel {
         }
         stats.triangles = tris.len();
         if tris.is_empty() {
-            return Self { bvh: CwBvh::default(), triangles: tris, group_start: vec![0], ids, bounds, stats };
+            return Self {
+                bvh: CwBvh::default(),
+                triangles: tris,
+                group_start: vec![0],
+                ids,
+                bounds,
+                stats,
+            };
         }
         let groups = group_by_centroid_cell(&tris, bounds);
         let boxes: Vec<Aabb> = groups
             .iter()
-            .map(|g| g.iter().fold(Aabb::empty(), |b, &i| b.union(&padded_box(&tris[i as usize]))))
+            .map(|g| {
+                g.iter().fold(Aabb::empty(), |b, &i| {
+                    b.union(&padded_box(&tris[i as usize]))
+                })
+            })
             .collect();
         let bvh = build_cwbvh(&boxes, quality.params(), &mut Duration::default());
         let mut triangles = Vec::with_capacity(tris.len());
@@ -135,7 +150,14 @@ impl ObvhsAccel {
         }
         stats.max_depth = max_depth(&bvh);
         stats.linear_fallback = stats.max_depth + 1 >= OBVHS_STACK;
-        Self { bvh, triangles, group_start, ids: ordered_ids, bounds, stats }
+        Self {
+            bvh,
+            triangles,
+            group_start,
+            ids: ordered_ids,
+            bounds,
+            stats,
+        }
     }
 
     /// Build statistics (skipped triangles, depth).
@@ -146,7 +168,13 @@ impl ObvhsAccel {
     /// Closest-hit candidate for slot `i`: hit if nearer than `best`, or equally near with smaller
     /// (geom_id, prim_id), so the result does not depend on traversal order.
     #[inline]
-    fn closer(&self, r: &ShearedRay, i: usize, best: &mut Option<(TriangleHit, usize)>, t_max: f32) -> bool {
+    fn closer(
+        &self,
+        r: &ShearedRay,
+        i: usize,
+        best: &mut Option<(TriangleHit, usize)>,
+        t_max: f32,
+    ) -> bool {
         let [p0, p1, p2] = self.triangles[i];
         let limit = best.map_or(t_max, |(h, _)| h.t);
         match r.intersect(p0, p1, p2, limit) {
@@ -167,7 +195,14 @@ impl ObvhsAccel {
     fn hit_record(&self, (h, i): (TriangleHit, usize)) -> Hit {
         let [p0, p1, p2] = self.triangles[i];
         let (geom_id, prim_id) = self.ids[i];
-        Hit { t: h.t, geom_id, prim_id, u: h.u, v: h.v, ng: (p1 - p0).cross(p2 - p0) }
+        Hit {
+            t: h.t,
+            geom_id,
+            prim_id,
+            u: h.u,
+            v: h.v,
+            ng: (p1 - p0).cross(p2 - p0),
+        }
     }
 }
 
@@ -175,7 +210,13 @@ impl ObvhsAccel {
 fn obvhs_ray(ray: &Ray, t_max_scaled: f32) -> ::obvhs::ray::Ray {
     // Adding +0 turns -0 into +0: obvhs picks slab order from `d < 0`, so 1/d must agree in sign.
     let d = ray.d * (1.0 / T_SCALE) + Vec3::ZERO;
-    let inv = |x: f32| if x == 0.0 { INV_DIR_LIMIT } else { (1.0 / x).clamp(-INV_DIR_LIMIT, INV_DIR_LIMIT) };
+    let inv = |x: f32| {
+        if x == 0.0 {
+            INV_DIR_LIMIT
+        } else {
+            (1.0 / x).clamp(-INV_DIR_LIMIT, INV_DIR_LIMIT)
+        }
+    };
     ::obvhs::ray::Ray {
         origin: Vec3A::from(ray.o),
         direction: Vec3A::from(d),
@@ -190,7 +231,8 @@ fn obvhs_ray(ray: &Ray, t_max_scaled: f32) -> ::obvhs::ray::Ray {
 fn padded_box(t: &[Vec3; 3]) -> Aabb {
     let min = t[0].min(t[1]).min(t[2]);
     let max = t[0].max(t[1]).max(t[2]);
-    let pad = Vec3::splat(min.abs().max(max.abs()).max_element() * (1.0 / T_SCALE) + f32::MIN_POSITIVE);
+    let pad =
+        Vec3::splat(min.abs().max(max.abs()).max_element() * (1.0 / T_SCALE) + f32::MIN_POSITIVE);
     Aabb::new(Vec3A::from(min - pad), Vec3A::from(max + pad))
 }
 
@@ -207,7 +249,11 @@ fn group_by_centroid_cell(tris: &[[Vec3; 3]], bounds: Bounds3) -> Vec<Vec<u32>> 
         let q = c.clamp(Vec3::ZERO, Vec3::splat(cells)).as_uvec3();
         ((q.x as u64) << 40) | ((q.y as u64) << 20) | q.z as u64
     };
-    let mut order: Vec<(u64, u32)> = tris.par_iter().enumerate().map(|(i, t)| (key(t), i as u32)).collect();
+    let mut order: Vec<(u64, u32)> = tris
+        .par_iter()
+        .enumerate()
+        .map(|(i, t)| (key(t), i as u32))
+        .collect();
     // Keys with indices are unique, so the order (and the BVH) is deterministic.
     order.par_sort_unstable();
     let mut groups: Vec<Vec<u32>> = Vec::with_capacity(order.len());
@@ -267,20 +313,29 @@ impl Accel for ObvhsAccel {
     }
 
     fn occluded(&self, ray: &Ray) -> bool {
-        let Some(r) = ShearedRay::new(ray.o, ray.d) else { return false };
+        let Some(r) = ShearedRay::new(ray.o, ray.d) else {
+            return false;
+        };
         if self.triangles.is_empty() || ray.t_max.is_nan() || ray.t_max <= 0.0 {
             return false;
         }
         let blocks = |i: usize| {
             let [p0, p1, p2] = self.triangles[i];
-            r.intersect(p0, p1, p2, ray.t_max).is_some_and(|h| h.t < ray.t_max)
+            r.intersect(p0, p1, p2, ray.t_max)
+                .is_some_and(|h| h.t < ray.t_max)
         };
         if self.stats.linear_fallback {
             return (0..self.triangles.len()).any(blocks);
         }
         let oray = obvhs_ray(ray, ray.t_max * T_SCALE);
         // The traversal stops at the first t' < tmax; 0 always is.
-        !self.bvh.ray_traverse_miss(oray, |_, k| if self.group(k).any(blocks) { 0.0 } else { f32::INFINITY })
+        !self.bvh.ray_traverse_miss(oray, |_, k| {
+            if self.group(k).any(blocks) {
+                0.0
+            } else {
+                f32::INFINITY
+            }
+        })
     }
 
     fn bounds(&self) -> Bounds3 {
