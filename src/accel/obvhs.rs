@@ -10,6 +10,8 @@
 //!   so both effects fall far below f32 resolution of the scene.
 //! - Its traversal stack holds 32 entries and silently overwrites on overflow; a tree deeper than
 //!   that falls back to a linear scan (reported in [`BuildStats::linear_fallback`]).
+//! - Triangles whose centroids share a cell of a 2²⁰-per-axis grid become one BVH primitive
+//!   (see `group_by_centroid_cell`): PLOC builds chains from equal Morton codes.
 
 use std::time::Duration;
 

@@ -336,3 +336,17 @@ fn coincident_triangles_and_all_qualities_agree_with_brute_force() {
         }
     }
 }
+
+#[test]
+fn linear_fallback_agrees_with_traversal() {
+    // The fallback only triggers for trees deeper than obvhs' stack; force it to test the path.
+    let meshes = test_scene();
+    let accel = ObvhsAccel::new(&meshes);
+    assert!(!accel.stats().linear_fallback && accel.stats().max_depth > 0);
+    let mut linear = ObvhsAccel::new(&meshes);
+    linear.stats.linear_fallback = true;
+    for ray in test_rays(&meshes).iter().step_by(20) {
+        assert_eq!(linear.intersect(ray), accel.intersect(ray), "{ray:?}");
+        assert_eq!(linear.occluded(ray), accel.occluded(ray), "{ray:?}");
+    }
+}
