@@ -2,7 +2,7 @@
 //! Incoherent Ray Traversal on GPUs Using Compressed Wide BVHs") built with PLOC, traversed by
 //! obvhs, with our own watertight triangle test ([`super::watertight`]).
 //!
-//! Three details make obvhs' traversal agree with a brute-force loop over the same triangle test:
+//! Four details make obvhs' traversal agree with a brute-force loop over the same triangle test:
 //! - Leaf boxes are the triangle boxes grown by a relative 2⁻²⁰ margin, so a ray through a
 //!   triangle's edge or vertex (which lies on its box's face) is never culled by slab rounding.
 //! - obvhs culls boxes ending before t = 10⁻⁴ and clamps 1/d to ±1/ε_f32. We hand it the direction
