@@ -129,9 +129,13 @@ impl ObvhsAccel {
                 stats,
             };
         }
-        let groups = group_by_centroid_cell(&tris, bounds);
+        let (members, starts) = group_by_centroid_cell(&tris, bounds);
+        let groups: Vec<&[u32]> = starts
+            .windows(2)
+            .map(|w| &members[w[0] as usize..w[1] as usize])
+            .collect();
         let boxes: Vec<Aabb> = groups
-            .iter()
+            .par_iter()
             .map(|g| {
                 g.iter().fold(Aabb::empty(), |b, &i| {
                     b.union(&padded_box(&tris[i as usize]))
@@ -144,7 +148,7 @@ impl ObvhsAccel {
         let mut group_start = Vec::with_capacity(groups.len() + 1);
         group_start.push(0);
         for &g in &bvh.primitive_indices {
-            for &i in &groups[g as usize] {
+            for &i in groups[g as usize] {
                 triangles.push(tris[i as usize]);
                 ordered_ids.push(ids[i as usize]);
             }
@@ -242,8 +246,9 @@ fn padded_box(t: &[Vec3; 3]) -> Aabb {
 /// resolution of obvhs' 64-bit Morton codes). PLOC turns a run of equal Morton codes into a chain
 /// (coincident copies of a triangle made a tree deep enough to overflow the thread stack), so
 /// each cell becomes one BVH primitive whose triangles are tested in a loop. In ordinary meshes
-/// nearly every cell holds one triangle.
-fn group_by_centroid_cell(tris: &[[Vec3; 3]], bounds: Bounds3) -> Vec<Vec<u32>> {
+/// nearly every cell holds one triangle. Returns triangle indices sorted by cell, and where each
+/// cell's run starts (plus a final end).
+fn group_by_centroid_cell(tris: &[[Vec3; 3]], bounds: Bounds3) -> (Vec<u32>, Vec<u32>) {
     let extent = (bounds.max - bounds.min).max(Vec3::splat(f32::MIN_POSITIVE));
     let cells = ((1u32 << 20) - 1) as f32;
     let key = |t: &[Vec3; 3]| {
@@ -258,15 +263,12 @@ fn group_by_centroid_cell(tris: &[[Vec3; 3]], bounds: Bounds3) -> Vec<Vec<u32>> 
         .collect();
     // Keys with indices are unique, so the order (and the BVH) is deterministic.
     order.par_sort_unstable();
-    let mut groups: Vec<Vec<u32>> = Vec::with_capacity(order.len());
-    for (k, (key, i)) in order.iter().enumerate() {
-        if k > 0 && order[k - 1].0 == *key {
-            groups.last_mut().expect("k > 0").push(*i);
-        } else {
-            groups.push(vec![*i]);
-        }
-    }
-    groups
+    let mut starts: Vec<u32> = (0..order.len())
+        .filter(|&k| k == 0 || order[k - 1].0 != order[k].0)
+        .map(|k| k as u32)
+        .collect();
+    starts.push(order.len() as u32);
+    (order.into_iter().map(|(_, i)| i).collect(), starts)
 }
 
 /// Depth of the deepest internal node (root = 0).
