@@ -2,7 +2,7 @@
 //! Incoherent Ray Traversal on GPUs Using Compressed Wide BVHs") built with PLOC, traversed by
 //! obvhs, with our own watertight triangle test ([`super::watertight`]).
 //!
-//! Three details make obvhs' traversal agree with a brute-force loop over the same triangle test:
+//! Four details make obvhs' traversal agree with a brute-force loop over the same triangle test:
 //! - Leaf boxes are the triangle boxes grown by a relative 2⁻²⁰ margin, so a ray through a
 //!   triangle's edge or vertex (which lies on its box's face) is never culled by slab rounding.
 //! - obvhs culls boxes ending before t = 10⁻⁴ and clamps 1/d to ±1/ε_f32. We hand it the direction
@@ -10,11 +10,14 @@
 //!   so both effects fall far below f32 resolution of the scene.
 //! - Its traversal stack holds 32 entries and silently overwrites on overflow; a tree deeper than
 //!   that falls back to a linear scan (reported in [`BuildStats::linear_fallback`]).
+//! - Triangles whose centroids share a cell of a 2²⁰-per-axis grid become one BVH primitive
+//!   (see `group_by_centroid_cell`): PLOC builds chains from equal Morton codes.
 
 use std::time::Duration;
 
-use glam::{Vec3, Vec3A};
 use ::obvhs::{aabb::Aabb, cwbvh::builder::build_cwbvh, cwbvh::CwBvh, ray::RayHit, BvhBuildParams};
+use glam::{Vec3, Vec3A};
+use rayon::prelude::*;
 
 use super::watertight::{ShearedRay, TriangleHit};
 use super::Accel;
@@ -73,6 +76,8 @@ pub struct ObvhsAccel {
     /// Triangle vertices in BVH leaf order (`bvh.primitive_indices` order), so a leaf's
     /// triangles are contiguous in memory.
     triangles: Vec<[Vec3; 3]>,
+    /// BVH primitive `k` is `triangles[group_start[k]..group_start[k + 1]]`.
+    group_start: Vec<u32>,
     /// (geom_id, prim_id) for each entry of `triangles`.
     ids: Vec<(u32, u32)>,
     bounds: Bounds3,
@@ -94,7 +99,11 @@ impl ObvhsAccel {
         let mut bounds = Bounds3::EMPTY;
         for (g, mesh) in meshes.iter().enumerate() {
             for (p, idx) in mesh.indices.iter().enumerate() {
-                let Some(tri) = idx.map(|i| mesh.positions.get(i as usize).copied()).into_iter().collect::<Option<Vec<_>>>() else {
+                let Some(tri) = idx
+                    .map(|i| mesh.positions.get(i as usize).copied())
+                    .into_iter()
+                    .collect::<Option<Vec<_>>>()
+                else {
                     stats.skipped_bad_index += 1;
                     continue;
                 };
@@ -111,15 +120,50 @@ impl ObvhsAccel {
         }
         stats.triangles = tris.len();
         if tris.is_empty() {
-            return Self { bvh: CwBvh::default(), triangles: tris, ids, bounds, stats };
+            return Self {
+                bvh: CwBvh::default(),
+                triangles: tris,
+                group_start: vec![0],
+                ids,
+                bounds,
+                stats,
+            };
         }
-        let boxes: Vec<Aabb> = tris.iter().map(|t| padded_box(t)).collect();
+        let (members, starts) = group_by_centroid_cell(&tris, bounds);
+        let groups: Vec<&[u32]> = starts
+            .windows(2)
+            .map(|w| &members[w[0] as usize..w[1] as usize])
+            .collect();
+        let boxes: Vec<Aabb> = groups
+            .par_iter()
+            .map(|g| {
+                g.iter().fold(Aabb::empty(), |b, &i| {
+                    b.union(&padded_box(&tris[i as usize]))
+                })
+            })
+            .collect();
         let bvh = build_cwbvh(&boxes, quality.params(), &mut Duration::default());
-        let triangles = bvh.primitive_indices.iter().map(|&i| tris[i as usize]).collect();
-        let ids = bvh.primitive_indices.iter().map(|&i| ids[i as usize]).collect();
+        let mut triangles = Vec::with_capacity(tris.len());
+        let mut ordered_ids = Vec::with_capacity(tris.len());
+        let mut group_start = Vec::with_capacity(groups.len() + 1);
+        group_start.push(0);
+        for &g in &bvh.primitive_indices {
+            for &i in groups[g as usize] {
+                triangles.push(tris[i as usize]);
+                ordered_ids.push(ids[i as usize]);
+            }
+            group_start.push(triangles.len() as u32);
+        }
         stats.max_depth = max_depth(&bvh);
         stats.linear_fallback = stats.max_depth + 1 >= OBVHS_STACK;
-        Self { bvh, triangles, ids, bounds, stats }
+        Self {
+            bvh,
+            triangles,
+            group_start,
+            ids: ordered_ids,
+            bounds,
+            stats,
+        }
     }
 
     /// Build statistics (skipped triangles, depth).
@@ -130,7 +174,13 @@ impl ObvhsAccel {
     /// Closest-hit candidate for slot `i`: hit if nearer than `best`, or equally near with smaller
     /// (geom_id, prim_id), so the result does not depend on traversal order.
     #[inline]
-    fn closer(&self, r: &ShearedRay, i: usize, best: &mut Option<(TriangleHit, usize)>, t_max: f32) -> bool {
+    fn closer(
+        &self,
+        r: &ShearedRay,
+        i: usize,
+        best: &mut Option<(TriangleHit, usize)>,
+        t_max: f32,
+    ) -> bool {
         let [p0, p1, p2] = self.triangles[i];
         let limit = best.map_or(t_max, |(h, _)| h.t);
         match r.intersect(p0, p1, p2, limit) {
@@ -142,10 +192,23 @@ impl ObvhsAccel {
         }
     }
 
+    /// Indices into `triangles` of BVH primitive `k`.
+    #[inline]
+    fn group(&self, k: usize) -> std::ops::Range<usize> {
+        self.group_start[k] as usize..self.group_start[k + 1] as usize
+    }
+
     fn hit_record(&self, (h, i): (TriangleHit, usize)) -> Hit {
         let [p0, p1, p2] = self.triangles[i];
         let (geom_id, prim_id) = self.ids[i];
-        Hit { t: h.t, geom_id, prim_id, u: h.u, v: h.v, ng: (p1 - p0).cross(p2 - p0) }
+        Hit {
+            t: h.t,
+            geom_id,
+            prim_id,
+            u: h.u,
+            v: h.v,
+            ng: (p1 - p0).cross(p2 - p0),
+        }
     }
 }
 
@@ -153,7 +216,13 @@ impl ObvhsAccel {
 fn obvhs_ray(ray: &Ray, t_max_scaled: f32) -> ::obvhs::ray::Ray {
     // Adding +0 turns -0 into +0: obvhs picks slab order from `d < 0`, so 1/d must agree in sign.
     let d = ray.d * (1.0 / T_SCALE) + Vec3::ZERO;
-    let inv = |x: f32| if x == 0.0 { INV_DIR_LIMIT } else { (1.0 / x).clamp(-INV_DIR_LIMIT, INV_DIR_LIMIT) };
+    let inv = |x: f32| {
+        if x == 0.0 {
+            INV_DIR_LIMIT
+        } else {
+            (1.0 / x).clamp(-INV_DIR_LIMIT, INV_DIR_LIMIT)
+        }
+    };
     ::obvhs::ray::Ray {
         origin: Vec3A::from(ray.o),
         direction: Vec3A::from(d),
@@ -168,8 +237,38 @@ fn obvhs_ray(ray: &Ray, t_max_scaled: f32) -> ::obvhs::ray::Ray {
 fn padded_box(t: &[Vec3; 3]) -> Aabb {
     let min = t[0].min(t[1]).min(t[2]);
     let max = t[0].max(t[1]).max(t[2]);
-    let pad = Vec3::splat(min.abs().max(max.abs()).max_element() * (1.0 / T_SCALE) + f32::MIN_POSITIVE);
+    let pad =
+        Vec3::splat(min.abs().max(max.abs()).max_element() * (1.0 / T_SCALE) + f32::MIN_POSITIVE);
     Aabb::new(Vec3A::from(min - pad), Vec3A::from(max + pad))
+}
+
+/// Triangles grouped by centroid cell on a 2²⁰-per-axis grid over the scene bounds (about the
+/// resolution of obvhs' 64-bit Morton codes). PLOC turns a run of equal Morton codes into a chain
+/// (coincident copies of a triangle made a tree deep enough to overflow the thread stack), so
+/// each cell becomes one BVH primitive whose triangles are tested in a loop. In ordinary meshes
+/// nearly every cell holds one triangle. Returns triangle indices sorted by cell, and where each
+/// cell's run starts (plus a final end).
+fn group_by_centroid_cell(tris: &[[Vec3; 3]], bounds: Bounds3) -> (Vec<u32>, Vec<u32>) {
+    let extent = (bounds.max - bounds.min).max(Vec3::splat(f32::MIN_POSITIVE));
+    let cells = ((1u32 << 20) - 1) as f32;
+    let key = |t: &[Vec3; 3]| {
+        let c = ((t[0] + t[1] + t[2]) / 3.0 - bounds.min) / extent * cells;
+        let q = c.clamp(Vec3::ZERO, Vec3::splat(cells)).as_uvec3();
+        ((q.x as u64) << 40) | ((q.y as u64) << 20) | q.z as u64
+    };
+    let mut order: Vec<(u64, u32)> = tris
+        .par_iter()
+        .enumerate()
+        .map(|(i, t)| (key(t), i as u32))
+        .collect();
+    // Keys with indices are unique, so the order (and the BVH) is deterministic.
+    order.par_sort_unstable();
+    let mut starts: Vec<u32> = (0..order.len())
+        .filter(|&k| k == 0 || order[k - 1].0 != order[k].0)
+        .map(|k| k as u32)
+        .collect();
+    starts.push(order.len() as u32);
+    (order.into_iter().map(|(_, i)| i).collect(), starts)
 }
 
 /// Depth of the deepest internal node (root = 0).
@@ -202,8 +301,12 @@ impl Accel for ObvhsAccel {
         } else {
             // next_up: obvhs keeps a hit only when t' < tmax, and t = t_max is inside our range.
             let oray = obvhs_ray(ray, (ray.t_max * T_SCALE).next_up());
-            self.bvh.ray_traverse(oray, &mut RayHit::none(), |_, i| {
-                if self.closer(&r, i, &mut best, ray.t_max) {
+            self.bvh.ray_traverse(oray, &mut RayHit::none(), |_, k| {
+                let mut found = false;
+                for i in self.group(k) {
+                    found |= self.closer(&r, i, &mut best, ray.t_max);
+                }
+                if found {
                     best.map_or(f32::INFINITY, |(h, _)| h.t * T_SCALE)
                 } else {
                     f32::INFINITY
@@ -214,20 +317,29 @@ impl Accel for ObvhsAccel {
     }
 
     fn occluded(&self, ray: &Ray) -> bool {
-        let Some(r) = ShearedRay::new(ray.o, ray.d) else { return false };
+        let Some(r) = ShearedRay::new(ray.o, ray.d) else {
+            return false;
+        };
         if self.triangles.is_empty() || ray.t_max.is_nan() || ray.t_max <= 0.0 {
             return false;
         }
         let blocks = |i: usize| {
             let [p0, p1, p2] = self.triangles[i];
-            r.intersect(p0, p1, p2, ray.t_max).is_some_and(|h| h.t < ray.t_max)
+            r.intersect(p0, p1, p2, ray.t_max)
+                .is_some_and(|h| h.t < ray.t_max)
         };
         if self.stats.linear_fallback {
             return (0..self.triangles.len()).any(blocks);
         }
         let oray = obvhs_ray(ray, ray.t_max * T_SCALE);
         // The traversal stops at the first t' < tmax; 0 always is.
-        !self.bvh.ray_traverse_miss(oray, |_, i| if blocks(i) { 0.0 } else { f32::INFINITY })
+        !self.bvh.ray_traverse_miss(oray, |_, k| {
+            if self.group(k).any(blocks) {
+                0.0
+            } else {
+                f32::INFINITY
+            }
+        })
     }
 
     fn bounds(&self) -> Bounds3 {

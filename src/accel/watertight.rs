@@ -48,16 +48,25 @@ impl ShearedRay {
         if d[kz] < 0.0 {
             std::mem::swap(&mut kx, &mut ky);
         }
-        Some(Self { o, kz, kx, ky, sx: d[kx] / d[kz], sy: d[ky] / d[kz], sz: 1.0 / d[kz] })
+        Some(Self {
+            o,
+            kz,
+            kx,
+            ky,
+            sx: d[kx] / d[kz],
+            sy: d[ky] / d[kz],
+            sz: 1.0 / d[kz],
+        })
     }
 
     /// The hit with t in (0, t_max], or `None`. Triangles seen edge-on (det = 0) are missed.
     #[inline]
     pub fn intersect(&self, p0: Vec3, p1: Vec3, p2: Vec3, t_max: f32) -> Option<TriangleHit> {
         let (kx, ky, kz) = (self.kx, self.ky, self.kz);
-        let a = p0 - self.o;
-        let b = p1 - self.o;
-        let c = p2 - self.o;
+        // Arrays index without glam's per-component match; kx, ky, kz < 3 by construction.
+        let a = (p0 - self.o).to_array();
+        let b = (p1 - self.o).to_array();
+        let c = (p2 - self.o).to_array();
         // Shear and scale the vertices into ray space (paper eq. 1).
         let ax = a[kx] - self.sx * a[kz];
         let ay = a[ky] - self.sy * a[kz];
@@ -70,7 +79,8 @@ impl ShearedRay {
         let mut v = ax * cy - ay * cx;
         let mut w = bx * ay - by * ax;
         if u == 0.0 || v == 0.0 || w == 0.0 {
-            let f = |p: f32, q: f32, r: f32, s: f32| (p as f64 * q as f64 - r as f64 * s as f64) as f32;
+            let f =
+                |p: f32, q: f32, r: f32, s: f32| (p as f64 * q as f64 - r as f64 * s as f64) as f32;
             u = f(cx, by, cy, bx);
             v = f(ax, cy, ay, cx);
             w = f(bx, ay, by, ax);
@@ -86,21 +96,22 @@ impl ShearedRay {
         let bz = self.sz * b[kz];
         let cz = self.sz * c[kz];
         let t_scaled = u * az + v * bz + w * cz;
-        // t = T/det must lie in (0, t_max]; compare without dividing (paper's sign-aware test).
-        if det < 0.0 {
-            if t_scaled >= 0.0 || t_scaled < t_max * det {
-                return None;
-            }
-        } else if t_scaled <= 0.0 || t_scaled > t_max * det {
+        // t = T/det > 0 needs T and det of the same sign (paper's division-free test).
+        if (det < 0.0 && t_scaled >= 0.0) || (det > 0.0 && t_scaled <= 0.0) {
             return None;
         }
         let inv_det = 1.0 / det;
         let t = t_scaled * inv_det;
-        // Rounding of the division can push t a hair past the bounds checked above.
+        // The range test uses the rounded t itself (not T vs t_max·det) so that a hit reported at
+        // t is found again when t_max = t; `!(..)` also rejects NaN from non-finite vertices.
         if !(t > 0.0 && t <= t_max) {
             return None;
         }
-        Some(TriangleHit { t, u: v * inv_det, v: w * inv_det })
+        Some(TriangleHit {
+            t,
+            u: v * inv_det,
+            v: w * inv_det,
+        })
     }
 }
 
@@ -127,7 +138,10 @@ mod tests {
     #[test]
     fn respects_t_range_and_misses_outside() {
         let r = ShearedRay::new(Vec3::new(0.2, 0.3, 2.0), -Vec3::Z).unwrap();
-        assert!(r.intersect(P0, P1, P2, 2.0).is_some(), "t == t_max is inside (0, t_max]");
+        assert!(
+            r.intersect(P0, P1, P2, 2.0).is_some(),
+            "t == t_max is inside (0, t_max]"
+        );
         assert!(r.intersect(P0, P1, P2, 1.999).is_none());
         let behind = ShearedRay::new(Vec3::new(0.2, 0.3, 2.0), Vec3::Z).unwrap();
         assert!(behind.intersect(P0, P1, P2, f32::INFINITY).is_none());
@@ -154,7 +168,10 @@ mod tests {
             let r = ShearedRay::new(o, target - o).unwrap();
             let hit1 = r.intersect(a, c, b, f32::INFINITY);
             let hit2 = r.intersect(a, b, d, f32::INFINITY);
-            assert!(hit1.is_some() || hit2.is_some(), "leak at {target:?} from {o:?}");
+            assert!(
+                hit1.is_some() || hit2.is_some(),
+                "leak at {target:?} from {o:?}"
+            );
         }
     }
 }
