@@ -134,11 +134,6 @@ impl SigmoidFitter {
         (rgb, DMat3::from_cols(j0, j1, j2))
     }
 
-    /// RGB (linear, this space, lit by its white) of the reflectance σ(poly).
-    pub(crate) fn rgb_of(&self, poly: &SigmoidPolynomial) -> DVec3 {
-        Self::eval(&self.x, &self.w, poly.c).0
-    }
-
     /// Damped Newton iterations from `init` towards RGB(c) = `target`.
     fn newton(
         xs: &[f64],

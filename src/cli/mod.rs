@@ -1,0 +1,4 @@
+//! Command-line front ends; `main.rs` only parses and dispatches.
+
+pub mod color;
+mod color_report;
