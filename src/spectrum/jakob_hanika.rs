@@ -73,7 +73,7 @@ pub(crate) struct SigmoidFitter {
     x: Vec<f64>,
     /// RGB weight of each node.
     w: Vec<DVec3>,
-    /// The same, on a 5 nm grid (for building the table quickly).
+    /// The same, on a 10 nm grid (for building the table quickly).
     coarse_x: Vec<f64>,
     coarse_w: Vec<DVec3>,
 }
@@ -114,8 +114,8 @@ impl SigmoidFitter {
             (xs, ws)
         };
         let (x, w) = build(1.0);
-        // 5 nm intervals: the coarse rule only feeds the table, refinement uses the fine one.
-        let (coarse_x, coarse_w) = build(5.0);
+        // 10 nm intervals: the coarse rule only feeds the table, refinement uses the fine one.
+        let (coarse_x, coarse_w) = build(10.0);
         Self { x, w, coarse_x, coarse_w }
     }
 
@@ -134,11 +134,6 @@ impl SigmoidFitter {
         (rgb, DMat3::from_cols(j0, j1, j2))
     }
 
-    /// RGB (linear, this space, lit by its white) of the reflectance σ(poly).
-    pub(crate) fn rgb_of(&self, poly: &SigmoidPolynomial) -> DVec3 {
-        Self::eval(&self.x, &self.w, poly.c).0
-    }
-
     /// Damped Newton iterations from `init` towards RGB(c) = `target`.
     fn newton(
         xs: &[f64],
@@ -151,6 +146,7 @@ impl SigmoidFitter {
         let mut c = init;
         let (mut rgb, mut jac) = Self::eval(xs, ws, c);
         let mut err = (rgb - target).abs().max_element();
+        let mut stalled = 0;
         for _ in 0..iters {
             if err < tolerance {
                 break;
@@ -165,11 +161,14 @@ impl SigmoidFitter {
             // Backtrack until the residual decreases (keeps the sigmoid out of saturation).
             let mut step = 1.0;
             let mut improved = false;
-            for _ in 0..30 {
+            for _ in 0..12 {
                 let cand = [c[0] + step * delta.x, c[1] + step * delta.y, c[2] + step * delta.z];
                 let (r2, j2) = Self::eval(xs, ws, cand);
                 let e2 = (r2 - target).abs().max_element();
                 if e2 < err {
+                    // Out-of-gamut targets creep towards the boundary forever: give up
+                    // after three steps that gain less than 1 %.
+                    stalled = if e2 > 0.99 * err { stalled + 1 } else { 0 };
                     c = cand;
                     rgb = r2;
                     jac = j2;
@@ -179,7 +178,7 @@ impl SigmoidFitter {
                 }
                 step *= 0.5;
             }
-            if !improved {
+            if !improved || stalled >= 3 {
                 break;
             }
         }
@@ -214,7 +213,7 @@ impl SigmoidFitter {
     }
 
     fn fit_coarse(&self, target: DVec3, init: [f64; 3]) -> [f64; 3] {
-        Self::newton(&self.coarse_x, &self.coarse_w, target, init, 30, 1e-5).poly.c
+        Self::newton(&self.coarse_x, &self.coarse_w, target, init, 15, 1e-5).poly.c
     }
 }
 
@@ -347,14 +346,11 @@ mod tests {
     #[test]
     #[ignore = "timing probe: cargo test --no-default-features --lib table_build_time -- --ignored --nocapture"]
     fn table_build_time() {
-        let cs = ColorSpace::srgb();
-        let t0 = std::time::Instant::now();
-        let f = cs.fitter();
-        println!("fitter {:?}", t0.elapsed());
-        for res in [8, 16, 24] {
+        for n in ColorSpace::names() {
+            let f = ColorSpace::by_name(n).unwrap().fitter();
             let t0 = std::time::Instant::now();
-            let _ = RgbToSpectrumTable::build(f, res);
-            println!("res {res}: {:?}", t0.elapsed());
+            let _ = RgbToSpectrumTable::build(f, 16);
+            println!("{n} res 16: {:?}", t0.elapsed());
         }
     }
 

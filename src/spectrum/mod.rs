@@ -10,6 +10,7 @@ mod illuminant;
 mod jakob_hanika;
 pub mod projection;
 mod rgb_spectrum;
+pub mod roundtrip;
 mod sampled;
 pub mod smits;
 mod spd;

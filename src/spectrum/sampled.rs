@@ -336,4 +336,104 @@ mod tests {
         assert!((before - (LAMBDA_MAX - LAMBDA_MIN)).abs() < 1e-3);
         assert!((after - before).abs() < 1e-3, "{before} vs {after}");
     }
+
+    #[test]
+    fn visible_pdf_integrates_to_one_and_matches_pbrt() {
+        let n = 47_000;
+        let h = (LAMBDA_MAX - LAMBDA_MIN) as f64 / n as f64;
+        let mut s = 0.0;
+        for i in 0..n {
+            s += visible_wavelength_pdf(LAMBDA_MIN + (i as f64 + 0.5) as f32 * h as f32) as f64 * h;
+        }
+        assert!((s - 1.0).abs() < 1e-5, "{s}");
+        // pbrt-v4's rounded constants: 0.0039398042 / cosh²(0.0072 (λ − 538)).
+        let p = visible_wavelength_pdf(538.0);
+        assert!((p - 0.003_939_804).abs() < 2e-6 * 0.0039, "{p}");
+        assert_eq!(visible_wavelength_pdf(359.0), 0.0);
+        // pbrt: 538 − 138.888889 atanh(0.85691062 − 1.82750197 u).
+        for u in [0.1f32, 0.5, 0.9] {
+            let want = 538.0 - 138.888_89 * (0.856_910_6f64 - 1.827_502 * u as f64).atanh();
+            assert!((sample_visible_wavelength(u) as f64 - want).abs() < 0.05);
+        }
+    }
+
+    /// Pearson χ² of `n` draws of `sample(u)` against `pdf` over `bins` equal bins of
+    /// [360, 830]; returns (statistic, degrees of freedom).
+    fn chi2(sample: impl Fn(f32) -> f32, pdf: impl Fn(f32) -> f32, bins: usize, n: usize) -> (f64, usize) {
+        let mut rng = crate::sampling::Rng::new(7, 3);
+        let mut counts = vec![0u64; bins];
+        let w = (LAMBDA_MAX - LAMBDA_MIN) as f64 / bins as f64;
+        for _ in 0..n {
+            let l = sample(rng.uniform()) as f64;
+            let b = (((l - LAMBDA_MIN as f64) / w) as usize).min(bins - 1);
+            counts[b] += 1;
+        }
+        let mut stat = 0.0;
+        for (b, &c) in counts.iter().enumerate() {
+            // Expected count: ∫ pdf over the bin by a fine midpoint rule.
+            let lo = LAMBDA_MIN as f64 + b as f64 * w;
+            let m = 64;
+            let p: f64 = (0..m).map(|k| pdf((lo + (k as f64 + 0.5) * w / m as f64) as f32) as f64).sum::<f64>() * w / m as f64;
+            let e = p * n as f64;
+            stat += (c as f64 - e).powi(2) / e;
+        }
+        (stat, bins - 1)
+    }
+
+    #[test]
+    fn visible_sampling_passes_chi2() {
+        // α = 0.01 critical value of χ²(79) is 111.1 (Wilson–Hilferty: k(1 − 2/9k + z√(2/9k))³
+        // with z = 2.326 gives 111.2).
+        let (stat, dof) = chi2(sample_visible_wavelength, visible_wavelength_pdf, 80, 1_000_000);
+        assert_eq!(dof, 79);
+        assert!(stat < 111.1, "χ² = {stat}");
+        // The test has power: uniform samples against the visible pdf fail it badly.
+        let (bad, _) = chi2(|u| LAMBDA_MIN + u * (LAMBDA_MAX - LAMBDA_MIN), visible_wavelength_pdf, 80, 100_000);
+        assert!(bad > 1000.0, "{bad}");
+    }
+
+    #[test]
+    fn sampled_xyz_is_unbiased() {
+        // E[to_xyz] = exact XYZ for D65 with both samplers; 4σ from the sample variance.
+        let d65 = crate::spectrum::Spectrum::named("stdillum-D65").unwrap();
+        let exact = d65.to_xyz_f64();
+        for visible in [false, true] {
+            let mut rng = crate::sampling::Rng::new(11, visible as u64);
+            let n = 200_000;
+            let (mut sum, mut sq) = (glam::DVec3::ZERO, glam::DVec3::ZERO);
+            for _ in 0..n {
+                let u = rng.uniform();
+                let w = if visible { SampledWavelengths::sample_visible(u) } else { SampledWavelengths::sample_uniform(u) };
+                let v = d65.sample(&w).to_xyz(&w).as_dvec3();
+                assert!((d65.sample(&w).y(&w) as f64 - v.y).abs() < 1e-6);
+                sum += v;
+                sq += v * v;
+            }
+            let mean = sum / n as f64;
+            let se = ((sq / n as f64 - mean * mean) / n as f64).powf(0.5);
+            let z = (mean - exact).abs() / se;
+            assert!(z.max_element() < 4.0, "visible={visible} mean {mean} exact {exact} se {se}");
+            assert!(se.y < 2e-3);
+        }
+    }
+
+    #[test]
+    fn constant_one_has_unit_luminance_in_expectation() {
+        let mut rng = crate::sampling::Rng::new(5, 0);
+        let n = 100_000;
+        let (mut s, mut s2) = (0.0f64, 0.0f64);
+        for _ in 0..n {
+            let w = SampledWavelengths::sample_visible(rng.uniform());
+            let y = SampledSpectrum::one().y(&w) as f64;
+            s += y;
+            s2 += y * y;
+        }
+        let mean = s / n as f64;
+        let se = ((s2 / n as f64 - mean * mean) / n as f64).sqrt();
+        assert!((mean - 1.0).abs() < 4.0 * se, "{mean} ± {se}");
+        // Terminated secondaries are skipped, not divided by zero.
+        let mut w = SampledWavelengths::sample_visible(0.3);
+        w.terminate_secondary();
+        assert!(SampledSpectrum::one().to_xyz(&w).is_finite());
+    }
 }
