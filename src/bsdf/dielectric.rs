@@ -25,7 +25,11 @@ pub struct Dielectric {
 impl Dielectric {
     /// An interface with relative IOR `eta` (non-positive or non-finite values become 1).
     pub fn new(eta: f32, distrib: TrowbridgeReitz) -> Self {
-        let eta = if eta.is_finite() && eta > 0.0 { eta } else { 1.0 };
+        let eta = if eta.is_finite() && eta > 0.0 {
+            eta
+        } else {
+            1.0
+        };
         Self { eta, distrib }
     }
 
@@ -82,25 +86,35 @@ impl Dielectric {
 
     /// Chooses reflection with probability F, refraction with 1 − F.
     pub fn sample_f(&self, wo: Vec3, uc: f32, u: Vec2, mode: TransportMode) -> Option<BsdfSample> {
+        if wo.z == 0.0 {
+            return None;
+        }
         if self.is_smooth() {
             let r = fr_dielectric(cos_theta(wo), self.eta);
             let t = 1.0 - r;
             if uc < r / (r + t) {
                 let wi = Vec3::new(-wo.x, -wo.y, wo.z);
                 let f = SampledSpectrum::splat(r / abs_cos_theta(wi));
-                return Some(BsdfSample::new(f, wi, r / (r + t), BxdfFlags::SPECULAR_REFLECTION));
+                return Some(BsdfSample::new(
+                    f,
+                    wi,
+                    r / (r + t),
+                    BxdfFlags::SPECULAR_REFLECTION,
+                ));
             }
             let (wi, etap) = refract(wo, Vec3::Z, self.eta)?;
             let mut ft = t / abs_cos_theta(wi);
             if mode == TransportMode::Radiance {
                 ft /= etap * etap;
             }
-            let mut s = BsdfSample::new(SampledSpectrum::splat(ft), wi, t / (r + t), BxdfFlags::SPECULAR_TRANSMISSION);
+            let mut s = BsdfSample::new(
+                SampledSpectrum::splat(ft),
+                wi,
+                t / (r + t),
+                BxdfFlags::SPECULAR_TRANSMISSION,
+            );
             s.eta = etap;
             return Some(s);
-        }
-        if wo.z == 0.0 {
-            return None;
         }
         let wm = self.distrib.sample_wm(wo, u);
         let r = fr_dielectric(wo.dot(wm), self.eta);
@@ -111,11 +125,17 @@ impl Dielectric {
                 return None;
             }
             let pdf = self.distrib.pdf(wo, wm) / (4.0 * wo.dot(wm).abs()) * r / (r + t);
-            let f = self.distrib.d(wm) * self.distrib.g(wo, wi) * r / (4.0 * cos_theta(wi) * cos_theta(wo)).abs();
+            let f = self.distrib.d(wm) * self.distrib.g(wo, wi) * r
+                / (4.0 * cos_theta(wi) * cos_theta(wo)).abs();
             if !(pdf > 0.0) {
                 return None;
             }
-            return Some(BsdfSample::new(SampledSpectrum::splat(f), wi, pdf, BxdfFlags::GLOSSY_REFLECTION));
+            return Some(BsdfSample::new(
+                SampledSpectrum::splat(f),
+                wi,
+                pdf,
+                BxdfFlags::GLOSSY_REFLECTION,
+            ));
         }
         let (wi, etap) = refract(wo, wm, self.eta)?;
         if same_hemisphere(wo, wi) || wi.z == 0.0 {
@@ -134,7 +154,12 @@ impl Dielectric {
         if !(pdf > 0.0) {
             return None;
         }
-        let mut s = BsdfSample::new(SampledSpectrum::splat(ft), wi, pdf, BxdfFlags::GLOSSY_TRANSMISSION);
+        let mut s = BsdfSample::new(
+            SampledSpectrum::splat(ft),
+            wi,
+            pdf,
+            BxdfFlags::GLOSSY_TRANSMISSION,
+        );
         s.eta = etap;
         Some(s)
     }
@@ -161,7 +186,11 @@ impl Dielectric {
 
     /// Lobes present.
     pub fn flags(&self) -> BxdfFlags {
-        let kind = if self.is_smooth() { BxdfFlags::SPECULAR } else { BxdfFlags::GLOSSY };
+        let kind = if self.is_smooth() {
+            BxdfFlags::SPECULAR
+        } else {
+            BxdfFlags::GLOSSY
+        };
         if self.eta == 1.0 {
             BxdfFlags::TRANSMISSION | kind
         } else {

@@ -30,20 +30,32 @@ struct Complex {
 
 impl Complex {
     fn add(self, o: Self) -> Self {
-        Self { re: self.re + o.re, im: self.im + o.im }
+        Self {
+            re: self.re + o.re,
+            im: self.im + o.im,
+        }
     }
     fn sub(self, o: Self) -> Self {
-        Self { re: self.re - o.re, im: self.im - o.im }
+        Self {
+            re: self.re - o.re,
+            im: self.im - o.im,
+        }
     }
     fn mul(self, o: Self) -> Self {
-        Self { re: self.re * o.re - self.im * o.im, im: self.re * o.im + self.im * o.re }
+        Self {
+            re: self.re * o.re - self.im * o.im,
+            im: self.re * o.im + self.im * o.re,
+        }
     }
     fn norm(self) -> f32 {
         self.re * self.re + self.im * self.im
     }
     fn div(self, o: Self) -> Self {
         let d = o.norm();
-        Self { re: (self.re * o.re + self.im * o.im) / d, im: (self.im * o.re - self.re * o.im) / d }
+        Self {
+            re: (self.re * o.re + self.im * o.im) / d,
+            im: (self.im * o.re - self.re * o.im) / d,
+        }
     }
     /// Principal square root.
     fn sqrt(self) -> Self {
@@ -56,7 +68,10 @@ impl Complex {
         if self.re >= 0.0 {
             Self { re: t1, im: t2 }
         } else {
-            Self { re: t2.abs(), im: t1.copysign(self.im) }
+            Self {
+                re: t2.abs(),
+                im: t1.copysign(self.im),
+            }
         }
     }
 }
@@ -67,7 +82,10 @@ pub fn fr_complex(cos_theta_i: f32, eta: f32, k: f32) -> f32 {
     let cos_i = cos_theta_i.clamp(0.0, 1.0);
     let eta_c = Complex { re: eta, im: k };
     let ci = Complex { re: cos_i, im: 0.0 };
-    let sin2_i = Complex { re: 1.0 - cos_i * cos_i, im: 0.0 };
+    let sin2_i = Complex {
+        re: 1.0 - cos_i * cos_i,
+        im: 0.0,
+    };
     let sin2_t = sin2_i.div(eta_c.mul(eta_c));
     let cos_t = Complex { re: 1.0, im: 0.0 }.sub(sin2_t).sqrt();
     let eci = eta_c.mul(ci);
@@ -78,7 +96,11 @@ pub fn fr_complex(cos_theta_i: f32, eta: f32, k: f32) -> f32 {
 }
 
 /// [`fr_complex`] at each of the four wavelengths.
-pub fn fr_complex_spectrum(cos_theta_i: f32, eta: SampledSpectrum, k: SampledSpectrum) -> SampledSpectrum {
+pub fn fr_complex_spectrum(
+    cos_theta_i: f32,
+    eta: SampledSpectrum,
+    k: SampledSpectrum,
+) -> SampledSpectrum {
     let mut out = SampledSpectrum::zero();
     for i in 0..4 {
         out[i] = fr_complex(cos_theta_i, eta[i], k[i]);
@@ -92,10 +114,24 @@ pub fn fr_complex_spectrum(cos_theta_i: f32, eta: SampledSpectrum, k: SampledSpe
 pub fn fr_dielectric_average(eta: f32) -> f32 {
     // Gauss–Legendre nodes/weights on [−1, 1] (Abramowitz & Stegun Table 25.4), positive half.
     const X: [f32; 8] = [
-        0.095_012_51, 0.281_603_55, 0.458_016_78, 0.617_876_24, 0.755_404_4, 0.865_631_2, 0.944_575_03, 0.989_400_9,
+        0.095_012_51,
+        0.281_603_55,
+        0.458_016_78,
+        0.617_876_24,
+        0.755_404_4,
+        0.865_631_2,
+        0.944_575_03,
+        0.989_400_9,
     ];
     const W: [f32; 8] = [
-        0.189_450_61, 0.182_603_42, 0.169_156_52, 0.149_595_99, 0.124_628_97, 0.095_158_51, 0.062_253_52, 0.027_152_46,
+        0.189_450_61,
+        0.182_603_42,
+        0.169_156_52,
+        0.149_595_99,
+        0.124_628_97,
+        0.095_158_51,
+        0.062_253_52,
+        0.027_152_46,
     ];
     let mut sum = 0.0;
     for (x, w) in X.iter().zip(W) {
@@ -118,14 +154,17 @@ mod tests {
         let crit = (1.0f32 - 1.0 / 2.25).sqrt(); // cos of the critical angle inside
         assert_eq!(fr_dielectric(-(crit - 0.01), 1.5), 1.0);
         assert!((fr_dielectric(0.0, 1.5) - 1.0).abs() < 1e-6);
-        assert_eq!(fr_dielectric(0.3, 1.0), 0.0);
+        assert!(fr_dielectric(0.3, 1.0) < 1e-6);
     }
 
     #[test]
     fn complex_reduces_to_dielectric_when_k_is_zero() {
         for i in 0..=20 {
             let c = i as f32 / 20.0;
-            assert!((fr_complex(c, 1.5, 0.0) - fr_dielectric(c, 1.5)).abs() < 1e-5, "{c}");
+            assert!(
+                (fr_complex(c, 1.5, 0.0) - fr_dielectric(c, 1.5)).abs() < 1e-5,
+                "{c}"
+            );
         }
         // Normal incidence: ((n−1)² + k²)/((n+1)² + k²). Gold-like n = 0.2, k = 3.
         let want = (0.64 + 9.0) / (1.44 + 9.0);

@@ -18,10 +18,11 @@ pub fn abs_cos_theta(w: Vec3) -> f32 {
 pub fn cos2_theta(w: Vec3) -> f32 {
     w.z * w.z
 }
-/// sin² θ.
+/// sin² θ of a unit vector, as x² + y²: exact near the pole, where 1 − cos²θ cancels
+/// catastrophically in f32 (a GGX lobe with α = 10⁻³ lives at sin²θ ~ 10⁻⁶).
 #[inline]
 pub fn sin2_theta(w: Vec3) -> f32 {
-    (1.0 - cos2_theta(w)).max(0.0)
+    (w.x * w.x + w.y * w.y).min(1.0)
 }
 /// tan² θ (∞ at the horizon).
 #[inline]
