@@ -15,6 +15,9 @@ struct Cli {
 enum Command {
     /// Render a pbrt-v4 scene (or the built-in Cornell box).
     Render(cli::render::RenderArgs),
+    /// Colour tools: XYZ of an SPD file, RGB→spectrum, basis projection (lecture: "Color").
+    #[command(subcommand)]
+    Color(cli::color::ColorCommand),
     /// Combine the .film parts of a split render (`render --part i/N`) into one image.
     Merge(cli::merge::MergeArgs),
     /// Measure radiometric quantities with the full integrator (mean ± standard error).
@@ -45,12 +48,13 @@ fn main() {
     static LOGGER: StderrLog = StderrLog;
     let _ = log::set_logger(&LOGGER).map(|_| log::set_max_level(log::LevelFilter::Warn));
     let cli = Cli::parse();
-    let result = match &cli.command {
-        Command::Render(a) => cli::render::run(a),
-        Command::Merge(a) => cli::merge::run(a),
-        Command::Measure(c) => cli::measure::run(c),
-        Command::Bench(a) => cli::bench::run(a),
-        Command::Compare(a) => cli::bench::compare(a),
+    let result = match cli.command {
+        Command::Render(a) => cli::render::run(&a),
+        Command::Color(c) => cli::color::run(c),
+        Command::Merge(a) => cli::merge::run(&a),
+        Command::Measure(c) => cli::measure::run(&c),
+        Command::Bench(a) => cli::bench::run(&a),
+        Command::Compare(a) => cli::bench::compare(&a),
     };
     if let Err(e) = result {
         // One line: the chain of causes joined by ": ".
