@@ -23,10 +23,13 @@ pub fn triangle_point(p: [Vec3; 3], b: [f32; 3]) -> (Vec3, Vec3) {
 
 /// Moves `p` (with per-axis error bound `p_err`) off the surface with normal `n` to the side of
 /// direction `w`, far enough that the rounding in `p` cannot put it back on the other side; then
-/// rounds each component one ulp further away.
+/// rounds each component one ulp further away. Unlike pbrt-v4, a zero error bound (a hit exactly
+/// on a vertex with exactly representable coordinates) still moves the point by one ulp, so the
+/// origin is never exactly on its own surface.
 #[inline]
 pub fn offset_ray_origin(p: Vec3, p_err: Vec3, n: Vec3, w: Vec3) -> Vec3 {
-    let d = n.abs().dot(p_err);
+    // The floor keeps every offset component with n[i] ≠ 0 nonzero (and normal, not denormal).
+    let d = n.abs().dot(p_err).max(1e-30);
     let mut offset = n * d;
     if w.dot(n) < 0.0 {
         offset = -offset;
@@ -42,24 +45,29 @@ pub fn offset_ray_origin(p: Vec3, p_err: Vec3, n: Vec3, w: Vec3) -> Vec3 {
     po
 }
 
-/// The next representable f32 above `v`.
+/// The next representable f32 above `v`. From ±0 it steps to the smallest *normal* float, since
+/// render threads run with flush-to-zero/denormals-are-zero and would read a denormal as 0.
 #[inline]
 pub fn next_float_up(v: f32) -> f32 {
     if v.is_infinite() && v > 0.0 {
         return v;
     }
-    let v = if v == -0.0 { 0.0 } else { v };
+    if v == 0.0 {
+        return f32::MIN_POSITIVE;
+    }
     let bits = v.to_bits();
     f32::from_bits(if v >= 0.0 { bits + 1 } else { bits - 1 })
 }
 
-/// The next representable f32 below `v`.
+/// The next representable f32 below `v` (from ±0: the most negative-small normal float).
 #[inline]
 pub fn next_float_down(v: f32) -> f32 {
     if v.is_infinite() && v < 0.0 {
         return v;
     }
-    let v = if v == 0.0 { -0.0 } else { v };
+    if v == 0.0 {
+        return -f32::MIN_POSITIVE;
+    }
     let bits = v.to_bits();
     f32::from_bits(if v > 0.0 { bits - 1 } else { bits + 1 })
 }
@@ -102,7 +110,7 @@ mod tests {
     #[test]
     fn next_float_steps_one_ulp() {
         assert!(next_float_up(1.0) > 1.0 && next_float_down(1.0) < 1.0);
-        assert_eq!(next_float_up(-0.0), f32::from_bits(1));
-        assert_eq!(next_float_down(0.0), -f32::from_bits(1));
+        assert_eq!(next_float_up(-0.0), f32::MIN_POSITIVE);
+        assert_eq!(next_float_down(0.0), -f32::MIN_POSITIVE);
     }
 }

@@ -112,6 +112,15 @@ pub const TEXTURES: &[&str] = &[
 /// pbrt-v4's built-in named spectra (file-format reference, "Spectra"); any other string
 /// given to a "spectrum" parameter is a file name.
 pub const NAMED_SPECTRA: &[&str] = &[
+    // prism's own additions (Sellmeier glasses, more measured metals).
+    "glass-diamond",
+    "glass-fused-silica",
+    "glass-water",
+    "metal-Cr-eta",
+    "metal-Cr-k",
+    "metal-Ti-eta",
+    "metal-Ti-k",
+    // pbrt-v4's names.
     "glass-BK7",
     "glass-BAF10",
     "glass-FK51A",

@@ -129,7 +129,19 @@ impl Ctx<'_> {
                 let (l, x): (Vec<f32>, Vec<f32>) = v.iter().copied().unzip();
                 Spectrum::piecewise_linear(&l, &x).ok_or("spectrum samples must have increasing wavelengths")?
             }
-            SpectrumParam::Named(n) => named_spectrum(n).ok_or_else(|| format!("unknown named spectrum \"{n}\""))?,
+            SpectrumParam::Named(n) => match named_spectrum(n) {
+                Some(s) => s,
+                None => {
+                    // A pbrt-v4 name whose data prism does not ship: substitute and say so.
+                    let sub = if n.starts_with("glass-") { "glass-BK7" } else { "metal-Al-eta" };
+                    let sub = if n.ends_with("-k") { "metal-Al-k" } else { sub };
+                    self.warnings.push(Warning {
+                        loc: params.iter().next().map(|p| p.loc.clone()).unwrap_or_else(|| self.desc.camera.directive.loc.clone()),
+                        message: format!("prism has no data for the named spectrum \"{n}\"; using \"{sub}\""),
+                    });
+                    named_spectrum(sub).ok_or("built-in spectrum missing")?
+                }
+            },
             SpectrumParam::File(p) => Spectrum::from_spd_file(p).map_err(|e| e.to_string())?,
         })
     }
