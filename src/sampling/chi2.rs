@@ -227,6 +227,8 @@ impl Chi2Test {
 
     /// ∫ pdf over every cell (probabilities, not yet scaled by N).
     fn integrate_cells(&self, pdf: &impl Fn(Vec3) -> f32) -> Vec<f64> {
+        // Cells expected to hold less than 0.01 samples need no accuracy at all.
+        let floor = 0.01 / self.sample_count.max(1) as f64;
         let mut out = Vec::with_capacity(self.theta_res * self.phi_res);
         match self.domain {
             Domain::Cap { axis, theta_max } => {
@@ -241,7 +243,7 @@ impl Chi2Test {
                 for iy in 0..self.theta_res {
                     for ix in 0..self.phi_res {
                         let (t0, p0) = (iy as f64 * dtheta, ix as f64 * dphi);
-                        out.push(simpson_2d(&f, t0, t0 + dtheta, p0, p0 + dphi));
+                        out.push(simpson_2d(&f, t0, t0 + dtheta, p0, p0 + dphi, floor));
                     }
                 }
             }
@@ -253,7 +255,7 @@ impl Chi2Test {
                     for ix in 0..self.phi_res {
                         let y0 = min.y as f64 + iy as f64 * dy;
                         let x0 = min.x as f64 + ix as f64 * dx;
-                        out.push(simpson_2d(&f, y0, y0 + dy, x0, x0 + dx));
+                        out.push(simpson_2d(&f, y0, y0 + dy, x0, x0 + dx, floor));
                     }
                 }
             }
@@ -316,19 +318,28 @@ fn pooled_statistic(
 }
 
 /// ∫∫ f(y, x) dx dy over a cell by nested adaptive Simpson quadrature.
-fn simpson_2d(f: &impl Fn(f64, f64) -> f64, y0: f64, y1: f64, x0: f64, x1: f64) -> f64 {
+/// `floor` is an absolute tolerance on the cell integral below which refinement stops.
+fn simpson_2d(f: &impl Fn(f64, f64) -> f64, y0: f64, y1: f64, x0: f64, x1: f64, floor: f64) -> f64 {
     // Relative tolerance 1e-3 of a cell's mass: far below the Poisson noise of any cell with
     // fewer than 10⁶ expected samples, yet cheap for smooth densities. Depth 9 (512 panels per
     // axis) resolves the near-singular grazing-transmission densities; only they go that deep.
-    let inner = |y: f64| simpson_adaptive(&|x| f(y, x), x0, x1, 1e-3, 9);
-    simpson_adaptive(&inner, y0, y1, 1e-3, 9)
+    let inner_floor = floor / (y1 - y0);
+    let inner = |y: f64| simpson_adaptive(&|x| f(y, x), x0, x1, 1e-3, inner_floor, 9);
+    simpson_adaptive(&inner, y0, y1, 1e-3, floor, 9)
 }
 
 /// Adaptive Simpson integration of `f` over [a, b] to a tolerance `eps` relative to the
 /// whole-interval estimate, at most `depth` halvings. The first two halvings are always made:
 /// a peak that falls between the five points of the coarse rule would otherwise fool its
 /// error estimate (it did for a GGX transmission lobe at the pole).
-fn simpson_adaptive(f: &dyn Fn(f64) -> f64, a: f64, b: f64, eps: f64, depth: u32) -> f64 {
+fn simpson_adaptive(
+    f: &dyn Fn(f64) -> f64,
+    a: f64,
+    b: f64,
+    eps: f64,
+    floor: f64,
+    depth: u32,
+) -> f64 {
     const MIN_LEVEL: u32 = 2;
     #[allow(clippy::too_many_arguments)]
     fn rec(
@@ -357,7 +368,7 @@ fn simpson_adaptive(f: &dyn Fn(f64) -> f64, a: f64, b: f64, eps: f64, depth: u32
     let inset = (b - a) * 1e-7;
     let (fa, fm, fb) = (f(a + inset), f(0.5 * (a + b)), f(b - inset));
     let whole = (b - a) / 6.0 * (fa + 4.0 * fm + fb);
-    let tol = eps * whole.abs().max(1e-12);
+    let tol = (eps * whole.abs()).max(floor).max(1e-300);
     rec(f, (a, b), (fa, fm, fb), whole, tol, 0, depth)
 }
 
@@ -453,9 +464,16 @@ mod tests {
 
     #[test]
     fn adaptive_simpson_handles_a_step() {
-        let v = simpson_adaptive(&|x| if x < 0.3 { 1.0 } else { 0.0 }, 0.0, 1.0, 1e-7, 12);
+        let v = simpson_adaptive(
+            &|x| if x < 0.3 { 1.0 } else { 0.0 },
+            0.0,
+            1.0,
+            1e-7,
+            0.0,
+            12,
+        );
         assert!((v - 0.3).abs() < 1e-3, "{v}");
-        let v = simpson_adaptive(&|x: f64| x.sin(), 0.0, std::f64::consts::PI, 1e-9, 10);
+        let v = simpson_adaptive(&|x: f64| x.sin(), 0.0, std::f64::consts::PI, 1e-9, 0.0, 10);
         assert!((v - 2.0).abs() < 1e-8);
     }
 }
