@@ -134,7 +134,7 @@ impl CoatedDiffuse {
             }
             let (wo_w, wi_w) = (unflip(wo_up), unflip(wi));
             let pdf = self.pdf(wo_w, wi_w, mode);
-            if !(pdf > 0.0) {
+            if pdf.is_nan() || pdf <= 0.0 {
                 return None;
             }
             return Some(BsdfSample::new(
@@ -150,7 +150,7 @@ impl CoatedDiffuse {
         }
         let (wo_w, wi_w) = (unflip(wo_up), unflip(wi));
         let pdf = self.pdf(wo_w, wi_w, mode);
-        if !(pdf > 0.0) {
+        if pdf.is_nan() || pdf <= 0.0 {
             return None;
         }
         Some(BsdfSample::new(

@@ -70,7 +70,7 @@ impl Conductor {
         }
         let pdf = self.distrib.pdf(wo, wm) / (4.0 * wo.dot(wm).abs());
         let (cos_o, cos_i) = (abs_cos_theta(wo), abs_cos_theta(wi));
-        if cos_i == 0.0 || cos_o == 0.0 || !(pdf > 0.0) {
+        if cos_i == 0.0 || cos_o == 0.0 || pdf.is_nan() || pdf <= 0.0 {
             return None;
         }
         let fr = fr_complex_spectrum(wo.dot(wm).abs(), self.eta, self.k);

@@ -127,7 +127,7 @@ impl Dielectric {
             let pdf = self.distrib.pdf(wo, wm) / (4.0 * wo.dot(wm).abs()) * r / (r + t);
             let f = self.distrib.d(wm) * self.distrib.g(wo, wi) * r
                 / (4.0 * cos_theta(wi) * cos_theta(wo)).abs();
-            if !(pdf > 0.0) {
+            if pdf.is_nan() || pdf <= 0.0 {
                 return None;
             }
             return Some(BsdfSample::new(
@@ -151,7 +151,7 @@ impl Dielectric {
         if mode == TransportMode::Radiance {
             ft /= etap * etap;
         }
-        if !(pdf > 0.0) {
+        if pdf.is_nan() || pdf <= 0.0 {
             return None;
         }
         let mut s = BsdfSample::new(

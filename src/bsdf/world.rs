@@ -70,7 +70,8 @@ impl Bsdf {
         }
         let mut s = self.bxdf.sample_f(wo_l, uc, u, mode)?;
         if s.f.is_black()
-            || !(s.pdf > 0.0)
+            || s.pdf.is_nan()
+            || s.pdf <= 0.0
             || s.wi.z == 0.0
             || !s.f.is_finite()
             || !s.pdf.is_finite()

@@ -176,7 +176,8 @@ impl Chi2Test {
             result.failure = Some(format!("pdf integrates to {pdf_integral} > 1"));
             return result;
         }
-        let (statistic, dof, bad) = pooled_statistic(&expected, &observed, self.min_expected, n);
+        let (statistic, dof, bad) =
+            pooled_statistic(&expected, &observed, self.min_expected, n, cells);
         result.statistic = statistic;
         result.dof = dof;
         if let Some(bad) = bad {
@@ -226,6 +227,8 @@ impl Chi2Test {
 
     /// ∫ pdf over every cell (probabilities, not yet scaled by N).
     fn integrate_cells(&self, pdf: &impl Fn(Vec3) -> f32) -> Vec<f64> {
+        // Cells expected to hold less than 0.01 samples need no accuracy at all.
+        let floor = 0.01 / self.sample_count.max(1) as f64;
         let mut out = Vec::with_capacity(self.theta_res * self.phi_res);
         match self.domain {
             Domain::Cap { axis, theta_max } => {
@@ -240,7 +243,7 @@ impl Chi2Test {
                 for iy in 0..self.theta_res {
                     for ix in 0..self.phi_res {
                         let (t0, p0) = (iy as f64 * dtheta, ix as f64 * dphi);
-                        out.push(simpson_2d(&f, t0, t0 + dtheta, p0, p0 + dphi));
+                        out.push(simpson_2d(&f, t0, t0 + dtheta, p0, p0 + dphi, floor));
                     }
                 }
             }
@@ -252,7 +255,7 @@ impl Chi2Test {
                     for ix in 0..self.phi_res {
                         let y0 = min.y as f64 + iy as f64 * dy;
                         let x0 = min.x as f64 + ix as f64 * dx;
-                        out.push(simpson_2d(&f, y0, y0 + dy, x0, x0 + dx));
+                        out.push(simpson_2d(&f, y0, y0 + dy, x0, x0 + dx, floor));
                     }
                 }
             }
@@ -263,12 +266,14 @@ impl Chi2Test {
 
 /// Pearson's statistic with cells of expected count < `min_expected` pooled into one
 /// (Mitsuba 3 `chi2.py`). Returns (statistic, dof, failure). A cell with expected count 0 but
-/// more than 10⁻⁵ N observations is a failure: the sampler produces what the pdf forbids.
+/// more than 10⁻⁵ N observations is a failure: the sampler produces what the pdf forbids
+/// (except `failure_cell`, whose expectation is a difference of integrals).
 fn pooled_statistic(
     expected: &[f64],
     observed: &[f64],
     min_expected: f64,
     n: f64,
+    failure_cell: usize,
 ) -> (f64, usize, Option<String>) {
     let mut order: Vec<usize> = (0..expected.len()).collect();
     order.sort_by(|&a, &b| expected[a].total_cmp(&expected[b]));
@@ -276,7 +281,9 @@ fn pooled_statistic(
     let (mut pool_e, mut pool_o) = (0.0f64, 0.0f64);
     for &i in &order {
         let (e, o) = (expected[i], observed[i]);
-        if e <= 0.0 {
+        // The failure/outside cell's expectation 1 − ∫pdf may round to 0 by quadrature error:
+        // it is pooled like any small cell instead.
+        if e <= 0.0 && i != failure_cell {
             if o > 1e-5 * n {
                 return (
                     stat,
@@ -311,25 +318,37 @@ fn pooled_statistic(
 }
 
 /// ∫∫ f(y, x) dx dy over a cell by nested adaptive Simpson quadrature.
-fn simpson_2d(f: &impl Fn(f64, f64) -> f64, y0: f64, y1: f64, x0: f64, x1: f64) -> f64 {
+/// `floor` is an absolute tolerance on the cell integral below which refinement stops.
+fn simpson_2d(f: &impl Fn(f64, f64) -> f64, y0: f64, y1: f64, x0: f64, x1: f64, floor: f64) -> f64 {
     // Relative tolerance 1e-3 of a cell's mass: far below the Poisson noise of any cell with
-    // fewer than 10⁶ expected samples, yet cheap for smooth densities.
-    let inner = |y: f64| simpson_adaptive(&|x| f(y, x), x0, x1, 1e-3, 6);
-    simpson_adaptive(&inner, y0, y1, 1e-3, 6)
+    // fewer than 10⁶ expected samples, yet cheap for smooth densities. Depth 9 (512 panels per
+    // axis) resolves the near-singular grazing-transmission densities; only they go that deep.
+    let inner_floor = floor / (y1 - y0);
+    let inner = |y: f64| simpson_adaptive(&|x| f(y, x), x0, x1, 1e-3, inner_floor, 9);
+    simpson_adaptive(&inner, y0, y1, 1e-3, floor, 9)
 }
 
-/// Adaptive Simpson integration of `f` over [a, b] to absolute tolerance `eps`
-/// (relative to the magnitude of the whole-interval estimate), at most `depth` halvings.
-fn simpson_adaptive(f: &dyn Fn(f64) -> f64, a: f64, b: f64, eps: f64, depth: u32) -> f64 {
+/// Adaptive Simpson integration of `f` over [a, b] to a tolerance `eps` relative to the
+/// whole-interval estimate, at most `depth` halvings. The first two halvings are always made:
+/// a peak that falls between the five points of the coarse rule would otherwise fool its
+/// error estimate (it did for a GGX transmission lobe at the pole).
+fn simpson_adaptive(
+    f: &dyn Fn(f64) -> f64,
+    a: f64,
+    b: f64,
+    eps: f64,
+    floor: f64,
+    depth: u32,
+) -> f64 {
+    const MIN_LEVEL: u32 = 2;
+    #[allow(clippy::too_many_arguments)]
     fn rec(
         f: &dyn Fn(f64) -> f64,
-        a: f64,
-        b: f64,
-        fa: f64,
-        fm: f64,
-        fb: f64,
+        (a, b): (f64, f64),
+        (fa, fm, fb): (f64, f64, f64),
         whole: f64,
         eps: f64,
+        level: u32,
         depth: u32,
     ) -> f64 {
         let m = 0.5 * (a + b);
@@ -338,16 +357,19 @@ fn simpson_adaptive(f: &dyn Fn(f64) -> f64, a: f64, b: f64, eps: f64, depth: u32
         let left = (m - a) / 6.0 * (fa + 4.0 * flm + fm);
         let right = (b - m) / 6.0 * (fm + 4.0 * frm + fb);
         let delta = left + right - whole;
-        if depth == 0 || delta.abs() <= 15.0 * eps {
+        if level >= depth || (level >= MIN_LEVEL && delta.abs() <= 15.0 * eps) {
             return left + right + delta / 15.0;
         }
-        rec(f, a, m, fa, flm, fm, left, 0.5 * eps, depth - 1)
-            + rec(f, m, b, fm, frm, fb, right, 0.5 * eps, depth - 1)
+        rec(f, (a, m), (fa, flm, fm), left, 0.5 * eps, level + 1, depth)
+            + rec(f, (m, b), (fm, frm, fb), right, 0.5 * eps, level + 1, depth)
     }
-    let (fa, fm, fb) = (f(a), f(0.5 * (a + b)), f(b));
+    // Cell edges are evaluated a hair inside: a density discontinuous exactly on an edge (the
+    // horizon between reflection and transmission) must take the value of this cell's side.
+    let inset = (b - a) * 1e-7;
+    let (fa, fm, fb) = (f(a + inset), f(0.5 * (a + b)), f(b - inset));
     let whole = (b - a) / 6.0 * (fa + 4.0 * fm + fb);
-    let tol = eps * whole.abs().max(1e-12);
-    rec(f, a, b, fa, fm, fb, whole, tol, depth)
+    let tol = (eps * whole.abs()).max(floor).max(1e-300);
+    rec(f, (a, b), (fa, fm, fb), whole, tol, 0, depth)
 }
 
 /// P(X ≥ x) for X ~ χ²(k): the regularized upper incomplete gamma function Q(k/2, x/2).
@@ -442,9 +464,16 @@ mod tests {
 
     #[test]
     fn adaptive_simpson_handles_a_step() {
-        let v = simpson_adaptive(&|x| if x < 0.3 { 1.0 } else { 0.0 }, 0.0, 1.0, 1e-7, 12);
+        let v = simpson_adaptive(
+            &|x| if x < 0.3 { 1.0 } else { 0.0 },
+            0.0,
+            1.0,
+            1e-7,
+            0.0,
+            12,
+        );
         assert!((v - 0.3).abs() < 1e-3, "{v}");
-        let v = simpson_adaptive(&|x: f64| x.sin(), 0.0, std::f64::consts::PI, 1e-9, 10);
+        let v = simpson_adaptive(&|x: f64| x.sin(), 0.0, std::f64::consts::PI, 1e-9, 0.0, 10);
         assert!((v - 2.0).abs() < 1e-8);
     }
 }

@@ -5,12 +5,15 @@
 
 mod tables;
 
+/// A measured spectrum: (wavelength [nm], value) pairs sorted by wavelength.
+pub type SpectrumTable = &'static [(f32, f32)];
+
 /// Metals available, by chemical symbol.
 pub const METALS: &[&str] = &["Ag", "Al", "Au", "Cr", "Cu", "Ti"];
 
 /// (η, k) tables of a metal by symbol ("Cu") or pbrt-v4 spectrum name ("metal-Cu-eta" or
 /// "metal-Cu-k": either selects the pair).
-pub fn metal_eta_k(name: &str) -> Option<(&'static [(f32, f32)], &'static [(f32, f32)])> {
+pub fn metal_eta_k(name: &str) -> Option<(SpectrumTable, SpectrumTable)> {
     let symbol = name
         .strip_prefix("metal-")
         .map(|s| {
@@ -31,7 +34,7 @@ pub fn metal_eta_k(name: &str) -> Option<(&'static [(f32, f32)], &'static [(f32,
 }
 
 /// The single table named by a pbrt-v4 spectrum name, e.g. "metal-Au-k".
-pub fn named_spectrum(name: &str) -> Option<&'static [(f32, f32)]> {
+pub fn named_spectrum(name: &str) -> Option<SpectrumTable> {
     let (eta, k) = metal_eta_k(name)?;
     if name.ends_with("-eta") {
         Some(eta)

@@ -152,9 +152,14 @@ fn single_scattering_microfacet_loss_is_measured() {
             }
         }
     }
-    // Known magnitude: ≈ 0.4–0.6 at α = 1 and normal incidence for F = 1 (Heitz et al. 2016 Fig. 1;
-    // Kulla & Conty 2017): well above noise, far from total.
-    assert!(prev_loss > 0.2 && prev_loss < 0.7, "{prev_loss}");
+    // Closed form at α = 1, normal incidence, F = 1: D = 1/π, ωi = reflect(z, ωm) at θi = 2θm,
+    // Λ(ωi) = (1/cos θi − 1)/2, so albedo = ∫₀^{π/4} 2 cos θ sin θ / (1 + Λ(2θ)) dθ = 1 − ln 2.
+    let (m1, s1) = albedo(&perfect(1.0), dir(0.0), N, 9);
+    let exact = 1.0 - std::f64::consts::LN_2;
+    assert!(
+        (m1 - exact).abs() < 4.0 * s1 + 1e-4,
+        "{m1} ± {s1} vs 1 − ln 2 = {exact}"
+    );
     eprintln!("{report}");
 }
 

@@ -61,10 +61,6 @@ pub(super) fn rough_models(alphas: &[f32]) -> Vec<(String, Bxdf)> {
             Dielectric::new(1.5, ggx(a)).into(),
         ));
         v.push((
-            format!("dielectric η=1/1.33 α={a}"),
-            Dielectric::new(1.0 / 1.33, ggx(a)).into(),
-        ));
-        v.push((
             format!("coated α={a}"),
             CoatedDiffuse::new(spectrum(0.2, 0.5, 0.7, 0.9), 1.5, ggx(a)).into(),
         ));

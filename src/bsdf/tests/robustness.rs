@@ -104,3 +104,21 @@ fn flags_describe_the_lobes() {
         .flags()
         .is_empty());
 }
+
+#[test]
+fn world_bsdf_sampling_matches_its_pdf_in_a_tilted_frame() {
+    use crate::sampling::chi2::Chi2Test;
+    let ns = Vec3::new(0.3, -0.5, 0.81).normalize();
+    let bxdf = Bxdf::from(Dielectric::new(1.5, ggx(0.3)));
+    let b = Bsdf::new(ns, Vec3::new(1.0, 0.2, 0.0), ns, bxdf);
+    let wo = Vec3::new(-0.2, 0.7, 0.4).normalize();
+    let t = Chi2Test {
+        sample_count: 300_000,
+        ..Chi2Test::default()
+    };
+    let r = t.run(
+        |uc, u| b.sample_f(wo, uc, u, TransportMode::Radiance).map(|s| s.wi),
+        |wi| b.pdf(wo, wi, TransportMode::Radiance),
+    );
+    assert!(r.passed, "{r}");
+}
