@@ -146,13 +146,14 @@ fn roundtrip_section(out: &mut String) {
         );
     }
     let _ = writeln!(out, "\n### 16³ grid over [0, 1]³ per colour space (max abs / RMS)\n");
+    let _ = writeln!(out, "Cells: max abs / RMS / share of points with max abs < 1e-3.\n");
     let _ = writeln!(out, "| space | JH prism | JH table only | Smits |");
     let _ = writeln!(out, "|---|---|---|---|");
     for n in ColorSpace::names() {
         let Some(cs) = ColorSpace::by_name(n) else { continue };
         let cell = |m| {
-            let (max, rms) = grid_errors(16, m, cs);
-            format!("{max:.1e} / {rms:.1e}")
+            let e = grid_errors(16, m, cs);
+            format!("{:.1e} / {:.1e} / {:.1}%", e.max, e.rms, 100.0 * e.within_1e3)
         };
         let _ = writeln!(
             out,
@@ -164,10 +165,13 @@ fn roundtrip_section(out: &mut String) {
     }
     let _ = writeln!(
         out,
-        "\nsRGB and P3 lie inside the object-colour solid, so the refined error is the optimiser's.\n\
-         Rec.2020 and the ACES spaces contain saturated colours no reflectance in [0, 1] can\n\
-         produce (their primaries lie near or beyond the spectral locus); there the fit ends at\n\
-         the closest sigmoid and the max error measures that distance, not a defect.\n"
+        "\nThe sRGB cube lies inside the set of colours reflectances in [0, 1] can have under D65\n\
+         (the object-colour solid), so there the refined error is the optimiser's. The wider\n\
+         spaces contain saturated colours that no such reflectance (or at least no sigmoid\n\
+         polynomial) reaches (P3's green corner,\n\
+         much of Rec.2020 and ACES, whose AP0 primaries lie beyond the spectral locus): there\n\
+         the fit stops at the nearest sigmoid and the error measures that distance. Such\n\
+         colours need `RgbKind::Unbounded` (values above 1).\n"
     );
 }
 

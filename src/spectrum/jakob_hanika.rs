@@ -78,6 +78,17 @@ pub(crate) struct SigmoidFitter {
     coarse_w: Vec<DVec3>,
 }
 
+/// Max abs component of `rgb − target`; infinite if anything is NaN (glam's `max_element`
+/// would skip a NaN and let a broken state look good).
+fn residual(rgb: DVec3, target: DVec3) -> f64 {
+    let d = (rgb - target).abs();
+    if d.is_finite() {
+        d.max_element()
+    } else {
+        f64::INFINITY
+    }
+}
+
 /// Result of one fit.
 #[derive(Clone, Copy, Debug)]
 pub struct Fit {
@@ -145,7 +156,7 @@ impl SigmoidFitter {
     ) -> Fit {
         let mut c = init;
         let (mut rgb, mut jac) = Self::eval(xs, ws, c);
-        let mut err = (rgb - target).abs().max_element();
+        let mut err = residual(rgb, target);
         let mut stalled = 0;
         for _ in 0..iters {
             if err < tolerance {
@@ -164,7 +175,7 @@ impl SigmoidFitter {
             for _ in 0..12 {
                 let cand = [c[0] + step * delta.x, c[1] + step * delta.y, c[2] + step * delta.z];
                 let (r2, j2) = Self::eval(xs, ws, cand);
-                let e2 = (r2 - target).abs().max_element();
+                let e2 = residual(r2, target);
                 if e2 < err {
                     // Out-of-gamut targets creep towards the boundary forever: give up
                     // after three steps that gain less than 1 %.

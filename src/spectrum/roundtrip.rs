@@ -42,20 +42,40 @@ pub fn roundtrip(rgb: [f64; 3], method: Upsampler, cs: &ColorSpace) -> DVec3 {
     reflectance_rgb(&method.reflectance(rgb, cs), cs)
 }
 
-/// (max abs, RMS) linear-RGB error of the round trip over the `n`³ grid on [0, 1]³.
-pub fn grid_errors(n: usize, method: Upsampler, cs: &ColorSpace) -> (f64, f64) {
+/// Round-trip errors over a grid.
+#[derive(Clone, Copy, Debug)]
+pub struct GridErrors {
+    /// Largest max-abs-component error (NaN counts as infinite).
+    pub max: f64,
+    /// RMS over all components.
+    pub rms: f64,
+    /// Fraction of grid points with max abs error below 1e-3.
+    pub within_1e3: f64,
+}
+
+/// Linear-RGB round-trip errors over the `n`³ grid on [0, 1]³.
+pub fn grid_errors(n: usize, method: Upsampler, cs: &ColorSpace) -> GridErrors {
     let n = n.max(2);
     let errs: Vec<(f64, f64)> = (0..n * n * n)
         .into_par_iter()
         .map(|k| {
             let c = [k % n, (k / n) % n, k / (n * n)].map(|i| i as f64 / (n - 1) as f64);
             let d = roundtrip(c, method, cs) - DVec3::from_array(c);
-            (d.abs().max_element(), d.length_squared())
+            if d.is_finite() {
+                (d.abs().max_element(), d.length_squared())
+            } else {
+                (f64::INFINITY, f64::INFINITY)
+            }
         })
         .collect();
     let max = errs.iter().map(|e| e.0).fold(0.0, f64::max);
     let rms = (errs.iter().map(|e| e.1).sum::<f64>() / (3 * errs.len()) as f64).sqrt();
-    (max, rms)
+    let within = errs.iter().filter(|e| e.0 < 1e-3).count() as f64 / errs.len() as f64;
+    GridErrors {
+        max,
+        rms,
+        within_1e3: within,
+    }
 }
 
 #[cfg(test)]
@@ -64,8 +84,8 @@ mod tests {
 
     #[test]
     fn jakob_hanika_grid_roundtrip_below_1e3() {
-        let (max, rms) = grid_errors(16, Upsampler::JakobHanika, ColorSpace::srgb());
-        assert!(max < 1e-3, "max {max} rms {rms}");
+        let e = grid_errors(16, Upsampler::JakobHanika, ColorSpace::srgb());
+        assert!(e.max < 1e-3, "{e:?}");
     }
 
     #[test]
@@ -78,6 +98,19 @@ mod tests {
             for rgb in [[0.6, 0.2, 0.5], [0.7, 0.5, 0.2], [0.3, 0.6, 0.3], [0.2, 0.3, 0.7]] {
                 let e = (roundtrip(rgb, Upsampler::JakobHanika, cs) - DVec3::from_array(rgb)).abs();
                 assert!(e.max_element() < 1e-3, "{n} {rgb:?} {e}");
+            }
+        }
+    }
+
+    #[test]
+    fn wide_gamut_spectra_stay_finite_and_bounded() {
+        // Colours no reflectance reaches still give a finite spectrum in [0, 1].
+        let cs = ColorSpace::by_name("aces2065-1").unwrap();
+        for rgb in [[0.0, 1.0, 0.0], [0.0, 0.0, 1.0], [1.0, 0.0, 0.0], [0.0, 1.0, 1.0]] {
+            let s = Spectrum::from_rgb(rgb, RgbKind::Albedo, cs);
+            for l in (360..=830).step_by(10) {
+                let v = s.eval(l as f32);
+                assert!(v.is_finite() && (0.0..=1.0).contains(&v), "{rgb:?} {l} {v}");
             }
         }
     }
