@@ -19,7 +19,7 @@ pub struct RenderArgs {
     /// pbrt-v4 scene file; without one, the built-in Cornell box.
     pub scene: Option<PathBuf>,
     /// Samples per pixel.
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub spp: Option<i64>,
     /// Intersection backend: embree or obvhs.
     #[arg(long)]
@@ -34,7 +34,7 @@ pub struct RenderArgs {
     #[arg(long)]
     pub seed: Option<u64>,
     /// Image size as WxH.
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     pub resolution: Option<String>,
     /// Write timing figures as JSON to this file.
     #[arg(long)]

@@ -23,13 +23,17 @@ pub fn triangle_point(p: [Vec3; 3], b: [f32; 3]) -> (Vec3, Vec3) {
 
 /// Moves `p` (with per-axis error bound `p_err`) off the surface with normal `n` to the side of
 /// direction `w`, far enough that the rounding in `p` cannot put it back on the other side; then
-/// rounds each component one ulp further away. Unlike pbrt-v4, a zero error bound (a hit exactly
-/// on a vertex with exactly representable coordinates) still moves the point by one ulp, so the
-/// origin is never exactly on its own surface.
+/// rounds each component one ulp further away.
+///
+/// pbrt-v4 offsets by |n|·δp with the per-axis bound δp. That is enough for an intersector that
+/// evaluates the plane in the same axes, but Embree's arithmetic mixes the axes (on the Cornell
+/// box's wall at x = 0, δp.x = 0 while y, z carry errors of 1e-4), and it then re-hits the
+/// surface at t ≈ 1e-38. So the bound is treated as isotropic: |n|₁ · max(δp). A zero bound (a
+/// hit exactly on a representable vertex) still moves the point by one ulp.
 #[inline]
 pub fn offset_ray_origin(p: Vec3, p_err: Vec3, n: Vec3, w: Vec3) -> Vec3 {
     // The floor keeps every offset component with n[i] ≠ 0 nonzero (and normal, not denormal).
-    let d = n.abs().dot(p_err).max(1e-30);
+    let d = (n.abs().element_sum() * p_err.max_element()).max(1e-30);
     let mut offset = n * d;
     if w.dot(n) < 0.0 {
         offset = -offset;
