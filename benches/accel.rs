@@ -1,6 +1,7 @@
 //! Ray-intersection benchmarks: BVH build time and rays/s for coherent (camera) and incoherent
 //! (random) rays over a ~1M-triangle scene, on one thread and on all cores.
 //!
+//! Embree is also measured through raw `rtcIntersect1` calls (the wrapper-overhead baseline).
 //! Backends plug in through [`bench_backend`] with a builder returning `Box<dyn Accel>`; add a line
 //! in `benches` for each. `PRISM_BENCH_SCALE` (default 1.0) scales the triangle count for quick
 //! smoke runs, e.g. `PRISM_BENCH_SCALE=0.05 cargo bench --no-default-features --bench accel`.
@@ -122,8 +123,31 @@ pub fn bench_backend(
     g.finish();
 }
 
+/// The Embree wrapper against raw `rtcIntersect1` on the same rays (one thread): the wrapper's
+/// overhead is the ratio of the two.
+#[cfg(feature = "embree")]
+fn bench_embree_raw(c: &mut Criterion, meshes: &[Mesh]) {
+    let accel = prism::accel::embree::EmbreeAccel::new(meshes).expect("embree device");
+    let sets = [("coherent", coherent_rays()), ("incoherent", incoherent_rays(&accel))];
+    let mut g = c.benchmark_group("embree-raw/rays");
+    g.sample_size(10);
+    g.throughput(Throughput::Elements(RAYS as u64));
+    for (kind, rays) in &sets {
+        g.bench_function(format!("intersect/{kind}/1thread"), |b| b.iter(|| accel.raw_trace_count(rays)));
+    }
+    g.finish();
+}
+
 fn benches(c: &mut Criterion) {
+    // Embree asks for flush-to-zero/denormals-are-zero on every thread that traces rays.
+    let _ = rayon::ThreadPoolBuilder::new().start_handler(|_| prism::accel::init_render_thread()).build_global();
+    prism::accel::init_render_thread();
     let meshes = scene();
+    #[cfg(feature = "embree")]
+    {
+        bench_backend(c, "embree", &meshes, &|m| Box::new(prism::accel::embree::EmbreeAccel::new(m).expect("embree device")));
+        bench_embree_raw(c, &meshes);
+    }
     bench_backend(c, "obvhs", &meshes, &|m| {
         Box::new(ObvhsAccel::with_quality(m, BuildQuality::Medium))
     });
