@@ -185,7 +185,30 @@ pub fn run(cfg: &BenchConfig) -> Result<Vec<BenchPoint>> {
     Ok(points)
 }
 
-/// Writes bench.csv, bench.json and the plots into `dir`.
+/// The points as a Markdown table (for docs/benchmarks.md).
+pub fn markdown_table(points: &[BenchPoint]) -> String {
+    let mut t = String::from(
+        "| accel | sampler | spp | time [s] | M samples/s | M rays/s | build [s] | scene MB | RMSE | relMSE |\n|---|---|---|---|---|---|---|---|---|---|\n",
+    );
+    for p in points {
+        t += &format!(
+            "| {} | {} | {} | {:.3} | {:.3} | {:.2} | {:.3} | {:.1} | {:.3e} | {:.3e} |\n",
+            p.accel,
+            p.sampler,
+            p.spp,
+            p.time_s,
+            p.samples_per_s / 1e6,
+            p.rays_per_s / 1e6,
+            p.build_s,
+            p.scene_bytes as f64 / 1e6,
+            p.rmse,
+            p.rel_mse
+        );
+    }
+    t
+}
+
+/// Writes bench.csv, bench.json, bench.md and the plots into `dir`.
 pub fn write_outputs(dir: &Path, points: &[BenchPoint]) -> Result<()> {
     let mut csv = String::from(
         "accel,sampler,spp,time_s,samples_per_s,rays_per_s,build_s,scene_bytes,peak_rss_bytes,rmse,rel_mse,mae\n",
@@ -209,6 +232,7 @@ pub fn write_outputs(dir: &Path, points: &[BenchPoint]) -> Result<()> {
     }
     crate::io::write_atomic(&dir.join("bench.csv"), csv.as_bytes())?;
     crate::io::write_atomic(&dir.join("bench.json"), serde_json::to_string_pretty(points)?.as_bytes())?;
+    crate::io::write_atomic(&dir.join("bench.md"), markdown_table(points).as_bytes())?;
     for ext in ["png", "svg"] {
         plot_error_vs_time(points, &dir.join(format!("error_vs_time.{ext}")))?;
         plot_rays_per_s(points, &dir.join(format!("rays_per_s.{ext}")))?;

@@ -37,7 +37,11 @@ pub struct IndependentSampler {
 pub struct SobolSampler {
     pixel_seed: u64,
     sample_index: u64,
+    /// Index of the next padded 4D group.
     dimension: u64,
+    /// The current group's four values and how many are used (4 = empty).
+    buffer: [f32; 4],
+    used: usize,
 }
 
 impl Sampler {
@@ -50,11 +54,7 @@ impl Sampler {
 
     /// An Owen-scrambled Sobol sampler.
     pub fn sobol() -> Self {
-        Self::Sobol(SobolSampler {
-            pixel_seed: 0,
-            sample_index: 0,
-            dimension: 0,
-        })
+        Self::Sobol(SobolSampler { pixel_seed: 0, sample_index: 0, dimension: 0, buffer: [0.0; 4], used: 4 })
     }
 
     /// Positions the sampler at `sample_index` of `pixel` for the render seed `seed`; dimension
@@ -67,11 +67,7 @@ impl Sampler {
                 s.rng.advance(sample_index.wrapping_mul(DIMS_PER_SAMPLE));
             }
             Self::Sobol(s) => {
-                *s = SobolSampler {
-                    pixel_seed,
-                    sample_index,
-                    dimension: 0,
-                }
+                *s = SobolSampler { pixel_seed, sample_index, dimension: 0, buffer: [0.0; 4], used: 4 }
             }
         }
     }
@@ -80,10 +76,7 @@ impl Sampler {
     pub fn get_1d(&mut self) -> f32 {
         match self {
             Self::Independent(s) => s.rng.uniform(),
-            Self::Sobol(s) => {
-                let d = s.next_dimension();
-                s.point(d, 0)
-            }
+            Self::Sobol(s) => s.take(1)[0],
         }
     }
 
@@ -92,8 +85,8 @@ impl Sampler {
         match self {
             Self::Independent(s) => Vec2::new(s.rng.uniform(), s.rng.uniform()),
             Self::Sobol(s) => {
-                let d = s.next_dimension();
-                Vec2::new(s.point(d, 0), s.point(d, 1))
+                let v = s.take(2);
+                Vec2::new(v[0], v[1])
             }
         }
     }
@@ -103,26 +96,38 @@ impl Sampler {
     pub fn get_pixel_2d(&mut self) -> Vec2 {
         match self {
             Self::Independent(_) => self.get_2d(),
-            Self::Sobol(s) => Vec2::new(s.point(PIXEL_DIM, 0), s.point(PIXEL_DIM, 1)),
+            Self::Sobol(s) => {
+                let v = s.group(PIXEL_DIM);
+                Vec2::new(v[0], v[1])
+            }
         }
     }
 }
 
 impl SobolSampler {
-    fn next_dimension(&mut self) -> u64 {
-        let d = self.dimension;
-        self.dimension += 1;
-        d
+    /// The next `n` (1 or 2) values. Values come in padded groups of four consecutive Sobol
+    /// dimensions (one SIMD call, `sobol_burley::sample_4d`), each group Owen-scrambled with its
+    /// own seed; a 2D draw never straddles two groups, so its two values are jointly stratified.
+    #[inline]
+    fn take(&mut self, n: usize) -> [f32; 2] {
+        if self.used + n > 4 {
+            self.buffer = self.group(self.dimension);
+            self.dimension += 1;
+            self.used = 0;
+        }
+        let out = [self.buffer[self.used], self.buffer[(self.used + 1).min(3)]];
+        self.used += n;
+        out
     }
 
-    /// Coordinate `axis` (0 or 1) of this sample in the Sobol sequence scrambled for dimension
-    /// `dim`.
-    fn point(&self, dim: u64, axis: u32) -> f32 {
+    /// The four values of padded group `dim` for this pixel sample.
+    #[inline]
+    fn group(&self, dim: u64) -> [f32; 4] {
         let block = self.sample_index / SOBOL_LEN;
         let index = (self.sample_index % SOBOL_LEN) as u32;
         let seed = hash64(&[self.pixel_seed, dim, block]);
         // Fold to 32 bits: sobol_burley seeds are u32.
-        sobol_burley::sample(index, axis, (seed ^ (seed >> 32)) as u32)
+        sobol_burley::sample_4d(index, 0, (seed ^ (seed >> 32)) as u32)
     }
 }
 

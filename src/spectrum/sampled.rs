@@ -223,13 +223,20 @@ impl SampledWavelengths {
     pub fn sample_visible(u: f32) -> Self {
         let mut lambda = [0.0; N_SPECTRUM_SAMPLES];
         let mut pdf = [0.0; N_SPECTRUM_SAMPLES];
+        // The same formulas as sample_visible_wavelength / visible_wavelength_pdf, with the tanh
+        // bounds computed once (this runs once per camera sample).
+        let (lo, hi) = visible_tanh_bounds();
+        let norm = VISIBLE_A / (hi - lo);
         for i in 0..N_SPECTRUM_SAMPLES {
             let mut up = u + i as f32 / N_SPECTRUM_SAMPLES as f32;
             if up > 1.0 {
                 up -= 1.0;
             }
-            lambda[i] = sample_visible_wavelength(up);
-            pdf[i] = visible_wavelength_pdf(lambda[i]);
+            let t = lo + (up.clamp(0.0, 1.0) as f64) * (hi - lo);
+            let l = ((VISIBLE_MU + t.atanh() / VISIBLE_A) as f32).clamp(LAMBDA_MIN, LAMBDA_MAX);
+            let c = (VISIBLE_A * (l as f64 - VISIBLE_MU)).cosh();
+            lambda[i] = l;
+            pdf[i] = (norm / (c * c)) as f32;
         }
         Self { lambda, pdf }
     }

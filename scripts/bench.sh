@@ -1,0 +1,13 @@
+#!/usr/bin/env bash
+# Regenerates the figures in docs/benchmarks.md on this machine (run from the repository root):
+#   1. criterion: BVH build and rays/s, Embree vs raw rtcIntersect1 vs obvhs, ~1M triangles;
+#   2. prism bench: the Cornell box's error against time per backend and sampler, with plots.
+# Outputs go to bench-out/; copy the tables and plots you want into docs/.
+set -euo pipefail
+mkdir -p bench-out
+cargo build --release
+echo "== machine: $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | xargs), $(date -u +%F)"
+cargo bench --bench accel -- --noplot 2>&1 | grep -E "^[a-z-]+/|time:|thrpt:" | tee bench-out/accel.txt
+./target/release/prism bench --accel embree,obvhs --sampler independent,sobol \
+    --spp-ladder "${SPP_LADDER:-1,4,16,64}" --reference-spp "${REF_SPP:-1024}" \
+    --resolution "${RES:-128x128}" --max-depth 8 --out bench-out/cornell
