@@ -17,6 +17,9 @@ use rayon::prelude::*;
 
 const X_SPAN: f64 = CIE_LAMBDA_MAX - CIE_LAMBDA_MIN;
 
+/// Bound on |cᵢ| during fitting (normalised-wavelength units).
+const MAX_COEFF: f64 = 1e5;
+
 /// σ(t) = ½ + t / (2√(1 + t²)), with the limits 0 and 1 at ∓∞.
 #[inline]
 fn sigmoid(t: f64) -> f64 {
@@ -185,6 +188,12 @@ impl SigmoidFitter {
                     c[1] + step * delta.y,
                     c[2] + step * delta.z,
                 ];
+                // |c| ≤ 1e5 already gives sub-nm transitions; larger only chases colours no
+                // reflectance reaches and would overflow the f32 table.
+                if cand.iter().any(|v| v.abs() > MAX_COEFF) {
+                    step *= 0.5;
+                    continue;
+                }
                 let (r2, j2) = Self::eval(xs, ws, cand);
                 let e2 = residual(r2, target);
                 if e2 < err {
@@ -372,7 +381,11 @@ impl RgbToSpectrumTable {
                 }
             }
         }
-        SigmoidPolynomial { c }
+        if c.iter().all(|v| v.is_finite()) {
+            SigmoidPolynomial { c }
+        } else {
+            SigmoidPolynomial::flat((rgb[0] + rgb[1] + rgb[2]) / 3.0)
+        }
     }
 }
 

@@ -119,6 +119,8 @@ mod tests {
             [1.0, 0.0, 0.0],
             [0.0, 1.0, 1.0],
         ] {
+            let p = cs.rgb_to_spectrum_table().lookup(rgb.map(|v| v as f64));
+            assert!(p.c.iter().all(|v| v.is_finite()), "table {rgb:?}");
             let s = Spectrum::from_rgb(rgb, RgbKind::Albedo, cs);
             for l in (360..=830).step_by(10) {
                 let v = s.eval(l as f32);
