@@ -242,20 +242,39 @@ mod tests {
     #[test]
     fn clap_parses_the_issue_lines() {
         let cli = Cli::try_parse_from([
-            "prism", "color", "rgb2spec", "--method", "smits", "--space", "srgb", "--kind",
-            "illuminant", "0.6", "0.2", "0.5",
+            "prism",
+            "color",
+            "rgb2spec",
+            "--method",
+            "smits",
+            "--space",
+            "srgb",
+            "--kind",
+            "illuminant",
+            "0.6",
+            "0.2",
+            "0.5",
         ])
         .unwrap();
-        let Wrapper::Color(ColorCommand::Rgb2spec { method, rgb, kind, .. }) = cli.cmd else {
+        let Wrapper::Color(ColorCommand::Rgb2spec {
+            method, rgb, kind, ..
+        }) = cli.cmd
+        else {
             panic!("wrong subcommand")
         };
-        assert_eq!((method, kind, rgb), (Method::Smits, Kind::Illuminant, vec![0.6, 0.2, 0.5]));
+        assert_eq!(
+            (method, kind, rgb),
+            (Method::Smits, Kind::Illuminant, vec![0.6, 0.2, 0.5])
+        );
         let cli = Cli::try_parse_from([
             "prism", "color", "project", "--basis", "linear", "--fit", "average", "--bins", "12",
             "--spd", "a.spd",
         ])
         .unwrap();
-        assert!(matches!(cli.cmd, Wrapper::Color(ColorCommand::Project { bins: 12, .. })));
+        assert!(matches!(
+            cli.cmd,
+            Wrapper::Color(ColorCommand::Project { bins: 12, .. })
+        ));
         assert!(Cli::try_parse_from(["prism", "color", "rgb2spec", "0.1", "0.2"]).is_err());
         assert!(Cli::try_parse_from(["prism", "color", "xyz"]).is_err());
     }
@@ -277,13 +296,25 @@ mod tests {
         let t = rgb2spec_text(Method::Jakob, "srgb", Kind::Albedo, &[0.6, 0.2, 0.5]).unwrap();
         assert_eq!(t.lines().filter(|l| !l.starts_with('#')).count(), 95);
         let last = t.lines().last().unwrap();
-        let err: f64 = last.rsplit(' ').next().unwrap().trim_end_matches(')').parse().unwrap();
+        let err: f64 = last
+            .rsplit(' ')
+            .next()
+            .unwrap()
+            .trim_end_matches(')')
+            .parse()
+            .unwrap();
         assert!(err < 1e-3, "{last}");
         let t = rgb2spec_text(Method::Smits, "srgb", Kind::Illuminant, &[1.0, 1.0, 1.0]).unwrap();
         assert!(t.contains("round-trip"));
         assert!(rgb2spec_text(Method::Jakob, "srgb", Kind::Albedo, &[1.5, 0.2, 0.1]).is_err());
         assert!(rgb2spec_text(Method::Jakob, "srgb", Kind::Unbounded, &[-1.0, 0.2, 0.1]).is_err());
-        assert!(rgb2spec_text(Method::Jakob, "srgb", Kind::Unbounded, &[f32::NAN, 0.2, 0.1]).is_err());
+        assert!(rgb2spec_text(
+            Method::Jakob,
+            "srgb",
+            Kind::Unbounded,
+            &[f32::NAN, 0.2, 0.1]
+        )
+        .is_err());
         assert!(rgb2spec_text(Method::Jakob, "cmyk", Kind::Albedo, &[0.1, 0.2, 0.1]).is_err());
     }
 
@@ -293,7 +324,15 @@ mod tests {
         // A hat on 3 nodes (360, 595, 830) is in the span: exact fit, zero error.
         let t = project_text(BasisArg::Linear, FitArg::Exact, 3, &p).unwrap();
         assert!(t.contains("1 595.0000 2.000000000"), "{t}");
-        let err: f64 = t.lines().last().unwrap().split_whitespace().nth(3).unwrap().parse().unwrap();
+        let err: f64 = t
+            .lines()
+            .last()
+            .unwrap()
+            .split_whitespace()
+            .nth(3)
+            .unwrap()
+            .parse()
+            .unwrap();
         assert!(err < 1e-9, "{t}");
         assert!(project_text(BasisArg::Linear, FitArg::Exact, 1, &p).is_err());
     }

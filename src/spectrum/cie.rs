@@ -115,7 +115,8 @@ mod tests {
             assert_eq!(v.to_array(), s);
         }
         let mid = xyz_bar_f64(555.5);
-        let expect = (DVec3::from_array(CIE_1931_XYZ[195]) + DVec3::from_array(CIE_1931_XYZ[196])) / 2.0;
+        let expect =
+            (DVec3::from_array(CIE_1931_XYZ[195]) + DVec3::from_array(CIE_1931_XYZ[196])) / 2.0;
         assert!((mid - expect).abs().max_element() < 1e-15);
         assert_eq!(xyz_bar(359.9), Vec3::ZERO);
         assert_eq!(xyz_bar(830.1), Vec3::ZERO);

@@ -52,7 +52,9 @@ pub fn daylight(cct: f64) -> Option<Spectrum> {
     let m = 0.0241 + 0.2562 * x - 0.7341 * y;
     let m1 = (-1.3515 - 1.7703 * x + 5.9114 * y) / m;
     let m2 = (0.0300 - 31.4424 * x + 30.0717 * y) / m;
-    let lambdas = (0..DAYLIGHT_S0.len()).map(|i| 300.0 + 5.0 * i as f64).collect();
+    let lambdas = (0..DAYLIGHT_S0.len())
+        .map(|i| 300.0 + 5.0 * i as f64)
+        .collect();
     let values = (0..DAYLIGHT_S0.len())
         .map(|i| DAYLIGHT_S0[i] + m1 * DAYLIGHT_S1[i] + m2 * DAYLIGHT_S2[i])
         .collect();
@@ -113,7 +115,10 @@ mod tests {
         ];
         for (n, x, y) in cases {
             let (gx, gy) = xy(&Spectrum::named(n).unwrap());
-            assert!((gx - x).abs() < 1.5e-4 && (gy - y).abs() < 1.5e-4, "{n}: {gx} {gy}");
+            assert!(
+                (gx - x).abs() < 1.5e-4 && (gy - y).abs() < 1.5e-4,
+                "{n}: {gx} {gy}"
+            );
         }
         // The spiky fluorescents depend on how the 5 nm table is interpolated, so compare with
         // colour-science 0.4.7 on the same definition (linear interpolation to 1 nm, zero
@@ -124,7 +129,10 @@ mod tests {
             ("stdillum-F11", 0.380_517_96, 0.377_125_87),
         ] {
             let (gx, gy) = xy(&Spectrum::named(n).unwrap());
-            assert!((gx - x).abs() < 3e-5 && (gy - y).abs() < 3e-5, "{n}: {gx} {gy}");
+            assert!(
+                (gx - x).abs() < 3e-5 && (gy - y).abs() < 3e-5,
+                "{n}: {gx} {gy}"
+            );
         }
     }
 
@@ -133,7 +141,10 @@ mod tests {
         let d = daylight(6500.0 * 1.4388 / 1.4380).unwrap();
         let d65 = Spectrum::named("stdillum-D65").unwrap();
         let (a, b) = (xy(&d), xy(&d65));
-        assert!((a.0 - b.0).abs() < 1e-4 && (a.1 - b.1).abs() < 1e-4, "{a:?} {b:?}");
+        assert!(
+            (a.0 - b.0).abs() < 1e-4 && (a.1 - b.1).abs() < 1e-4,
+            "{a:?} {b:?}"
+        );
         assert!(daylight(3000.0).is_none());
     }
 }

@@ -17,6 +17,9 @@ use rayon::prelude::*;
 
 const X_SPAN: f64 = CIE_LAMBDA_MAX - CIE_LAMBDA_MIN;
 
+/// Bound on |cᵢ| during fitting (normalised-wavelength units).
+const MAX_COEFF: f64 = 1e5;
+
 /// σ(t) = ½ + t / (2√(1 + t²)), with the limits 0 and 1 at ∓∞.
 #[inline]
 fn sigmoid(t: f64) -> f64 {
@@ -110,7 +113,9 @@ impl SigmoidFitter {
             let mut ws = Vec::new();
             let mut y = 0.0;
             let grid: Vec<f64> = if step > 1.0 {
-                (0..=((X_SPAN / step) as usize)).map(|i| CIE_LAMBDA_MIN + step * i as f64).collect()
+                (0..=((X_SPAN / step) as usize))
+                    .map(|i| CIE_LAMBDA_MIN + step * i as f64)
+                    .collect()
             } else {
                 knots.clone()
             };
@@ -127,7 +132,12 @@ impl SigmoidFitter {
         let (x, w) = build(1.0);
         // 10 nm intervals: the coarse rule only feeds the table, refinement uses the fine one.
         let (coarse_x, coarse_w) = build(10.0);
-        Self { x, w, coarse_x, coarse_w }
+        Self {
+            x,
+            w,
+            coarse_x,
+            coarse_w,
+        }
     }
 
     /// RGB of σ(poly) and its Jacobian with respect to the coefficients.
@@ -173,7 +183,17 @@ impl SigmoidFitter {
             let mut step = 1.0;
             let mut improved = false;
             for _ in 0..12 {
-                let cand = [c[0] + step * delta.x, c[1] + step * delta.y, c[2] + step * delta.z];
+                let cand = [
+                    c[0] + step * delta.x,
+                    c[1] + step * delta.y,
+                    c[2] + step * delta.z,
+                ];
+                // |c| ≤ 1e5 already gives sub-nm transitions; larger only chases colours no
+                // reflectance reaches and would overflow the f32 table.
+                if cand.iter().any(|v| v.abs() > MAX_COEFF) {
+                    step *= 0.5;
+                    continue;
+                }
                 let (r2, j2) = Self::eval(xs, ws, cand);
                 let e2 = residual(r2, target);
                 if e2 < err {
@@ -213,7 +233,14 @@ impl SigmoidFitter {
         let mut last = first;
         for k in 1..=steps {
             let s = k as f64 / steps as f64;
-            last = Self::newton(&self.x, &self.w, grey + (target - grey) * s, c, 50, Self::TOLERANCE);
+            last = Self::newton(
+                &self.x,
+                &self.w,
+                grey + (target - grey) * s,
+                c,
+                50,
+                Self::TOLERANCE,
+            );
             c = last.poly.c;
         }
         if last.residual < first.residual {
@@ -224,7 +251,9 @@ impl SigmoidFitter {
     }
 
     fn fit_coarse(&self, target: DVec3, init: [f64; 3]) -> [f64; 3] {
-        Self::newton(&self.coarse_x, &self.coarse_w, target, init, 15, 1e-5).poly.c
+        Self::newton(&self.coarse_x, &self.coarse_w, target, init, 15, 1e-5)
+            .poly
+            .c
     }
 }
 
@@ -294,7 +323,11 @@ impl RgbToSpectrumTable {
                 coeffs[((l * res + zi) * res + yi) * res + xi] = c;
             }
         }
-        Self { res, z_nodes, coeffs }
+        Self {
+            res,
+            z_nodes,
+            coeffs,
+        }
     }
 
     /// Resolution per axis.
@@ -305,7 +338,13 @@ impl RgbToSpectrumTable {
     /// Trilinearly interpolated coefficients for an RGB in [0, 1]³ (the fast path, no
     /// refinement: accuracy in docs/colour.md).
     pub fn lookup(&self, rgb: [f64; 3]) -> SigmoidPolynomial {
-        let rgb = rgb.map(|v| if v.is_finite() { v.clamp(0.0, 1.0) } else { 0.0 });
+        let rgb = rgb.map(|v| {
+            if v.is_finite() {
+                v.clamp(0.0, 1.0)
+            } else {
+                0.0
+            }
+        });
         if rgb[0] == rgb[1] && rgb[1] == rgb[2] {
             return SigmoidPolynomial::flat(rgb[0]);
         }
@@ -320,7 +359,11 @@ impl RgbToSpectrumTable {
         let n = (self.res - 1) as f64;
         let x = rgb[(l + 1) % 3] / z * n;
         let y = rgb[(l + 2) % 3] / z * n;
-        let zi = self.z_nodes.partition_point(|&v| v <= z).clamp(1, self.res - 1) - 1;
+        let zi = self
+            .z_nodes
+            .partition_point(|&v| v <= z)
+            .clamp(1, self.res - 1)
+            - 1;
         let xi = (x as usize).min(self.res - 2);
         let yi = (y as usize).min(self.res - 2);
         let dx = x - xi as f64;
@@ -338,14 +381,24 @@ impl RgbToSpectrumTable {
                 }
             }
         }
-        SigmoidPolynomial { c }
+        if c.iter().all(|v| v.is_finite()) {
+            SigmoidPolynomial { c }
+        } else {
+            SigmoidPolynomial::flat((rgb[0] + rgb[1] + rgb[2]) / 3.0)
+        }
     }
 }
 
 /// Jakob–Hanika reflectance for `rgb` ∈ [0, 1]³ in `cs`: table start, then Newton refinement
 /// to [`SigmoidFitter::TOLERANCE`] where the model can reach the colour.
 pub fn fit_albedo(rgb: [f64; 3], cs: &ColorSpace) -> Fit {
-    let rgb = rgb.map(|v| if v.is_finite() { v.clamp(0.0, 1.0) } else { 0.0 });
+    let rgb = rgb.map(|v| {
+        if v.is_finite() {
+            v.clamp(0.0, 1.0)
+        } else {
+            0.0
+        }
+    });
     let init = cs.rgb_to_spectrum_table().lookup(rgb);
     cs.fitter().fit(DVec3::from_array(rgb), init)
 }
@@ -379,7 +432,9 @@ mod tests {
 
     #[test]
     fn coefficients_in_nm_give_the_same_function() {
-        let p = SigmoidPolynomial { c: [3.0, -2.5, 0.4] };
+        let p = SigmoidPolynomial {
+            c: [3.0, -2.5, 0.4],
+        };
         let n = p.coefficients_nm();
         for l in [380.0, 555.0, 700.0] {
             let t = n[0] * l * l + n[1] * l + n[2];

@@ -14,7 +14,12 @@ fn metameric_pair_has_the_same_xyz_but_a_different_spectrum() {
     // Start from a flat grey 0.5 and add a "metameric black" Σ aₖ hatₖ whose XYZ is zero:
     // fix a₃ = 0.3 and solve the 3×3 system for a₀..a₂ so that the X, Y, Z integrals cancel.
     let centres = [440.0, 520.0, 600.0, 480.0];
-    let h = |k: usize| xyz_of(|l| hat(centres[k], l), &[centres[k] - 40.0, centres[k], centres[k] + 40.0]);
+    let h = |k: usize| {
+        xyz_of(
+            |l| hat(centres[k], l),
+            &[centres[k] - 40.0, centres[k], centres[k] + 40.0],
+        )
+    };
     let m = DMat3::from_cols(h(0), h(1), h(2));
     let a3 = 0.3;
     let a = m.inverse() * (-a3 * h(3));

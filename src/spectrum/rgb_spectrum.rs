@@ -15,7 +15,13 @@ impl Spectrum {
     ///
     /// Non-finite components count as 0.
     pub fn from_rgb(rgb: [f32; 3], kind: RgbKind, space: &ColorSpace) -> Spectrum {
-        let rgb = rgb.map(|v| if v.is_finite() { v.max(0.0) as f64 } else { 0.0 });
+        let rgb = rgb.map(|v| {
+            if v.is_finite() {
+                v.max(0.0) as f64
+            } else {
+                0.0
+            }
+        });
         match kind {
             RgbKind::Albedo => {
                 let rgb = rgb.map(|v| v.min(1.0));

@@ -137,10 +137,22 @@ mod tests {
     #[test]
     fn every_ordering_picks_the_right_bases() {
         let cases = [
-            ([0.1, 0.5, 0.3], [SmitsBasis::White, SmitsBasis::Cyan, SmitsBasis::Green]),
-            ([0.5, 0.1, 0.3], [SmitsBasis::White, SmitsBasis::Magenta, SmitsBasis::Red]),
-            ([0.3, 0.5, 0.1], [SmitsBasis::White, SmitsBasis::Yellow, SmitsBasis::Green]),
-            ([0.2, 0.4, 0.9], [SmitsBasis::White, SmitsBasis::Cyan, SmitsBasis::Blue]),
+            (
+                [0.1, 0.5, 0.3],
+                [SmitsBasis::White, SmitsBasis::Cyan, SmitsBasis::Green],
+            ),
+            (
+                [0.5, 0.1, 0.3],
+                [SmitsBasis::White, SmitsBasis::Magenta, SmitsBasis::Red],
+            ),
+            (
+                [0.3, 0.5, 0.1],
+                [SmitsBasis::White, SmitsBasis::Yellow, SmitsBasis::Green],
+            ),
+            (
+                [0.2, 0.4, 0.9],
+                [SmitsBasis::White, SmitsBasis::Cyan, SmitsBasis::Blue],
+            ),
         ];
         for (rgb, bases) in cases {
             let s = smits_steps(rgb);
@@ -154,7 +166,13 @@ mod tests {
     #[test]
     fn grey_is_white_and_sum_matches_samples() {
         let s = smits_steps([0.5, 0.5, 0.5]);
-        assert_eq!(s, vec![SmitsStep { basis: SmitsBasis::White, amount: 0.5 }]);
+        assert_eq!(
+            s,
+            vec![SmitsStep {
+                basis: SmitsBasis::White,
+                amount: 0.5
+            }]
+        );
         let sp = smits_spectrum([0.6, 0.2, 0.5], SmitsKind::Reflectance, ColorSpace::srgb());
         let l = 380.0 + 340.0 / 9.0 * 3.0;
         let want = 0.2 * SMITS_WHITE[3] + 0.3 * SMITS_MAGENTA[3] + 0.1 * SMITS_RED[3];

@@ -112,10 +112,16 @@ pub fn parse_spd(text: &str, allow_negative: bool) -> Result<(Vec<f64>, Vec<f64>
         };
         let (l, v) = (num(fields[0])?, num(fields[1])?);
         if !l.is_finite() {
-            return Err(SpdError::NotFinite { line, what: "wavelength" });
+            return Err(SpdError::NotFinite {
+                line,
+                what: "wavelength",
+            });
         }
         if !v.is_finite() {
-            return Err(SpdError::NotFinite { line, what: "value" });
+            return Err(SpdError::NotFinite {
+                line,
+                what: "value",
+            });
         }
         if l <= 0.0 {
             return Err(SpdError::BadWavelength { line, lambda: l });
@@ -182,14 +188,41 @@ mod tests {
 
     #[test]
     fn errors_name_the_line() {
-        assert!(matches!(err("400 1\n410 x\n"), SpdError::NotNumeric { line: 2, .. }));
-        assert!(matches!(err("400 1\n390 1\n"), SpdError::Unsorted { line: 2, .. }));
-        assert!(matches!(err("400 1\n# c\n400 2\n"), SpdError::Duplicate { line: 3, .. }));
-        assert!(matches!(err("400 1\n410 -0.5\n"), SpdError::Negative { line: 2, .. }));
-        assert!(matches!(err("400 1\n410 NaN\n"), SpdError::NotFinite { line: 2, what: "value" }));
-        assert!(matches!(err("400 1 3\n"), SpdError::FieldCount { line: 1, found: 3 }));
-        assert!(matches!(err("-5 1\n"), SpdError::BadWavelength { line: 1, .. }));
-        assert!(matches!(err("# only\n400 1\n"), SpdError::TooFewSamples { found: 1 }));
+        assert!(matches!(
+            err("400 1\n410 x\n"),
+            SpdError::NotNumeric { line: 2, .. }
+        ));
+        assert!(matches!(
+            err("400 1\n390 1\n"),
+            SpdError::Unsorted { line: 2, .. }
+        ));
+        assert!(matches!(
+            err("400 1\n# c\n400 2\n"),
+            SpdError::Duplicate { line: 3, .. }
+        ));
+        assert!(matches!(
+            err("400 1\n410 -0.5\n"),
+            SpdError::Negative { line: 2, .. }
+        ));
+        assert!(matches!(
+            err("400 1\n410 NaN\n"),
+            SpdError::NotFinite {
+                line: 2,
+                what: "value"
+            }
+        ));
+        assert!(matches!(
+            err("400 1 3\n"),
+            SpdError::FieldCount { line: 1, found: 3 }
+        ));
+        assert!(matches!(
+            err("-5 1\n"),
+            SpdError::BadWavelength { line: 1, .. }
+        ));
+        assert!(matches!(
+            err("# only\n400 1\n"),
+            SpdError::TooFewSamples { found: 1 }
+        ));
         assert!(matches!(
             Spectrum::from_spd_file("/nonexistent/x.spd").unwrap_err(),
             SpdError::Io { .. }

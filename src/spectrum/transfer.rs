@@ -3,7 +3,7 @@
 /// Linear → sRGB-encoded: 12.92·L for L ≤ 0.0031308, else 1.055·L^(1/2.4) − 0.055.
 /// Negative inputs give 0 and NaN gives 0 (images must stay displayable).
 pub fn srgb_encode(linear: f32) -> f32 {
-    if !(linear > 0.0) {
+    if linear.is_nan() || linear <= 0.0 {
         0.0
     } else if linear <= 0.003_130_8 {
         12.92 * linear
@@ -15,7 +15,7 @@ pub fn srgb_encode(linear: f32) -> f32 {
 /// sRGB-encoded → linear, the inverse of [`srgb_encode`]: V/12.92 for V ≤ 0.04045, else
 /// ((V + 0.055)/1.055)^2.4.
 pub fn srgb_decode(encoded: f32) -> f32 {
-    if !(encoded > 0.0) {
+    if encoded.is_nan() || encoded <= 0.0 {
         0.0
     } else if encoded <= 0.040_45 {
         encoded / 12.92
