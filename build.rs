@@ -55,9 +55,7 @@ fn build_embree() {
         .derive_default(true)
         .layout_tests(false)
         .generate()
-        .unwrap_or_else(|e| {
-            panic!("prism: bindgen failed on {} ({e}); is libclang-dev installed?", header.display())
-        });
+        .unwrap_or_else(|e| panic!("prism: bindgen failed on {} ({e}); is libclang-dev installed?", header.display()));
     let out = PathBuf::from(env::var("OUT_DIR").expect("OUT_DIR")).join("embree3_bindings.rs");
     bindings.write_to_file(&out).expect("write Embree bindings");
 }
@@ -75,10 +73,7 @@ fn build_oiio() {
 
     // Probe without emitting link lines yet: the shim's static library must come before the
     // OIIO shared libraries on the link line, or the linker drops them as unneeded.
-    let oiio = match pkg_config::Config::new()
-        .cargo_metadata(false)
-        .probe("OpenImageIO")
-    {
+    let oiio = match pkg_config::Config::new().cargo_metadata(false).probe("OpenImageIO") {
         Ok(lib) => lib,
         Err(e) => panic!(
             "feature `oiio` needs OpenImageIO: install `libopenimageio-dev` (Debian/Ubuntu) \
@@ -88,12 +83,7 @@ fn build_oiio() {
     };
 
     let mut build = cc::Build::new();
-    build
-        .cpp(true)
-        .std("c++17")
-        .file("cpp/oiio_shim.cpp")
-        .include("cpp")
-        .warnings(true);
+    build.cpp(true).std("c++17").file("cpp/oiio_shim.cpp").include("cpp").warnings(true);
     for dir in &oiio.include_paths {
         build.include(dir);
     }

@@ -21,16 +21,10 @@ const RAYS: usize = 1 << 18;
 
 /// Terrain (~70%) plus a finely tessellated sphere (~30%): ~1M triangles at scale 1.
 fn scene() -> Vec<Mesh> {
-    let scale: f32 = std::env::var("PRISM_BENCH_SCALE")
-        .ok()
-        .and_then(|s| s.parse().ok())
-        .unwrap_or(1.0);
+    let scale: f32 = std::env::var("PRISM_BENCH_SCALE").ok().and_then(|s| s.parse().ok()).unwrap_or(1.0);
     let res = ((350_000.0 * scale).sqrt() as u32).max(4);
     let subdiv = ((327_680.0 * scale / 20.0).log(4.0).round() as u32).clamp(1, 7);
-    vec![
-        terrain(100.0, res, 4.0, 1),
-        icosphere(Vec3::new(0.0, 12.0, 0.0), 8.0, subdiv),
-    ]
+    vec![terrain(100.0, res, 4.0, 1), icosphere(Vec3::new(0.0, 12.0, 0.0), 8.0, subdiv)]
 }
 
 /// A 512×512 pinhole camera looking down at the scene.
@@ -55,8 +49,7 @@ fn incoherent_rays(accel: &dyn Accel) -> Vec<Ray> {
     let mut rng = Rng::new(2024, 0);
     (0..RAYS)
         .map(|_| {
-            let o =
-                b.min + (b.max - b.min) * Vec3::new(rng.uniform(), rng.uniform(), rng.uniform());
+            let o = b.min + (b.max - b.min) * Vec3::new(rng.uniform(), rng.uniform(), rng.uniform());
             let z = 1.0 - 2.0 * rng.uniform();
             let phi = std::f32::consts::TAU * rng.uniform();
             let r = (1.0 - z * z).max(0.0).sqrt();
@@ -68,9 +61,7 @@ fn incoherent_rays(accel: &dyn Accel) -> Vec<Ray> {
 /// Closest hits over `rays`, on this thread or on rayon's pool; returns the hit count.
 fn trace(accel: &dyn Accel, rays: &[Ray], parallel: bool) -> usize {
     if parallel {
-        rays.par_iter()
-            .filter(|r| accel.intersect(r).is_some())
-            .count()
+        rays.par_iter().filter(|r| accel.intersect(r).is_some()).count()
     } else {
         rays.iter().filter(|r| accel.intersect(r).is_some()).count()
     }
@@ -87,26 +78,16 @@ fn occlude(accel: &dyn Accel, rays: &[Ray], parallel: bool) -> usize {
 }
 
 /// Build and trace benchmarks for one backend. `build` turns the scene into an accelerator.
-pub fn bench_backend(
-    c: &mut Criterion,
-    name: &str,
-    meshes: &[Mesh],
-    build: &dyn Fn(&[Mesh]) -> Box<dyn Accel>,
-) {
+pub fn bench_backend(c: &mut Criterion, name: &str, meshes: &[Mesh], build: &dyn Fn(&[Mesh]) -> Box<dyn Accel>) {
     let tris: usize = meshes.iter().map(Mesh::len).sum();
     let mut g = c.benchmark_group(format!("{name}/build"));
     g.sample_size(10);
     g.throughput(Throughput::Elements(tris as u64));
-    g.bench_function(BenchmarkId::from_parameter(tris), |b| {
-        b.iter(|| black_box(build(meshes)))
-    });
+    g.bench_function(BenchmarkId::from_parameter(tris), |b| b.iter(|| black_box(build(meshes))));
     g.finish();
 
     let accel = build(meshes);
-    let sets = [
-        ("coherent", coherent_rays()),
-        ("incoherent", incoherent_rays(accel.as_ref())),
-    ];
+    let sets = [("coherent", coherent_rays()), ("incoherent", incoherent_rays(accel.as_ref()))];
     let mut g = c.benchmark_group(format!("{name}/rays"));
     g.sample_size(10);
     g.throughput(Throughput::Elements(RAYS as u64));
@@ -145,15 +126,13 @@ fn benches(c: &mut Criterion) {
     let meshes = scene();
     #[cfg(feature = "embree")]
     {
-        bench_backend(c, "embree", &meshes, &|m| Box::new(prism::accel::embree::EmbreeAccel::new(m).expect("embree device")));
+        bench_backend(c, "embree", &meshes, &|m| {
+            Box::new(prism::accel::embree::EmbreeAccel::new(m).expect("embree device"))
+        });
         bench_embree_raw(c, &meshes);
     }
-    bench_backend(c, "obvhs", &meshes, &|m| {
-        Box::new(ObvhsAccel::with_quality(m, BuildQuality::Medium))
-    });
-    bench_backend(c, "obvhs-fast", &meshes, &|m| {
-        Box::new(ObvhsAccel::with_quality(m, BuildQuality::Fast))
-    });
+    bench_backend(c, "obvhs", &meshes, &|m| Box::new(ObvhsAccel::with_quality(m, BuildQuality::Medium)));
+    bench_backend(c, "obvhs-fast", &meshes, &|m| Box::new(ObvhsAccel::with_quality(m, BuildQuality::Fast)));
 }
 
 criterion_group!(accel_benches, benches);

@@ -86,7 +86,9 @@ impl Filter {
                 // Mitchell & Netravali 1988, on x scaled so the support is [-2, 2].
                 let x = (2.0 * x / r).abs();
                 if x > 1.0 {
-                    ((-b - 6.0 * c) * x * x * x + (6.0 * b + 30.0 * c) * x * x + (-12.0 * b - 48.0 * c) * x
+                    ((-b - 6.0 * c) * x * x * x
+                        + (6.0 * b + 30.0 * c) * x * x
+                        + (-12.0 * b - 48.0 * c) * x
                         + (8.0 * b + 24.0 * c))
                         / 6.0
                 } else {

@@ -3,8 +3,8 @@
 //! its samples in index order, so the image is bit-identical for any thread count, and a render
 //! can be split into disjoint sample ranges and merged.
 
-use crate::filter::Filter;
 use crate::film::Film;
+use crate::filter::Filter;
 use crate::integrator::{PathIntegrator, Stats};
 use crate::sampling::Sampler;
 use crate::scene::Scene;

@@ -5,11 +5,11 @@
 //! through; that rate is measured and bounded here, and recorded in docs/benchmarks.md.
 #![cfg(feature = "embree")]
 
+use glam::{Mat4, Vec3};
 use prism::accel::{embree::EmbreeAccel, obvhs::ObvhsAccel, Accel};
 use prism::geometry::shapes::{axis_box, icosphere, terrain, triangle_soup, uv_sphere};
 use prism::geometry::{Mesh, Ray};
 use prism::sampling::Rng;
-use glam::{Mat4, Vec3};
 
 /// Relative tolerance on hit distances between the two backends' triangle tests.
 const T_REL_TOL: f32 = 1e-4;
@@ -27,7 +27,10 @@ fn scenes() -> Vec<(&'static str, Vec<Mesh>)> {
         ("icosphere", vec![icosphere(Vec3::ZERO, 1.0, 4)]),
         ("uv sphere", vec![uv_sphere(Vec3::new(0.2, -0.1, 0.3), 1.3, 40, 80)]),
         ("rotated box", vec![axis_box(Vec3::splat(-1.0), Vec3::splat(1.0)).transformed(&rot)]),
-        ("terrain + soup", vec![terrain(4.0, 64, 0.5, 3), triangle_soup(2000, Vec3::splat(-2.0), Vec3::splat(2.0), 0.2, 9)]),
+        (
+            "terrain + soup",
+            vec![terrain(4.0, 64, 0.5, 3), triangle_soup(2000, Vec3::splat(-2.0), Vec3::splat(2.0), 0.2, 9)],
+        ),
     ]
 }
 
@@ -122,7 +125,9 @@ fn no_ray_escapes_a_closed_mesh_from_inside() {
             for t in m.indices.iter().flat_map(|t| std::iter::repeat_n(t, repeats)) {
                 for (a, b) in [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])] {
                     let (pa, pb) = (m.positions[a as usize], m.positions[b as usize]);
-                    for (is_vertex, target) in [(true, pa), (false, 0.5 * (pa + pb)), (false, pa + (pb - pa) * rng.uniform())] {
+                    for (is_vertex, target) in
+                        [(true, pa), (false, 0.5 * (pa + pb)), (false, pa + (pb - pa) * rng.uniform())]
+                    {
                         // From points inside (near the centre), exactly toward edges and vertices.
                         let orig = centre + (random_dir(&mut rng) * 0.3 * rng.uniform());
                         let ray = Ray::new(orig, target - orig);
@@ -141,7 +146,10 @@ fn no_ray_escapes_a_closed_mesh_from_inside() {
         assert!(fired > 10_000, "{name}: {fired}");
     }
     let rate = embree_vertex_leaks as f64 / vertex_rays as f64;
-    eprintln!("embree: {embree_vertex_leaks} of {vertex_rays} rays aimed exactly at vertices escaped ({:.3}%)", rate * 100.0);
+    eprintln!(
+        "embree: {embree_vertex_leaks} of {vertex_rays} rays aimed exactly at vertices escaped ({:.3}%)",
+        rate * 100.0
+    );
     assert!(rate < 2e-3, "Embree's vertex leak rate grew to {rate}");
 }
 
@@ -149,9 +157,11 @@ fn no_ray_escapes_a_closed_mesh_from_inside() {
 fn a_ray_starting_exactly_on_a_surface_does_not_hit_it_at_t_zero() {
     // The Cornell box's green wall lies exactly in the plane x = 0; a hit point there has a zero
     // error bound along x. Regression test for Embree reporting t = 0 self-hits (tnear was 0).
-    let wall = prism::geometry::shapes::quad(Vec3::new(0.0, 0.0, 0.0), Vec3::new(0.0, 0.0, 559.2), Vec3::new(0.0, 548.8, 0.0));
+    let wall =
+        prism::geometry::shapes::quad(Vec3::new(0.0, 0.0, 0.0), Vec3::new(0.0, 0.0, 559.2), Vec3::new(0.0, 548.8, 0.0));
     let meshes = vec![wall];
-    let accels: [Box<dyn Accel>; 2] = [Box::new(EmbreeAccel::new(&meshes).unwrap()), Box::new(ObvhsAccel::new(&meshes))];
+    let accels: [Box<dyn Accel>; 2] =
+        [Box::new(EmbreeAccel::new(&meshes).unwrap()), Box::new(ObvhsAccel::new(&meshes))];
     for accel in &accels {
         for d in [Vec3::new(1.0, 0.2, 0.1), Vec3::new(-1.0, 0.3, -0.2)] {
             let ray = Ray::new(Vec3::new(0.0, 274.4, 279.6), d.normalize());

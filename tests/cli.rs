@@ -56,8 +56,17 @@ fn render_writes_image_and_stats_json_and_leaves_no_temp_files() {
     let png = d.join("cb.png");
     let json = d.join("stats.json");
     let o = run(&[
-        "render", "--spp", "2", "--resolution", "32x24", "--accel", "obvhs", "-o",
-        png.to_str().unwrap(), "--stats-json", json.to_str().unwrap(),
+        "render",
+        "--spp",
+        "2",
+        "--resolution",
+        "32x24",
+        "--accel",
+        "obvhs",
+        "-o",
+        png.to_str().unwrap(),
+        "--stats-json",
+        json.to_str().unwrap(),
     ]);
     assert!(o.status.success(), "{}", stderr(&o));
     let img = prism::image::read(&png).unwrap();
@@ -69,7 +78,11 @@ fn render_writes_image_and_stats_json_and_leaves_no_temp_files() {
     }
     assert_eq!(stats["spp"], 2);
     assert_eq!(stats["accel"], "obvhs");
-    let leftovers: Vec<_> = std::fs::read_dir(&d).unwrap().filter_map(|e| e.ok()).filter(|e| e.file_name().to_string_lossy().contains(".tmp-")).collect();
+    let leftovers: Vec<_> = std::fs::read_dir(&d)
+        .unwrap()
+        .filter_map(|e| e.ok())
+        .filter(|e| e.file_name().to_string_lossy().contains(".tmp-"))
+        .collect();
     assert!(leftovers.is_empty(), "temporary files left: {leftovers:?}");
 }
 
@@ -112,9 +125,29 @@ fn parts_merge_to_the_single_render() {
     }
     // Parts from a different render are refused.
     let other = d.join("other.film");
-    let o = prism().args(["render", "--spp", "6", "--resolution", "20x16", "--accel", "obvhs", "--seed", "4", "--part", "1/3", "-o", other.to_str().unwrap()]).output().unwrap();
+    let o = prism()
+        .args([
+            "render",
+            "--spp",
+            "6",
+            "--resolution",
+            "20x16",
+            "--accel",
+            "obvhs",
+            "--seed",
+            "4",
+            "--part",
+            "1/3",
+            "-o",
+            other.to_str().unwrap(),
+        ])
+        .output()
+        .unwrap();
     assert!(o.status.success());
-    let o = prism().args(["merge", other.to_str().unwrap(), parts[1].to_str().unwrap(), "-o", d.join("bad.png").to_str().unwrap()]).output().unwrap();
+    let o = prism()
+        .args(["merge", other.to_str().unwrap(), parts[1].to_str().unwrap(), "-o", d.join("bad.png").to_str().unwrap()])
+        .output()
+        .unwrap();
     assert!(!o.status.success() && stderr(&o).contains("different scenes or settings"), "{}", stderr(&o));
 }
 
@@ -123,7 +156,19 @@ fn time_limit_stops_at_a_pass_and_writes_a_valid_image() {
     let d = tmpdir("limit");
     let out = d.join("t.exr");
     let t0 = std::time::Instant::now();
-    let o = run(&["render", "--spp", "100000", "--resolution", "16x16", "--accel", "obvhs", "--time-limit", "1s", "-o", out.to_str().unwrap()]);
+    let o = run(&[
+        "render",
+        "--spp",
+        "100000",
+        "--resolution",
+        "16x16",
+        "--accel",
+        "obvhs",
+        "--time-limit",
+        "1s",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(t0.elapsed().as_secs_f64() < 60.0);
     let img = prism::image::read(&out).unwrap();
@@ -134,7 +179,20 @@ fn time_limit_stops_at_a_pass_and_writes_a_valid_image() {
 fn resume_after_kill_matches_an_uninterrupted_render() {
     let d = tmpdir("resume");
     let out = d.join("r.film");
-    let args = ["render", "--spp", "400", "--resolution", "24x24", "--accel", "obvhs", "--threads", "1", "--checkpoint-every", "0.2s", "-o"];
+    let args = [
+        "render",
+        "--spp",
+        "400",
+        "--resolution",
+        "24x24",
+        "--accel",
+        "obvhs",
+        "--threads",
+        "1",
+        "--checkpoint-every",
+        "0.2s",
+        "-o",
+    ];
     let mut child = prism().args(args).arg(&out).spawn().unwrap();
     let ckpt = PathBuf::from(format!("{}.ckpt", out.display()));
     let t0 = std::time::Instant::now();

@@ -112,7 +112,9 @@ fn pbrt_spotlight_and_area_light_given_power_emit_that_flux() {
     assert_close("pbrt spot power", phi, power as f64);
 
     // An area light with `power` on a scaled, rotated, translated mesh (one-sided).
-    let xf = Mat4::from_translation(Vec3::new(0.3, -0.2, 0.1)) * Mat4::from_rotation_x(0.6) * Mat4::from_scale(Vec3::new(0.7, 1.0, 0.3));
+    let xf = Mat4::from_translation(Vec3::new(0.3, -0.2, 0.1))
+        * Mat4::from_rotation_x(0.6)
+        * Mat4::from_scale(Vec3::new(0.7, 1.0, 0.3));
     let mesh = quad(Vec3::new(-0.5, -0.5, 0.0), Vec3::X, Vec3::Y).transformed(&xf);
     let scale = AreaLight::scale_for_flux(power, &bb, mesh.area(), false);
     let mut b = builder();
@@ -169,7 +171,10 @@ fn uniform_environment_gives_pi_l() {
     let l = 0.5f32;
     for strategy in [DirectStrategy::Mis, DirectStrategy::LightOnly, DirectStrategy::BsdfOnly] {
         let mut b = builder();
-        b.add_light(Light::UniformInfinite(UniformInfiniteLight { spectrum: Arc::new(Spectrum::constant(1.0)), scale: l }));
+        b.add_light(Light::UniformInfinite(UniformInfiniteLight {
+            spectrum: Arc::new(Spectrum::constant(1.0)),
+            scale: l,
+        }));
         let scene = build(b);
         let integ = PathIntegrator { max_depth: 1, strategy, ..Default::default() };
         let m = irradiance(&scene, &integ, Vec3::ZERO, Vec3::Y, 50_000, 5);
@@ -201,7 +206,8 @@ fn lambertian_reflector_radiance_is_rho_e_over_pi() {
     let (film, _) = prism::render::render(&scene, &s, |_| {});
     let expected = (rho * e0 * theta.cos() / PI) as f64;
     // Every pixel estimates the same radiance; the spread comes from wavelength sampling.
-    let ys: Vec<f64> = (0..16).flat_map(|y| (0..16).map(move |x| (x, y))).map(|(x, y)| film.xyz(x, y).y as f64).collect();
+    let ys: Vec<f64> =
+        (0..16).flat_map(|y| (0..16).map(move |x| (x, y))).map(|(x, y)| film.xyz(x, y).y as f64).collect();
     let n = ys.len() as f64;
     let mean = ys.iter().sum::<f64>() / n;
     let se = (ys.iter().map(|v| (v - mean) * (v - mean)).sum::<f64>() / (n - 1.0) / n).sqrt();

@@ -34,7 +34,10 @@ fn accels() -> Vec<AccelKind> {
 
 /// Mean and standard error of the pixels' Y (each pixel an independent estimate).
 fn mean_y(film: &Film) -> (f64, f64) {
-    let ys: Vec<f64> = (0..film.height).flat_map(|y| (0..film.width).map(move |x| (x, y))).map(|(x, y)| film.xyz(x, y).y as f64).collect();
+    let ys: Vec<f64> = (0..film.height)
+        .flat_map(|y| (0..film.width).map(move |x| (x, y)))
+        .map(|(x, y)| film.xyz(x, y).y as f64)
+        .collect();
     let n = ys.len() as f64;
     let m = ys.iter().sum::<f64>() / n;
     let var = ys.iter().map(|v| (v - m) * (v - m)).sum::<f64>() / (n - 1.0);

@@ -36,7 +36,8 @@ fn render_cornell(m: Mat4, accel: AccelKind, seed: u64) -> Film {
 
 /// Mean per-pixel difference of Y and its standard error.
 fn diff(a: &Film, b: &Film) -> (f64, f64, f64) {
-    let d: Vec<f64> = a.pixels.iter().zip(&b.pixels).map(|(p, q)| p.xyz_sum.y / p.weight_sum - q.xyz_sum.y / q.weight_sum).collect();
+    let d: Vec<f64> =
+        a.pixels.iter().zip(&b.pixels).map(|(p, q)| p.xyz_sum.y / p.weight_sum - q.xyz_sum.y / q.weight_sum).collect();
     let n = d.len() as f64;
     let m = d.iter().sum::<f64>() / n;
     let se = (d.iter().map(|v| (v - m) * (v - m)).sum::<f64>() / (n - 1.0) / n).sqrt();
@@ -65,7 +66,10 @@ fn cornell_box_is_the_same_at_every_scale_and_far_from_the_origin() {
             let (d, _, mean) = diff(&f, &reference);
             assert!(mean > 0.05, "{name}: black image");
             // Same seed, so any difference is systematic; it must hide inside the image noise.
-            assert!(d.abs() <= 4.0 * noise, "{accel:?} scale {name}: mean difference {d} vs noise {noise} (mean {mean})");
+            assert!(
+                d.abs() <= 4.0 * noise,
+                "{accel:?} scale {name}: mean difference {d} vs noise {noise} (mean {mean})"
+            );
             // Light leaks or acne show up as many pixels far off; count pixels that differ by
             // more than half their value.
             let bad = f
@@ -90,13 +94,28 @@ fn with_bad_meshes() -> SceneBuilder {
     // Zero area (duplicate vertex), NaN and Inf vertices, a collapsed triangle, an index out of
     // range; and two good triangles (one inverted).
     let degenerate = Mesh::new(
-        vec![v(100.0, 100.0, 100.0), v(100.0, 100.0, 100.0), v(200.0, 100.0, 100.0), v(nan, 0.0, 0.0), v(inf, 1.0, 0.0), v(300.0, 200.0, 300.0), v(400.0, 200.0, 300.0), v(300.0, 300.0, 300.0)],
+        vec![
+            v(100.0, 100.0, 100.0),
+            v(100.0, 100.0, 100.0),
+            v(200.0, 100.0, 100.0),
+            v(nan, 0.0, 0.0),
+            v(inf, 1.0, 0.0),
+            v(300.0, 200.0, 300.0),
+            v(400.0, 200.0, 300.0),
+            v(300.0, 300.0, 300.0),
+        ],
         vec![[0, 1, 2], [3, 4, 5], [2, 2, 2], [5, 6, 7], [7, 6, 5], [0, 9, 1]],
     );
     b.add_mesh(degenerate, m, None);
     // Non-manifold: three triangles sharing one edge, plus a back-to-back duplicate.
     let non_manifold = Mesh::new(
-        vec![v(200.0, 300.0, 200.0), v(350.0, 300.0, 200.0), v(275.0, 400.0, 250.0), v(275.0, 200.0, 250.0), v(275.0, 300.0, 100.0)],
+        vec![
+            v(200.0, 300.0, 200.0),
+            v(350.0, 300.0, 200.0),
+            v(275.0, 400.0, 250.0),
+            v(275.0, 200.0, 250.0),
+            v(275.0, 300.0, 100.0),
+        ],
         vec![[0, 1, 2], [0, 1, 3], [0, 1, 4], [1, 0, 2]],
     );
     b.add_mesh(non_manifold, m, None);

@@ -21,26 +21,15 @@ fn torus(big: f32, small: f32, nu: u32, nv: u32) -> (Mesh, Vec<Vec<u32>>) {
     for i in 0..=nu {
         for j in 0..=nv {
             let (u, v) = (i as f32 / nu as f32, j as f32 / nv as f32);
-            let (cu, su, cv, sv) = (
-                (u * tau).cos(),
-                (u * tau).sin(),
-                (v * tau).cos(),
-                (v * tau).sin(),
-            );
-            p.push(Vec3::new(
-                (big + small * cv) * cu,
-                (big + small * cv) * su,
-                small * sv,
-            ));
+            let (cu, su, cv, sv) = ((u * tau).cos(), (u * tau).sin(), (v * tau).cos(), (v * tau).sin());
+            p.push(Vec3::new((big + small * cv) * cu, (big + small * cv) * su, small * sv));
             n.push(Vec3::new(cv * cu, cv * su, sv));
             uv.push(Vec2::new(u, v));
         }
     }
     let id = |i: u32, j: u32| i * (nv + 1) + j;
     let faces = (0..nu)
-        .flat_map(|i| {
-            (0..nv).map(move |j| vec![id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)])
-        })
+        .flat_map(|i| (0..nv).map(move |j| vec![id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)]))
         .collect();
     let mut m = Mesh::new(p, vec![]);
     m.normals = Some(n);
@@ -101,11 +90,7 @@ fn icosphere(levels: u32) -> (Mesh, Vec<Vec<u32>>) {
         f = f
             .iter()
             .flat_map(|&[a, b, c]| {
-                let (ab, bc, ca) = (
-                    split(a, b, &mut p),
-                    split(b, c, &mut p),
-                    split(c, a, &mut p),
-                );
+                let (ab, bc, ca) = (split(a, b, &mut p), split(b, c, &mut p), split(c, a, &mut p));
                 [[a, ab, ca], [b, bc, ab], [c, ca, bc], [ab, bc, ca]]
             })
             .collect();
@@ -122,20 +107,14 @@ fn floor_grid(half: f32, n: u32) -> (Mesh, Vec<Vec<u32>>) {
     for i in 0..=n {
         for j in 0..=n {
             let (u, v) = (i as f32 / n as f32, j as f32 / n as f32);
-            m.positions.push(Vec3::new(
-                -half + 2.0 * half * u,
-                0.0,
-                -half + 2.0 * half * v,
-            ));
+            m.positions.push(Vec3::new(-half + 2.0 * half * u, 0.0, -half + 2.0 * half * v));
             uv.push(Vec2::new(u, v));
         }
     }
     m.uvs = Some(uv);
     let id = |i: u32, j: u32| i * (n + 1) + j;
     let faces = (0..n)
-        .flat_map(|i| {
-            (0..n).map(move |j| vec![id(i, j), id(i, j + 1), id(i + 1, j + 1), id(i + 1, j)])
-        })
+        .flat_map(|i| (0..n).map(move |j| vec![id(i, j), id(i, j + 1), id(i + 1, j + 1), id(i + 1, j)]))
         .collect();
     (m, faces)
 }
@@ -173,23 +152,13 @@ fn committed_meshes_match_their_generators() {
             std::fs::write(&path, &bytes).unwrap();
         }
         let committed = std::fs::read(&path).unwrap_or_default();
-        assert!(
-            committed == bytes,
-            "{} differs from its generator; rerun with PRISM_REGEN_MESHES=1",
-            path.display()
-        );
+        assert!(committed == bytes, "{} differs from its generator; rerun with PRISM_REGEN_MESHES=1", path.display());
     }
 }
 
 fn load(name: &str) -> SceneDesc {
-    let (d, w) = parse_file(
-        &scenes().join(name),
-        &ParseOptions {
-            strict: true,
-            ..Default::default()
-        },
-    )
-    .unwrap_or_else(|e| panic!("{e}"));
+    let (d, w) = parse_file(&scenes().join(name), &ParseOptions { strict: true, ..Default::default() })
+        .unwrap_or_else(|e| panic!("{e}"));
     assert!(w.is_empty(), "{name}: {w:?}");
     d
 }
@@ -216,35 +185,19 @@ fn cornell_torus_parses() {
     // Every wall faces the inside of the box; the light (after ReverseOrientation) faces down.
     let centre = Vec3::new(0.0, 1.6, 0.0);
     for s in &d.shapes[..5] {
-        let ShapeGeometry::Mesh(m) = &s.geometry else {
-            panic!("walls are meshes")
-        };
+        let ShapeGeometry::Mesh(m) = &s.geometry else { panic!("walls are meshes") };
         for i in 0..m.len() {
             let [a, b, c] = m.triangle(i);
             let faces_in = (b - a).cross(c - a).dot(centre - a) > 0.0;
             assert!(faces_in, "{}: wall triangle {i} faces out", s.loc);
         }
     }
-    let ShapeGeometry::Mesh(light) = &lights[0].geometry else {
-        panic!("the light is a mesh")
-    };
+    let ShapeGeometry::Mesh(light) = &lights[0].geometry else { panic!("the light is a mesh") };
     let [a, b, c] = light.triangle(0);
-    let flip = if lights[0].reverse_orientation {
-        -1.0
-    } else {
-        1.0
-    };
-    assert!(
-        flip * (b - a).cross(c - a).y < 0.0,
-        "the ceiling light emits upwards"
-    );
+    let flip = if lights[0].reverse_orientation { -1.0 } else { 1.0 };
+    assert!(flip * (b - a).cross(c - a).y < 0.0, "the ceiling light emits upwards");
     // Camera from the included file.
-    assert!(d
-        .camera
-        .directive
-        .loc
-        .file
-        .ends_with("common/studio_camera.pbrt"));
+    assert!(d.camera.directive.loc.file.ends_with("common/studio_camera.pbrt"));
 }
 
 #[test]
@@ -255,55 +208,23 @@ fn instanced_orchard_parses() {
     let tree = &d.objects[0];
     assert_eq!(tree.shapes.len(), 2);
     assert_eq!(mesh_triangles(&tree.shapes[1]), 320);
-    assert_eq!(
-        d.material(&tree.shapes[1].material).unwrap().kind,
-        "coateddiffuse"
-    );
-    assert_eq!(
-        d.lights.iter().map(|l| l.kind.as_str()).collect::<Vec<_>>(),
-        ["distant", "infinite"]
-    );
+    assert_eq!(d.material(&tree.shapes[1].material).unwrap().kind, "coateddiffuse");
+    assert_eq!(d.lights.iter().map(|l| l.kind.as_str()).collect::<Vec<_>>(), ["distant", "infinite"]);
     // Second instance of the first row: Translate −6 0 −3 then +3 in x.
-    assert_eq!(
-        d.instances[1].world_from_instance.w_axis.truncate(),
-        Vec3::new(-3., 0., -3.)
-    );
+    assert_eq!(d.instances[1].world_from_instance.w_axis.truncate(), Vec3::new(-3., 0., -3.));
 }
 
 #[test]
 fn material_row_parses() {
     let d = load("material_row.pbrt");
-    assert_eq!(
-        d.lights.iter().map(|l| l.kind.as_str()).collect::<Vec<_>>(),
-        ["spot", "point"]
-    );
+    assert_eq!(d.lights.iter().map(|l| l.kind.as_str()).collect::<Vec<_>>(), ["spot", "point"]);
     assert_eq!(d.instances.len(), 2);
-    let kinds: Vec<&str> = d
-        .shapes
-        .iter()
-        .map(|s| {
-            d.material(&s.material)
-                .map_or("default", |m| m.kind.as_str())
-        })
-        .collect();
-    assert_eq!(
-        kinds,
-        [
-            "diffuse",
-            "diffuse",
-            "dielectric",
-            "conductor",
-            "coateddiffuse"
-        ]
-    );
+    let kinds: Vec<&str> =
+        d.shapes.iter().map(|s| d.material(&s.material).map_or("default", |m| m.kind.as_str())).collect();
+    assert_eq!(kinds, ["diffuse", "diffuse", "dielectric", "conductor", "coateddiffuse"]);
     // The copper hemisphere sits at the "row" coordinate system + 1.1 x.
-    assert_eq!(
-        d.shapes[3].world_from_object.w_axis.truncate(),
-        Vec3::new(1.1, 0.45, 0.)
-    );
+    assert_eq!(d.shapes[3].world_from_object.w_axis.truncate(), Vec3::new(1.1, 0.45, 0.));
     assert_eq!(mesh_triangles(&d.shapes[0]), 8 * 8 * 2);
-    let ShapeGeometry::Sphere { z_max, .. } = d.shapes[3].geometry else {
-        panic!()
-    };
+    let ShapeGeometry::Sphere { z_max, .. } = d.shapes[3].geometry else { panic!() };
     assert_eq!(z_max, 0.2);
 }

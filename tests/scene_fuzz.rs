@@ -145,10 +145,7 @@ fn opts(strict: bool) -> ParseOptions {
     // Includes in fuzz input resolve inside an empty directory: they fail cleanly.
     let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("scene_fuzz_empty");
     std::fs::create_dir_all(&dir).unwrap();
-    ParseOptions {
-        strict,
-        base_dir: Some(dir),
-    }
+    ParseOptions { strict, base_dir: Some(dir) }
 }
 
 fn pick<T: Copy>(rng: &mut Rng, v: &[T]) -> T {
@@ -166,12 +163,7 @@ fn mutate(rng: &mut Rng, s: &str) -> String {
             0 if i < c.len() => {
                 c.drain(i..j);
             }
-            1 => c
-                .splice(
-                    i.min(c.len())..i.min(c.len()),
-                    format!(" {} ", pick(rng, VOCAB)).chars(),
-                )
-                .for_each(drop),
+            1 => c.splice(i.min(c.len())..i.min(c.len()), format!(" {} ", pick(rng, VOCAB)).chars()).for_each(drop),
             2 if i < c.len() => c[i] = char::from_u32(rng.next_u32() % 128).unwrap_or('x'),
             3 if j <= c.len() && i < j => {
                 let dup: Vec<char> = c[i..j].to_vec();
@@ -183,11 +175,7 @@ fn mutate(rng: &mut Rng, s: &str) -> String {
                 if k < c.len() && c[k].is_ascii_digit() {
                     c.splice(
                         k..k + 1,
-                        pick(
-                            rng,
-                            &["-1", "1e39", "nan", "99999999999", "4294967295", "0.5"][..],
-                        )
-                        .chars(),
+                        pick(rng, &["-1", "1e39", "nan", "99999999999", "4294967295", "0.5"][..]).chars(),
                     )
                     .for_each(drop);
                 }
@@ -221,10 +209,7 @@ fn random_token_soups_never_panic() {
 fn mutated_valid_scenes_never_panic() {
     // The unmutated scene parses: the mutations start from valid input.
     let (d, _) = parse_str(VALID, &opts(false)).unwrap();
-    assert_eq!(
-        (d.instances.len(), d.shapes.len(), d.lights.len()),
-        (2, 2, 2)
-    );
+    assert_eq!((d.instances.len(), d.shapes.len(), d.lights.len()), (2, 2, 2));
     let mut rng = Rng::new(11, 2);
     let (start, mut cases, mut oks) = (Instant::now(), 0u32, 0u32);
     while cases < 20_000 && start.elapsed() < BUDGET {
@@ -240,28 +225,19 @@ fn mutated_valid_scenes_never_panic() {
 fn mutated_ply_and_obj_never_panic() {
     use glam::{Vec2, Vec3};
     let mut m = prism::geometry::Mesh::new(
-        vec![
-            Vec3::ZERO,
-            Vec3::X,
-            Vec3::new(1., 1., 0.),
-            Vec3::Y,
-            Vec3::new(0.5, 0.5, 1.),
-        ],
+        vec![Vec3::ZERO, Vec3::X, Vec3::new(1., 1., 0.), Vec3::Y, Vec3::new(0.5, 0.5, 1.)],
         vec![],
     );
     m.normals = Some(vec![Vec3::Z; 5]);
     m.uvs = Some(vec![Vec2::ZERO; 5]);
     let faces = [vec![0, 1, 2, 3], vec![0, 1, 4], vec![1, 2, 4]];
     let seeds = [ply::write(&m, &faces, true), ply::write(&m, &faces, false)];
-    let obj_src = b"v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvn 0 0 1\nf 1/1/1 2/1/1 3/1/1 4/1/1\nf -1 -2 -3\n".to_vec();
+    let obj_src =
+        b"v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvn 0 0 1\nf 1/1/1 2/1/1 3/1/1 4/1/1\nf -1 -2 -3\n".to_vec();
     let mut rng = Rng::new(13, 3);
     let (start, mut cases, mut oks) = (Instant::now(), 0, 0);
     while cases < 50_000 && start.elapsed() < BUDGET {
-        let base = if cases % 3 == 2 {
-            &obj_src
-        } else {
-            &seeds[cases % 2]
-        };
+        let base = if cases % 3 == 2 { &obj_src } else { &seeds[cases % 2] };
         let mut b = base.clone();
         for _ in 0..1 + rng.next_u32() % 4 {
             let i = rng.next_u32() as usize % b.len();
@@ -275,13 +251,7 @@ fn mutated_ply_and_obj_never_panic() {
                 _ => {
                     let t = b[i..].to_vec();
                     b.truncate(i);
-                    let ins: [&[u8]; 5] = [
-                        b"9",
-                        b"99999999999 ",
-                        b"-",
-                        b"\xff\xff\xff\x7f",
-                        b"element x 3\n",
-                    ];
+                    let ins: [&[u8]; 5] = [b"9", b"99999999999 ", b"-", b"\xff\xff\xff\x7f", b"element x 3\n"];
                     b.extend_from_slice(pick(&mut rng, &ins[..]));
                     b.extend(t);
                 }
@@ -290,11 +260,7 @@ fn mutated_ply_and_obj_never_panic() {
                 b.push(b'p');
             }
         }
-        let ok = if cases % 3 == 2 {
-            obj::parse(&b).is_ok()
-        } else {
-            ply::parse(&b).is_ok()
-        };
+        let ok = if cases % 3 == 2 { obj::parse(&b).is_ok() } else { ply::parse(&b).is_ok() };
         oks += ok as u32;
         cases += 1;
     }

@@ -10,21 +10,11 @@ fn parse(s: &str) -> (SceneDesc, Vec<Warning>) {
 }
 
 fn err(s: &str) -> String {
-    parse_str(s, &ParseOptions::default())
-        .unwrap_err()
-        .to_string()
+    parse_str(s, &ParseOptions::default()).unwrap_err().to_string()
 }
 
 fn strict_err(s: &str) -> String {
-    parse_str(
-        s,
-        &ParseOptions {
-            strict: true,
-            ..Default::default()
-        },
-    )
-    .unwrap_err()
-    .to_string()
+    parse_str(s, &ParseOptions { strict: true, ..Default::default() }).unwrap_err().to_string()
 }
 
 fn close(a: Mat4, b: Mat4) -> bool {
@@ -33,16 +23,13 @@ fn close(a: Mat4, b: Mat4) -> bool {
 
 /// A fresh directory under cargo's per-test temp dir.
 fn tmp(name: &str) -> PathBuf {
-    let d = Path::new(env!("CARGO_TARGET_TMPDIR"))
-        .join("scene_parser")
-        .join(name);
+    let d = Path::new(env!("CARGO_TARGET_TMPDIR")).join("scene_parser").join(name);
     let _ = std::fs::remove_dir_all(&d);
     std::fs::create_dir_all(&d).unwrap();
     d
 }
 
-const TRI: &str =
-    r#"Shape "trianglemesh" "point3 P" [0 0 0 1 0 0 0 1 0] "integer indices" [0 1 2]"#;
+const TRI: &str = r#"Shape "trianglemesh" "point3 P" [0 0 0 1 0 0 0 1 0] "integer indices" [0 1 2]"#;
 
 #[test]
 fn transforms_post_multiply_the_ctm() {
@@ -56,48 +43,25 @@ fn transforms_post_multiply_the_ctm() {
     // Rotate 90 about z maps +x to +y: the shape's (1,0,0) lands at translate + 2·(0,1,0).
     let p = d.shapes[0].world_from_object.transform_point3(Vec3::X);
     assert!(p.abs_diff_eq(Vec3::new(1., 4., 3.), 1e-5), "{p}");
-    assert_eq!(
-        d.shapes[1].world_from_object.w_axis.truncate(),
-        Vec3::new(5., 6., 7.)
-    );
-    assert_eq!(
-        d.shapes[2].world_from_object,
-        Mat4::from_scale(Vec3::splat(2.))
-    );
+    assert_eq!(d.shapes[1].world_from_object.w_axis.truncate(), Vec3::new(5., 6., 7.));
+    assert_eq!(d.shapes[2].world_from_object, Mat4::from_scale(Vec3::splat(2.)));
 }
 
 #[test]
 fn lookat_camera_transform_matches_pbrt_convention() {
-    let (d, _) =
-        parse("LookAt 0 0 -5  0 0 0  0 1 0\nCamera \"perspective\" \"float fov\" 45\nWorldBegin");
+    let (d, _) = parse("LookAt 0 0 -5  0 0 0  0 1 0\nCamera \"perspective\" \"float fov\" 45\nWorldBegin");
     let c = &d.camera;
     assert_eq!(c.directive.kind, "perspective");
     assert_eq!(c.directive.params.float("fov"), Some(45.0));
     // The eye maps to the camera origin; the look point lies on camera +z at distance 5.
-    assert!(c
-        .camera_from_world
-        .transform_point3(Vec3::new(0., 0., -5.))
-        .abs_diff_eq(Vec3::ZERO, 1e-6));
-    assert!(c
-        .camera_from_world
-        .transform_point3(Vec3::ZERO)
-        .abs_diff_eq(Vec3::new(0., 0., 5.), 1e-6));
+    assert!(c.camera_from_world.transform_point3(Vec3::new(0., 0., -5.)).abs_diff_eq(Vec3::ZERO, 1e-6));
+    assert!(c.camera_from_world.transform_point3(Vec3::ZERO).abs_diff_eq(Vec3::new(0., 0., 5.), 1e-6));
     // pbrt's camera space: +y is up, +x = up × dir = ŷ × ẑ = x̂ here.
-    assert!(c
-        .camera_from_world
-        .transform_vector3(Vec3::Y)
-        .abs_diff_eq(Vec3::Y, 1e-6));
-    assert!(c
-        .camera_from_world
-        .transform_vector3(Vec3::X)
-        .abs_diff_eq(Vec3::X, 1e-6));
+    assert!(c.camera_from_world.transform_vector3(Vec3::Y).abs_diff_eq(Vec3::Y, 1e-6));
+    assert!(c.camera_from_world.transform_vector3(Vec3::X).abs_diff_eq(Vec3::X, 1e-6));
     // Looking down −z instead flips camera +x to world −x.
     let (d, _) = parse("LookAt 0 0 5  0 0 0  0 1 0\nCamera \"perspective\"\nWorldBegin");
-    assert!(d
-        .camera
-        .camera_from_world
-        .transform_vector3(Vec3::NEG_X)
-        .abs_diff_eq(Vec3::X, 1e-6));
+    assert!(d.camera.camera_from_world.transform_vector3(Vec3::NEG_X).abs_diff_eq(Vec3::X, 1e-6));
     assert_eq!(
         err("LookAt 0 0 0  0 0 0  0 1 0"),
         "<string>:1:1: LookAt is degenerate: eye equals look, or up is parallel to the view direction (at \"LookAt\")"
@@ -118,13 +82,7 @@ WorldBegin"#,
     );
     assert_eq!(d.film.params.int("xresolution"), Some(64));
     assert_eq!(d.film.params.string("filename"), Some("out.exr"));
-    assert_eq!(
-        (
-            d.sampler.kind.as_str(),
-            d.sampler.params.int("pixelsamples")
-        ),
-        ("halton", Some(16))
-    );
+    assert_eq!((d.sampler.kind.as_str(), d.sampler.params.int("pixelsamples")), ("halton", Some(16)));
     assert_eq!(d.integrator.params.int("maxdepth"), Some(5));
     assert_eq!(d.filter.kind, "box");
     assert_eq!(d.color_space, "rec2020");
@@ -132,13 +90,7 @@ WorldBegin"#,
     assert_eq!(d.options.int("seed"), Some(7));
     let (d, _) = parse("WorldBegin");
     assert_eq!(
-        [
-            &d.camera.directive.kind,
-            &d.film.kind,
-            &d.sampler.kind,
-            &d.integrator.kind,
-            &d.filter.kind
-        ],
+        [&d.camera.directive.kind, &d.film.kind, &d.sampler.kind, &d.integrator.kind, &d.filter.kind],
         ["perspective", "rgb", "zsobol", "path", "gaussian"]
     );
     assert_eq!(d.film.loc.line, 1);
@@ -171,10 +123,7 @@ AttributeEnd
         "<string>:2:1: AttributeEnd without a matching AttributeBegin (at \"AttributeEnd\")"
     );
     let (_, w) = parse("WorldBegin\nAttributeBegin");
-    assert_eq!(
-        w[0].to_string(),
-        "<string>:2:1: warning: AttributeBegin without a matching End"
-    );
+    assert_eq!(w[0].to_string(), "<string>:2:1: warning: AttributeBegin without a matching End");
 }
 
 #[test]
@@ -182,14 +131,8 @@ fn named_coordinate_systems() {
     let (d, _) = parse(&format!(
         "Translate 0 0 3\nCamera \"perspective\"\nWorldBegin\nTranslate 5 0 0\nCoordinateSystem \"mine\"\nIdentity\nCoordSysTransform \"camera\"\n{TRI}\nCoordSysTransform \"mine\"\n{TRI}"
     ));
-    assert!(close(
-        d.shapes[0].world_from_object,
-        Mat4::from_translation(Vec3::new(0., 0., -3.))
-    ));
-    assert!(close(
-        d.shapes[1].world_from_object,
-        Mat4::from_translation(Vec3::new(5., 0., 0.))
-    ));
+    assert!(close(d.shapes[0].world_from_object, Mat4::from_translation(Vec3::new(0., 0., -3.))));
+    assert!(close(d.shapes[1].world_from_object, Mat4::from_translation(Vec3::new(5., 0., 0.))));
     let (_, w) = parse("WorldBegin\nCoordSysTransform \"nope\"");
     assert_eq!(
         w[0].to_string(),
@@ -212,19 +155,10 @@ MakeNamedMaterial "later" "string type" "coateddiffuse" "float roughness" 0.1"#
     assert_eq!(d.shapes[0].material, MaterialRef::Named("red".into()));
     let red = d.named_material("red").unwrap();
     assert_eq!(red.kind, "diffuse");
-    assert_eq!(
-        red.params.spectrum_or_texture("reflectance"),
-        Some(SpectrumOrTexture::Texture("checks"))
-    );
-    assert_eq!(
-        d.material(&d.shapes[1].material).unwrap().kind,
-        "coateddiffuse"
-    );
+    assert_eq!(red.params.spectrum_or_texture("reflectance"), Some(SpectrumOrTexture::Texture("checks")));
+    assert_eq!(d.material(&d.shapes[1].material).unwrap().kind, "coateddiffuse");
     let t = d.texture("checks", TextureClass::Spectrum).unwrap();
-    assert_eq!(
-        (t.kind.as_str(), t.params.spectrum("tex1")),
-        ("checkerboard", Some(&SpectrumParam::Rgb([1., 0., 0.])))
-    );
+    assert_eq!((t.kind.as_str(), t.params.spectrum("tex1")), ("checkerboard", Some(&SpectrumParam::Rgb([1., 0., 0.]))));
     assert_eq!(
         err("WorldBegin\nNamedMaterial \"ghost\""),
         "<string>:2:15: named material \"ghost\" is not defined (at \"ghost\")"
@@ -264,10 +198,7 @@ ObjectInstance "tri""#
     assert_eq!(d.instances[1].object_index, 0);
     // The object's Translate does not leak out of ObjectBegin/End.
     assert_eq!(d.instances[0].world_from_instance.w_axis.z, 0.0);
-    assert_eq!(
-        err("WorldBegin\nObjectInstance \"x\""),
-        "<string>:2:1: object \"x\" is not defined (at \"x\")"
-    );
+    assert_eq!(err("WorldBegin\nObjectInstance \"x\""), "<string>:2:1: object \"x\" is not defined (at \"x\")");
     assert_eq!(
         err("WorldBegin\nObjectBegin \"a\"\nObjectBegin \"b\""),
         "<string>:3:1: ObjectBegin inside the definition of object \"a\" (<string>:2:1) (at \"ObjectBegin\")"
@@ -276,16 +207,9 @@ ObjectInstance "tri""#
         err("WorldBegin\nObjectBegin \"a\"\nAttributeEnd"),
         "<string>:3:1: AttributeEnd does not match the open ObjectBegin at <string>:2:1 (at \"AttributeEnd\")"
     );
-    let (d, w) = parse(&format!(
-        "WorldBegin\nAreaLightSource \"diffuse\"\nObjectBegin \"a\"\n{TRI}\nObjectEnd"
-    ));
+    let (d, w) = parse(&format!("WorldBegin\nAreaLightSource \"diffuse\"\nObjectBegin \"a\"\n{TRI}\nObjectEnd"));
     assert!(d.objects[0].shapes[0].area_light.is_none());
-    assert!(
-        w[0].message
-            .contains("area light on a shape inside ObjectBegin"),
-        "{}",
-        w[0]
-    );
+    assert!(w[0].message.contains("area light on a shape inside ObjectBegin"), "{}", w[0]);
 }
 
 #[test]
@@ -301,10 +225,7 @@ LightSource "goniometric""#,
     assert_eq!(d.lights.len(), 2);
     assert_eq!(d.lights[0].params.float("scale"), Some(5.0));
     assert_eq!(d.lights[1].params.float("scale"), Some(2.0));
-    assert_eq!(
-        d.lights[1].params.spectrum("L"),
-        Some(&SpectrumParam::Blackbody(5500.))
-    );
+    assert_eq!(d.lights[1].params.spectrum("L"), Some(&SpectrumParam::Blackbody(5500.)));
     assert_eq!(d.lights[0].world_from_light.w_axis.y, 1.0);
 }
 
@@ -312,20 +233,15 @@ LightSource "goniometric""#,
 fn spheres_meshes_and_index_errors() {
     let (d, _) = parse("WorldBegin\nShape \"sphere\" \"float radius\" 2 \"float zmax\" 1");
     match d.shapes[0].geometry {
-        ShapeGeometry::Sphere {
-            radius,
-            z_min,
-            z_max,
-            phi_max,
-        } => assert_eq!((radius, z_min, z_max, phi_max), (2., -2., 1., 360.)),
+        ShapeGeometry::Sphere { radius, z_min, z_max, phi_max } => {
+            assert_eq!((radius, z_min, z_max, phi_max), (2., -2., 1., 360.))
+        }
         _ => panic!("not a sphere"),
     }
     let (d, _) = parse(
         "WorldBegin\nShape \"bilinearmesh\" \"point3 P\" [0 0 0 1 0 0 0 1 0 1 1 0] \"point2 uv\" [0 0 1 0 0 1 1 1]",
     );
-    let ShapeGeometry::Mesh(m) = &d.shapes[0].geometry else {
-        panic!()
-    };
+    let ShapeGeometry::Mesh(m) = &d.shapes[0].geometry else { panic!() };
     assert_eq!((m.len(), m.area()), (2, 1.0));
     assert_eq!(
         err("WorldBegin\nShape \"trianglemesh\" \"point3 P\" [0 0 0 1 0 0 0 1 0] \"integer indices\" [0 1 3]"),
@@ -359,15 +275,14 @@ fn unknown_types_list_valid_names() {
         err("Camera \"fisheye\""),
         "<string>:1:8: unknown camera type \"fisheye\"; valid camera types: orthographic, perspective, realistic, spherical"
     );
-    assert_eq!(
-        err("Frobnicate"),
-        "<string>:1:1: unknown directive \"Frobnicate\" (at \"Frobnicate\")"
-    );
+    assert_eq!(err("Frobnicate"), "<string>:1:1: unknown directive \"Frobnicate\" (at \"Frobnicate\")");
 }
 
 #[test]
 fn unsupported_features_warn_or_fail_under_strict() {
-    let (d, w) = parse("MakeNamedMedium \"fog\" \"string type\" \"homogeneous\"\nWorldBegin\nMaterial \"hair\"\nShape \"curve\"");
+    let (d, w) = parse(
+        "MakeNamedMedium \"fog\" \"string type\" \"homogeneous\"\nWorldBegin\nMaterial \"hair\"\nShape \"curve\"",
+    );
     let w: Vec<String> = w.iter().map(|w| w.to_string()).collect();
     assert_eq!(
         w,
@@ -384,21 +299,12 @@ fn unsupported_features_warn_or_fail_under_strict() {
         "<string>:2:10: unsupported feature: material \"measured\" (strict mode; without --strict prism uses \"diffuse\" instead)"
     );
     let (d, _) = parse("Integrator \"volpath\" \"integer maxdepth\" 3\nWorldBegin");
-    assert_eq!(
-        (
-            d.integrator.kind.as_str(),
-            d.integrator.params.int("maxdepth")
-        ),
-        ("path", Some(3))
-    );
+    assert_eq!((d.integrator.kind.as_str(), d.integrator.params.int("maxdepth")), ("path", Some(3)));
 }
 
 #[test]
 fn block_placement_and_syntax_errors() {
-    assert_eq!(
-        err("Shape \"sphere\""),
-        "<string>:1:1: Shape is not allowed before WorldBegin (at \"Shape\")"
-    );
+    assert_eq!(err("Shape \"sphere\""), "<string>:1:1: Shape is not allowed before WorldBegin (at \"Shape\")");
     assert_eq!(
         err("WorldBegin\nCamera \"perspective\""),
         "<string>:2:1: Camera is not allowed after WorldBegin (at \"Camera\")"
@@ -407,18 +313,9 @@ fn block_placement_and_syntax_errors() {
         err("Translate 1 2"),
         "<string>:1:1: unexpected end of file: Translate expects 3 numbers (at \"Translate\")"
     );
-    assert_eq!(
-        err("Translate 1 nan 2"),
-        "<string>:1:13: number is not finite (at \"nan\")"
-    );
-    assert_eq!(
-        err("Translate 1 \"a\" 2"),
-        "<string>:1:13: Translate expects 3 numbers, found 1 (at \"\"a\"\")"
-    );
-    assert_eq!(
-        err("\"float x\" 1"),
-        "<string>:1:1: expected a directive (at \"\"float x\"\")"
-    );
+    assert_eq!(err("Translate 1 nan 2"), "<string>:1:13: number is not finite (at \"nan\")");
+    assert_eq!(err("Translate 1 \"a\" 2"), "<string>:1:13: Translate expects 3 numbers, found 1 (at \"\"a\"\")");
+    assert_eq!(err("\"float x\" 1"), "<string>:1:1: expected a directive (at \"\"float x\"\")");
     assert_eq!(
         err("WorldBegin\nShape \"sphere\" \"float radius\" [ 1"),
         "<string>:2:31: unterminated [ for parameter \"float radius\" (at \"[\")"
@@ -426,10 +323,7 @@ fn block_placement_and_syntax_errors() {
     // A byte-order mark and CRLF line ends are accepted; columns count from after the BOM.
     let (d, _) = parse("\u{feff}WorldBegin\r\nShape \"sphere\"\r\n");
     assert_eq!((d.shapes[0].loc.line, d.shapes[0].loc.col), (2, 1));
-    assert_eq!(
-        err("Rotate 30 0 0 0"),
-        "<string>:1:1: rotation axis has zero length (at \"Rotate\")"
-    );
+    assert_eq!(err("Rotate 30 0 0 0"), "<string>:1:1: rotation axis has zero length (at \"Rotate\")");
     assert_eq!(
         err("WorldBegin\nShape \"sphere\" \"float radius\" 1 \"float radius\" 2"),
         "<string>:2:33: parameter \"radius\" redefined (first defined at <string>:2:16) (at \"float radius\")"
@@ -438,13 +332,12 @@ fn block_placement_and_syntax_errors() {
 
 #[test]
 fn unused_parameters_are_reported_after_building() {
-    let (d, _) = parse("WorldBegin\nShape \"sphere\" \"float radius\" 2 \"float radisu\" 3\nLightSource \"point\" \"rgb I\" [1 1 1]");
+    let (d, _) = parse(
+        "WorldBegin\nShape \"sphere\" \"float radius\" 2 \"float radisu\" 3\nLightSource \"point\" \"rgb I\" [1 1 1]",
+    );
     let _ = d.lights[0].params.spectrum("I");
     let w: Vec<String> = d.report_unused().iter().map(|w| w.to_string()).collect();
-    assert_eq!(
-        w,
-        ["<string>:2:33: warning: parameter \"float radisu\" of Shape \"sphere\" was not used"]
-    );
+    assert_eq!(w, ["<string>:2:33: warning: parameter \"float radisu\" of Shape \"sphere\" was not used"]);
     // Unreferenced named materials are not reported; referenced ones are.
     let (d, _) = parse(&format!(
         r#"WorldBegin
@@ -453,36 +346,17 @@ MakeNamedMaterial "b" "string type" "diffuse" "float y" 1
 NamedMaterial "b"
 {TRI}"#
     ));
-    let w: Vec<String> = d
-        .report_unused()
-        .iter()
-        .map(|w| w.message.clone())
-        .collect();
-    assert_eq!(
-        w,
-        ["parameter \"float y\" of MakeNamedMaterial \"b\" was not used"]
-    );
+    let w: Vec<String> = d.report_unused().iter().map(|w| w.message.clone()).collect();
+    assert_eq!(w, ["parameter \"float y\" of MakeNamedMaterial \"b\" was not used"]);
 }
 
 #[test]
 fn include_is_relative_to_the_including_file_and_shares_state() {
     let d = tmp("include");
     std::fs::create_dir_all(d.join("sub/deeper")).unwrap();
-    std::fs::write(
-        d.join("main.pbrt"),
-        "WorldBegin\nInclude \"sub/a.pbrt\"\nShape \"sphere\"\n",
-    )
-    .unwrap();
-    std::fs::write(
-        d.join("sub/a.pbrt"),
-        "Material \"conductor\"\nInclude \"deeper/b.pbrt\"\n",
-    )
-    .unwrap();
-    std::fs::write(
-        d.join("sub/deeper/b.pbrt"),
-        "Translate 0 0 4\nShape \"sphere\"\n",
-    )
-    .unwrap();
+    std::fs::write(d.join("main.pbrt"), "WorldBegin\nInclude \"sub/a.pbrt\"\nShape \"sphere\"\n").unwrap();
+    std::fs::write(d.join("sub/a.pbrt"), "Material \"conductor\"\nInclude \"deeper/b.pbrt\"\n").unwrap();
+    std::fs::write(d.join("sub/deeper/b.pbrt"), "Translate 0 0 4\nShape \"sphere\"\n").unwrap();
     let (s, _) = parse_file(&d.join("main.pbrt"), &ParseOptions::default()).unwrap();
     assert_eq!(s.shapes.len(), 2);
     assert!(s.shapes[0].loc.file.ends_with("sub/deeper/b.pbrt"));
@@ -495,11 +369,7 @@ fn include_is_relative_to_the_including_file_and_shares_state() {
 #[test]
 fn import_does_not_change_the_importers_state() {
     let d = tmp("import");
-    std::fs::write(
-        d.join("main.pbrt"),
-        "WorldBegin\nImport \"part.pbrt\"\nShape \"sphere\"\n",
-    )
-    .unwrap();
+    std::fs::write(d.join("main.pbrt"), "WorldBegin\nImport \"part.pbrt\"\nShape \"sphere\"\n").unwrap();
     std::fs::write(
         d.join("part.pbrt"),
         "Translate 0 0 4\nMakeNamedMaterial \"m\" \"string type\" \"diffuse\"\nShape \"sphere\"\n",
@@ -517,10 +387,7 @@ fn include_cycles_and_missing_files_are_errors() {
     std::fs::write(d.join("a.pbrt"), "WorldBegin\nInclude \"b.pbrt\"\n").unwrap();
     std::fs::write(d.join("b.pbrt"), "\n  Include \"a.pbrt\"\n").unwrap();
     let e = parse_file(&d.join("a.pbrt"), &ParseOptions::default()).unwrap_err();
-    let (a, b) = (
-        std::fs::canonicalize(d.join("a.pbrt")).unwrap(),
-        std::fs::canonicalize(d.join("b.pbrt")).unwrap(),
-    );
+    let (a, b) = (std::fs::canonicalize(d.join("a.pbrt")).unwrap(), std::fs::canonicalize(d.join("b.pbrt")).unwrap());
     assert_eq!(
         e.to_string(),
         format!(
@@ -532,14 +399,8 @@ fn include_cycles_and_missing_files_are_errors() {
         )
     );
     std::fs::write(d.join("m.pbrt"), "Include \"missing.pbrt\"\n").unwrap();
-    let e = parse_file(&d.join("m.pbrt"), &ParseOptions::default())
-        .unwrap_err()
-        .to_string();
-    let prefix = format!(
-        "{}:1:9: cannot read \"{}\": ",
-        d.join("m.pbrt").display(),
-        d.join("missing.pbrt").display()
-    );
+    let e = parse_file(&d.join("m.pbrt"), &ParseOptions::default()).unwrap_err().to_string();
+    let prefix = format!("{}:1:9: cannot read \"{}\": ", d.join("m.pbrt").display(), d.join("missing.pbrt").display());
     assert!(e.starts_with(&prefix), "{e}");
     let e = parse_file(&d.join("nope.pbrt"), &ParseOptions::default()).unwrap_err();
     assert!(matches!(e, SceneError::Io { .. }));
@@ -548,26 +409,17 @@ fn include_cycles_and_missing_files_are_errors() {
 #[test]
 fn plymesh_and_objmesh_load_relative_to_the_scene() {
     let d = tmp("meshes");
-    let mut quad = prism::geometry::Mesh::new(
-        vec![Vec3::ZERO, Vec3::X, Vec3::new(1., 1., 0.), Vec3::Y],
-        vec![],
-    );
+    let mut quad = prism::geometry::Mesh::new(vec![Vec3::ZERO, Vec3::X, Vec3::new(1., 1., 0.), Vec3::Y], vec![]);
     quad.normals = Some(vec![Vec3::Z; 4]);
     std::fs::create_dir_all(d.join("geo")).unwrap();
-    std::fs::write(
-        d.join("geo/q.ply"),
-        prism::scene::mesh_io::ply::write(&quad, &[vec![0, 1, 2, 3]], true),
-    )
-    .unwrap();
+    std::fs::write(d.join("geo/q.ply"), prism::scene::mesh_io::ply::write(&quad, &[vec![0, 1, 2, 3]], true)).unwrap();
     std::fs::write(d.join("geo/t.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
     std::fs::write(
         d.join("s.pbrt"),
         "WorldBegin\nShape \"plymesh\" \"string filename\" \"geo/q.ply\"\nShape \"objmesh\" \"string filename\" \"geo/t.obj\"\nShape \"plymesh\" \"string filename\" \"geo/t.obj\"\n",
     )
     .unwrap();
-    let e = parse_file(&d.join("s.pbrt"), &ParseOptions::default())
-        .unwrap_err()
-        .to_string();
+    let e = parse_file(&d.join("s.pbrt"), &ParseOptions::default()).unwrap_err().to_string();
     assert_eq!(
         e,
         format!(
@@ -608,9 +460,7 @@ fn large_inline_mesh_parses() {
     s += " ]\n";
     let t = std::time::Instant::now();
     let (d, _) = parse(&s);
-    let ShapeGeometry::Mesh(m) = &d.shapes[0].geometry else {
-        panic!()
-    };
+    let ShapeGeometry::Mesh(m) = &d.shapes[0].geometry else { panic!() };
     assert_eq!((m.positions.len(), m.len()), (n as usize, n as usize - 2));
     eprintln!("parsed {} bytes in {:?}", s.len(), t.elapsed());
 }

@@ -20,10 +20,17 @@ fn materials() -> Vec<(&'static str, Material)> {
     let c = |v: f32| SpectrumTexture::Constant(Spectrum::constant(v));
     vec![
         ("diffuse", Material::diffuse(Spectrum::constant(0.7))),
-        ("diffuse transmission", Material::DiffuseTransmission { reflectance: c(0.4), transmittance: c(0.4), scale: 1.0 }),
+        (
+            "diffuse transmission",
+            Material::DiffuseTransmission { reflectance: c(0.4), transmittance: c(0.4), scale: 1.0 },
+        ),
         (
             "rough conductor",
-            Material::Conductor { eta: Spectrum::constant(0.2), k: Spectrum::constant(3.0), roughness: Roughness::alpha(0.3) },
+            Material::Conductor {
+                eta: Spectrum::constant(0.2),
+                k: Spectrum::constant(3.0),
+                roughness: Roughness::alpha(0.3),
+            },
         ),
         ("rough dielectric", Material::Dielectric { eta: Ior::Constant(1.5), roughness: Roughness::alpha(0.3) }),
         ("coated diffuse", Material::CoatedDiffuse { reflectance: c(0.6), roughness: Roughness::alpha(0.2), eta: 1.5 }),
@@ -46,12 +53,19 @@ fn render_with(material: &Material, light: LightKind, strategy: DirectStrategy, 
     match light {
         LightKind::Area => {
             let em = Emission { spectrum: Spectrum::blackbody(5000.0), scale: 4.0, two_sided: false };
-            b.add_mesh(quad(Vec3::new(-0.5, 1.5, -0.5), Vec3::new(1.0, 0.0, 0.0), Vec3::new(0.0, 0.0, 1.0)), black, Some(em));
+            b.add_mesh(
+                quad(Vec3::new(-0.5, 1.5, -0.5), Vec3::new(1.0, 0.0, 0.0), Vec3::new(0.0, 0.0, 1.0)),
+                black,
+                Some(em),
+            );
         }
-        LightKind::Environment => {
-            b.add_light(Light::UniformInfinite(UniformInfiniteLight { spectrum: Arc::new(Spectrum::constant(1.0)), scale: 0.5 }))
+        LightKind::Environment => b.add_light(Light::UniformInfinite(UniformInfiniteLight {
+            spectrum: Arc::new(Spectrum::constant(1.0)),
+            scale: 0.5,
+        })),
+        LightKind::Point => {
+            b.add_light(Light::Point(PointLight::new(Vec3::new(0.3, 1.2, 0.1), Arc::new(Spectrum::constant(1.0)), 2.0)))
         }
-        LightKind::Point => b.add_light(Light::Point(PointLight::new(Vec3::new(0.3, 1.2, 0.1), Arc::new(Spectrum::constant(1.0)), 2.0))),
         LightKind::Spot => b.add_light(Light::Spot(SpotLight::new(
             Vec3::new(0.0, 1.5, 0.0),
             -Vec3::Y,

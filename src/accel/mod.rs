@@ -22,7 +22,6 @@ pub trait Accel: Send + Sync {
     fn name(&self) -> &'static str;
 }
 
-
 /// The backends, as named on the command line.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum AccelKind {

@@ -99,10 +99,8 @@ impl ObvhsAccel {
         let mut bounds = Bounds3::EMPTY;
         for (g, mesh) in meshes.iter().enumerate() {
             for (p, idx) in mesh.indices.iter().enumerate() {
-                let Some(tri) = idx
-                    .map(|i| mesh.positions.get(i as usize).copied())
-                    .into_iter()
-                    .collect::<Option<Vec<_>>>()
+                let Some(tri) =
+                    idx.map(|i| mesh.positions.get(i as usize).copied()).into_iter().collect::<Option<Vec<_>>>()
                 else {
                     stats.skipped_bad_index += 1;
                     continue;
@@ -120,27 +118,13 @@ impl ObvhsAccel {
         }
         stats.triangles = tris.len();
         if tris.is_empty() {
-            return Self {
-                bvh: CwBvh::default(),
-                triangles: tris,
-                group_start: vec![0],
-                ids,
-                bounds,
-                stats,
-            };
+            return Self { bvh: CwBvh::default(), triangles: tris, group_start: vec![0], ids, bounds, stats };
         }
         let (members, starts) = group_by_centroid_cell(&tris, bounds);
-        let groups: Vec<&[u32]> = starts
-            .windows(2)
-            .map(|w| &members[w[0] as usize..w[1] as usize])
-            .collect();
+        let groups: Vec<&[u32]> = starts.windows(2).map(|w| &members[w[0] as usize..w[1] as usize]).collect();
         let boxes: Vec<Aabb> = groups
             .par_iter()
-            .map(|g| {
-                g.iter().fold(Aabb::empty(), |b, &i| {
-                    b.union(&padded_box(&tris[i as usize]))
-                })
-            })
+            .map(|g| g.iter().fold(Aabb::empty(), |b, &i| b.union(&padded_box(&tris[i as usize]))))
             .collect();
         let bvh = build_cwbvh(&boxes, quality.params(), &mut Duration::default());
         let mut triangles = Vec::with_capacity(tris.len());
@@ -156,14 +140,7 @@ impl ObvhsAccel {
         }
         stats.max_depth = max_depth(&bvh);
         stats.linear_fallback = stats.max_depth + 1 >= OBVHS_STACK;
-        Self {
-            bvh,
-            triangles,
-            group_start,
-            ids: ordered_ids,
-            bounds,
-            stats,
-        }
+        Self { bvh, triangles, group_start, ids: ordered_ids, bounds, stats }
     }
 
     /// Build statistics (skipped triangles, depth).
@@ -174,13 +151,7 @@ impl ObvhsAccel {
     /// Closest-hit candidate for slot `i`: hit if nearer than `best`, or equally near with smaller
     /// (geom_id, prim_id), so the result does not depend on traversal order.
     #[inline]
-    fn closer(
-        &self,
-        r: &ShearedRay,
-        i: usize,
-        best: &mut Option<(TriangleHit, usize)>,
-        t_max: f32,
-    ) -> bool {
+    fn closer(&self, r: &ShearedRay, i: usize, best: &mut Option<(TriangleHit, usize)>, t_max: f32) -> bool {
         let [p0, p1, p2] = self.triangles[i];
         let limit = best.map_or(t_max, |(h, _)| h.t);
         match r.intersect(p0, p1, p2, limit) {
@@ -201,14 +172,7 @@ impl ObvhsAccel {
     fn hit_record(&self, (h, i): (TriangleHit, usize)) -> Hit {
         let [p0, p1, p2] = self.triangles[i];
         let (geom_id, prim_id) = self.ids[i];
-        Hit {
-            t: h.t,
-            geom_id,
-            prim_id,
-            u: h.u,
-            v: h.v,
-            ng: (p1 - p0).cross(p2 - p0),
-        }
+        Hit { t: h.t, geom_id, prim_id, u: h.u, v: h.v, ng: (p1 - p0).cross(p2 - p0) }
     }
 }
 
@@ -237,8 +201,7 @@ fn obvhs_ray(ray: &Ray, t_max_scaled: f32) -> ::obvhs::ray::Ray {
 fn padded_box(t: &[Vec3; 3]) -> Aabb {
     let min = t[0].min(t[1]).min(t[2]);
     let max = t[0].max(t[1]).max(t[2]);
-    let pad =
-        Vec3::splat(min.abs().max(max.abs()).max_element() * (1.0 / T_SCALE) + f32::MIN_POSITIVE);
+    let pad = Vec3::splat(min.abs().max(max.abs()).max_element() * (1.0 / T_SCALE) + f32::MIN_POSITIVE);
     Aabb::new(Vec3A::from(min - pad), Vec3A::from(max + pad))
 }
 
@@ -256,17 +219,11 @@ fn group_by_centroid_cell(tris: &[[Vec3; 3]], bounds: Bounds3) -> (Vec<u32>, Vec
         let q = c.clamp(Vec3::ZERO, Vec3::splat(cells)).as_uvec3();
         ((q.x as u64) << 40) | ((q.y as u64) << 20) | q.z as u64
     };
-    let mut order: Vec<(u64, u32)> = tris
-        .par_iter()
-        .enumerate()
-        .map(|(i, t)| (key(t), i as u32))
-        .collect();
+    let mut order: Vec<(u64, u32)> = tris.par_iter().enumerate().map(|(i, t)| (key(t), i as u32)).collect();
     // Keys with indices are unique, so the order (and the BVH) is deterministic.
     order.par_sort_unstable();
-    let mut starts: Vec<u32> = (0..order.len())
-        .filter(|&k| k == 0 || order[k - 1].0 != order[k].0)
-        .map(|k| k as u32)
-        .collect();
+    let mut starts: Vec<u32> =
+        (0..order.len()).filter(|&k| k == 0 || order[k - 1].0 != order[k].0).map(|k| k as u32).collect();
     starts.push(order.len() as u32);
     (order.into_iter().map(|(_, i)| i).collect(), starts)
 }
@@ -325,21 +282,14 @@ impl Accel for ObvhsAccel {
         }
         let blocks = |i: usize| {
             let [p0, p1, p2] = self.triangles[i];
-            r.intersect(p0, p1, p2, ray.t_max)
-                .is_some_and(|h| h.t < ray.t_max)
+            r.intersect(p0, p1, p2, ray.t_max).is_some_and(|h| h.t < ray.t_max)
         };
         if self.stats.linear_fallback {
             return (0..self.triangles.len()).any(blocks);
         }
         let oray = obvhs_ray(ray, ray.t_max * T_SCALE);
         // The traversal stops at the first t' < tmax; 0 always is.
-        !self.bvh.ray_traverse_miss(oray, |_, k| {
-            if self.group(k).any(blocks) {
-                0.0
-            } else {
-                f32::INFINITY
-            }
-        })
+        !self.bvh.ray_traverse_miss(oray, |_, k| if self.group(k).any(blocks) { 0.0 } else { f32::INFINITY })
     }
 
     fn bounds(&self) -> Bounds3 {

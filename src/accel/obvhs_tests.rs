@@ -18,14 +18,7 @@ fn brute_intersect(meshes: &[Mesh], ray: &Ray) -> Option<Hit> {
             if let Some(h) = r.intersect(p0, p1, p2, limit) {
                 if best.is_none_or(|b| h.t < b.t) {
                     let ng = (p1 - p0).cross(p2 - p0);
-                    best = Some(Hit {
-                        t: h.t,
-                        geom_id: g as u32,
-                        prim_id: p as u32,
-                        u: h.u,
-                        v: h.v,
-                        ng,
-                    });
+                    best = Some(Hit { t: h.t, geom_id: g as u32, prim_id: p as u32, u: h.u, v: h.v, ng });
                 }
             }
         }
@@ -40,8 +33,7 @@ fn brute_occluded(meshes: &[Mesh], ray: &Ray) -> bool {
     meshes.iter().any(|m| {
         (0..m.len()).any(|p| {
             let [p0, p1, p2] = m.triangle(p);
-            r.intersect(p0, p1, p2, ray.t_max)
-                .is_some_and(|h| h.t < ray.t_max)
+            r.intersect(p0, p1, p2, ray.t_max).is_some_and(|h| h.t < ray.t_max)
         })
     })
 }
@@ -52,21 +44,10 @@ fn test_scene() -> Vec<Mesh> {
         axis_box(Vec3::new(1.5, 0.0, -1.0), Vec3::new(2.5, 1.0, 1.0)),
         uv_sphere(Vec3::new(-2.0, 1.0, 0.5), 0.8, 8, 16),
         terrain(8.0, 16, 0.3, 5),
-        triangle_soup(
-            800,
-            Vec3::new(-3.0, 0.5, -3.0),
-            Vec3::new(3.0, 3.0, -1.5),
-            0.15,
-            11,
-        ),
-        quad(
-            Vec3::new(-4.0, 0.0, 3.0),
-            Vec3::new(8.0, 0.0, 0.0),
-            Vec3::new(0.0, 4.0, 0.0),
-        ),
-        axis_box(Vec3::splat(-0.3), Vec3::splat(0.3)).transformed(
-            &(Mat4::from_translation(Vec3::new(0.0, 2.5, 1.5)) * Mat4::from_rotation_y(0.7)),
-        ),
+        triangle_soup(800, Vec3::new(-3.0, 0.5, -3.0), Vec3::new(3.0, 3.0, -1.5), 0.15, 11),
+        quad(Vec3::new(-4.0, 0.0, 3.0), Vec3::new(8.0, 0.0, 0.0), Vec3::new(0.0, 4.0, 0.0)),
+        axis_box(Vec3::splat(-0.3), Vec3::splat(0.3))
+            .transformed(&(Mat4::from_translation(Vec3::new(0.0, 2.5, 1.5)) * Mat4::from_rotation_y(0.7))),
     ]
 }
 
@@ -107,17 +88,9 @@ fn test_rays(meshes: &[Mesh]) -> Vec<Ray> {
     // Incoherent: random origins around the scene, random directions, some bounded.
     let mut rng = Rng::new(1234, 0);
     for k in 0..40_000 {
-        let o = Vec3::new(
-            rng.uniform() * 10.0 - 5.0,
-            rng.uniform() * 5.0 - 1.0,
-            rng.uniform() * 10.0 - 5.0,
-        );
+        let o = Vec3::new(rng.uniform() * 10.0 - 5.0, rng.uniform() * 5.0 - 1.0, rng.uniform() * 10.0 - 5.0);
         let d = random_dir(&mut rng) * (0.5 + rng.uniform());
-        let t_max = if k % 4 == 0 {
-            rng.uniform() * 4.0
-        } else {
-            f32::INFINITY
-        };
+        let t_max = if k % 4 == 0 { rng.uniform() * 4.0 } else { f32::INFINITY };
         rays.push(Ray::segment(o, d, t_max));
     }
     // Aimed exactly at shared edges and vertices of the closed meshes, from outside.
@@ -165,10 +138,7 @@ fn occlusion_is_consistent_with_closest_hit() {
         if let Some(h) = hit {
             // Nothing strictly closer than the closest hit; the hit itself blocks a longer segment.
             assert!(!accel.occluded(&Ray::segment(ray.o, ray.d, h.t)), "{ray:?}");
-            assert!(
-                accel.occluded(&Ray::segment(ray.o, ray.d, h.t.next_up())),
-                "{ray:?}"
-            );
+            assert!(accel.occluded(&Ray::segment(ray.o, ray.d, h.t.next_up())), "{ray:?}");
             assert_eq!(accel.intersect(&Ray::segment(ray.o, ray.d, h.t)), Some(h));
             checked += 1;
         }
@@ -183,8 +153,7 @@ fn no_ray_escapes_closed_meshes_from_inside() {
         uv_sphere(Vec3::new(5.0, 0.0, 0.0), 1.0, 64, 128),
         axis_box(Vec3::new(-8.0, -1.0, -1.0), Vec3::new(-6.0, 1.0, 2.0)),
         axis_box(Vec3::splat(-1.0), Vec3::splat(1.0)).transformed(
-            &(Mat4::from_translation(Vec3::new(0.0, 6.0, 0.0))
-                * Mat4::from_euler(glam::EulerRot::XYZ, 0.3, 0.5, 0.7)),
+            &(Mat4::from_translation(Vec3::new(0.0, 6.0, 0.0)) * Mat4::from_euler(glam::EulerRot::XYZ, 0.3, 0.5, 0.7)),
         ),
     ];
     let accel = ObvhsAccel::new(&meshes);
@@ -223,10 +192,7 @@ fn no_ray_escapes_closed_meshes_from_inside() {
 #[test]
 fn empty_scenes_hit_nothing() {
     let ray = Ray::new(Vec3::ZERO, Vec3::X);
-    for meshes in [
-        vec![],
-        vec![Mesh::default(), Mesh::new(vec![Vec3::ONE], vec![])],
-    ] {
+    for meshes in [vec![], vec![Mesh::default(), Mesh::new(vec![Vec3::ONE], vec![])]] {
         let accel = ObvhsAccel::new(&meshes);
         assert_eq!(accel.intersect(&ray), None);
         assert!(!accel.occluded(&ray));
@@ -245,32 +211,14 @@ fn degenerate_triangles_and_bad_indices_are_skipped_and_counted() {
         Vec3::new(f32::NAN, 0.0, 0.0),
         Vec3::new(0.0, f32::INFINITY, 0.0),
     ];
-    let indices = vec![
-        [0, 1, 3],
-        [0, 0, 2],
-        [0, 1, 4],
-        [5, 1, 2],
-        [0, 1, 99],
-        [0, 1, 2],
-    ];
+    let indices = vec![[0, 1, 3], [0, 0, 2], [0, 1, 4], [5, 1, 2], [0, 1, 99], [0, 1, 2]];
     let accel = ObvhsAccel::new(&[Mesh::new(positions, indices)]);
     let s = accel.stats();
-    assert_eq!(
-        (s.triangles, s.skipped_degenerate, s.skipped_bad_index),
-        (1, 4, 1)
-    );
-    let hit = accel
-        .intersect(&Ray::new(Vec3::new(0.25, 0.25, 1.0), -Vec3::Z))
-        .unwrap();
+    assert_eq!((s.triangles, s.skipped_degenerate, s.skipped_bad_index), (1, 4, 1));
+    let hit = accel.intersect(&Ray::new(Vec3::new(0.25, 0.25, 1.0), -Vec3::Z)).unwrap();
     assert_eq!((hit.geom_id, hit.prim_id), (0, 5));
     assert_eq!(hit.ng, Vec3::Z);
-    assert_eq!(
-        accel.bounds(),
-        Bounds3 {
-            min: Vec3::ZERO,
-            max: Vec3::new(1.0, 1.0, 0.0)
-        }
-    );
+    assert_eq!(accel.bounds(), Bounds3 { min: Vec3::ZERO, max: Vec3::new(1.0, 1.0, 0.0) });
 }
 
 #[test]
@@ -279,10 +227,7 @@ fn bad_rays_hit_nothing_without_panicking() {
     let bad = [
         Ray::new(Vec3::NAN, Vec3::X),
         Ray::new(Vec3::new(-3.0, 0.0, 0.0), Vec3::ZERO),
-        Ray::new(
-            Vec3::new(-3.0, 0.0, 0.0),
-            Vec3::new(f32::INFINITY, 0.0, 0.0),
-        ),
+        Ray::new(Vec3::new(-3.0, 0.0, 0.0), Vec3::new(f32::INFINITY, 0.0, 0.0)),
         Ray::segment(Vec3::new(-3.0, 0.0, 0.0), Vec3::X, -1.0),
         Ray::segment(Vec3::new(-3.0, 0.0, 0.0), Vec3::X, f32::NAN),
     ];
@@ -292,9 +237,7 @@ fn bad_rays_hit_nothing_without_panicking() {
     }
     // Axis-parallel directions with signed zeros still hit.
     for d in [Vec3::new(1.0, 0.0, -0.0), Vec3::new(1.0, -0.0, 0.0)] {
-        assert!(accel
-            .intersect(&Ray::new(Vec3::new(-3.0, 0.0, 0.0), d))
-            .is_some());
+        assert!(accel.intersect(&Ray::new(Vec3::new(-3.0, 0.0, 0.0), d)).is_some());
     }
 }
 
@@ -302,37 +245,17 @@ fn bad_rays_hit_nothing_without_panicking() {
 fn coincident_triangles_and_all_qualities_agree_with_brute_force() {
     // 20k copies of one triangle: PLOC sees identical boxes, the worst case for tree depth.
     let one = quad(Vec3::ZERO, Vec3::X, Vec3::Y);
-    let stack = Mesh::new(
-        one.positions.clone(),
-        (0..10_000).flat_map(|_| one.indices.clone()).collect(),
-    );
-    let meshes = vec![
-        stack,
-        triangle_soup(3000, Vec3::splat(-1.0), Vec3::splat(2.0), 0.2, 3),
-    ];
+    let stack = Mesh::new(one.positions.clone(), (0..10_000).flat_map(|_| one.indices.clone()).collect());
+    let meshes = vec![stack, triangle_soup(3000, Vec3::splat(-1.0), Vec3::splat(2.0), 0.2, 3)];
     let mut rng = Rng::new(5, 5);
     let rays: Vec<Ray> = (0..500)
-        .map(|_| {
-            Ray::new(
-                Vec3::new(rng.uniform(), rng.uniform(), 3.0),
-                random_dir(&mut rng) - 2.0 * Vec3::Z,
-            )
-        })
+        .map(|_| Ray::new(Vec3::new(rng.uniform(), rng.uniform(), 3.0), random_dir(&mut rng) - 2.0 * Vec3::Z))
         .collect();
-    for q in [
-        BuildQuality::Fastest,
-        BuildQuality::Fast,
-        BuildQuality::Medium,
-        BuildQuality::Slow,
-    ] {
+    for q in [BuildQuality::Fastest, BuildQuality::Fast, BuildQuality::Medium, BuildQuality::Slow] {
         let accel = ObvhsAccel::with_quality(&meshes, q);
         assert_eq!(accel.stats().triangles, 23_000);
         for ray in &rays {
-            assert_eq!(
-                accel.intersect(ray),
-                brute_intersect(&meshes, ray),
-                "{q:?} {ray:?}"
-            );
+            assert_eq!(accel.intersect(ray), brute_intersect(&meshes, ray), "{q:?} {ray:?}");
         }
     }
 }

@@ -48,15 +48,7 @@ impl ShearedRay {
         if d[kz] < 0.0 {
             std::mem::swap(&mut kx, &mut ky);
         }
-        Some(Self {
-            o,
-            kz,
-            kx,
-            ky,
-            sx: d[kx] / d[kz],
-            sy: d[ky] / d[kz],
-            sz: 1.0 / d[kz],
-        })
+        Some(Self { o, kz, kx, ky, sx: d[kx] / d[kz], sy: d[ky] / d[kz], sz: 1.0 / d[kz] })
     }
 
     /// The hit with t in (0, t_max], or `None`. Triangles seen edge-on (det = 0) are missed.
@@ -79,8 +71,7 @@ impl ShearedRay {
         let mut v = ax * cy - ay * cx;
         let mut w = bx * ay - by * ax;
         if u == 0.0 || v == 0.0 || w == 0.0 {
-            let f =
-                |p: f32, q: f32, r: f32, s: f32| (p as f64 * q as f64 - r as f64 * s as f64) as f32;
+            let f = |p: f32, q: f32, r: f32, s: f32| (p as f64 * q as f64 - r as f64 * s as f64) as f32;
             u = f(cx, by, cy, bx);
             v = f(ax, cy, ay, cx);
             w = f(bx, ay, by, ax);
@@ -107,11 +98,7 @@ impl ShearedRay {
         if !(t > 0.0 && t <= t_max) {
             return None;
         }
-        Some(TriangleHit {
-            t,
-            u: v * inv_det,
-            v: w * inv_det,
-        })
+        Some(TriangleHit { t, u: v * inv_det, v: w * inv_det })
     }
 }
 
@@ -138,10 +125,7 @@ mod tests {
     #[test]
     fn respects_t_range_and_misses_outside() {
         let r = ShearedRay::new(Vec3::new(0.2, 0.3, 2.0), -Vec3::Z).unwrap();
-        assert!(
-            r.intersect(P0, P1, P2, 2.0).is_some(),
-            "t == t_max is inside (0, t_max]"
-        );
+        assert!(r.intersect(P0, P1, P2, 2.0).is_some(), "t == t_max is inside (0, t_max]");
         assert!(r.intersect(P0, P1, P2, 1.999).is_none());
         let behind = ShearedRay::new(Vec3::new(0.2, 0.3, 2.0), Vec3::Z).unwrap();
         assert!(behind.intersect(P0, P1, P2, f32::INFINITY).is_none());
@@ -168,10 +152,7 @@ mod tests {
             let r = ShearedRay::new(o, target - o).unwrap();
             let hit1 = r.intersect(a, c, b, f32::INFINITY);
             let hit2 = r.intersect(a, b, d, f32::INFINITY);
-            assert!(
-                hit1.is_some() || hit2.is_some(),
-                "leak at {target:?} from {o:?}"
-            );
+            assert!(hit1.is_some() || hit2.is_some(), "leak at {target:?} from {o:?}");
         }
     }
 }

@@ -39,7 +39,11 @@ fn series(points: &[BenchPoint]) -> Vec<(String, Vec<&BenchPoint>)> {
     out
 }
 
-fn with_backend(path: &Path, draw: impl Fn(DrawingArea<SVGBackend, Shift>) -> Result<()>, draw_png: impl Fn(DrawingArea<BitMapBackend, Shift>) -> Result<()>) -> Result<()> {
+fn with_backend(
+    path: &Path,
+    draw: impl Fn(DrawingArea<SVGBackend, Shift>) -> Result<()>,
+    draw_png: impl Fn(DrawingArea<BitMapBackend, Shift>) -> Result<()>,
+) -> Result<()> {
     register_font();
     // Draw into a temporary file and rename, like every other output.
     let tmp = crate::io::temp_path_for(path);
@@ -85,7 +89,8 @@ where
         .map_err(err)?;
     for (i, (name, s)) in series(points).into_iter().enumerate() {
         let c = PALETTE[i % PALETTE.len()];
-        let data: Vec<(f64, f64)> = s.iter().filter(|p| p.time_s > 0.0 && p.rmse > 0.0).map(|p| (p.time_s, p.rmse)).collect();
+        let data: Vec<(f64, f64)> =
+            s.iter().filter(|p| p.time_s > 0.0 && p.rmse > 0.0).map(|p| (p.time_s, p.rmse)).collect();
         chart
             .draw_series(LineSeries::new(data.clone(), c.stroke_width(2)))
             .map_err(err)?

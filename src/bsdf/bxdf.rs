@@ -1,8 +1,8 @@
 //! The closed set of BxDF models, dispatched by `match` (design.md: enums for closed sets).
 
 use super::{
-    BsdfSample, BxdfFlags, CoatedDiffuse, Conductor, Dielectric, Diffuse, DiffuseTransmission,
-    ThinDielectric, TransportMode,
+    BsdfSample, BxdfFlags, CoatedDiffuse, Conductor, Dielectric, Diffuse, DiffuseTransmission, ThinDielectric,
+    TransportMode,
 };
 use crate::math::{Vec2, Vec3};
 use crate::spectrum::SampledSpectrum;

@@ -39,22 +39,12 @@ pub struct CoatedDiffuse {
 impl CoatedDiffuse {
     /// Base albedo `reflectance`, coat IOR `eta` (invalid values become 1), coat roughness.
     pub fn new(reflectance: SampledSpectrum, eta: f32, distrib: TrowbridgeReitz) -> Self {
-        let eta = if eta.is_finite() && eta > 0.0 {
-            eta
-        } else {
-            1.0
-        };
+        let eta = if eta.is_finite() && eta > 0.0 { eta } else { 1.0 };
         let reflectance = reflectance.map(|r| r.clamp(0.0, 1.0));
         let f_int = 1.0 - (1.0 - fr_dielectric_average(eta)) / (eta * eta);
         let diffuse_scale = reflectance.map(|r| r * INV_PI / (eta * eta * (1.0 - r * f_int)));
         let base_weight = (diffuse_scale * (eta * eta * std::f32::consts::PI)).average();
-        Self {
-            reflectance,
-            eta,
-            distrib,
-            diffuse_scale,
-            base_weight,
-        }
+        Self { reflectance, eta, distrib, diffuse_scale, base_weight }
     }
 
     fn is_smooth(&self) -> bool {
@@ -137,12 +127,7 @@ impl CoatedDiffuse {
             if pdf.is_nan() || pdf <= 0.0 {
                 return None;
             }
-            return Some(BsdfSample::new(
-                self.f(wo_w, wi_w, mode),
-                wi_w,
-                pdf,
-                BxdfFlags::GLOSSY_REFLECTION,
-            ));
+            return Some(BsdfSample::new(self.f(wo_w, wi_w, mode), wi_w, pdf, BxdfFlags::GLOSSY_REFLECTION));
         }
         let wi = sample_cosine_hemisphere(u);
         if wi.z <= 0.0 {
@@ -153,12 +138,7 @@ impl CoatedDiffuse {
         if pdf.is_nan() || pdf <= 0.0 {
             return None;
         }
-        Some(BsdfSample::new(
-            self.f(wo_w, wi_w, mode),
-            wi_w,
-            pdf,
-            BxdfFlags::DIFFUSE_REFLECTION,
-        ))
+        Some(BsdfSample::new(self.f(wo_w, wi_w, mode), wi_w, pdf, BxdfFlags::DIFFUSE_REFLECTION))
     }
 
     /// Mixture density of the non-delta lobes.
@@ -173,11 +153,7 @@ impl CoatedDiffuse {
 
     /// Lobes present.
     pub fn flags(&self) -> BxdfFlags {
-        let coat = if self.is_smooth() {
-            BxdfFlags::SPECULAR_REFLECTION
-        } else {
-            BxdfFlags::GLOSSY_REFLECTION
-        };
+        let coat = if self.is_smooth() { BxdfFlags::SPECULAR_REFLECTION } else { BxdfFlags::GLOSSY_REFLECTION };
         coat | BxdfFlags::DIFFUSE_REFLECTION
     }
 }

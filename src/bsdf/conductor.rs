@@ -44,13 +44,7 @@ impl Conductor {
     }
 
     /// Mirror direction when smooth; otherwise a visible normal reflected about.
-    pub fn sample_f(
-        &self,
-        wo: Vec3,
-        _uc: f32,
-        u: Vec2,
-        _mode: TransportMode,
-    ) -> Option<BsdfSample> {
+    pub fn sample_f(&self, wo: Vec3, _uc: f32, u: Vec2, _mode: TransportMode) -> Option<BsdfSample> {
         if self.distrib.effectively_smooth() {
             let wi = Vec3::new(-wo.x, -wo.y, wo.z);
             let cos_i = abs_cos_theta(wi);

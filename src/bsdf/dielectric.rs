@@ -25,11 +25,7 @@ pub struct Dielectric {
 impl Dielectric {
     /// An interface with relative IOR `eta` (non-positive or non-finite values become 1).
     pub fn new(eta: f32, distrib: TrowbridgeReitz) -> Self {
-        let eta = if eta.is_finite() && eta > 0.0 {
-            eta
-        } else {
-            1.0
-        };
+        let eta = if eta.is_finite() && eta > 0.0 { eta } else { 1.0 };
         Self { eta, distrib }
     }
 
@@ -95,24 +91,14 @@ impl Dielectric {
             if uc < r / (r + t) {
                 let wi = Vec3::new(-wo.x, -wo.y, wo.z);
                 let f = SampledSpectrum::splat(r / abs_cos_theta(wi));
-                return Some(BsdfSample::new(
-                    f,
-                    wi,
-                    r / (r + t),
-                    BxdfFlags::SPECULAR_REFLECTION,
-                ));
+                return Some(BsdfSample::new(f, wi, r / (r + t), BxdfFlags::SPECULAR_REFLECTION));
             }
             let (wi, etap) = refract(wo, Vec3::Z, self.eta)?;
             let mut ft = t / abs_cos_theta(wi);
             if mode == TransportMode::Radiance {
                 ft /= etap * etap;
             }
-            let mut s = BsdfSample::new(
-                SampledSpectrum::splat(ft),
-                wi,
-                t / (r + t),
-                BxdfFlags::SPECULAR_TRANSMISSION,
-            );
+            let mut s = BsdfSample::new(SampledSpectrum::splat(ft), wi, t / (r + t), BxdfFlags::SPECULAR_TRANSMISSION);
             s.eta = etap;
             return Some(s);
         }
@@ -125,17 +111,11 @@ impl Dielectric {
                 return None;
             }
             let pdf = self.distrib.pdf(wo, wm) / (4.0 * wo.dot(wm).abs()) * r / (r + t);
-            let f = self.distrib.d(wm) * self.distrib.g(wo, wi) * r
-                / (4.0 * cos_theta(wi) * cos_theta(wo)).abs();
+            let f = self.distrib.d(wm) * self.distrib.g(wo, wi) * r / (4.0 * cos_theta(wi) * cos_theta(wo)).abs();
             if pdf.is_nan() || pdf <= 0.0 {
                 return None;
             }
-            return Some(BsdfSample::new(
-                SampledSpectrum::splat(f),
-                wi,
-                pdf,
-                BxdfFlags::GLOSSY_REFLECTION,
-            ));
+            return Some(BsdfSample::new(SampledSpectrum::splat(f), wi, pdf, BxdfFlags::GLOSSY_REFLECTION));
         }
         let (wi, etap) = refract(wo, wm, self.eta)?;
         if same_hemisphere(wo, wi) || wi.z == 0.0 {
@@ -154,12 +134,7 @@ impl Dielectric {
         if pdf.is_nan() || pdf <= 0.0 {
             return None;
         }
-        let mut s = BsdfSample::new(
-            SampledSpectrum::splat(ft),
-            wi,
-            pdf,
-            BxdfFlags::GLOSSY_TRANSMISSION,
-        );
+        let mut s = BsdfSample::new(SampledSpectrum::splat(ft), wi, pdf, BxdfFlags::GLOSSY_TRANSMISSION);
         s.eta = etap;
         Some(s)
     }
@@ -186,11 +161,7 @@ impl Dielectric {
 
     /// Lobes present.
     pub fn flags(&self) -> BxdfFlags {
-        let kind = if self.is_smooth() {
-            BxdfFlags::SPECULAR
-        } else {
-            BxdfFlags::GLOSSY
-        };
+        let kind = if self.is_smooth() { BxdfFlags::SPECULAR } else { BxdfFlags::GLOSSY };
         if self.eta == 1.0 {
             BxdfFlags::TRANSMISSION | kind
         } else {

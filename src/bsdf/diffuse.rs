@@ -28,13 +28,7 @@ impl Diffuse {
     }
 
     /// Cosine-weighted sample on the side of `wo`.
-    pub fn sample_f(
-        &self,
-        wo: Vec3,
-        _uc: f32,
-        u: Vec2,
-        _mode: TransportMode,
-    ) -> Option<BsdfSample> {
+    pub fn sample_f(&self, wo: Vec3, _uc: f32, u: Vec2, _mode: TransportMode) -> Option<BsdfSample> {
         if self.r.is_black() {
             return None;
         }
@@ -43,12 +37,7 @@ impl Diffuse {
             wi.z = -wi.z;
         }
         let pdf = cosine_hemisphere_pdf(abs_cos_theta(wi));
-        Some(BsdfSample::new(
-            self.r * INV_PI,
-            wi,
-            pdf,
-            BxdfFlags::DIFFUSE_REFLECTION,
-        ))
+        Some(BsdfSample::new(self.r * INV_PI, wi, pdf, BxdfFlags::DIFFUSE_REFLECTION))
     }
 
     /// Density of [`Self::sample_f`].

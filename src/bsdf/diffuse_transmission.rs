@@ -54,12 +54,7 @@ impl DiffuseTransmission {
         Some(if reflect {
             BsdfSample::new(self.r * INV_PI, wi, pdf * pr, BxdfFlags::DIFFUSE_REFLECTION)
         } else {
-            BsdfSample::new(
-                self.t * INV_PI,
-                wi,
-                pdf * (1.0 - pr),
-                BxdfFlags::DIFFUSE_TRANSMISSION,
-            )
+            BsdfSample::new(self.t * INV_PI, wi, pdf * (1.0 - pr), BxdfFlags::DIFFUSE_TRANSMISSION)
         })
     }
 

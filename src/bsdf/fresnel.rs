@@ -30,32 +30,20 @@ struct Complex {
 
 impl Complex {
     fn add(self, o: Self) -> Self {
-        Self {
-            re: self.re + o.re,
-            im: self.im + o.im,
-        }
+        Self { re: self.re + o.re, im: self.im + o.im }
     }
     fn sub(self, o: Self) -> Self {
-        Self {
-            re: self.re - o.re,
-            im: self.im - o.im,
-        }
+        Self { re: self.re - o.re, im: self.im - o.im }
     }
     fn mul(self, o: Self) -> Self {
-        Self {
-            re: self.re * o.re - self.im * o.im,
-            im: self.re * o.im + self.im * o.re,
-        }
+        Self { re: self.re * o.re - self.im * o.im, im: self.re * o.im + self.im * o.re }
     }
     fn norm(self) -> f32 {
         self.re * self.re + self.im * self.im
     }
     fn div(self, o: Self) -> Self {
         let d = o.norm();
-        Self {
-            re: (self.re * o.re + self.im * o.im) / d,
-            im: (self.im * o.re - self.re * o.im) / d,
-        }
+        Self { re: (self.re * o.re + self.im * o.im) / d, im: (self.im * o.re - self.re * o.im) / d }
     }
     /// Principal square root.
     fn sqrt(self) -> Self {
@@ -68,10 +56,7 @@ impl Complex {
         if self.re >= 0.0 {
             Self { re: t1, im: t2 }
         } else {
-            Self {
-                re: t2.abs(),
-                im: t1.copysign(self.im),
-            }
+            Self { re: t2.abs(), im: t1.copysign(self.im) }
         }
     }
 }
@@ -82,10 +67,7 @@ pub fn fr_complex(cos_theta_i: f32, eta: f32, k: f32) -> f32 {
     let cos_i = cos_theta_i.clamp(0.0, 1.0);
     let eta_c = Complex { re: eta, im: k };
     let ci = Complex { re: cos_i, im: 0.0 };
-    let sin2_i = Complex {
-        re: 1.0 - cos_i * cos_i,
-        im: 0.0,
-    };
+    let sin2_i = Complex { re: 1.0 - cos_i * cos_i, im: 0.0 };
     let sin2_t = sin2_i.div(eta_c.mul(eta_c));
     let cos_t = Complex { re: 1.0, im: 0.0 }.sub(sin2_t).sqrt();
     let eci = eta_c.mul(ci);
@@ -96,11 +78,7 @@ pub fn fr_complex(cos_theta_i: f32, eta: f32, k: f32) -> f32 {
 }
 
 /// [`fr_complex`] at each of the four wavelengths.
-pub fn fr_complex_spectrum(
-    cos_theta_i: f32,
-    eta: SampledSpectrum,
-    k: SampledSpectrum,
-) -> SampledSpectrum {
+pub fn fr_complex_spectrum(cos_theta_i: f32, eta: SampledSpectrum, k: SampledSpectrum) -> SampledSpectrum {
     let mut out = SampledSpectrum::zero();
     for i in 0..4 {
         out[i] = fr_complex(cos_theta_i, eta[i], k[i]);
@@ -113,26 +91,10 @@ pub fn fr_complex_spectrum(
 /// Light from the inside follows by reciprocity: 1 − (1 − F̄_out)/η².
 pub fn fr_dielectric_average(eta: f32) -> f32 {
     // Gauss–Legendre nodes/weights on [−1, 1] (Abramowitz & Stegun Table 25.4), positive half.
-    const X: [f32; 8] = [
-        0.095_012_5,
-        0.281_603_6,
-        0.458_016_8,
-        0.617_876_2,
-        0.755_404_4,
-        0.865_631_2,
-        0.944_575,
-        0.989_400_9,
-    ];
-    const W: [f32; 8] = [
-        0.189_450_6,
-        0.182_603_4,
-        0.169_156_5,
-        0.149_596,
-        0.124_629,
-        0.095_158_5,
-        0.062_253_5,
-        0.027_152_5,
-    ];
+    const X: [f32; 8] =
+        [0.095_012_5, 0.281_603_6, 0.458_016_8, 0.617_876_2, 0.755_404_4, 0.865_631_2, 0.944_575, 0.989_400_9];
+    const W: [f32; 8] =
+        [0.189_450_6, 0.182_603_4, 0.169_156_5, 0.149_596, 0.124_629, 0.095_158_5, 0.062_253_5, 0.027_152_5];
     let mut sum = 0.0;
     for (x, w) in X.iter().zip(W) {
         for mu in [0.5 * (1.0 - x), 0.5 * (1.0 + x)] {
@@ -161,10 +123,7 @@ mod tests {
     fn complex_reduces_to_dielectric_when_k_is_zero() {
         for i in 0..=20 {
             let c = i as f32 / 20.0;
-            assert!(
-                (fr_complex(c, 1.5, 0.0) - fr_dielectric(c, 1.5)).abs() < 1e-5,
-                "{c}"
-            );
+            assert!((fr_complex(c, 1.5, 0.0) - fr_dielectric(c, 1.5)).abs() < 1e-5, "{c}");
         }
         // Normal incidence: ((n−1)² + k²)/((n+1)² + k²). Gold-like n = 0.2, k = 3.
         let want = (0.64 + 9.0) / (1.44 + 9.0);

@@ -24,11 +24,7 @@ struct Sellmeier {
 const GLASSES: &[Sellmeier] = &[
     Sellmeier {
         name: "bk7",
-        terms: &[
-            (1.039_612_12, 0.006_000_698_67),
-            (0.231_792_344, 0.020_017_914_4),
-            (1.010_469_45, 103.560_653),
-        ],
+        terms: &[(1.039_612_12, 0.006_000_698_67), (0.231_792_344, 0.020_017_914_4), (1.010_469_45, 103.560_653)],
     },
     Sellmeier {
         name: "fused-silica",
@@ -38,10 +34,7 @@ const GLASSES: &[Sellmeier] = &[
             (0.897_479_4, 9.896_161 * 9.896_161),
         ],
     },
-    Sellmeier {
-        name: "diamond",
-        terms: &[(0.3306, 0.1750 * 0.1750), (4.3356, 0.1060 * 0.1060)],
-    },
+    Sellmeier { name: "diamond", terms: &[(0.3306, 0.1750 * 0.1750), (4.3356, 0.1060 * 0.1060)] },
     Sellmeier {
         name: "water",
         terms: &[
@@ -61,9 +54,7 @@ fn canonical(name: &str) -> Option<&'static str> {
     let n = name.to_ascii_lowercase();
     Some(match n.as_str() {
         "bk7" | "glass-bk7" | "n-bk7" => "bk7",
-        "fused-silica" | "fusedsilica" | "silica" | "glass-fused-silica" | "sio2" | "quartz" => {
-            "fused-silica"
-        }
+        "fused-silica" | "fusedsilica" | "silica" | "glass-fused-silica" | "sio2" | "quartz" => "fused-silica",
         "diamond" | "c" => "diamond",
         "water" | "h2o" => "water",
         _ => return None,
@@ -104,12 +95,9 @@ mod tests {
     fn catalogue_values_at_the_d_line() {
         // Handbook n_d: N-BK7 1.5168, fused silica 1.4585, diamond 2.417, water 1.3330 (20 °C;
         // Daimon & Masumura's fit is 4e-4 above it at this wavelength, within their Fig. 5 spread).
-        for &(name, want, tol) in &[
-            ("bk7", 1.5168, 2e-4),
-            ("fused-silica", 1.4585, 2e-4),
-            ("diamond", 2.417, 2e-3),
-            ("water", 1.3330, 5e-4),
-        ] {
+        for &(name, want, tol) in
+            &[("bk7", 1.5168, 2e-4), ("fused-silica", 1.4585, 2e-4), ("diamond", 2.417, 2e-3), ("water", 1.3330, 5e-4)]
+        {
             let n = eta(name, 587.56).unwrap();
             assert!((n - want).abs() < tol, "{name}: {n}");
         }

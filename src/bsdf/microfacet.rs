@@ -24,10 +24,7 @@ impl TrowbridgeReitz {
     /// Isotropic or anisotropic distribution; α clamped to ≥ 0.
     pub fn new(alpha_x: f32, alpha_y: f32) -> Self {
         let clean = |a: f32| if a.is_finite() { a.max(0.0) } else { 0.0 };
-        Self {
-            alpha_x: clean(alpha_x),
-            alpha_y: clean(alpha_y),
-        }
+        Self { alpha_x: clean(alpha_x), alpha_y: clean(alpha_y) }
     }
 
     /// Perceptual roughness ∈ [0, 1] → α = √roughness (pbrt-v4 `RoughnessToAlpha`).
@@ -109,11 +106,7 @@ impl TrowbridgeReitz {
         if wh.z < 0.0 {
             wh = -wh;
         }
-        let t1 = if wh.z < 0.99999 {
-            Vec3::Z.cross(wh).normalize()
-        } else {
-            Vec3::X
-        };
+        let t1 = if wh.z < 0.99999 { Vec3::Z.cross(wh).normalize() } else { Vec3::X };
         let t2 = wh.cross(t1);
         let mut p = sample_uniform_disk_polar(u);
         // Warp the disk so its lower half covers only the visible part of the hemisphere.
@@ -142,11 +135,7 @@ mod tests {
                 let th = (i as f64 + 0.5) / nt as f64 * std::f64::consts::FRAC_PI_2;
                 for j in 0..np {
                     let ph = (j as f64 + 0.5) / np as f64 * 2.0 * std::f64::consts::PI;
-                    let w = Vec3::new(
-                        (th.sin() * ph.cos()) as f32,
-                        (th.sin() * ph.sin()) as f32,
-                        th.cos() as f32,
-                    );
+                    let w = Vec3::new((th.sin() * ph.cos()) as f32, (th.sin() * ph.sin()) as f32, th.cos() as f32);
                     sum += mf.d(w) as f64 * th.cos() * th.sin();
                 }
             }
@@ -161,15 +150,8 @@ mod tests {
         for &(ax, ay, theta) in &suite {
             let mf = TrowbridgeReitz::new(ax, ay);
             let w = Vec3::new(theta.sin() * 0.6, theta.sin() * 0.8, theta.cos());
-            let t = Chi2Test {
-                sample_count: 300_000,
-                test_count: suite.len(),
-                ..Chi2Test::default()
-            };
-            let r = t.run(
-                |_, u| Some(mf.sample_wm(w, u)),
-                |wm| if wm.z > 0.0 { mf.pdf(w, wm) } else { 0.0 },
-            );
+            let t = Chi2Test { sample_count: 300_000, test_count: suite.len(), ..Chi2Test::default() };
+            let r = t.run(|_, u| Some(mf.sample_wm(w, u)), |wm| if wm.z > 0.0 { mf.pdf(w, wm) } else { 0.0 });
             assert!(r.passed, "α = ({ax}, {ay}), θ = {theta}: {r}");
         }
     }

@@ -26,14 +26,7 @@ pub struct BsdfSample {
 impl BsdfSample {
     /// A sample with `eta` = 1 and an exact pdf.
     pub fn new(f: SampledSpectrum, wi: Vec3, pdf: f32, flags: BxdfFlags) -> Self {
-        Self {
-            f,
-            wi,
-            pdf,
-            flags,
-            eta: 1.0,
-            pdf_is_proportional: false,
-        }
+        Self { f, wi, pdf, flags, eta: 1.0, pdf_is_proportional: false }
     }
     /// Sampled a reflection lobe.
     pub fn is_reflection(&self) -> bool {

@@ -18,13 +18,7 @@ pub struct ThinDielectric {
 impl ThinDielectric {
     /// A slab of IOR `eta` (invalid values become 1).
     pub fn new(eta: f32) -> Self {
-        Self {
-            eta: if eta.is_finite() && eta > 0.0 {
-                eta
-            } else {
-                1.0
-            },
-        }
+        Self { eta: if eta.is_finite() && eta > 0.0 { eta } else { 1.0 } }
     }
 
     /// Delta lobes only: 0.
@@ -33,13 +27,7 @@ impl ThinDielectric {
     }
 
     /// Mirror with probability R′, straight through otherwise.
-    pub fn sample_f(
-        &self,
-        wo: Vec3,
-        uc: f32,
-        _u: Vec2,
-        _mode: TransportMode,
-    ) -> Option<BsdfSample> {
+    pub fn sample_f(&self, wo: Vec3, uc: f32, _u: Vec2, _mode: TransportMode) -> Option<BsdfSample> {
         let cos = abs_cos_theta(wo);
         if cos == 0.0 {
             return None;
@@ -52,19 +40,9 @@ impl ThinDielectric {
         }
         if uc < r / (r + t) {
             let wi = Vec3::new(-wo.x, -wo.y, wo.z);
-            Some(BsdfSample::new(
-                SampledSpectrum::splat(r / cos),
-                wi,
-                r / (r + t),
-                BxdfFlags::SPECULAR_REFLECTION,
-            ))
+            Some(BsdfSample::new(SampledSpectrum::splat(r / cos), wi, r / (r + t), BxdfFlags::SPECULAR_REFLECTION))
         } else {
-            Some(BsdfSample::new(
-                SampledSpectrum::splat(t / cos),
-                -wo,
-                t / (r + t),
-                BxdfFlags::SPECULAR_TRANSMISSION,
-            ))
+            Some(BsdfSample::new(SampledSpectrum::splat(t / cos), -wo, t / (r + t), BxdfFlags::SPECULAR_TRANSMISSION))
         }
     }
 

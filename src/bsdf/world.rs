@@ -21,11 +21,7 @@ impl Bsdf {
     /// From the shading normal `ns`, the tangent `dpdu` (first frame axis after Gram–Schmidt),
     /// the geometric normal `ng` and the model.
     pub fn new(ns: Vec3, dpdu: Vec3, ng: Vec3, bxdf: Bxdf) -> Self {
-        Self {
-            frame: Frame::from_normal_tangent(ns, dpdu),
-            ng,
-            bxdf,
-        }
+        Self { frame: Frame::from_normal_tangent(ns, dpdu), ng, bxdf }
     }
 
     /// World → local shading frame.
@@ -69,13 +65,7 @@ impl Bsdf {
             return None;
         }
         let mut s = self.bxdf.sample_f(wo_l, uc, u, mode)?;
-        if s.f.is_black()
-            || s.pdf.is_nan()
-            || s.pdf <= 0.0
-            || s.wi.z == 0.0
-            || !s.f.is_finite()
-            || !s.pdf.is_finite()
-        {
+        if s.f.is_black() || s.pdf.is_nan() || s.pdf <= 0.0 || s.wi.z == 0.0 || !s.f.is_finite() || !s.pdf.is_finite() {
             return None;
         }
         s.wi = self.to_world(s.wi);

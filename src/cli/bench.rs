@@ -85,7 +85,10 @@ pub fn run(a: &BenchArgs) -> Result<()> {
         .start_handler(|_| crate::accel::init_render_thread())
         .build()?;
     pool.install(|| bench::run(&cfg))?;
-    eprintln!("bench: wrote bench.csv, bench.json, error_vs_time.{{png,svg}}, rays_per_s.{{png,svg}} in {}", a.out.display());
+    eprintln!(
+        "bench: wrote bench.csv, bench.json, error_vs_time.{{png,svg}}, rays_per_s.{{png,svg}} in {}",
+        a.out.display()
+    );
     Ok(())
 }
 

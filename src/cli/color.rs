@@ -96,18 +96,8 @@ pub enum ColorCommand {
 pub fn run(cmd: ColorCommand) -> Result<()> {
     let text = match cmd {
         ColorCommand::Xyz { spd } => xyz_text(&spd)?,
-        ColorCommand::Rgb2spec {
-            method,
-            space,
-            kind,
-            rgb,
-        } => rgb2spec_text(method, &space, kind, &rgb)?,
-        ColorCommand::Project {
-            basis,
-            fit,
-            bins,
-            spd,
-        } => project_text(basis, fit, bins, &spd)?,
+        ColorCommand::Rgb2spec { method, space, kind, rgb } => rgb2spec_text(method, &space, kind, &rgb)?,
+        ColorCommand::Project { basis, fit, bins, spd } => project_text(basis, fit, bins, &spd)?,
         ColorCommand::Report => super::color_report::report_markdown(),
     };
     print!("{text}");
@@ -127,10 +117,7 @@ pub fn xyz_text(spd: &Path) -> Result<String> {
 /// `prism color rgb2spec`: the spectrum at 360, 365, …, 830 nm and the round-trip RGB.
 pub fn rgb2spec_text(method: Method, space: &str, kind: Kind, rgb: &[f32]) -> Result<String> {
     let Some(cs) = ColorSpace::by_name(space) else {
-        bail!(
-            "unknown colour space '{space}' (known: {})",
-            ColorSpace::names().join(", ")
-        );
+        bail!("unknown colour space '{space}' (known: {})", ColorSpace::names().join(", "));
     };
     let [r, g, b] = rgb else {
         bail!("expected 3 values R G B, got {}", rgb.len());
@@ -152,9 +139,7 @@ pub fn rgb2spec_text(method: Method, space: &str, kind: Kind, rgb: &[f32]) -> Re
         (Method::Jakob, Kind::Albedo) => Spectrum::from_rgb(rgb, RgbKind::Albedo, cs),
         (Method::Jakob, Kind::Unbounded) => Spectrum::from_rgb(rgb, RgbKind::Unbounded, cs),
         (Method::Jakob, Kind::Illuminant) => Spectrum::from_rgb(rgb, RgbKind::Illuminant, cs),
-        (Method::Smits, Kind::Albedo | Kind::Unbounded) => {
-            smits_spectrum(rgb64, SmitsKind::Reflectance, cs)
-        }
+        (Method::Smits, Kind::Albedo | Kind::Unbounded) => smits_spectrum(rgb64, SmitsKind::Reflectance, cs),
         (Method::Smits, Kind::Illuminant) => smits_spectrum(rgb64, SmitsKind::Illumination, cs),
     };
     // Reflectances are seen under the space's white; emitters are seen directly.
@@ -164,20 +149,12 @@ pub fn rgb2spec_text(method: Method, space: &str, kind: Kind, rgb: &[f32]) -> Re
     };
     let err = (back - DVec3::from_array(rgb64)).abs().max_element();
     let mut out = String::new();
-    let _ = writeln!(
-        out,
-        "# method {method:?}, space {}, kind {kind:?}, rgb {r} {g} {b}",
-        cs.name
-    );
+    let _ = writeln!(out, "# method {method:?}, space {}, kind {kind:?}, rgb {r} {g} {b}", cs.name);
     let _ = writeln!(out, "# lambda_nm value");
     for l in (360..=830).step_by(5) {
         let _ = writeln!(out, "{l} {:.6}", s.eval_f64(l as f64));
     }
-    let _ = writeln!(
-        out,
-        "# round-trip rgb {:.6} {:.6} {:.6} (max abs error {:.2e})",
-        back.x, back.y, back.z, err
-    );
+    let _ = writeln!(out, "# round-trip rgb {:.6} {:.6} {:.6} (max abs error {:.2e})", back.x, back.y, back.z, err);
     Ok(out)
 }
 
@@ -195,10 +172,7 @@ pub fn project_text(basis: BasisArg, fit: FitArg, bins: usize, spd: &Path) -> Re
     let p = project(&f, basis, fit, bins, (360.0, 830.0))?;
     let h = p.spacing();
     let mut out = String::new();
-    let _ = writeln!(
-        out,
-        "# basis {basis:?}, fit {fit:?}, {bins} functions over 360-830 nm, spacing {h:.4} nm"
-    );
+    let _ = writeln!(out, "# basis {basis:?}, fit {fit:?}, {bins} functions over 360-830 nm, spacing {h:.4} nm");
     let _ = writeln!(out, "# index centre_nm coefficient");
     for (i, c) in p.coeffs.iter().enumerate() {
         let centre = match basis {
@@ -207,11 +181,7 @@ pub fn project_text(basis: BasisArg, fit: FitArg, bins: usize, spd: &Path) -> Re
         };
         let _ = writeln!(out, "{i} {centre:.4} {c:.9}");
     }
-    let _ = writeln!(
-        out,
-        "# L2 error {:.6e} (relative {:.6e})",
-        p.l2_error, p.relative_error
-    );
+    let _ = writeln!(out, "# L2 error {:.6e} (relative {:.6e})", p.l2_error, p.relative_error);
     Ok(out)
 }
 
@@ -256,25 +226,15 @@ mod tests {
             "0.5",
         ])
         .unwrap();
-        let Wrapper::Color(ColorCommand::Rgb2spec {
-            method, rgb, kind, ..
-        }) = cli.cmd
-        else {
+        let Wrapper::Color(ColorCommand::Rgb2spec { method, rgb, kind, .. }) = cli.cmd else {
             panic!("wrong subcommand")
         };
-        assert_eq!(
-            (method, kind, rgb),
-            (Method::Smits, Kind::Illuminant, vec![0.6, 0.2, 0.5])
-        );
+        assert_eq!((method, kind, rgb), (Method::Smits, Kind::Illuminant, vec![0.6, 0.2, 0.5]));
         let cli = Cli::try_parse_from([
-            "prism", "color", "project", "--basis", "linear", "--fit", "average", "--bins", "12",
-            "--spd", "a.spd",
+            "prism", "color", "project", "--basis", "linear", "--fit", "average", "--bins", "12", "--spd", "a.spd",
         ])
         .unwrap();
-        assert!(matches!(
-            cli.cmd,
-            Wrapper::Color(ColorCommand::Project { bins: 12, .. })
-        ));
+        assert!(matches!(cli.cmd, Wrapper::Color(ColorCommand::Project { bins: 12, .. })));
         assert!(Cli::try_parse_from(["prism", "color", "rgb2spec", "0.1", "0.2"]).is_err());
         assert!(Cli::try_parse_from(["prism", "color", "xyz"]).is_err());
     }
@@ -296,25 +256,13 @@ mod tests {
         let t = rgb2spec_text(Method::Jakob, "srgb", Kind::Albedo, &[0.6, 0.2, 0.5]).unwrap();
         assert_eq!(t.lines().filter(|l| !l.starts_with('#')).count(), 95);
         let last = t.lines().last().unwrap();
-        let err: f64 = last
-            .rsplit(' ')
-            .next()
-            .unwrap()
-            .trim_end_matches(')')
-            .parse()
-            .unwrap();
+        let err: f64 = last.rsplit(' ').next().unwrap().trim_end_matches(')').parse().unwrap();
         assert!(err < 1e-3, "{last}");
         let t = rgb2spec_text(Method::Smits, "srgb", Kind::Illuminant, &[1.0, 1.0, 1.0]).unwrap();
         assert!(t.contains("round-trip"));
         assert!(rgb2spec_text(Method::Jakob, "srgb", Kind::Albedo, &[1.5, 0.2, 0.1]).is_err());
         assert!(rgb2spec_text(Method::Jakob, "srgb", Kind::Unbounded, &[-1.0, 0.2, 0.1]).is_err());
-        assert!(rgb2spec_text(
-            Method::Jakob,
-            "srgb",
-            Kind::Unbounded,
-            &[f32::NAN, 0.2, 0.1]
-        )
-        .is_err());
+        assert!(rgb2spec_text(Method::Jakob, "srgb", Kind::Unbounded, &[f32::NAN, 0.2, 0.1]).is_err());
         assert!(rgb2spec_text(Method::Jakob, "cmyk", Kind::Albedo, &[0.1, 0.2, 0.1]).is_err());
     }
 
@@ -324,15 +272,7 @@ mod tests {
         // A hat on 3 nodes (360, 595, 830) is in the span: exact fit, zero error.
         let t = project_text(BasisArg::Linear, FitArg::Exact, 3, &p).unwrap();
         assert!(t.contains("1 595.0000 2.000000000"), "{t}");
-        let err: f64 = t
-            .lines()
-            .last()
-            .unwrap()
-            .split_whitespace()
-            .nth(3)
-            .unwrap()
-            .parse()
-            .unwrap();
+        let err: f64 = t.lines().last().unwrap().split_whitespace().nth(3).unwrap().parse().unwrap();
         assert!(err < 1e-9, "{t}");
         assert!(project_text(BasisArg::Linear, FitArg::Exact, 1, &p).is_err());
     }

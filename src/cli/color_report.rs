@@ -66,11 +66,7 @@ fn truth() -> Value {
 }
 
 fn v3(v: &Value) -> DVec3 {
-    DVec3::new(
-        v[0].as_f64().unwrap_or(f64::NAN),
-        v[1].as_f64().unwrap_or(f64::NAN),
-        v[2].as_f64().unwrap_or(f64::NAN),
-    )
+    DVec3::new(v[0].as_f64().unwrap_or(f64::NAN), v[1].as_f64().unwrap_or(f64::NAN), v[2].as_f64().unwrap_or(f64::NAN))
 }
 
 fn truth_section(out: &mut String) {
@@ -78,16 +74,10 @@ fn truth_section(out: &mut String) {
     let _ = writeln!(out, "## Ground truth reproduced\n");
     let _ = writeln!(out, "| quantity | prism | colour-science | |diff| |");
     let _ = writeln!(out, "|---|---|---|---|");
-    let d65 = Spectrum::named("stdillum-D65")
-        .map(|s| s.to_xyz_f64())
-        .unwrap_or_default();
-    let alt = v3(&t["b_D65"]["alternates_XYZ_Y1"]
-        ["sd_to_XYZ_integration, D65 Sprague-aligned to 360-830/1nm"]);
+    let d65 = Spectrum::named("stdillum-D65").map(|s| s.to_xyz_f64()).unwrap_or_default();
+    let alt = v3(&t["b_D65"]["alternates_XYZ_Y1"]["sd_to_XYZ_integration, D65 Sprague-aligned to 360-830/1nm"]);
     let head = v3(&t["b_D65"]["XYZ_Y1"]);
-    for (name, want) in [
-        ("D65 XYZ (1 nm, Sprague)", alt),
-        ("D65 XYZ (5 nm ASTM, headline)", head),
-    ] {
+    for (name, want) in [("D65 XYZ (1 nm, Sprague)", alt), ("D65 XYZ (5 nm ASTM, headline)", head)] {
         let _ = writeln!(
             out,
             "| {name} | {:.6} {:.6} {:.6} | {:.6} {:.6} {:.6} | {:.1e} |",
@@ -106,10 +96,7 @@ fn truth_section(out: &mut String) {
             let x = Spectrum::blackbody(k).to_xyz_f64();
             let s = x.element_sum();
             let (gx, gy) = (x.x / s, x.y / s);
-            let (wx, wy) = (
-                v["xy"][0].as_f64().unwrap_or(0.0),
-                v["xy"][1].as_f64().unwrap_or(0.0),
-            );
+            let (wx, wy) = (v["xy"][0].as_f64().unwrap_or(0.0), v["xy"][1].as_f64().unwrap_or(0.0));
             let _ = writeln!(
                 out,
                 "| blackbody {temp} K xy | {gx:.6} {gy:.6} | {wx:.6} {wy:.6} | {:.1e} |",
@@ -127,24 +114,15 @@ fn truth_section(out: &mut String) {
 fn roundtrip_section(out: &mut String) {
     let t = truth();
     let cs = ColorSpace::srgb();
-    let _ = writeln!(
-        out,
-        "## RGB → spectrum → RGB round trip (linear sRGB, reflectance under D65)\n"
-    );
-    let _ = writeln!(
-        out,
-        "Max abs linear-RGB error per triplet of colour_truth.json.\n"
-    );
+    let _ = writeln!(out, "## RGB → spectrum → RGB round trip (linear sRGB, reflectance under D65)\n");
+    let _ = writeln!(out, "Max abs linear-RGB error per triplet of colour_truth.json.\n");
     let _ = writeln!(
         out,
         "| rgb | JH prism | JH table only | JH colour-science | Mitsuba 3 | Smits prism | Smits colour-science |"
     );
     let _ = writeln!(out, "|---|---|---|---|---|---|---|");
     let empty = Vec::new();
-    for row in t["d_rgb_upsampling_roundtrip"]["rows"]
-        .as_array()
-        .unwrap_or(&empty)
-    {
+    for row in t["d_rgb_upsampling_roundtrip"]["rows"].as_array().unwrap_or(&empty) {
         let rgb = v3(&row["rgb_in_linear"]);
         let e = |m| (roundtrip(rgb.to_array(), m, cs) - rgb).abs().max_element();
         let f = |k: &str| row[k]["max_abs_err"].as_f64().unwrap_or(f64::NAN);
@@ -162,14 +140,8 @@ fn roundtrip_section(out: &mut String) {
             f("smits1999_D65"),
         );
     }
-    let _ = writeln!(
-        out,
-        "\n### 16³ grid over [0, 1]³ per colour space (max abs / RMS)\n"
-    );
-    let _ = writeln!(
-        out,
-        "Cells: max abs / RMS / share of points with max abs < 1e-3.\n"
-    );
+    let _ = writeln!(out, "\n### 16³ grid over [0, 1]³ per colour space (max abs / RMS)\n");
+    let _ = writeln!(out, "Cells: max abs / RMS / share of points with max abs < 1e-3.\n");
     let _ = writeln!(out, "| space | JH prism | JH table only | Smits |");
     let _ = writeln!(out, "|---|---|---|---|");
     for n in ColorSpace::names() {
@@ -178,12 +150,7 @@ fn roundtrip_section(out: &mut String) {
         };
         let cell = |m| {
             let e = grid_errors(16, m, cs);
-            format!(
-                "{:.1e} / {:.1e} / {:.1}%",
-                e.max,
-                e.rms,
-                100.0 * e.within_1e3
-            )
+            format!("{:.1e} / {:.1e} / {:.1}%", e.max, e.rms, 100.0 * e.within_1e3)
         };
         let _ = writeln!(
             out,
@@ -206,16 +173,10 @@ fn roundtrip_section(out: &mut String) {
 }
 
 fn projection_section(out: &mut String) {
-    let _ = writeln!(
-        out,
-        "## Basis projection: relative L² error ‖F − Σβᵢ Bᵢ‖ / ‖F‖ over 360–830 nm\n"
-    );
+    let _ = writeln!(out, "## Basis projection: relative L² error ‖F − Σβᵢ Bᵢ‖ / ‖F‖ over 360–830 nm\n");
     let gauss = {
         let l: Vec<f64> = (0..=470).map(|i| 360.0 + i as f64).collect();
-        let v = l
-            .iter()
-            .map(|x| (-0.5 * ((x - 550.0) / 40.0f64).powi(2)).exp())
-            .collect();
+        let v = l.iter().map(|x| (-0.5 * ((x - 550.0) / 40.0f64).powi(2)).exp()).collect();
         Spectrum::piecewise_linear_f64(l, v)
     };
     let spectra = [
@@ -256,11 +217,8 @@ fn projection_section(out: &mut String) {
 }
 
 fn timing_section(out: &mut String) {
-    let _ = writeln!(
-        out,
-        "## Table build time (res {}, this machine, when generated)\n",
-        RgbToSpectrumTable::DEFAULT_RES
-    );
+    let _ =
+        writeln!(out, "## Table build time (res {}, this machine, when generated)\n", RgbToSpectrumTable::DEFAULT_RES);
     let _ = writeln!(out, "| space | seconds |");
     let _ = writeln!(out, "|---|---|");
     for n in ColorSpace::names() {

@@ -1,8 +1,8 @@
 //! `prism render`: load a scene (or the built-in Cornell box), render it, write the image.
 
 use crate::accel::AccelKind;
-use crate::filter::Filter;
 use crate::film::Film;
+use crate::filter::Filter;
 use crate::image::Image;
 use crate::integrator::{PathIntegrator, Stats};
 use crate::render::{RenderSettings, SamplerKind};
@@ -189,7 +189,9 @@ pub fn prepare(args: &RenderArgs) -> Result<Job> {
     let output = args
         .output
         .clone()
-        .or_else(|| file.filename.clone().map(|f| f.with_extension(f.extension().map_or("png".into(), |e| e.to_os_string()))))
+        .or_else(|| {
+            file.filename.clone().map(|f| f.with_extension(f.extension().map_or("png".into(), |e| e.to_os_string())))
+        })
         .unwrap_or_else(|| PathBuf::from("prism.png"));
     check_output(&output)?;
 
@@ -387,7 +389,10 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     );
     if stats.nonfinite > 0 {
         if let Some((x, y, s, d)) = stats.nonfinite_at.first() {
-            log::warn!("discarded {} non-finite samples; the first at pixel ({x}, {y}), sample {s}, depth {d}", stats.nonfinite);
+            log::warn!(
+                "discarded {} non-finite samples; the first at pixel ({x}, {y}), sample {s}, depth {d}",
+                stats.nonfinite
+            );
         }
     }
     if let Some(p) = &args.stats_json {
@@ -402,7 +407,7 @@ fn summarize(job: &Job, stats: &Stats, elapsed: f64) -> RenderStats {
     let pixels = w as u64 * h as u64;
     RenderStats {
         elapsed_s: elapsed,
-        spp: if pixels > 0 { stats.samples / pixels } else { 0 },
+        spp: stats.samples.checked_div(pixels).unwrap_or(0),
         width: w,
         height: h,
         rays: stats.rays,

@@ -18,12 +18,7 @@ pub struct Mesh {
 impl Mesh {
     /// A mesh from positions and triangles.
     pub fn new(positions: Vec<Vec3>, indices: Vec<[u32; 3]>) -> Self {
-        Self {
-            positions,
-            indices,
-            normals: None,
-            uvs: None,
-        }
+        Self { positions, indices, normals: None, uvs: None }
     }
 
     /// Number of triangles.
@@ -40,11 +35,7 @@ impl Mesh {
     #[inline]
     pub fn triangle(&self, i: usize) -> [Vec3; 3] {
         let [a, b, c] = self.indices[i];
-        [
-            self.positions[a as usize],
-            self.positions[b as usize],
-            self.positions[c as usize],
-        ]
+        [self.positions[a as usize], self.positions[b as usize], self.positions[c as usize]]
     }
 
     /// Area of triangle `i` [scene units²].
@@ -93,25 +84,16 @@ pub struct Bounds3 {
 
 impl Bounds3 {
     /// The empty box (union identity).
-    pub const EMPTY: Self = Self {
-        min: Vec3::splat(f32::INFINITY),
-        max: Vec3::splat(f32::NEG_INFINITY),
-    };
+    pub const EMPTY: Self = Self { min: Vec3::splat(f32::INFINITY), max: Vec3::splat(f32::NEG_INFINITY) };
 
     /// Grows the box to contain `p`.
     pub fn union_point(self, p: Vec3) -> Self {
-        Self {
-            min: self.min.min(p),
-            max: self.max.max(p),
-        }
+        Self { min: self.min.min(p), max: self.max.max(p) }
     }
 
     /// Smallest box containing both.
     pub fn union(self, o: Self) -> Self {
-        Self {
-            min: self.min.min(o.min),
-            max: self.max.max(o.max),
-        }
+        Self { min: self.min.min(o.min), max: self.max.max(o.max) }
     }
 
     /// Centre.

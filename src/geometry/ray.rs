@@ -16,11 +16,7 @@ pub struct Ray {
 impl Ray {
     /// An unbounded ray.
     pub fn new(o: Vec3, d: Vec3) -> Self {
-        Self {
-            o,
-            d,
-            t_max: f32::INFINITY,
-        }
+        Self { o, d, t_max: f32::INFINITY }
     }
     /// A ray bounded at `t_max`.
     pub fn segment(o: Vec3, d: Vec3, t_max: f32) -> Self {

@@ -16,29 +16,17 @@ impl Mesh {
     /// (renormalised). Triangle winding is flipped when `m` mirrors (det < 0), so geometric normals
     /// keep pointing the same way relative to the surface.
     pub fn transformed(&self, m: &Mat4) -> Mesh {
-        let positions = self
-            .positions
-            .iter()
-            .map(|&p| m.transform_point3(p))
-            .collect();
+        let positions = self.positions.iter().map(|&p| m.transform_point3(p)).collect();
         let linear = Mat3::from_mat4(*m);
         let normal_matrix = linear.inverse().transpose();
-        let normals = self.normals.as_ref().map(|ns| {
-            ns.iter()
-                .map(|&n| (normal_matrix * n).normalize_or_zero())
-                .collect()
-        });
+        let normals =
+            self.normals.as_ref().map(|ns| ns.iter().map(|&n| (normal_matrix * n).normalize_or_zero()).collect());
         let indices = if linear.determinant() < 0.0 {
             self.indices.iter().map(|&[a, b, c]| [a, c, b]).collect()
         } else {
             self.indices.clone()
         };
-        Mesh {
-            positions,
-            indices,
-            normals,
-            uvs: self.uvs.clone(),
-        }
+        Mesh { positions, indices, normals, uvs: self.uvs.clone() }
     }
 }
 
@@ -105,12 +93,7 @@ pub fn icosphere(center: Vec3, radius: f32, subdivisions: u32) -> Mesh {
         tris = next;
     }
     let positions = dirs.iter().map(|&d| center + radius * d).collect();
-    Mesh {
-        positions,
-        indices: tris,
-        normals: Some(dirs),
-        uvs: None,
-    }
+    Mesh { positions, indices: tris, normals: Some(dirs), uvs: None }
 }
 
 /// A UV sphere with `n_theta` ≥ 2 latitude bands and `n_phi` ≥ 3 longitude segments (z is the polar
@@ -123,11 +106,7 @@ pub fn uv_sphere(center: Vec3, radius: f32, n_theta: u32, n_phi: u32) -> Mesh {
         let theta = std::f32::consts::PI * i as f32 / n_theta as f32;
         for j in 0..n_phi {
             let phi = std::f32::consts::TAU * j as f32 / n_phi as f32;
-            dirs.push(Vec3::new(
-                theta.sin() * phi.cos(),
-                theta.sin() * phi.sin(),
-                theta.cos(),
-            ));
+            dirs.push(Vec3::new(theta.sin() * phi.cos(), theta.sin() * phi.sin(), theta.cos()));
         }
     }
     dirs.push(-Vec3::Z);
@@ -140,23 +119,13 @@ pub fn uv_sphere(center: Vec3, radius: f32, n_theta: u32, n_phi: u32) -> Mesh {
     }
     for i in 1..n_theta - 1 {
         for j in 0..n_phi {
-            let (a, b, c, d) = (
-                ring(i, j),
-                ring(i, j + 1),
-                ring(i + 1, j),
-                ring(i + 1, j + 1),
-            );
+            let (a, b, c, d) = (ring(i, j), ring(i, j + 1), ring(i + 1, j), ring(i + 1, j + 1));
             indices.push([a, c, d]);
             indices.push([a, d, b]);
         }
     }
     let positions = dirs.iter().map(|&d| center + radius * d).collect();
-    Mesh {
-        positions,
-        indices,
-        normals: Some(dirs),
-        uvs: None,
-    }
+    Mesh { positions, indices, normals: Some(dirs), uvs: None }
 }
 
 /// A closed axis-aligned box from `min` to `max`: 8 shared corners, 12 triangles wound outward.
@@ -170,18 +139,8 @@ pub fn axis_box(min: Vec3, max: Vec3) -> Mesh {
     };
     let positions = (0..8).map(corner).collect();
     // Faces as corner quads (counter-clockwise seen from outside).
-    let faces: [[u32; 4]; 6] = [
-        [0, 4, 6, 2],
-        [1, 3, 7, 5],
-        [0, 1, 5, 4],
-        [2, 6, 7, 3],
-        [0, 2, 3, 1],
-        [4, 5, 7, 6],
-    ];
-    let indices = faces
-        .iter()
-        .flat_map(|&[a, b, c, d]| [[a, b, c], [a, c, d]])
-        .collect();
+    let faces: [[u32; 4]; 6] = [[0, 4, 6, 2], [1, 3, 7, 5], [0, 1, 5, 4], [2, 6, 7, 3], [0, 2, 3, 1], [4, 5, 7, 6]];
+    let indices = faces.iter().flat_map(|&[a, b, c, d]| [[a, b, c], [a, c, d]]).collect();
     Mesh::new(positions, indices)
 }
 
@@ -189,12 +148,7 @@ pub fn axis_box(min: Vec3, max: Vec3) -> Mesh {
 pub fn quad(p0: Vec3, e1: Vec3, e2: Vec3) -> Mesh {
     let positions = vec![p0, p0 + e1, p0 + e1 + e2, p0 + e2];
     let mut m = Mesh::new(positions, vec![[0, 1, 2], [0, 2, 3]]);
-    m.uvs = Some(vec![
-        glam::Vec2::ZERO,
-        glam::Vec2::X,
-        glam::Vec2::ONE,
-        glam::Vec2::Y,
-    ]);
+    m.uvs = Some(vec![glam::Vec2::ZERO, glam::Vec2::X, glam::Vec2::ONE, glam::Vec2::Y]);
     m
 }
 
@@ -214,9 +168,7 @@ pub fn terrain(size: f32, resolution: u32, amplitude: f32, seed: u64) -> Mesh {
         waves
             .iter()
             .enumerate()
-            .map(|(k, &(f, px, pz))| {
-                amplitude / (k + 1) as f32 * (f * x + px).sin() * (f * z + pz).cos()
-            })
+            .map(|(k, &(f, px, pz))| amplitude / (k + 1) as f32 * (f * x + px).sin() * (f * z + pz).cos())
             .sum::<f32>()
     };
     let mut positions = Vec::with_capacity(((n + 1) * (n + 1)) as usize);
@@ -251,9 +203,7 @@ pub fn triangle_soup(count: usize, min: Vec3, max: Vec3, size: f32, seed: u64) -
             positions.push(c + size * off);
         }
     }
-    let indices = (0..count as u32)
-        .map(|i| [3 * i, 3 * i + 1, 3 * i + 2])
-        .collect();
+    let indices = (0..count as u32).map(|i| [3 * i, 3 * i + 1, 3 * i + 2]).collect();
     Mesh::new(positions, indices)
 }
 

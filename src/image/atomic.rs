@@ -31,14 +31,8 @@ fn parent_dir(dest: &Path) -> PathBuf {
 /// `.stem.tmp-<pid>-<n>.ext`: hidden, unique, and ending in the real extension so that
 /// extension-driven writers (OIIO) pick the right format.
 fn temp_name(dest: &Path, n: u64) -> PathBuf {
-    let stem = dest
-        .file_stem()
-        .map(|s| s.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    let ext = dest
-        .extension()
-        .map(|e| format!(".{}", e.to_string_lossy()))
-        .unwrap_or_default();
+    let stem = dest.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
+    let ext = dest.extension().map(|e| format!(".{}", e.to_string_lossy())).unwrap_or_default();
     let name = format!(".{stem}.tmp-{}-{n}{ext}", std::process::id());
     parent_dir(dest).join(name)
 }
@@ -48,36 +42,17 @@ impl TempFile {
     pub(crate) fn create(dest: &Path) -> Result<Self, ImageError> {
         let dir = parent_dir(dest);
         if !dir.exists() {
-            return Err(ImageError::MissingDirectory {
-                path: dest.to_path_buf(),
-                dir,
-            });
+            return Err(ImageError::MissingDirectory { path: dest.to_path_buf(), dir });
         }
         if !dir.is_dir() {
-            return Err(ImageError::Unwritable {
-                path: dest.to_path_buf(),
-                dir,
-                reason: "not a directory".into(),
-            });
+            return Err(ImageError::Unwritable { path: dest.to_path_buf(), dir, reason: "not a directory".into() });
         }
         loop {
             let temp = temp_name(dest, COUNTER.fetch_add(1, Ordering::Relaxed));
             match OpenOptions::new().write(true).create_new(true).open(&temp) {
-                Ok(_) => {
-                    return Ok(Self {
-                        temp,
-                        dest: dest.to_path_buf(),
-                        committed: false,
-                    })
-                }
+                Ok(_) => return Ok(Self { temp, dest: dest.to_path_buf(), committed: false }),
                 Err(e) if e.kind() == ErrorKind::AlreadyExists => continue,
-                Err(e) => {
-                    return Err(ImageError::Unwritable {
-                        path: dest.to_path_buf(),
-                        dir,
-                        reason: e.to_string(),
-                    })
-                }
+                Err(e) => return Err(ImageError::Unwritable { path: dest.to_path_buf(), dir, reason: e.to_string() }),
             }
         }
     }
@@ -118,9 +93,6 @@ mod tests {
         let name = t.file_name().unwrap().to_string_lossy().into_owned();
         assert!(name.starts_with(".render.tmp-"), "{name}");
         assert!(name.ends_with("-7.exr"), "{name}");
-        assert_eq!(
-            temp_name(Path::new("a.png"), 0).parent().unwrap(),
-            Path::new(".")
-        );
+        assert_eq!(temp_name(Path::new("a.png"), 0).parent().unwrap(), Path::new("."));
     }
 }

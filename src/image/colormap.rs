@@ -31,10 +31,7 @@ const VIRIDIS: [(u8, [f32; 3]); 17] = [
 pub(crate) fn viridis_srgb(t: f32) -> [f32; 3] {
     let t = if t.is_nan() { 1.0 } else { t.clamp(0.0, 1.0) };
     let x = t * 255.0;
-    let k = VIRIDIS
-        .windows(2)
-        .position(|w| x <= f32::from(w[1].0))
-        .unwrap_or(VIRIDIS.len() - 2);
+    let k = VIRIDIS.windows(2).position(|w| x <= f32::from(w[1].0)).unwrap_or(VIRIDIS.len() - 2);
     let (i0, c0) = VIRIDIS[k];
     let (i1, c1) = VIRIDIS[k + 1];
     let f = (x - f32::from(i0)) / f32::from(i1 - i0);

@@ -7,30 +7,13 @@ use std::path::PathBuf;
 pub enum ImageError {
     /// The file extension names no format prism can write or read.
     #[error("{path}: unsupported image extension {ext:?} (supported: {supported})")]
-    UnsupportedExtension {
-        path: PathBuf,
-        ext: String,
-        supported: &'static str,
-    },
+    UnsupportedExtension { path: PathBuf, ext: String, supported: &'static str },
     /// The format cannot hold this many channels (e.g. alpha in JPEG, anything but RGB in .hdr).
     #[error("{path}: {format} cannot store {channels} channel(s) (it takes {accepted})")]
-    UnsupportedChannels {
-        path: PathBuf,
-        format: &'static str,
-        channels: u32,
-        accepted: &'static str,
-    },
+    UnsupportedChannels { path: PathBuf, format: &'static str, channels: u32, accepted: &'static str },
     /// The image exceeds the format's size limit.
-    #[error(
-        "{path}: {format} images are at most {max} pixels wide and high, not {width}x{height}"
-    )]
-    TooLarge {
-        path: PathBuf,
-        format: &'static str,
-        width: u32,
-        height: u32,
-        max: u32,
-    },
+    #[error("{path}: {format} images are at most {max} pixels wide and high, not {width}x{height}")]
+    TooLarge { path: PathBuf, format: &'static str, width: u32, height: u32, max: u32 },
     /// The image's own fields disagree (size, channel count, data length).
     #[error("invalid image: {0}")]
     InvalidImage(String),
@@ -39,11 +22,7 @@ pub enum ImageError {
     MissingDirectory { path: PathBuf, dir: PathBuf },
     /// The output's directory exists but a file cannot be created in it.
     #[error("{path}: cannot write in directory {dir}: {reason}")]
-    Unwritable {
-        path: PathBuf,
-        dir: PathBuf,
-        reason: String,
-    },
+    Unwritable { path: PathBuf, dir: PathBuf, reason: String },
     /// Encoding or writing the file failed; the previous file at `path`, if any, is untouched.
     #[error("{path}: write failed: {reason}")]
     Write { path: PathBuf, reason: String },
@@ -58,12 +37,5 @@ pub enum ImageError {
     BackendUnavailable,
     /// Two images to compare differ in size or channel count.
     #[error("image size mismatch: {a_width}x{a_height}x{a_channels} vs {b_width}x{b_height}x{b_channels}")]
-    SizeMismatch {
-        a_width: u32,
-        a_height: u32,
-        a_channels: u32,
-        b_width: u32,
-        b_height: u32,
-        b_channels: u32,
-    },
+    SizeMismatch { a_width: u32, a_height: u32, a_channels: u32, b_width: u32, b_height: u32, b_channels: u32 },
 }

@@ -25,11 +25,7 @@ pub enum FileFormat {
 impl FileFormat {
     /// The format named by `path`'s extension (case-insensitive).
     pub fn from_path(path: &Path) -> Result<Self, ImageError> {
-        let ext = path
-            .extension()
-            .and_then(|e| e.to_str())
-            .unwrap_or("")
-            .to_ascii_lowercase();
+        let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
         match ext.as_str() {
             "exr" => Ok(Self::Exr),
             "png" => Ok(Self::Png),
@@ -38,11 +34,7 @@ impl FileFormat {
             "hdr" => Ok(Self::Hdr),
             _ => Err(ImageError::UnsupportedExtension {
                 path: path.to_path_buf(),
-                ext: if ext.is_empty() {
-                    "(none)".to_string()
-                } else {
-                    format!(".{ext}")
-                },
+                ext: if ext.is_empty() { "(none)".to_string() } else { format!(".{ext}") },
                 supported: SUPPORTED_EXTENSIONS,
             }),
         }
@@ -75,13 +67,7 @@ impl FileFormat {
         if width <= max && height <= max {
             Ok(())
         } else {
-            Err(ImageError::TooLarge {
-                path: path.to_path_buf(),
-                format: self.name(),
-                width,
-                height,
-                max,
-            })
+            Err(ImageError::TooLarge { path: path.to_path_buf(), format: self.name(), width, height, max })
         }
     }
 
@@ -97,12 +83,7 @@ impl FileFormat {
         if ok {
             Ok(())
         } else {
-            Err(ImageError::UnsupportedChannels {
-                path: path.to_path_buf(),
-                format: self.name(),
-                channels,
-                accepted,
-            })
+            Err(ImageError::UnsupportedChannels { path: path.to_path_buf(), format: self.name(), channels, accepted })
         }
     }
 }
@@ -113,14 +94,8 @@ mod tests {
 
     #[test]
     fn extension_is_case_insensitive() {
-        assert_eq!(
-            FileFormat::from_path(Path::new("a/b.EXR")).unwrap(),
-            FileFormat::Exr
-        );
-        assert_eq!(
-            FileFormat::from_path(Path::new("x.Jpeg")).unwrap(),
-            FileFormat::Jpeg
-        );
+        assert_eq!(FileFormat::from_path(Path::new("a/b.EXR")).unwrap(), FileFormat::Exr);
+        assert_eq!(FileFormat::from_path(Path::new("x.Jpeg")).unwrap(), FileFormat::Jpeg);
     }
 
     #[test]

@@ -45,25 +45,13 @@ pub struct Metrics {
 /// A small table for `prism compare`, one metric per line.
 impl fmt::Display for Metrics {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        writeln!(
-            f,
-            "samples    {} ({} non-finite skipped)",
-            self.samples, self.non_finite
-        )?;
-        writeln!(
-            f,
-            "mean       {:.6e} vs reference {:.6e}",
-            self.mean_a, self.mean_b
-        )?;
+        writeln!(f, "samples    {} ({} non-finite skipped)", self.samples, self.non_finite)?;
+        writeln!(f, "mean       {:.6e} vs reference {:.6e}", self.mean_a, self.mean_b)?;
         writeln!(f, "MSE        {:.6e}", self.mse)?;
         writeln!(f, "RMSE       {:.6e}", self.rmse)?;
         writeln!(f, "relMSE     {:.6e} (eps {REL_MSE_EPSILON})", self.rel_mse)?;
         writeln!(f, "MAE        {:.6e}", self.mae)?;
-        writeln!(
-            f,
-            "max |a-b|  {:.6e} (p99 per pixel {:.6e})",
-            self.max_abs, self.robust_max_abs
-        )?;
+        writeln!(f, "max |a-b|  {:.6e} (p99 per pixel {:.6e})", self.max_abs, self.robust_max_abs)?;
         write!(f, "PSNR       {:.2} dB", self.psnr)
     }
 }
@@ -89,8 +77,7 @@ fn check_same_size(a: &Image, b: &Image) -> Result<(), ImageError> {
 pub fn compare(a: &Image, b: &Image) -> Result<Metrics, ImageError> {
     check_same_size(a, b)?;
     let (mut n, mut non_finite) = (0usize, 0usize);
-    let (mut se, mut rel, mut ae, mut max_abs, mut sum_a, mut sum_b) =
-        (0.0f64, 0.0f64, 0.0f64, 0.0f64, 0.0f64, 0.0f64);
+    let (mut se, mut rel, mut ae, mut max_abs, mut sum_a, mut sum_b) = (0.0f64, 0.0f64, 0.0f64, 0.0f64, 0.0f64, 0.0f64);
     for (&x, &y) in a.data.iter().zip(&b.data) {
         if !(x.is_finite() && y.is_finite()) {
             non_finite += 1;
@@ -160,23 +147,14 @@ pub fn false_colour_difference(a: &Image, b: &Image) -> Result<Image, ImageError
     let err = per_pixel_error(a, b);
     let mut scale = robust_max(&err) as f32;
     if scale <= 0.0 {
-        scale = err
-            .iter()
-            .copied()
-            .filter(|v| v.is_finite())
-            .fold(0.0, f32::max);
+        scale = err.iter().copied().filter(|v| v.is_finite()).fold(0.0, f32::max);
     }
     let mut data = Vec::with_capacity(err.len() * 3);
     for e in err {
         let t = if scale > 0.0 { e / scale } else { e * 0.0 };
         data.extend(viridis_srgb(t).map(srgb::decode));
     }
-    Ok(Image {
-        width: a.width,
-        height: a.height,
-        channels: 3,
-        data,
-    })
+    Ok(Image { width: a.width, height: a.height, channels: 3, data })
 }
 
 #[cfg(test)]
@@ -184,12 +162,7 @@ mod tests {
     use super::*;
 
     fn image(width: u32, height: u32, channels: u32, data: Vec<f32>) -> Image {
-        Image {
-            width,
-            height,
-            channels,
-            data,
-        }
+        Image { width, height, channels, data }
     }
 
     #[test]
@@ -218,10 +191,7 @@ mod tests {
         assert!((m.mean_a - 2.5).abs() < 1e-12 && (m.mean_b - 2.0).abs() < 1e-12);
         let table = m.to_string();
         assert!(table.contains("MSE        1.500000e0"), "{table}");
-        assert!(
-            table.contains("samples    4 (0 non-finite skipped)"),
-            "{table}"
-        );
+        assert!(table.contains("samples    4 (0 non-finite skipped)"), "{table}");
     }
 
     #[test]
@@ -241,10 +211,7 @@ mod tests {
         assert_eq!(err.to_string(), "image size mismatch: 2x2x3 vs 2x3x3");
         assert!(false_colour_difference(&a, &Image::new(2, 2, 4)).is_err());
         let broken = image(2, 2, 3, vec![0.0; 5]);
-        assert!(matches!(
-            compare(&broken, &broken),
-            Err(ImageError::InvalidImage(_))
-        ));
+        assert!(matches!(compare(&broken, &broken), Err(ImageError::InvalidImage(_))));
     }
 
     #[test]
@@ -259,11 +226,7 @@ mod tests {
         let m = compare(&a, &b).unwrap();
         assert_eq!(m.max_abs, 1e6);
         // Nearest rank ⌈0.99·1001⌉ = 991 → the 991st smallest value, 0.990.
-        assert!(
-            (m.robust_max_abs - 0.990).abs() < 1e-6,
-            "{}",
-            m.robust_max_abs
-        );
+        assert!((m.robust_max_abs - 0.990).abs() < 1e-6, "{}", m.robust_max_abs);
     }
 
     #[test]

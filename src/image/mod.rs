@@ -43,12 +43,7 @@ impl Image {
     /// A black image.
     pub fn new(width: u32, height: u32, channels: u32) -> Self {
         let n = width as usize * height as usize * channels as usize;
-        Self {
-            width,
-            height,
-            channels,
-            data: vec![0.0; n],
-        }
+        Self { width, height, channels, data: vec![0.0; n] }
     }
 
     /// The samples of pixel (`x`, `y`); `None` outside the image.
@@ -63,24 +58,16 @@ impl Image {
 
     /// Number of samples the size implies, `None` on overflow.
     fn expected_len(&self) -> Option<usize> {
-        (self.width as usize)
-            .checked_mul(self.height as usize)?
-            .checked_mul(self.channels as usize)
+        (self.width as usize).checked_mul(self.height as usize)?.checked_mul(self.channels as usize)
     }
 
     /// Checks that the fields agree and describe a non-empty image of 1–4 channels.
     pub fn validate(&self) -> Result<(), ImageError> {
         if self.width == 0 || self.height == 0 {
-            return Err(ImageError::InvalidImage(format!(
-                "empty size {}x{}",
-                self.width, self.height
-            )));
+            return Err(ImageError::InvalidImage(format!("empty size {}x{}", self.width, self.height)));
         }
         if !(1..=4).contains(&self.channels) {
-            return Err(ImageError::InvalidImage(format!(
-                "{} channels (prism writes 1 to 4)",
-                self.channels
-            )));
+            return Err(ImageError::InvalidImage(format!("{} channels (prism writes 1 to 4)", self.channels)));
         }
         match self.expected_len() {
             Some(n) if n == self.data.len() => Ok(()),
@@ -148,12 +135,7 @@ pub struct WriteOptions {
 
 impl Default for WriteOptions {
     fn default() -> Self {
-        Self {
-            backend: Backend::preferred(),
-            exr_sample: ExrSample::Half,
-            tiff_16bit: false,
-            jpeg_quality: 95,
-        }
+        Self { backend: Backend::preferred(), exr_sample: ExrSample::Half, tiff_16bit: false, jpeg_quality: 95 }
     }
 }
 
@@ -178,10 +160,7 @@ pub fn write_with(path: &Path, img: &Image, opts: &WriteOptions) -> Result<(), I
     };
     #[cfg(test)]
     let result = result.and_then(|()| tests::injected_failure());
-    result.map_err(|reason| ImageError::Write {
-        path: path.to_path_buf(),
-        reason,
-    })?;
+    result.map_err(|reason| ImageError::Write { path: path.to_path_buf(), reason })?;
     temp.commit()
 }
 
@@ -195,19 +174,14 @@ pub fn read_with(path: &Path, backend: Backend) -> Result<Image, ImageError> {
     let format = FileFormat::from_path(path)?;
     check_backend(backend)?;
     if !path.is_file() {
-        return Err(ImageError::NotFound {
-            path: path.to_path_buf(),
-        });
+        return Err(ImageError::NotFound { path: path.to_path_buf() });
     }
     let result = match backend {
         #[cfg(feature = "oiio")]
         Backend::Oiio => oiio::read(path),
         _ => rust_io::read(path, format),
     };
-    result.map_err(|reason| ImageError::Decode {
-        path: path.to_path_buf(),
-        reason,
-    })
+    result.map_err(|reason| ImageError::Decode { path: path.to_path_buf(), reason })
 }
 
 fn check_backend(backend: Backend) -> Result<(), ImageError> {

@@ -62,11 +62,7 @@ fn c_path(path: &Path) -> Result<CString, String> {
 
 fn message(buf: &[c_char; ERR_LEN]) -> String {
     // The shim always NUL-terminates within the buffer; guard anyway by bounding the scan.
-    let bytes: Vec<u8> = buf
-        .iter()
-        .take_while(|&&c| c != 0)
-        .map(|&c| c as u8)
-        .collect();
+    let bytes: Vec<u8> = buf.iter().take_while(|&&c| c != 0).map(|&c| c as u8).collect();
     let msg = String::from_utf8_lossy(&bytes).trim().to_string();
     if msg.is_empty() {
         "OpenImageIO reported an error without a message".into()
@@ -80,12 +76,7 @@ fn to_c_int(v: u32, what: &str) -> Result<c_int, String> {
 }
 
 /// Writes `img` (already validated for `format`) to `path` through OpenImageIO.
-pub(crate) fn write(
-    path: &Path,
-    format: FileFormat,
-    img: &Image,
-    opts: &WriteOptions,
-) -> Result<(), String> {
+pub(crate) fn write(path: &Path, format: FileFormat, img: &Image, opts: &WriteOptions) -> Result<(), String> {
     let cpath = c_path(path)?;
     let c = img.channels as usize;
     // Integer formats: quantise here exactly as the Rust path does (code / max is exact
@@ -108,19 +99,11 @@ pub(crate) fn write(
             UINT16,
         ),
         FileFormat::Png | FileFormat::Jpeg | FileFormat::Tiff => (
-            srgb::encode_to_codes(&img.data, c, 255)
-                .into_iter()
-                .map(|v| v as f32 / 255.0)
-                .collect::<Vec<f32>>()
-                .into(),
+            srgb::encode_to_codes(&img.data, c, 255).into_iter().map(|v| v as f32 / 255.0).collect::<Vec<f32>>().into(),
             UINT8,
         ),
     };
-    let quality = if format == FileFormat::Jpeg {
-        c_int::from(opts.jpeg_quality.clamp(1, 100))
-    } else {
-        0
-    };
+    let quality = if format == FileFormat::Jpeg { c_int::from(opts.jpeg_quality.clamp(1, 100)) } else { 0 };
     let mut err = [0 as c_char; ERR_LEN];
     // SAFETY: `cpath` is a live NUL-terminated string; `pixels` holds exactly
     // width·height·channels floats (checked by `Image::validate` before we get here) and
@@ -153,15 +136,7 @@ pub(crate) fn read(path: &Path) -> Result<Image, String> {
     // SAFETY: `cpath` is a live NUL-terminated string; the four out-pointers point at live
     // local integers; `err` is a writable buffer of ERR_LEN bytes whose length we pass.
     let rc = unsafe {
-        ffi::prism_oiio_read_info(
-            cpath.as_ptr(),
-            &mut w,
-            &mut h,
-            &mut c,
-            &mut fmt,
-            err.as_mut_ptr(),
-            ERR_LEN,
-        )
+        ffi::prism_oiio_read_info(cpath.as_ptr(), &mut w, &mut h, &mut c, &mut fmt, err.as_mut_ptr(), ERR_LEN)
     };
     if rc != 0 {
         return Err(message(&err));
@@ -169,28 +144,15 @@ pub(crate) fn read(path: &Path) -> Result<Image, String> {
     if w <= 0 || h <= 0 || c <= 0 {
         return Err(format!("image reports an empty size {w}x{h}x{c}"));
     }
-    let count = (w as usize)
-        .checked_mul(h as usize)
-        .and_then(|n| n.checked_mul(c as usize))
-        .ok_or("image too large")?;
+    let count =
+        (w as usize).checked_mul(h as usize).and_then(|n| n.checked_mul(c as usize)).ok_or("image too large")?;
     let mut data: Vec<f32> = Vec::new();
-    data.try_reserve_exact(count)
-        .map_err(|_| format!("cannot allocate {count} samples"))?;
+    data.try_reserve_exact(count).map_err(|_| format!("cannot allocate {count} samples"))?;
     data.resize(count, 0.0);
     // SAFETY: `data` holds exactly `count` = w·h·c writable floats and the shim writes at
     // most `pixel_count` of them; `cpath` and `err` are as above.
-    let rc = unsafe {
-        ffi::prism_oiio_read(
-            cpath.as_ptr(),
-            w,
-            h,
-            c,
-            data.as_mut_ptr(),
-            count,
-            err.as_mut_ptr(),
-            ERR_LEN,
-        )
-    };
+    let rc =
+        unsafe { ffi::prism_oiio_read(cpath.as_ptr(), w, h, c, data.as_mut_ptr(), count, err.as_mut_ptr(), ERR_LEN) };
     if rc != 0 {
         return Err(message(&err));
     }
@@ -199,10 +161,5 @@ pub(crate) fn read(path: &Path) -> Result<Image, String> {
         UINT16 => srgb::decode_normalised_in_place(&mut data, c as usize, 65535),
         _ => {}
     }
-    Ok(Image {
-        width: w as u32,
-        height: h as u32,
-        channels: c as u32,
-        data,
-    })
+    Ok(Image { width: w as u32, height: h as u32, channels: c as u32, data })
 }

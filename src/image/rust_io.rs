@@ -23,20 +23,13 @@ pub(crate) fn channel_names(channels: usize) -> &'static [&'static str] {
 }
 
 /// Writes `img` (already validated for `format`) to `path`.
-pub(crate) fn write(
-    path: &Path,
-    format: FileFormat,
-    img: &Image,
-    opts: &WriteOptions,
-) -> Result<(), String> {
+pub(crate) fn write(path: &Path, format: FileFormat, img: &Image, opts: &WriteOptions) -> Result<(), String> {
     match format {
         FileFormat::Exr => write_exr(path, img, opts.exr_sample),
         FileFormat::Hdr => {
             let buf = ImageBuffer::from_raw(img.width, img.height, img.data.clone())
                 .ok_or("pixel buffer does not match the image size")?;
-            DynamicImage::ImageRgb32F(buf)
-                .save_with_format(path, ImageFormat::Hdr)
-                .map_err(|e| e.to_string())
+            DynamicImage::ImageRgb32F(buf).save_with_format(path, ImageFormat::Hdr).map_err(|e| e.to_string())
         }
         FileFormat::Png | FileFormat::Jpeg | FileFormat::Tiff => {
             let wide = format == FileFormat::Tiff && opts.tiff_16bit;
@@ -47,18 +40,10 @@ pub(crate) fn write(
                     BufWriter::new(file),
                     opts.jpeg_quality.clamp(1, 100),
                 );
-                dynimg
-                    .write_with_encoder(encoder)
-                    .map_err(|e| e.to_string())
+                dynimg.write_with_encoder(encoder).map_err(|e| e.to_string())
             } else {
-                let fmt = if format == FileFormat::Png {
-                    ImageFormat::Png
-                } else {
-                    ImageFormat::Tiff
-                };
-                dynimg
-                    .save_with_format(path, fmt)
-                    .map_err(|e| e.to_string())
+                let fmt = if format == FileFormat::Png { ImageFormat::Png } else { ImageFormat::Tiff };
+                dynimg.save_with_format(path, fmt).map_err(|e| e.to_string())
             }
         }
     }
@@ -70,32 +55,18 @@ fn encoded_dynamic_image(img: &Image, sixteen_bit: bool) -> Result<DynamicImage,
     let (w, h) = (img.width, img.height);
     let mismatch = || "pixel buffer does not match the image size".to_string();
     if sixteen_bit {
-        let codes: Vec<u16> = srgb::encode_to_codes(&img.data, c, 65535)
-            .into_iter()
-            .map(|v| v as u16)
-            .collect();
+        let codes: Vec<u16> = srgb::encode_to_codes(&img.data, c, 65535).into_iter().map(|v| v as u16).collect();
         Ok(match c {
-            1 => {
-                DynamicImage::ImageLuma16(ImageBuffer::from_raw(w, h, codes).ok_or_else(mismatch)?)
-            }
-            2 => {
-                DynamicImage::ImageLumaA16(ImageBuffer::from_raw(w, h, codes).ok_or_else(mismatch)?)
-            }
+            1 => DynamicImage::ImageLuma16(ImageBuffer::from_raw(w, h, codes).ok_or_else(mismatch)?),
+            2 => DynamicImage::ImageLumaA16(ImageBuffer::from_raw(w, h, codes).ok_or_else(mismatch)?),
             3 => DynamicImage::ImageRgb16(ImageBuffer::from_raw(w, h, codes).ok_or_else(mismatch)?),
-            _ => {
-                DynamicImage::ImageRgba16(ImageBuffer::from_raw(w, h, codes).ok_or_else(mismatch)?)
-            }
+            _ => DynamicImage::ImageRgba16(ImageBuffer::from_raw(w, h, codes).ok_or_else(mismatch)?),
         })
     } else {
-        let codes: Vec<u8> = srgb::encode_to_codes(&img.data, c, 255)
-            .into_iter()
-            .map(|v| v as u8)
-            .collect();
+        let codes: Vec<u8> = srgb::encode_to_codes(&img.data, c, 255).into_iter().map(|v| v as u8).collect();
         Ok(match c {
             1 => DynamicImage::ImageLuma8(ImageBuffer::from_raw(w, h, codes).ok_or_else(mismatch)?),
-            2 => {
-                DynamicImage::ImageLumaA8(ImageBuffer::from_raw(w, h, codes).ok_or_else(mismatch)?)
-            }
+            2 => DynamicImage::ImageLumaA8(ImageBuffer::from_raw(w, h, codes).ok_or_else(mismatch)?),
             3 => DynamicImage::ImageRgb8(ImageBuffer::from_raw(w, h, codes).ok_or_else(mismatch)?),
             _ => DynamicImage::ImageRgba8(ImageBuffer::from_raw(w, h, codes).ok_or_else(mismatch)?),
         })
@@ -121,10 +92,7 @@ fn write_exr(path: &Path, img: &Image, sample: ExrSample) -> Result<(), String> 
         exr_p::Encoding::SMALL_LOSSLESS, // ZIP, as OIIO writes
         exr_p::AnyChannels::sort(list),
     );
-    exr_p::Image::from_layer(layer)
-        .write()
-        .to_file(path)
-        .map_err(|e| e.to_string())
+    exr_p::Image::from_layer(layer).write().to_file(path).map_err(|e| e.to_string())
 }
 
 /// Reads `path` as `format` into linear floats.
@@ -150,8 +118,7 @@ fn read_exr(path: &Path) -> Result<Image, String> {
     let image = exr_p::read_first_flat_layer_from_file(path).map_err(|e| e.to_string())?;
     let layer = image.layer_data;
     let (w, h) = (layer.size.width(), layer.size.height());
-    let mut channels: Vec<&exr_p::AnyChannel<exr_p::FlatSamples>> =
-        layer.channel_data.list.iter().collect();
+    let mut channels: Vec<&exr_p::AnyChannel<exr_p::FlatSamples>> = layer.channel_data.list.iter().collect();
     // Stable sort keeps the file's alphabetical order among non-canonical names.
     channels.sort_by_key(|ch| canonical_rank(&ch.name.to_string()));
     let c = channels.len();
@@ -175,12 +142,7 @@ fn read_exr(path: &Path) -> Result<Image, String> {
             exr_p::FlatSamples::U32(v) => dst.zip(v).for_each(|(d, s)| *d = *s as f32),
         }
     }
-    Ok(Image {
-        width: w as u32,
-        height: h as u32,
-        channels: c as u32,
-        data,
-    })
+    Ok(Image { width: w as u32, height: h as u32, channels: c as u32, data })
 }
 
 fn read_other(path: &Path) -> Result<Image, String> {
@@ -209,12 +171,7 @@ fn read_other(path: &Path) -> Result<Image, String> {
     if max_code > 0 {
         srgb::decode_normalised_in_place(&mut data, channels as usize, max_code);
     }
-    Ok(Image {
-        width,
-        height,
-        channels,
-        data,
-    })
+    Ok(Image { width, height, channels, data })
 }
 
 fn normalise<T: Copy + Into<f32>>(raw: &[T], max_code: f32) -> Vec<f32> {

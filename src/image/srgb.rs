@@ -29,11 +29,7 @@ pub(crate) fn is_alpha(c: usize, channels: usize) -> bool {
 /// Quantises an encoded value to an integer code in `0..=max_code` by clamping and rounding
 /// to nearest; NaN maps to 0.
 pub(crate) fn quantise(encoded: f32, max_code: u32) -> u32 {
-    let v = if encoded.is_nan() {
-        0.0
-    } else {
-        encoded.clamp(0.0, 1.0)
-    };
+    let v = if encoded.is_nan() { 0.0 } else { encoded.clamp(0.0, 1.0) };
     (v * max_code as f32).round() as u32
 }
 
@@ -42,11 +38,7 @@ pub(crate) fn encode_to_codes(data: &[f32], channels: usize, max_code: u32) -> V
     data.iter()
         .enumerate()
         .map(|(i, &v)| {
-            let e = if is_alpha(i % channels, channels) {
-                v
-            } else {
-                encode(v)
-            };
+            let e = if is_alpha(i % channels, channels) { v } else { encode(v) };
             quantise(e, max_code)
         })
         .collect()
@@ -61,11 +53,7 @@ pub(crate) fn decode_normalised_in_place(data: &mut [f32], channels: usize, max_
     let max = max_code as f32;
     for (i, v) in data.iter_mut().enumerate() {
         let snapped = (*v * max).round() / max;
-        *v = if is_alpha(i % channels, channels) {
-            snapped
-        } else {
-            decode(snapped)
-        };
+        *v = if is_alpha(i % channels, channels) { snapped } else { decode(snapped) };
     }
 }
 

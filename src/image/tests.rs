@@ -35,10 +35,8 @@ impl Scratch {
     }
     /// Names of all entries, sorted.
     fn entries(&self) -> Vec<String> {
-        let mut v: Vec<String> = fs::read_dir(&self.0)
-            .unwrap()
-            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-            .collect();
+        let mut v: Vec<String> =
+            fs::read_dir(&self.0).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
         v.sort();
         v
     }
@@ -65,10 +63,7 @@ fn pattern(width: u32, height: u32, channels: u32, range: f32) -> Image {
 }
 
 fn opts(backend: Backend) -> WriteOptions {
-    WriteOptions {
-        backend,
-        ..WriteOptions::default()
-    }
+    WriteOptions { backend, ..WriteOptions::default() }
 }
 
 fn max_encoded_diff(a: &Image, b: &Image) -> f32 {
@@ -99,10 +94,7 @@ fn exr_float_round_trip_is_exact() {
             img.data[0] = -3.25e-7; // negative, tiny and huge values survive float storage
             img.data[1] = 1.0e30;
             let path = dir.path(&format!("f{channels}.exr"));
-            let o = WriteOptions {
-                exr_sample: ExrSample::Float,
-                ..opts(backend)
-            };
+            let o = WriteOptions { exr_sample: ExrSample::Float, ..opts(backend) };
             write_with(&path, &img, &o).unwrap();
             let back = read_with(&path, backend).unwrap();
             assert_eq!(back, img, "{backend:?}, {channels} channels");
@@ -121,10 +113,7 @@ fn exr_half_round_trip_is_within_half_precision() {
         assert_eq!((back.width, back.height, back.channels), (9, 4, 3));
         for (&r, &v) in back.data.iter().zip(&img.data) {
             // 10 stored mantissa bits: round-to-nearest error ≤ 2⁻¹¹ relative.
-            assert!(
-                (r - v).abs() <= v.abs() * 2f32.powi(-11),
-                "{backend:?}: {v} → {r}"
-            );
+            assert!((r - v).abs() <= v.abs() * 2f32.powi(-11), "{backend:?}: {v} → {r}");
         }
         assert_ne!(back.data, img.data, "half storage must actually round");
     }
@@ -164,28 +153,18 @@ fn png_and_tiff_round_trip_within_half_a_code() {
         for channels in 1..=4 {
             // Range 1.2 pushes some values past 1 to exercise clamping.
             let img = pattern(11, 6, channels, 1.2);
-            for (ext, sixteen, code) in [
-                ("png", false, 255.0),
-                ("tif", false, 255.0),
-                ("tiff", true, 65535.0),
-            ] {
+            for (ext, sixteen, code) in [("png", false, 255.0), ("tif", false, 255.0), ("tiff", true, 65535.0)] {
                 if channels == 2 && ext != "png" {
                     continue; // TIFF takes Y, RGB or RGBA
                 }
                 let path = dir.path(&format!("p{channels}.{ext}"));
-                let o = WriteOptions {
-                    tiff_16bit: sixteen,
-                    ..opts(backend)
-                };
+                let o = WriteOptions { tiff_16bit: sixteen, ..opts(backend) };
                 write_with(&path, &img, &o).unwrap();
                 let back = read_with(&path, backend).unwrap();
                 assert_eq!((back.width, back.height, back.channels), (11, 6, channels));
                 let d = max_encoded_diff(&back, &img);
                 // Quantisation error ≤ ½ code; f32 rounding of the curve adds < 1e-6.
-                assert!(
-                    d <= 0.5 / code + 1e-6,
-                    "{backend:?} .{ext} {channels}ch: {d}"
-                );
+                assert!(d <= 0.5 / code + 1e-6, "{backend:?} .{ext} {channels}ch: {d}");
             }
         }
     }
@@ -234,19 +213,11 @@ fn backends_read_each_others_files_identically() {
     let dir = Scratch::new("agree");
     for channels in [1, 3, 4] {
         let img = pattern(13, 7, channels, 1.5);
-        for (ext, tiff_16bit) in [
-            ("exr", false),
-            ("png", false),
-            ("tif", false),
-            ("tif", true),
-        ] {
+        for (ext, tiff_16bit) in [("exr", false), ("png", false), ("tif", false), ("tif", true)] {
             let mut reads = Vec::new();
             for writer in [Backend::Oiio, Backend::Rust] {
                 let path = dir.path(&format!("{writer:?}-{channels}-{tiff_16bit}.{ext}"));
-                let o = WriteOptions {
-                    tiff_16bit,
-                    ..opts(writer)
-                };
+                let o = WriteOptions { tiff_16bit, ..opts(writer) };
                 write_with(&path, &img, &o).unwrap();
                 for reader in [Backend::Oiio, Backend::Rust] {
                     reads.push((writer, reader, read_with(&path, reader).unwrap()));
@@ -254,10 +225,7 @@ fn backends_read_each_others_files_identically() {
             }
             // Identical quantisation and identical decoding: all four reads agree exactly.
             for (w, r, im) in &reads[1..] {
-                assert_eq!(
-                    im, &reads[0].2,
-                    ".{ext} {channels}ch written by {w:?}, read by {r:?}"
-                );
+                assert_eq!(im, &reads[0].2, ".{ext} {channels}ch written by {w:?}, read by {r:?}");
             }
         }
     }
@@ -271,18 +239,11 @@ fn unsupported_extension_names_the_supported_ones() {
         let err = write_with(&dir.path("out.bmp"), &img, &opts(backend)).unwrap_err();
         let msg = err.to_string();
         assert!(matches!(err, ImageError::UnsupportedExtension { .. }));
-        assert!(
-            msg.contains("unsupported image extension \".bmp\""),
-            "{msg}"
-        );
+        assert!(msg.contains("unsupported image extension \".bmp\""), "{msg}");
         assert!(msg.contains(".exr, .png, .jpg"), "{msg}");
         assert!(read_with(&dir.path("in.gif"), backend).is_err());
     }
-    assert!(
-        dir.entries().is_empty(),
-        "nothing may be created: {:?}",
-        dir.entries()
-    );
+    assert!(dir.entries().is_empty(), "nothing may be created: {:?}", dir.entries());
 }
 
 #[test]
@@ -312,20 +273,14 @@ fn failed_write_keeps_the_old_file_and_leaves_no_temporary() {
         fs::write(&target, &old).unwrap();
         FAIL_NEXT_WRITE.with(|f| f.set(true));
         let err = write_with(&target, &pattern(4, 4, 3, 1.0), &opts(backend)).unwrap_err();
-        assert!(
-            matches!(err, ImageError::Write { .. }),
-            "{backend:?}: {err}"
-        );
+        assert!(matches!(err, ImageError::Write { .. }), "{backend:?}: {err}");
         assert_eq!(fs::read(&target).unwrap(), old, "{backend:?}");
         assert_eq!(dir.entries(), vec!["render.jpg"], "{backend:?}");
 
         // Over JPEG's size limit: refused before any file is made (OIIO's libjpeg would
         // otherwise exit the process).
         let err = write_with(&target, &Image::new(70_000, 1, 3), &opts(backend)).unwrap_err();
-        assert!(
-            matches!(err, ImageError::TooLarge { .. }),
-            "{backend:?}: {err}"
-        );
+        assert!(matches!(err, ImageError::TooLarge { .. }), "{backend:?}: {err}");
         assert_eq!(fs::read(&target).unwrap(), old, "{backend:?}");
         assert_eq!(dir.entries(), vec!["render.jpg"], "{backend:?}");
 
@@ -334,16 +289,9 @@ fn failed_write_keeps_the_old_file_and_leaves_no_temporary() {
         let target = dir.path("taken.png");
         fs::create_dir(&target).unwrap();
         let err = write_with(&target, &pattern(2, 2, 3, 1.0), &opts(backend)).unwrap_err();
-        assert!(
-            matches!(err, ImageError::Write { .. }),
-            "{backend:?}: {err}"
-        );
+        assert!(matches!(err, ImageError::Write { .. }), "{backend:?}: {err}");
         assert!(target.is_dir());
-        assert_eq!(
-            dir.entries(),
-            vec!["render.jpg", "taken.png"],
-            "{backend:?}"
-        );
+        assert_eq!(dir.entries(), vec!["render.jpg", "taken.png"], "{backend:?}");
         fs::remove_dir(&target).unwrap();
 
         // A successful write replaces the old file completely.
@@ -351,11 +299,7 @@ fn failed_write_keeps_the_old_file_and_leaves_no_temporary() {
         fs::write(&target, &old).unwrap();
         write_with(&target, &pattern(3, 3, 3, 1.0), &opts(backend)).unwrap();
         assert_eq!(read_with(&target, backend).unwrap().width, 3);
-        assert_eq!(
-            dir.entries(),
-            vec!["render.jpg", "render.png"],
-            "{backend:?}"
-        );
+        assert_eq!(dir.entries(), vec!["render.jpg", "render.png"], "{backend:?}");
         fs::remove_file(&target).unwrap();
     }
 }
@@ -363,12 +307,7 @@ fn failed_write_keeps_the_old_file_and_leaves_no_temporary() {
 #[test]
 fn bad_images_and_channel_counts_are_rejected_before_writing() {
     let dir = Scratch::new("invalid");
-    let broken = Image {
-        width: 4,
-        height: 4,
-        channels: 3,
-        data: vec![0.0; 47],
-    };
+    let broken = Image { width: 4, height: 4, channels: 3, data: vec![0.0; 47] };
     for &backend in Backend::available() {
         let err = write_with(&dir.path("a.exr"), &broken, &opts(backend)).unwrap_err();
         assert_eq!(err.to_string(), "invalid image: 47 samples for 4x4x3");
@@ -379,10 +318,7 @@ fn bad_images_and_channel_counts_are_rejected_before_writing() {
         let err = write_with(&dir.path("a.jpg"), &Image::new(2, 2, 4), &opts(backend)).unwrap_err();
         assert_eq!(
             err.to_string(),
-            format!(
-                "{}: JPEG cannot store 4 channel(s) (it takes 1 or 3)",
-                dir.path("a.jpg").display()
-            )
+            format!("{}: JPEG cannot store 4 channel(s) (it takes 1 or 3)", dir.path("a.jpg").display())
         );
         let err = write_with(&dir.path("a.hdr"), &Image::new(2, 2, 1), &opts(backend));
         assert!(matches!(err, Err(ImageError::UnsupportedChannels { .. })));
@@ -400,16 +336,10 @@ fn reading_missing_or_corrupt_files_fails_cleanly() {
     for &backend in Backend::available() {
         let err = read_with(&dir.path("absent.exr"), backend).unwrap_err();
         assert!(matches!(err, ImageError::NotFound { .. }), "{err}");
-        assert!(
-            err.to_string().ends_with("absent.exr: no such file"),
-            "{err}"
-        );
+        assert!(err.to_string().ends_with("absent.exr: no such file"), "{err}");
         for f in ["garbage.png", "garbage.exr"] {
             let err = read_with(&dir.path(f), backend).unwrap_err();
-            assert!(
-                matches!(err, ImageError::Decode { .. }),
-                "{backend:?} {f}: {err}"
-            );
+            assert!(matches!(err, ImageError::Decode { .. }), "{backend:?} {f}: {err}");
             assert!(!err.to_string().contains('\n'), "one line: {err}");
         }
     }

@@ -6,11 +6,11 @@ use super::Stats;
 use crate::bsdf::{Bsdf, Diffuse, TransportMode};
 use crate::geometry::Ray;
 use crate::light::Light;
+use crate::math::PI;
 use crate::sampling::mis::power_heuristic;
 use crate::sampling::Sampler;
 use crate::scene::{Scene, SurfaceInteraction};
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
-use crate::math::PI;
 use glam::Vec3;
 
 /// Which estimators of direct light to use (for validating MIS: all three must agree).

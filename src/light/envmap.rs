@@ -33,7 +33,11 @@ impl EnvMapLight {
             let sin_theta = (PI * (y as f32 + 0.5) / h as f32).sin();
             for x in 0..w {
                 let o = (y * w + x) * c;
-                let rgb = if c >= 3 { Vec3::new(image.data[o], image.data[o + 1], image.data[o + 2]) } else { Vec3::splat(image.data[o]) };
+                let rgb = if c >= 3 {
+                    Vec3::new(image.data[o], image.data[o + 1], image.data[o + 2])
+                } else {
+                    Vec3::splat(image.data[o])
+                };
                 let lum = space.rgb_to_xyz(rgb.max(Vec3::ZERO)).y;
                 f[y * w + x] = lum.max(0.0) * sin_theta;
             }

@@ -16,8 +16,11 @@ impl LightSampler {
         if lights.is_empty() {
             return Self { table: None };
         }
-        let powers: Vec<f32> =
-            lights.iter().map(|l| l.power(scene_radius)).map(|p| if p.is_finite() { p.max(0.0) } else { 0.0 }).collect();
+        let powers: Vec<f32> = lights
+            .iter()
+            .map(|l| l.power(scene_radius))
+            .map(|p| if p.is_finite() { p.max(0.0) } else { 0.0 })
+            .collect();
         Self { table: Some(AliasTable::new(&powers)) }
     }
 

@@ -34,11 +34,7 @@ impl Frame {
             return Self::from_normal(n);
         }
         let s = s / len2.sqrt();
-        Self {
-            s,
-            t: n.cross(s),
-            n,
-        }
+        Self { s, t: n.cross(s), n }
     }
 
     /// World → local.
@@ -65,13 +61,7 @@ mod tests {
             seed = seed.wrapping_mul(1664525).wrapping_add(1013904223);
             (seed >> 8) as f32 / (1u32 << 24) as f32 * 2.0 - 1.0
         };
-        let mut normals = vec![
-            Vec3::Z,
-            -Vec3::Z,
-            Vec3::X,
-            -Vec3::Y,
-            Vec3::new(0.0, 1e-8, -1.0).normalize(),
-        ];
+        let mut normals = vec![Vec3::Z, -Vec3::Z, Vec3::X, -Vec3::Y, Vec3::new(0.0, 1e-8, -1.0).normalize()];
         for _ in 0..1000 {
             normals.push(Vec3::new(rnd(), rnd(), rnd()).normalize());
         }

@@ -33,24 +33,13 @@ impl AliasTable {
             return Self::default();
         }
         let total: f64 = weights.iter().map(|&w| clean(w)).sum();
-        let pmf: Vec<f64> = if total > 0.0 {
-            weights.iter().map(|&w| clean(w) / total).collect()
-        } else {
-            vec![1.0 / n as f64; n]
-        };
+        let pmf: Vec<f64> =
+            if total > 0.0 { weights.iter().map(|&w| clean(w) / total).collect() } else { vec![1.0 / n as f64; n] };
         // Scaled probabilities p·n: bins under 1 are topped up from bins over 1.
         let mut scaled: Vec<f64> = pmf.iter().map(|&p| p * n as f64).collect();
-        let mut bins: Vec<Bin> = pmf
-            .iter()
-            .enumerate()
-            .map(|(i, &p)| Bin {
-                q: 1.0,
-                alias: i as u32,
-                pmf: p as f32,
-            })
-            .collect();
-        let (mut under, mut over): (Vec<usize>, Vec<usize>) =
-            (0..n).partition(|&i| scaled[i] < 1.0);
+        let mut bins: Vec<Bin> =
+            pmf.iter().enumerate().map(|(i, &p)| Bin { q: 1.0, alias: i as u32, pmf: p as f32 }).collect();
+        let (mut under, mut over): (Vec<usize>, Vec<usize>) = (0..n).partition(|&i| scaled[i] < 1.0);
         while let (Some(&u), Some(&o)) = (under.last(), over.last()) {
             under.pop();
             bins[u].q = scaled[u] as f32;
@@ -138,15 +127,8 @@ pub(crate) mod tests {
 
     #[test]
     fn samples_follow_weights_chi2() {
-        let weights: Vec<f32> = (0..200)
-            .map(|i| {
-                if i % 7 == 3 {
-                    0.0
-                } else {
-                    1.0 + (i as f32 * 0.37).sin().abs() * 10.0
-                }
-            })
-            .collect();
+        let weights: Vec<f32> =
+            (0..200).map(|i| if i % 7 == 3 { 0.0 } else { 1.0 + (i as f32 * 0.37).sin().abs() * 10.0 }).collect();
         let table = AliasTable::new(&weights);
         let total: f32 = weights.iter().sum();
         for (i, &w) in weights.iter().enumerate() {
@@ -200,14 +182,9 @@ pub(crate) mod tests {
         assert!((t.pmf(123_456) - 0.5).abs() < 1e-6);
         let mut rng = Rng::new(9, 0);
         let m = 200_000;
-        let hits = (0..m)
-            .filter(|_| t.sample(rng.uniform()).0 == 123_456)
-            .count();
+        let hits = (0..m).filter(|_| t.sample(rng.uniform()).0 == 123_456).count();
         // Binomial(m, 1/2): σ = sqrt(m)/2; 4σ.
-        assert!(
-            (hits as f64 - m as f64 / 2.0).abs() < 4.0 * (m as f64).sqrt() / 2.0,
-            "{hits}"
-        );
+        assert!((hits as f64 - m as f64 / 2.0).abs() < 4.0 * (m as f64).sqrt() / 2.0, "{hits}");
         assert!(t.sample(0.9999999).0 < n);
     }
 }

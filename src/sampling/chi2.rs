@@ -37,10 +37,7 @@ pub enum Domain {
 
 impl Domain {
     /// The whole sphere of directions.
-    pub const SPHERE: Domain = Domain::Cap {
-        axis: Vec3::Z,
-        theta_max: PI,
-    };
+    pub const SPHERE: Domain = Domain::Cap { axis: Vec3::Z, theta_max: PI };
 }
 
 /// A χ² test configuration; run it with [`Chi2Test::run`].
@@ -105,12 +102,7 @@ impl fmt::Display for Chi2Result {
         write!(
             f,
             "chi2 = {:.1}, dof = {}, p = {:.3e} (need ≥ {:.2e}), ∫pdf = {:.5}, sampled = {:.5}",
-            self.statistic,
-            self.dof,
-            self.p_value,
-            self.significance,
-            self.pdf_integral,
-            self.sampled_fraction
+            self.statistic, self.dof, self.p_value, self.significance, self.pdf_integral, self.sampled_fraction
         )?;
         if let Some(why) = &self.failure {
             write!(f, ", FAILED: {why}")?;
@@ -123,11 +115,7 @@ impl Chi2Test {
     /// Runs the test. `sample(uc, u)` draws one sample from a 1D and a 2D uniform random number
     /// (BSDF convention) and may fail; `pdf` is the density it claims, per steradian on a
     /// [`Domain::Cap`], per unit area on a [`Domain::Plane`].
-    pub fn run(
-        &self,
-        mut sample: impl FnMut(f32, Vec2) -> Option<Vec3>,
-        pdf: impl Fn(Vec3) -> f32,
-    ) -> Chi2Result {
+    pub fn run(&self, mut sample: impl FnMut(f32, Vec2) -> Option<Vec3>, pdf: impl Fn(Vec3) -> f32) -> Chi2Result {
         let cells = self.theta_res * self.phi_res;
         let mut observed = vec![0f64; cells + 1];
         let mut rng = Rng::new(self.seed, 0xc412);
@@ -176,8 +164,7 @@ impl Chi2Test {
             result.failure = Some(format!("pdf integrates to {pdf_integral} > 1"));
             return result;
         }
-        let (statistic, dof, bad) =
-            pooled_statistic(&expected, &observed, self.min_expected, n, cells);
+        let (statistic, dof, bad) = pooled_statistic(&expected, &observed, self.min_expected, n, cells);
         result.statistic = statistic;
         result.dof = dof;
         if let Some(bad) = bad {
@@ -285,13 +272,7 @@ fn pooled_statistic(
         // it is pooled like any small cell instead.
         if e <= 0.0 && i != failure_cell {
             if o > 1e-5 * n {
-                return (
-                    stat,
-                    0,
-                    Some(format!(
-                        "{o} samples in a cell of expected count 0 (cell {i})"
-                    )),
-                );
+                return (stat, 0, Some(format!("{o} samples in a cell of expected count 0 (cell {i})")));
             }
             pool_o += o;
             continue;
@@ -332,14 +313,7 @@ fn simpson_2d(f: &impl Fn(f64, f64) -> f64, y0: f64, y1: f64, x0: f64, x1: f64, 
 /// whole-interval estimate, at most `depth` halvings. The first two halvings are always made:
 /// a peak that falls between the five points of the coarse rule would otherwise fool its
 /// error estimate (it did for a GGX transmission lobe at the pole).
-fn simpson_adaptive(
-    f: &dyn Fn(f64) -> f64,
-    a: f64,
-    b: f64,
-    eps: f64,
-    floor: f64,
-    depth: u32,
-) -> f64 {
+fn simpson_adaptive(f: &dyn Fn(f64) -> f64, a: f64, b: f64, eps: f64, floor: f64, depth: u32) -> f64 {
     const MIN_LEVEL: u32 = 2;
     #[allow(clippy::too_many_arguments)]
     fn rec(
@@ -430,8 +404,8 @@ fn ln_gamma(mut z: f64) -> f64 {
         z += 1.0;
     }
     let z2 = z * z;
-    let series = 1.0 / (12.0 * z) - 1.0 / (360.0 * z * z2) + 1.0 / (1260.0 * z * z2 * z2)
-        - 1.0 / (1680.0 * z * z2 * z2 * z2);
+    let series =
+        1.0 / (12.0 * z) - 1.0 / (360.0 * z * z2) + 1.0 / (1260.0 * z * z2 * z2) - 1.0 / (1680.0 * z * z2 * z2 * z2);
     shift + (z - 0.5) * z.ln() - z + 0.5 * (2.0 * std::f64::consts::PI).ln() + series
 }
 
@@ -464,14 +438,7 @@ mod tests {
 
     #[test]
     fn adaptive_simpson_handles_a_step() {
-        let v = simpson_adaptive(
-            &|x| if x < 0.3 { 1.0 } else { 0.0 },
-            0.0,
-            1.0,
-            1e-7,
-            0.0,
-            12,
-        );
+        let v = simpson_adaptive(&|x| if x < 0.3 { 1.0 } else { 0.0 }, 0.0, 1.0, 1e-7, 0.0, 12);
         assert!((v - 0.3).abs() < 1e-3, "{v}");
         let v = simpson_adaptive(&|x: f64| x.sin(), 0.0, std::f64::consts::PI, 1e-9, 0.0, 10);
         assert!((v - 2.0).abs() < 1e-8);

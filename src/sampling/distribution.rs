@@ -29,10 +29,7 @@ pub struct Sample1D {
 impl Distribution1D {
     /// The density ∝ |f| over [0, 1]. Empty `f` is treated as one zero segment (uniform).
     pub fn new(f: &[f32]) -> Self {
-        let mut func: Vec<f32> = f
-            .iter()
-            .map(|&v| if v.is_finite() { v.abs() } else { 0.0 })
-            .collect();
+        let mut func: Vec<f32> = f.iter().map(|&v| if v.is_finite() { v.abs() } else { 0.0 }).collect();
         if func.is_empty() {
             func.push(0.0);
         }
@@ -45,18 +42,12 @@ impl Distribution1D {
         let integral = cdf[n];
         if integral == 0.0 {
             // No information: sample uniformly (pbrt-v4 does the same).
-            cdf.iter_mut()
-                .enumerate()
-                .for_each(|(i, c)| *c = i as f64 / n as f64);
+            cdf.iter_mut().enumerate().for_each(|(i, c)| *c = i as f64 / n as f64);
         } else {
             cdf.iter_mut().for_each(|c| *c /= integral);
         }
         cdf[n] = 1.0;
-        Self {
-            func,
-            cdf,
-            integral: integral as f32,
-        }
+        Self { func, cdf, integral: integral as f32 }
     }
 
     /// Number of segments.
@@ -104,21 +95,11 @@ impl Distribution1D {
         let i = self.find_segment(u);
         let width = self.cdf[i + 1] - self.cdf[i];
         // Linear inversion within the segment (the cdf is linear there).
-        let du = if width > 0.0 {
-            ((u - self.cdf[i]) / width).clamp(0.0, 1.0)
-        } else {
-            0.0
-        };
+        let du = if width > 0.0 { ((u - self.cdf[i]) / width).clamp(0.0, 1.0) } else { 0.0 };
         let x = ((i as f64 + du) / self.len() as f64) as f32;
         // Keep x inside the segment despite rounding, and below 1.
-        let x = x
-            .min(((i + 1) as f32 / self.len() as f32).next_down())
-            .max(i as f32 / self.len() as f32);
-        Sample1D {
-            x,
-            pdf: self.segment_pdf(i),
-            offset: i,
-        }
+        let x = x.min(((i + 1) as f32 / self.len() as f32).next_down()).max(i as f32 / self.len() as f32);
+        Sample1D { x, pdf: self.segment_pdf(i), offset: i }
     }
 
     /// A segment index with probability ∝ |f| (uniform if all zero), its probability, and `u`
@@ -127,11 +108,7 @@ impl Distribution1D {
         let u64_ = u.clamp(0.0, 1.0) as f64;
         let i = self.find_segment(u64_);
         let p = self.cdf[i + 1] - self.cdf[i];
-        let remapped = if p > 0.0 {
-            ((u64_ - self.cdf[i]) / p) as f32
-        } else {
-            0.0
-        };
+        let remapped = if p > 0.0 { ((u64_ - self.cdf[i]) / p) as f32 } else { 0.0 };
         (i, p as f32, remapped.clamp(0.0, 1.0f32.next_down()))
     }
 
@@ -175,18 +152,12 @@ impl Distribution2D {
         let (nu, nv) = (nu.max(1), nv.max(1));
         let conditional: Vec<Distribution1D> = (0..nv)
             .map(|v| {
-                let row: Vec<f32> = (0..nu)
-                    .map(|u| f.get(v * nu + u).copied().unwrap_or(0.0))
-                    .collect();
+                let row: Vec<f32> = (0..nu).map(|u| f.get(v * nu + u).copied().unwrap_or(0.0)).collect();
                 Distribution1D::new(&row)
             })
             .collect();
-        let marginal =
-            Distribution1D::new(&conditional.iter().map(|c| c.integral()).collect::<Vec<_>>());
-        Self {
-            conditional,
-            marginal,
-        }
+        let marginal = Distribution1D::new(&conditional.iter().map(|c| c.integral()).collect::<Vec<_>>());
+        Self { conditional, marginal }
     }
 
     /// ∫∫ |f| du dv.
@@ -248,9 +219,7 @@ mod tests {
 
     #[test]
     fn discrete_1d_chi2_and_remap() {
-        let f: Vec<f32> = (0..50)
-            .map(|i| (i as f32 * 0.3).cos().abs() + 0.01)
-            .collect();
+        let f: Vec<f32> = (0..50).map(|i| (i as f32 * 0.3).cos().abs() + 0.01).collect();
         let d = Distribution1D::new(&f);
         let n = 500_000;
         let mut counts = vec![0u64; 50];
@@ -273,19 +242,12 @@ mod tests {
         assert!(stat < chi2_critical(49.0, 3.09), "χ² {stat}");
         // The remapped u is uniform: mean 1/2 within 4 standard errors.
         let mean = remapped_sum / n as f64;
-        assert!(
-            (mean - 0.5).abs() < 4.0 * (1.0 / 12.0 / n as f64).sqrt(),
-            "{mean}"
-        );
+        assert!((mean - 0.5).abs() < 4.0 * (1.0 / 12.0 / n as f64).sqrt(), "{mean}");
     }
 
     #[test]
     fn all_zero_and_empty_are_uniform() {
-        for d in [
-            Distribution1D::new(&[0.0; 8]),
-            Distribution1D::new(&[]),
-            Distribution1D::new(&[f32::NAN, 0.0]),
-        ] {
+        for d in [Distribution1D::new(&[0.0; 8]), Distribution1D::new(&[]), Distribution1D::new(&[f32::NAN, 0.0])] {
             assert_eq!(d.integral(), 0.0);
             let s = d.sample(0.3);
             assert!((s.x - 0.3).abs() < 1e-6 && s.pdf == 1.0);
@@ -314,10 +276,7 @@ mod tests {
         let mut rng = Rng::new(3, 0);
         for _ in 0..n {
             let (p, pdf) = d.sample(Vec2::new(rng.uniform(), rng.uniform()));
-            assert!(
-                pdf > 0.0 && (pdf - d.pdf(p)).abs() <= 1e-5 * pdf,
-                "{p} {pdf}"
-            );
+            assert!(pdf > 0.0 && (pdf - d.pdf(p)).abs() <= 1e-5 * pdf, "{p} {pdf}");
             let inv = d.invert(p).unwrap();
             assert!(d.sample(inv).0.distance(p) < 1e-4);
             counts[(p.y * bv as f32) as usize * bu + (p.x * bu as f32) as usize] += 1;
@@ -328,12 +287,8 @@ mod tests {
         let mut expected = vec![0.0f64; bu * bv];
         for j in 0..fine {
             for i in 0..fine {
-                let p = Vec2::new(
-                    (i as f32 + 0.5) / fine as f32,
-                    (j as f32 + 0.5) / fine as f32,
-                );
-                expected[(j * bv / fine) * bu + i * bu / fine] +=
-                    d.pdf(p) as f64 / (fine * fine) as f64 * n as f64;
+                let p = Vec2::new((i as f32 + 0.5) / fine as f32, (j as f32 + 0.5) / fine as f32);
+                expected[(j * bv / fine) * bu + i * bu / fine] += d.pdf(p) as f64 / (fine * fine) as f64 * n as f64;
             }
         }
         let (mut stat, mut df) = (0.0, -1.0);
@@ -342,10 +297,7 @@ mod tests {
                 stat += (*c as f64 - e).powi(2) / e;
                 df += 1.0;
             } else {
-                assert!(
-                    (*c as f64) < 5.0 + 5.0 * e.max(1.0),
-                    "unexpected mass {c} vs {e}"
-                );
+                assert!((*c as f64) < 5.0 + 5.0 * e.max(1.0), "unexpected mass {c} vs {e}");
             }
         }
         assert!(stat < chi2_critical(df, 3.09), "χ² {stat} dof {df}");

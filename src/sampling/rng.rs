@@ -13,10 +13,7 @@ pub struct Rng {
 impl Rng {
     /// A generator for `seed` on stream `stream` (distinct streams are independent sequences).
     pub fn new(seed: u64, stream: u64) -> Self {
-        let mut r = Self {
-            state: 0,
-            inc: (stream << 1) | 1,
-        };
+        let mut r = Self { state: 0, inc: (stream << 1) | 1 };
         r.next_u32();
         r.state = r.state.wrapping_add(seed);
         r.next_u32();
@@ -71,10 +68,7 @@ impl Rng {
 pub fn hash64(values: &[u64]) -> u64 {
     let mut h = 0x9e37_79b9_7f4a_7c15u64;
     for &v in values {
-        h ^= v
-            .wrapping_add(0x9e37_79b9_7f4a_7c15)
-            .wrapping_add(h << 6)
-            .wrapping_add(h >> 2);
+        h ^= v.wrapping_add(0x9e37_79b9_7f4a_7c15).wrapping_add(h << 6).wrapping_add(h >> 2);
         h = (h ^ (h >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
         h = (h ^ (h >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
         h ^= h >> 31;
@@ -100,10 +94,7 @@ mod tests {
         let mean = s / n as f64;
         let var = s2 / n as f64 - mean * mean;
         // Standard error of the mean of U(0,1) is sqrt(1/12/n) ≈ 6.5e-4; allow 4σ.
-        assert!(
-            (mean - 0.5).abs() < 4.0 * (1.0 / 12.0 / n as f64).sqrt(),
-            "{mean}"
-        );
+        assert!((mean - 0.5).abs() < 4.0 * (1.0 / 12.0 / n as f64).sqrt(), "{mean}");
         assert!((var - 1.0 / 12.0).abs() < 2e-3, "{var}");
     }
 

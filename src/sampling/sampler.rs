@@ -47,9 +47,7 @@ pub struct SobolSampler {
 impl Sampler {
     /// An independent sampler.
     pub fn independent() -> Self {
-        Self::Independent(IndependentSampler {
-            rng: Rng::new(0, 0),
-        })
+        Self::Independent(IndependentSampler { rng: Rng::new(0, 0) })
     }
 
     /// An Owen-scrambled Sobol sampler.
@@ -66,9 +64,7 @@ impl Sampler {
                 s.rng = Rng::new(0, pixel_seed);
                 s.rng.advance(sample_index.wrapping_mul(DIMS_PER_SAMPLE));
             }
-            Self::Sobol(s) => {
-                *s = SobolSampler { pixel_seed, sample_index, dimension: 0, buffer: [0.0; 4], used: 4 }
-            }
+            Self::Sobol(s) => *s = SobolSampler { pixel_seed, sample_index, dimension: 0, buffer: [0.0; 4], used: 4 },
         }
     }
 
@@ -173,8 +169,7 @@ mod tests {
                 s.start_pixel_sample((p, 0), i, 99);
                 let _wavelength = s.get_1d();
                 let u = s.get_2d();
-                sum += ((std::f32::consts::PI * u.x).sin() * (std::f32::consts::PI * u.y).sin())
-                    as f64;
+                sum += ((std::f32::consts::PI * u.x).sin() * (std::f32::consts::PI * u.y).sin()) as f64;
             }
             sq += (sum / n as f64 - exact).powi(2);
         }
@@ -185,19 +180,10 @@ mod tests {
     fn sobol_converges_faster_than_independent_on_a_smooth_integrand() {
         // MC error falls as N^-1/2; scrambled Sobol on smooth integrands about as N^-3/2
         // (Owen 1997). RMSEs come from 64 pixels, so each is known to ~±10%.
-        let (ind_64, ind_1024) = (
-            rmse(Sampler::independent(), 64, 64),
-            rmse(Sampler::independent(), 1024, 64),
-        );
-        let (sob_64, sob_1024) = (
-            rmse(Sampler::sobol(), 64, 64),
-            rmse(Sampler::sobol(), 1024, 64),
-        );
+        let (ind_64, ind_1024) = (rmse(Sampler::independent(), 64, 64), rmse(Sampler::independent(), 1024, 64));
+        let (sob_64, sob_1024) = (rmse(Sampler::sobol(), 64, 64), rmse(Sampler::sobol(), 1024, 64));
         // Independent: 16× the samples → 4× smaller error (allow 2.5–6.5 for the ±10% noise).
-        assert!(
-            (2.5..6.5).contains(&(ind_64 / ind_1024)),
-            "{ind_64} {ind_1024}"
-        );
+        assert!((2.5..6.5).contains(&(ind_64 / ind_1024)), "{ind_64} {ind_1024}");
         // Sobol: far better rate (64× expected) and far smaller error at equal counts.
         assert!(sob_64 / sob_1024 > 20.0, "{sob_64} {sob_1024}");
         assert!(sob_1024 < ind_1024 / 20.0, "{sob_1024} vs {ind_1024}");

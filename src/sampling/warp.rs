@@ -15,11 +15,8 @@ pub fn sample_uniform_disk_concentric(u: Vec2) -> Vec2 {
     if o.x == 0.0 && o.y == 0.0 {
         return Vec2::ZERO;
     }
-    let (r, theta) = if o.x.abs() > o.y.abs() {
-        (o.x, 0.25 * PI * (o.y / o.x))
-    } else {
-        (o.y, 0.5 * PI - 0.25 * PI * (o.x / o.y))
-    };
+    let (r, theta) =
+        if o.x.abs() > o.y.abs() { (o.x, 0.25 * PI * (o.y / o.x)) } else { (o.y, 0.5 * PI - 0.25 * PI * (o.x / o.y)) };
     r * Vec2::new(theta.cos(), theta.sin())
 }
 
@@ -108,18 +105,12 @@ mod tests {
     use crate::sampling::chi2::{Chi2Test, Domain};
 
     fn tester() -> Chi2Test {
-        Chi2Test {
-            sample_count: 400_000,
-            ..Chi2Test::default()
-        }
+        Chi2Test { sample_count: 400_000, ..Chi2Test::default() }
     }
 
     #[test]
     fn cosine_hemisphere_passes_chi2() {
-        let r = tester().run(
-            |_, u| Some(sample_cosine_hemisphere(u)),
-            |w| cosine_hemisphere_pdf(w.z),
-        );
+        let r = tester().run(|_, u| Some(sample_cosine_hemisphere(u)), |w| cosine_hemisphere_pdf(w.z));
         assert!(r.passed, "{r}");
     }
 
@@ -136,10 +127,7 @@ mod tests {
             },
         );
         assert!(r.passed, "{r}");
-        let r = tester().run(
-            |_, u| Some(sample_uniform_sphere(u)),
-            |_| uniform_sphere_pdf(),
-        );
+        let r = tester().run(|_, u| Some(sample_uniform_sphere(u)), |_| uniform_sphere_pdf());
         assert!(r.passed, "{r}");
     }
 
@@ -162,10 +150,7 @@ mod tests {
     #[test]
     fn disks_pass_chi2_on_the_plane() {
         let t = Chi2Test {
-            domain: Domain::Plane {
-                min: Vec2::splat(-1.0),
-                max: Vec2::splat(1.0),
-            },
+            domain: Domain::Plane { min: Vec2::splat(-1.0), max: Vec2::splat(1.0) },
             theta_res: 40,
             phi_res: 40,
             ..tester()
@@ -177,10 +162,7 @@ mod tests {
                 0.0
             }
         };
-        let r = t.run(
-            |_, u| Some(sample_uniform_disk_concentric(u).extend(0.0)),
-            pdf,
-        );
+        let r = t.run(|_, u| Some(sample_uniform_disk_concentric(u).extend(0.0)), pdf);
         assert!(r.passed, "{r}");
         let r = t.run(|_, u| Some(sample_uniform_disk_polar(u).extend(0.0)), pdf);
         assert!(r.passed, "{r}");
@@ -190,10 +172,7 @@ mod tests {
     fn triangle_passes_chi2_on_the_plane() {
         // Barycentrics of the triangle (0,0), (1,0), (0,1) are its (x, y) = (b1, b2); area 1/2.
         let t = Chi2Test {
-            domain: Domain::Plane {
-                min: Vec2::ZERO,
-                max: Vec2::ONE,
-            },
+            domain: Domain::Plane { min: Vec2::ZERO, max: Vec2::ONE },
             theta_res: 40,
             phi_res: 40,
             ..tester()

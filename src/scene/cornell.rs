@@ -5,8 +5,8 @@
 //! spectrum is given at 400/500/600/700 nm and is zero outside it.
 
 use super::SceneBuilder;
-use crate::material::Material;
 use crate::geometry::Mesh;
+use crate::material::Material;
 use crate::spectrum::Spectrum;
 use glam::{Mat4, Vec3};
 
@@ -82,7 +82,11 @@ pub fn add_cornell_box(b: &mut SceneBuilder) {
     );
     // Right wall (green) and left wall (red), as seen from the camera.
     b.add_mesh(quads(&[[[0.0, 0.0, 559.2], [0.0, 0.0, 0.0], [0.0, 548.8, 0.0], [0.0, 548.8, 559.2]]]), green, None);
-    b.add_mesh(quads(&[[[552.8, 0.0, 0.0], [549.6, 0.0, 559.2], [556.0, 548.8, 559.2], [556.0, 548.8, 0.0]]]), red, None);
+    b.add_mesh(
+        quads(&[[[552.8, 0.0, 0.0], [549.6, 0.0, 559.2], [556.0, 548.8, 559.2], [556.0, 548.8, 0.0]]]),
+        red,
+        None,
+    );
     // Short and tall blocks.
     b.add_mesh(
         quads(&[

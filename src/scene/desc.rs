@@ -215,10 +215,7 @@ pub struct SceneDesc {
 impl SceneDesc {
     /// The named material `name`.
     pub fn named_material(&self, name: &str) -> Option<&MaterialDesc> {
-        self.named_materials
-            .iter()
-            .find(|m| m.name == name)
-            .map(|m| &m.material)
+        self.named_materials.iter().find(|m| m.name == name).map(|m| &m.material)
     }
 
     /// The material a reference points at (`None` for [`MaterialRef::Default`]).
@@ -237,23 +234,14 @@ impl SceneDesc {
 
     /// The texture `name` of class `class` (the last definition wins, as in pbrt-v4).
     pub fn texture(&self, name: &str, class: TextureClass) -> Option<&TextureDesc> {
-        self.textures
-            .iter()
-            .rev()
-            .find(|t| t.name == name && t.class == class)
+        self.textures.iter().rev().find(|t| t.name == name && t.class == class)
     }
 
     /// Warnings for parameters nothing read; call after the scene builder has consumed the desc.
     pub fn report_unused(&self) -> Vec<Warning> {
         let mut w = Vec::new();
-        let mut d = |ps: &ParamSet, what: &str, kind: &str| {
-            w.extend(ps.report_unused(&format!("{what} \"{kind}\"")))
-        };
-        d(
-            &self.camera.directive.params,
-            "Camera",
-            &self.camera.directive.kind,
-        );
+        let mut d = |ps: &ParamSet, what: &str, kind: &str| w.extend(ps.report_unused(&format!("{what} \"{kind}\"")));
+        d(&self.camera.directive.params, "Camera", &self.camera.directive.kind);
         for (name, x) in [
             ("Film", &self.film),
             ("Sampler", &self.sampler),
@@ -262,10 +250,7 @@ impl SceneDesc {
         ] {
             d(&x.params, name, &x.kind);
         }
-        let shapes = self
-            .shapes
-            .iter()
-            .chain(self.objects.iter().flat_map(|o| o.shapes.iter()));
+        let shapes = self.shapes.iter().chain(self.objects.iter().flat_map(|o| o.shapes.iter()));
         for s in shapes {
             d(&s.params, "Shape", &s.kind);
             if let Some(a) = &s.area_light {
@@ -280,11 +265,7 @@ impl SceneDesc {
         }
         // Named materials no shape uses are never built (a shared library of materials is
         // normal), so only referenced ones can have unread parameters worth reporting.
-        let all_shapes = || {
-            self.shapes
-                .iter()
-                .chain(self.objects.iter().flat_map(|o| o.shapes.iter()))
-        };
+        let all_shapes = || self.shapes.iter().chain(self.objects.iter().flat_map(|o| o.shapes.iter()));
         for m in &self.named_materials {
             if all_shapes().any(|s| matches!(&s.material, MaterialRef::Named(n) if *n == m.name)) {
                 d(&m.material.params, "MakeNamedMaterial", &m.name);

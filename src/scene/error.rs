@@ -26,10 +26,7 @@ impl Location {
 
     /// The directory relative file names written at this location resolve against.
     pub fn base_dir(&self) -> PathBuf {
-        self.file
-            .parent()
-            .map(Path::to_path_buf)
-            .unwrap_or_default()
+        self.file.parent().map(Path::to_path_buf).unwrap_or_default()
     }
 }
 
@@ -65,9 +62,7 @@ pub enum SceneError {
         valid: String,
     },
     /// A pbrt-v4 feature prism does not render, under `ParseOptions::strict`.
-    #[error(
-        "{loc}: unsupported feature: {feature} (strict mode; without --strict prism {fallback})"
-    )]
+    #[error("{loc}: unsupported feature: {feature} (strict mode; without --strict prism {fallback})")]
     Unsupported {
         /// Where.
         loc: Location,
@@ -109,11 +104,7 @@ pub enum SceneError {
 impl SceneError {
     /// A syntax error at `loc` about `token`.
     pub fn syntax(loc: &Location, token: &str, message: impl Into<String>) -> Self {
-        Self::Syntax {
-            loc: loc.clone(),
-            token: token.to_string(),
-            message: message.into(),
-        }
+        Self::Syntax { loc: loc.clone(), token: token.to_string(), message: message.into() }
     }
 
     /// The location the error points at.

@@ -51,7 +51,8 @@ impl SurfaceInteraction {
         }
         let dpdu = match &mesh.uvs {
             Some(uvs) => {
-                let (duv02, duv12) = (uvs[tri[0] as usize] - uvs[tri[2] as usize], uvs[tri[1] as usize] - uvs[tri[2] as usize]);
+                let (duv02, duv12) =
+                    (uvs[tri[0] as usize] - uvs[tri[2] as usize], uvs[tri[1] as usize] - uvs[tri[2] as usize]);
                 let (dp02, dp12) = (p[0] - p[2], p[1] - p[2]);
                 let det = duv02.x * duv12.y - duv02.y * duv12.x;
                 if det.abs() > 1e-12 {

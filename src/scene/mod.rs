@@ -16,8 +16,8 @@ pub mod tokenizer;
 
 pub use cornell::add_cornell_box;
 pub use desc::{
-    AreaLightDesc, Directive, InstanceDesc, LightDesc, MaterialDesc, MaterialRef, NamedMaterial, ObjectDesc,
-    SceneDesc, ShapeDesc, ShapeGeometry, TextureClass, TextureDesc,
+    AreaLightDesc, Directive, InstanceDesc, LightDesc, MaterialDesc, MaterialRef, NamedMaterial, ObjectDesc, SceneDesc,
+    ShapeDesc, ShapeGeometry, TextureClass, TextureDesc,
 };
 pub use error::{Location, SceneError, Warning};
 pub use interaction::SurfaceInteraction;
@@ -122,7 +122,8 @@ impl SceneBuilder {
         let id = self.meshes.len() as u32;
         let dropped = mesh.remove_degenerate();
         if dropped > 0 {
-            self.warnings.push(format!("mesh {id}: skipped {dropped} degenerate triangle(s) (zero area or NaN/Inf vertices)"));
+            self.warnings
+                .push(format!("mesh {id}: skipped {dropped} degenerate triangle(s) (zero area or NaN/Inf vertices)"));
         }
         self.meshes.push(mesh);
         self.mesh_material.push(material);

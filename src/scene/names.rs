@@ -4,14 +4,7 @@
 //! `PBRT_ONLY_*` table into the matching `PRISM_*` list.
 
 /// Shapes prism renders. "objmesh" is prism's extension (docs/scene-format.md).
-pub const PRISM_SHAPES: &[&str] = &[
-    "trianglemesh",
-    "plymesh",
-    "objmesh",
-    "sphere",
-    "bilinearmesh",
-    "loopsubdiv",
-];
+pub const PRISM_SHAPES: &[&str] = &["trianglemesh", "plymesh", "objmesh", "sphere", "bilinearmesh", "loopsubdiv"];
 /// pbrt-v4 shapes prism skips (with a warning), and what the warning says prism does.
 pub const PBRT_ONLY_SHAPES: &[(&str, &str)] = &[
     ("cylinder", "skips the shape"),
@@ -20,14 +13,8 @@ pub const PBRT_ONLY_SHAPES: &[(&str, &str)] = &[
 ];
 
 /// Materials prism renders.
-pub const PRISM_MATERIALS: &[&str] = &[
-    "diffuse",
-    "conductor",
-    "dielectric",
-    "coateddiffuse",
-    "diffusetransmission",
-    "thindielectric",
-];
+pub const PRISM_MATERIALS: &[&str] =
+    &["diffuse", "conductor", "dielectric", "coateddiffuse", "diffusetransmission", "thindielectric"];
 /// pbrt-v4 materials prism replaces, with the replacement type (used with default parameters).
 pub const PBRT_ONLY_MATERIALS: &[(&str, &str)] = &[
     ("coatedconductor", "conductor"),
@@ -42,21 +29,15 @@ pub const PBRT_ONLY_MATERIALS: &[(&str, &str)] = &[
 /// Non-area lights prism renders.
 pub const PRISM_LIGHTS: &[&str] = &["point", "spot", "distant", "infinite"];
 /// pbrt-v4 lights prism skips.
-pub const PBRT_ONLY_LIGHTS: &[(&str, &str)] = &[
-    ("goniometric", "skips the light"),
-    ("projection", "skips the light"),
-];
+pub const PBRT_ONLY_LIGHTS: &[(&str, &str)] = &[("goniometric", "skips the light"), ("projection", "skips the light")];
 /// Area lights prism renders.
 pub const PRISM_AREA_LIGHTS: &[&str] = &["diffuse"];
 
 /// Cameras prism renders.
 pub const PRISM_CAMERAS: &[&str] = &["perspective"];
 /// pbrt-v4 cameras prism replaces.
-pub const PBRT_ONLY_CAMERAS: &[(&str, &str)] = &[
-    ("orthographic", "perspective"),
-    ("realistic", "perspective"),
-    ("spherical", "perspective"),
-];
+pub const PBRT_ONLY_CAMERAS: &[(&str, &str)] =
+    &[("orthographic", "perspective"), ("realistic", "perspective"), ("spherical", "perspective")];
 
 /// Films prism writes.
 pub const PRISM_FILMS: &[&str] = &["rgb", "spectral"];
@@ -79,15 +60,7 @@ pub const PBRT_ONLY_INTEGRATORS: &[(&str, &str)] = &[
 ];
 
 /// Samplers (all pbrt-v4 names are accepted; the renderer picks its own sequence).
-pub const SAMPLERS: &[&str] = &[
-    "halton",
-    "independent",
-    "paddedsobol",
-    "pmj02bn",
-    "sobol",
-    "stratified",
-    "zsobol",
-];
+pub const SAMPLERS: &[&str] = &["halton", "independent", "paddedsobol", "pmj02bn", "sobol", "stratified", "zsobol"];
 /// Pixel reconstruction filters.
 pub const FILTERS: &[&str] = &["box", "gaussian", "mitchell", "sinc", "triangle"];
 /// Colour spaces of RGB parameters.
@@ -172,11 +145,7 @@ pub enum Lookup {
 }
 
 /// Classifies `name` against a supported list and a pbrt-only table.
-pub fn lookup(
-    name: &str,
-    supported: &[&str],
-    pbrt_only: &[(&'static str, &'static str)],
-) -> Lookup {
+pub fn lookup(name: &str, supported: &[&str], pbrt_only: &[(&'static str, &'static str)]) -> Lookup {
     if supported.contains(&name) {
         Lookup::Supported
     } else if let Some(&(_, s)) = pbrt_only.iter().find(|(n, _)| *n == name) {
@@ -188,11 +157,7 @@ pub fn lookup(
 
 /// All valid names, sorted, comma-separated, for "unknown type" errors.
 pub fn valid_list(supported: &[&str], pbrt_only: &[(&str, &str)]) -> String {
-    let mut v: Vec<&str> = supported
-        .iter()
-        .copied()
-        .chain(pbrt_only.iter().map(|p| p.0))
-        .collect();
+    let mut v: Vec<&str> = supported.iter().copied().chain(pbrt_only.iter().map(|p| p.0)).collect();
     v.sort_unstable();
     v.join(", ")
 }

@@ -83,13 +83,7 @@ impl Clone for Param {
 impl Param {
     /// A parameter that has not been read yet.
     pub fn new(name: String, type_name: &'static str, value: ParamValue, loc: Location) -> Self {
-        Self {
-            name,
-            type_name,
-            value,
-            loc,
-            used: AtomicBool::new(false),
-        }
+        Self { name, type_name, value, loc, used: AtomicBool::new(false) }
     }
 
     /// True once a getter read it.
@@ -107,19 +101,14 @@ impl Param {
         let loc = &decl.loc;
         let words: Vec<&str> = decl.text.split_whitespace().collect();
         let [ty, name] = words[..] else {
-            return Err(SceneError::syntax(
-                loc,
-                &decl.display(),
-                "a parameter declaration must be \"type name\"",
-            ));
+            return Err(SceneError::syntax(loc, &decl.display(), "a parameter declaration must be \"type name\""));
         };
         let err = |tok: &Token, msg: String| SceneError::syntax(&tok.loc, &tok.display(), msg);
         let decl_err = |msg: String| SceneError::syntax(loc, &decl.display(), msg);
         if values.is_empty() {
             return Err(decl_err(format!("parameter \"{ty} {name}\" has no values")));
         }
-        let floats =
-            || -> Result<Vec<f32>, SceneError> { values.iter().map(parse_float).collect() };
+        let floats = || -> Result<Vec<f32>, SceneError> { values.iter().map(parse_float).collect() };
         let grouped = |n: usize| -> Result<Vec<f32>, SceneError> {
             let v = floats()?;
             if !v.len().is_multiple_of(n) {
@@ -145,25 +134,15 @@ impl Param {
                 .iter()
                 .map(|t| match t.kind {
                     TokenKind::Str => Ok(t.text.clone()),
-                    _ => Err(err(
-                        t,
-                        format!("expected a quoted string for \"{ty} {name}\""),
-                    )),
+                    _ => Err(err(t, format!("expected a quoted string for \"{ty} {name}\""))),
                 })
                 .collect()
         };
-        let vec3s = |v: Vec<f32>| {
-            v.chunks_exact(3)
-                .map(|c| Vec3::new(c[0], c[1], c[2]))
-                .collect()
-        };
+        let vec3s = |v: Vec<f32>| v.chunks_exact(3).map(|c| Vec3::new(c[0], c[1], c[2])).collect();
         let vec2s = |v: Vec<f32>| v.chunks_exact(2).map(|c| Vec2::new(c[0], c[1])).collect();
         let (type_name, value) = match ty {
             "float" => ("float", ParamValue::Float(floats()?)),
-            "integer" => (
-                "integer",
-                ParamValue::Integer(values.iter().map(parse_int).collect::<Result<_, _>>()?),
-            ),
+            "integer" => ("integer", ParamValue::Integer(values.iter().map(parse_int).collect::<Result<_, _>>()?)),
             "bool" => (
                 "bool",
                 ParamValue::Bool(
@@ -181,14 +160,9 @@ impl Param {
             "texture" => {
                 let s = strings()?;
                 if s.len() != 1 {
-                    return Err(decl_err(format!(
-                        "parameter \"{ty} {name}\" needs exactly one texture name"
-                    )));
+                    return Err(decl_err(format!("parameter \"{ty} {name}\" needs exactly one texture name")));
                 }
-                (
-                    "texture",
-                    ParamValue::Texture(s.into_iter().next().unwrap_or_default()),
-                )
+                ("texture", ParamValue::Texture(s.into_iter().next().unwrap_or_default()))
             }
             "point3" | "point" => ("point3", ParamValue::Point3(vec3s(grouped(3)?))),
             "vector3" | "vector" => ("vector3", ParamValue::Vector3(vec3s(grouped(3)?))),
@@ -197,45 +171,28 @@ impl Param {
             "vector2" => ("vector2", ParamValue::Vector2(vec2s(grouped(2)?))),
             "rgb" | "color" => {
                 let v = exactly(3)?;
-                (
-                    "rgb",
-                    ParamValue::Spectrum(SpectrumParam::Rgb([v[0], v[1], v[2]])),
-                )
+                ("rgb", ParamValue::Spectrum(SpectrumParam::Rgb([v[0], v[1], v[2]])))
             }
             "blackbody" => {
                 let t = exactly(1)?[0];
                 if t <= 0.0 {
-                    return Err(err(
-                        &values[0],
-                        "blackbody temperature must be positive [K]".into(),
-                    ));
+                    return Err(err(&values[0], "blackbody temperature must be positive [K]".into()));
                 }
-                (
-                    "blackbody",
-                    ParamValue::Spectrum(SpectrumParam::Blackbody(t)),
-                )
+                ("blackbody", ParamValue::Spectrum(SpectrumParam::Blackbody(t)))
             }
-            "spectrum" => (
-                "spectrum",
-                ParamValue::Spectrum(parse_spectrum(decl, values, ty, name)?),
-            ),
+            "spectrum" => ("spectrum", ParamValue::Spectrum(parse_spectrum(decl, values, ty, name)?)),
             _ => {
                 return Err(decl_err(format!(
-                "unknown parameter type \"{ty}\"; valid types: blackbody, bool, float, integer, \
+                    "unknown parameter type \"{ty}\"; valid types: blackbody, bool, float, integer, \
                      normal, point2, point3, rgb, spectrum, string, texture, vector2, vector3"
-            )))
+                )))
             }
         };
         Ok(Self::new(name.to_string(), type_name, value, loc.clone()))
     }
 }
 
-fn parse_spectrum(
-    decl: &Token,
-    values: &[Token],
-    ty: &str,
-    name: &str,
-) -> Result<SpectrumParam, SceneError> {
+fn parse_spectrum(decl: &Token, values: &[Token], ty: &str, name: &str) -> Result<SpectrumParam, SceneError> {
     if values[0].kind == TokenKind::Str {
         if values.len() != 1 {
             return Err(SceneError::syntax(
@@ -256,21 +213,14 @@ fn parse_spectrum(
         return Err(SceneError::syntax(
             &decl.loc,
             &decl.display(),
-            format!(
-                "parameter \"{ty} {name}\" has {} values; (wavelength, value) pairs are required",
-                v.len()
-            ),
+            format!("parameter \"{ty} {name}\" has {} values; (wavelength, value) pairs are required", v.len()),
         ));
     }
     let pairs: Vec<(f32, f32)> = v.chunks_exact(2).map(|c| (c[0], c[1])).collect();
     for (i, w) in pairs.windows(2).enumerate() {
         if w[1].0 <= w[0].0 {
             let t = &values[2 * i + 2];
-            return Err(SceneError::syntax(
-                &t.loc,
-                &t.display(),
-                "spectrum wavelengths must increase",
-            ));
+            return Err(SceneError::syntax(&t.loc, &t.display(), "spectrum wavelengths must increase"));
         }
     }
     Ok(SpectrumParam::Samples(pairs))
@@ -346,10 +296,7 @@ macro_rules! getters {
 impl ParamSet {
     /// An empty set in colour space `color_space`.
     pub fn new(color_space: &str) -> Self {
-        Self {
-            params: Vec::new(),
-            color_space: color_space.to_string(),
-        }
+        Self { params: Vec::new(), color_space: color_space.to_string() }
     }
 
     /// Adds a parameter; a second parameter with the same name is an error (pbrt-v4 does the same).
@@ -358,10 +305,7 @@ impl ParamSet {
             return Err(SceneError::syntax(
                 &p.loc,
                 &format!("{} {}", p.type_name, p.name),
-                format!(
-                    "parameter \"{}\" redefined (first defined at {})",
-                    p.name, old.loc
-                ),
+                format!("parameter \"{}\" redefined (first defined at {})", p.name, old.loc),
             ));
         }
         self.params.push(p);
@@ -404,11 +348,7 @@ impl ParamSet {
         self.params.iter().find(|p| p.name == name).map(Param::mark)
     }
 
-    fn find<'a, T: ?Sized>(
-        &'a self,
-        name: &str,
-        f: impl Fn(&'a ParamValue) -> Option<&'a T>,
-    ) -> Option<&'a T> {
+    fn find<'a, T: ?Sized>(&'a self, name: &str, f: impl Fn(&'a ParamValue) -> Option<&'a T>) -> Option<&'a T> {
         let p = self.params.iter().find(|p| p.name == name)?;
         let v = f(&p.value)?;
         p.mark();
@@ -449,9 +389,7 @@ impl ParamSet {
 
     /// The first string of a "string" parameter.
     pub fn string(&self, name: &str) -> Option<&str> {
-        self.strings(name)
-            .and_then(|v| v.first())
-            .map(String::as_str)
+        self.strings(name).and_then(|v| v.first()).map(String::as_str)
     }
 
     /// A "string" parameter naming a file, resolved relative to the scene file it was written in.
@@ -501,10 +439,7 @@ impl ParamSet {
             .filter(|p| !p.is_used())
             .map(|p| Warning {
                 loc: p.loc.clone(),
-                message: format!(
-                    "parameter \"{} {}\" of {context} was not used",
-                    p.type_name, p.name
-                ),
+                message: format!("parameter \"{} {}\" of {context} was not used", p.type_name, p.name),
             })
             .collect()
     }
@@ -533,46 +468,19 @@ mod tests {
 
     #[test]
     fn each_type_parses() {
-        assert_eq!(
-            param("float r", "2.5").unwrap().value,
-            ParamValue::Float(vec![2.5])
-        );
-        assert_eq!(
-            param("integer n", "-3 4").unwrap().value,
-            ParamValue::Integer(vec![-3, 4])
-        );
-        assert_eq!(
-            param("bool b", "true \"false\"").unwrap().value,
-            ParamValue::Bool(vec![true, false])
-        );
-        assert_eq!(
-            param("string s", "\"x\"").unwrap().value,
-            ParamValue::String(vec!["x".into()])
-        );
-        assert_eq!(
-            param("texture t", "\"checks\"").unwrap().value,
-            ParamValue::Texture("checks".into())
-        );
+        assert_eq!(param("float r", "2.5").unwrap().value, ParamValue::Float(vec![2.5]));
+        assert_eq!(param("integer n", "-3 4").unwrap().value, ParamValue::Integer(vec![-3, 4]));
+        assert_eq!(param("bool b", "true \"false\"").unwrap().value, ParamValue::Bool(vec![true, false]));
+        assert_eq!(param("string s", "\"x\"").unwrap().value, ParamValue::String(vec!["x".into()]));
+        assert_eq!(param("texture t", "\"checks\"").unwrap().value, ParamValue::Texture("checks".into()));
         let p = param("point P", "0 1 2 3 4 5").unwrap();
         assert_eq!(p.type_name, "point3");
-        assert_eq!(
-            p.value,
-            ParamValue::Point3(vec![Vec3::new(0., 1., 2.), Vec3::new(3., 4., 5.)])
-        );
+        assert_eq!(p.value, ParamValue::Point3(vec![Vec3::new(0., 1., 2.), Vec3::new(3., 4., 5.)]));
         assert_eq!(param("normal3 N", "0 0 1").unwrap().type_name, "normal");
         assert_eq!(param("vector3 v", "0 0 1").unwrap().type_name, "vector3");
-        assert_eq!(
-            param("point2 uv", "0 1").unwrap().value,
-            ParamValue::Point2(vec![Vec2::new(0., 1.)])
-        );
-        assert_eq!(
-            param("color Kd", ".5 .5 .5").unwrap().value,
-            ParamValue::Spectrum(SpectrumParam::Rgb([0.5; 3]))
-        );
-        assert_eq!(
-            param("blackbody L", "6500").unwrap().value,
-            ParamValue::Spectrum(SpectrumParam::Blackbody(6500.))
-        );
+        assert_eq!(param("point2 uv", "0 1").unwrap().value, ParamValue::Point2(vec![Vec2::new(0., 1.)]));
+        assert_eq!(param("color Kd", ".5 .5 .5").unwrap().value, ParamValue::Spectrum(SpectrumParam::Rgb([0.5; 3])));
+        assert_eq!(param("blackbody L", "6500").unwrap().value, ParamValue::Spectrum(SpectrumParam::Blackbody(6500.)));
         assert_eq!(
             param("spectrum eta", "400 1.5 700 1.4").unwrap().value,
             ParamValue::Spectrum(SpectrumParam::Samples(vec![(400., 1.5), (700., 1.4)]))
@@ -594,43 +502,19 @@ mod tests {
             e("point3 P", "0 1 2 3"),
             "dir/p.pbrt:1:1: parameter \"point3 P\" has 4 values; a multiple of 3 is required (at \"\"point3 P\"\")"
         );
-        assert_eq!(
-            e("float x", "nan"),
-            "dir/p.pbrt:1:1: number is not finite (at \"nan\")"
-        );
-        assert_eq!(
-            e("float x", "1 inf"),
-            "dir/p.pbrt:1:3: number is not finite (at \"inf\")"
-        );
-        assert_eq!(
-            e("float x", "1e39"),
-            "dir/p.pbrt:1:1: number is not finite (at \"1e39\")"
-        );
-        assert_eq!(
-            e("integer n", "1.5"),
-            "dir/p.pbrt:1:1: expected an integer (at \"1.5\")"
-        );
-        assert_eq!(
-            e("integer n", "4294967296"),
-            "dir/p.pbrt:1:1: integer out of range (at \"4294967296\")"
-        );
-        assert_eq!(
-            e("float", "1"),
-            "dir/p.pbrt:1:1: a parameter declaration must be \"type name\" (at \"\"float\"\")"
-        );
+        assert_eq!(e("float x", "nan"), "dir/p.pbrt:1:1: number is not finite (at \"nan\")");
+        assert_eq!(e("float x", "1 inf"), "dir/p.pbrt:1:3: number is not finite (at \"inf\")");
+        assert_eq!(e("float x", "1e39"), "dir/p.pbrt:1:1: number is not finite (at \"1e39\")");
+        assert_eq!(e("integer n", "1.5"), "dir/p.pbrt:1:1: expected an integer (at \"1.5\")");
+        assert_eq!(e("integer n", "4294967296"), "dir/p.pbrt:1:1: integer out of range (at \"4294967296\")");
+        assert_eq!(e("float", "1"), "dir/p.pbrt:1:1: a parameter declaration must be \"type name\" (at \"\"float\"\")");
         assert_eq!(
             e("rgb c", "1 1"),
             "dir/p.pbrt:1:1: parameter \"rgb c\" has 2 values; exactly 3 are required (at \"\"rgb c\"\")"
         );
-        assert_eq!(
-            e("spectrum s", "500 1 400 1"),
-            "dir/p.pbrt:1:7: spectrum wavelengths must increase (at \"400\")"
-        );
+        assert_eq!(e("spectrum s", "500 1 400 1"), "dir/p.pbrt:1:7: spectrum wavelengths must increase (at \"400\")");
         assert!(e("quaternion q", "1").contains("unknown parameter type \"quaternion\""));
-        assert_eq!(
-            e("bool b", "yes"),
-            "dir/p.pbrt:1:1: expected true or false (at \"yes\")"
-        );
+        assert_eq!(e("bool b", "yes"), "dir/p.pbrt:1:1: expected true or false (at \"yes\")");
     }
 
     #[test]
@@ -642,11 +526,7 @@ mod tests {
         assert_eq!(ps.float_or("radius", 1.0), 2.0);
         // Wrong type: not found, not marked.
         assert_eq!(ps.float("n"), None);
-        let w: Vec<String> = ps
-            .report_unused("Shape \"sphere\"")
-            .iter()
-            .map(|w| w.to_string())
-            .collect();
+        let w: Vec<String> = ps.report_unused("Shape \"sphere\"").iter().map(|w| w.to_string()).collect();
         assert_eq!(
             w,
             vec![
@@ -654,24 +534,15 @@ mod tests {
                 "dir/p.pbrt:1:1: warning: parameter \"integer n\" of Shape \"sphere\" was not used",
             ]
         );
-        assert!(ps
-            .push(param("float radius", "1").unwrap())
-            .unwrap_err()
-            .to_string()
-            .contains("redefined"));
+        assert!(ps.push(param("float radius", "1").unwrap()).unwrap_err().to_string().contains("redefined"));
     }
 
     #[test]
     fn texture_takes_precedence_and_filenames_resolve() {
         let mut ps = ParamSet::new("srgb");
-        ps.push(param("texture reflectance", "\"t\"").unwrap())
-            .unwrap();
-        ps.push(param("string filename", "\"m.ply\"").unwrap())
-            .unwrap();
-        assert_eq!(
-            ps.spectrum_or_texture("reflectance"),
-            Some(SpectrumOrTexture::Texture("t"))
-        );
+        ps.push(param("texture reflectance", "\"t\"").unwrap()).unwrap();
+        ps.push(param("string filename", "\"m.ply\"").unwrap()).unwrap();
+        assert_eq!(ps.spectrum_or_texture("reflectance"), Some(SpectrumOrTexture::Texture("t")));
         assert_eq!(ps.filename("filename"), Some(PathBuf::from("dir/m.ply")));
         assert!(ps.report_unused("x").is_empty());
     }

@@ -33,10 +33,7 @@ pub struct ParseOptions {
 pub const MAX_INCLUDE_DEPTH: usize = 64;
 
 /// Parses the scene file at `path` (Include/Import resolve relative to the including file).
-pub fn parse_file(
-    path: &Path,
-    opts: &ParseOptions,
-) -> Result<(SceneDesc, Vec<Warning>), SceneError> {
+pub fn parse_file(path: &Path, opts: &ParseOptions) -> Result<(SceneDesc, Vec<Warning>), SceneError> {
     let file: Arc<Path> = Arc::from(path);
     let loc = Location::new(file.clone(), 0, 0);
     let text = read_text(path, &loc)?;
@@ -167,19 +164,11 @@ impl<'o> Parser<'o> {
     }
 
     fn warn(&mut self, loc: &Location, message: impl Into<String>) {
-        self.warnings.push(Warning {
-            loc: loc.clone(),
-            message: message.into(),
-        });
+        self.warnings.push(Warning { loc: loc.clone(), message: message.into() });
     }
 
     /// A pbrt-v4 feature prism does not render: an error under `strict`, else a warning.
-    fn unsupported(
-        &mut self,
-        loc: &Location,
-        feature: &str,
-        fallback: &str,
-    ) -> Result<(), SceneError> {
+    fn unsupported(&mut self, loc: &Location, feature: &str, fallback: &str) -> Result<(), SceneError> {
         if self.opts.strict {
             return Err(SceneError::Unsupported {
                 loc: loc.clone(),
@@ -187,10 +176,7 @@ impl<'o> Parser<'o> {
                 fallback: fallback.into(),
             });
         }
-        self.warn(
-            loc,
-            format!("unsupported feature: {feature}; prism {fallback}"),
-        );
+        self.warn(loc, format!("unsupported feature: {feature}; prism {fallback}"));
         Ok(())
     }
 
@@ -252,11 +238,7 @@ impl<'o> Parser<'o> {
         let mut src = Source::new(text, file);
         while let Some(tok) = src.next()? {
             if tok.kind != TokenKind::Word {
-                return Err(SceneError::syntax(
-                    &tok.loc,
-                    &tok.display(),
-                    "expected a directive",
-                ));
+                return Err(SceneError::syntax(&tok.loc, &tok.display(), "expected a directive"));
             }
             self.last_loc = Some(tok.loc.clone());
             self.directive(&tok, &mut src)?;
@@ -299,16 +281,9 @@ impl<'o> Parser<'o> {
                 let v = src.numbers(tok, 4)?;
                 let axis = Vec3::new(v[1], v[2], v[3]);
                 if axis.length_squared() == 0.0 || !axis.length_squared().is_finite() {
-                    return Err(SceneError::syntax(
-                        &tok.loc,
-                        &tok.text,
-                        "rotation axis has zero length",
-                    ));
+                    return Err(SceneError::syntax(&tok.loc, &tok.text, "rotation axis has zero length"));
                 }
-                self.concat(
-                    tok,
-                    Mat4::from_axis_angle(axis.normalize(), v[0].to_radians()),
-                );
+                self.concat(tok, Mat4::from_axis_angle(axis.normalize(), v[0].to_radians()));
             }
             "LookAt" => {
                 let v = src.numbers(tok, 9)?;
@@ -345,10 +320,7 @@ impl<'o> Parser<'o> {
                     Some(&m) => self.set_ctm(tok, m),
                     None => self.warn(
                         &name.loc,
-                        format!(
-                            "unknown coordinate system \"{}\"; CoordSysTransform ignored",
-                            name.text
-                        ),
+                        format!("unknown coordinate system \"{}\"; CoordSysTransform ignored", name.text),
                     ),
                 }
             }
@@ -370,60 +342,42 @@ impl<'o> Parser<'o> {
             "TransformTimes" => {
                 let v = src.numbers(tok, 2)?;
                 if v[1] < v[0] {
-                    return Err(SceneError::syntax(
-                        &tok.loc,
-                        &tok.text,
-                        "TransformTimes end is before start",
-                    ));
+                    return Err(SceneError::syntax(&tok.loc, &tok.text, "TransformTimes end is before start"));
                 }
             }
             "ReverseOrientation" => self.gs.reverse_orientation = !self.gs.reverse_orientation,
             "AttributeBegin" | "TransformBegin" => {
                 self.require_world(tok)?;
-                let kind = if tok.text == "AttributeBegin" {
-                    Pushed::Attribute
-                } else {
-                    Pushed::Transform
-                };
+                let kind = if tok.text == "AttributeBegin" { Pushed::Attribute } else { Pushed::Transform };
                 if kind == Pushed::Transform {
-                    self.warn(
-                        &tok.loc,
-                        "TransformBegin is deprecated in pbrt-v4; use AttributeBegin",
-                    );
+                    self.warn(&tok.loc, "TransformBegin is deprecated in pbrt-v4; use AttributeBegin");
                 }
                 self.stack.push((self.gs.clone(), kind, tok.loc.clone()));
             }
             "AttributeEnd" | "TransformEnd" => {
                 self.require_world(tok)?;
-                let want = if tok.text == "AttributeEnd" {
-                    Pushed::Attribute
-                } else {
-                    Pushed::Transform
-                };
+                let want = if tok.text == "AttributeEnd" { Pushed::Attribute } else { Pushed::Transform };
                 self.pop(tok, want)?;
             }
             "Attribute" => {
                 self.require_world(tok)?;
-                let target =
-                    src.string(tok, "a target (shape, light, material, medium, texture)")?;
+                let target = src.string(tok, "a target (shape, light, material, medium, texture)")?;
                 let key: &'static str = match target.text.as_str() {
                     "shape" => "shape",
                     "light" => "light",
                     "material" => "material",
                     "medium" => "medium",
                     "texture" => "texture",
-                    _ => return Err(SceneError::syntax(
-                        &target.loc,
-                        &target.display(),
-                        "Attribute target must be one of shape, light, material, medium, texture",
-                    )),
+                    _ => {
+                        return Err(SceneError::syntax(
+                            &target.loc,
+                            &target.display(),
+                            "Attribute target must be one of shape, light, material, medium, texture",
+                        ))
+                    }
                 };
                 let ps = src.params(&cs)?;
-                let entry = self
-                    .gs
-                    .defaults
-                    .entry(key)
-                    .or_insert_with(|| ParamSet::new(&cs));
+                let entry = self.gs.defaults.entry(key).or_insert_with(|| ParamSet::new(&cs));
                 // Later Attribute values override earlier ones.
                 let mut merged = ps;
                 merged.merge_defaults(entry);
@@ -454,29 +408,15 @@ impl<'o> Parser<'o> {
                 self.require_options(tok)?;
                 let ty = src.string(tok, "a camera type")?;
                 let params = src.params(&cs)?;
-                let kind = self.resolve_type(
-                    &ty,
-                    "camera",
-                    names::PRISM_CAMERAS,
-                    names::PBRT_ONLY_CAMERAS,
-                    false,
-                )?;
+                let kind = self.resolve_type(&ty, "camera", names::PRISM_CAMERAS, names::PBRT_ONLY_CAMERAS, false)?;
                 let ctm = self.gs.ctm;
                 let det = ctm.determinant();
                 if det == 0.0 || !det.is_finite() {
-                    return Err(SceneError::syntax(
-                        &tok.loc,
-                        &tok.text,
-                        "the camera transform is not invertible",
-                    ));
+                    return Err(SceneError::syntax(&tok.loc, &tok.text, "the camera transform is not invertible"));
                 }
                 self.named_cs.insert("camera".into(), ctm.inverse());
                 self.camera = Some(CameraDesc {
-                    directive: Directive {
-                        kind: kind.unwrap_or_default(),
-                        params,
-                        loc: tok.loc.clone(),
-                    },
+                    directive: Directive { kind: kind.unwrap_or_default(), params, loc: tok.loc.clone() },
                     camera_from_world: ctm,
                 });
             }
@@ -484,18 +424,8 @@ impl<'o> Parser<'o> {
                 self.require_options(tok)?;
                 let ty = src.string(tok, "a film type")?;
                 let params = src.params(&cs)?;
-                let kind = self.resolve_type(
-                    &ty,
-                    "film",
-                    names::PRISM_FILMS,
-                    names::PBRT_ONLY_FILMS,
-                    false,
-                )?;
-                self.film = Some(Directive {
-                    kind: kind.unwrap_or_default(),
-                    params,
-                    loc: tok.loc.clone(),
-                });
+                let kind = self.resolve_type(&ty, "film", names::PRISM_FILMS, names::PBRT_ONLY_FILMS, false)?;
+                self.film = Some(Directive { kind: kind.unwrap_or_default(), params, loc: tok.loc.clone() });
             }
             "Integrator" => {
                 self.require_options(tok)?;
@@ -508,11 +438,7 @@ impl<'o> Parser<'o> {
                     names::PBRT_ONLY_INTEGRATORS,
                     false,
                 )?;
-                self.integrator = Some(Directive {
-                    kind: kind.unwrap_or_default(),
-                    params,
-                    loc: tok.loc.clone(),
-                });
+                self.integrator = Some(Directive { kind: kind.unwrap_or_default(), params, loc: tok.loc.clone() });
             }
             "Sampler" | "PixelFilter" | "Accelerator" => {
                 self.require_options(tok)?;
@@ -524,18 +450,9 @@ impl<'o> Parser<'o> {
                     _ => ("accelerator", &["bvh", "kdtree"]),
                 };
                 if !valid.contains(&ty.text.as_str()) {
-                    return Err(SceneError::UnknownType {
-                        loc: ty.loc,
-                        kind,
-                        name: ty.text,
-                        valid: valid.join(", "),
-                    });
+                    return Err(SceneError::UnknownType { loc: ty.loc, kind, name: ty.text, valid: valid.join(", ") });
                 }
-                let d = Directive {
-                    kind: ty.text,
-                    params,
-                    loc: tok.loc.clone(),
-                };
+                let d = Directive { kind: ty.text, params, loc: tok.loc.clone() };
                 match kind {
                     "sampler" => self.sampler = Some(d),
                     "filter" => self.filter = Some(d),
@@ -545,28 +462,18 @@ impl<'o> Parser<'o> {
             "MakeNamedMedium" => {
                 let name = src.string(tok, "a medium name")?;
                 let _ = src.params(&cs)?;
-                self.unsupported(
-                    &tok.loc,
-                    &format!("participating medium \"{}\"", name.text),
-                    "ignores the medium",
-                )?;
+                self.unsupported(&tok.loc, &format!("participating medium \"{}\"", name.text), "ignores the medium")?;
             }
             "MediumInterface" => {
                 let inside = src.string(tok, "a medium name")?;
                 // The outside name is optional (one name means both sides).
                 let outside = match src.peek()? {
-                    Some(t) if t.kind == TokenKind::Str && !t.text.contains(' ') => {
-                        src.next()?.map(|t| t.text)
-                    }
+                    Some(t) if t.kind == TokenKind::Str && !t.text.contains(' ') => src.next()?.map(|t| t.text),
                     _ => None,
                 };
                 // `MediumInterface "" ""` (vacuum on both sides) is what prism renders anyway.
                 if !inside.text.is_empty() || outside.is_some_and(|o| !o.is_empty()) {
-                    self.unsupported(
-                        &tok.loc,
-                        "MediumInterface (inside/outside media)",
-                        "ignores the media names",
-                    )?;
+                    self.unsupported(&tok.loc, "MediumInterface (inside/outside media)", "ignores the media names")?;
                 }
             }
             "WorldBegin" => {
@@ -593,29 +500,18 @@ impl<'o> Parser<'o> {
                     return Err(SceneError::syntax(
                         &tok.loc,
                         &tok.text,
-                        format!(
-                            "ObjectBegin inside the definition of object \"{}\" ({})",
-                            o.name, o.loc
-                        ),
+                        format!("ObjectBegin inside the definition of object \"{}\" ({})", o.name, o.loc),
                     ));
                 }
                 if let Some(o) = self.objects.iter().find(|o| o.name == name.text) {
                     return Err(SceneError::syntax(
                         &name.loc,
                         &name.display(),
-                        format!(
-                            "object \"{}\" redefined (first defined at {})",
-                            o.name, o.loc
-                        ),
+                        format!("object \"{}\" redefined (first defined at {})", o.name, o.loc),
                     ));
                 }
-                self.stack
-                    .push((self.gs.clone(), Pushed::Object, tok.loc.clone()));
-                self.current_object = Some(ObjectDesc {
-                    name: name.text,
-                    shapes: Vec::new(),
-                    loc: tok.loc.clone(),
-                });
+                self.stack.push((self.gs.clone(), Pushed::Object, tok.loc.clone()));
+                self.current_object = Some(ObjectDesc { name: name.text, shapes: Vec::new(), loc: tok.loc.clone() });
             }
             "ObjectEnd" => {
                 self.require_world(tok)?;
@@ -628,14 +524,10 @@ impl<'o> Parser<'o> {
                     return Err(SceneError::syntax(
                         &tok.loc,
                         &tok.text,
-                        format!(
-                            "ObjectInstance inside the definition of object \"{}\"",
-                            o.name
-                        ),
+                        format!("ObjectInstance inside the definition of object \"{}\"", o.name),
                     ));
                 }
-                self.instances
-                    .push((name.text, self.gs.ctm, tok.loc.clone()));
+                self.instances.push((name.text, self.gs.ctm, tok.loc.clone()));
             }
             "Material" => {
                 self.require_world(tok)?;
@@ -653,45 +545,29 @@ impl<'o> Parser<'o> {
                     return Err(SceneError::syntax(
                         &name.loc,
                         &name.display(),
-                        format!(
-                            "named material \"{}\" redefined (first defined at {})",
-                            m.name, m.material.loc
-                        ),
+                        format!("named material \"{}\" redefined (first defined at {})", m.name, m.material.loc),
                     ));
                 }
                 let ty = match params.get("type") {
-                    Some(Param {
-                        value: super::params::ParamValue::String(s),
-                        loc,
-                        ..
-                    }) if s.len() == 1 => Token {
-                        kind: TokenKind::Str,
-                        text: s[0].clone(),
-                        loc: loc.clone(),
-                    },
+                    Some(Param { value: super::params::ParamValue::String(s), loc, .. }) if s.len() == 1 => {
+                        Token { kind: TokenKind::Str, text: s[0].clone(), loc: loc.clone() }
+                    }
                     _ => {
                         return Err(SceneError::syntax(
                             &name.loc,
                             &name.display(),
-                            format!(
-                                "MakeNamedMaterial \"{}\" needs a \"string type\" parameter",
-                                name.text
-                            ),
+                            format!("MakeNamedMaterial \"{}\" needs a \"string type\" parameter", name.text),
                         ))
                     }
                 };
                 let mut m = self.material(&ty, params)?;
                 m.loc = tok.loc.clone();
-                self.named_materials.push(NamedMaterial {
-                    name: name.text,
-                    material: m,
-                });
+                self.named_materials.push(NamedMaterial { name: name.text, material: m });
             }
             "NamedMaterial" => {
                 self.require_world(tok)?;
                 let name = src.string(tok, "a material name")?;
-                self.named_material_uses
-                    .push((name.text.clone(), name.loc.clone()));
+                self.named_material_uses.push((name.text.clone(), name.loc.clone()));
                 self.gs.material = MaterialRef::Named(name.text);
             }
             "Texture" => {
@@ -722,18 +598,8 @@ impl<'o> Parser<'o> {
                 if let Some(d) = self.gs.defaults.get("texture") {
                     params.merge_defaults(d);
                 }
-                if self
-                    .textures
-                    .iter()
-                    .any(|t| t.name == name.text && t.class == class)
-                {
-                    self.warn(
-                        &name.loc,
-                        format!(
-                            "texture \"{}\" redefined; the later definition is used",
-                            name.text
-                        ),
-                    );
+                if self.textures.iter().any(|t| t.name == name.text && t.class == class) {
+                    self.warn(&name.loc, format!("texture \"{}\" redefined; the later definition is used", name.text));
                 }
                 self.textures.push(TextureDesc {
                     name: name.text,
@@ -748,45 +614,27 @@ impl<'o> Parser<'o> {
                 self.require_world(tok)?;
                 let ty = src.string(tok, "a light type")?;
                 let mut params = src.params(&cs)?;
-                if let Some(kind) = self.resolve_type(
-                    &ty,
-                    "light",
-                    names::PRISM_LIGHTS,
-                    names::PBRT_ONLY_LIGHTS,
-                    true,
-                )? {
+                if let Some(kind) =
+                    self.resolve_type(&ty, "light", names::PRISM_LIGHTS, names::PBRT_ONLY_LIGHTS, true)?
+                {
                     if let Some(d) = self.gs.defaults.get("light") {
                         params.merge_defaults(d);
                     }
                     if self.current_object.is_some() {
-                        self.warn(
-                            &tok.loc,
-                            "LightSource inside ObjectBegin is not instanced; it is added once",
-                        );
+                        self.warn(&tok.loc, "LightSource inside ObjectBegin is not instanced; it is added once");
                     }
-                    self.lights.push(LightDesc {
-                        kind,
-                        params,
-                        world_from_light: self.gs.ctm,
-                        loc: tok.loc.clone(),
-                    });
+                    self.lights.push(LightDesc { kind, params, world_from_light: self.gs.ctm, loc: tok.loc.clone() });
                 }
             }
             "AreaLightSource" => {
                 self.require_world(tok)?;
                 let ty = src.string(tok, "an area light type")?;
                 let mut params = src.params(&cs)?;
-                if let Some(kind) =
-                    self.resolve_type(&ty, "area light", names::PRISM_AREA_LIGHTS, &[], true)?
-                {
+                if let Some(kind) = self.resolve_type(&ty, "area light", names::PRISM_AREA_LIGHTS, &[], true)? {
                     if let Some(d) = self.gs.defaults.get("light") {
                         params.merge_defaults(d);
                     }
-                    self.gs.area_light = Some(AreaLightDesc {
-                        kind,
-                        params,
-                        loc: tok.loc.clone(),
-                    });
+                    self.gs.area_light = Some(AreaLightDesc { kind, params, loc: tok.loc.clone() });
                 }
             }
             "Shape" => {
@@ -796,11 +644,7 @@ impl<'o> Parser<'o> {
                 self.shape(tok, &ty, params)?;
             }
             _ => {
-                return Err(SceneError::syntax(
-                    &tok.loc,
-                    &tok.text,
-                    format!("unknown directive \"{}\"", tok.text),
-                ));
+                return Err(SceneError::syntax(&tok.loc, &tok.text, format!("unknown directive \"{}\"", tok.text)));
             }
         }
         Ok(())
@@ -813,18 +657,11 @@ impl<'o> Parser<'o> {
             Pushed::Object => "ObjectBegin",
         };
         match self.stack.last() {
-            None => Err(SceneError::syntax(
-                &tok.loc,
-                &tok.text,
-                format!("{} without a matching {begin}", tok.text),
-            )),
+            None => Err(SceneError::syntax(&tok.loc, &tok.text, format!("{} without a matching {begin}", tok.text))),
             Some((_, got, loc)) if *got != want => Err(SceneError::syntax(
                 &tok.loc,
                 &tok.text,
-                format!(
-                    "{} does not match the open {:?}Begin at {loc}",
-                    tok.text, got
-                ),
+                format!("{} does not match the open {:?}Begin at {loc}", tok.text, got),
             )),
             Some(_) => {
                 let (gs, _, _) = self.stack.pop().expect("checked non-empty");
@@ -834,10 +671,7 @@ impl<'o> Parser<'o> {
                     self.gs = gs;
                 }
                 if want == Pushed::Object {
-                    let o = self
-                        .current_object
-                        .take()
-                        .expect("ObjectBegin pushed an object");
+                    let o = self.current_object.take().expect("ObjectBegin pushed an object");
                     self.objects.push(o);
                 }
                 Ok(())
@@ -847,50 +681,25 @@ impl<'o> Parser<'o> {
 
     fn material(&mut self, ty: &Token, mut params: ParamSet) -> Result<MaterialDesc, SceneError> {
         let kind = self
-            .resolve_type(
-                ty,
-                "material",
-                names::PRISM_MATERIALS,
-                names::PBRT_ONLY_MATERIALS,
-                false,
-            )?
+            .resolve_type(ty, "material", names::PRISM_MATERIALS, names::PBRT_ONLY_MATERIALS, false)?
             .unwrap_or_default();
         if kind != ty.text {
             // The replacement's parameters mean something else: start from its defaults.
             let mut fresh = ParamSet::new(&params.color_space);
             if ty.text == "interface" {
-                let decl = Token {
-                    kind: TokenKind::Str,
-                    text: "float eta".into(),
-                    loc: ty.loc.clone(),
-                };
-                let one = Token {
-                    kind: TokenKind::Word,
-                    text: "1".into(),
-                    loc: ty.loc.clone(),
-                };
+                let decl = Token { kind: TokenKind::Str, text: "float eta".into(), loc: ty.loc.clone() };
+                let one = Token { kind: TokenKind::Word, text: "1".into(), loc: ty.loc.clone() };
                 fresh.push(Param::parse(&decl, &[one])?)?;
             }
             params = fresh;
         } else if let Some(d) = self.gs.defaults.get("material") {
             params.merge_defaults(d);
         }
-        Ok(MaterialDesc {
-            kind,
-            params,
-            loc: ty.loc.clone(),
-        })
+        Ok(MaterialDesc { kind, params, loc: ty.loc.clone() })
     }
 
     fn shape(&mut self, tok: &Token, ty: &Token, mut params: ParamSet) -> Result<(), SceneError> {
-        let Some(kind) = self.resolve_type(
-            ty,
-            "shape",
-            names::PRISM_SHAPES,
-            names::PBRT_ONLY_SHAPES,
-            true,
-        )?
-        else {
+        let Some(kind) = self.resolve_type(ty, "shape", names::PRISM_SHAPES, names::PBRT_ONLY_SHAPES, true)? else {
             return Ok(());
         };
         if let Some(d) = self.gs.defaults.get("shape") {
@@ -899,11 +708,7 @@ impl<'o> Parser<'o> {
         let geometry = shapes::load(&kind, &params, &tok.loc, &mut self.warnings)?;
         let mut area_light = self.gs.area_light.clone();
         if self.current_object.is_some() && area_light.is_some() {
-            self.unsupported(
-                &tok.loc,
-                "area light on a shape inside ObjectBegin",
-                "makes the shape non-emissive",
-            )?;
+            self.unsupported(&tok.loc, "area light on a shape inside ObjectBegin", "makes the shape non-emissive")?;
             area_light = None;
         }
         let s = ShapeDesc {
@@ -927,15 +732,9 @@ impl<'o> Parser<'o> {
         let path = name.loc.base_dir().join(&name.text);
         let canon = canonical(&path);
         if let Some(i) = self.include_stack.iter().position(|p| *p == canon) {
-            let mut chain: Vec<String> = self.include_stack[i..]
-                .iter()
-                .map(|p| p.display().to_string())
-                .collect();
+            let mut chain: Vec<String> = self.include_stack[i..].iter().map(|p| p.display().to_string()).collect();
             chain.push(canon.display().to_string());
-            return Err(SceneError::IncludeCycle {
-                loc: tok.loc.clone(),
-                chain: chain.join(" -> "),
-            });
+            return Err(SceneError::IncludeCycle { loc: tok.loc.clone(), chain: chain.join(" -> ") });
         }
         if self.include_stack.len() >= MAX_INCLUDE_DEPTH {
             return Err(SceneError::syntax(
@@ -964,16 +763,10 @@ impl<'o> Parser<'o> {
     }
 
     fn finish(mut self) -> Result<(SceneDesc, Vec<Warning>), SceneError> {
-        let end = self
-            .last_loc
-            .clone()
-            .unwrap_or_else(|| Location::new(Arc::from(Path::new("<empty>")), 1, 1));
+        let end = self.last_loc.clone().unwrap_or_else(|| Location::new(Arc::from(Path::new("<empty>")), 1, 1));
         while let Some((_, kind, loc)) = self.stack.pop() {
             if kind == Pushed::Object {
-                let o = self
-                    .current_object
-                    .take()
-                    .expect("ObjectBegin pushed an object");
+                let o = self.current_object.take().expect("ObjectBegin pushed an object");
                 self.objects.push(o);
                 self.warn(&loc, "ObjectBegin without ObjectEnd; closed at end of file");
             } else {
@@ -982,49 +775,28 @@ impl<'o> Parser<'o> {
         }
         for (name, loc) in &self.named_material_uses {
             if !self.named_materials.iter().any(|m| &m.name == name) {
-                return Err(SceneError::syntax(
-                    loc,
-                    name,
-                    format!("named material \"{name}\" is not defined"),
-                ));
+                return Err(SceneError::syntax(loc, name, format!("named material \"{name}\" is not defined")));
             }
         }
         let mut instances = Vec::with_capacity(self.instances.len());
         for (object, m, loc) in self.instances.drain(..) {
             let Some(object_index) = self.objects.iter().position(|o| o.name == object) else {
-                return Err(SceneError::syntax(
-                    &loc,
-                    &object,
-                    format!("object \"{object}\" is not defined"),
-                ));
+                return Err(SceneError::syntax(&loc, &object, format!("object \"{object}\" is not defined")));
             };
-            instances.push(InstanceDesc {
-                object,
-                object_index,
-                world_from_instance: m,
-                loc,
-            });
+            instances.push(InstanceDesc { object, object_index, world_from_instance: m, loc });
         }
         let textures = &self.textures;
         let check_textures = |ps: &ParamSet| -> Result<(), SceneError> {
             for p in ps.iter() {
                 if let super::params::ParamValue::Texture(t) = &p.value {
                     if !textures.iter().any(|x| &x.name == t) {
-                        return Err(SceneError::syntax(
-                            &p.loc,
-                            t,
-                            format!("texture \"{t}\" is not defined"),
-                        ));
+                        return Err(SceneError::syntax(&p.loc, t, format!("texture \"{t}\" is not defined")));
                     }
                 }
             }
             Ok(())
         };
-        for m in self
-            .materials
-            .iter()
-            .chain(self.named_materials.iter().map(|n| &n.material))
-        {
+        for m in self.materials.iter().chain(self.named_materials.iter().map(|n| &n.material)) {
             check_textures(&m.params)?;
         }
         for t in &self.textures {
@@ -1032,16 +804,11 @@ impl<'o> Parser<'o> {
         }
         let default_loc = self.in_world.clone().unwrap_or_else(|| end.clone());
         let cs = self.color_space.clone();
-        let dflt = |kind: &str| Directive {
-            kind: kind.into(),
-            params: ParamSet::new(&cs),
-            loc: default_loc.clone(),
-        };
+        let dflt = |kind: &str| Directive { kind: kind.into(), params: ParamSet::new(&cs), loc: default_loc.clone() };
         let desc = SceneDesc {
-            camera: self.camera.unwrap_or_else(|| CameraDesc {
-                directive: dflt("perspective"),
-                camera_from_world: Mat4::IDENTITY,
-            }),
+            camera: self
+                .camera
+                .unwrap_or_else(|| CameraDesc { directive: dflt("perspective"), camera_from_world: Mat4::IDENTITY }),
             film: self.film.unwrap_or_else(|| dflt("rgb")),
             sampler: self.sampler.unwrap_or_else(|| dflt("zsobol")),
             integrator: self.integrator.unwrap_or_else(|| dflt("path")),
@@ -1068,11 +835,7 @@ pub fn look_at(eye: Vec3, look: Vec3, up: Vec3) -> Option<Mat4> {
     let dir = (look - eye).try_normalize()?;
     let right = up.try_normalize()?.cross(dir).try_normalize()?;
     let new_up = dir.cross(right);
-    let world_from_camera = Mat4::from_cols(
-        right.extend(0.0),
-        new_up.extend(0.0),
-        dir.extend(0.0),
-        Vec4::from((eye, 1.0)),
-    );
+    let world_from_camera =
+        Mat4::from_cols(right.extend(0.0), new_up.extend(0.0), dir.extend(0.0), Vec4::from((eye, 1.0)));
     Some(world_from_camera.inverse())
 }

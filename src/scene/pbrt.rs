@@ -136,7 +136,11 @@ impl Ctx<'_> {
                     let sub = if n.starts_with("glass-") { "glass-BK7" } else { "metal-Al-eta" };
                     let sub = if n.ends_with("-k") { "metal-Al-k" } else { sub };
                     self.warnings.push(Warning {
-                        loc: params.iter().next().map(|p| p.loc.clone()).unwrap_or_else(|| self.desc.camera.directive.loc.clone()),
+                        loc: params
+                            .iter()
+                            .next()
+                            .map(|p| p.loc.clone())
+                            .unwrap_or_else(|| self.desc.camera.directive.loc.clone()),
                         message: format!("prism has no data for the named spectrum \"{n}\"; using \"{sub}\""),
                     });
                     named_spectrum(sub).ok_or("built-in spectrum missing")?
@@ -165,7 +169,11 @@ impl Ctx<'_> {
         }
     }
 
-    fn named_spectrum_texture(&mut self, name: &str, loc: &super::error::Location) -> Result<SpectrumTexture, SceneError> {
+    fn named_spectrum_texture(
+        &mut self,
+        name: &str,
+        loc: &super::error::Location,
+    ) -> Result<SpectrumTexture, SceneError> {
         let Some(t) = self.desc.texture(name, TextureClass::Spectrum) else {
             return Err(SceneError::syntax(loc, name, format!("no spectrum texture named \"{name}\"")));
         };
@@ -215,7 +223,10 @@ impl Ctx<'_> {
                     },
                     "imagemap" => {
                         let loc = td.loc.clone();
-                        FloatTexture::Image(ImageTexture { image: self.image(q, &loc)?, scale: q.float_or("scale", 1.0) })
+                        FloatTexture::Image(ImageTexture {
+                            image: self.image(q, &loc)?,
+                            scale: q.float_or("scale", 1.0),
+                        })
                     }
                     other => {
                         let loc = td.loc.clone();
@@ -268,7 +279,9 @@ impl Ctx<'_> {
                     (Some(e), _) => Ior::Constant(e),
                     (None, Some(s)) => {
                         let s = s.clone();
-                        Ior::Spectral(self.spectrum(&s, RgbKind::Unbounded, p).map_err(|e| SceneError::syntax(loc, "eta", e))?)
+                        Ior::Spectral(
+                            self.spectrum(&s, RgbKind::Unbounded, p).map_err(|e| SceneError::syntax(loc, "eta", e))?,
+                        )
                     }
                     (None, None) => Ior::Constant(1.5),
                 };
@@ -294,7 +307,13 @@ impl Ctx<'_> {
         })
     }
 
-    fn unbounded(&mut self, p: &ParamSet, name: &str, default: &str, loc: &super::error::Location) -> Result<Spectrum, SceneError> {
+    fn unbounded(
+        &mut self,
+        p: &ParamSet,
+        name: &str,
+        default: &str,
+        loc: &super::error::Location,
+    ) -> Result<Spectrum, SceneError> {
         match p.spectrum(name) {
             Some(s) => {
                 let s = s.clone();
@@ -337,7 +356,12 @@ impl Ctx<'_> {
 
     /// A light's spectrum and the factor that gives it unit luminance (pbrt-v4's normalisation;
     /// RGB illuminants are normalised by their illuminant alone so the RGB sets brightness).
-    fn light_spectrum(&mut self, p: &ParamSet, name: &str, loc: &super::error::Location) -> Result<(Spectrum, f32), SceneError> {
+    fn light_spectrum(
+        &mut self,
+        p: &ParamSet,
+        name: &str,
+        loc: &super::error::Location,
+    ) -> Result<(Spectrum, f32), SceneError> {
         let space = space_of(p);
         let white = Spectrum::from_rgb([1.0, 1.0, 1.0], RgbKind::Illuminant, space);
         let (s, reference) = match p.spectrum(name) {
@@ -403,10 +427,17 @@ impl Ctx<'_> {
             }
             "infinite" => {
                 if p.string("filename").is_some() {
-                    self.warn(&l.loc, "environment maps are not rendered yet; prism uses a uniform environment of their average 0.5".into());
+                    self.warn(
+                        &l.loc,
+                        "environment maps are not rendered yet; prism uses a uniform environment of their average 0.5"
+                            .into(),
+                    );
                 }
                 let (s, norm) = self.light_spectrum(p, "L", &l.loc)?;
-                self.b.add_light(Light::UniformInfinite(UniformInfiniteLight { spectrum: Arc::new(s), scale: scale * norm }));
+                self.b.add_light(Light::UniformInfinite(UniformInfiniteLight {
+                    spectrum: Arc::new(s),
+                    scale: scale * norm,
+                }));
             }
             other => self.warn(&l.loc, format!("light \"{other}\" is not rendered by prism; skipped")),
         }

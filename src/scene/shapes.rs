@@ -29,21 +29,12 @@ pub fn load(
             let z_max = ps.float_or("zmax", radius).clamp(-radius, radius);
             let phi_max = ps.float_or("phimax", 360.0);
             if z_min >= z_max {
-                return Err(err(format!(
-                    "sphere zmin ({z_min}) must be below zmax ({z_max})"
-                )));
+                return Err(err(format!("sphere zmin ({z_min}) must be below zmax ({z_max})")));
             }
             if !(phi_max > 0.0 && phi_max <= 360.0) {
-                return Err(err(format!(
-                    "sphere phimax must be in (0, 360] degrees, got {phi_max}"
-                )));
+                return Err(err(format!("sphere phimax must be in (0, 360] degrees, got {phi_max}")));
             }
-            Ok(ShapeGeometry::Sphere {
-                radius,
-                z_min,
-                z_max,
-                phi_max,
-            })
+            Ok(ShapeGeometry::Sphere { radius, z_min, z_max, phi_max })
         }
         "trianglemesh" => Ok(ShapeGeometry::Mesh(Arc::new(inline_mesh(ps, loc, 3)?))),
         "bilinearmesh" => Ok(ShapeGeometry::Mesh(Arc::new(inline_mesh(ps, loc, 4)?))),
@@ -51,8 +42,7 @@ pub fn load(
             let _ = ps.int("levels");
             warnings.push(Warning {
                 loc: loc.clone(),
-                message: "unsupported feature: loop subdivision; prism renders the control mesh"
-                    .into(),
+                message: "unsupported feature: loop subdivision; prism renders the control mesh".into(),
             });
             Ok(ShapeGeometry::Mesh(Arc::new(inline_mesh(ps, loc, 3)?)))
         }
@@ -72,16 +62,8 @@ pub fn load(
                 path: path.clone(),
                 reason: e.to_string(),
             })?;
-            let mesh = if kind == "plymesh" {
-                mesh_io::ply::parse(&bytes)
-            } else {
-                mesh_io::obj::parse(&bytes)
-            };
-            let mesh = mesh.map_err(|message| SceneError::Mesh {
-                loc: loc.clone(),
-                path,
-                message,
-            })?;
+            let mesh = if kind == "plymesh" { mesh_io::ply::parse(&bytes) } else { mesh_io::obj::parse(&bytes) };
+            let mesh = mesh.map_err(|message| SceneError::Mesh { loc: loc.clone(), path, message })?;
             Ok(ShapeGeometry::Mesh(Arc::new(mesh)))
         }
         _ => Err(err(format!("no geometry loader for shape type \"{kind}\""))),
@@ -92,10 +74,7 @@ pub fn load(
 /// exact for planar patches) from "P", "indices", "N", "uv".
 fn inline_mesh(ps: &ParamSet, loc: &Location, corners: usize) -> Result<Mesh, SceneError> {
     let decl = |name: &str, ty: &str| {
-        let l = ps
-            .iter()
-            .find(|p| p.name == name)
-            .map_or(loc.clone(), |p| p.loc.clone());
+        let l = ps.iter().find(|p| p.name == name).map_or(loc.clone(), |p| p.loc.clone());
         (l, format!("{ty} {name}"))
     };
     let err = |name: &str, ty: &str, m: String| {
@@ -103,32 +82,25 @@ fn inline_mesh(ps: &ParamSet, loc: &Location, corners: usize) -> Result<Mesh, Sc
         SceneError::syntax(&l, &t, m)
     };
     let Some(p) = ps.point3s("P") else {
-        return Err(SceneError::syntax(
-            loc,
-            "Shape",
-            "mesh needs a \"point3 P\" parameter",
-        ));
+        return Err(SceneError::syntax(loc, "Shape", "mesh needs a \"point3 P\" parameter"));
     };
     let n = p.len();
     let indices: Vec<i32> = match ps.ints("indices") {
         Some(i) => i.to_vec(),
         None if n == corners => (0..corners as i32).collect(),
-        None => {
-            return Err(SceneError::syntax(
-                loc,
-                "Shape",
-                format!("mesh needs an \"integer indices\" parameter (only a single {corners}-vertex primitive may omit it)"),
-            ))
-        }
+        None => return Err(SceneError::syntax(
+            loc,
+            "Shape",
+            format!(
+                "mesh needs an \"integer indices\" parameter (only a single {corners}-vertex primitive may omit it)"
+            ),
+        )),
     };
     if !indices.len().is_multiple_of(corners) {
         return Err(err(
             "indices",
             "integer",
-            format!(
-                "has {} values; a multiple of {corners} is required",
-                indices.len()
-            ),
+            format!("has {} values; a multiple of {corners} is required", indices.len()),
         ));
     }
     let mut tris = Vec::with_capacity(indices.len() / corners * (corners - 2));
@@ -137,11 +109,7 @@ fn inline_mesh(ps: &ParamSet, loc: &Location, corners: usize) -> Result<Mesh, Sc
         checked.clear();
         for &i in prim {
             if i < 0 || i as usize >= n {
-                return Err(err(
-                    "indices",
-                    "integer",
-                    format!("index {i} is out of range: the mesh has {n} vertices"),
-                ));
+                return Err(err("indices", "integer", format!("index {i} is out of range: the mesh has {n} vertices")));
             }
             checked.push(i as u32);
         }
@@ -156,26 +124,16 @@ fn inline_mesh(ps: &ParamSet, loc: &Location, corners: usize) -> Result<Mesh, Sc
     let mut mesh = Mesh::new(p.to_vec(), tris);
     if let Some(nrm) = ps.normals("N") {
         if nrm.len() != n {
-            return Err(err(
-                "N",
-                "normal",
-                format!("has {} normals for {n} vertices", nrm.len()),
-            ));
+            return Err(err("N", "normal", format!("has {} normals for {n} vertices", nrm.len())));
         }
         mesh.normals = Some(nrm.iter().map(|v| v.normalize_or_zero()).collect());
     }
     let uv: Option<Vec<Vec2>> = ps.point2s("uv").map(<[Vec2]>::to_vec).or_else(|| {
-        ps.floats("uv")
-            .or_else(|| ps.floats("st"))
-            .map(|f| f.chunks_exact(2).map(|c| Vec2::new(c[0], c[1])).collect())
+        ps.floats("uv").or_else(|| ps.floats("st")).map(|f| f.chunks_exact(2).map(|c| Vec2::new(c[0], c[1])).collect())
     });
     if let Some(uv) = uv {
         if uv.len() != n {
-            return Err(err(
-                "uv",
-                "point2",
-                format!("has {} texture coordinates for {n} vertices", uv.len()),
-            ));
+            return Err(err("uv", "point2", format!("has {} texture coordinates for {n} vertices", uv.len())));
         }
         mesh.uvs = Some(uv);
     }
@@ -196,14 +154,7 @@ pub fn tessellate_sphere(radius: f32, z_min: f32, z_max: f32, phi_max: f32) -> M
 
 /// A triangle mesh approximating pbrt's sphere with `n_theta` × `n_phi` quads; outward
 /// normals, uv = (φ/φmax, (θ−θmin)/(θmax−θmin)), zero-area pole triangles left out.
-pub fn tessellate_sphere_n(
-    radius: f32,
-    z_min: f32,
-    z_max: f32,
-    phi_max: f32,
-    n_theta: u32,
-    n_phi: u32,
-) -> Mesh {
+pub fn tessellate_sphere_n(radius: f32, z_min: f32, z_max: f32, phi_max: f32, n_theta: u32, n_phi: u32) -> Mesh {
     let (n_theta, n_phi) = (n_theta.max(2), n_phi.max(3));
     let theta_lo = (z_max / radius).clamp(-1.0, 1.0).acos();
     let theta_hi = (z_min / radius).clamp(-1.0, 1.0).acos();
@@ -231,12 +182,7 @@ pub fn tessellate_sphere_n(
     let mut tris = Vec::new();
     for i in 0..n_theta {
         for j in 0..n_phi {
-            let (a, b, c, d) = (
-                i * row + j,
-                i * row + j + 1,
-                (i + 1) * row + j,
-                (i + 1) * row + j + 1,
-            );
+            let (a, b, c, d) = (i * row + j, i * row + j + 1, (i + 1) * row + j, (i + 1) * row + j + 1);
             // Skip the zero-area triangles at the poles.
             if pos[a as usize] != pos[b as usize] {
                 tris.push([a, c, b]);
@@ -246,12 +192,7 @@ pub fn tessellate_sphere_n(
             }
         }
     }
-    Mesh {
-        positions: pos,
-        indices: tris,
-        normals: Some(nrm),
-        uvs: Some(uvs),
-    }
+    Mesh { positions: pos, indices: tris, normals: Some(nrm), uvs: Some(uvs) }
 }
 
 #[cfg(test)]
@@ -270,10 +211,7 @@ mod tests {
         let exact = std::f32::consts::PI;
         let rel = (exact - part.area()) / exact;
         assert!(rel > 0.0 && rel < 1e-3, "relative deficit {rel}");
-        assert!(m
-            .indices
-            .iter()
-            .all(|t| t.iter().all(|&i| (i as usize) < m.positions.len())));
+        assert!(m.indices.iter().all(|t| t.iter().all(|&i| (i as usize) < m.positions.len())));
         // Outward winding: geometric normal agrees with the vertex normal.
         for i in 0..m.len() {
             let [a, b, c] = m.triangle(i);

@@ -17,11 +17,7 @@ impl<'a> Source<'a> {
     /// Reads `text`, reporting locations in `file`.
     pub(super) fn new(text: &'a str, file: std::sync::Arc<std::path::Path>) -> Self {
         let end = Location::new(file.clone(), text.lines().count().max(1) as u32, 1);
-        Self {
-            tok: Tokenizer::new(text, file),
-            peeked: None,
-            end,
-        }
+        Self { tok: Tokenizer::new(text, file), peeked: None, end }
     }
 
     pub(super) fn peek(&mut self) -> Result<Option<&Token>, SceneError> {
@@ -51,11 +47,7 @@ impl<'a> Source<'a> {
     pub(super) fn string(&mut self, after: &Token, what: &str) -> Result<Token, SceneError> {
         let t = self.expect(after, what)?;
         if t.kind != TokenKind::Str {
-            return Err(SceneError::syntax(
-                &t.loc,
-                &t.display(),
-                format!("{} expects {what}", after.text),
-            ));
+            return Err(SceneError::syntax(&t.loc, &t.display(), format!("{} expects {what}", after.text)));
         }
         Ok(t)
     }
@@ -101,27 +93,15 @@ impl<'a> Source<'a> {
             match first.kind {
                 TokenKind::Open => loop {
                     let t = self.next()?.ok_or_else(|| {
-                        SceneError::syntax(
-                            &first.loc,
-                            "[",
-                            format!("unterminated [ for parameter \"{}\"", decl.text),
-                        )
+                        SceneError::syntax(&first.loc, "[", format!("unterminated [ for parameter \"{}\"", decl.text))
                     })?;
                     match t.kind {
                         TokenKind::Close => break,
-                        TokenKind::Open => {
-                            return Err(SceneError::syntax(
-                                &t.loc,
-                                "[",
-                                "nested [ in a parameter list",
-                            ))
-                        }
+                        TokenKind::Open => return Err(SceneError::syntax(&t.loc, "[", "nested [ in a parameter list")),
                         _ => values.push(t),
                     }
                 },
-                TokenKind::Close => {
-                    return Err(SceneError::syntax(&first.loc, "]", "unexpected ]"))
-                }
+                TokenKind::Close => return Err(SceneError::syntax(&first.loc, "]", "unexpected ]")),
                 _ => values.push(first),
             }
             ps.push(Param::parse(&decl, &values)?)?;

@@ -53,12 +53,7 @@ pub struct Tokenizer<'a> {
 impl<'a> Tokenizer<'a> {
     /// A tokenizer over `text`, reporting locations in `file`.
     pub fn new(text: &'a str, file: Arc<Path>) -> Self {
-        Self {
-            chars: text.chars().peekable(),
-            file,
-            line: 1,
-            col: 1,
-        }
+        Self { chars: text.chars().peekable(), file, line: 1, col: 1 }
     }
 
     fn bump(&mut self) -> Option<char> {
@@ -97,13 +92,7 @@ impl<'a> Tokenizer<'a> {
         }
         let loc = self.here();
         let c = self.bump().expect("peeked a character");
-        let tok = |kind, text: String| {
-            Ok(Some(Token {
-                kind,
-                text,
-                loc: loc.clone(),
-            }))
-        };
+        let tok = |kind, text: String| Ok(Some(Token { kind, text, loc: loc.clone() }));
         match c {
             '[' => tok(TokenKind::Open, "[".into()),
             ']' => tok(TokenKind::Close, "]".into()),
@@ -112,11 +101,7 @@ impl<'a> Tokenizer<'a> {
                 loop {
                     match self.bump() {
                         None | Some('\n') => {
-                            return Err(SceneError::syntax(
-                                &loc,
-                                &format!("\"{s}"),
-                                "unterminated string",
-                            ))
+                            return Err(SceneError::syntax(&loc, &format!("\"{s}"), "unterminated string"))
                         }
                         Some('"') => return tok(TokenKind::Str, s),
                         Some('\\') => {
@@ -198,10 +183,7 @@ mod tests {
     #[test]
     fn unterminated_string_is_an_error_with_location() {
         let e = all("Shape\n  \"sphere").unwrap_err();
-        assert_eq!(
-            e.to_string(),
-            "t.pbrt:2:3: unterminated string (at \"\"sphere\")"
-        );
+        assert_eq!(e.to_string(), "t.pbrt:2:3: unterminated string (at \"\"sphere\")");
         let e = all("\"a\nb\"").unwrap_err();
         assert_eq!(e.location().line, 1);
     }
@@ -209,10 +191,7 @@ mod tests {
     #[test]
     fn bad_escape_is_an_error() {
         let e = all(r#""a\q""#).unwrap_err();
-        assert_eq!(
-            e.to_string(),
-            "t.pbrt:1:1: unknown escape sequence in string (at \"\\q\")"
-        );
+        assert_eq!(e.to_string(), "t.pbrt:1:1: unknown escape sequence in string (at \"\\q\")");
     }
 
     #[test]

@@ -47,11 +47,8 @@ pub fn xyz_bar(lambda_nm: f32) -> Vec3 {
 }
 
 /// Nodes and weights of 3-point Gauss–Legendre quadrature on [0, 1] (exact to degree 5).
-const GAUSS3: [(f64, f64); 3] = [
-    (0.112_701_665_379_258_3, 5.0 / 18.0),
-    (0.5, 8.0 / 18.0),
-    (0.887_298_334_620_741_7, 5.0 / 18.0),
-];
+const GAUSS3: [(f64, f64); 3] =
+    [(0.112_701_665_379_258_3, 5.0 / 18.0), (0.5, 8.0 / 18.0), (0.887_298_334_620_741_7, 5.0 / 18.0)];
 
 /// Calls `visit(λ, w)` with the quadrature nodes and weights for ∫ over [`a`, `b`] split at
 /// every 1 nm table knot and at every `extra_knots` entry (the integrand's own breakpoints).
@@ -115,8 +112,7 @@ mod tests {
             assert_eq!(v.to_array(), s);
         }
         let mid = xyz_bar_f64(555.5);
-        let expect =
-            (DVec3::from_array(CIE_1931_XYZ[195]) + DVec3::from_array(CIE_1931_XYZ[196])) / 2.0;
+        let expect = (DVec3::from_array(CIE_1931_XYZ[195]) + DVec3::from_array(CIE_1931_XYZ[196])) / 2.0;
         assert!((mid - expect).abs().max_element() < 1e-15);
         assert_eq!(xyz_bar(359.9), Vec3::ZERO);
         assert_eq!(xyz_bar(830.1), Vec3::ZERO);

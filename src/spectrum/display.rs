@@ -26,20 +26,13 @@ impl EmissionDisplay {
     pub fn new(red: &Spectrum, green: &Spectrum, blue: &Spectrum) -> Option<Self> {
         let m = DMat3::from_cols(red.to_xyz_f64(), green.to_xyz_f64(), blue.to_xyz_f64());
         let det = m.determinant();
-        let largest = m
-            .to_cols_array()
-            .iter()
-            .map(|v| v.abs())
-            .fold(0.0, f64::max);
+        let largest = m.to_cols_array().iter().map(|v| v.abs()).fold(0.0, f64::max);
         // Singular relative to the entries' scale (also rejects NaN).
         let invertible = det.abs() > 1e-12 * largest.powi(3);
         if !invertible {
             return None;
         }
-        Some(Self {
-            rgb_to_xyz: m,
-            xyz_to_rgb: m.inverse(),
-        })
+        Some(Self { rgb_to_xyz: m, xyz_to_rgb: m.inverse() })
     }
 
     /// Drive values that make the display match the colour of `s` (may be negative or above
@@ -55,26 +48,18 @@ mod tests {
 
     fn gaussian(mu: f64, sigma: f64) -> Spectrum {
         let l: Vec<f64> = (0..=470).map(|i| 360.0 + i as f64).collect();
-        let v = l
-            .iter()
-            .map(|x| (-0.5 * ((x - mu) / sigma).powi(2)).exp())
-            .collect();
+        let v = l.iter().map(|x| (-0.5 * ((x - mu) / sigma).powi(2)).exp()).collect();
         Spectrum::piecewise_linear_f64(l, v).unwrap()
     }
 
     #[test]
     fn mixing_the_panels_reproduces_the_target_colour() {
-        let (r, g, b) = (
-            gaussian(610.0, 15.0),
-            gaussian(545.0, 20.0),
-            gaussian(450.0, 12.0),
-        );
+        let (r, g, b) = (gaussian(610.0, 15.0), gaussian(545.0, 20.0), gaussian(450.0, 12.0));
         let d = EmissionDisplay::new(&r, &g, &b).unwrap();
         // A spectrum inside the gamut: the display's mix is a metamer of it.
         let target = Spectrum::named("stdillum-D65").unwrap().scaled(0.3);
         let drive = d.drive_values(&target);
-        let mix =
-            |l: f64| drive.x * r.eval_f64(l) + drive.y * g.eval_f64(l) + drive.z * b.eval_f64(l);
+        let mix = |l: f64| drive.x * r.eval_f64(l) + drive.y * g.eval_f64(l) + drive.z * b.eval_f64(l);
         let shown = crate::spectrum::cie::xyz_of(mix, &[]);
         assert!((shown - target.to_xyz_f64()).abs().max_element() < 1e-9);
         assert!(drive.min_element() > 0.0, "{drive}");

@@ -6,22 +6,15 @@ use super::data::{ILLUM_F11, ILLUM_F2};
 use super::spd::Spectrum;
 
 /// Names accepted by [`Spectrum::named`] (pbrt-v4 spellings).
-pub const NAMED_ILLUMINANTS: [&str; 7] = [
-    "stdillum-D65",
-    "stdillum-D50",
-    "stdillum-A",
-    "stdillum-E",
-    "stdillum-F2",
-    "stdillum-F11",
-    "illum-acesD60",
-];
+pub const NAMED_ILLUMINANTS: [&str; 7] =
+    ["stdillum-D65", "stdillum-D50", "stdillum-A", "stdillum-E", "stdillum-F2", "stdillum-F11", "illum-acesD60"];
 
 /// Tabulated (start [nm], spacing [nm], values) → piecewise-linear spectrum with Y = 1.
 fn from_table(t: &(f64, f64, &[f64])) -> Spectrum {
     let (start, step, values) = *t;
     let lambdas = (0..values.len()).map(|i| start + step * i as f64).collect();
-    let s = Spectrum::piecewise_linear_f64(lambdas, values.to_vec())
-        .expect("built-in illuminant tables are well formed");
+    let s =
+        Spectrum::piecewise_linear_f64(lambdas, values.to_vec()).expect("built-in illuminant tables are well formed");
     normalise_luminance(s)
 }
 
@@ -52,12 +45,8 @@ pub fn daylight(cct: f64) -> Option<Spectrum> {
     let m = 0.0241 + 0.2562 * x - 0.7341 * y;
     let m1 = (-1.3515 - 1.7703 * x + 5.9114 * y) / m;
     let m2 = (0.0300 - 31.4424 * x + 30.0717 * y) / m;
-    let lambdas = (0..DAYLIGHT_S0.len())
-        .map(|i| 300.0 + 5.0 * i as f64)
-        .collect();
-    let values = (0..DAYLIGHT_S0.len())
-        .map(|i| DAYLIGHT_S0[i] + m1 * DAYLIGHT_S1[i] + m2 * DAYLIGHT_S2[i])
-        .collect();
+    let lambdas = (0..DAYLIGHT_S0.len()).map(|i| 300.0 + 5.0 * i as f64).collect();
+    let values = (0..DAYLIGHT_S0.len()).map(|i| DAYLIGHT_S0[i] + m1 * DAYLIGHT_S1[i] + m2 * DAYLIGHT_S2[i]).collect();
     Spectrum::piecewise_linear_f64(lambdas, values).map(normalise_luminance)
 }
 
@@ -115,24 +104,15 @@ mod tests {
         ];
         for (n, x, y) in cases {
             let (gx, gy) = xy(&Spectrum::named(n).unwrap());
-            assert!(
-                (gx - x).abs() < 1.5e-4 && (gy - y).abs() < 1.5e-4,
-                "{n}: {gx} {gy}"
-            );
+            assert!((gx - x).abs() < 1.5e-4 && (gy - y).abs() < 1.5e-4, "{n}: {gx} {gy}");
         }
         // The spiky fluorescents depend on how the 5 nm table is interpolated, so compare with
         // colour-science 0.4.7 on the same definition (linear interpolation to 1 nm, zero
         // outside, `sd_to_XYZ_integration`); the rule there is a 1 nm rectangle sum, ours is
         // exact, which differs by < 3e-5 in xy.
-        for (n, x, y) in [
-            ("stdillum-F2", 0.372_084_89, 0.375_289_60),
-            ("stdillum-F11", 0.380_517_96, 0.377_125_87),
-        ] {
+        for (n, x, y) in [("stdillum-F2", 0.372_084_89, 0.375_289_60), ("stdillum-F11", 0.380_517_96, 0.377_125_87)] {
             let (gx, gy) = xy(&Spectrum::named(n).unwrap());
-            assert!(
-                (gx - x).abs() < 3e-5 && (gy - y).abs() < 3e-5,
-                "{n}: {gx} {gy}"
-            );
+            assert!((gx - x).abs() < 3e-5 && (gy - y).abs() < 3e-5, "{n}: {gx} {gy}");
         }
     }
 
@@ -141,10 +121,7 @@ mod tests {
         let d = daylight(6500.0 * 1.4388 / 1.4380).unwrap();
         let d65 = Spectrum::named("stdillum-D65").unwrap();
         let (a, b) = (xy(&d), xy(&d65));
-        assert!(
-            (a.0 - b.0).abs() < 1e-4 && (a.1 - b.1).abs() < 1e-4,
-            "{a:?} {b:?}"
-        );
+        assert!((a.0 - b.0).abs() < 1e-4 && (a.1 - b.1).abs() < 1e-4, "{a:?} {b:?}");
         assert!(daylight(3000.0).is_none());
     }
 }

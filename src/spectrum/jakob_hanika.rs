@@ -63,9 +63,7 @@ impl SigmoidPolynomial {
     /// The constant σ⁻¹(v) polynomial (flat spectrum of value `v` in (0, 1)).
     pub fn flat(v: f64) -> Self {
         let v = v.clamp(1e-9, 1.0 - 1e-9);
-        Self {
-            c: [0.0, 0.0, (v - 0.5) / (v * (1.0 - v)).sqrt()],
-        }
+        Self { c: [0.0, 0.0, (v - 0.5) / (v * (1.0 - v)).sqrt()] }
     }
 }
 
@@ -113,9 +111,7 @@ impl SigmoidFitter {
             let mut ws = Vec::new();
             let mut y = 0.0;
             let grid: Vec<f64> = if step > 1.0 {
-                (0..=((X_SPAN / step) as usize))
-                    .map(|i| CIE_LAMBDA_MIN + step * i as f64)
-                    .collect()
+                (0..=((X_SPAN / step) as usize)).map(|i| CIE_LAMBDA_MIN + step * i as f64).collect()
             } else {
                 knots.clone()
             };
@@ -132,12 +128,7 @@ impl SigmoidFitter {
         let (x, w) = build(1.0);
         // 10 nm intervals: the coarse rule only feeds the table, refinement uses the fine one.
         let (coarse_x, coarse_w) = build(10.0);
-        Self {
-            x,
-            w,
-            coarse_x,
-            coarse_w,
-        }
+        Self { x, w, coarse_x, coarse_w }
     }
 
     /// RGB of σ(poly) and its Jacobian with respect to the coefficients.
@@ -156,14 +147,7 @@ impl SigmoidFitter {
     }
 
     /// Damped Newton iterations from `init` towards RGB(c) = `target`.
-    fn newton(
-        xs: &[f64],
-        ws: &[DVec3],
-        target: DVec3,
-        init: [f64; 3],
-        iters: usize,
-        tolerance: f64,
-    ) -> Fit {
+    fn newton(xs: &[f64], ws: &[DVec3], target: DVec3, init: [f64; 3], iters: usize, tolerance: f64) -> Fit {
         let mut c = init;
         let (mut rgb, mut jac) = Self::eval(xs, ws, c);
         let mut err = residual(rgb, target);
@@ -183,11 +167,7 @@ impl SigmoidFitter {
             let mut step = 1.0;
             let mut improved = false;
             for _ in 0..12 {
-                let cand = [
-                    c[0] + step * delta.x,
-                    c[1] + step * delta.y,
-                    c[2] + step * delta.z,
-                ];
+                let cand = [c[0] + step * delta.x, c[1] + step * delta.y, c[2] + step * delta.z];
                 // |c| ≤ 1e5 already gives sub-nm transitions; larger only chases colours no
                 // reflectance reaches and would overflow the f32 table.
                 if cand.iter().any(|v| v.abs() > MAX_COEFF) {
@@ -213,10 +193,7 @@ impl SigmoidFitter {
                 break;
             }
         }
-        Fit {
-            poly: SigmoidPolynomial { c },
-            residual: err,
-        }
+        Fit { poly: SigmoidPolynomial { c }, residual: err }
     }
 
     /// Fits σ(poly) to `target` (each component in [0, 1]) starting from `init`; if that
@@ -233,14 +210,7 @@ impl SigmoidFitter {
         let mut last = first;
         for k in 1..=steps {
             let s = k as f64 / steps as f64;
-            last = Self::newton(
-                &self.x,
-                &self.w,
-                grey + (target - grey) * s,
-                c,
-                50,
-                Self::TOLERANCE,
-            );
+            last = Self::newton(&self.x, &self.w, grey + (target - grey) * s, c, 50, Self::TOLERANCE);
             c = last.poly.c;
         }
         if last.residual < first.residual {
@@ -251,9 +221,7 @@ impl SigmoidFitter {
     }
 
     fn fit_coarse(&self, target: DVec3, init: [f64; 3]) -> [f64; 3] {
-        Self::newton(&self.coarse_x, &self.coarse_w, target, init, 15, 1e-5)
-            .poly
-            .c
+        Self::newton(&self.coarse_x, &self.coarse_w, target, init, 15, 1e-5).poly.c
     }
 }
 
@@ -281,9 +249,7 @@ impl RgbToSpectrumTable {
     /// `rgb2spec_opt` schedule), in parallel over (component, x, y).
     pub(crate) fn build(fitter: &SigmoidFitter, res: usize) -> Self {
         let res = res.max(3);
-        let z_nodes: Vec<f64> = (0..res)
-            .map(|i| smoothstep(smoothstep(i as f64 / (res - 1) as f64)))
-            .collect();
+        let z_nodes: Vec<f64> = (0..res).map(|i| smoothstep(smoothstep(i as f64 / (res - 1) as f64))).collect();
         let columns: Vec<Vec<[f32; 3]>> = (0..3 * res * res)
             .into_par_iter()
             .map(|k| {
@@ -323,11 +289,7 @@ impl RgbToSpectrumTable {
                 coeffs[((l * res + zi) * res + yi) * res + xi] = c;
             }
         }
-        Self {
-            res,
-            z_nodes,
-            coeffs,
-        }
+        Self { res, z_nodes, coeffs }
     }
 
     /// Resolution per axis.
@@ -338,13 +300,7 @@ impl RgbToSpectrumTable {
     /// Trilinearly interpolated coefficients for an RGB in [0, 1]³ (the fast path, no
     /// refinement: accuracy in docs/colour.md).
     pub fn lookup(&self, rgb: [f64; 3]) -> SigmoidPolynomial {
-        let rgb = rgb.map(|v| {
-            if v.is_finite() {
-                v.clamp(0.0, 1.0)
-            } else {
-                0.0
-            }
-        });
+        let rgb = rgb.map(|v| if v.is_finite() { v.clamp(0.0, 1.0) } else { 0.0 });
         if rgb[0] == rgb[1] && rgb[1] == rgb[2] {
             return SigmoidPolynomial::flat(rgb[0]);
         }
@@ -359,11 +315,7 @@ impl RgbToSpectrumTable {
         let n = (self.res - 1) as f64;
         let x = rgb[(l + 1) % 3] / z * n;
         let y = rgb[(l + 2) % 3] / z * n;
-        let zi = self
-            .z_nodes
-            .partition_point(|&v| v <= z)
-            .clamp(1, self.res - 1)
-            - 1;
+        let zi = self.z_nodes.partition_point(|&v| v <= z).clamp(1, self.res - 1) - 1;
         let xi = (x as usize).min(self.res - 2);
         let yi = (y as usize).min(self.res - 2);
         let dx = x - xi as f64;
@@ -392,13 +344,7 @@ impl RgbToSpectrumTable {
 /// Jakob–Hanika reflectance for `rgb` ∈ [0, 1]³ in `cs`: table start, then Newton refinement
 /// to [`SigmoidFitter::TOLERANCE`] where the model can reach the colour.
 pub fn fit_albedo(rgb: [f64; 3], cs: &ColorSpace) -> Fit {
-    let rgb = rgb.map(|v| {
-        if v.is_finite() {
-            v.clamp(0.0, 1.0)
-        } else {
-            0.0
-        }
-    });
+    let rgb = rgb.map(|v| if v.is_finite() { v.clamp(0.0, 1.0) } else { 0.0 });
     let init = cs.rgb_to_spectrum_table().lookup(rgb);
     cs.fitter().fit(DVec3::from_array(rgb), init)
 }
@@ -432,9 +378,7 @@ mod tests {
 
     #[test]
     fn coefficients_in_nm_give_the_same_function() {
-        let p = SigmoidPolynomial {
-            c: [3.0, -2.5, 0.4],
-        };
+        let p = SigmoidPolynomial { c: [3.0, -2.5, 0.4] };
         let n = p.coefficients_nm();
         for l in [380.0, 555.0, 700.0] {
             let t = n[0] * l * l + n[1] * l + n[2];
@@ -454,8 +398,7 @@ mod tests {
             let mut b = c;
             a[k] += h;
             b[k] -= h;
-            let fd = (SigmoidFitter::eval(&f.x, &f.w, a).0 - SigmoidFitter::eval(&f.x, &f.w, b).0)
-                / (2.0 * h);
+            let fd = (SigmoidFitter::eval(&f.x, &f.w, a).0 - SigmoidFitter::eval(&f.x, &f.w, b).0) / (2.0 * h);
             assert!((fd - j.col(k)).abs().max_element() < 1e-7, "{k}");
         }
     }

@@ -23,8 +23,8 @@ pub use color_space::{rgb_to_xyz_from_chromaticities, ColorSpace};
 pub use illuminant::{daylight, normalise_luminance, NAMED_ILLUMINANTS};
 pub use jakob_hanika::{fit_albedo, Fit, RgbToSpectrumTable, SigmoidPolynomial};
 pub use sampled::{
-    sample_visible_wavelength, uniform_wavelength_pdf, visible_wavelength_pdf, SampledSpectrum,
-    SampledWavelengths, LAMBDA_MAX, LAMBDA_MIN, N_SPECTRUM_SAMPLES,
+    sample_visible_wavelength, uniform_wavelength_pdf, visible_wavelength_pdf, SampledSpectrum, SampledWavelengths,
+    LAMBDA_MAX, LAMBDA_MIN, N_SPECTRUM_SAMPLES,
 };
 pub use spd::{PiecewiseConstant, PiecewiseLinear, RgbKind, Spectrum};
 pub use spd_file::{parse_spd, SpdError};

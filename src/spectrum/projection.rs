@@ -160,15 +160,8 @@ pub fn project(
                         })
                         .collect();
                     // Gram matrix of hats: ∫BᵢBᵢ = 2h/3 (h/3 at the ends), ∫BᵢBᵢ₊₁ = h/6.
-                    let d: Vec<f64> = (0..n)
-                        .map(|i| {
-                            if i == 0 || i == n - 1 {
-                                h / 3.0
-                            } else {
-                                2.0 * h / 3.0
-                            }
-                        })
-                        .collect();
+                    let d: Vec<f64> =
+                        (0..n).map(|i| if i == 0 || i == n - 1 { h / 3.0 } else { 2.0 * h / 3.0 }).collect();
                     let off = vec![h / 6.0; n];
                     solve_tridiagonal(&off, &d, &off, &b)
                 }
@@ -182,25 +175,14 @@ pub fn project(
             }
         }
     };
-    let mut p = Projection {
-        basis,
-        fit,
-        range,
-        coeffs,
-        l2_error: 0.0,
-        relative_error: 0.0,
-    };
+    let mut p = Projection { basis, fit, range, coeffs, l2_error: 0.0, relative_error: 0.0 };
     let approx = p.to_spectrum();
     let mut knots = fk;
     knots.extend(approx.knots());
     let err2 = integrate(lo, hi, &knots, |l| (fe(l) - approx.eval_f64(l)).powi(2));
     let norm2 = integrate(lo, hi, &knots, |l| fe(l).powi(2));
     p.l2_error = err2.sqrt();
-    p.relative_error = if norm2 > 0.0 {
-        (err2 / norm2).sqrt()
-    } else {
-        0.0
-    };
+    p.relative_error = if norm2 > 0.0 { (err2 / norm2).sqrt() } else { 0.0 };
     Ok(p)
 }
 
@@ -217,9 +199,7 @@ mod tests {
         let x = [1.0, 2.0, 3.0, 4.0];
         let r: Vec<f64> = (0..4)
             .map(|i| {
-                d[i] * x[i]
-                    + if i > 0 { a[i] * x[i - 1] } else { 0.0 }
-                    + if i < 3 { c[i] * x[i + 1] } else { 0.0 }
+                d[i] * x[i] + if i > 0 { a[i] * x[i - 1] } else { 0.0 } + if i < 3 { c[i] * x[i + 1] } else { 0.0 }
             })
             .collect();
         let got = solve_tridiagonal(&a, &d, &c, &r);
@@ -258,9 +238,7 @@ mod tests {
                 let mut q = p.clone();
                 q.coeffs[i] += d;
                 let s = q.to_spectrum();
-                let err2 = integrate(360.0, 830.0, &[], |l| {
-                    (f.eval_f64(l) - s.eval_f64(l)).powi(2)
-                });
+                let err2 = integrate(360.0, 830.0, &[], |l| (f.eval_f64(l) - s.eval_f64(l)).powi(2));
                 assert!(err2.sqrt() > p.l2_error, "coefficient {i}");
             }
         }
@@ -273,14 +251,7 @@ mod tests {
         let b = project(&f, Basis::Constant, Fit::Average, 20, (360.0, 830.0)).unwrap();
         assert_eq!(a.coeffs, b.coeffs);
         // Box average of a constant is the constant.
-        let c = project(
-            &Spectrum::constant(2.0),
-            Basis::Constant,
-            Fit::Exact,
-            5,
-            (360.0, 830.0),
-        )
-        .unwrap();
+        let c = project(&Spectrum::constant(2.0), Basis::Constant, Fit::Exact, 5, (360.0, 830.0)).unwrap();
         assert!(c.coeffs.iter().all(|v| (v - 2.0).abs() < 1e-12) && c.l2_error < 1e-9);
     }
 

@@ -15,13 +15,7 @@ impl Spectrum {
     ///
     /// Non-finite components count as 0.
     pub fn from_rgb(rgb: [f32; 3], kind: RgbKind, space: &ColorSpace) -> Spectrum {
-        let rgb = rgb.map(|v| {
-            if v.is_finite() {
-                v.max(0.0) as f64
-            } else {
-                0.0
-            }
-        });
+        let rgb = rgb.map(|v| if v.is_finite() { v.max(0.0) as f64 } else { 0.0 });
         match kind {
             RgbKind::Albedo => {
                 let rgb = rgb.map(|v| v.min(1.0));
@@ -29,10 +23,7 @@ impl Spectrum {
                     return Spectrum::constant(rgb[0] as f32);
                 }
                 let fit = fit_albedo(rgb, space);
-                Spectrum::Sigmoid {
-                    poly: fit.poly,
-                    scale: 1.0,
-                }
+                Spectrum::Sigmoid { poly: fit.poly, scale: 1.0 }
             }
             RgbKind::Unbounded => unbounded(rgb, space),
             RgbKind::Illuminant => unbounded(rgb, space).product(space.illuminant.clone()),
@@ -50,8 +41,5 @@ fn unbounded(rgb: [f64; 3], space: &ColorSpace) -> Spectrum {
     }
     let scale = 2.0 * m;
     let fit = fit_albedo(rgb.map(|v| v / scale), space);
-    Spectrum::Sigmoid {
-        poly: fit.poly,
-        scale: scale as f32,
-    }
+    Spectrum::Sigmoid { poly: fit.poly, scale: scale as f32 }
 }

@@ -22,13 +22,10 @@ impl Upsampler {
     /// The reflectance for `rgb` in `cs`.
     pub fn reflectance(self, rgb: [f64; 3], cs: &ColorSpace) -> Spectrum {
         match self {
-            Upsampler::JakobHanika => {
-                Spectrum::from_rgb(rgb.map(|v| v as f32), RgbKind::Albedo, cs)
+            Upsampler::JakobHanika => Spectrum::from_rgb(rgb.map(|v| v as f32), RgbKind::Albedo, cs),
+            Upsampler::JakobHanikaTable => {
+                Spectrum::Sigmoid { poly: cs.rgb_to_spectrum_table().lookup(rgb), scale: 1.0 }
             }
-            Upsampler::JakobHanikaTable => Spectrum::Sigmoid {
-                poly: cs.rgb_to_spectrum_table().lookup(rgb),
-                scale: 1.0,
-            },
             Upsampler::Smits => smits_spectrum(rgb, SmitsKind::Reflectance, cs),
         }
     }
@@ -73,11 +70,7 @@ pub fn grid_errors(n: usize, method: Upsampler, cs: &ColorSpace) -> GridErrors {
     let max = errs.iter().map(|e| e.0).fold(0.0, f64::max);
     let rms = (errs.iter().map(|e| e.1).sum::<f64>() / (3 * errs.len()) as f64).sqrt();
     let within = errs.iter().filter(|e| e.0 < 1e-3).count() as f64 / errs.len() as f64;
-    GridErrors {
-        max,
-        rms,
-        within_1e3: within,
-    }
+    GridErrors { max, rms, within_1e3: within }
 }
 
 #[cfg(test)]
@@ -97,12 +90,7 @@ mod tests {
         // solid (e.g. Rec.2020 (0.05, 0.9, 0.1) misses by 0.05; see docs/colour.md).
         for n in ["rec2020", "acescg", "dci-p3", "aces2065-1"] {
             let cs = ColorSpace::by_name(n).unwrap();
-            for rgb in [
-                [0.6, 0.2, 0.5],
-                [0.7, 0.5, 0.2],
-                [0.3, 0.6, 0.3],
-                [0.2, 0.3, 0.7],
-            ] {
+            for rgb in [[0.6, 0.2, 0.5], [0.7, 0.5, 0.2], [0.3, 0.6, 0.3], [0.2, 0.3, 0.7]] {
                 let e = (roundtrip(rgb, Upsampler::JakobHanika, cs) - DVec3::from_array(rgb)).abs();
                 assert!(e.max_element() < 1e-3, "{n} {rgb:?} {e}");
             }
@@ -113,12 +101,7 @@ mod tests {
     fn wide_gamut_spectra_stay_finite_and_bounded() {
         // Colours no reflectance reaches still give a finite spectrum in [0, 1].
         let cs = ColorSpace::by_name("aces2065-1").unwrap();
-        for rgb in [
-            [0.0, 1.0, 0.0],
-            [0.0, 0.0, 1.0],
-            [1.0, 0.0, 0.0],
-            [0.0, 1.0, 1.0],
-        ] {
+        for rgb in [[0.0, 1.0, 0.0], [0.0, 0.0, 1.0], [1.0, 0.0, 0.0], [0.0, 1.0, 1.0]] {
             let p = cs.rgb_to_spectrum_table().lookup(rgb.map(|v| v as f64));
             assert!(p.c.iter().all(|v| v.is_finite()), "table {rgb:?}");
             let s = Spectrum::from_rgb(rgb, RgbKind::Albedo, cs);
@@ -143,10 +126,7 @@ mod tests {
         assert!((got - want).abs().max_element() < 3e-3, "{got}");
         let w = Spectrum::from_rgb([1.0; 3], RgbKind::Illuminant, cs);
         assert!((w.to_xyz_f64().y - 1.0).abs() < 1e-9);
-        assert_eq!(
-            Spectrum::from_rgb([0.0; 3], RgbKind::Unbounded, cs).eval(500.0),
-            0.0
-        );
+        assert_eq!(Spectrum::from_rgb([0.0; 3], RgbKind::Unbounded, cs).eval(500.0), 0.0);
         let v = Spectrum::from_rgb([f32::NAN, 2.0, 2.0], RgbKind::Albedo, cs).eval(400.0);
         assert!(v.is_finite() && (0.0..=1.0).contains(&v), "{v}");
     }

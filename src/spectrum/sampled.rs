@@ -77,12 +77,7 @@ impl SampledSpectrum {
     /// Element-wise map.
     #[inline]
     pub fn map(self, f: impl Fn(f32) -> f32) -> Self {
-        Self(Vec4::new(
-            f(self.0.x),
-            f(self.0.y),
-            f(self.0.z),
-            f(self.0.w),
-        ))
+        Self(Vec4::new(f(self.0.x), f(self.0.y), f(self.0.z), f(self.0.w)))
     }
     /// Element-wise exponential (Beer–Lambert transmittance).
     #[inline]
@@ -210,10 +205,7 @@ impl SampledWavelengths {
             }
             *l = x;
         }
-        Self {
-            lambda,
-            pdf: [1.0 / range; N_SPECTRUM_SAMPLES],
-        }
+        Self { lambda, pdf: [1.0 / range; N_SPECTRUM_SAMPLES] }
     }
 
     /// Hero sampling with density ∝ 1/cosh²(0.0072 (λ − 538 nm)) on [360, 830] nm, which
@@ -322,10 +314,7 @@ mod tests {
             }
             for i in 1..4 {
                 let gap = l[i] - l[i - 1];
-                assert!(
-                    (gap - (LAMBDA_MAX - LAMBDA_MIN) / 4.0).abs() < 1e-3,
-                    "{l:?}"
-                );
+                assert!((gap - (LAMBDA_MAX - LAMBDA_MIN) / 4.0).abs() < 1e-3, "{l:?}");
             }
         }
     }
@@ -366,12 +355,7 @@ mod tests {
 
     /// Pearson χ² of `n` draws of `sample(u)` against `pdf` over `bins` equal bins of
     /// [360, 830]; returns (statistic, degrees of freedom).
-    fn chi2(
-        sample: impl Fn(f32) -> f32,
-        pdf: impl Fn(f32) -> f32,
-        bins: usize,
-        n: usize,
-    ) -> (f64, usize) {
+    fn chi2(sample: impl Fn(f32) -> f32, pdf: impl Fn(f32) -> f32, bins: usize, n: usize) -> (f64, usize) {
         let mut rng = crate::sampling::Rng::new(7, 3);
         let mut counts = vec![0u64; bins];
         let w = (LAMBDA_MAX - LAMBDA_MIN) as f64 / bins as f64;
@@ -385,11 +369,8 @@ mod tests {
             // Expected count: ∫ pdf over the bin by a fine midpoint rule.
             let lo = LAMBDA_MIN as f64 + b as f64 * w;
             let m = 64;
-            let p: f64 = (0..m)
-                .map(|k| pdf((lo + (k as f64 + 0.5) * w / m as f64) as f32) as f64)
-                .sum::<f64>()
-                * w
-                / m as f64;
+            let p: f64 =
+                (0..m).map(|k| pdf((lo + (k as f64 + 0.5) * w / m as f64) as f32) as f64).sum::<f64>() * w / m as f64;
             let e = p * n as f64;
             stat += (c as f64 - e).powi(2) / e;
         }
@@ -400,21 +381,11 @@ mod tests {
     fn visible_sampling_passes_chi2() {
         // α = 0.01 critical value of χ²(79) is 111.1 (Wilson–Hilferty: k(1 − 2/9k + z√(2/9k))³
         // with z = 2.326 gives 111.2).
-        let (stat, dof) = chi2(
-            sample_visible_wavelength,
-            visible_wavelength_pdf,
-            80,
-            1_000_000,
-        );
+        let (stat, dof) = chi2(sample_visible_wavelength, visible_wavelength_pdf, 80, 1_000_000);
         assert_eq!(dof, 79);
         assert!(stat < 111.1, "χ² = {stat}");
         // The test has power: uniform samples against the visible pdf fail it badly.
-        let (bad, _) = chi2(
-            |u| LAMBDA_MIN + u * (LAMBDA_MAX - LAMBDA_MIN),
-            visible_wavelength_pdf,
-            80,
-            100_000,
-        );
+        let (bad, _) = chi2(|u| LAMBDA_MIN + u * (LAMBDA_MAX - LAMBDA_MIN), visible_wavelength_pdf, 80, 100_000);
         assert!(bad > 1000.0, "{bad}");
     }
 
@@ -429,11 +400,8 @@ mod tests {
             let (mut sum, mut sq) = (glam::DVec3::ZERO, glam::DVec3::ZERO);
             for _ in 0..n {
                 let u = rng.uniform();
-                let w = if visible {
-                    SampledWavelengths::sample_visible(u)
-                } else {
-                    SampledWavelengths::sample_uniform(u)
-                };
+                let w =
+                    if visible { SampledWavelengths::sample_visible(u) } else { SampledWavelengths::sample_uniform(u) };
                 let v = d65.sample(&w).to_xyz(&w).as_dvec3();
                 assert!((d65.sample(&w).y(&w) as f64 - v.y).abs() < 1e-6);
                 sum += v;
@@ -442,10 +410,7 @@ mod tests {
             let mean = sum / n as f64;
             let se = ((sq / n as f64 - mean * mean) / n as f64).powf(0.5);
             let z = (mean - exact).abs() / se;
-            assert!(
-                z.max_element() < 4.0,
-                "visible={visible} mean {mean} exact {exact} se {se}"
-            );
+            assert!(z.max_element() < 4.0, "visible={visible} mean {mean} exact {exact} se {se}");
             assert!(se.y < 2e-3);
         }
     }

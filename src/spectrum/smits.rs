@@ -106,10 +106,7 @@ pub fn smits_spectrum(rgb: [f64; 3], kind: SmitsKind, space: &ColorSpace) -> Spe
     let mut lambdas = vec![360.0];
     lambdas.extend((0..10).map(|i| 380.0 + 340.0 / 9.0 * i as f64));
     lambdas.push(830.0);
-    let values = lambdas
-        .iter()
-        .map(|&l| steps.iter().map(|s| s.amount * s.basis.eval(l)).sum())
-        .collect();
+    let values = lambdas.iter().map(|&l| steps.iter().map(|s| s.amount * s.basis.eval(l)).sum()).collect();
     let s = Spectrum::piecewise_linear_f64(lambdas, values).expect("fixed grid is well formed");
     match kind {
         SmitsKind::Reflectance => s,
@@ -137,22 +134,10 @@ mod tests {
     #[test]
     fn every_ordering_picks_the_right_bases() {
         let cases = [
-            (
-                [0.1, 0.5, 0.3],
-                [SmitsBasis::White, SmitsBasis::Cyan, SmitsBasis::Green],
-            ),
-            (
-                [0.5, 0.1, 0.3],
-                [SmitsBasis::White, SmitsBasis::Magenta, SmitsBasis::Red],
-            ),
-            (
-                [0.3, 0.5, 0.1],
-                [SmitsBasis::White, SmitsBasis::Yellow, SmitsBasis::Green],
-            ),
-            (
-                [0.2, 0.4, 0.9],
-                [SmitsBasis::White, SmitsBasis::Cyan, SmitsBasis::Blue],
-            ),
+            ([0.1, 0.5, 0.3], [SmitsBasis::White, SmitsBasis::Cyan, SmitsBasis::Green]),
+            ([0.5, 0.1, 0.3], [SmitsBasis::White, SmitsBasis::Magenta, SmitsBasis::Red]),
+            ([0.3, 0.5, 0.1], [SmitsBasis::White, SmitsBasis::Yellow, SmitsBasis::Green]),
+            ([0.2, 0.4, 0.9], [SmitsBasis::White, SmitsBasis::Cyan, SmitsBasis::Blue]),
         ];
         for (rgb, bases) in cases {
             let s = smits_steps(rgb);
@@ -166,13 +151,7 @@ mod tests {
     #[test]
     fn grey_is_white_and_sum_matches_samples() {
         let s = smits_steps([0.5, 0.5, 0.5]);
-        assert_eq!(
-            s,
-            vec![SmitsStep {
-                basis: SmitsBasis::White,
-                amount: 0.5
-            }]
-        );
+        assert_eq!(s, vec![SmitsStep { basis: SmitsBasis::White, amount: 0.5 }]);
         let sp = smits_spectrum([0.6, 0.2, 0.5], SmitsKind::Reflectance, ColorSpace::srgb());
         let l = 380.0 + 340.0 / 9.0 * 3.0;
         let want = 0.2 * SMITS_WHITE[3] + 0.3 * SMITS_MAGENTA[3] + 0.1 * SMITS_RED[3];

@@ -138,10 +138,7 @@ impl Spectrum {
         if !(kelvin > 0.0 && kelvin.is_finite()) {
             return Spectrum::Constant(0.0);
         }
-        Spectrum::Blackbody {
-            kelvin,
-            inv_peak: 1.0 / blackbody_peak_radiance(kelvin as f64),
-        }
+        Spectrum::Blackbody { kelvin, inv_peak: 1.0 / blackbody_peak_radiance(kelvin as f64) }
     }
 
     /// The piecewise-linear function through (`lambdas[i]` [nm], `values[i]`), zero outside.
@@ -174,9 +171,7 @@ impl Spectrum {
             Spectrum::Constant(v) => *v as f64,
             Spectrum::PiecewiseLinear(p) => p.eval(l),
             Spectrum::PiecewiseConstant(p) => p.eval(l),
-            Spectrum::Blackbody { kelvin, inv_peak } => {
-                blackbody_normalised(l, *kelvin as f64, *inv_peak)
-            }
+            Spectrum::Blackbody { kelvin, inv_peak } => blackbody_normalised(l, *kelvin as f64, *inv_peak),
             Spectrum::Sigmoid { poly, scale } => *scale as f64 * poly.eval_f64(l),
             Spectrum::Product(p) => p.0.eval_f64(l) * p.1.eval_f64(l),
         }

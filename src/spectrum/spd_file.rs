@@ -91,37 +91,21 @@ pub fn parse_spd(text: &str, allow_negative: bool) -> Result<(Vec<f64>, Vec<f64>
     for (i, raw) in text.lines().enumerate() {
         let line = i + 1;
         let content = raw.split('#').next().unwrap_or("");
-        let fields: Vec<&str> = content
-            .split(|c: char| c.is_whitespace() || c == ',' || c == ';')
-            .filter(|f| !f.is_empty())
-            .collect();
+        let fields: Vec<&str> =
+            content.split(|c: char| c.is_whitespace() || c == ',' || c == ';').filter(|f| !f.is_empty()).collect();
         if fields.is_empty() {
             continue;
         }
         if fields.len() != 2 {
-            return Err(SpdError::FieldCount {
-                line,
-                found: fields.len(),
-            });
+            return Err(SpdError::FieldCount { line, found: fields.len() });
         }
-        let num = |f: &str| {
-            f.parse::<f64>().map_err(|_| SpdError::NotNumeric {
-                line,
-                field: f.to_string(),
-            })
-        };
+        let num = |f: &str| f.parse::<f64>().map_err(|_| SpdError::NotNumeric { line, field: f.to_string() });
         let (l, v) = (num(fields[0])?, num(fields[1])?);
         if !l.is_finite() {
-            return Err(SpdError::NotFinite {
-                line,
-                what: "wavelength",
-            });
+            return Err(SpdError::NotFinite { line, what: "wavelength" });
         }
         if !v.is_finite() {
-            return Err(SpdError::NotFinite {
-                line,
-                what: "value",
-            });
+            return Err(SpdError::NotFinite { line, what: "value" });
         }
         if l <= 0.0 {
             return Err(SpdError::BadWavelength { line, lambda: l });
@@ -131,11 +115,7 @@ pub fn parse_spd(text: &str, allow_negative: bool) -> Result<(Vec<f64>, Vec<f64>
                 return Err(SpdError::Duplicate { line, lambda: l });
             }
             if l < prev {
-                return Err(SpdError::Unsorted {
-                    line,
-                    lambda: l,
-                    previous: prev,
-                });
+                return Err(SpdError::Unsorted { line, lambda: l, previous: prev });
             }
         }
         if v < 0.0 && !allow_negative {
@@ -145,9 +125,7 @@ pub fn parse_spd(text: &str, allow_negative: bool) -> Result<(Vec<f64>, Vec<f64>
         values.push(v);
     }
     if lambdas.len() < 2 {
-        return Err(SpdError::TooFewSamples {
-            found: lambdas.len(),
-        });
+        return Err(SpdError::TooFewSamples { found: lambdas.len() });
     }
     Ok((lambdas, values))
 }
@@ -156,10 +134,8 @@ impl Spectrum {
     /// Reads an SPD file (see the module docs) as a piecewise-linear spectrum.
     pub fn from_spd_file(path: impl AsRef<Path>) -> Result<Spectrum, SpdError> {
         let path = path.as_ref();
-        let text = std::fs::read_to_string(path).map_err(|source| SpdError::Io {
-            path: path.display().to_string(),
-            source,
-        })?;
+        let text = std::fs::read_to_string(path)
+            .map_err(|source| SpdError::Io { path: path.display().to_string(), source })?;
         Spectrum::from_spd_str(&text)
     }
 
@@ -188,45 +164,15 @@ mod tests {
 
     #[test]
     fn errors_name_the_line() {
-        assert!(matches!(
-            err("400 1\n410 x\n"),
-            SpdError::NotNumeric { line: 2, .. }
-        ));
-        assert!(matches!(
-            err("400 1\n390 1\n"),
-            SpdError::Unsorted { line: 2, .. }
-        ));
-        assert!(matches!(
-            err("400 1\n# c\n400 2\n"),
-            SpdError::Duplicate { line: 3, .. }
-        ));
-        assert!(matches!(
-            err("400 1\n410 -0.5\n"),
-            SpdError::Negative { line: 2, .. }
-        ));
-        assert!(matches!(
-            err("400 1\n410 NaN\n"),
-            SpdError::NotFinite {
-                line: 2,
-                what: "value"
-            }
-        ));
-        assert!(matches!(
-            err("400 1 3\n"),
-            SpdError::FieldCount { line: 1, found: 3 }
-        ));
-        assert!(matches!(
-            err("-5 1\n"),
-            SpdError::BadWavelength { line: 1, .. }
-        ));
-        assert!(matches!(
-            err("# only\n400 1\n"),
-            SpdError::TooFewSamples { found: 1 }
-        ));
-        assert!(matches!(
-            Spectrum::from_spd_file("/nonexistent/x.spd").unwrap_err(),
-            SpdError::Io { .. }
-        ));
+        assert!(matches!(err("400 1\n410 x\n"), SpdError::NotNumeric { line: 2, .. }));
+        assert!(matches!(err("400 1\n390 1\n"), SpdError::Unsorted { line: 2, .. }));
+        assert!(matches!(err("400 1\n# c\n400 2\n"), SpdError::Duplicate { line: 3, .. }));
+        assert!(matches!(err("400 1\n410 -0.5\n"), SpdError::Negative { line: 2, .. }));
+        assert!(matches!(err("400 1\n410 NaN\n"), SpdError::NotFinite { line: 2, what: "value" }));
+        assert!(matches!(err("400 1 3\n"), SpdError::FieldCount { line: 1, found: 3 }));
+        assert!(matches!(err("-5 1\n"), SpdError::BadWavelength { line: 1, .. }));
+        assert!(matches!(err("# only\n400 1\n"), SpdError::TooFewSamples { found: 1 }));
+        assert!(matches!(Spectrum::from_spd_file("/nonexistent/x.spd").unwrap_err(), SpdError::Io { .. }));
         let msg = err("400 1\n410 x\n").to_string();
         assert!(msg.contains("line 2") && msg.contains("'x'"), "{msg}");
     }

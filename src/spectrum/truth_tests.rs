@@ -13,11 +13,7 @@ fn truth() -> Value {
 }
 
 fn vec3(v: &Value) -> DVec3 {
-    DVec3::new(
-        v[0].as_f64().unwrap(),
-        v[1].as_f64().unwrap(),
-        v[2].as_f64().unwrap(),
-    )
+    DVec3::new(v[0].as_f64().unwrap(), v[1].as_f64().unwrap(), v[2].as_f64().unwrap())
 }
 
 /// The file's linear-sRGB convention: colour-science's 4-decimal matrix (row-major).
@@ -49,8 +45,7 @@ fn d65_xyz_xy_and_srgb() {
     // "1e-4 absolute (integration of the 1 nm tables)": the 1 nm alternate. The headline
     // value uses colour's 5 nm ASTM E308 tables cut at 780 nm and differs from both by
     // 1.5e-4 in Z (reported in docs/colour.md).
-    let one_nm =
-        &b["alternates_XYZ_Y1"]["sd_to_XYZ_integration, D65 Sprague-aligned to 360-830/1nm"];
+    let one_nm = &b["alternates_XYZ_Y1"]["sd_to_XYZ_integration, D65 Sprague-aligned to 360-830/1nm"];
     assert!((xyz - vec3(one_nm)).abs().max_element() < 1e-4, "{xyz}");
     let s = xyz.element_sum();
     assert!((xyz.x / s - b["xy"][0].as_f64().unwrap()).abs() < 1e-4);
@@ -60,10 +55,7 @@ fn d65_xyz_xy_and_srgb() {
     let rgb = m * xyz;
     assert!((rgb - m * vec3(one_nm)).abs().max_element() < 1e-4, "{rgb}");
     // The headline 5 nm value is within 2e-4 (its Z differs by 1.5e-4, see above).
-    assert!(
-        (rgb - vec3(&b["linear_sRGB"])).abs().max_element() < 2e-4,
-        "{rgb}"
-    );
+    assert!((rgb - vec3(&b["linear_sRGB"])).abs().max_element() < 2e-4, "{rgb}");
 }
 
 #[test]
@@ -78,12 +70,7 @@ fn blackbody_xyz_xy_and_srgb() {
         let y1 = xyz / xyz.y;
         let want = vec3(&v["XYZ_Y1"]);
         for k in 0..3 {
-            assert!(
-                rel(y1[k], want[k]) < 1e-4,
-                "{temp} XYZ_Y1[{k}] {} {}",
-                y1[k],
-                want[k]
-            );
+            assert!(rel(y1[k], want[k]) < 1e-4, "{temp} XYZ_Y1[{k}] {} {}", y1[k], want[k]);
         }
         let s = y1.element_sum();
         assert!(rel(y1.x / s, v["xy"][0].as_f64().unwrap()) < 1e-4);
@@ -98,25 +85,15 @@ fn blackbody_xyz_xy_and_srgb() {
         // theirs here; our SI Planck is checked against Stefan–Boltzmann in blackbody.rs.
         let planck = |l: f64| {
             let lm = l * 1e-9;
-            3.741771e-16
-                / std::f64::consts::PI
-                / lm.powi(5)
-                / ((0.014388 / (lm * kelvin)).exp() - 1.0)
-                * 1e-9
+            3.741771e-16 / std::f64::consts::PI / lm.powi(5) / ((0.014388 / (lm * kelvin)).exp() - 1.0) * 1e-9
         };
         let abs = super::cie::integrate_xyz(planck, &[]) / CIE_Y_INTEGRAL_F64;
         let want = vec3(&v["XYZ_Enorm_absolute"]);
         for k in 0..3 {
-            assert!(
-                rel(abs[k], want[k]) < 1e-4,
-                "{temp} abs[{k}] {} {}",
-                abs[k],
-                want[k]
-            );
+            assert!(rel(abs[k], want[k]) < 1e-4, "{temp} abs[{k}] {} {}", abs[k], want[k]);
         }
         // And ours agrees with theirs to the constants' difference.
-        let ours =
-            super::cie::integrate_xyz(|l| blackbody_radiance(l, kelvin), &[]) / CIE_Y_INTEGRAL_F64;
+        let ours = super::cie::integrate_xyz(|l| blackbody_radiance(l, kelvin), &[]) / CIE_Y_INTEGRAL_F64;
         assert!(rel(ours.y, want.y) < 5e-4);
     }
 }

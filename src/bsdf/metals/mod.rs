@@ -16,11 +16,7 @@ pub const METALS: &[&str] = &["Ag", "Al", "Au", "Cr", "Cu", "Ti"];
 pub fn metal_eta_k(name: &str) -> Option<(SpectrumTable, SpectrumTable)> {
     let symbol = name
         .strip_prefix("metal-")
-        .map(|s| {
-            s.strip_suffix("-eta")
-                .or_else(|| s.strip_suffix("-k"))
-                .unwrap_or(s)
-        })
+        .map(|s| s.strip_suffix("-eta").or_else(|| s.strip_suffix("-k")).unwrap_or(s))
         .unwrap_or(name);
     Some(match symbol.to_ascii_lowercase().as_str() {
         "ag" | "silver" => (tables::AG_ETA, tables::AG_K),
@@ -76,10 +72,7 @@ mod tests {
         for &m in METALS {
             let (eta, k) = metal_eta_k(m).unwrap();
             for t in [eta, k] {
-                assert!(
-                    t.first().unwrap().0 <= 300.0 && t.last().unwrap().0 >= 880.0,
-                    "{m}"
-                );
+                assert!(t.first().unwrap().0 <= 300.0 && t.last().unwrap().0 >= 880.0, "{m}");
                 assert!(t.windows(2).all(|w| w[0].0 < w[1].0), "{m}");
                 assert!(t.iter().all(|&(_, v)| v > 0.0 && v < 20.0), "{m}");
             }
@@ -106,11 +99,7 @@ mod tests {
         // and flat (> 0.85 over 450–700 nm).
         let r = |m: &str, l: f32| {
             let (e, k) = metal_eta_k(m).unwrap();
-            fr_complex(
-                1.0,
-                eval_piecewise_linear(e, l),
-                eval_piecewise_linear(k, l),
-            )
+            fr_complex(1.0, eval_piecewise_linear(e, l), eval_piecewise_linear(k, l))
         };
         assert!(r("Au", 650.0) > 0.9 && r("Au", 450.0) < 0.45);
         assert!(r("Cu", 650.0) > 0.9 && r("Cu", 450.0) < 0.65);

@@ -21,10 +21,7 @@ fn sample_dirs(bxdf: Bxdf, wo: Vec3) -> impl FnMut(f32, Vec2) -> Option<Vec3> {
 
 /// Number of χ² tests a suite runs (for the Šidák correction).
 fn suite_size<'a>(models: impl Iterator<Item = &'a Bxdf>) -> usize {
-    models
-        .map(|b| if b.flags().is_transmissive() { 2 } else { 1 })
-        .sum::<usize>()
-        * ANGLES_DEG.len()
+    models.map(|b| if b.flags().is_transmissive() { 2 } else { 1 }).sum::<usize>() * ANGLES_DEG.len()
 }
 
 fn run_suite(
@@ -32,19 +29,13 @@ fn run_suite(
     tests_in_suite: usize,
     domain: impl Fn(&Bxdf, Vec3) -> Domain + Sync,
 ) -> Vec<String> {
-    let configs: Vec<(&String, &Bxdf, f32)> = models
-        .iter()
-        .flat_map(|(n, b)| ANGLES_DEG.iter().map(move |&t| (n, b, t)))
-        .collect();
+    let configs: Vec<(&String, &Bxdf, f32)> =
+        models.iter().flat_map(|(n, b)| ANGLES_DEG.iter().map(move |&t| (n, b, t))).collect();
     let failures = configs.par_iter().map(|&(name, bxdf, theta)| {
         let mut failures = Vec::new();
         {
             // From below only where it differs (transmission); the others are two-sided copies.
-            let sides: &[bool] = if bxdf.flags().is_transmissive() {
-                &[false, true]
-            } else {
-                &[false]
-            };
+            let sides: &[bool] = if bxdf.flags().is_transmissive() { &[false, true] } else { &[false] };
             for &below in sides {
                 let mut wo = dir(theta);
                 if below {
@@ -56,9 +47,7 @@ fn run_suite(
                     sample_count: SAMPLES,
                     ..Chi2Test::default()
                 };
-                let r = test.run(sample_dirs(*bxdf, wo), |wi| {
-                    bxdf.pdf(wo, wi, TransportMode::Radiance)
-                });
+                let r = test.run(sample_dirs(*bxdf, wo), |wi| bxdf.pdf(wo, wi, TransportMode::Radiance));
                 if !r.passed {
                     failures.push(format!("{name}, θo = {theta}°, below = {below}: {r}"));
                 }
@@ -74,12 +63,7 @@ fn chi2_rough_models_on_the_sphere() {
     let models = rough_models(&SPHERE_ALPHAS);
     let n = suite_size(models.iter().map(|m| &m.1));
     let failures = run_suite(models, n, |_, _| Domain::SPHERE);
-    assert!(
-        failures.is_empty(),
-        "{} of {n} failed:\n{}",
-        failures.len(),
-        failures.join("\n")
-    );
+    assert!(failures.is_empty(), "{} of {n} failed:\n{}", failures.len(), failures.join("\n"));
 }
 
 /// Near-specular lobes (α = 0.001, 0.01) are far narrower than a sphere cell, so the test
@@ -90,21 +74,9 @@ fn chi2_near_specular_lobes_in_a_zoomed_cap() {
     let mut models = Vec::new();
     let (eta, k) = gold();
     for a in [0.001f32, 0.01] {
-        models.push((
-            format!("conductor α={a}"),
-            Bxdf::from(Conductor::new(ggx(a), eta, k)),
-            a,
-        ));
-        models.push((
-            format!("dielectric η=1.5 α={a}"),
-            Dielectric::new(1.5, ggx(a)).into(),
-            a,
-        ));
-        models.push((
-            format!("coated α={a}"),
-            CoatedDiffuse::new(spectrum(0.2, 0.5, 0.7, 0.9), 1.5, ggx(a)).into(),
-            a,
-        ));
+        models.push((format!("conductor α={a}"), Bxdf::from(Conductor::new(ggx(a), eta, k)), a));
+        models.push((format!("dielectric η=1.5 α={a}"), Dielectric::new(1.5, ggx(a)).into(), a));
+        models.push((format!("coated α={a}"), CoatedDiffuse::new(spectrum(0.2, 0.5, 0.7, 0.9), 1.5, ggx(a)).into(), a));
     }
     let n = suite_size(models.iter().map(|m| &m.1));
     let mut failures = Vec::new();
@@ -113,23 +85,13 @@ fn chi2_near_specular_lobes_in_a_zoomed_cap() {
             let mirror = Vec3::new(-wo.x, -wo.y, wo.z);
             // Dielectric: zoom on the refracted lobe (the mirror lobe is tested by the others).
             let axis = match bxdf {
-                Bxdf::Dielectric(d) => local::refract(wo, Vec3::Z, d.eta)
-                    .map(|(t, _)| t)
-                    .unwrap_or(mirror),
+                Bxdf::Dielectric(d) => local::refract(wo, Vec3::Z, d.eta).map(|(t, _)| t).unwrap_or(mirror),
                 _ => mirror,
             };
-            Domain::Cap {
-                axis,
-                theta_max: 40.0 * alpha,
-            }
+            Domain::Cap { axis, theta_max: 40.0 * alpha }
         };
         let mut f = run_suite(vec![(name, bxdf)], n, domain);
         failures.append(&mut f);
     }
-    assert!(
-        failures.is_empty(),
-        "{} of {n} failed:\n{}",
-        failures.len(),
-        failures.join("\n")
-    );
+    assert!(failures.is_empty(), "{} of {n} failed:\n{}", failures.len(), failures.join("\n"));
 }

@@ -21,8 +21,7 @@ fn reference_albedo(rho: f32, eta: f32, alpha: f32, wo: Vec3, n: usize) -> (f64,
         let mut escaped = false;
         for _bounce in 0..256 {
             let u = Vec2::new(rng.uniform(), rng.uniform());
-            let Some(b) = coat.sample_f(incoming, rng.uniform(), u, TransportMode::Importance)
-            else {
+            let Some(b) = coat.sample_f(incoming, rng.uniform(), u, TransportMode::Importance) else {
                 break;
             };
             weight *= b.f.average() * b.wi.z.abs() / b.pdf;
@@ -40,28 +39,18 @@ fn reference_albedo(rho: f32, eta: f32, alpha: f32, wo: Vec3, n: usize) -> (f64,
         s2 += w * w;
     }
     let mean = s / n as f64;
-    (
-        mean,
-        ((s2 / n as f64 - mean * mean).max(0.0) / n as f64).sqrt(),
-    )
+    (mean, ((s2 / n as f64 - mean * mean).max(0.0) / n as f64).sqrt())
 }
 
 #[test]
 fn smooth_coat_matches_the_layered_random_walk() {
     for rho in [1.0f32, 0.5] {
-        let model = Bxdf::from(CoatedDiffuse::new(
-            SampledSpectrum::splat(rho),
-            1.5,
-            ggx(0.0),
-        ));
+        let model = Bxdf::from(CoatedDiffuse::new(SampledSpectrum::splat(rho), 1.5, ggx(0.0)));
         for t in [0.0f32, 45.0, 80.0] {
             let (m, sm) = albedo(&model, dir(t), 100_000, 21);
             let (r, sr) = reference_albedo(rho, 1.5, 0.0, dir(t), 100_000);
             let se = (sm * sm + sr * sr).sqrt();
-            assert!(
-                (m - r).abs() < 4.0 * se + 1e-4,
-                "ρ={rho} θ={t}: model {m} ± {sm}, walk {r} ± {sr}"
-            );
+            assert!((m - r).abs() < 4.0 * se + 1e-4, "ρ={rho} θ={t}: model {m} ± {sm}, walk {r} ± {sr}");
         }
     }
 }
@@ -71,11 +60,7 @@ fn rough_coat_error_against_the_layered_random_walk_is_reported() {
     let mut report = String::from("coated diffuse albedo, model vs random walk (η = 1.5):\n");
     for rho in [1.0f32, 0.5] {
         for alpha in [0.1f32, 0.3, 0.6] {
-            let model = Bxdf::from(CoatedDiffuse::new(
-                SampledSpectrum::splat(rho),
-                1.5,
-                ggx(alpha),
-            ));
+            let model = Bxdf::from(CoatedDiffuse::new(SampledSpectrum::splat(rho), 1.5, ggx(alpha)));
             for t in [0.0f32, 45.0, 80.0] {
                 let (m, sm) = albedo(&model, dir(t), 100_000, 21);
                 let (r, sr) = reference_albedo(rho, 1.5, alpha, dir(t), 100_000);

@@ -18,10 +18,7 @@ fn smooth_conductor_is_a_mirror_weighted_by_fresnel() {
             assert!(s.is_specular() && s.is_reflection() && s.pdf == 1.0);
             let weight = s.f * s.wi.z.abs() / s.pdf;
             let want = fresnel::fr_complex_spectrum(wo.z, eta, k);
-            assert!(
-                (weight - want).0.abs().max_element() < 1e-5,
-                "{weight:?} vs {want:?}"
-            );
+            assert!((weight - want).0.abs().max_element() < 1e-5, "{weight:?} vs {want:?}");
             assert_eq!(b.pdf(wo, s.wi, TransportMode::Radiance), 0.0);
             assert!(b.f(wo, s.wi, TransportMode::Radiance).is_black());
         }
@@ -47,9 +44,7 @@ fn smooth_dielectric_obeys_snell_and_fresnel() {
                 if r >= 1.0 {
                     continue; // total internal reflection
                 }
-                let s = b
-                    .sample_f(wo, r + (1.0 - r) * 0.5, U, TransportMode::Radiance)
-                    .unwrap();
+                let s = b.sample_f(wo, r + (1.0 - r) * 0.5, U, TransportMode::Radiance).unwrap();
                 assert!(s.is_transmission() && s.is_specular());
                 let (ni, nt) = if wo.z > 0.0 { (1.0, eta) } else { (eta, 1.0) };
                 // Snell: ηi sin θi = ηt sin θt, the refracted ray in the plane of incidence on
@@ -62,9 +57,7 @@ fn smooth_dielectric_obeys_snell_and_fresnel() {
                 // Radiance mode: (1 − R)/pdf · 1/η² = 1/η².
                 let w = s.f.average() * s.wi.z.abs() / s.pdf;
                 assert!((w - (ni / nt).powi(2)).abs() < 1e-4, "{w}");
-                let si = b
-                    .sample_f(wo, r + (1.0 - r) * 0.5, U, TransportMode::Importance)
-                    .unwrap();
+                let si = b.sample_f(wo, r + (1.0 - r) * 0.5, U, TransportMode::Importance).unwrap();
                 assert!((si.f.average() * si.wi.z.abs() / si.pdf - 1.0).abs() < 1e-5);
             }
         }

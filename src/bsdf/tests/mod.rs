@@ -27,10 +27,7 @@ pub(super) fn spectrum(a: f32, b: f32, c: f32, d: f32) -> SampledSpectrum {
 
 /// Gold-like complex IOR at four wavelengths (450, 550, 650, 750 nm; Johnson & Christy).
 pub(super) fn gold() -> (SampledSpectrum, SampledSpectrum) {
-    (
-        spectrum(1.38, 0.43, 0.14, 0.14),
-        spectrum(1.91, 2.45, 3.70, 4.54),
-    )
+    (spectrum(1.38, 0.43, 0.14, 0.14), spectrum(1.91, 2.45, 3.70, 4.54))
 }
 
 pub(super) fn ggx(alpha: f32) -> TrowbridgeReitz {
@@ -41,29 +38,16 @@ pub(super) fn ggx(alpha: f32) -> TrowbridgeReitz {
 pub(super) fn rough_models(alphas: &[f32]) -> Vec<(String, Bxdf)> {
     let (eta, k) = gold();
     let mut v: Vec<(String, Bxdf)> = vec![
-        (
-            "diffuse".into(),
-            Diffuse::new(spectrum(0.2, 0.5, 0.7, 0.9)).into(),
-        ),
+        ("diffuse".into(), Diffuse::new(spectrum(0.2, 0.5, 0.7, 0.9)).into()),
         (
             "diffuse-transmission".into(),
-            DiffuseTransmission::new(spectrum(0.2, 0.5, 0.1, 0.3), spectrum(0.5, 0.2, 0.6, 0.1))
-                .into(),
+            DiffuseTransmission::new(spectrum(0.2, 0.5, 0.1, 0.3), spectrum(0.5, 0.2, 0.6, 0.1)).into(),
         ),
     ];
     for &a in alphas {
-        v.push((
-            format!("conductor α={a}"),
-            Conductor::new(ggx(a), eta, k).into(),
-        ));
-        v.push((
-            format!("dielectric η=1.5 α={a}"),
-            Dielectric::new(1.5, ggx(a)).into(),
-        ));
-        v.push((
-            format!("coated α={a}"),
-            CoatedDiffuse::new(spectrum(0.2, 0.5, 0.7, 0.9), 1.5, ggx(a)).into(),
-        ));
+        v.push((format!("conductor α={a}"), Conductor::new(ggx(a), eta, k).into()));
+        v.push((format!("dielectric η=1.5 α={a}"), Dielectric::new(1.5, ggx(a)).into()));
+        v.push((format!("coated α={a}"), CoatedDiffuse::new(spectrum(0.2, 0.5, 0.7, 0.9), 1.5, ggx(a)).into()));
     }
     v
 }

@@ -49,35 +49,28 @@ pub fn parse(bytes: &[u8]) -> Result<Mesh, String> {
                 let mut poly = Vec::new();
                 for c in w {
                     let mut parts = c.split('/');
-                    let resolve =
-                        |s: Option<&str>, n: usize, what: &str| -> Result<Option<usize>, String> {
-                            match s {
-                                None | Some("") => Ok(None),
-                                Some(s) => {
-                                    let i: i64 = s
-                                        .parse()
-                                        .map_err(|_| format!("line {ln}: bad index \"{s}\""))?;
-                                    let r = if i > 0 { i - 1 } else { n as i64 + i };
-                                    if i == 0 || r < 0 || r >= n as i64 {
-                                        return Err(format!(
-                                        "line {ln}: {what} index {i} is out of range ({n} defined)"
-                                    ));
-                                    }
-                                    Ok(Some(r as usize))
+                    let resolve = |s: Option<&str>, n: usize, what: &str| -> Result<Option<usize>, String> {
+                        match s {
+                            None | Some("") => Ok(None),
+                            Some(s) => {
+                                let i: i64 = s.parse().map_err(|_| format!("line {ln}: bad index \"{s}\""))?;
+                                let r = if i > 0 { i - 1 } else { n as i64 + i };
+                                if i == 0 || r < 0 || r >= n as i64 {
+                                    return Err(format!("line {ln}: {what} index {i} is out of range ({n} defined)"));
                                 }
+                                Ok(Some(r as usize))
                             }
-                        };
-                    let pi = resolve(parts.next(), v.len(), "vertex")?.ok_or_else(|| {
-                        format!("line {ln}: face corner \"{c}\" has no vertex index")
-                    })?;
+                        }
+                    };
+                    let pi = resolve(parts.next(), v.len(), "vertex")?
+                        .ok_or_else(|| format!("line {ln}: face corner \"{c}\" has no vertex index"))?;
                     let ti = resolve(parts.next(), vt.len(), "texture")?;
                     let ni = resolve(parts.next(), vn.len(), "normal")?;
                     let key = (pi, ti, ni);
                     let id = match corner_ids.get(&key) {
                         Some(&id) => id,
                         None => {
-                            let id = u32::try_from(corners.len())
-                                .map_err(|_| "too many vertices".to_string())?;
+                            let id = u32::try_from(corners.len()).map_err(|_| "too many vertices".to_string())?;
                             corners.push(key);
                             corner_ids.insert(key, id);
                             id
@@ -123,21 +116,9 @@ mod tests {
 
     #[test]
     fn errors_name_the_line() {
-        assert_eq!(
-            parse(b"v 0 0 0\nf 1 2 3\n").unwrap_err(),
-            "line 2: vertex index 2 is out of range (1 defined)"
-        );
-        assert_eq!(
-            parse(b"v 0 0\n").unwrap_err(),
-            "line 1: \"v\" needs 3 numbers"
-        );
-        assert_eq!(
-            parse(b"v 0 nan 0\n").unwrap_err(),
-            "line 1: bad number in \"v 0 nan 0\""
-        );
-        assert_eq!(
-            parse(b"v 0 0 0\nf 1 1\n").unwrap_err(),
-            "line 2: a face needs at least 3 corners"
-        );
+        assert_eq!(parse(b"v 0 0 0\nf 1 2 3\n").unwrap_err(), "line 2: vertex index 2 is out of range (1 defined)");
+        assert_eq!(parse(b"v 0 0\n").unwrap_err(), "line 1: \"v\" needs 3 numbers");
+        assert_eq!(parse(b"v 0 nan 0\n").unwrap_err(), "line 1: bad number in \"v 0 nan 0\"");
+        assert_eq!(parse(b"v 0 0 0\nf 1 1\n").unwrap_err(), "line 2: a face needs at least 3 corners");
     }
 }

@@ -94,8 +94,7 @@ impl Body<'_> {
             if start == self.pos {
                 return Err("unexpected end of data".into());
             }
-            let s = std::str::from_utf8(&self.data[start..self.pos])
-                .map_err(|_| "non-ASCII number".to_string())?;
+            let s = std::str::from_utf8(&self.data[start..self.pos]).map_err(|_| "non-ASCII number".to_string())?;
             return s.parse::<f64>().map_err(|_| format!("bad number \"{s}\""));
         }
         let n = ty.size();
@@ -141,31 +140,15 @@ fn parse_header(text: &str) -> Result<(Format, Vec<Element>), String> {
                 })
             }
             Some("element") if w.len() == 3 => {
-                let count = w[2]
-                    .parse::<usize>()
-                    .map_err(|_| format!("bad element count \"{}\"", w[2]))?;
-                elements.push(Element {
-                    name: w[1].into(),
-                    count,
-                    props: Vec::new(),
-                });
+                let count = w[2].parse::<usize>().map_err(|_| format!("bad element count \"{}\"", w[2]))?;
+                elements.push(Element { name: w[1].into(), count, props: Vec::new() });
             }
             Some("property") => {
                 let e = elements.last_mut().ok_or("property before any element")?;
-                let ty = |s: &str| {
-                    Scalar::parse(s).ok_or_else(|| format!("unknown property type \"{s}\""))
-                };
+                let ty = |s: &str| Scalar::parse(s).ok_or_else(|| format!("unknown property type \"{s}\""));
                 let p = match w[..] {
-                    [_, "list", c, t, name] => Property {
-                        name: name.into(),
-                        list: Some(ty(c)?),
-                        ty: ty(t)?,
-                    },
-                    [_, t, name] => Property {
-                        name: name.into(),
-                        list: None,
-                        ty: ty(t)?,
-                    },
+                    [_, "list", c, t, name] => Property { name: name.into(), list: Some(ty(c)?), ty: ty(t)? },
+                    [_, t, name] => Property { name: name.into(), list: None, ty: ty(t)? },
                     _ => return Err(format!("malformed header line \"{line}\"")),
                 };
                 e.props.push(p);
@@ -180,10 +163,7 @@ fn parse_header(text: &str) -> Result<(Format, Vec<Element>), String> {
 /// Parses a PLY file into a mesh (object space). Errors are human-readable messages.
 pub fn parse(bytes: &[u8]) -> Result<Mesh, String> {
     let marker = b"end_header";
-    let hdr_end = bytes
-        .windows(marker.len())
-        .position(|w| w == marker)
-        .ok_or("missing end_header")?;
+    let hdr_end = bytes.windows(marker.len()).position(|w| w == marker).ok_or("missing end_header")?;
     let mut body_start = hdr_end + marker.len();
     // The header ends with "end_header" and one line terminator (\n or \r\n).
     if bytes.get(body_start) == Some(&b'\r') {
@@ -194,11 +174,7 @@ pub fn parse(bytes: &[u8]) -> Result<Mesh, String> {
     }
     let header = std::str::from_utf8(&bytes[..body_start]).map_err(|_| "header is not ASCII")?;
     let (format, elements) = parse_header(header)?;
-    let mut body = Body {
-        data: bytes,
-        pos: body_start,
-        format,
-    };
+    let mut body = Body { data: bytes, pos: body_start, format };
 
     let mut positions: Vec<Vec3> = Vec::new();
     let mut normals: Vec<Vec3> = Vec::new();
@@ -211,19 +187,10 @@ pub fn parse(bytes: &[u8]) -> Result<Mesh, String> {
         let min_size: usize = e
             .props
             .iter()
-            .map(|p| {
-                if format == Format::Ascii {
-                    2
-                } else {
-                    p.list.unwrap_or(p.ty).size()
-                }
-            })
+            .map(|p| if format == Format::Ascii { 2 } else { p.list.unwrap_or(p.ty).size() })
             .sum::<usize>()
             .max(1);
-        if e.count
-            .checked_mul(min_size)
-            .is_none_or(|need| need > body.remaining() + 1)
-        {
+        if e.count.checked_mul(min_size).is_none_or(|need| need > body.remaining() + 1) {
             return Err(format!(
                 "element \"{}\" declares {} entries but only {} bytes of data follow",
                 e.name,
@@ -232,8 +199,7 @@ pub fn parse(bytes: &[u8]) -> Result<Mesh, String> {
             ));
         }
         let idx = |n: &str| e.props.iter().position(|p| p.name == n && p.list.is_none());
-        let pick =
-            |names: [&str; 2]| -> Option<[usize; 2]> { Some([idx(names[0])?, idx(names[1])?]) };
+        let pick = |names: [&str; 2]| -> Option<[usize; 2]> { Some([idx(names[0])?, idx(names[1])?]) };
         match e.name.as_str() {
             "vertex" => {
                 if have_vertices {
@@ -244,11 +210,7 @@ pub fn parse(bytes: &[u8]) -> Result<Mesh, String> {
                     return Err("vertex element lacks x, y, z".into());
                 };
                 let n = [idx("nx"), idx("ny"), idx("nz")];
-                let n = if n.iter().all(Option::is_some) {
-                    Some(n.map(Option::unwrap))
-                } else {
-                    None
-                };
+                let n = if n.iter().all(Option::is_some) { Some(n.map(Option::unwrap)) } else { None };
                 let uv = pick(["u", "v"])
                     .or_else(|| pick(["s", "t"]))
                     .or_else(|| pick(["texture_u", "texture_v"]))
@@ -282,9 +244,11 @@ pub fn parse(bytes: &[u8]) -> Result<Mesh, String> {
                 }
             }
             "face" => {
-                let Some(li) = e.props.iter().position(|p| {
-                    p.list.is_some() && (p.name == "vertex_indices" || p.name == "vertex_index")
-                }) else {
+                let Some(li) = e
+                    .props
+                    .iter()
+                    .position(|p| p.list.is_some() && (p.name == "vertex_indices" || p.name == "vertex_index"))
+                else {
                     return Err("face element lacks a vertex_indices list".into());
                 };
                 tris.reserve(e.count);
@@ -299,9 +263,7 @@ pub fn parse(bytes: &[u8]) -> Result<Mesh, String> {
                                     let i = body.value(p.ty)?;
                                     if k == li {
                                         if !(i >= 0.0 && i <= u32::MAX as f64 && i.fract() == 0.0) {
-                                            return Err(format!(
-                                                "face {f} has invalid vertex index {i}"
-                                            ));
+                                            return Err(format!("face {f} has invalid vertex index {i}"));
                                         }
                                         poly.push(i as u32);
                                     }
@@ -361,9 +323,7 @@ fn list_len(v: f64) -> Result<usize, String> {
     if v >= 0.0 && v <= MAX_FACE_VERTICES as f64 && v.fract() == 0.0 {
         Ok(v as usize)
     } else {
-        Err(format!(
-            "list length {v} is invalid (at most {MAX_FACE_VERTICES})"
-        ))
+        Err(format!("list length {v} is invalid (at most {MAX_FACE_VERTICES})"))
     }
 }
 
@@ -371,26 +331,16 @@ fn list_len(v: f64) -> Result<usize, String> {
 /// (for tests and scene generators).
 pub fn write(mesh: &Mesh, faces: &[Vec<u32>], binary: bool) -> Vec<u8> {
     let mut h = String::from("ply\n");
-    h += if binary {
-        "format binary_little_endian 1.0\n"
-    } else {
-        "format ascii 1.0\n"
-    };
+    h += if binary { "format binary_little_endian 1.0\n" } else { "format ascii 1.0\n" };
     h += "comment written by prism\n";
-    h += &format!(
-        "element vertex {}\nproperty float x\nproperty float y\nproperty float z\n",
-        mesh.positions.len()
-    );
+    h += &format!("element vertex {}\nproperty float x\nproperty float y\nproperty float z\n", mesh.positions.len());
     if mesh.normals.is_some() {
         h += "property float nx\nproperty float ny\nproperty float nz\n";
     }
     if mesh.uvs.is_some() {
         h += "property float u\nproperty float v\n";
     }
-    h += &format!(
-        "element face {}\nproperty list uchar int vertex_indices\nend_header\n",
-        faces.len()
-    );
+    h += &format!("element face {}\nproperty list uchar int vertex_indices\nend_header\n", faces.len());
     let mut out = h.into_bytes();
     for (i, p) in mesh.positions.iter().enumerate() {
         let mut vals = p.to_array().to_vec();
@@ -424,10 +374,7 @@ mod tests {
     use super::*;
 
     fn quad() -> (Mesh, Vec<Vec<u32>>) {
-        let mut m = Mesh::new(
-            vec![Vec3::ZERO, Vec3::X, Vec3::new(1., 1., 0.), Vec3::Y, Vec3::Z],
-            vec![],
-        );
+        let mut m = Mesh::new(vec![Vec3::ZERO, Vec3::X, Vec3::new(1., 1., 0.), Vec3::Y, Vec3::Z], vec![]);
         m.normals = Some(vec![Vec3::Z; 5]);
         m.uvs = Some(vec![Vec2::ZERO, Vec2::X, Vec2::ONE, Vec2::Y, Vec2::ZERO]);
         (m, vec![vec![0, 1, 2, 3], vec![0, 1, 4]])
@@ -469,33 +416,19 @@ property double z\nproperty float s\nproperty float t\nelement face 1\nproperty 
         let good = write(&m, &faces, true);
         let s = |b: &[u8]| parse(b).unwrap_err();
         assert_eq!(s(b"plx\n"), "missing end_header");
-        assert_eq!(
-            s(b"plx\nend_header\n"),
-            "not a PLY file (missing \"ply\" magic)"
-        );
+        assert_eq!(s(b"plx\nend_header\n"), "not a PLY file (missing \"ply\" magic)");
         // A header that claims a billion vertices in a tiny file.
-        let huge =
-            String::from_utf8_lossy(&good).replace("element vertex 5", "element vertex 1000000000");
+        let huge = String::from_utf8_lossy(&good).replace("element vertex 5", "element vertex 1000000000");
         let e = s(huge.as_bytes());
-        assert!(
-            e.starts_with("element \"vertex\" declares 1000000000 entries but only"),
-            "{e}"
-        );
+        assert!(e.starts_with("element \"vertex\" declares 1000000000 entries but only"), "{e}");
         // Truncated data.
         assert_eq!(s(&good[..good.len() - 3]), "unexpected end of data");
         // Index out of range.
         let mut bad = good.clone();
         let n = bad.len();
         bad[n - 4..].copy_from_slice(&9i32.to_le_bytes());
-        assert_eq!(
-            s(&bad),
-            "vertex index 9 is out of range: the file has 5 vertices"
-        );
-        let nan = String::from_utf8_lossy(&write(&m, &faces, false)).replacen(
-            "0 0 0 0 0 1",
-            "nan 0 0 0 0 1",
-            1,
-        );
+        assert_eq!(s(&bad), "vertex index 9 is out of range: the file has 5 vertices");
+        let nan = String::from_utf8_lossy(&write(&m, &faces, false)).replacen("0 0 0 0 0 1", "nan 0 0 0 0 1", 1);
         assert_eq!(s(nan.as_bytes()), "vertex 0 is not finite");
     }
 }
