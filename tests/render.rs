@@ -129,3 +129,21 @@ fn embree_and_obvhs_render_the_same_image_within_noise() {
     let (mean, _) = mean_y(&a);
     assert!(m.abs() <= 4.0 * se + 1e-6 * mean, "mean difference {m} ± {se}");
 }
+
+#[test]
+fn cornell_box_pbrt_file_renders_like_the_built_in_scene() {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/cornell-box.pbrt");
+    let (desc, mut warnings) = prism::scene::parse_file(&path, &Default::default()).unwrap();
+    let (builder, _) = prism::scene::pbrt::build(&desc, &mut warnings).unwrap();
+    assert!(warnings.is_empty(), "{warnings:?}");
+    let s = settings(24, 16, 5);
+    let (a, _) = render(&builder.build(AccelKind::Obvhs).unwrap(), &s, |_| {});
+    let (b, _) = render(&cornell(AccelKind::Obvhs), &s, |_| {});
+    let d: Vec<f64> = a.pixels.iter().zip(&b.pixels).map(|(p, q)| (p.xyz_sum.y - q.xyz_sum.y) / p.weight_sum).collect();
+    let n = d.len() as f64;
+    let m = d.iter().sum::<f64>() / n;
+    let se = (d.iter().map(|v| (v - m) * (v - m)).sum::<f64>() / (n - 1.0) / n).sqrt();
+    let (mean, _) = mean_y(&a);
+    assert!(mean > 0.1, "black image");
+    assert!(m.abs() <= 4.0 * se + 1e-5 * mean, "mean difference {m} ± {se}");
+}

@@ -84,6 +84,8 @@ where
         .configure_mesh()
         .x_desc("time [s]")
         .y_desc("RMSE vs reference (linear RGB)")
+        .x_label_formatter(&|v| format!("{v:.3}"))
+        .y_label_formatter(&|v| format!("{v:.3}"))
         .label_style(("sans-serif", 14))
         .draw()
         .map_err(err)?;

@@ -129,3 +129,48 @@ fn checker_parity(uv: Vec2, scale: Vec2) -> bool {
     let s = (uv * scale).floor();
     (s.x as i64 + s.y as i64) & 1 == 0
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn tex() -> ImageTexture {
+        // 2×2 RGB: red, green (top row), blue, white (bottom row).
+        let data = vec![1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 1.0, 1.0, 1.0];
+        ImageTexture { image: Arc::new(Image { width: 2, height: 2, channels: 3, data }), scale: 1.0 }
+    }
+
+    #[test]
+    fn image_lookup_is_bilinear_with_v_up_and_repeat() {
+        let t = tex();
+        // Texel centres: (u, v) = (0.25, 0.75) is the top-left texel (v points up).
+        assert_eq!(t.rgb(Vec2::new(0.25, 0.75)), [1.0, 0.0, 0.0]);
+        assert_eq!(t.rgb(Vec2::new(0.75, 0.25)), [1.0, 1.0, 1.0]);
+        // Halfway between the two top texels: the average.
+        let m = t.rgb(Vec2::new(0.5, 0.75));
+        assert!((m[0] - 0.5).abs() < 1e-6 && (m[1] - 0.5).abs() < 1e-6 && m[2].abs() < 1e-6);
+        // Repeat wrapping: u + 1 is the same place.
+        assert_eq!(t.rgb(Vec2::new(1.25, 0.75)), t.rgb(Vec2::new(0.25, 0.75)));
+    }
+
+    #[test]
+    fn image_texture_gives_the_texel_reflectance_spectrum() {
+        let t = SpectrumTexture::Image(tex());
+        let w = SampledWavelengths::sample_uniform(0.3);
+        let white = t.eval(Vec2::new(0.75, 0.25), &w);
+        for i in 0..4 {
+            assert!((white[i] - 1.0).abs() < 1e-3, "white texel is not a flat 1: {white:?}");
+        }
+        // A red texel reflects long wavelengths more than short ones.
+        let red = t.eval(Vec2::new(0.25, 0.75), &SampledWavelengths { lambda: [450.0, 650.0, 500.0, 600.0], pdf: [1.0; 4] });
+        assert!(red[1] > 0.8 && red[0] < 0.2, "{red:?}");
+    }
+
+    #[test]
+    fn checkerboard_alternates() {
+        let c = FloatTexture::Checkerboard { even: 1.0, odd: 0.0, scale: Vec2::splat(2.0) };
+        assert_eq!(c.eval(Vec2::new(0.1, 0.1)), 1.0);
+        assert_eq!(c.eval(Vec2::new(0.6, 0.1)), 0.0);
+        assert_eq!(c.eval(Vec2::new(0.6, 0.6)), 1.0);
+    }
+}
