@@ -162,7 +162,8 @@ mod tests {
             assert!((white[i] - 1.0).abs() < 1e-3, "white texel is not a flat 1: {white:?}");
         }
         // A red texel reflects long wavelengths more than short ones.
-        let red = t.eval(Vec2::new(0.25, 0.75), &SampledWavelengths { lambda: [450.0, 650.0, 500.0, 600.0], pdf: [1.0; 4] });
+        let red =
+            t.eval(Vec2::new(0.25, 0.75), &SampledWavelengths { lambda: [450.0, 650.0, 500.0, 600.0], pdf: [1.0; 4] });
         assert!(red[1] > 0.8 && red[0] < 0.2, "{red:?}");
     }
 

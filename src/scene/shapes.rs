@@ -88,13 +88,15 @@ fn inline_mesh(ps: &ParamSet, loc: &Location, corners: usize) -> Result<Mesh, Sc
     let indices: Vec<i32> = match ps.ints("indices") {
         Some(i) => i.to_vec(),
         None if n == corners => (0..corners as i32).collect(),
-        None => return Err(SceneError::syntax(
-            loc,
-            "Shape",
-            format!(
+        None => {
+            return Err(SceneError::syntax(
+                loc,
+                "Shape",
+                format!(
                 "mesh needs an \"integer indices\" parameter (only a single {corners}-vertex primitive may omit it)"
             ),
-        )),
+            ))
+        }
     };
     if !indices.len().is_multiple_of(corners) {
         return Err(err(
