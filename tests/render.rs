@@ -1,5 +1,8 @@
 //! End-to-end renders of small scenes: analytic answers, determinism, no non-finite samples.
 
+mod common;
+
+use common::film_difference;
 use glam::Vec3;
 use prism::accel::AccelKind;
 use prism::camera::Camera;
@@ -122,11 +125,7 @@ fn embree_and_obvhs_render_the_same_image_within_noise() {
     let (b, _) = render(&cornell(AccelKind::Obvhs), &s, |_| {});
     // Same seeds: pixels differ only where the two triangle tests round differently and a path
     // diverges. The per-pixel differences must average to zero within their standard error.
-    let d: Vec<f64> = a.pixels.iter().zip(&b.pixels).map(|(p, q)| (p.xyz_sum.y - q.xyz_sum.y) / p.weight_sum).collect();
-    let n = d.len() as f64;
-    let m = d.iter().sum::<f64>() / n;
-    let se = (d.iter().map(|v| (v - m) * (v - m)).sum::<f64>() / (n - 1.0) / n).sqrt();
-    let (mean, _) = mean_y(&a);
+    let (m, se, mean) = film_difference(&a, &b);
     assert!(m.abs() <= 4.0 * se + 1e-6 * mean, "mean difference {m} ± {se}");
 }
 
@@ -139,11 +138,7 @@ fn cornell_box_pbrt_file_renders_like_the_built_in_scene() {
     let s = settings(24, 16, 5);
     let (a, _) = render(&builder.build(AccelKind::Obvhs).unwrap(), &s, |_| {});
     let (b, _) = render(&cornell(AccelKind::Obvhs), &s, |_| {});
-    let d: Vec<f64> = a.pixels.iter().zip(&b.pixels).map(|(p, q)| (p.xyz_sum.y - q.xyz_sum.y) / p.weight_sum).collect();
-    let n = d.len() as f64;
-    let m = d.iter().sum::<f64>() / n;
-    let se = (d.iter().map(|v| (v - m) * (v - m)).sum::<f64>() / (n - 1.0) / n).sqrt();
-    let (mean, _) = mean_y(&a);
+    let (m, se, mean) = film_difference(&a, &b);
     assert!(mean > 0.1, "black image");
     assert!(m.abs() <= 4.0 * se + 1e-5 * mean, "mean difference {m} ± {se}");
 }

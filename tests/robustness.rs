@@ -2,6 +2,9 @@
 //! (spawned rays are offset by a bound on the hit point's rounding error, not a global epsilon),
 //! and degenerate geometry never produces NaN pixels.
 
+mod common;
+
+use common::film_difference as diff;
 use glam::{Mat4, Vec3};
 use prism::accel::AccelKind;
 use prism::film::Film;
@@ -32,17 +35,6 @@ fn render_cornell(m: Mat4, accel: AccelKind, seed: u64) -> Film {
     let (film, stats) = render(&scene, &RenderSettings { seed, ..settings() }, |_| {});
     assert_eq!(stats.nonfinite, 0);
     film
-}
-
-/// Mean per-pixel difference of Y and its standard error.
-fn diff(a: &Film, b: &Film) -> (f64, f64, f64) {
-    let d: Vec<f64> =
-        a.pixels.iter().zip(&b.pixels).map(|(p, q)| p.xyz_sum.y / p.weight_sum - q.xyz_sum.y / q.weight_sum).collect();
-    let n = d.len() as f64;
-    let m = d.iter().sum::<f64>() / n;
-    let se = (d.iter().map(|v| (v - m) * (v - m)).sum::<f64>() / (n - 1.0) / n).sqrt();
-    let mean_y = a.pixels.iter().map(|p| p.xyz_sum.y / p.weight_sum).sum::<f64>() / n;
-    (m, se, mean_y)
 }
 
 #[test]

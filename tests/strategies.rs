@@ -2,6 +2,9 @@
 //! estimate the same image (per-pixel differences average to zero within 4 standard errors).
 //! Delta lights cannot be reached by BSDF sampling, so for them MIS is checked against NEE only.
 
+mod common;
+
+use common::film_difference as diff;
 use glam::Vec3;
 use prism::accel::AccelKind;
 use prism::camera::Camera;
@@ -88,16 +91,6 @@ fn render_with(material: &Material, light: LightKind, strategy: DirectStrategy, 
     let (film, stats) = render(&scene, &s, |_| {});
     assert_eq!(stats.nonfinite, 0);
     film
-}
-
-/// Mean per-pixel Y difference, its standard error, and the mean Y of `a`.
-fn diff(a: &Film, b: &Film) -> (f64, f64, f64) {
-    let y = |p: &prism::film::Pixel| p.xyz_sum.y / p.weight_sum;
-    let d: Vec<f64> = a.pixels.iter().zip(&b.pixels).map(|(p, q)| y(p) - y(q)).collect();
-    let n = d.len() as f64;
-    let m = d.iter().sum::<f64>() / n;
-    let se = (d.iter().map(|v| (v - m) * (v - m)).sum::<f64>() / (n - 1.0) / n).sqrt();
-    (m, se, a.pixels.iter().map(y).sum::<f64>() / n)
 }
 
 #[test]

@@ -1,24 +1,7 @@
-//! The sRGB transfer curve (IEC 61966-2-1:1999) and integer quantisation.
-//!
-//! Private for now: the spectrum module will export `srgb_encode`, and the two get deduplicated.
+//! Integer quantisation of sRGB-encoded images; the transfer curve itself is the spectrum
+//! module's (IEC 61966-2-1:1999).
 
-/// Linear → sRGB-encoded value, both in [0,1] for in-gamut input; IEC 61966-2-1 eq. (1).
-pub(crate) fn encode(linear: f32) -> f32 {
-    if linear <= 0.003_130_8 {
-        12.92 * linear
-    } else {
-        1.055 * linear.powf(1.0 / 2.4) - 0.055
-    }
-}
-
-/// sRGB-encoded → linear value; the inverse of [`encode`].
-pub(crate) fn decode(encoded: f32) -> f32 {
-    if encoded <= 0.040_45 {
-        encoded / 12.92
-    } else {
-        ((encoded + 0.055) / 1.055).powf(2.4)
-    }
-}
+pub(crate) use crate::spectrum::{srgb_decode as decode, srgb_encode as encode};
 
 /// Whether channel `c` of a `channels`-channel pixel is alpha (Y A or R G B A): alpha is
 /// coverage, not light, so it is stored without the transfer curve.
