@@ -3,7 +3,7 @@
 
 use super::LightSample;
 use crate::math::{Frame, PI};
-use crate::spectrum::{SampledWavelengths, Spectrum};
+use crate::spectrum::{SampledSpectrum, SampledWavelengths, Spectrum};
 use glam::Vec3;
 use std::sync::Arc;
 
@@ -31,14 +31,7 @@ impl PointLight {
     }
 
     pub(super) fn sample_li(&self, p: Vec3, w: &SampledWavelengths) -> Option<LightSample> {
-        let d = self.position - p;
-        let r2 = d.length_squared();
-        if r2 == 0.0 {
-            return None;
-        }
-        let dist = r2.sqrt();
-        let li = self.spectrum.sample(w) * (self.scale / r2);
-        Some(LightSample { li, wi: d / dist, pdf: 1.0, p_light: self.position, dist })
+        delta_sample(self.position, p, self.spectrum.sample(w) * self.scale)
     }
 
     pub(super) fn power(&self) -> f32 {
@@ -127,24 +120,34 @@ impl SpotLight {
     }
 
     pub(super) fn sample_li(&self, p: Vec3, w: &SampledWavelengths) -> Option<LightSample> {
-        let d = self.position - p;
-        let r2 = d.length_squared();
-        if r2 == 0.0 {
-            return None;
-        }
-        let dist = r2.sqrt();
-        let wi = d / dist;
-        let f = self.falloff.factor(self.frame.n.dot(-wi));
+        let f = self.falloff.factor(self.cos_to(p));
         if f == 0.0 {
             return None;
         }
-        let li = self.spectrum.sample(w) * (self.scale * f / r2);
-        Some(LightSample { li, wi, pdf: 1.0, p_light: self.position, dist })
+        delta_sample(self.position, p, self.spectrum.sample(w) * (self.scale * f))
+    }
+
+    /// cos θ between the spot axis and the direction from the light to `p`.
+    fn cos_to(&self, p: Vec3) -> f32 {
+        self.frame.n.dot((p - self.position).normalize_or_zero())
     }
 
     pub(super) fn power(&self) -> f32 {
         self.scale * self.falloff.solid_angle_integral() * spectral_integral(&self.spectrum)
     }
+}
+
+/// The sample of a point-like light at `position` seen from `p`: direction, distance and the
+/// inverse-square law applied to the intensity toward `p` (E = I / r² along `wi`).
+fn delta_sample(position: Vec3, p: Vec3, intensity: SampledSpectrum) -> Option<LightSample> {
+    let d = position - p;
+    let r2 = d.length_squared();
+    if r2 == 0.0 {
+        return None;
+    }
+    let dist = r2.sqrt();
+    let wi = d / dist;
+    Some(LightSample { li: intensity * (1.0 / r2), wi, pdf: 1.0, p_light: position, dist })
 }
 
 /// ∫ s(λ) dλ over 360–830 nm [nm × the spectrum's unit], by the trapezoid rule at 1 nm.

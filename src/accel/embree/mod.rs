@@ -51,18 +51,7 @@ impl EmbreeAccel {
         let mut hits = 0;
         for r in rays {
             let mut rh = ffi::RTCRayHit {
-                ray: ffi::RTCRay {
-                    org_x: r.o.x,
-                    org_y: r.o.y,
-                    org_z: r.o.z,
-                    dir_x: r.d.x,
-                    dir_y: r.d.y,
-                    dir_z: r.d.z,
-                    tnear: f32::MIN_POSITIVE,
-                    tfar: r.t_max,
-                    mask: u32::MAX,
-                    ..Default::default()
-                },
+                ray: scene::Scene::rtc_ray(r),
                 hit: ffi::RTCHit { geomID: ffi::RTC_INVALID_GEOMETRY_ID, ..Default::default() },
             };
             self.scene.raw_intersect(&mut rh);

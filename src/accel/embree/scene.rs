@@ -115,7 +115,7 @@ impl Scene {
     }
 
     #[inline]
-    fn rtc_ray(ray: &Ray) -> ffi::RTCRay {
+    pub(super) fn rtc_ray(ray: &Ray) -> ffi::RTCRay {
         ffi::RTCRay {
             org_x: ray.o.x,
             org_y: ray.o.y,
