@@ -169,3 +169,31 @@ impl Material {
 fn clamp01(s: SampledSpectrum) -> SampledSpectrum {
     s.map(|x| x.clamp(0.0, 1.0))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::pbrt::named_spectrum;
+
+    fn point() -> ShadingPoint {
+        ShadingPoint { ns: Vec3::Z, ng: Vec3::Z, dpdu: Vec3::X, uv: Vec2::ZERO }
+    }
+
+    #[test]
+    fn only_a_dispersive_dielectric_terminates_the_secondary_wavelengths() {
+        let smooth = Roughness::alpha(0.0);
+        let bk7 = named_spectrum("glass-BK7").expect("BK7 is built in");
+        let cases = [
+            (Material::diffuse(Spectrum::constant(0.5)), false),
+            (Material::Dielectric { eta: Ior::Constant(1.5), roughness: smooth.clone() }, false),
+            (Material::Dielectric { eta: Ior::Spectral(Spectrum::constant(1.5)), roughness: smooth.clone() }, false),
+            (Material::Dielectric { eta: Ior::Spectral(bk7), roughness: smooth }, true),
+        ];
+        for (m, dispersive) in cases {
+            let mut w = SampledWavelengths::sample_uniform(0.37);
+            let _ = m.bsdf(&point(), &mut w);
+            assert_eq!(m.is_dispersive(), dispersive, "{m:?}");
+            assert_eq!(w.secondary_terminated(), dispersive, "{m:?}");
+        }
+    }
+}
