@@ -46,19 +46,13 @@ fn with_backend(
 ) -> Result<()> {
     register_font();
     // Draw into a temporary file and rename, like every other output.
-    let tmp = crate::io::temp_path_for(path);
-    let result = if path.extension().is_some_and(|e| e == "svg") {
-        draw(SVGBackend::new(&tmp, SIZE).into_drawing_area())
+    let temp = crate::io::TempFile::create(path)?;
+    if path.extension().is_some_and(|e| e == "svg") {
+        draw(SVGBackend::new(temp.path(), SIZE).into_drawing_area())?;
     } else {
-        draw_png(BitMapBackend::new(&tmp, SIZE).into_drawing_area())
-    };
-    match result.and_then(|_| std::fs::rename(&tmp, path).map_err(Into::into)) {
-        Ok(()) => Ok(()),
-        Err(e) => {
-            let _ = std::fs::remove_file(&tmp);
-            Err(e)
-        }
+        draw_png(BitMapBackend::new(temp.path(), SIZE).into_drawing_area())?;
     }
+    Ok(temp.commit()?)
 }
 
 fn error_chart<DB: DrawingBackend>(root: DrawingArea<DB, Shift>, points: &[BenchPoint]) -> Result<()>

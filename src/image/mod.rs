@@ -9,7 +9,6 @@
 //! atomic: data goes to a temporary file beside the destination that is renamed over it
 //! only once complete.
 
-mod atomic;
 mod colormap;
 mod error;
 mod format;
@@ -19,6 +18,7 @@ mod oiio;
 mod rust_io;
 mod srgb;
 
+use crate::io::TempFile;
 use std::path::Path;
 
 pub use error::ImageError;
@@ -152,7 +152,7 @@ pub fn write_with(path: &Path, img: &Image, opts: &WriteOptions) -> Result<(), I
     format.check_channels(path, img.channels)?;
     format.check_size(path, img.width, img.height)?;
     check_backend(opts.backend)?;
-    let temp = atomic::TempFile::create(path)?;
+    let temp = create_temp(path)?;
     let result = match opts.backend {
         #[cfg(feature = "oiio")]
         Backend::Oiio => oiio::write(temp.path(), format, img, opts),
@@ -161,7 +161,22 @@ pub fn write_with(path: &Path, img: &Image, opts: &WriteOptions) -> Result<(), I
     #[cfg(test)]
     let result = result.and_then(|()| tests::injected_failure());
     result.map_err(|reason| ImageError::Write { path: path.to_path_buf(), reason })?;
-    temp.commit()
+    temp.commit().map_err(|e| ImageError::Write {
+        path: path.to_path_buf(),
+        reason: format!("cannot move the finished file into place: {e}"),
+    })
+}
+
+/// A temporary file beside `path`, with the errors a user can act on.
+fn create_temp(path: &Path) -> Result<TempFile, ImageError> {
+    let dir = crate::io::parent_dir(path);
+    if !dir.exists() {
+        return Err(ImageError::MissingDirectory { path: path.to_path_buf(), dir });
+    }
+    if !dir.is_dir() {
+        return Err(ImageError::Unwritable { path: path.to_path_buf(), dir, reason: "not a directory".into() });
+    }
+    TempFile::create(path).map_err(|e| ImageError::Unwritable { path: path.to_path_buf(), dir, reason: e.to_string() })
 }
 
 /// Reads `path` into linear floats with the preferred backend.
