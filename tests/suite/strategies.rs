@@ -2,9 +2,7 @@
 //! estimate the same image (per-pixel differences average to zero within 4 standard errors).
 //! Delta lights cannot be reached by BSDF sampling, so for them MIS is checked against NEE only.
 
-mod common;
-
-use common::film_difference as diff;
+use crate::common::film_difference as diff;
 use glam::Vec3;
 use prism::accel::AccelKind;
 use prism::camera::Camera;

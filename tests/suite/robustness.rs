@@ -2,9 +2,7 @@
 //! (spawned rays are offset by a bound on the hit point's rounding error, not a global epsilon),
 //! and degenerate geometry never produces NaN pixels.
 
-mod common;
-
-use common::film_difference as diff;
+use crate::common::film_difference as diff;
 use glam::{Mat4, Vec3};
 use prism::accel::AccelKind;
 use prism::film::Film;

@@ -1,8 +1,6 @@
 //! End-to-end renders of small scenes: analytic answers, determinism, no non-finite samples.
 
-mod common;
-
-use common::film_difference;
+use crate::common::film_difference;
 use glam::Vec3;
 use prism::accel::AccelKind;
 use prism::camera::Camera;

@@ -1,0 +1,13 @@
+//! The end-to-end test suite, one binary: every module shares one link of the renderer, which
+//! keeps CI's compile time down (one test binary per file would link it a dozen times).
+
+mod accel_agreement;
+mod cli;
+mod common;
+mod radiometry;
+mod render;
+mod robustness;
+mod scene_files;
+mod scene_fuzz;
+mod scene_parser;
+mod strategies;
