@@ -3,7 +3,7 @@
 
 mod texture;
 
-pub use texture::{FloatTexture, ImageTexture, SpectrumTexture};
+pub use texture::{FloatTexture, ImageTexture, ReflectanceImage, SpectrumTexture};
 
 use crate::bsdf::{
     Bsdf, Bxdf, CoatedDiffuse, Conductor, Dielectric, Diffuse, DiffuseTransmission, ThinDielectric, TrowbridgeReitz,

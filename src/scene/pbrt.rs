@@ -12,7 +12,7 @@ use super::{CameraDesc, Emission, SceneBuilder};
 use crate::bsdf::{ior, metals};
 use crate::geometry::Mesh;
 use crate::light::{AreaLight, DistantLight, Light, PointLight, SpotFalloff, SpotLight, UniformInfiniteLight};
-use crate::material::{FloatTexture, ImageTexture, Ior, Material, Roughness, SpectrumTexture};
+use crate::material::{FloatTexture, ImageTexture, Ior, Material, ReflectanceImage, Roughness, SpectrumTexture};
 use crate::spectrum::{ColorSpace, RgbKind, Spectrum};
 use glam::{Mat4, Vec2, Vec3};
 use std::collections::HashMap;
@@ -188,7 +188,8 @@ impl Ctx<'_> {
             }
             "imagemap" => {
                 let img = self.image(p, &t.loc)?;
-                Ok(SpectrumTexture::Image(ImageTexture { image: img, scale: p.float_or("scale", 1.0) }))
+                let texture = ImageTexture { image: img, scale: p.float_or("scale", 1.0) };
+                Ok(SpectrumTexture::Image(ReflectanceImage::new(texture)))
             }
             other => {
                 self.warn(&t.loc, format!("texture type \"{other}\" is not supported; prism uses a constant 0.5"));

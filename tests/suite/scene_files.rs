@@ -228,3 +228,39 @@ fn material_row_parses() {
     let ShapeGeometry::Sphere { z_max, .. } = d.shapes[3].geometry else { panic!() };
     assert_eq!(z_max, 0.2);
 }
+
+#[test]
+fn every_example_scene_builds_without_warnings_and_renders_finite_non_black() {
+    use prism::accel::AccelKind;
+    use prism::filter::Filter;
+    use prism::integrator::PathIntegrator;
+    use prism::render::{render, RenderSettings, SamplerKind};
+    let mut names: Vec<PathBuf> = std::fs::read_dir(scenes())
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "pbrt"))
+        .collect();
+    names.sort();
+    assert!(names.len() >= 6, "{names:?}");
+    for path in names {
+        let name = path.file_name().unwrap().to_string_lossy().into_owned();
+        let desc = load(&name);
+        let mut warnings = Vec::new();
+        let (builder, _) = pbrt::build(&desc, &mut warnings).unwrap_or_else(|e| panic!("{name}: {e}"));
+        assert!(warnings.is_empty(), "{name}: {warnings:?}");
+        let scene = builder.build(AccelKind::Obvhs).unwrap();
+        let s = RenderSettings {
+            resolution: (24, 16),
+            spp: 2,
+            seed: 3,
+            sampler: SamplerKind::Independent,
+            filter: Filter::by_name("box").unwrap(),
+            integrator: PathIntegrator { max_depth: 4, ..Default::default() },
+            time_limit: None,
+        };
+        let (film, stats) = render(&scene, &s, |_| {});
+        assert_eq!(stats.nonfinite, 0, "{name}: {:?}", stats.nonfinite_at);
+        let y: f64 = film.pixels.iter().map(|p| p.xyz_sum.y / p.weight_sum).sum();
+        assert!(y > 0.0, "{name}: black image");
+    }
+}
