@@ -382,6 +382,127 @@ fn import_does_not_change_the_importers_state() {
 }
 
 #[test]
+fn import_follows_pbrt_v4_semantics() {
+    let d = tmp("import_v4");
+    // The imported file changes every part of the graphics state and defines named things.
+    std::fs::write(
+        d.join("part.pbrt"),
+        r#"Translate 0 0 4
+ReverseOrientation
+Material "conductor"
+AreaLightSource "diffuse" "rgb L" [1 1 1]
+CoordinateSystem "inner"
+MakeNamedMaterial "m" "string type" "diffuse"
+Texture "t" "float" "constant" "float value" 0.5
+ObjectBegin "o"
+Shape "sphere"
+ObjectEnd
+AttributeBegin
+Shape "sphere"
+AttributeEnd
+"#,
+    )
+    .unwrap();
+    std::fs::write(
+        d.join("main.pbrt"),
+        "WorldBegin
+AttributeBegin
+Translate 1 0 0
+Import "part.pbrt"
+Shape "sphere"
+AttributeEnd
+NamedMaterial "m"
+ObjectInstance "o"
+Shape "sphere"
+",
+    )
+    .unwrap();
+    let (s, _) = parse_file(&d.join("main.pbrt"), &ParseOptions::default()).unwrap();
+    // Inside the import: the importer's transform, then its own.
+    assert_eq!(s.shapes[0].world_from_object.w_axis.x, 1.0);
+    assert_eq!(s.shapes[0].world_from_object.w_axis.z, 4.0);
+    assert!(s.shapes[0].reverse_orientation && s.shapes[0].area_light.is_some());
+    // After it: the importer's state as it was (transform, orientation, material, area light).
+    let after = &s.shapes[1];
+    assert_eq!(after.world_from_object.w_axis.z, 0.0);
+    assert_eq!(after.world_from_object.w_axis.x, 1.0);
+    assert!(!after.reverse_orientation && after.area_light.is_none());
+    assert_eq!(after.material, MaterialRef::Default);
+    // Named materials, textures and objects it defines are the scene's.
+    assert_eq!(s.shapes[2].material, MaterialRef::Named("m".into()));
+    assert!(s.texture("t", TextureClass::Float).is_some());
+    assert_eq!(s.instances.len(), 1);
+    // Coordinate-system names it defines stay in it.
+    std::fs::write(d.join("use_cs.pbrt"), "WorldBegin
+Import "part.pbrt"
+CoordSysTransform "inner"
+").unwrap();
+    let (_, w) = parse_file(&d.join("use_cs.pbrt"), &ParseOptions::default()).unwrap();
+    assert!(w.iter().any(|w| w.message.contains("inner")), "{w:?}");
+    // An imported file may not close the importer's blocks, nor leave its own open.
+    std::fs::write(d.join("closes.pbrt"), "AttributeEnd
+AttributeBegin
+").unwrap();
+    std::fs::write(d.join("m2.pbrt"), "WorldBegin
+AttributeBegin
+Import "closes.pbrt"
+AttributeEnd
+").unwrap();
+    let e = parse_file(&d.join("m2.pbrt"), &ParseOptions::default()).unwrap_err().to_string();
+    assert_eq!(
+        e,
+        format!("{}:1:1: AttributeEnd without a matching AttributeBegin (at \"AttributeEnd\")", d.join("closes.pbrt").display())
+    );
+    std::fs::write(d.join("opens.pbrt"), "AttributeBegin
+").unwrap();
+    std::fs::write(d.join("m3.pbrt"), "WorldBegin
+Import "opens.pbrt"
+").unwrap();
+    let e = parse_file(&d.join("m3.pbrt"), &ParseOptions::default()).unwrap_err().to_string();
+    assert!(e.contains("leaves the AttributeBegin at") && e.contains("opens.pbrt:1:1"), "{e}");
+    // Include, by contrast, may close blocks its includer opened; Import needs the world block.
+    std::fs::write(d.join("m4.pbrt"), "WorldBegin
+AttributeBegin
+Include "closes.pbrt"
+AttributeEnd
+").unwrap();
+    assert!(parse_file(&d.join("m4.pbrt"), &ParseOptions::default()).is_ok());
+    std::fs::write(d.join("m5.pbrt"), "Import "part.pbrt"
+WorldBegin
+").unwrap();
+    let e = parse_file(&d.join("m5.pbrt"), &ParseOptions::default()).unwrap_err().to_string();
+    assert!(e.contains("Import"), "{e}");
+    // Inside an object definition, imported shapes belong to the object.
+    std::fs::write(d.join("shape.pbrt"), "Shape \"sphere\"\n").unwrap();
+    std::fs::write(d.join("m6.pbrt"), "WorldBegin
+ObjectBegin "p"
+Import "shape.pbrt"
+ObjectEnd
+").unwrap();
+    let (s, _) = parse_file(&d.join("m6.pbrt"), &ParseOptions::default()).unwrap();
+    assert!(s.shapes.is_empty());
+    assert_eq!(s.objects[0].shapes.len(), 1);
+}
+
+#[test]
+fn area_light_parameters_unused_are_reported_once_per_directive() {
+    let (d, _) = parse(&format!(
+        "WorldBegin\nAreaLightSource \"diffuse\" \"rgb L\" [1 1 1] \"float typo\" 1\n{TRI}\n{TRI}\n{TRI}\n\
+         AttributeBegin\nAreaLightSource \"diffuse\" \"float other\" 2\n{TRI}\n{TRI}\nAttributeEnd"
+    ));
+    let mut warnings = Vec::new();
+    let _ = prism::scene::pbrt::build(&d, &mut warnings).unwrap();
+    let w: Vec<String> = d.report_unused().iter().map(|w| w.to_string()).collect();
+    assert_eq!(
+        w,
+        [
+            "<string>:2:46: warning: parameter \"float typo\" of AreaLightSource \"diffuse\" was not used",
+            "<string>:7:34: warning: parameter \"float other\" of AreaLightSource \"diffuse\" was not used",
+        ]
+    );
+}
+
+#[test]
 fn include_cycles_and_missing_files_are_errors() {
     let d = tmp("cycle");
     std::fs::write(d.join("a.pbrt"), "WorldBegin\nInclude \"b.pbrt\"\n").unwrap();
