@@ -384,9 +384,11 @@ fn import_does_not_change_the_importers_state() {
 #[test]
 fn import_follows_pbrt_v4_semantics() {
     let d = tmp("import_v4");
+    let write = |name: &str, text: &str| std::fs::write(d.join(name), text).unwrap();
+    let parse_main = |name: &str| parse_file(&d.join(name), &ParseOptions::default());
     // The imported file changes every part of the graphics state and defines named things.
-    std::fs::write(
-        d.join("part.pbrt"),
+    write(
+        "part.pbrt",
         r#"Translate 0 0 4
 ReverseOrientation
 Material "conductor"
@@ -401,23 +403,13 @@ AttributeBegin
 Shape "sphere"
 AttributeEnd
 "#,
-    )
-    .unwrap();
-    std::fs::write(
-        d.join("main.pbrt"),
-        "WorldBegin
-AttributeBegin
-Translate 1 0 0
-Import "part.pbrt"
-Shape "sphere"
-AttributeEnd
-NamedMaterial "m"
-ObjectInstance "o"
-Shape "sphere"
-",
-    )
-    .unwrap();
-    let (s, _) = parse_file(&d.join("main.pbrt"), &ParseOptions::default()).unwrap();
+    );
+    write(
+        "main.pbrt",
+        "WorldBegin\nAttributeBegin\nTranslate 1 0 0\nImport \"part.pbrt\"\nShape \"sphere\"\nAttributeEnd\n\
+         NamedMaterial \"m\"\nObjectInstance \"o\"\nShape \"sphere\"\n",
+    );
+    let (s, _) = parse_main("main.pbrt").unwrap();
     // Inside the import: the importer's transform, then its own.
     assert_eq!(s.shapes[0].world_from_object.w_axis.x, 1.0);
     assert_eq!(s.shapes[0].world_from_object.w_axis.z, 4.0);
@@ -433,53 +425,33 @@ Shape "sphere"
     assert!(s.texture("t", TextureClass::Float).is_some());
     assert_eq!(s.instances.len(), 1);
     // Coordinate-system names it defines stay in it.
-    std::fs::write(d.join("use_cs.pbrt"), "WorldBegin
-Import "part.pbrt"
-CoordSysTransform "inner"
-").unwrap();
-    let (_, w) = parse_file(&d.join("use_cs.pbrt"), &ParseOptions::default()).unwrap();
-    assert!(w.iter().any(|w| w.message.contains("inner")), "{w:?}");
+    write("use_cs.pbrt", "WorldBegin\nImport \"part.pbrt\"\nCoordSysTransform \"inner\"\n");
+    let (_, w) = parse_main("use_cs.pbrt").unwrap();
+    assert!(w.iter().any(|w| w.message.contains("unknown coordinate system \"inner\"")), "{w:?}");
     // An imported file may not close the importer's blocks, nor leave its own open.
-    std::fs::write(d.join("closes.pbrt"), "AttributeEnd
-AttributeBegin
-").unwrap();
-    std::fs::write(d.join("m2.pbrt"), "WorldBegin
-AttributeBegin
-Import "closes.pbrt"
-AttributeEnd
-").unwrap();
-    let e = parse_file(&d.join("m2.pbrt"), &ParseOptions::default()).unwrap_err().to_string();
+    write("closes.pbrt", "AttributeEnd\nAttributeBegin\n");
+    write("m2.pbrt", "WorldBegin\nAttributeBegin\nImport \"closes.pbrt\"\nAttributeEnd\n");
     assert_eq!(
-        e,
-        format!("{}:1:1: AttributeEnd without a matching AttributeBegin (at \"AttributeEnd\")", d.join("closes.pbrt").display())
+        parse_main("m2.pbrt").unwrap_err().to_string(),
+        format!(
+            "{}:1:1: AttributeEnd without a matching AttributeBegin (at \"AttributeEnd\")",
+            d.join("closes.pbrt").display()
+        )
     );
-    std::fs::write(d.join("opens.pbrt"), "AttributeBegin
-").unwrap();
-    std::fs::write(d.join("m3.pbrt"), "WorldBegin
-Import "opens.pbrt"
-").unwrap();
-    let e = parse_file(&d.join("m3.pbrt"), &ParseOptions::default()).unwrap_err().to_string();
+    write("opens.pbrt", "AttributeBegin\n");
+    write("m3.pbrt", "WorldBegin\nImport \"opens.pbrt\"\n");
+    let e = parse_main("m3.pbrt").unwrap_err().to_string();
     assert!(e.contains("leaves the AttributeBegin at") && e.contains("opens.pbrt:1:1"), "{e}");
     // Include, by contrast, may close blocks its includer opened; Import needs the world block.
-    std::fs::write(d.join("m4.pbrt"), "WorldBegin
-AttributeBegin
-Include "closes.pbrt"
-AttributeEnd
-").unwrap();
-    assert!(parse_file(&d.join("m4.pbrt"), &ParseOptions::default()).is_ok());
-    std::fs::write(d.join("m5.pbrt"), "Import "part.pbrt"
-WorldBegin
-").unwrap();
-    let e = parse_file(&d.join("m5.pbrt"), &ParseOptions::default()).unwrap_err().to_string();
-    assert!(e.contains("Import"), "{e}");
+    write("m4.pbrt", "WorldBegin\nAttributeBegin\nInclude \"closes.pbrt\"\nAttributeEnd\n");
+    assert!(parse_main("m4.pbrt").is_ok());
+    write("m5.pbrt", "Import \"part.pbrt\"\nWorldBegin\n");
+    let e = parse_main("m5.pbrt").unwrap_err().to_string();
+    assert!(e.contains("Import is not allowed before WorldBegin"), "{e}");
     // Inside an object definition, imported shapes belong to the object.
-    std::fs::write(d.join("shape.pbrt"), "Shape \"sphere\"\n").unwrap();
-    std::fs::write(d.join("m6.pbrt"), "WorldBegin
-ObjectBegin "p"
-Import "shape.pbrt"
-ObjectEnd
-").unwrap();
-    let (s, _) = parse_file(&d.join("m6.pbrt"), &ParseOptions::default()).unwrap();
+    write("shape.pbrt", "Shape \"sphere\"\n");
+    write("m6.pbrt", "WorldBegin\nObjectBegin \"p\"\nImport \"shape.pbrt\"\nObjectEnd\n");
+    let (s, _) = parse_main("m6.pbrt").unwrap();
     assert!(s.shapes.is_empty());
     assert_eq!(s.objects[0].shapes.len(), 1);
 }
@@ -496,8 +468,8 @@ fn area_light_parameters_unused_are_reported_once_per_directive() {
     assert_eq!(
         w,
         [
-            "<string>:2:46: warning: parameter \"float typo\" of AreaLightSource \"diffuse\" was not used",
-            "<string>:7:34: warning: parameter \"float other\" of AreaLightSource \"diffuse\" was not used",
+            "<string>:2:43: warning: parameter \"float typo\" of AreaLightSource \"diffuse\" was not used",
+            "<string>:7:27: warning: parameter \"float other\" of AreaLightSource \"diffuse\" was not used",
         ]
     );
 }
