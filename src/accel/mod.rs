@@ -81,9 +81,7 @@ pub fn build(kind: AccelKind, meshes: &[Mesh]) -> Result<Box<dyn Accel>, String>
 pub fn build_instanced(kind: AccelKind, meshes: &[Mesh], set: &InstanceSet) -> Result<Box<dyn Accel>, String> {
     match kind {
         #[cfg(feature = "embree")]
-        AccelKind::Embree => {
-            Ok(Box::new(embree::EmbreeAccel::instanced(meshes, set).map_err(|e| e.to_string())?))
-        }
+        AccelKind::Embree => Ok(Box::new(embree::EmbreeAccel::instanced(meshes, set).map_err(|e| e.to_string())?)),
         #[cfg(not(feature = "embree"))]
         AccelKind::Embree => Err("this prism was built without Embree (feature `embree`); use --accel obvhs".into()),
         AccelKind::Obvhs => Ok(Box::new(obvhs_instanced::ObvhsInstancedAccel::new(meshes, set))),

@@ -62,7 +62,8 @@ impl ObvhsInstancedAccel {
     /// of non-empty prototypes.
     pub fn new(meshes: &[Mesh], set: &InstanceSet) -> Self {
         let world = ObvhsAccel::new(&gather(meshes, &set.world_meshes));
-        let blas: Vec<ObvhsAccel> = set.prototypes.iter().map(|p| ObvhsAccel::new(&gather(meshes, &p.meshes))).collect();
+        let blas: Vec<ObvhsAccel> =
+            set.prototypes.iter().map(|p| ObvhsAccel::new(&gather(meshes, &p.meshes))).collect();
         let mut bounds = world.bounds();
         let mut placed = Vec::new();
         let mut boxes = Vec::new();

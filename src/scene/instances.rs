@@ -149,7 +149,9 @@ mod tests {
     #[test]
     fn point_error_bound_covers_the_exact_transform() {
         // Compare the f32 transform against f64 arithmetic: the bound must contain the difference.
-        let m = Mat4::from_translation(Vec3::new(1e5, -3e4, 7.0)) * Mat4::from_rotation_y(0.7) * Mat4::from_scale(Vec3::splat(3.3));
+        let m = Mat4::from_translation(Vec3::new(1e5, -3e4, 7.0))
+            * Mat4::from_rotation_y(0.7)
+            * Mat4::from_scale(Vec3::splat(3.3));
         let inst = Instance::new(0, m).unwrap();
         let mut seed = 1u32;
         let mut rnd = || {

@@ -63,7 +63,13 @@ impl SurfaceInteraction {
             None => (point, p_err, ng, interpolated, dpdu),
             Some(inst) => {
                 let (wp, werr) = inst.point_to_world(point, p_err);
-                (wp, werr, inst.normal_to_world(ng), interpolated.map(|n| inst.normal_to_world(n)), inst.vector_to_world(dpdu))
+                (
+                    wp,
+                    werr,
+                    inst.normal_to_world(ng),
+                    interpolated.map(|n| inst.normal_to_world(n)),
+                    inst.vector_to_world(dpdu),
+                )
             }
         };
         let mut ns = ng;

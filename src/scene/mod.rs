@@ -174,6 +174,24 @@ impl SceneBuilder {
         }
     }
 
+    /// Moves every non-emissive world mesh into one new prototype placed once at the identity
+    /// (so that `transform` then moves it as an instance); returns the prototype, or `None` when
+    /// there was nothing to move. Lets tests trace any scene through the instancing paths.
+    pub fn instance_world_geometry(&mut self) -> Option<u32> {
+        let proto = self.prototypes.len() as u32;
+        let ids: Vec<u32> = (0..self.meshes.len() as u32)
+            .filter(|&m| self.mesh_prototype[m as usize] == u32::MAX && self.mesh_emission[m as usize].is_none())
+            .collect();
+        if ids.is_empty() {
+            return None;
+        }
+        for &m in &ids {
+            self.mesh_prototype[m as usize] = proto;
+        }
+        self.prototypes.push(Prototype { meshes: ids });
+        self.add_instance(proto, Mat4::IDENTITY).then_some(proto)
+    }
+
     /// Number of instances placed so far.
     pub fn instance_count(&self) -> usize {
         self.instances.len()
@@ -221,7 +239,8 @@ impl SceneBuilder {
             }
         }
         for inst in self.instances.iter_mut() {
-            *inst = Instance::new(inst.prototype, m * inst.world_from_object).expect("a similarity keeps it invertible");
+            *inst =
+                Instance::new(inst.prototype, m * inst.world_from_object).expect("a similarity keeps it invertible");
         }
         if let Some(c) = self.camera.as_mut() {
             // Keep the camera frame orthonormal: move the origin, rotate the axes, do not scale.
@@ -240,7 +259,9 @@ impl SceneBuilder {
             accel::build(accel_kind, &self.meshes)
         } else {
             let set = InstanceSet {
-                world_meshes: (0..self.meshes.len() as u32).filter(|&m| self.mesh_prototype[m as usize] == u32::MAX).collect(),
+                world_meshes: (0..self.meshes.len() as u32)
+                    .filter(|&m| self.mesh_prototype[m as usize] == u32::MAX)
+                    .collect(),
                 prototypes: self.prototypes,
                 instances: self.instances.clone(),
             };
