@@ -4,11 +4,14 @@
 #[cfg(feature = "embree")]
 pub mod embree;
 pub mod obvhs;
+pub mod obvhs_instanced;
 pub mod watertight;
 
 pub use self::obvhs::{BuildQuality, BuildStats, ObvhsAccel};
+pub use self::obvhs_instanced::ObvhsInstancedAccel;
 
-use crate::geometry::{Bounds3, Hit, Ray};
+use crate::geometry::{Bounds3, Hit, Mesh, Ray};
+use crate::scene::instances::InstanceSet;
 
 /// A ray-intersection accelerator over a set of triangle meshes.
 pub trait Accel: Send + Sync {
@@ -18,6 +21,8 @@ pub trait Accel: Send + Sync {
     fn occluded(&self, ray: &Ray) -> bool;
     /// Bounds of the whole scene.
     fn bounds(&self) -> Bounds3;
+    /// Bytes the accelerator holds (BVH nodes and its own copies of the geometry).
+    fn memory_bytes(&self) -> usize;
     /// Backend name, as on the command line.
     fn name(&self) -> &'static str;
 }
@@ -60,13 +65,26 @@ impl AccelKind {
 }
 
 /// Builds the chosen backend over `meshes` (geometry id = mesh index).
-pub fn build(kind: AccelKind, meshes: &[crate::geometry::Mesh]) -> Result<Box<dyn Accel>, String> {
+pub fn build(kind: AccelKind, meshes: &[Mesh]) -> Result<Box<dyn Accel>, String> {
     match kind {
         #[cfg(feature = "embree")]
         AccelKind::Embree => Ok(Box::new(embree::EmbreeAccel::new(meshes).map_err(|e| e.to_string())?)),
         #[cfg(not(feature = "embree"))]
         AccelKind::Embree => Err("this prism was built without Embree (feature `embree`); use --accel obvhs".into()),
         AccelKind::Obvhs => Ok(Box::new(obvhs::ObvhsAccel::new(meshes))),
+    }
+}
+
+/// Builds the chosen backend over a scene with object instances: `set.world_meshes` are traced
+/// as they are, each prototype is built once and traced through its instances' transforms.
+/// Hits report scene mesh ids (`geom_id`) and the instance index (`inst_id`).
+pub fn build_instanced(kind: AccelKind, meshes: &[Mesh], set: &InstanceSet) -> Result<Box<dyn Accel>, String> {
+    match kind {
+        #[cfg(feature = "embree")]
+        AccelKind::Embree => Ok(Box::new(embree::EmbreeAccel::instanced(meshes, set).map_err(|e| e.to_string())?)),
+        #[cfg(not(feature = "embree"))]
+        AccelKind::Embree => Err("this prism was built without Embree (feature `embree`); use --accel obvhs".into()),
+        AccelKind::Obvhs => Ok(Box::new(obvhs_instanced::ObvhsInstancedAccel::new(meshes, set))),
     }
 }
 

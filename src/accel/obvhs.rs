@@ -24,11 +24,11 @@ use super::Accel;
 use crate::geometry::{Bounds3, Hit, Mesh, Ray};
 
 /// t seen by obvhs = t · T_SCALE (a power of two, so scaling is exact).
-const T_SCALE: f32 = (1u32 << 20) as f32;
+pub(super) const T_SCALE: f32 = (1u32 << 20) as f32;
 /// Largest inverse-direction magnitude handed to obvhs' slab test (finite: avoids 0·∞ = NaN).
 const INV_DIR_LIMIT: f32 = 1e30;
 /// obvhs' traversal stack size (`cwbvh::TRAVERSAL_STACK_SIZE`, private in obvhs 0.4).
-const OBVHS_STACK: u32 = 32;
+pub(super) const OBVHS_STACK: u32 = 32;
 
 /// BVH build effort: faster builds trace slower. Maps to obvhs' `BvhBuildParams` presets.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -172,12 +172,12 @@ impl ObvhsAccel {
     fn hit_record(&self, (h, i): (TriangleHit, usize)) -> Hit {
         let [p0, p1, p2] = self.triangles[i];
         let (geom_id, prim_id) = self.ids[i];
-        Hit { t: h.t, geom_id, prim_id, u: h.u, v: h.v, ng: (p1 - p0).cross(p2 - p0) }
+        Hit { t: h.t, geom_id, prim_id, u: h.u, v: h.v, ng: (p1 - p0).cross(p2 - p0), inst_id: Hit::NO_INSTANCE }
     }
 }
 
 /// The ray as obvhs sees it: direction scaled by 1/T_SCALE, sign-consistent finite 1/d.
-fn obvhs_ray(ray: &Ray, t_max_scaled: f32) -> ::obvhs::ray::Ray {
+pub(super) fn obvhs_ray(ray: &Ray, t_max_scaled: f32) -> ::obvhs::ray::Ray {
     // Adding +0 turns -0 into +0: obvhs picks slab order from `d < 0`, so 1/d must agree in sign.
     let d = ray.d * (1.0 / T_SCALE) + Vec3::ZERO;
     let inv = |x: f32| {
@@ -229,7 +229,7 @@ fn group_by_centroid_cell(tris: &[[Vec3; 3]], bounds: Bounds3) -> (Vec<u32>, Vec
 }
 
 /// Depth of the deepest internal node (root = 0).
-fn max_depth(bvh: &CwBvh) -> u32 {
+pub(super) fn max_depth(bvh: &CwBvh) -> u32 {
     let mut deepest = 0;
     let mut stack = vec![(0usize, 0u32)];
     while let Some((n, depth)) = stack.pop() {
@@ -294,6 +294,17 @@ impl Accel for ObvhsAccel {
 
     fn bounds(&self) -> Bounds3 {
         self.bounds
+    }
+
+    fn memory_bytes(&self) -> usize {
+        use std::mem::size_of_val;
+        let bvh = &self.bvh;
+        size_of_val(&bvh.nodes[..])
+            + size_of_val(&bvh.primitive_indices[..])
+            + bvh.exact_node_aabbs.as_ref().map_or(0, |a| size_of_val(&a[..]))
+            + size_of_val(&self.triangles[..])
+            + size_of_val(&self.group_start[..])
+            + size_of_val(&self.ids[..])
     }
 
     fn name(&self) -> &'static str {

@@ -18,7 +18,15 @@ fn brute_intersect(meshes: &[Mesh], ray: &Ray) -> Option<Hit> {
             if let Some(h) = r.intersect(p0, p1, p2, limit) {
                 if best.is_none_or(|b| h.t < b.t) {
                     let ng = (p1 - p0).cross(p2 - p0);
-                    best = Some(Hit { t: h.t, geom_id: g as u32, prim_id: p as u32, u: h.u, v: h.v, ng });
+                    best = Some(Hit {
+                        t: h.t,
+                        geom_id: g as u32,
+                        prim_id: p as u32,
+                        u: h.u,
+                        v: h.v,
+                        ng,
+                        inst_id: Hit::NO_INSTANCE,
+                    });
                 }
             }
         }

@@ -42,6 +42,14 @@ pub struct Hit {
     pub u: f32,
     /// See `u`.
     pub v: f32,
-    /// Unnormalised geometric normal, (p1-p0)×(p2-p0).
+    /// Unnormalised geometric normal, (p1-p0)×(p2-p0), in world space (for an instance hit:
+    /// the cross product of the transformed vertices).
     pub ng: Vec3,
+    /// Index of the object instance that was hit, or [`Hit::NO_INSTANCE`] for world geometry.
+    pub inst_id: u32,
+}
+
+impl Hit {
+    /// `inst_id` of a hit on geometry that is not part of an object instance.
+    pub const NO_INSTANCE: u32 = u32::MAX;
 }

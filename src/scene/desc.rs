@@ -251,11 +251,26 @@ impl SceneDesc {
             d(&x.params, name, &x.kind);
         }
         let shapes = self.shapes.iter().chain(self.objects.iter().flat_map(|o| o.shapes.iter()));
+        // Every shape under one AreaLightSource carries its own copy of the parameters: report
+        // each directive once, naming only parameters that no shape's copy used.
+        let mut area_lights: Vec<(&AreaLightDesc, Vec<&ParamSet>)> = Vec::new();
         for s in shapes {
             d(&s.params, "Shape", &s.kind);
             if let Some(a) = &s.area_light {
-                d(&a.params, "AreaLightSource", &a.kind);
+                match area_lights.iter_mut().find(|(first, _)| first.loc == a.loc) {
+                    Some((_, copies)) => copies.push(&a.params),
+                    None => area_lights.push((a, vec![&a.params])),
+                }
             }
+        }
+        for (a, copies) in area_lights {
+            let mut unused = ParamSet::new(&a.params.color_space);
+            for (j, p) in a.params.iter().enumerate() {
+                if copies.iter().all(|c| c.iter().nth(j).is_some_and(|q| !q.is_used())) {
+                    unused.push(p.clone()).expect("names are unique in the original set");
+                }
+            }
+            d(&unused, "AreaLightSource", &a.kind);
         }
         for l in &self.lights {
             d(&l.params, "LightSource", &l.kind);

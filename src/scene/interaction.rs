@@ -22,6 +22,8 @@ pub struct SurfaceInteraction {
     pub mesh: u32,
     /// Triangle index within the mesh.
     pub prim: u32,
+    /// Instance index ([`Hit::NO_INSTANCE`] for world geometry).
+    pub inst: u32,
 }
 
 impl SurfaceInteraction {
@@ -37,18 +39,10 @@ impl SurfaceInteraction {
             Some(uvs) => uvs[tri[0] as usize] * b[0] + uvs[tri[1] as usize] * b[1] + uvs[tri[2] as usize] * b[2],
             None => Vec2::new(b[1] + b[2], b[2]),
         };
-        let mut ns = ng;
-        let mut ng_oriented = ng;
-        if let Some(normals) = &mesh.normals {
+        let interpolated = mesh.normals.as_ref().and_then(|normals| {
             let n = normals[tri[0] as usize] * b[0] + normals[tri[1] as usize] * b[1] + normals[tri[2] as usize] * b[2];
-            if n.length_squared() > 0.0 && n.is_finite() {
-                ns = n.normalize();
-                // pbrt-v4: the geometric normal follows the side of the interpolated normal.
-                if ng.dot(ns) < 0.0 {
-                    ng_oriented = -ng;
-                }
-            }
-        }
+            (n.length_squared() > 0.0 && n.is_finite()).then_some(n)
+        });
         let dpdu = match &mesh.uvs {
             Some(uvs) => {
                 let (duv02, duv12) =
@@ -63,6 +57,30 @@ impl SurfaceInteraction {
             }
             None => p[1] - p[0],
         };
+        // An instance hit was computed in object space: carry the point with its error bound,
+        // the normals and the tangent to world space (pbrt-v4 transforms interactions the same way).
+        let (point, p_err, ng, interpolated, dpdu) = match scene.instances.get(hit.inst_id as usize) {
+            None => (point, p_err, ng, interpolated, dpdu),
+            Some(inst) => {
+                let (wp, werr) = inst.point_to_world(point, p_err);
+                (
+                    wp,
+                    werr,
+                    inst.normal_to_world(ng),
+                    interpolated.map(|n| inst.normal_to_world(n)),
+                    inst.vector_to_world(dpdu),
+                )
+            }
+        };
+        let mut ns = ng;
+        let mut ng_oriented = ng;
+        if let Some(n) = interpolated {
+            ns = n.normalize();
+            // pbrt-v4: the geometric normal follows the side of the interpolated normal.
+            if ng.dot(ns) < 0.0 {
+                ng_oriented = -ng;
+            }
+        }
         Self {
             p: point,
             p_err,
@@ -70,6 +88,7 @@ impl SurfaceInteraction {
             wo: -ray.d.normalize(),
             mesh: hit.geom_id,
             prim: hit.prim_id,
+            inst: hit.inst_id,
         }
     }
 
@@ -82,6 +101,7 @@ impl SurfaceInteraction {
             wo: n,
             mesh: u32::MAX,
             prim: u32::MAX,
+            inst: Hit::NO_INSTANCE,
         }
     }
 

@@ -4,6 +4,7 @@
 mod cornell;
 pub mod desc;
 pub mod error;
+pub mod instances;
 mod interaction;
 pub mod mesh_io;
 pub mod names;
@@ -20,6 +21,7 @@ pub use desc::{
     ShapeDesc, ShapeGeometry, TextureClass, TextureDesc,
 };
 pub use error::{Location, SceneError, Warning};
+pub use instances::{Instance, InstanceSet, Prototype};
 pub use interaction::SurfaceInteraction;
 pub use params::{FloatOrTexture, ParamSet, ParamValue, SpectrumOrTexture, SpectrumParam};
 pub use parser::{look_at, parse_file, parse_str, ParseOptions};
@@ -90,6 +92,10 @@ pub struct SceneBuilder {
     meshes: Vec<Mesh>,
     mesh_material: Vec<u32>,
     mesh_emission: Vec<Option<Emission>>,
+    /// Prototype each mesh belongs to (`u32::MAX`: a world mesh).
+    mesh_prototype: Vec<u32>,
+    prototypes: Vec<Prototype>,
+    instances: Vec<Instance>,
     materials: Vec<Material>,
     lights: Vec<Light>,
     camera: Option<CameraDesc>,
@@ -128,7 +134,84 @@ impl SceneBuilder {
         self.meshes.push(mesh);
         self.mesh_material.push(material);
         self.mesh_emission.push(emission);
+        self.mesh_prototype.push(u32::MAX);
         id
+    }
+
+    /// Adds a prototype: meshes in object space, each with its material (no emission: pbrt-v4
+    /// does not instance area lights). Returns its id for [`SceneBuilder::add_instance`].
+    pub fn add_prototype(&mut self, meshes: Vec<(Mesh, u32)>) -> u32 {
+        let proto = self.prototypes.len() as u32;
+        let mut ids = Vec::with_capacity(meshes.len());
+        for (mesh, material) in meshes {
+            let id = self.add_mesh(mesh, material, None);
+            self.mesh_prototype[id as usize] = proto;
+            ids.push(id);
+        }
+        self.prototypes.push(Prototype { meshes: ids });
+        proto
+    }
+
+    /// Places prototype `prototype` at `world_from_object`. A singular or non-finite transform
+    /// (or an unknown prototype) places nothing and returns false with a warning.
+    pub fn add_instance(&mut self, prototype: u32, world_from_object: Mat4) -> bool {
+        if prototype as usize >= self.prototypes.len() {
+            self.warnings.push(format!("instance of unknown prototype {prototype} skipped"));
+            return false;
+        }
+        match Instance::new(prototype, world_from_object) {
+            Some(i) => {
+                self.instances.push(i);
+                true
+            }
+            None => {
+                self.warnings.push(format!(
+                    "instance {} of prototype {prototype}: singular or non-finite transform; skipped",
+                    self.instances.len()
+                ));
+                false
+            }
+        }
+    }
+
+    /// Moves every non-emissive world mesh into one new prototype placed once at the identity
+    /// (so that `transform` then moves it as an instance); returns the prototype, or `None` when
+    /// there was nothing to move. Lets tests trace any scene through the instancing paths.
+    pub fn instance_world_geometry(&mut self) -> Option<u32> {
+        let proto = self.prototypes.len() as u32;
+        let ids: Vec<u32> = (0..self.meshes.len() as u32)
+            .filter(|&m| self.mesh_prototype[m as usize] == u32::MAX && self.mesh_emission[m as usize].is_none())
+            .collect();
+        if ids.is_empty() {
+            return None;
+        }
+        for &m in &ids {
+            self.mesh_prototype[m as usize] = proto;
+        }
+        self.prototypes.push(Prototype { meshes: ids });
+        self.add_instance(proto, Mat4::IDENTITY).then_some(proto)
+    }
+
+    /// Number of instances placed so far.
+    pub fn instance_count(&self) -> usize {
+        self.instances.len()
+    }
+
+    /// Replaces every instance by world-space copies of its prototype's meshes (the reference
+    /// that instancing must reproduce); the prototypes' own meshes become empty.
+    pub fn flatten_instances(&mut self) {
+        for inst in std::mem::take(&mut self.instances) {
+            for &m in &self.prototypes[inst.prototype as usize].meshes.clone() {
+                let copy = self.meshes[m as usize].transformed(&inst.world_from_object);
+                self.add_mesh(copy, self.mesh_material[m as usize], None);
+            }
+        }
+        for p in std::mem::take(&mut self.prototypes) {
+            for m in p.meshes {
+                self.meshes[m as usize] = Mesh::default();
+                self.mesh_prototype[m as usize] = u32::MAX;
+            }
+        }
     }
 
     /// Adds a light that is not attached to geometry.
@@ -150,8 +233,14 @@ impl SceneBuilder {
     /// Applies `m` (a similarity: rotation, uniform scale, translation) to all geometry, lights
     /// and the camera. Used to test that nothing depends on the scene's scale or position.
     pub fn transform(&mut self, m: Mat4) {
-        for mesh in self.meshes.iter_mut() {
-            *mesh = mesh.transformed(&m);
+        for (mesh, &proto) in self.meshes.iter_mut().zip(&self.mesh_prototype) {
+            if proto == u32::MAX {
+                *mesh = mesh.transformed(&m);
+            }
+        }
+        for inst in self.instances.iter_mut() {
+            *inst =
+                Instance::new(inst.prototype, m * inst.world_from_object).expect("a similarity keeps it invertible");
         }
         if let Some(c) = self.camera.as_mut() {
             // Keep the camera frame orthonormal: move the origin, rotate the axes, do not scale.
@@ -166,7 +255,19 @@ impl SceneBuilder {
     /// Builds the accelerator and the lights.
     pub fn build(self, accel_kind: AccelKind) -> Result<Scene, BuildError> {
         let camera = self.camera.ok_or(BuildError::NoCamera)?;
-        let accel = accel::build(accel_kind, &self.meshes).map_err(BuildError::Accel)?;
+        let accel = if self.prototypes.is_empty() {
+            accel::build(accel_kind, &self.meshes)
+        } else {
+            let set = InstanceSet {
+                world_meshes: (0..self.meshes.len() as u32)
+                    .filter(|&m| self.mesh_prototype[m as usize] == u32::MAX)
+                    .collect(),
+                prototypes: self.prototypes,
+                instances: self.instances.clone(),
+            };
+            accel::build_instanced(accel_kind, &self.meshes, &set)
+        }
+        .map_err(BuildError::Accel)?;
         let mut lights = self.lights;
         let mut mesh_light_offset = vec![u32::MAX; self.meshes.len()];
         for (mi, (mesh, em)) in self.meshes.iter().zip(&self.mesh_emission).enumerate() {
@@ -197,6 +298,7 @@ impl SceneBuilder {
             meshes: self.meshes,
             mesh_material: self.mesh_material,
             mesh_light_offset,
+            instances: self.instances,
             materials: self.materials,
             lights,
             infinite_lights,
@@ -219,6 +321,8 @@ pub struct Scene {
     /// Index of the first area light of each emissive mesh (light of triangle i = offset + i),
     /// `u32::MAX` for meshes that do not emit.
     pub mesh_light_offset: Vec<u32>,
+    /// Object instances (`Hit::inst_id` indexes this); their meshes are in object space.
+    pub instances: Vec<Instance>,
     /// Materials.
     pub materials: Vec<Material>,
     /// All lights (area lights one per emissive triangle).

@@ -119,6 +119,8 @@ struct Parser<'o> {
     current_object: Option<ObjectDesc>,
     instances: Vec<(String, Mat4, Location)>,
     include_stack: Vec<PathBuf>,
+    /// Entries of `stack` below this belong to an importing file: an imported file cannot pop them.
+    stack_floor: usize,
     warned_motion: bool,
     last_loc: Option<Location>,
 }
@@ -158,6 +160,7 @@ impl<'o> Parser<'o> {
             current_object: None,
             instances: Vec::new(),
             include_stack: Vec::new(),
+            stack_floor: 0,
             warned_motion: false,
             last_loc: None,
         }
@@ -656,7 +659,7 @@ impl<'o> Parser<'o> {
             Pushed::Transform => "TransformBegin",
             Pushed::Object => "ObjectBegin",
         };
-        match self.stack.last() {
+        match self.stack.last().filter(|_| self.stack.len() > self.stack_floor) {
             None => Err(SceneError::syntax(&tok.loc, &tok.text, format!("{} without a matching {begin}", tok.text))),
             Some((_, got, loc)) if *got != want => Err(SceneError::syntax(
                 &tok.loc,
@@ -745,18 +748,27 @@ impl<'o> Parser<'o> {
         }
         let text = read_text(&path, &name.loc)?;
         self.include_stack.push(canon);
-        let saved = (tok.text == "Import").then(|| (self.gs.clone(), self.stack.len()));
+        // pbrt-v4 parses an Import'ed file with its own copy of the graphics state (it may run
+        // in parallel): its transforms, materials, area lights and coordinate-system names do not
+        // leak back, and it cannot close blocks the importer opened. Named materials, textures,
+        // objects, shapes and lights it defines belong to the scene.
+        let saved = (tok.text == "Import").then(|| (self.gs.clone(), self.named_cs.clone(), self.stack_floor));
+        if saved.is_some() {
+            self.stack_floor = self.stack.len();
+        }
         self.parse_text(&text, Arc::from(path.as_path()))?;
-        if let Some((gs, depth)) = saved {
-            // Import'ed files cannot change the importer's graphics state.
-            if self.stack.len() != depth {
+        if let Some((gs, named_cs, floor)) = saved {
+            if self.stack.len() != self.stack_floor {
+                let (_, kind, loc) = self.stack.last().expect("deeper than the floor");
                 return Err(SceneError::syntax(
                     &tok.loc,
                     &name.display(),
-                    "an imported file must close every AttributeBegin/ObjectBegin it opens",
+                    format!("the imported file leaves the {kind:?}Begin at {loc} open; an imported file must close every block it opens"),
                 ));
             }
             self.gs = gs;
+            self.named_cs = named_cs;
+            self.stack_floor = floor;
         }
         self.include_stack.pop();
         Ok(())

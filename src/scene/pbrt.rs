@@ -14,7 +14,7 @@ use crate::geometry::Mesh;
 use crate::light::{AreaLight, DistantLight, Light, PointLight, SpotFalloff, SpotLight, UniformInfiniteLight};
 use crate::material::{FloatTexture, ImageTexture, Ior, Material, ReflectanceImage, Roughness, SpectrumTexture};
 use crate::spectrum::{ColorSpace, RgbKind, Spectrum};
-use glam::{Mat4, Vec2, Vec3};
+use glam::{Vec2, Vec3};
 use std::collections::HashMap;
 use std::sync::Arc;
 
@@ -45,15 +45,9 @@ pub fn build(desc: &SceneDesc, warnings: &mut Vec<Warning>) -> Result<(SceneBuil
     ctx.camera()?;
     let settings = ctx.settings();
     for shape in &desc.shapes {
-        ctx.shape(shape, Mat4::IDENTITY)?;
+        ctx.shape(shape)?;
     }
-    for inst in &desc.instances {
-        // Instances are flattened into world-space copies (both backends see plain meshes).
-        let obj = &desc.objects[inst.object_index];
-        for shape in &obj.shapes {
-            ctx.shape(shape, inst.world_from_instance)?;
-        }
-    }
+    ctx.instances()?;
     for l in &desc.lights {
         ctx.light(l)?;
     }
@@ -328,15 +322,36 @@ impl Ctx<'_> {
         }
     }
 
-    fn shape(&mut self, s: &ShapeDesc, instance: Mat4) -> Result<(), SceneError> {
-        let world = instance * s.world_from_object;
-        let mesh = match &s.geometry {
-            ShapeGeometry::Mesh(m) => m.transformed(&world),
-            ShapeGeometry::Sphere { radius, z_min, z_max, phi_max } => {
-                super::shapes::tessellate_sphere(*radius, *z_min, *z_max, *phi_max).transformed(&world)
+    /// Object instances: each instanced object becomes one prototype (its shapes in instance
+    /// space, built once), placed by every ObjectInstance. Objects nobody instances are not
+    /// built; an instance with a singular transform is skipped with a warning.
+    fn instances(&mut self) -> Result<(), SceneError> {
+        let desc = self.desc;
+        let mut prototype: HashMap<usize, Option<u32>> = HashMap::new();
+        for inst in &desc.instances {
+            let proto = match prototype.get(&inst.object_index) {
+                Some(&p) => p,
+                None => {
+                    let obj = &desc.objects[inst.object_index];
+                    let mut meshes = Vec::with_capacity(obj.shapes.len());
+                    for s in &obj.shapes {
+                        meshes.push((shape_mesh(s), self.material(desc.material(&s.material))?));
+                    }
+                    let p = (!meshes.is_empty()).then(|| self.b.add_prototype(meshes));
+                    prototype.insert(inst.object_index, p);
+                    p
+                }
+            };
+            let Some(proto) = proto else { continue };
+            if !self.b.add_instance(proto, inst.world_from_instance) {
+                self.warnings.extend(self.b.warnings.pop().map(|message| Warning { loc: inst.loc.clone(), message }));
             }
-        };
-        let mesh = orient(mesh, s.reverse_orientation);
+        }
+        Ok(())
+    }
+
+    fn shape(&mut self, s: &ShapeDesc) -> Result<(), SceneError> {
+        let mesh = shape_mesh(s);
         let material = self.material(self.desc.material(&s.material))?;
         let emission = match &s.area_light {
             None => None,
@@ -444,6 +459,19 @@ impl Ctx<'_> {
         }
         Ok(())
     }
+}
+
+/// A shape's triangles in the space its transform leads to (world, or instance space inside an
+/// object definition), oriented.
+fn shape_mesh(s: &ShapeDesc) -> Mesh {
+    let m = &s.world_from_object;
+    let mesh = match &s.geometry {
+        ShapeGeometry::Mesh(mesh) => mesh.transformed(m),
+        ShapeGeometry::Sphere { radius, z_min, z_max, phi_max } => {
+            super::shapes::tessellate_sphere(*radius, *z_min, *z_max, *phi_max).transformed(m)
+        }
+    };
+    orient(mesh, s.reverse_orientation)
 }
 
 /// Orients triangles as pbrt-v4 does: with per-vertex normals the geometric normal faces them;

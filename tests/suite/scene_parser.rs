@@ -382,6 +382,99 @@ fn import_does_not_change_the_importers_state() {
 }
 
 #[test]
+fn import_follows_pbrt_v4_semantics() {
+    let d = tmp("import_v4");
+    let write = |name: &str, text: &str| std::fs::write(d.join(name), text).unwrap();
+    let parse_main = |name: &str| parse_file(&d.join(name), &ParseOptions::default());
+    // The imported file changes every part of the graphics state and defines named things.
+    write(
+        "part.pbrt",
+        r#"Translate 0 0 4
+ReverseOrientation
+Material "conductor"
+AreaLightSource "diffuse" "rgb L" [1 1 1]
+CoordinateSystem "inner"
+MakeNamedMaterial "m" "string type" "diffuse"
+Texture "t" "float" "constant" "float value" 0.5
+ObjectBegin "o"
+Shape "sphere"
+ObjectEnd
+AttributeBegin
+Shape "sphere"
+AttributeEnd
+"#,
+    );
+    write(
+        "main.pbrt",
+        "WorldBegin\nAttributeBegin\nTranslate 1 0 0\nImport \"part.pbrt\"\nShape \"sphere\"\nAttributeEnd\n\
+         NamedMaterial \"m\"\nObjectInstance \"o\"\nShape \"sphere\"\n",
+    );
+    let (s, _) = parse_main("main.pbrt").unwrap();
+    // Inside the import: the importer's transform, then its own.
+    assert_eq!(s.shapes[0].world_from_object.w_axis.x, 1.0);
+    assert_eq!(s.shapes[0].world_from_object.w_axis.z, 4.0);
+    assert!(s.shapes[0].reverse_orientation && s.shapes[0].area_light.is_some());
+    // After it: the importer's state as it was (transform, orientation, material, area light).
+    let after = &s.shapes[1];
+    assert_eq!(after.world_from_object.w_axis.z, 0.0);
+    assert_eq!(after.world_from_object.w_axis.x, 1.0);
+    assert!(!after.reverse_orientation && after.area_light.is_none());
+    assert_eq!(after.material, MaterialRef::Default);
+    // Named materials, textures and objects it defines are the scene's.
+    assert_eq!(s.shapes[2].material, MaterialRef::Named("m".into()));
+    assert!(s.texture("t", TextureClass::Float).is_some());
+    assert_eq!(s.instances.len(), 1);
+    // Coordinate-system names it defines stay in it.
+    write("use_cs.pbrt", "WorldBegin\nImport \"part.pbrt\"\nCoordSysTransform \"inner\"\n");
+    let (_, w) = parse_main("use_cs.pbrt").unwrap();
+    assert!(w.iter().any(|w| w.message.contains("unknown coordinate system \"inner\"")), "{w:?}");
+    // An imported file may not close the importer's blocks, nor leave its own open.
+    write("closes.pbrt", "AttributeEnd\nAttributeBegin\n");
+    write("m2.pbrt", "WorldBegin\nAttributeBegin\nImport \"closes.pbrt\"\nAttributeEnd\n");
+    assert_eq!(
+        parse_main("m2.pbrt").unwrap_err().to_string(),
+        format!(
+            "{}:1:1: AttributeEnd without a matching AttributeBegin (at \"AttributeEnd\")",
+            d.join("closes.pbrt").display()
+        )
+    );
+    write("opens.pbrt", "AttributeBegin\n");
+    write("m3.pbrt", "WorldBegin\nImport \"opens.pbrt\"\n");
+    let e = parse_main("m3.pbrt").unwrap_err().to_string();
+    assert!(e.contains("leaves the AttributeBegin at") && e.contains("opens.pbrt:1:1"), "{e}");
+    // Include, by contrast, may close blocks its includer opened; Import needs the world block.
+    write("m4.pbrt", "WorldBegin\nAttributeBegin\nInclude \"closes.pbrt\"\nAttributeEnd\n");
+    assert!(parse_main("m4.pbrt").is_ok());
+    write("m5.pbrt", "Import \"part.pbrt\"\nWorldBegin\n");
+    let e = parse_main("m5.pbrt").unwrap_err().to_string();
+    assert!(e.contains("Import is not allowed before WorldBegin"), "{e}");
+    // Inside an object definition, imported shapes belong to the object.
+    write("shape.pbrt", "Shape \"sphere\"\n");
+    write("m6.pbrt", "WorldBegin\nObjectBegin \"p\"\nImport \"shape.pbrt\"\nObjectEnd\n");
+    let (s, _) = parse_main("m6.pbrt").unwrap();
+    assert!(s.shapes.is_empty());
+    assert_eq!(s.objects[0].shapes.len(), 1);
+}
+
+#[test]
+fn area_light_parameters_unused_are_reported_once_per_directive() {
+    let (d, _) = parse(&format!(
+        "WorldBegin\nAreaLightSource \"diffuse\" \"rgb L\" [1 1 1] \"float typo\" 1\n{TRI}\n{TRI}\n{TRI}\n\
+         AttributeBegin\nAreaLightSource \"diffuse\" \"float other\" 2\n{TRI}\n{TRI}\nAttributeEnd"
+    ));
+    let mut warnings = Vec::new();
+    let _ = prism::scene::pbrt::build(&d, &mut warnings).unwrap();
+    let w: Vec<String> = d.report_unused().iter().map(|w| w.to_string()).collect();
+    assert_eq!(
+        w,
+        [
+            "<string>:2:43: warning: parameter \"float typo\" of AreaLightSource \"diffuse\" was not used",
+            "<string>:7:27: warning: parameter \"float other\" of AreaLightSource \"diffuse\" was not used",
+        ]
+    );
+}
+
+#[test]
 fn include_cycles_and_missing_files_are_errors() {
     let d = tmp("cycle");
     std::fs::write(d.join("a.pbrt"), "WorldBegin\nInclude \"b.pbrt\"\n").unwrap();

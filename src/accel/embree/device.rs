@@ -3,6 +3,7 @@
 
 use super::ffi;
 use std::ffi::{c_char, c_void, CStr};
+use std::sync::atomic::{AtomicI64, Ordering};
 use std::sync::Mutex;
 
 /// Why an Embree call failed.
@@ -16,10 +17,13 @@ pub enum EmbreeError {
     Call(String),
 }
 
-/// Owns an `RTCDevice`. The boxed `last_error` is the callback's user pointer, so it must not move.
+/// Owns an `RTCDevice`. The boxed `last_error` and `bytes` are callback user pointers, so they
+/// must not move.
 pub struct Device {
     raw: ffi::RTCDevice,
     last_error: Box<Mutex<Option<String>>>,
+    /// Bytes Embree has allocated through this device and not yet freed (its memory monitor).
+    bytes: Box<AtomicI64>,
 }
 
 // SAFETY: an RTCDevice is reference counted and internally synchronised; Embree allows using it
@@ -43,6 +47,14 @@ unsafe extern "C" fn on_error(user: *mut c_void, code: ffi::RTCError, msg: *cons
     }
 }
 
+unsafe extern "C" fn on_memory(user: *mut c_void, bytes: isize, _post: bool) -> bool {
+    // SAFETY: `user` is the address of the Device's boxed counter, alive as long as the device.
+    let counter = unsafe { &*(user as *const AtomicI64) };
+    counter.fetch_add(bytes as i64, Ordering::Relaxed);
+    // Never veto an allocation: the counter only measures.
+    true
+}
+
 impl Device {
     /// Creates a device with Embree's default configuration.
     pub fn new() -> Result<Self, EmbreeError> {
@@ -59,12 +71,21 @@ impl Device {
         let user = &*last_error as *const Mutex<Option<String>> as *mut c_void;
         // SAFETY: `raw` is a valid device; `user` stays valid until Drop releases the device.
         unsafe { ffi::rtcSetDeviceErrorFunction(raw, Some(on_error), user) };
-        Ok(Self { raw, last_error })
+        let bytes = Box::new(AtomicI64::new(0));
+        let counter = &*bytes as *const AtomicI64 as *mut c_void;
+        // SAFETY: as above; the counter outlives the device.
+        unsafe { ffi::rtcSetDeviceMemoryMonitorFunction(raw, Some(on_memory), counter) };
+        Ok(Self { raw, last_error, bytes })
     }
 
     /// The raw handle, for the scene module.
     pub(super) fn raw(&self) -> ffi::RTCDevice {
         self.raw
+    }
+
+    /// Bytes currently allocated by Embree for this device's scenes and buffers.
+    pub fn memory_bytes(&self) -> usize {
+        self.bytes.load(Ordering::Relaxed).max(0) as usize
     }
 
     /// Takes the last error the callback reported, if any.

@@ -3,12 +3,14 @@
 
 mod device;
 mod ffi;
+mod instanced;
 mod scene;
 
 pub use device::EmbreeError;
 
 use super::Accel;
 use crate::geometry::{Bounds3, Hit, Mesh, Ray};
+use crate::scene::instances::InstanceSet;
 
 /// BVH build quality, as Embree names it.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -24,7 +26,23 @@ pub enum BuildQuality {
 
 /// Ray intersection through Embree.
 pub struct EmbreeAccel {
-    scene: scene::Scene,
+    scene: Levels,
+}
+
+/// One scene of meshes, or prototypes instanced into a top-level scene.
+enum Levels {
+    Flat(scene::Scene),
+    Instanced(instanced::InstancedScene),
+}
+
+impl BuildQuality {
+    fn rtc(self) -> ffi::RTCBuildQuality {
+        match self {
+            BuildQuality::Low => ffi::RTCBuildQuality_RTC_BUILD_QUALITY_LOW,
+            BuildQuality::Medium => ffi::RTCBuildQuality_RTC_BUILD_QUALITY_MEDIUM,
+            BuildQuality::High => ffi::RTCBuildQuality_RTC_BUILD_QUALITY_HIGH,
+        }
+    }
 }
 
 impl EmbreeAccel {
@@ -35,26 +53,32 @@ impl EmbreeAccel {
 
     /// Builds with the given quality.
     pub fn with_quality(meshes: &[Mesh], quality: BuildQuality) -> Result<Self, EmbreeError> {
-        let q = match quality {
-            BuildQuality::Low => ffi::RTCBuildQuality_RTC_BUILD_QUALITY_LOW,
-            BuildQuality::Medium => ffi::RTCBuildQuality_RTC_BUILD_QUALITY_MEDIUM,
-            BuildQuality::High => ffi::RTCBuildQuality_RTC_BUILD_QUALITY_HIGH,
-        };
         let device = device::Device::new()?;
-        Ok(Self { scene: scene::Scene::build(device, meshes, q)? })
+        Ok(Self { scene: Levels::Flat(scene::Scene::build(device, meshes, quality.rtc())?) })
+    }
+
+    /// Builds a two-level scene: one Embree scene per prototype, instanced into a top scene
+    /// that also holds `set.world_meshes`. Hits report scene mesh ids and the instance index.
+    pub fn instanced(meshes: &[Mesh], set: &InstanceSet) -> Result<Self, EmbreeError> {
+        let device = device::Device::new()?;
+        let q = BuildQuality::Medium.rtc();
+        Ok(Self { scene: Levels::Instanced(instanced::InstancedScene::build(device, meshes, set, q)?) })
     }
 
     /// Traces `rays` through raw `rtcIntersect1` with no conversion to prism's types, returning
     /// the number of hits: the baseline for measuring the wrapper's overhead (benches/accel.rs).
     #[doc(hidden)]
     pub fn raw_trace_count(&self, rays: &[Ray]) -> usize {
+        let Levels::Flat(scene) = &self.scene else {
+            return rays.iter().filter(|r| self.intersect(r).is_some()).count();
+        };
         let mut hits = 0;
         for r in rays {
             let mut rh = ffi::RTCRayHit {
                 ray: scene::Scene::rtc_ray(r),
                 hit: ffi::RTCHit { geomID: ffi::RTC_INVALID_GEOMETRY_ID, ..Default::default() },
             };
-            self.scene.raw_intersect(&mut rh);
+            scene.raw_intersect(&mut rh);
             hits += (rh.hit.geomID != ffi::RTC_INVALID_GEOMETRY_ID) as usize;
         }
         hits
@@ -64,14 +88,29 @@ impl EmbreeAccel {
 impl Accel for EmbreeAccel {
     #[inline]
     fn intersect(&self, ray: &Ray) -> Option<Hit> {
-        self.scene.intersect(ray)
+        match &self.scene {
+            Levels::Flat(s) => s.intersect(ray),
+            Levels::Instanced(s) => s.intersect(ray),
+        }
     }
     #[inline]
     fn occluded(&self, ray: &Ray) -> bool {
-        self.scene.occluded(ray)
+        match &self.scene {
+            Levels::Flat(s) => s.occluded(ray),
+            Levels::Instanced(s) => s.occluded(ray),
+        }
     }
     fn bounds(&self) -> Bounds3 {
-        self.scene.bounds()
+        match &self.scene {
+            Levels::Flat(s) => s.bounds(),
+            Levels::Instanced(s) => s.bounds(),
+        }
+    }
+    fn memory_bytes(&self) -> usize {
+        match &self.scene {
+            Levels::Flat(s) => s.memory_bytes(),
+            Levels::Instanced(s) => s.memory_bytes(),
+        }
     }
     fn name(&self) -> &'static str {
         "embree"

@@ -5,60 +5,43 @@ use super::ffi;
 use crate::geometry::{Bounds3, Hit, Mesh, Ray};
 use glam::Vec3;
 
-/// Owns an `RTCScene` (and keeps its device alive).
-pub struct Scene {
-    raw: ffi::RTCScene,
-    device: Device,
-    bounds: Bounds3,
-}
+/// Owns one `RTCScene` handle; released in Drop. The device must outlive it.
+pub(super) struct SceneHandle(pub(super) ffi::RTCScene);
 
-// SAFETY: after rtcCommitScene an Embree scene is immutable and its queries are thread-safe
-// (Embree API docs, "rtcIntersect1"); we never modify it after construction.
-unsafe impl Send for Scene {}
-// SAFETY: see above.
-unsafe impl Sync for Scene {}
-
-impl Scene {
-    /// Builds a robust scene (RTC_SCENE_FLAG_ROBUST: no leaks through shared edges) with one
-    /// triangle geometry per mesh; geometry ids equal mesh indices. Empty meshes are skipped.
-    pub fn build(device: Device, meshes: &[Mesh], quality: ffi::RTCBuildQuality) -> Result<Self, EmbreeError> {
-        let dev = device.raw();
-        // SAFETY: `dev` is a valid device.
-        let raw = unsafe { ffi::rtcNewScene(dev) };
+impl SceneHandle {
+    /// A new robust scene (RTC_SCENE_FLAG_ROBUST: no leaks through shared edges) of `quality`.
+    pub(super) fn new(device: &Device, quality: ffi::RTCBuildQuality) -> Result<Self, EmbreeError> {
+        // SAFETY: `device` holds a valid device.
+        let raw = unsafe { ffi::rtcNewScene(device.raw()) };
         if raw.is_null() {
             return Err(EmbreeError::Call(device.take_error().unwrap_or_else(|| "rtcNewScene failed".into())));
         }
-        let mut scene = Self { raw, device, bounds: Bounds3::EMPTY };
         // SAFETY: `raw` is a valid, uncommitted scene.
         unsafe {
             ffi::rtcSetSceneFlags(raw, ffi::RTCSceneFlags_RTC_SCENE_FLAG_ROBUST);
             ffi::rtcSetSceneBuildQuality(raw, quality);
         }
-        let mut bounds = Bounds3::EMPTY;
-        for (id, mesh) in meshes.iter().enumerate() {
-            if mesh.is_empty() {
-                continue;
-            }
-            scene.attach_mesh(mesh, id as u32)?;
-            bounds = bounds.union(mesh.bounds());
-        }
-        // SAFETY: all geometries are committed and attached.
-        unsafe { ffi::rtcCommitScene(raw) };
-        if let Some(e) = scene.device.take_error() {
-            return Err(EmbreeError::Call(e));
-        }
-        scene.bounds = bounds;
-        Ok(scene)
+        Ok(Self(raw))
     }
 
-    fn attach_mesh(&self, mesh: &Mesh, id: u32) -> Result<(), EmbreeError> {
-        let dev = self.device.raw();
+    /// Builds the BVH over everything attached.
+    pub(super) fn commit(&self, device: &Device) -> Result<(), EmbreeError> {
+        // SAFETY: all geometries are committed and attached.
+        unsafe { ffi::rtcCommitScene(self.0) };
+        match device.take_error() {
+            Some(e) => Err(EmbreeError::Call(e)),
+            None => Ok(()),
+        }
+    }
+
+    /// Attaches `mesh` as triangle geometry `id`, copying it into Embree's buffers.
+    pub(super) fn attach_mesh(&self, device: &Device, mesh: &Mesh, id: u32) -> Result<(), EmbreeError> {
         // SAFETY: valid device; the geometry is released below after attaching (the scene keeps
         // its own reference).
         unsafe {
-            let geom = ffi::rtcNewGeometry(dev, ffi::RTCGeometryType_RTC_GEOMETRY_TYPE_TRIANGLE);
+            let geom = ffi::rtcNewGeometry(device.raw(), ffi::RTCGeometryType_RTC_GEOMETRY_TYPE_TRIANGLE);
             if geom.is_null() {
-                return Err(EmbreeError::Call(self.device.take_error().unwrap_or_default()));
+                return Err(EmbreeError::Call(device.take_error().unwrap_or_default()));
             }
             // Embree-allocated buffers are padded for the 16-byte loads past the last vertex.
             let vb = ffi::rtcSetNewGeometryBuffer(
@@ -80,7 +63,7 @@ impl Scene {
             if vb.is_null() || ib.is_null() {
                 ffi::rtcReleaseGeometry(geom);
                 return Err(EmbreeError::Call(
-                    self.device.take_error().unwrap_or_else(|| "out of memory for geometry buffers".into()),
+                    device.take_error().unwrap_or_else(|| "out of memory for geometry buffers".into()),
                 ));
             }
             let verts = std::slice::from_raw_parts_mut(vb, mesh.positions.len());
@@ -90,13 +73,57 @@ impl Scene {
             let idx = std::slice::from_raw_parts_mut(ib, mesh.indices.len());
             idx.copy_from_slice(&mesh.indices);
             ffi::rtcCommitGeometry(geom);
-            ffi::rtcAttachGeometryByID(self.raw, geom, id);
+            ffi::rtcAttachGeometryByID(self.0, geom, id);
             ffi::rtcReleaseGeometry(geom);
         }
-        match self.device.take_error() {
+        match device.take_error() {
             Some(e) => Err(EmbreeError::Call(e)),
             None => Ok(()),
         }
+    }
+}
+
+impl Drop for SceneHandle {
+    fn drop(&mut self) {
+        // SAFETY: the handle came from rtcNewScene and is released exactly once; owners drop it
+        // before their device.
+        unsafe { ffi::rtcReleaseScene(self.0) };
+    }
+}
+
+/// A committed scene of triangle meshes (and the device that keeps it alive).
+pub struct Scene {
+    raw: SceneHandle,
+    device: Device,
+    bounds: Bounds3,
+}
+
+// SAFETY: after rtcCommitScene an Embree scene is immutable and its queries are thread-safe
+// (Embree API docs, "rtcIntersect1"); we never modify it after construction.
+unsafe impl Send for Scene {}
+// SAFETY: see above.
+unsafe impl Sync for Scene {}
+
+impl Scene {
+    /// Builds a robust scene with one triangle geometry per mesh; geometry ids equal mesh
+    /// indices. Empty meshes are skipped.
+    pub fn build(device: Device, meshes: &[Mesh], quality: ffi::RTCBuildQuality) -> Result<Self, EmbreeError> {
+        let raw = SceneHandle::new(&device, quality)?;
+        let mut bounds = Bounds3::EMPTY;
+        for (id, mesh) in meshes.iter().enumerate() {
+            if mesh.is_empty() {
+                continue;
+            }
+            raw.attach_mesh(&device, mesh, id as u32)?;
+            bounds = bounds.union(mesh.bounds());
+        }
+        raw.commit(&device)?;
+        Ok(Self { raw, device, bounds })
+    }
+
+    /// Bytes Embree holds for this scene (BVH and vertex/index copies).
+    pub fn memory_bytes(&self) -> usize {
+        self.device.memory_bytes()
     }
 
     /// Bounds of all attached meshes.
@@ -105,7 +132,7 @@ impl Scene {
     }
 
     #[inline]
-    fn context() -> ffi::RTCIntersectContext {
+    pub(super) fn context() -> ffi::RTCIntersectContext {
         // rtcInitIntersectContext is force-inlined in the header, so bindgen does not emit it.
         ffi::RTCIntersectContext {
             flags: ffi::RTCIntersectContextFlags_RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT,
@@ -144,7 +171,7 @@ impl Scene {
             hit: ffi::RTCHit { geomID: ffi::RTC_INVALID_GEOMETRY_ID, ..Default::default() },
         };
         // SAFETY: committed scene; ctx and rh are valid, properly aligned locals.
-        unsafe { ffi::rtcIntersect1(self.raw, &mut ctx, &mut rh) };
+        unsafe { ffi::rtcIntersect1(self.raw.0, &mut ctx, &mut rh) };
         if rh.hit.geomID == ffi::RTC_INVALID_GEOMETRY_ID {
             return None;
         }
@@ -155,6 +182,7 @@ impl Scene {
             u: rh.hit.u,
             v: rh.hit.v,
             ng: Vec3::new(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z),
+            inst_id: Hit::NO_INSTANCE,
         })
     }
 
@@ -164,7 +192,7 @@ impl Scene {
         let mut ctx = Self::context();
         let mut r = Self::rtc_ray(ray);
         // SAFETY: committed scene; ctx and r are valid, properly aligned locals.
-        unsafe { ffi::rtcOccluded1(self.raw, &mut ctx, &mut r) };
+        unsafe { ffi::rtcOccluded1(self.raw.0, &mut ctx, &mut r) };
         // Embree sets tfar to -inf when an occluder was found.
         r.tfar == f32::NEG_INFINITY
     }
@@ -174,13 +202,6 @@ impl Scene {
     pub fn raw_intersect(&self, rh: &mut ffi::RTCRayHit) {
         let mut ctx = Self::context();
         // SAFETY: committed scene; the caller's ray-hit is a valid, aligned struct.
-        unsafe { ffi::rtcIntersect1(self.raw, &mut ctx, rh) };
-    }
-}
-
-impl Drop for Scene {
-    fn drop(&mut self) {
-        // SAFETY: `raw` came from rtcNewScene and is released exactly once, before the device.
-        unsafe { ffi::rtcReleaseScene(self.raw) };
+        unsafe { ffi::rtcIntersect1(self.raw.0, &mut ctx, rh) };
     }
 }

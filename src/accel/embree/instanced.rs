@@ -1,0 +1,160 @@
+//! Two-level Embree scene: one committed `RTCScene` per prototype, instanced into a top-level
+//! scene by `RTC_GEOMETRY_TYPE_INSTANCE` geometries (Embree 3 API: `rtcSetGeometryInstancedScene`,
+//! `rtcSetGeometryTransform`). World meshes sit in the top scene beside the instances.
+//!
+//! Top-level geometry ids: world meshes take 0..W, instance `i` takes W + i. A hit reports the
+//! instance in `instID[0]` and the triangle geometry's id within its prototype scene in `geomID`,
+//! both mapped back here to the scene's mesh ids.
+
+use glam::{Mat3, Vec3};
+
+use super::device::{Device, EmbreeError};
+use super::ffi;
+use super::scene::{Scene, SceneHandle};
+use crate::geometry::{Bounds3, Hit, Mesh, Ray};
+use crate::scene::instances::InstanceSet;
+
+/// Prototype scenes, instances and world meshes in one top-level Embree scene.
+pub struct InstancedScene {
+    // Field order is drop order: the top scene, then the prototypes it instances, then the device.
+    top: SceneHandle,
+    _prototypes: Vec<SceneHandle>,
+    device: Device,
+    /// Scene mesh id of top-level geometry `i < W`.
+    world_ids: Vec<u32>,
+    /// Scene mesh id of local geometry `g` of prototype `p`: `proto_ids[p][g]`.
+    proto_ids: Vec<Vec<u32>>,
+    /// Prototype and normal cofactor matrix of each instance.
+    instances: Vec<(u32, Mat3)>,
+    bounds: Bounds3,
+}
+
+// SAFETY: all scenes are committed before construction returns and never modified afterwards;
+// Embree allows concurrent queries on committed scenes.
+unsafe impl Send for InstancedScene {}
+// SAFETY: see above.
+unsafe impl Sync for InstancedScene {}
+
+impl InstancedScene {
+    /// Builds the prototype scenes and the top scene. Instances of empty prototypes are skipped.
+    pub fn build(
+        device: Device,
+        meshes: &[Mesh],
+        set: &InstanceSet,
+        quality: ffi::RTCBuildQuality,
+    ) -> Result<Self, EmbreeError> {
+        let proto_bounds = set.prototype_bounds(meshes);
+        let mut prototypes = Vec::with_capacity(set.prototypes.len());
+        let mut proto_ids = Vec::with_capacity(set.prototypes.len());
+        for p in &set.prototypes {
+            let scene = SceneHandle::new(&device, quality)?;
+            for (local, &m) in p.meshes.iter().enumerate() {
+                if !meshes[m as usize].is_empty() {
+                    scene.attach_mesh(&device, &meshes[m as usize], local as u32)?;
+                }
+            }
+            scene.commit(&device)?;
+            prototypes.push(scene);
+            proto_ids.push(p.meshes.clone());
+        }
+        let top = SceneHandle::new(&device, quality)?;
+        let mut bounds = Bounds3::EMPTY;
+        for (i, &m) in set.world_meshes.iter().enumerate() {
+            let mesh = &meshes[m as usize];
+            if !mesh.is_empty() {
+                top.attach_mesh(&device, mesh, i as u32)?;
+                bounds = bounds.union(mesh.bounds());
+            }
+        }
+        let first_instance = set.world_meshes.len() as u32;
+        for (i, inst) in set.instances.iter().enumerate() {
+            let b = proto_bounds[inst.prototype as usize];
+            if b.is_empty() {
+                continue;
+            }
+            bounds = bounds.union(inst.world_bounds(b));
+            // Embree's FLOAT3X4_COLUMN_MAJOR: the four columns of the affine 3×4 matrix.
+            let m = inst.world_from_object.to_cols_array();
+            let xfm: [f32; 12] = [m[0], m[1], m[2], m[4], m[5], m[6], m[8], m[9], m[10], m[12], m[13], m[14]];
+            let proto = &prototypes[inst.prototype as usize];
+            // SAFETY: valid device and committed prototype scene; Embree copies the transform
+            // during the call; the geometry is released after attaching (the top scene keeps it).
+            unsafe {
+                let geom = ffi::rtcNewGeometry(device.raw(), ffi::RTCGeometryType_RTC_GEOMETRY_TYPE_INSTANCE);
+                if geom.is_null() {
+                    return Err(EmbreeError::Call(device.take_error().unwrap_or_default()));
+                }
+                ffi::rtcSetGeometryInstancedScene(geom, proto.0);
+                ffi::rtcSetGeometryTransform(
+                    geom,
+                    0,
+                    ffi::RTCFormat_RTC_FORMAT_FLOAT3X4_COLUMN_MAJOR,
+                    xfm.as_ptr() as *const std::ffi::c_void,
+                );
+                ffi::rtcCommitGeometry(geom);
+                ffi::rtcAttachGeometryByID(top.0, geom, first_instance + i as u32);
+                ffi::rtcReleaseGeometry(geom);
+            }
+            if let Some(e) = device.take_error() {
+                return Err(EmbreeError::Call(e));
+            }
+        }
+        top.commit(&device)?;
+        let instances = set.instances.iter().map(|i| (i.prototype, i.normal_cofactor)).collect();
+        Ok(Self {
+            top,
+            _prototypes: prototypes,
+            device,
+            world_ids: set.world_meshes.clone(),
+            proto_ids,
+            instances,
+            bounds,
+        })
+    }
+
+    /// World bounds (instance boxes are the transformed corners of their prototypes' boxes).
+    pub fn bounds(&self) -> Bounds3 {
+        self.bounds
+    }
+
+    /// Bytes Embree holds for all scenes of this accelerator.
+    pub fn memory_bytes(&self) -> usize {
+        self.device.memory_bytes()
+    }
+
+    /// Closest hit, with mesh ids of the scene and a world-space normal.
+    #[inline]
+    pub fn intersect(&self, ray: &Ray) -> Option<Hit> {
+        let mut ctx = Scene::context();
+        let mut rh = ffi::RTCRayHit {
+            ray: Scene::rtc_ray(ray),
+            hit: ffi::RTCHit { geomID: ffi::RTC_INVALID_GEOMETRY_ID, ..Default::default() },
+        };
+        // SAFETY: committed scene; ctx and rh are valid, properly aligned locals.
+        unsafe { ffi::rtcIntersect1(self.top.0, &mut ctx, &mut rh) };
+        if rh.hit.geomID == ffi::RTC_INVALID_GEOMETRY_ID {
+            return None;
+        }
+        let ng = Vec3::new(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z);
+        let top_id = rh.hit.instID[0];
+        let (geom_id, inst_id, ng) = if top_id == ffi::RTC_INVALID_GEOMETRY_ID {
+            (self.world_ids[rh.hit.geomID as usize], Hit::NO_INSTANCE, ng)
+        } else {
+            let inst = top_id - self.world_ids.len() as u32;
+            let (proto, cofactor) = self.instances[inst as usize];
+            // Embree reports Ng of instanced geometry in object space.
+            (self.proto_ids[proto as usize][rh.hit.geomID as usize], inst, cofactor * ng)
+        };
+        Some(Hit { t: rh.ray.tfar, geom_id, prim_id: rh.hit.primID, u: rh.hit.u, v: rh.hit.v, ng, inst_id })
+    }
+
+    /// Any hit before `ray.t_max`.
+    #[inline]
+    pub fn occluded(&self, ray: &Ray) -> bool {
+        let mut ctx = Scene::context();
+        let mut r = Scene::rtc_ray(ray);
+        // SAFETY: committed scene; ctx and r are valid, properly aligned locals.
+        unsafe { ffi::rtcOccluded1(self.top.0, &mut ctx, &mut r) };
+        r.tfar == f32::NEG_INFINITY
+    }
+}

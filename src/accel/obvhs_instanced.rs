@@ -1,0 +1,207 @@
+//! Two-level obvhs traversal for object instances: a top-level CWBVH (the TLAS) over the
+//! instances' world-space boxes; each instance carries the ray into object space by its inverse
+//! transform and traverses its prototype's [`ObvhsAccel`] (the BLAS). World meshes have their own
+//! BLAS, traced first without any transform.
+//!
+//! The parametric distance t is the same in both spaces (the direction is transformed, not
+//! renormalised), so the nearest hit so far bounds every later BLAS query. Equal distances are
+//! resolved by the smallest (instance, mesh, triangle) ids, so the result does not depend on
+//! traversal order. Watertightness carries over: the object-space ray is one ray, and the BLAS
+//! triangle test is watertight for any ray.
+
+use std::time::Duration;
+
+use ::obvhs::{aabb::Aabb, cwbvh::builder::build_cwbvh, cwbvh::CwBvh, ray::RayHit, BvhBuildParams};
+use glam::{Mat3, Mat4, Vec3, Vec3A};
+
+use super::obvhs::{max_depth, obvhs_ray, ObvhsAccel, OBVHS_STACK, T_SCALE};
+use super::Accel;
+use crate::geometry::{Bounds3, Hit, Mesh, Ray};
+use crate::scene::instances::InstanceSet;
+
+/// One instance in TLAS primitive order.
+struct Placed {
+    /// Index in the scene's instance list (reported as `Hit::inst_id`).
+    index: u32,
+    /// Prototype index (which BLAS).
+    proto: u32,
+    object_from_world: Mat4,
+    /// Maps object-space unnormalised normals to world space (see `Instance::normal_cofactor`).
+    normal_cofactor: Mat3,
+}
+
+/// World meshes and instanced prototypes traced through a two-level obvhs BVH.
+pub struct ObvhsInstancedAccel {
+    world: ObvhsAccel,
+    /// Scene mesh id of the world BLAS's geometry `g`.
+    world_ids: Vec<u32>,
+    blas: Vec<ObvhsAccel>,
+    /// Scene mesh id of geometry `g` of prototype `p`: `proto_ids[p][g]`.
+    proto_ids: Vec<Vec<u32>>,
+    /// TLAS primitive `k` is `placed[k]`.
+    placed: Vec<Placed>,
+    tlas: CwBvh,
+    /// The TLAS is too deep for obvhs' traversal stack: test every instance instead.
+    linear_fallback: bool,
+    bounds: Bounds3,
+}
+
+fn gather(meshes: &[Mesh], ids: &[u32]) -> Vec<Mesh> {
+    ids.iter().map(|&m| meshes[m as usize].clone()).collect()
+}
+
+/// Box grown by 2⁻²⁰ of its largest coordinate magnitude: more than the rounding of the corner
+/// transforms (γ₃ ≈ 2⁻²²) and of the slab test, far less than any visible size.
+fn padded(b: Bounds3) -> Aabb {
+    let pad = Vec3::splat(b.min.abs().max(b.max.abs()).max_element() / T_SCALE + f32::MIN_POSITIVE);
+    Aabb::new(Vec3A::from(b.min - pad), Vec3A::from(b.max + pad))
+}
+
+impl ObvhsInstancedAccel {
+    /// Builds one BLAS per prototype and per the world meshes, and the TLAS over the instances
+    /// of non-empty prototypes.
+    pub fn new(meshes: &[Mesh], set: &InstanceSet) -> Self {
+        let world = ObvhsAccel::new(&gather(meshes, &set.world_meshes));
+        let blas: Vec<ObvhsAccel> =
+            set.prototypes.iter().map(|p| ObvhsAccel::new(&gather(meshes, &p.meshes))).collect();
+        let mut bounds = world.bounds();
+        let mut placed = Vec::new();
+        let mut boxes = Vec::new();
+        for (i, inst) in set.instances.iter().enumerate() {
+            let b = blas[inst.prototype as usize].bounds();
+            if b.is_empty() {
+                continue;
+            }
+            let wb = inst.world_bounds(b);
+            bounds = bounds.union(wb);
+            boxes.push(padded(wb));
+            placed.push(Placed {
+                index: i as u32,
+                proto: inst.prototype,
+                object_from_world: inst.object_from_world,
+                normal_cofactor: inst.normal_cofactor,
+            });
+        }
+        let mut tlas = CwBvh::default();
+        let mut linear_fallback = false;
+        if !boxes.is_empty() {
+            tlas = build_cwbvh(&boxes, BvhBuildParams::medium_build(), &mut Duration::default());
+            linear_fallback = max_depth(&tlas) + 1 >= OBVHS_STACK;
+            // Reorder so that TLAS primitive k is placed[k].
+            let mut slots: Vec<Option<Placed>> = placed.into_iter().map(Some).collect();
+            placed = tlas.primitive_indices.iter().map(|&k| slots[k as usize].take().expect("a permutation")).collect();
+        }
+        Self {
+            world,
+            world_ids: set.world_meshes.clone(),
+            blas,
+            proto_ids: set.prototypes.iter().map(|p| p.meshes.clone()).collect(),
+            placed,
+            tlas,
+            linear_fallback,
+            bounds,
+        }
+    }
+
+    /// The ray in instance `p`'s object space (same t).
+    #[inline]
+    fn local_ray(p: &Placed, ray: &Ray, t_max: f32) -> Ray {
+        Ray::segment(p.object_from_world.transform_point3(ray.o), p.object_from_world.transform_vector3(ray.d), t_max)
+    }
+
+    /// Tests TLAS primitive `k`; replaces `best` when its hit is nearer, or equally near with
+    /// smaller (instance, mesh, triangle) ids. Returns true when `best` changed.
+    #[inline]
+    fn visit(&self, k: usize, ray: &Ray, best: &mut Option<Hit>) -> bool {
+        let p = &self.placed[k];
+        let t_max = best.map_or(ray.t_max, |h| h.t);
+        let Some(h) = self.blas[p.proto as usize].intersect(&Self::local_ray(p, ray, t_max)) else {
+            return false;
+        };
+        let hit = Hit {
+            geom_id: self.proto_ids[p.proto as usize][h.geom_id as usize],
+            ng: p.normal_cofactor * h.ng,
+            inst_id: p.index,
+            ..h
+        };
+        let better = best.is_none_or(|b| {
+            hit.t < b.t || (hit.t == b.t && (hit.inst_id, hit.geom_id, hit.prim_id) < (b.inst_id, b.geom_id, b.prim_id))
+        });
+        if better {
+            *best = Some(hit);
+        }
+        better
+    }
+}
+
+fn usable(ray: &Ray) -> bool {
+    ray.o.is_finite() && ray.d.is_finite() && ray.d != Vec3::ZERO && ray.t_max > 0.0
+}
+
+impl Accel for ObvhsInstancedAccel {
+    fn intersect(&self, ray: &Ray) -> Option<Hit> {
+        if !usable(ray) {
+            return None;
+        }
+        let mut best = self.world.intersect(ray).map(|h| Hit { geom_id: self.world_ids[h.geom_id as usize], ..h });
+        if self.placed.is_empty() {
+            return best;
+        }
+        if self.linear_fallback {
+            for k in 0..self.placed.len() {
+                self.visit(k, ray, &mut best);
+            }
+        } else {
+            let t_max = best.map_or(ray.t_max, |h| h.t);
+            // next_up: obvhs keeps a hit only when t' < tmax, and t = t_max is inside our range.
+            let oray = obvhs_ray(ray, (t_max * T_SCALE).next_up());
+            self.tlas.ray_traverse(oray, &mut RayHit::none(), |_, k| {
+                if self.visit(k, ray, &mut best) {
+                    best.map_or(f32::INFINITY, |h| (h.t * T_SCALE).next_up())
+                } else {
+                    f32::INFINITY
+                }
+            });
+        }
+        best
+    }
+
+    fn occluded(&self, ray: &Ray) -> bool {
+        if !usable(ray) {
+            return false;
+        }
+        if self.world.occluded(ray) {
+            return true;
+        }
+        let blocks = |k: usize| {
+            let p = &self.placed[k];
+            self.blas[p.proto as usize].occluded(&Self::local_ray(p, ray, ray.t_max))
+        };
+        if self.linear_fallback {
+            return (0..self.placed.len()).any(blocks);
+        }
+        if self.placed.is_empty() {
+            return false;
+        }
+        let oray = obvhs_ray(ray, ray.t_max * T_SCALE);
+        // The traversal stops at the first t' < tmax; 0 always is.
+        !self.tlas.ray_traverse_miss(oray, |_, k| if blocks(k) { 0.0 } else { f32::INFINITY })
+    }
+
+    fn bounds(&self) -> Bounds3 {
+        self.bounds
+    }
+
+    fn memory_bytes(&self) -> usize {
+        use std::mem::size_of_val;
+        self.world.memory_bytes()
+            + self.blas.iter().map(ObvhsAccel::memory_bytes).sum::<usize>()
+            + size_of_val(&self.tlas.nodes[..])
+            + size_of_val(&self.tlas.primitive_indices[..])
+            + size_of_val(&self.placed[..])
+    }
+
+    fn name(&self) -> &'static str {
+        "obvhs"
+    }
+}
