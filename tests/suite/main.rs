@@ -4,6 +4,7 @@
 mod accel_agreement;
 mod cli;
 mod common;
+mod instancing;
 mod radiometry;
 mod render;
 mod robustness;

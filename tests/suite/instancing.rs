@@ -3,9 +3,7 @@
 //! from inside transformed closed meshes never escape; and many instances of a big mesh cost far
 //! less memory than their flattened copies.
 
-mod common;
-
-use common::film_difference;
+use crate::common::film_difference;
 use glam::{Mat4, Quat, Vec3};
 use prism::accel::{self, AccelKind};
 use prism::camera::Camera;
