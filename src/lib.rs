@@ -21,6 +21,7 @@
 pub mod accel;
 pub mod bench;
 pub mod bsdf;
+pub mod bssrdf;
 pub mod camera;
 pub mod checkpoint;
 pub mod cli;
@@ -32,6 +33,7 @@ pub mod integrator;
 pub mod io;
 pub mod light;
 pub mod material;
+pub mod media;
 pub mod math;
 pub mod measure;
 pub mod render;
