@@ -10,6 +10,10 @@
 //!   Henyey–Greenstein scattering, and the dielectric boundary sampled at every surface hit
 //!   (reflection stays inside, refraction leaves). Unbiased up to [`MAX_WALK_EVENTS`].
 //!
+//! With `Diffusion`, media whose longest mean free path exceeds the object's bounding radius
+//! (optically thin objects, where PBD's semi-infinite assumption loses most of the light) are
+//! walked instead.
+//!
 //! Both assume the subsurface object does not intersect other geometry: a hit inside the medium
 //! is treated as its boundary.
 
@@ -19,7 +23,7 @@ use crate::bssrdf::TabulatedBssrdf;
 use crate::geometry::{Hit, Ray};
 use crate::material::SubsurfaceMaterial;
 use crate::math::Frame;
-use crate::media::FreeFlight;
+use crate::media::{FreeFlight, HomogeneousMedium};
 use crate::sampling::Sampler;
 use crate::scene::{Scene, SurfaceInteraction};
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
@@ -84,24 +88,40 @@ pub(super) fn enter(
     sampler: &mut Sampler,
     stats: &mut Stats,
 ) -> Option<Exit> {
+    let medium = material.medium(&si.shading, w);
+    // Diffusion assumes an optically thick object; where the longest mean free path exceeds the
+    // object's bounding radius, the medium is nearly clear, PBD would lose most of the light,
+    // and a walk needs only a few events: take the walk.
+    let thin = || {
+        let mfp = medium.sigma_t().min_value().recip();
+        mfp > material.object_radius(|| object_radius(scene, si.mesh))
+    };
     match method {
-        SubsurfaceMethod::Diffusion => diffusion(scene, material, si, beta, w, sampler, stats),
-        SubsurfaceMethod::RandomWalk => {
-            random_walk(scene, material, si, wi, beta, w, sampler, stats).map(|(r, p)| Exit::Ray(r, p))
-        }
+        SubsurfaceMethod::Diffusion if !thin() => diffusion(scene, material, &medium, si, beta, sampler, stats),
+        _ => random_walk(scene, material, &medium, si, wi, beta, sampler, stats).map(|(r, p)| Exit::Ray(r, p)),
     }
+}
+
+/// The largest bounding-sphere radius of the meshes that share the material of `mesh`.
+fn object_radius(scene: &Scene, mesh: u32) -> f32 {
+    let id = scene.mesh_material[mesh as usize];
+    (0..scene.meshes.len())
+        .filter(|&m| scene.mesh_material[m] == id)
+        .map(|m| scene.meshes[m].bounds())
+        .filter(|b| !b.is_empty())
+        .map(|b| b.radius())
+        .fold(0.0, f32::max)
 }
 
 fn diffusion(
     scene: &Scene,
     material: &SubsurfaceMaterial,
+    medium: &HomogeneousMedium,
     si: &SurfaceInteraction,
     beta: &mut SampledSpectrum,
-    w: &SampledWavelengths,
     sampler: &mut Sampler,
     stats: &mut Stats,
 ) -> Option<Exit> {
-    let medium = material.medium(&si.shading, w);
     let frame = Frame::from_normal_tangent(si.shading.ns, si.shading.dpdu);
     let bssrdf = TabulatedBssrdf::new(material.table(), si.p, frame, medium.sigma_t(), medium.albedo());
     let u1 = sampler.get_1d();
@@ -140,14 +160,13 @@ fn diffusion(
 fn random_walk(
     scene: &Scene,
     material: &SubsurfaceMaterial,
+    medium: &HomogeneousMedium,
     si: &SurfaceInteraction,
     wi: Vec3,
     beta: &mut SampledSpectrum,
-    w: &SampledWavelengths,
     sampler: &mut Sampler,
     stats: &mut Stats,
 ) -> Option<(Ray, Vec3)> {
-    let medium = material.medium(&si.shading, w);
     let phase = material.phase();
     let mut ray = si.spawn_ray(wi.normalize());
     let mut scatterings = 0u32;

@@ -47,6 +47,7 @@ pub struct SubsurfaceMaterial {
     pub roughness: Roughness,
     sw_norm: f32,
     table: OnceLock<Arc<BssrdfTable>>,
+    object_radius: OnceLock<f32>,
 }
 
 impl SubsurfaceMaterial {
@@ -54,12 +55,18 @@ impl SubsurfaceMaterial {
     pub fn new(spec: ScatteringSpec, eta: f32, g: f32, roughness: Roughness) -> Self {
         let eta = if eta.is_finite() && eta > 0.0 { eta } else { 1.33 };
         let g = HenyeyGreenstein::new(g).g;
-        Self { spec, eta, g, roughness, sw_norm: NormalizedFresnel::normalization(eta), table: OnceLock::new() }
+        Self { spec, eta, g, roughness, sw_norm: NormalizedFresnel::normalization(eta), table: OnceLock::new(), object_radius: OnceLock::new() }
     }
 
     /// The PBD table for this material's (g, η), built on first call.
     pub fn table(&self) -> &BssrdfTable {
         self.table.get_or_init(|| Arc::new(BssrdfTable::new(self.g, self.eta)))
+    }
+
+    /// Bounding radius of the objects made of this material [scene units], computed by `f` on
+    /// first call (the integrator passes a scan of the scene's meshes).
+    pub fn object_radius(&self, f: impl FnOnce() -> f32) -> f32 {
+        *self.object_radius.get_or_init(f)
     }
 
     /// True once [`Self::table`] has been built.
