@@ -68,7 +68,8 @@ pub fn build(shape: Shape, medium: &Medium) -> SceneBuilder {
         spec,
         medium.eta,
         0.0,
-        Roughness::alpha(0.0),
+        // Rough (GGX α = 0.3) so the random walk can sample the delta lights through the boundary.
+        Roughness::alpha(0.3),
     ))));
     let floor = b.add_material(Material::diffuse(Spectrum::constant(0.4)));
     let white = Arc::new(Spectrum::constant(1.0));

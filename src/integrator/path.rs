@@ -164,14 +164,14 @@ impl PathIntegrator {
                 // Refraction into a subsurface medium: continue where light leaves it. Entering and
                 // leaving scale radiance by 1/η² and η², so eta_scale is left alone.
                 if let (Some(Material::Subsurface(m)), true) = (material, bs.wi.dot(si.shading.ns) < 0.0) {
-                    match subsurface::enter(self.sss, scene, m, &si, bs.wi, &mut beta, w, sampler, stats) {
+                    match subsurface::enter(self, scene, m, &si, bs.wi, (&mut beta, &mut l), w, sampler, stats) {
                         None => break,
                         Some(Exit::Vertex(vsi, vbsdf)) => {
                             first = Some((vsi, vbsdf));
                             continue;
                         }
-                        Some(Exit::Ray(exit, origin)) => {
-                            (ray, prev_p, specular_bounce) = (exit, origin, true);
+                        Some(Exit::Ray(exit, origin, pdf)) => {
+                            (ray, prev_p, specular_bounce, prev_pdf) = (exit, origin, pdf.is_none(), pdf.unwrap_or(0.0));
                         }
                     }
                 } else {
@@ -197,7 +197,7 @@ impl PathIntegrator {
     }
 
     /// One light sample at `si`, MIS-weighted against BSDF sampling (pbrt-v4 `SampleLd`).
-    fn sample_light(
+    pub(super) fn sample_light(
         &self,
         scene: &Scene,
         si: &SurfaceInteraction,

@@ -17,7 +17,7 @@
 //! Both assume the subsurface object does not intersect other geometry: a hit inside the medium
 //! is treated as its boundary.
 
-use super::Stats;
+use super::{DirectStrategy, PathIntegrator, Stats};
 use crate::bsdf::{Bsdf, TransportMode};
 use crate::bssrdf::TabulatedBssrdf;
 use crate::geometry::{Hit, Ray};
@@ -69,21 +69,22 @@ pub(super) enum Exit {
     /// A new vertex at p_i with its BSDF (diffusion): light sampling and BSDF sampling go on
     /// from there.
     Vertex(SurfaceInteraction, Bsdf),
-    /// A ray leaving the object from `origin` (random walk), reached through the boundary's
-    /// sampled lobe: emission it finds is counted with MIS weight 1.
-    Ray(Ray, Vec3),
+    /// A ray leaving the object from `origin` (random walk), sampled from the boundary's lobe
+    /// with this solid-angle density (`None`: a delta lobe), for MIS with the light sampling
+    /// done at the exit point.
+    Ray(Ray, Vec3, Option<f32>),
 }
 
 /// Continues a path that refracted at `si` into the material along `wi`, multiplying `beta`
 /// by the transport inside. `None`: the path ends (absorbed, or no entry point found).
 #[allow(clippy::too_many_arguments)]
 pub(super) fn enter(
-    method: SubsurfaceMethod,
+    integ: &PathIntegrator,
     scene: &Scene,
     material: &SubsurfaceMaterial,
     si: &SurfaceInteraction,
     wi: Vec3,
-    beta: &mut SampledSpectrum,
+    (beta, l): (&mut SampledSpectrum, &mut SampledSpectrum),
     w: &SampledWavelengths,
     sampler: &mut Sampler,
     stats: &mut Stats,
@@ -96,9 +97,12 @@ pub(super) fn enter(
         let mfp = medium.sigma_t().min_value().recip();
         mfp > material.object_radius(|| object_radius(scene, si.mesh))
     };
-    match method {
+    match integ.sss {
         SubsurfaceMethod::Diffusion if !thin() => diffusion(scene, material, &medium, si, beta, sampler, stats),
-        _ => random_walk(scene, material, &medium, si, wi, beta, sampler, stats).map(|(r, p)| Exit::Ray(r, p)),
+        _ => {
+            let walk = Walk { integ, scene, material, medium: &medium, w };
+            walk.run(si, wi, (beta, l), sampler, stats)
+        }
     }
 }
 
@@ -154,61 +158,76 @@ fn diffusion(
     Some(Exit::Vertex(pi, bsdf))
 }
 
-/// Walks from `si` along `wi` (into the medium) until the path refracts out; returns the exit
-/// ray and its origin.
-#[allow(clippy::too_many_arguments)]
-fn random_walk(
-    scene: &Scene,
-    material: &SubsurfaceMaterial,
-    medium: &HomogeneousMedium,
-    si: &SurfaceInteraction,
-    wi: Vec3,
-    beta: &mut SampledSpectrum,
-    sampler: &mut Sampler,
-    stats: &mut Stats,
-) -> Option<(Ray, Vec3)> {
-    let phase = material.phase();
-    let mut ray = si.spawn_ray(wi.normalize());
-    let mut scatterings = 0u32;
-    for _ in 0..MAX_WALK_EVENTS {
-        stats.rays += 1;
-        let hit = scene.accel.intersect(&ray);
-        let t_hit = hit.map_or(f32::INFINITY, |h| h.t);
-        let (uc, ud) = (sampler.get_1d(), sampler.get_1d());
-        match medium.sample_free_flight(t_hit, uc, ud) {
-            FreeFlight::Scatter { t, weight } => {
-                *beta *= weight;
-                scatterings += 1;
-                let p = ray.at(t);
-                ray = Ray::new(p, phase.sample(ray.d, sampler.get_2d()));
-            }
-            FreeFlight::Pass { weight } => {
-                *beta *= weight;
-                let h = hit?;
-                let b = SurfaceInteraction::new(scene, &ray, &h);
-                let bsdf = material.boundary_bsdf(&b.shading);
-                let bs = bsdf.sample_f(b.wo, sampler.get_1d(), sampler.get_2d(), TransportMode::Radiance)?;
-                *beta *= bs.f * (bs.wi.dot(b.shading.ns).abs() / bs.pdf);
-                let next = b.spawn_ray(bs.wi);
-                if bs.wi.dot(b.shading.ns) > 0.0 {
-                    return (!beta.is_black()).then_some((next, b.p));
+/// What a random walk needs besides the path state.
+struct Walk<'a> {
+    integ: &'a PathIntegrator,
+    scene: &'a Scene,
+    material: &'a SubsurfaceMaterial,
+    medium: &'a HomogeneousMedium,
+    w: &'a SampledWavelengths,
+}
+
+impl Walk<'_> {
+    /// Walks from `si` along `wi` (into the medium) until the path refracts out. At every
+    /// boundary hit with a non-delta lobe, light is sampled through the boundary (next-event
+    /// estimation, MIS against the lobe) and added to `l`.
+    fn run(
+        &self,
+        si: &SurfaceInteraction,
+        wi: Vec3,
+        (beta, l): (&mut SampledSpectrum, &mut SampledSpectrum),
+        sampler: &mut Sampler,
+        stats: &mut Stats,
+    ) -> Option<Exit> {
+        let scene = self.scene;
+        let phase = self.material.phase();
+        let nee = self.integ.strategy != DirectStrategy::BsdfOnly;
+        let mut ray = si.spawn_ray(wi.normalize());
+        let mut scatterings = 0u32;
+        for _ in 0..MAX_WALK_EVENTS {
+            stats.rays += 1;
+            let hit = scene.accel.intersect(&ray);
+            let t_hit = hit.map_or(f32::INFINITY, |h| h.t);
+            let (uc, ud) = (sampler.get_1d(), sampler.get_1d());
+            match self.medium.sample_free_flight(t_hit, uc, ud) {
+                FreeFlight::Scatter { t, weight } => {
+                    *beta *= weight;
+                    scatterings += 1;
+                    let p = ray.at(t);
+                    ray = Ray::new(p, phase.sample(ray.d, sampler.get_2d()));
                 }
-                ray = next;
+                FreeFlight::Pass { weight } => {
+                    *beta *= weight;
+                    let h = hit?;
+                    let b = SurfaceInteraction::new(scene, &ray, &h);
+                    let bsdf = self.material.boundary_bsdf(&b.shading);
+                    if nee && bsdf.flags().is_non_specular() {
+                        *l += *beta * self.integ.sample_light(scene, &b, &bsdf, self.w, sampler, stats);
+                    }
+                    let bs = bsdf.sample_f(b.wo, sampler.get_1d(), sampler.get_2d(), TransportMode::Radiance)?;
+                    *beta *= bs.f * (bs.wi.dot(b.shading.ns).abs() / bs.pdf);
+                    let next = b.spawn_ray(bs.wi);
+                    if bs.wi.dot(b.shading.ns) > 0.0 {
+                        let pdf = if bs.is_specular() { None } else { Some(bs.pdf) };
+                        return (!beta.is_black()).then_some(Exit::Ray(next, b.p, pdf));
+                    }
+                    ray = next;
+                }
             }
-        }
-        if beta.is_black() {
-            return None;
-        }
-        // Russian roulette once the walk is long and dim (pbrt-v4 volpath's rule).
-        if scatterings >= WALK_RR_EVENTS && beta.max_value() < 1.0 {
-            let q = (1.0 - beta.max_value()).max(0.0);
-            if sampler.get_1d() < q {
+            if beta.is_black() {
                 return None;
             }
-            *beta /= 1.0 - q;
+            // Russian roulette once the walk is long and dim (pbrt-v4 volpath's rule).
+            if scatterings >= WALK_RR_EVENTS && beta.max_value() < 1.0 {
+                let q = (1.0 - beta.max_value()).max(0.0);
+                if sampler.get_1d() < q {
+                    return None;
+                }
+                *beta /= 1.0 - q;
+            }
         }
+        None
     }
-    None
 }
 
 #[cfg(test)]
