@@ -29,8 +29,8 @@ impl NormalizedFresnel {
     /// material; exact normalisation rather than a polynomial fit).
     pub fn normalization(eta: f32) -> f32 {
         let n = 256;
-        let m1: f32 = (0..n).map(|i| (i as f32 + 0.5) / n as f32).map(|mu| fr_dielectric(mu, eta) * mu).sum::<f32>()
-            / n as f32;
+        let m1: f32 =
+            (0..n).map(|i| (i as f32 + 0.5) / n as f32).map(|mu| fr_dielectric(mu, eta) * mu).sum::<f32>() / n as f32;
         1.0 - 2.0 * m1
     }
 

@@ -7,11 +7,11 @@
 //! Hybrid Monte Carlo Method for Subsurface Scattering").
 
 mod pbd;
-mod reference;
 mod probe;
+mod reference;
 mod table;
 
 pub use pbd::{beam_diffusion_ms, beam_diffusion_ss, fresnel_moment1, fresnel_moment2};
-pub use reference::{dipole_total_reflectance, half_space_albedo};
 pub use probe::{ProbeSegment, TabulatedBssrdf};
+pub use reference::{dipole_total_reflectance, half_space_albedo};
 pub use table::BssrdfTable;

@@ -30,8 +30,7 @@ pub fn fresnel_moment2(eta: f32) -> f32 {
         0.27614 - 0.87350 * e + 1.12077 * e2 - 0.65095 * e3 + 0.07883 * e4 + 0.04860 * e5
     } else {
         let (r, r2, r3) = (1.0 / e, 1.0 / e2, 1.0 / e3);
-        -547.033 + 45.3087 * r3 - 218.725 * r2 + 458.843 * r + 404.557 * e - 189.519 * e2 + 54.9327 * e3
-            - 9.00603 * e4
+        -547.033 + 45.3087 * r3 - 218.725 * r2 + 458.843 * r + 404.557 * e - 189.519 * e2 + 54.9327 * e3 - 9.00603 * e4
             + 0.63942 * e5
     };
     v as f32
@@ -117,8 +116,16 @@ mod tests {
                 m1 += fr * mu / n as f64;
                 m2 += fr * mu * mu / n as f64;
             }
-            assert!((fresnel_moment1(eta) as f64 - m1).abs() < 5e-3, "η={eta}: FM1 fit {} vs {m1}", fresnel_moment1(eta));
-            assert!((fresnel_moment2(eta) as f64 - m2).abs() < 5e-3, "η={eta}: FM2 fit {} vs {m2}", fresnel_moment2(eta));
+            assert!(
+                (fresnel_moment1(eta) as f64 - m1).abs() < 5e-3,
+                "η={eta}: FM1 fit {} vs {m1}",
+                fresnel_moment1(eta)
+            );
+            assert!(
+                (fresnel_moment2(eta) as f64 - m2).abs() < 5e-3,
+                "η={eta}: FM2 fit {} vs {m2}",
+                fresnel_moment2(eta)
+            );
         }
     }
 }

@@ -12,7 +12,8 @@ pub fn half_space_albedo(omega: f64, mu0: f64) -> f64 {
     let mu: Vec<f64> = (0..n).map(|i| (i as f64 + 0.5) / n as f64).collect();
     let s = (1.0 - omega).sqrt();
     let mut h = vec![1.0f64; n];
-    let integral = |h: &[f64], x: f64| -> f64 { mu.iter().zip(h).map(|(&m, &hm)| m * hm / (x + m)).sum::<f64>() / n as f64 };
+    let integral =
+        |h: &[f64], x: f64| -> f64 { mu.iter().zip(h).map(|(&m, &hm)| m * hm / (x + m)).sum::<f64>() / n as f64 };
     for _ in 0..500 {
         let next: Vec<f64> = mu.iter().map(|&x| 1.0 / (s + 0.5 * omega * integral(&h, x))).collect();
         let change = next.iter().zip(&h).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);

@@ -88,4 +88,3 @@ fn half_space_albedo_limits() {
     assert!((half_space_albedo(1.0, 1.0) - 1.0).abs() < 1e-3);
     assert!(half_space_albedo(0.0, 1.0).abs() < 1e-9);
 }
-

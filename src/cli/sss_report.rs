@@ -65,7 +65,8 @@ fn settings(size: u32, spp: u64, seed: u64, sss: SubsurfaceMethod) -> RenderSett
 
 /// Runs the report.
 pub fn run(a: &SssReportArgs) -> Result<()> {
-    let ladder: Vec<u64> = a.ladder.split(',').map(|s| s.trim().parse::<u64>()).collect::<Result<_, _>>().context("--ladder")?;
+    let ladder: Vec<u64> =
+        a.ladder.split(',').map(|s| s.trim().parse::<u64>()).collect::<Result<_, _>>().context("--ladder")?;
     if ladder.len() < 2 || ladder.windows(2).any(|w| w[0] >= w[1]) {
         bail!("--ladder needs at least two increasing sample counts");
     }
@@ -79,7 +80,8 @@ pub fn run(a: &SssReportArgs) -> Result<()> {
         for medium in &MEDIA {
             let scene = build(shape, medium).build(AccelKind::default_available()).context("building the scene")?;
             let t0 = Instant::now();
-            let (film, st) = render(&scene, &settings(a.size, a.reference_spp, 1000, SubsurfaceMethod::RandomWalk), |_| {});
+            let (film, st) =
+                render(&scene, &settings(a.size, a.reference_spp, 1000, SubsurfaceMethod::RandomWalk), |_| {});
             let reference_s = t0.elapsed().as_secs_f64();
             let reference = film_to_image(&film, space);
             let name = format!("{}-{}", shape.name(), medium.name);
@@ -201,6 +203,9 @@ mod tests {
         let e = |n: f64| (0.01 + 0.5 / n).sqrt();
         let b = remaining_error(&[(16, 0.0, e(16.0)), (64, 0.0, e(64.0))]);
         assert!((b - 0.1).abs() < 1e-9, "{b}");
-        assert_eq!(splice("a\n<!-- sss-report:begin -->\nold\n<!-- sss-report:end -->\nz", "new\n"), "a\n<!-- sss-report:begin -->\nnew\n<!-- sss-report:end -->\nz");
+        assert_eq!(
+            splice("a\n<!-- sss-report:begin -->\nold\n<!-- sss-report:end -->\nz", "new\n"),
+            "a\n<!-- sss-report:begin -->\nnew\n<!-- sss-report:end -->\nz"
+        );
     }
 }

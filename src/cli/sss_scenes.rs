@@ -63,7 +63,11 @@ pub fn build(shape: Shape, medium: &Medium) -> SceneBuilder {
     let space = ColorSpace::srgb();
     let unbounded = |rgb: [f32; 3]| Spectrum::from_rgb(rgb, RgbKind::Unbounded, space);
     let mut b = SceneBuilder::new();
-    let spec = ScatteringSpec::Coefficients { sigma_a: unbounded(medium.sigma_a), sigma_s: unbounded(medium.sigma_s), scale: 1.0 };
+    let spec = ScatteringSpec::Coefficients {
+        sigma_a: unbounded(medium.sigma_a),
+        sigma_s: unbounded(medium.sigma_s),
+        scale: 1.0,
+    };
     let sss = b.add_material(Material::Subsurface(Box::new(SubsurfaceMaterial::new(
         spec,
         medium.eta,
@@ -74,23 +78,44 @@ pub fn build(shape: Shape, medium: &Medium) -> SceneBuilder {
     let floor = b.add_material(Material::diffuse(Spectrum::constant(0.4)));
     let white = Arc::new(Spectrum::constant(1.0));
     let (object, eye, target, fov) = match shape {
-        Shape::Slab => (axis_box(Vec3::new(-6.0, -6.0, -3.0), Vec3::new(6.0, 6.0, 0.0)), Vec3::new(0.0, -9.0, 9.0), Vec3::ZERO, 40.0),
-        Shape::Sphere => (icosphere(Vec3::new(0.0, 0.0, 3.0), 3.0, 4), Vec3::new(0.0, -12.0, 8.0), Vec3::new(0.0, 0.0, 2.5), 35.0),
-        Shape::Torus => (torus(Vec3::new(0.0, 0.0, 1.2), 3.0, 1.2, 96, 32), Vec3::new(0.0, -10.0, 9.0), Vec3::new(0.0, 0.0, 1.0), 40.0),
+        Shape::Slab => (
+            axis_box(Vec3::new(-6.0, -6.0, -3.0), Vec3::new(6.0, 6.0, 0.0)),
+            Vec3::new(0.0, -9.0, 9.0),
+            Vec3::ZERO,
+            40.0,
+        ),
+        Shape::Sphere => {
+            (icosphere(Vec3::new(0.0, 0.0, 3.0), 3.0, 4), Vec3::new(0.0, -12.0, 8.0), Vec3::new(0.0, 0.0, 2.5), 35.0)
+        }
+        Shape::Torus => (
+            torus(Vec3::new(0.0, 0.0, 1.2), 3.0, 1.2, 96, 32),
+            Vec3::new(0.0, -10.0, 9.0),
+            Vec3::new(0.0, 0.0, 1.0),
+            40.0,
+        ),
     };
     b.add_mesh(object, sss, None);
     match shape {
         Shape::Slab => {
-            // A narrow beam (1° half-angle, ≈0.35 mm wide on the slab) straight down.
-            let cone = SpotFalloff::Cone { cos_start: (0.5f32).to_radians().cos(), cos_end: (1.0f32).to_radians().cos() };
-            b.add_light(Light::Spot(SpotLight::with_flux(Vec3::new(0.0, 0.0, 20.0), -Vec3::Z, white.clone(), 50.0, cone)));
+            // A narrow beam (1° half-angle, ≈0.35 mm wide on the slab) straight down; flux in W over
+            // 360–830 nm.
+            let cone =
+                SpotFalloff::Cone { cos_start: (0.5f32).to_radians().cos(), cos_end: (1.0f32).to_radians().cos() };
+            b.add_light(Light::Spot(SpotLight::with_flux(
+                Vec3::new(0.0, 0.0, 20.0),
+                -Vec3::Z,
+                white.clone(),
+                2e4,
+                cone,
+            )));
         }
         _ => {
             b.add_mesh(quad(Vec3::new(-20.0, -20.0, 0.0), Vec3::X * 40.0, Vec3::Y * 40.0), floor, None);
-            let cone = SpotFalloff::Cone { cos_start: (20.0f32).to_radians().cos(), cos_end: (25.0f32).to_radians().cos() };
+            let cone =
+                SpotFalloff::Cone { cos_start: (20.0f32).to_radians().cos(), cos_end: (25.0f32).to_radians().cos() };
             let pos = Vec3::new(-8.0, 6.0, 14.0);
-            b.add_light(Light::Spot(SpotLight::with_flux(pos, -pos.normalize(), white.clone(), 2000.0, cone)));
-            b.add_light(Light::UniformInfinite(UniformInfiniteLight { spectrum: white.clone(), scale: 0.05 }));
+            b.add_light(Light::Spot(SpotLight::with_flux(pos, -pos.normalize(), white.clone(), 5e5, cone)));
+            b.add_light(Light::UniformInfinite(UniformInfiniteLight { spectrum: white.clone(), scale: 0.03 }));
         }
     }
     b.set_camera(Camera::look_at(eye, target, Vec3::Z), fov);
@@ -128,10 +153,12 @@ mod tests {
     fn torus_is_closed_and_wound_outward() {
         let m = torus(Vec3::ZERO, 3.0, 1.0, 48, 24);
         // Outward winding: the signed volume Σ p0·(p1×p2)/6 is positive and close to 2π²Rr².
-        let vol: f32 = (0..m.len()).map(|i| {
-            let [a, b, c] = m.triangle(i);
-            a.dot(b.cross(c)) / 6.0
-        }).sum();
+        let vol: f32 = (0..m.len())
+            .map(|i| {
+                let [a, b, c] = m.triangle(i);
+                a.dot(b.cross(c)) / 6.0
+            })
+            .sum();
         let exact = 2.0 * PI * PI * 3.0;
         assert!((vol - exact).abs() < 0.02 * exact, "volume {vol} vs {exact}");
     }

@@ -171,7 +171,8 @@ impl PathIntegrator {
                             continue;
                         }
                         Some(Exit::Ray(exit, origin, pdf)) => {
-                            (ray, prev_p, specular_bounce, prev_pdf) = (exit, origin, pdf.is_none(), pdf.unwrap_or(0.0));
+                            (ray, prev_p, specular_bounce, prev_pdf) =
+                                (exit, origin, pdf.is_none(), pdf.unwrap_or(0.0));
                         }
                     }
                 } else {

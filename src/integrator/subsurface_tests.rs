@@ -3,8 +3,8 @@
 
 use super::*;
 use crate::accel::AccelKind;
-use crate::bssrdf::half_space_albedo;
 use crate::bsdf::fresnel::fr_dielectric;
+use crate::bssrdf::half_space_albedo;
 use crate::geometry::shapes::{axis_box, icosphere, quad};
 use crate::geometry::Mesh;
 use crate::integrator::PathIntegrator;
@@ -33,7 +33,10 @@ fn furnace(meshes: Vec<Mesh>, m: SubsurfaceMaterial, accel: AccelKind) -> Scene 
     for mesh in meshes {
         b.add_mesh(mesh, id, None);
     }
-    b.add_light(Light::UniformInfinite(UniformInfiniteLight { spectrum: Arc::new(Spectrum::constant(1.0)), scale: 1.0 }));
+    b.add_light(Light::UniformInfinite(UniformInfiniteLight {
+        spectrum: Arc::new(Spectrum::constant(1.0)),
+        scale: 1.0,
+    }));
     b.set_camera(Mat4::IDENTITY, 40.0);
     b.build(accel).unwrap()
 }
@@ -200,8 +203,11 @@ fn tables_are_built_only_when_diffusion_needs_them() {
 fn intersect_all_agrees_with_brute_force_on_both_backends() {
     use crate::accel::watertight::ShearedRay;
     use crate::sampling::Rng;
-    let meshes =
-        vec![icosphere(Vec3::ZERO, 1.0, 2), icosphere(Vec3::new(0.5, 0.2, 0.1), 0.7, 1), axis_box(Vec3::splat(-1.2), Vec3::splat(1.2))];
+    let meshes = vec![
+        icosphere(Vec3::ZERO, 1.0, 2),
+        icosphere(Vec3::new(0.5, 0.2, 0.1), 0.7, 1),
+        axis_box(Vec3::splat(-1.2), Vec3::splat(1.2)),
+    ];
     let kinds = [AccelKind::Obvhs].into_iter().chain(cfg!(feature = "embree").then_some(AccelKind::Embree));
     let mut rng = Rng::new(11, 0);
     let rays: Vec<Ray> = (0..300)

@@ -55,7 +55,15 @@ impl SubsurfaceMaterial {
     pub fn new(spec: ScatteringSpec, eta: f32, g: f32, roughness: Roughness) -> Self {
         let eta = if eta.is_finite() && eta > 0.0 { eta } else { 1.33 };
         let g = HenyeyGreenstein::new(g).g;
-        Self { spec, eta, g, roughness, sw_norm: NormalizedFresnel::normalization(eta), table: OnceLock::new(), object_radius: OnceLock::new() }
+        Self {
+            spec,
+            eta,
+            g,
+            roughness,
+            sw_norm: NormalizedFresnel::normalization(eta),
+            table: OnceLock::new(),
+            object_radius: OnceLock::new(),
+        }
     }
 
     /// The PBD table for this material's (g, η), built on first call.

@@ -120,7 +120,8 @@ mod tests {
         for c in 0..4 {
             let s = st[c] as f64;
             let expect_pass = (-s * t_max as f64).exp();
-            let expect_band = if s > 0.0 { ((-s * a as f64).exp() - (-s * b as f64).exp()) / s } else { (b - a) as f64 };
+            let expect_band =
+                if s > 0.0 { ((-s * a as f64).exp() - (-s * b as f64).exp()) / s } else { (b - a) as f64 };
             for (sum, sum2, expect, what) in
                 [(pass[c], pass2[c], expect_pass, "T(t_max)"), (band[c], band2[c], expect_band, "∫T")]
             {
