@@ -30,7 +30,7 @@ pub trait Accel: Send + Sync {
             let rest = Ray::segment(ray.at(base), ray.d, ray.t_max - base);
             let Some(mut h) = self.intersect(&rest) else { return };
             h.t += base;
-            if !(h.t < ray.t_max) {
+            if h.t.is_nan() || h.t >= ray.t_max {
                 return;
             }
             hits.push(h);

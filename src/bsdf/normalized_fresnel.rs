@@ -36,7 +36,7 @@ impl NormalizedFresnel {
 
     /// f(ωo, ωi): ωo only selects the side (+z).
     pub fn f(&self, wo: Vec3, wi: Vec3, mode: TransportMode) -> SampledSpectrum {
-        if !same_hemisphere(wo, wi) || cos_theta(wi) <= 0.0 || !(self.c > 0.0) {
+        if !same_hemisphere(wo, wi) || cos_theta(wi) <= 0.0 || self.c.is_nan() || self.c <= 0.0 {
             return SampledSpectrum::zero();
         }
         let mut f = (1.0 - fr_dielectric(cos_theta(wi), self.eta)) / self.c * INV_PI;

@@ -85,11 +85,11 @@ impl<'a> TabulatedBssrdf<'a> {
         };
         let c = ((u1 * 4.0) as usize).min(3);
         let r_max = self.r_max[c];
-        if !(r_max > 0.0) {
+        if r_max.is_nan() || r_max <= 0.0 {
             return None;
         }
         let r = self.table.sample_radius(self.rho[c], u2.x)? / self.sigma_t[c];
-        if !(r < r_max) {
+        if r.is_nan() || r >= r_max {
             return None;
         }
         let (a, b, z) = self.axes(axis);
@@ -109,7 +109,7 @@ impl<'a> TabulatedBssrdf<'a> {
         let mut pdf = 0.0;
         for c in 0..4 {
             let st = self.sigma_t[c];
-            if !(self.r_max[c] > 0.0) || dist2 >= self.r_max[c] * self.r_max[c] {
+            if self.r_max[c].is_nan() || self.r_max[c] <= 0.0 || dist2 >= self.r_max[c] * self.r_max[c] {
                 continue;
             }
             for axis in 0..3 {

@@ -111,7 +111,7 @@ impl BssrdfTable {
     /// The albedo ρ with ρ_eff(ρ) = `target` (monotone: bisection on the interpolated curve,
     /// pbrt-v4 `InvertCatmullRom`); targets beyond the table clamp to ρ = 0 or 1.
     pub fn invert_rho_eff(&self, target: f32) -> f32 {
-        if !(target > self.rho_eff[0]) {
+        if target.is_nan() || target <= self.rho_eff[0] {
             return 0.0;
         }
         if target >= self.rho_eff[N_RHO - 1] {
@@ -126,7 +126,7 @@ impl BssrdfTable {
     /// Radial density P(ρ, r) [1/optical length] at optical radius `r` ≥ 0 (0 beyond the table).
     pub fn profile(&self, rho: f32, r: f32) -> f32 {
         let (i, w) = self.rho_bracket(rho);
-        if !(r >= 0.0) || r > self.radius[N_RADIUS - 1] {
+        if r.is_nan() || r < 0.0 || r > self.radius[N_RADIUS - 1] {
             return 0.0;
         }
         let (j, t) = bracket(&self.radius, r);
@@ -138,7 +138,7 @@ impl BssrdfTable {
     pub fn sample_radius(&self, rho: f32, u: f32) -> Option<f32> {
         let (i, w) = self.rho_bracket(rho);
         let (m0, m1) = ((1.0 - w) * self.rho_eff[i], w * self.rho_eff[i + 1]);
-        if !(m0 + m1 > 0.0) {
+        if (m0 + m1).is_nan() || m0 + m1 <= 0.0 {
             return None;
         }
         let p0 = m0 / (m0 + m1);

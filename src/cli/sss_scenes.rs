@@ -97,10 +97,10 @@ pub fn build(shape: Shape, medium: &Medium) -> SceneBuilder {
     b.add_mesh(object, sss, None);
     match shape {
         Shape::Slab => {
-            // A narrow beam (1° half-angle, ≈0.35 mm wide on the slab) straight down; flux in W over
+            // A narrow beam (3° half-angle, ≈2 mm wide on the slab) straight down; flux in W over
             // 360–830 nm.
             let cone =
-                SpotFalloff::Cone { cos_start: (0.5f32).to_radians().cos(), cos_end: (1.0f32).to_radians().cos() };
+                SpotFalloff::Cone { cos_start: (2.0f32).to_radians().cos(), cos_end: (3.0f32).to_radians().cos() };
             b.add_light(Light::Spot(SpotLight::with_flux(
                 Vec3::new(0.0, 0.0, 20.0),
                 -Vec3::Z,

@@ -145,7 +145,7 @@ fn diffusion(
     let k = ((uh * hits.len() as f32) as usize).min(hits.len() - 1);
     let mut pi = SurfaceInteraction::new(scene, &probe, &hits[k]);
     let pdf = bssrdf.pdf_sp(pi.p, pi.shading.ng) / hits.len() as f32;
-    if !(pdf > 0.0) {
+    if pdf.is_nan() || pdf <= 0.0 {
         return None;
     }
     *beta *= bssrdf.sp(pi.p) / pdf;
