@@ -63,3 +63,48 @@ impl Ctx<'_> {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use crate::scene::{parse_file, parse_str, ParseOptions};
+
+    fn materials(text: &str) -> Result<(Vec<crate::material::Material>, usize), String> {
+        let (desc, mut w) = parse_str(text, &ParseOptions::default()).map_err(|e| e.to_string())?;
+        let (b, _) = super::super::build(&desc, &mut w).map_err(|e| e.to_string())?;
+        let scene = b.build(crate::accel::AccelKind::Obvhs).map_err(|e| e.to_string())?;
+        Ok((scene.materials, w.len()))
+    }
+
+    const HEAD: &str = "Camera \"perspective\"\nWorldBegin\n";
+    const SHAPE: &str = "\nShape \"sphere\" \"float radius\" [ 1 ]\n";
+
+    #[test]
+    fn subsurface_parameters_map_and_bad_values_are_errors() {
+        let ok = format!("{HEAD}Material \"subsurface\" \"float eta\" [ 1.4 ] \"float g\" [ 0.3 ] \"rgb mfp\" [ 1 2 3 ] \"rgb reflectance\" [ 0.5 0.6 0.7 ]{SHAPE}");
+        let (m, warnings) = materials(&ok).unwrap();
+        assert_eq!(warnings, 0);
+        let crate::material::Material::Subsurface(s) = &m[0] else { panic!("{m:?}") };
+        assert_eq!((s.eta, s.g), (1.4, 0.3));
+        assert!(matches!(s.spec, crate::material::ScatteringSpec::Reflectance { .. }));
+        assert!(!s.table_built(), "parsing must not build the table");
+        let named = format!("{HEAD}Material \"subsurface\" \"string name\" [ \"Skin1\" ]{SHAPE}");
+        assert_eq!(materials(&named).unwrap().1, 1, "unsupported named medium warns");
+        for bad in ["\"float g\" [ 1 ]", "\"float eta\" [ -1 ]"] {
+            let text = format!("{HEAD}Material \"subsurface\" {bad}{SHAPE}");
+            let e = materials(&text).unwrap_err();
+            assert!(e.contains("<string>:3:"), "{e}");
+        }
+    }
+
+    #[test]
+    fn example_scenes_build_with_subsurface_materials() {
+        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/subsurface");
+        for name in ["slab.pbrt", "sphere.pbrt", "jade.pbrt"] {
+            let (desc, mut w) = parse_file(&dir.join(name), &ParseOptions::default()).unwrap();
+            let (b, _) = super::super::build(&desc, &mut w).unwrap();
+            assert!(w.is_empty(), "{name}: {w:?}");
+            let scene = b.build(crate::accel::AccelKind::Obvhs).unwrap();
+            assert!(scene.materials.iter().any(|m| matches!(m, crate::material::Material::Subsurface(_))), "{name}");
+        }
+    }
+}
