@@ -21,6 +21,7 @@
 pub mod accel;
 pub mod bench;
 pub mod bsdf;
+pub mod bssrdf;
 pub mod camera;
 pub mod checkpoint;
 pub mod cli;
@@ -34,6 +35,7 @@ pub mod light;
 pub mod material;
 pub mod math;
 pub mod measure;
+pub mod media;
 pub mod render;
 pub mod sampling;
 pub mod scene;

@@ -27,6 +27,8 @@ enum Command {
     Bench(cli::bench::BenchArgs),
     /// Error metrics between two images (RMSE, relMSE, MAE) and a false-colour difference.
     Compare(cli::bench::CompareArgs),
+    /// Subsurface report: diffusion vs random walk, time and RMSE (docs/subsurface.md).
+    SssReport(cli::sss_report::SssReportArgs),
 }
 
 /// Logs warnings and errors to stderr as "prism: warning: …".
@@ -55,6 +57,7 @@ fn main() {
         Command::Measure(c) => cli::measure::run(&c),
         Command::Bench(a) => cli::bench::run(&a),
         Command::Compare(a) => cli::bench::compare(&a),
+        Command::SssReport(a) => cli::sss_report::run(&a),
     };
     if let Err(e) = result {
         // One line: the chain of causes joined by ": ".

@@ -25,6 +25,24 @@ pub trait Accel: Send + Sync {
     fn memory_bytes(&self) -> usize;
     /// Backend name, as on the command line.
     fn name(&self) -> &'static str;
+
+    /// Appends every hit with t in (0, ray.t_max) to `hits`, in any order (BSSRDF probe rays).
+    /// The default repeats [`Accel::intersect`] from just beyond each hit (two surfaces closer
+    /// than ~2⁻¹⁶ of the distance travelled may merge into one hit); at most 256 hits.
+    fn intersect_all(&self, ray: &Ray, hits: &mut Vec<Hit>) {
+        let mut base = 0.0f32;
+        for _ in 0..256 {
+            let rest = Ray::segment(ray.at(base), ray.d, ray.t_max - base);
+            let Some(mut h) = self.intersect(&rest) else { return };
+            h.t += base;
+            if h.t.is_nan() || h.t >= ray.t_max {
+                return;
+            }
+            hits.push(h);
+            // Step past the hit by a relative margin larger than the hit point's rounding error.
+            base = h.t + (h.t.abs() + ray.o.abs().max_element() / ray.d.length().max(f32::MIN_POSITIVE)) * 2e-6;
+        }
+    }
 }
 
 /// The backends, as named on the command line.

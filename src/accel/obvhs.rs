@@ -310,6 +310,28 @@ impl Accel for ObvhsAccel {
     fn name(&self) -> &'static str {
         "obvhs"
     }
+
+    /// One traversal that records every hit and never shrinks the ray's t range.
+    fn intersect_all(&self, ray: &Ray, hits: &mut Vec<Hit>) {
+        let Some(r) = ShearedRay::new(ray.o, ray.d) else { return };
+        if self.triangles.is_empty() || ray.t_max.is_nan() || ray.t_max <= 0.0 {
+            return;
+        }
+        let mut visit = |i: usize| {
+            let [p0, p1, p2] = self.triangles[i];
+            if let Some(h) = r.intersect(p0, p1, p2, ray.t_max).filter(|h| h.t < ray.t_max) {
+                hits.push(self.hit_record((h, i)));
+            }
+        };
+        if self.stats.linear_fallback {
+            (0..self.triangles.len()).for_each(visit);
+            return;
+        }
+        self.bvh.ray_traverse(obvhs_ray(ray, ray.t_max * T_SCALE), &mut RayHit::none(), |_, k| {
+            self.group(k).for_each(&mut visit);
+            f32::INFINITY
+        });
+    }
 }
 
 #[cfg(test)]

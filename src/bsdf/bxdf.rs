@@ -1,8 +1,8 @@
 //! The closed set of BxDF models, dispatched by `match` (design.md: enums for closed sets).
 
 use super::{
-    BsdfSample, BxdfFlags, CoatedDiffuse, Conductor, Dielectric, Diffuse, DiffuseTransmission, ThinDielectric,
-    TransportMode,
+    BsdfSample, BxdfFlags, CoatedDiffuse, Conductor, Dielectric, Diffuse, DiffuseTransmission, NormalizedFresnel,
+    ThinDielectric, TransportMode,
 };
 use crate::math::{Vec2, Vec3};
 use crate::spectrum::SampledSpectrum;
@@ -23,6 +23,8 @@ pub enum Bxdf {
     ThinDielectric(ThinDielectric),
     /// Dielectric coat over a Lambertian base.
     CoatedDiffuse(CoatedDiffuse),
+    /// The entry-point lobe S_ω of a diffusion BSSRDF.
+    NormalizedFresnel(NormalizedFresnel),
 }
 
 macro_rules! dispatch {
@@ -34,6 +36,7 @@ macro_rules! dispatch {
             Bxdf::Dielectric($b) => $e,
             Bxdf::ThinDielectric($b) => $e,
             Bxdf::CoatedDiffuse($b) => $e,
+            Bxdf::NormalizedFresnel($b) => $e,
         }
     };
 }
@@ -92,5 +95,10 @@ impl From<ThinDielectric> for Bxdf {
 impl From<CoatedDiffuse> for Bxdf {
     fn from(b: CoatedDiffuse) -> Self {
         Bxdf::CoatedDiffuse(b)
+    }
+}
+impl From<NormalizedFresnel> for Bxdf {
+    fn from(b: NormalizedFresnel) -> Self {
+        Bxdf::NormalizedFresnel(b)
     }
 }

@@ -6,3 +6,5 @@ mod color_report;
 pub mod measure;
 pub mod merge;
 pub mod render;
+pub mod sss_report;
+pub mod sss_scenes;

@@ -4,7 +4,7 @@ use crate::accel::AccelKind;
 use crate::film::Film;
 use crate::filter::Filter;
 use crate::image::Image;
-use crate::integrator::{PathIntegrator, Stats};
+use crate::integrator::{PathIntegrator, Stats, SubsurfaceMethod};
 use crate::render::{RenderSettings, SamplerKind};
 use crate::scene::pbrt::FileSettings;
 use crate::scene::{Scene, SceneBuilder};
@@ -48,6 +48,9 @@ pub struct RenderArgs {
     /// Maximum path depth [default: the file's, else 8].
     #[arg(long)]
     pub max_depth: Option<u32>,
+    /// Subsurface scattering: diffusion (PBD BSSRDF) or randomwalk (volumetric reference).
+    #[arg(long, default_value = "diffusion")]
+    pub sss: String,
     /// Output colour space: srgb, rec2020, acescg, aces2065-1, display-p3 [default: srgb].
     #[arg(long)]
     pub color_space: Option<String>,
@@ -92,6 +95,8 @@ pub struct RenderStats {
     pub nonfinite_samples: u64,
     /// Scene build time (accelerator and lights) [s].
     pub build_s: f64,
+    /// Subsurface method (`--sss`).
+    pub sss: String,
 }
 
 fn parse_resolution(s: &str) -> Result<(u32, u32)> {
@@ -202,7 +207,8 @@ pub fn prepare(args: &RenderArgs) -> Result<Job> {
     let scene = builder.build(accel).context("building the scene")?;
     let build_s = t0.elapsed().as_secs_f64();
     let max_depth = args.max_depth.or(file.max_depth).unwrap_or(8);
-    let integrator = PathIntegrator { max_depth, ..Default::default() };
+    let sss = SubsurfaceMethod::parse(&args.sss).map_err(anyhow::Error::msg)?;
+    let integrator = PathIntegrator { max_depth, sss, ..Default::default() };
     let settings = RenderSettings {
         resolution: resolution.or(file.resolution).unwrap_or((256, 256)),
         spp: args.spp.map(|n| n as u64).or(file.spp).unwrap_or(16),
@@ -416,6 +422,7 @@ fn summarize(job: &Job, stats: &Stats, elapsed: f64) -> RenderStats {
         accel: job.scene.accel.name().to_string(),
         nonfinite_samples: stats.nonfinite,
         build_s: job.build_s,
+        sss: job.settings.integrator.sss.name().to_string(),
     }
 }
 

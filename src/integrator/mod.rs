@@ -1,8 +1,10 @@
 //! Integrators: estimators of the radiance arriving at the camera.
 
 mod path;
+pub mod subsurface;
 
 pub use path::{DirectStrategy, PathIntegrator};
+pub use subsurface::SubsurfaceMethod;
 
 /// Counters gathered while rendering (summed over threads).
 #[derive(Clone, Debug, Default, PartialEq)]

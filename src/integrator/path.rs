@@ -2,10 +2,12 @@
 //! (lecture: "BRDF"), with next-event estimation and BSDF sampling combined by multiple importance
 //! sampling (Veach 1997, power heuristic β = 2) and Russian roulette.
 
+use super::subsurface::{self, Exit, SubsurfaceMethod};
 use super::Stats;
 use crate::bsdf::{Bsdf, Diffuse, TransportMode};
 use crate::geometry::Ray;
 use crate::light::Light;
+use crate::material::Material;
 use crate::math::PI;
 use crate::sampling::mis::power_heuristic;
 use crate::sampling::Sampler;
@@ -33,11 +35,13 @@ pub struct PathIntegrator {
     pub rr_depth: u32,
     /// Direct-light estimator.
     pub strategy: DirectStrategy,
+    /// How paths entering subsurface materials continue.
+    pub sss: SubsurfaceMethod,
 }
 
 impl Default for PathIntegrator {
     fn default() -> Self {
-        Self { max_depth: 8, rr_depth: 3, strategy: DirectStrategy::Mis }
+        Self { max_depth: 8, rr_depth: 3, strategy: DirectStrategy::Mis, sss: SubsurfaceMethod::default() }
     }
 }
 
@@ -103,8 +107,8 @@ impl PathIntegrator {
 
         let mut depth = 0u32;
         loop {
-            let (si, bsdf) = match first.take() {
-                Some(start) => start,
+            let (si, bsdf, material) = match first.take() {
+                Some((si, bsdf)) => (si, bsdf, None),
                 None => {
                     stats.rays += 1;
                     let Some(hit) = scene.accel.intersect(&ray) else {
@@ -132,7 +136,7 @@ impl PathIntegrator {
                     }
                     let material = &scene.materials[scene.mesh_material[si.mesh as usize] as usize];
                     let bsdf = material.bsdf(&si.shading, w);
-                    (si, bsdf)
+                    (si, bsdf, Some(material))
                 }
             };
             depth += 1;
@@ -154,11 +158,27 @@ impl PathIntegrator {
             beta *= bs.f * (cos / bs.pdf);
             prev_pdf = if bs.pdf_is_proportional { bsdf.pdf(si.wo, bs.wi, TransportMode::Radiance) } else { bs.pdf };
             specular_bounce = bs.is_specular();
-            if bs.is_transmission() {
-                eta_scale *= bs.eta * bs.eta;
-            }
             ray = si.spawn_ray(bs.wi);
             prev_p = si.p;
+            if bs.is_transmission() {
+                // Refraction into a subsurface medium: continue where light leaves it. Entering and
+                // leaving scale radiance by 1/η² and η², so eta_scale is left alone.
+                if let (Some(Material::Subsurface(m)), true) = (material, bs.wi.dot(si.shading.ns) < 0.0) {
+                    match subsurface::enter(self, scene, m, &si, bs.wi, (&mut beta, &mut l), w, sampler, stats) {
+                        None => break,
+                        Some(Exit::Vertex(vsi, vbsdf)) => {
+                            first = Some((vsi, vbsdf));
+                            continue;
+                        }
+                        Some(Exit::Ray(exit, origin, pdf)) => {
+                            (ray, prev_p, specular_bounce, prev_pdf) =
+                                (exit, origin, pdf.is_none(), pdf.unwrap_or(0.0));
+                        }
+                    }
+                } else {
+                    eta_scale *= bs.eta * bs.eta;
+                }
+            }
             if beta.is_black() {
                 break;
             }
@@ -178,7 +198,7 @@ impl PathIntegrator {
     }
 
     /// One light sample at `si`, MIS-weighted against BSDF sampling (pbrt-v4 `SampleLd`).
-    fn sample_light(
+    pub(super) fn sample_light(
         &self,
         scene: &Scene,
         si: &SurfaceInteraction,

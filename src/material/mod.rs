@@ -1,8 +1,10 @@
 //! Materials: what a surface is made of, turned into a BSDF at each hit by evaluating textures and
 //! spectra at the path's wavelengths. Materials hold spectra, never RGB triplets.
 
+mod subsurface;
 mod texture;
 
+pub use subsurface::{ScatteringSpec, SubsurfaceMaterial};
 pub use texture::{FloatTexture, ImageTexture, ReflectanceImage, SpectrumTexture};
 
 use crate::bsdf::{
@@ -105,6 +107,9 @@ pub enum Material {
         /// Coat index of refraction.
         eta: f32,
     },
+    /// "subsurface": a dielectric boundary over a scattering medium; the integrator continues
+    /// paths that refract into it (`integrator::subsurface`).
+    Subsurface(Box<SubsurfaceMaterial>),
 }
 
 /// The local geometry a material needs at a hit.
@@ -161,6 +166,7 @@ impl Material {
             Material::CoatedDiffuse { reflectance, roughness, eta } => {
                 CoatedDiffuse::new(clamp01(reflectance.eval(sp.uv, w)), *eta, roughness.distribution(sp.uv)).into()
             }
+            Material::Subsurface(m) => return m.boundary_bsdf(sp),
         };
         Bsdf::new(sp.ns, sp.dpdu, sp.ng, bxdf)
     }

@@ -14,14 +14,13 @@ pub const PBRT_ONLY_SHAPES: &[(&str, &str)] = &[
 
 /// Materials prism renders.
 pub const PRISM_MATERIALS: &[&str] =
-    &["diffuse", "conductor", "dielectric", "coateddiffuse", "diffusetransmission", "thindielectric"];
+    &["diffuse", "conductor", "dielectric", "coateddiffuse", "diffusetransmission", "thindielectric", "subsurface"];
 /// pbrt-v4 materials prism replaces, with the replacement type (used with default parameters).
 pub const PBRT_ONLY_MATERIALS: &[(&str, &str)] = &[
     ("coatedconductor", "conductor"),
     ("hair", "diffuse"),
     ("measured", "diffuse"),
     ("mix", "diffuse"),
-    ("subsurface", "coateddiffuse"),
     // An index-matched dielectric is invisible, which is what "interface" means.
     ("interface", "dielectric"),
 ];

@@ -5,6 +5,8 @@
 //! lecture's normalisation, so `"rgb L" [1 1 1]` looks white with value 1), then multiplied by
 //! `scale`. `power` differs on purpose: in prism it is the radiometric flux over 360–830 nm [W].
 
+mod subsurface;
+
 use super::desc::{LightDesc, MaterialDesc, SceneDesc, ShapeDesc, ShapeGeometry, TextureClass};
 use super::error::{SceneError, Warning};
 use super::params::{FloatOrTexture, ParamSet, SpectrumOrTexture, SpectrumParam};
@@ -295,6 +297,7 @@ impl Ctx<'_> {
                 roughness: self.roughness(p)?,
                 eta: p.float_or("eta", 1.5),
             },
+            "subsurface" => self.subsurface(m)?,
             other => {
                 self.warn(loc, format!("material \"{other}\" is not rendered by prism; using diffuse 0.5"));
                 Material::diffuse(Spectrum::constant(0.5))

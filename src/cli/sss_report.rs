@@ -1,0 +1,218 @@
+//! `prism sss-report`: renders the report's three scenes × three media with both subsurface
+//! methods at a small resolution, measures time and RMSE against a converged random-walk
+//! reference, estimates each method's remaining error at convergence, and writes the table into
+//! docs/subsurface.md (between marker comments), CSV/JSON, an error-vs-time plot per scene, and
+//! PNGs of the references and of the diffusion renders.
+
+use super::sss_scenes::{build, MEDIA, SHAPES};
+use crate::accel::AccelKind;
+use crate::bench::{plot_error_vs_time, BenchPoint};
+use crate::cli::render::film_to_image;
+use crate::filter::Filter;
+use crate::image::{metrics, Image};
+use crate::integrator::{PathIntegrator, SubsurfaceMethod};
+use crate::render::{render, RenderSettings, SamplerKind};
+use crate::spectrum::ColorSpace;
+use anyhow::{bail, Context, Result};
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// Arguments of `prism sss-report`.
+#[derive(clap::Args, Debug, Clone)]
+pub struct SssReportArgs {
+    /// Directory holding subsurface.md; figures go to OUT/subsurface/.
+    #[arg(long, default_value = "docs")]
+    pub out: PathBuf,
+    /// Image side [pixels].
+    #[arg(long, default_value_t = 64)]
+    pub size: u32,
+    /// Samples per pixel of the random-walk reference.
+    #[arg(long, default_value_t = 512)]
+    pub reference_spp: u64,
+    /// Sample counts rendered with each method (comma-separated, increasing).
+    #[arg(long, default_value = "4,16,64")]
+    pub ladder: String,
+}
+
+/// One row of the report.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct SssRow {
+    /// Scene.
+    pub scene: String,
+    /// Medium.
+    pub medium: String,
+    /// Method.
+    pub method: String,
+    /// Time of the reference render [s].
+    pub reference_s: f64,
+    /// (spp, time [s], RMSE) along the ladder.
+    pub ladder: Vec<(u64, f64, f64)>,
+    /// RMSE remaining at convergence: diffusion at the reference's spp against the reference;
+    /// for the walk, the reference's own noise (estimated).
+    pub bias: f64,
+}
+
+fn settings(size: u32, spp: u64, seed: u64, sss: SubsurfaceMethod) -> RenderSettings {
+    RenderSettings {
+        resolution: (size, size),
+        spp,
+        seed,
+        sampler: SamplerKind::Sobol,
+        filter: Filter::by_name("box").expect("box filter"),
+        integrator: PathIntegrator { max_depth: 16, sss, ..Default::default() },
+        time_limit: None,
+    }
+}
+
+/// Runs the report.
+pub fn run(a: &SssReportArgs) -> Result<()> {
+    let ladder: Vec<u64> =
+        a.ladder.split(',').map(|s| s.trim().parse::<u64>()).collect::<Result<_, _>>().context("--ladder")?;
+    if ladder.len() < 2 || ladder.windows(2).any(|w| w[0] >= w[1]) {
+        bail!("--ladder needs at least two increasing sample counts");
+    }
+    let fig = a.out.join("subsurface");
+    std::fs::create_dir_all(&fig).with_context(|| format!("creating {}", fig.display()))?;
+    let space = ColorSpace::srgb();
+    let mut rows = Vec::new();
+    let mut points = Vec::new();
+    for shape in SHAPES {
+        let mut shape_points = Vec::new();
+        for medium in &MEDIA {
+            let scene = build(shape, medium).build(AccelKind::default_available()).context("building the scene")?;
+            let t0 = Instant::now();
+            let (film, st) =
+                render(&scene, &settings(a.size, a.reference_spp, 1000, SubsurfaceMethod::RandomWalk), |_| {});
+            let reference_s = t0.elapsed().as_secs_f64();
+            let reference = film_to_image(&film, space);
+            let name = format!("{}-{}", shape.name(), medium.name);
+            save_png(&fig.join(format!("{name}-reference.png")), &reference)?;
+            eprintln!("{name}: reference {reference_s:.1} s ({} non-finite)", st.nonfinite);
+            for method in [SubsurfaceMethod::Diffusion, SubsurfaceMethod::RandomWalk] {
+                let mut rungs = Vec::new();
+                for &spp in &ladder {
+                    let t0 = Instant::now();
+                    let (film, _) = render(&scene, &settings(a.size, spp, 1, method), |_| {});
+                    let time_s = t0.elapsed().as_secs_f64();
+                    let img = film_to_image(&film, space);
+                    let m = metrics::compare(&img, &reference)?;
+                    rungs.push((spp, time_s, m.rmse));
+                    let p = BenchPoint {
+                        accel: medium.name.to_string(),
+                        sampler: method.name().to_string(),
+                        spp,
+                        time_s,
+                        samples_per_s: 0.0,
+                        rays_per_s: 0.0,
+                        build_s: 0.0,
+                        scene_bytes: 0,
+                        peak_rss_bytes: 0,
+                        rmse: m.rmse,
+                        rel_mse: m.rel_mse,
+                        mae: m.mae,
+                    };
+                    shape_points.push(p.clone());
+                    points.push((shape.name(), p));
+                    if spp == *ladder.last().unwrap() {
+                        save_png(&fig.join(format!("{name}-{}.png", method.name())), &img)?;
+                    }
+                }
+                // The error left at convergence: diffusion rendered at the reference's sample count
+                // (cheap) against the reference; the walk is unbiased, so its value is the
+                // reference's own noise, extrapolated from the last rung as 1/√spp.
+                let bias = match method {
+                    SubsurfaceMethod::Diffusion => {
+                        let (film, _) = render(&scene, &settings(a.size, a.reference_spp, 2, method), |_| {});
+                        metrics::compare(&film_to_image(&film, space), &reference)?.rmse
+                    }
+                    SubsurfaceMethod::RandomWalk => {
+                        let (n, _, e) = *rungs.last().unwrap();
+                        e * (n as f64 / a.reference_spp as f64).sqrt()
+                    }
+                };
+                eprintln!("{name} {}: {rungs:?}, at convergence {bias:.4}", method.name());
+                rows.push(SssRow {
+                    scene: shape.name().into(),
+                    medium: medium.name.into(),
+                    method: method.name().into(),
+                    reference_s,
+                    ladder: rungs,
+                    bias,
+                });
+            }
+        }
+        plot_error_vs_time(&shape_points, &fig.join(format!("{}-error.png", shape.name())))?;
+    }
+    let json = serde_json::to_string_pretty(&rows)?;
+    crate::io::write_atomic(&fig.join("report.json"), json.as_bytes())?;
+    let table = markdown(&rows, a, &ladder);
+    let doc = a.out.join("subsurface.md");
+    let text = std::fs::read_to_string(&doc).unwrap_or_default();
+    crate::io::write_atomic(&doc, splice(&text, &table).as_bytes())?;
+    eprintln!("wrote {} and {}", doc.display(), fig.display());
+    Ok(())
+}
+
+fn markdown(rows: &[SssRow], a: &SssReportArgs, ladder: &[u64]) -> String {
+    let mut s = format!(
+        "Generated by `prism sss-report --out {} --size {} --reference-spp {} --ladder {}` ({}×{} px, \
+         random-walk reference at {} spp, Sobol sampler, box filter). RMSE in linear sRGB.\n\n",
+        a.out.display(),
+        a.size,
+        a.reference_spp,
+        a.ladder,
+        a.size,
+        a.size,
+        a.reference_spp
+    );
+    s += "| scene | medium | method | reference [s] |";
+    for n in ladder {
+        s += &format!(" time @{n} [s] | RMSE @{n} |");
+    }
+    s += " RMSE at convergence¹ |\n|---|---|---|---|";
+    s += &"---|---|".repeat(ladder.len());
+    s += "---|\n";
+    for r in rows {
+        s += &format!("| {} | {} | {} | {:.1} |", r.scene, r.medium, r.method, r.reference_s);
+        for (_, t, e) in &r.ladder {
+            s += &format!(" {t:.2} | {e:.4} |");
+        }
+        s += &format!(" {:.4} |\n", r.bias);
+    }
+    let last = ladder[ladder.len() - 1];
+    s += &format!(
+        "\n¹ diffusion: rendered at {} spp against the reference (the model's bias plus the \
+         reference's noise); random walk: unbiased, so this is the reference's own noise, \
+         estimated as RMSE@{last} × √({last}/{}).\n",
+        a.reference_spp, a.reference_spp
+    );
+    s
+}
+
+const BEGIN: &str = "<!-- sss-report:begin -->";
+const END: &str = "<!-- sss-report:end -->";
+
+/// Replaces the text between the markers (or appends a marked section).
+fn splice(doc: &str, table: &str) -> String {
+    match (doc.find(BEGIN), doc.find(END)) {
+        (Some(b), Some(e)) if b < e => format!("{}{BEGIN}\n{table}{}", &doc[..b], &doc[e..]),
+        _ => format!("{doc}\n{BEGIN}\n{table}{END}\n"),
+    }
+}
+
+fn save_png(path: &Path, img: &Image) -> Result<()> {
+    crate::image::write(path, img).with_context(|| format!("writing {}", path.display()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn report_table_is_spliced_between_its_markers() {
+        assert_eq!(
+            splice("a\n<!-- sss-report:begin -->\nold\n<!-- sss-report:end -->\nz", "new\n"),
+            "a\n<!-- sss-report:begin -->\nnew\n<!-- sss-report:end -->\nz"
+        );
+    }
+}

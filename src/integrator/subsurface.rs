@@ -1,0 +1,235 @@
+//! The two ways to continue a path that refracts into a subsurface material.
+//!
+//! - [`SubsurfaceMethod::Diffusion`]: the separable PBD BSSRDF. An entry point p_i is found by a
+//!   probe ray ([`crate::bssrdf::TabulatedBssrdf`]) among all surfaces of the same mesh on the
+//!   probe segment (one chosen uniformly), the throughput is multiplied by
+//!   S_p(p_i) / (pdf(p_i) / n_hits), and the path continues from p_i with the S_ω lobe
+//!   (lecture: L_o = ∫_A ∫ S L_i cos θ dω dA, estimated with one area sample).
+//! - [`SubsurfaceMethod::RandomWalk`]: the reference. Volumetric path tracing inside the object:
+//!   free-flight sampling with spectral MIS ([`crate::media::HomogeneousMedium`]),
+//!   Henyey–Greenstein scattering, and the dielectric boundary sampled at every surface hit
+//!   (reflection stays inside, refraction leaves). Unbiased up to [`MAX_WALK_EVENTS`].
+//!
+//! With `Diffusion`, media whose longest mean free path exceeds the object's bounding radius
+//! (optically thin objects, where PBD's semi-infinite assumption loses most of the light) are
+//! walked instead.
+//!
+//! Both assume the subsurface object does not intersect other geometry: a hit inside the medium
+//! is treated as its boundary.
+
+use super::{DirectStrategy, PathIntegrator, Stats};
+use crate::bsdf::{Bsdf, TransportMode};
+use crate::bssrdf::TabulatedBssrdf;
+use crate::geometry::{Hit, Ray};
+use crate::material::SubsurfaceMaterial;
+use crate::math::Frame;
+use crate::media::{FreeFlight, HomogeneousMedium};
+use crate::sampling::Sampler;
+use crate::scene::{Scene, SurfaceInteraction};
+use crate::spectrum::{SampledSpectrum, SampledWavelengths};
+use glam::Vec3;
+
+/// Scattering events after which a random walk is abandoned (a bias only for media so thick
+/// and white that a walk this long has non-negligible probability).
+pub const MAX_WALK_EVENTS: u32 = 100_000;
+/// Events after which Russian roulette may end a walk.
+const WALK_RR_EVENTS: u32 = 8;
+
+/// How paths entering a subsurface material are continued (`prism render --sss`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum SubsurfaceMethod {
+    /// Photon beam diffusion BSSRDF with probe-ray sampling (fast, biased by the model).
+    #[default]
+    Diffusion,
+    /// Brute-force volumetric random walk (slow, unbiased reference).
+    RandomWalk,
+}
+
+impl SubsurfaceMethod {
+    /// Parses "diffusion" or "randomwalk".
+    pub fn parse(name: &str) -> Result<Self, String> {
+        match name {
+            "diffusion" => Ok(Self::Diffusion),
+            "randomwalk" | "random-walk" => Ok(Self::RandomWalk),
+            other => Err(format!("unknown subsurface method '{other}' (valid: diffusion, randomwalk)")),
+        }
+    }
+
+    /// The name, as on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Diffusion => "diffusion",
+            Self::RandomWalk => "randomwalk",
+        }
+    }
+}
+
+/// Where the path goes on after the subsurface event.
+pub(super) enum Exit {
+    /// A new vertex at p_i with its BSDF (diffusion): light sampling and BSDF sampling go on
+    /// from there.
+    Vertex(SurfaceInteraction, Bsdf),
+    /// A ray leaving the object from `origin` (random walk), sampled from the boundary's lobe
+    /// with this solid-angle density (`None`: a delta lobe), for MIS with the light sampling
+    /// done at the exit point.
+    Ray(Ray, Vec3, Option<f32>),
+}
+
+/// Continues a path that refracted at `si` into the material along `wi`, multiplying `beta`
+/// by the transport inside. `None`: the path ends (absorbed, or no entry point found).
+#[allow(clippy::too_many_arguments)]
+pub(super) fn enter(
+    integ: &PathIntegrator,
+    scene: &Scene,
+    material: &SubsurfaceMaterial,
+    si: &SurfaceInteraction,
+    wi: Vec3,
+    (beta, l): (&mut SampledSpectrum, &mut SampledSpectrum),
+    w: &SampledWavelengths,
+    sampler: &mut Sampler,
+    stats: &mut Stats,
+) -> Option<Exit> {
+    let medium = material.medium(&si.shading, w);
+    // Diffusion assumes an optically thick object; where the longest mean free path exceeds the
+    // object's bounding radius, the medium is nearly clear, PBD would lose most of the light,
+    // and a walk needs only a few events: take the walk.
+    let thin = || {
+        let mfp = medium.sigma_t().min_value().recip();
+        mfp > material.object_radius(|| object_radius(scene, si.mesh))
+    };
+    match integ.sss {
+        SubsurfaceMethod::Diffusion if !thin() => diffusion(scene, material, &medium, si, beta, sampler, stats),
+        _ => {
+            let walk = Walk { integ, scene, material, medium: &medium, w };
+            walk.run(si, wi, (beta, l), sampler, stats)
+        }
+    }
+}
+
+/// The largest bounding-sphere radius of the meshes that share the material of `mesh`.
+fn object_radius(scene: &Scene, mesh: u32) -> f32 {
+    let id = scene.mesh_material[mesh as usize];
+    (0..scene.meshes.len())
+        .filter(|&m| scene.mesh_material[m] == id)
+        .map(|m| scene.meshes[m].bounds())
+        .filter(|b| !b.is_empty())
+        .map(|b| b.radius())
+        .fold(0.0, f32::max)
+}
+
+fn diffusion(
+    scene: &Scene,
+    material: &SubsurfaceMaterial,
+    medium: &HomogeneousMedium,
+    si: &SurfaceInteraction,
+    beta: &mut SampledSpectrum,
+    sampler: &mut Sampler,
+    stats: &mut Stats,
+) -> Option<Exit> {
+    let frame = Frame::from_normal_tangent(si.shading.ns, si.shading.dpdu);
+    let bssrdf = TabulatedBssrdf::new(material.table(), si.p, frame, medium.sigma_t(), medium.albedo());
+    let u1 = sampler.get_1d();
+    let u2 = sampler.get_2d();
+    let uh = sampler.get_1d();
+    let seg = bssrdf.sample(u1, u2)?;
+    let probe = Ray::segment(seg.p0, seg.p1 - seg.p0, 1.0);
+    let mut hits: Vec<Hit> = Vec::with_capacity(8);
+    stats.rays += 1;
+    scene.accel.intersect_all(&probe, &mut hits);
+    hits.retain(|h| h.geom_id == si.mesh);
+    if hits.is_empty() {
+        return None;
+    }
+    // Deterministic order, so the choice does not depend on the backend's traversal order.
+    hits.sort_by(|a, b| a.t.total_cmp(&b.t));
+    let k = ((uh * hits.len() as f32) as usize).min(hits.len() - 1);
+    let mut pi = SurfaceInteraction::new(scene, &probe, &hits[k]);
+    let pdf = bssrdf.pdf_sp(pi.p, pi.shading.ng) / hits.len() as f32;
+    if pdf.is_nan() || pdf <= 0.0 {
+        return None;
+    }
+    *beta *= bssrdf.sp(pi.p) / pdf;
+    if beta.is_black() || !beta.is_finite() {
+        return None;
+    }
+    // S_ω ignores ωo except for its side: pbrt sets it to the normal.
+    pi.wo = pi.shading.ns;
+    let bsdf = material.entry_bsdf(&pi.shading);
+    Some(Exit::Vertex(pi, bsdf))
+}
+
+/// What a random walk needs besides the path state.
+struct Walk<'a> {
+    integ: &'a PathIntegrator,
+    scene: &'a Scene,
+    material: &'a SubsurfaceMaterial,
+    medium: &'a HomogeneousMedium,
+    w: &'a SampledWavelengths,
+}
+
+impl Walk<'_> {
+    /// Walks from `si` along `wi` (into the medium) until the path refracts out. At every
+    /// boundary hit with a non-delta lobe, light is sampled through the boundary (next-event
+    /// estimation, MIS against the lobe) and added to `l`.
+    fn run(
+        &self,
+        si: &SurfaceInteraction,
+        wi: Vec3,
+        (beta, l): (&mut SampledSpectrum, &mut SampledSpectrum),
+        sampler: &mut Sampler,
+        stats: &mut Stats,
+    ) -> Option<Exit> {
+        let scene = self.scene;
+        let phase = self.material.phase();
+        let nee = self.integ.strategy != DirectStrategy::BsdfOnly;
+        let mut ray = si.spawn_ray(wi.normalize());
+        let mut scatterings = 0u32;
+        for _ in 0..MAX_WALK_EVENTS {
+            stats.rays += 1;
+            let hit = scene.accel.intersect(&ray);
+            let t_hit = hit.map_or(f32::INFINITY, |h| h.t);
+            let (uc, ud) = (sampler.get_1d(), sampler.get_1d());
+            match self.medium.sample_free_flight(t_hit, uc, ud) {
+                FreeFlight::Scatter { t, weight } => {
+                    *beta *= weight;
+                    scatterings += 1;
+                    let p = ray.at(t);
+                    ray = Ray::new(p, phase.sample(ray.d, sampler.get_2d()));
+                }
+                FreeFlight::Pass { weight } => {
+                    *beta *= weight;
+                    let h = hit?;
+                    let b = SurfaceInteraction::new(scene, &ray, &h);
+                    let bsdf = self.material.boundary_bsdf(&b.shading);
+                    if nee && bsdf.flags().is_non_specular() {
+                        *l += *beta * self.integ.sample_light(scene, &b, &bsdf, self.w, sampler, stats);
+                    }
+                    let bs = bsdf.sample_f(b.wo, sampler.get_1d(), sampler.get_2d(), TransportMode::Radiance)?;
+                    *beta *= bs.f * (bs.wi.dot(b.shading.ns).abs() / bs.pdf);
+                    let next = b.spawn_ray(bs.wi);
+                    if bs.wi.dot(b.shading.ns) > 0.0 {
+                        let pdf = if bs.is_specular() { None } else { Some(bs.pdf) };
+                        return (!beta.is_black()).then_some(Exit::Ray(next, b.p, pdf));
+                    }
+                    ray = next;
+                }
+            }
+            if beta.is_black() {
+                return None;
+            }
+            // Russian roulette once the walk is long and dim (pbrt-v4 volpath's rule).
+            if scatterings >= WALK_RR_EVENTS && beta.max_value() < 1.0 {
+                let q = (1.0 - beta.max_value()).max(0.0);
+                if sampler.get_1d() < q {
+                    return None;
+                }
+                *beta /= 1.0 - q;
+            }
+        }
+        None
+    }
+}
+
+#[cfg(test)]
+#[path = "subsurface_tests.rs"]
+mod tests;
