@@ -9,8 +9,8 @@ use crate::scene::{Emission, SceneBuilder};
 use crate::spectrum::Spectrum;
 use glam::Vec3;
 
-/// Heightfield cells per side: 2·572² = 654,368 triangles.
-const TERRAIN_RESOLUTION: u32 = 572;
+/// Heightfield cells per side: 2·600² = 720,000 triangles.
+const TERRAIN_RESOLUTION: u32 = 600;
 /// Icosphere subdivisions: 20·4⁷ = 327,680 triangles.
 const SPHERE_SUBDIVISIONS: u32 = 7;
 /// Triangles in the scene, besides the light's two.
@@ -24,10 +24,11 @@ pub fn terrain_scene() -> SceneBuilder {
     let black = b.add_material(Material::diffuse(Spectrum::constant(0.0)));
     b.add_mesh(terrain(100.0, TERRAIN_RESOLUTION, 4.0, 1), ground, None);
     b.add_mesh(icosphere(Vec3::new(0.0, 12.0, 0.0), 8.0, SPHERE_SUBDIVISIONS), ball, None);
-    // A 60 m × 60 m panel 60 m up, facing down; radiance 1 W/(sr·m²·nm) with the CIE D65 shape.
+    // A 60 m × 60 m panel 60 m up, facing down: CIE D65 radiance of luminance Y = 5, which
+    // makes the lit ground about 0.5 in linear sRGB.
     let panel = light_panel();
     let d65 = Spectrum::named("stdillum-D65").unwrap_or(Spectrum::constant(1.0));
-    b.add_mesh(panel, black, Some(Emission { spectrum: d65, scale: 1.0 / 100.0, two_sided: false }));
+    b.add_mesh(panel, black, Some(Emission { spectrum: d65, scale: 5.0, two_sided: false }));
     let eye = Vec3::new(0.0, 40.0, 80.0);
     b.set_camera(crate::camera::Camera::look_at(eye, Vec3::new(0.0, 5.0, 0.0), Vec3::Y), 45.0);
     b
@@ -44,6 +45,9 @@ mod tests {
 
     #[test]
     fn has_over_a_million_triangles_and_a_downward_light() {
+        let ground = terrain(100.0, TERRAIN_RESOLUTION, 4.0, 1);
+        let ball = icosphere(Vec3::new(0.0, 12.0, 0.0), 8.0, SPHERE_SUBDIVISIONS);
+        assert_eq!((ground.len() + ball.len()) as u64, TERRAIN_TRIANGLES);
         assert!(TERRAIN_TRIANGLES > 1_000_000);
         let p = light_panel();
         let [a, b, c] = p.indices[0].map(|i| p.positions[i as usize]);
