@@ -109,9 +109,6 @@ fn load(cfg: &BenchConfig) -> Result<SceneBuilder> {
     Ok(match cfg.scene.as_ref().and_then(|p| p.to_str()) {
         None | Some("builtin:cornell") => SceneBuilder::cornell_box(),
         Some("builtin:terrain") => terrain_scene(),
-        Some(name) if name.starts_with("builtin:") => {
-            anyhow::bail!("unknown built-in scene '{name}' (valid: {})", BUILTIN_SCENES.join(", "))
-        }
         Some(_) => crate::cli::render::load_scene_file(cfg.scene.as_ref().expect("matched Some"), false)?.0,
     })
 }
@@ -166,6 +163,11 @@ fn reference(cfg: &BenchConfig) -> Result<Image> {
 
 /// Runs the whole ladder for every backend and sampler.
 pub fn run(cfg: &BenchConfig) -> Result<Vec<BenchPoint>> {
+    if let Some(name) = cfg.scene.as_ref().and_then(|p| p.to_str()).filter(|n| n.starts_with("builtin:")) {
+        if !BUILTIN_SCENES.contains(&name) {
+            anyhow::bail!("unknown built-in scene '{name}' (valid: {})", BUILTIN_SCENES.join(", "));
+        }
+    }
     std::fs::create_dir_all(&cfg.out).with_context(|| format!("creating {}", cfg.out.display()))?;
     let reference = reference(cfg)?;
     let mut points = Vec::new();
