@@ -3,8 +3,10 @@
 //! converged reference; writes CSV, JSON and plots.
 
 mod plot;
+mod terrain;
 
 pub use plot::{plot_error_vs_time, plot_rays_per_s};
+pub use terrain::{terrain_scene, TERRAIN_TRIANGLES};
 
 use crate::accel::AccelKind;
 use crate::cli::render::film_to_image;
@@ -35,8 +37,18 @@ pub struct BenchPoint {
     pub rays_per_s: f64,
     /// Accelerator and light build time [s].
     pub build_s: f64,
-    /// Resident memory added by building the scene [bytes].
+    /// Resident memory added by loading and building the scene [bytes].
     pub scene_bytes: i64,
+    /// Triangles stored in the scene's meshes.
+    #[serde(default)]
+    pub triangles: u64,
+    /// Resident memory added by the accelerator (and lights) on top of the loaded meshes [bytes].
+    #[serde(default)]
+    pub accel_bytes: i64,
+    /// Peak resident memory during the build above the level before loading [bytes]
+    /// (builders need temporary memory; 0 where the kernel cannot reset the peak).
+    #[serde(default)]
+    pub build_peak_bytes: i64,
     /// Peak resident memory of the process so far [bytes].
     pub peak_rss_bytes: u64,
     /// Root-mean-square error against the reference (linear RGB).
@@ -50,7 +62,7 @@ pub struct BenchPoint {
 /// What to benchmark.
 #[derive(Clone, Debug)]
 pub struct BenchConfig {
-    /// pbrt-v4 scene (None: the Cornell box).
+    /// pbrt-v4 scene, or `builtin:cornell` / `builtin:terrain` (None: the Cornell box).
     pub scene: Option<PathBuf>,
     /// Backends to compare.
     pub accels: Vec<AccelKind>,
@@ -83,10 +95,21 @@ pub fn rss_bytes() -> (u64, u64) {
     (field("VmRSS:"), field("VmHWM:"))
 }
 
+/// Resets the process's peak resident set size (VmHWM) to the current one, so a later
+/// [`rss_bytes`] gives the peak of what follows. Linux ≥ 4.0 (`/proc/self/clear_refs`, value 5);
+/// returns false where that is not possible.
+pub fn reset_peak_rss() -> bool {
+    std::fs::write("/proc/self/clear_refs", "5").is_ok()
+}
+
+/// Names of the built-in scenes `prism bench` accepts instead of a file.
+pub const BUILTIN_SCENES: [&str; 2] = ["builtin:cornell", "builtin:terrain"];
+
 fn load(cfg: &BenchConfig) -> Result<SceneBuilder> {
-    Ok(match &cfg.scene {
-        None => SceneBuilder::cornell_box(),
-        Some(p) => crate::cli::render::load_scene_file(p, false)?.0,
+    Ok(match cfg.scene.as_ref().and_then(|p| p.to_str()) {
+        None | Some("builtin:cornell") => SceneBuilder::cornell_box(),
+        Some("builtin:terrain") => terrain_scene(),
+        Some(_) => crate::cli::render::load_scene_file(cfg.scene.as_ref().expect("matched Some"), false)?.0,
     })
 }
 
@@ -140,15 +163,27 @@ fn reference(cfg: &BenchConfig) -> Result<Image> {
 
 /// Runs the whole ladder for every backend and sampler.
 pub fn run(cfg: &BenchConfig) -> Result<Vec<BenchPoint>> {
+    if let Some(name) = cfg.scene.as_ref().and_then(|p| p.to_str()).filter(|n| n.starts_with("builtin:")) {
+        if !BUILTIN_SCENES.contains(&name) {
+            anyhow::bail!("unknown built-in scene '{name}' (valid: {})", BUILTIN_SCENES.join(", "));
+        }
+    }
     std::fs::create_dir_all(&cfg.out).with_context(|| format!("creating {}", cfg.out.display()))?;
     let reference = reference(cfg)?;
     let mut points = Vec::new();
     for &accel in &cfg.accels {
         let (rss0, _) = rss_bytes();
+        let can_reset = reset_peak_rss();
+        let builder = load(cfg)?;
+        let (rss_loaded, _) = rss_bytes();
         let t0 = Instant::now();
-        let scene = load(cfg)?.build(accel)?;
+        let scene = builder.build(accel)?;
         let build_s = t0.elapsed().as_secs_f64();
-        let scene_bytes = rss_bytes().0 as i64 - rss0 as i64;
+        let (rss_built, peak) = rss_bytes();
+        let scene_bytes = rss_built as i64 - rss0 as i64;
+        let accel_bytes = rss_built as i64 - rss_loaded as i64;
+        let build_peak_bytes = if can_reset { peak as i64 - rss0 as i64 } else { 0 };
+        let triangles = scene.meshes.iter().map(|m| m.len() as u64).sum();
         for &sampler in &cfg.samplers {
             for &spp in &cfg.ladder {
                 // A different seed from the reference's, so errors are not correlated with it.
@@ -163,6 +198,9 @@ pub fn run(cfg: &BenchConfig) -> Result<Vec<BenchPoint>> {
                     rays_per_s: stats.rays as f64 / time_s,
                     build_s,
                     scene_bytes,
+                    triangles,
+                    accel_bytes,
+                    build_peak_bytes,
                     peak_rss_bytes: rss_bytes().1,
                     rmse: m.rmse,
                     rel_mse: m.rel_mse,
@@ -205,17 +243,35 @@ pub fn markdown_table(points: &[BenchPoint]) -> String {
             p.rel_mse
         );
     }
+    t += "\n| accel | triangles | build [s] | scene B/tri | accel B/tri | build peak B/tri |\n|---|---|---|---|---|---|\n";
+    let mut seen = Vec::new();
+    for p in points.iter().filter(|p| p.triangles > 0) {
+        if seen.contains(&&p.accel) {
+            continue;
+        }
+        seen.push(&p.accel);
+        let per = |b: i64| b as f64 / p.triangles as f64;
+        t += &format!(
+            "| {} | {} | {:.3} | {:.1} | {:.1} | {:.1} |\n",
+            p.accel,
+            p.triangles,
+            p.build_s,
+            per(p.scene_bytes),
+            per(p.accel_bytes),
+            per(p.build_peak_bytes)
+        );
+    }
     t
 }
 
 /// Writes bench.csv, bench.json, bench.md and the plots into `dir`.
 pub fn write_outputs(dir: &Path, points: &[BenchPoint]) -> Result<()> {
     let mut csv = String::from(
-        "accel,sampler,spp,time_s,samples_per_s,rays_per_s,build_s,scene_bytes,peak_rss_bytes,rmse,rel_mse,mae\n",
+        "accel,sampler,spp,time_s,samples_per_s,rays_per_s,build_s,scene_bytes,triangles,accel_bytes,build_peak_bytes,peak_rss_bytes,rmse,rel_mse,mae\n",
     );
     for p in points {
         csv += &format!(
-            "{},{},{},{},{},{},{},{},{},{},{},{}\n",
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n",
             p.accel,
             p.sampler,
             p.spp,
@@ -224,6 +280,9 @@ pub fn write_outputs(dir: &Path, points: &[BenchPoint]) -> Result<()> {
             p.rays_per_s,
             p.build_s,
             p.scene_bytes,
+            p.triangles,
+            p.accel_bytes,
+            p.build_peak_bytes,
             p.peak_rss_bytes,
             p.rmse,
             p.rel_mse,

@@ -9,7 +9,7 @@ use std::path::PathBuf;
 /// Arguments of `prism bench`.
 #[derive(clap::Args, Debug)]
 pub struct BenchArgs {
-    /// pbrt-v4 scene (default: the built-in Cornell box).
+    /// pbrt-v4 scene, or a built-in: builtin:cornell (the default), builtin:terrain (1M triangles).
     pub scene: Option<PathBuf>,
     /// Backends, comma separated.
     #[arg(long, default_value = "embree,obvhs")]

@@ -5,7 +5,7 @@
 use super::blackbody::{blackbody_normalised, blackbody_peak_radiance};
 use super::cie::xyz_of;
 use super::jakob_hanika::SigmoidPolynomial;
-use super::sampled::{SampledSpectrum, SampledWavelengths, N_SPECTRUM_SAMPLES};
+use super::sampled::{SampledSpectrum, SampledWavelengths};
 use glam::{DVec3, Vec3};
 use std::sync::Arc;
 
@@ -15,6 +15,12 @@ use std::sync::Arc;
 pub struct PiecewiseLinear {
     lambda: Vec<f64>,
     value: Vec<f64>,
+    /// Segment lookup in O(1): the range is cut into equal cells and each cell stores the
+    /// segment that holds its left edge, so a lookup starts at most a knot or two before the
+    /// answer instead of binary-searching the whole table (this runs per wavelength per hit).
+    cell_segment: Vec<u32>,
+    /// Cells per nm.
+    cells_per_nm: f64,
 }
 
 impl PiecewiseLinear {
@@ -26,7 +32,24 @@ impl PiecewiseLinear {
             && lambda.len() >= 2
             && lambda.iter().chain(&value).all(|v| v.is_finite())
             && lambda.windows(2).all(|w| w[0] < w[1]);
-        ok.then_some(Self { lambda, value })
+        if !ok {
+            return None;
+        }
+        // About two cells per knot: with evenly spaced knots each cell holds at most one.
+        let n = lambda.len();
+        let span = lambda[n - 1] - lambda[0];
+        let cells = (2 * n).clamp(64, 1 << 16);
+        let cells_per_nm = cells as f64 / span;
+        let mut cell_segment = Vec::with_capacity(cells);
+        let mut i = 0;
+        for c in 0..cells {
+            let edge = lambda[0] + c as f64 / cells_per_nm;
+            while i + 2 < n && lambda[i + 1] <= edge {
+                i += 1;
+            }
+            cell_segment.push(i as u32);
+        }
+        Some(Self { lambda, value, cell_segment, cells_per_nm })
     }
     /// Wavelengths [nm].
     pub fn lambdas(&self) -> &[f64] {
@@ -37,12 +60,23 @@ impl PiecewiseLinear {
         &self.value
     }
     /// Linear interpolation, 0 outside the sampled range.
+    #[inline]
     pub fn eval(&self, l: f64) -> f64 {
         let n = self.lambda.len();
         if !(l >= self.lambda[0] && l <= self.lambda[n - 1]) {
             return 0.0;
         }
-        let i = self.lambda.partition_point(|&x| x <= l).clamp(1, n - 1) - 1;
+        // The last segment whose left knot is ≤ l (the binary search's answer, found from the
+        // cell's first segment by a short forward walk).
+        let cell = (((l - self.lambda[0]) * self.cells_per_nm) as usize).min(self.cell_segment.len() - 1);
+        let mut i = self.cell_segment[cell] as usize;
+        // (Rounding can put l a hair left of its cell's edge, and of a knot on that edge.)
+        while i > 0 && self.lambda[i] > l {
+            i -= 1;
+        }
+        while i + 2 < n && self.lambda[i + 1] <= l {
+            i += 1;
+        }
         let (l0, l1) = (self.lambda[i], self.lambda[i + 1]);
         let t = (l - l0) / (l1 - l0);
         self.value[i] + t * (self.value[i + 1] - self.value[i])
@@ -178,12 +212,14 @@ impl Spectrum {
     }
 
     /// The values at the four wavelengths of `w`.
+    #[inline]
     pub fn sample(&self, w: &SampledWavelengths) -> SampledSpectrum {
-        let mut out = [0.0; N_SPECTRUM_SAMPLES];
-        for (o, &l) in out.iter_mut().zip(&w.lambda) {
-            *o = self.eval(l);
+        // The common cases dispatch once for all four wavelengths.
+        match self {
+            Spectrum::Constant(v) => SampledSpectrum::splat(*v),
+            Spectrum::PiecewiseLinear(p) => SampledSpectrum::new(w.lambda.map(|l| p.eval(l as f64) as f32)),
+            _ => SampledSpectrum::new(w.lambda.map(|l| self.eval(l))),
         }
-        SampledSpectrum::new(out)
     }
 
     /// Wavelengths [nm] where the spectrum has a kink or a jump (for exact integration).
@@ -263,6 +299,31 @@ mod tests {
         assert_eq!(s.eval(399.9), 0.0);
         assert_eq!(s.eval(600.1), 0.0);
         assert_eq!(s.eval(f32::NAN), 0.0);
+    }
+
+    #[test]
+    fn cell_lookup_finds_the_binary_search_segment() {
+        // Irregular knots (clusters, long gaps, knots on cell edges) against the plain
+        // binary-search definition, at random points and exactly at every knot.
+        let mut rng = crate::sampling::Rng::new(3, 9);
+        for table in 0..50 {
+            let n = 2 + table * 7;
+            let mut l = vec![360.0 + rng.uniform() as f64];
+            for k in 1..n {
+                let gap = if k % 5 == 0 { 40.0 * rng.uniform() as f64 } else { 0.01 + rng.uniform() as f64 };
+                l.push(l[k - 1] + gap);
+            }
+            let v: Vec<f64> = (0..n).map(|_| rng.uniform() as f64).collect();
+            let p = PiecewiseLinear::new(l.clone(), v.clone()).unwrap();
+            let reference = |x: f64| {
+                let i = l.partition_point(|&k| k <= x).clamp(1, n - 1) - 1;
+                v[i] + (x - l[i]) / (l[i + 1] - l[i]) * (v[i + 1] - v[i])
+            };
+            let xs = (0..200).map(|_| l[0] + (l[n - 1] - l[0]) * rng.uniform() as f64).chain(l.iter().copied());
+            for x in xs {
+                assert_eq!(p.eval(x), reference(x), "table {table}, λ = {x}");
+            }
+        }
     }
 
     #[test]

@@ -48,6 +48,10 @@ fn bad_input_gets_one_clear_line() {
     assert_clean_error(&["render", "--resolution", "-4x64", "-o", out], "resolution must be positive");
     assert_clean_error(&["render", "--threads", "0", "-o", out], "--threads must be at least 1");
     assert!(!Path::new(out).exists(), "no image may be written on error");
+    let bench_out = d.join("bench");
+    let bench_args = ["bench", "builtin:nope", "--out", bench_out.to_str().unwrap()];
+    assert_clean_error(&bench_args, "unknown built-in scene 'builtin:nope'");
+    assert!(!bench_out.exists(), "bench must fail before rendering anything");
 }
 
 #[test]
