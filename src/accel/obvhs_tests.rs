@@ -4,6 +4,7 @@ use glam::{Mat4, Vec3};
 use rayon::prelude::*;
 
 use super::*;
+use crate::accel::watertight::ShearedRay;
 use crate::geometry::shapes::{axis_box, icosphere, quad, terrain, triangle_soup, uv_sphere};
 use crate::sampling::Rng;
 
