@@ -74,7 +74,7 @@ pub struct BuildStats {
     pub skipped_bad_index: usize,
     /// Depth of the BVH8 (root = 0).
     pub max_depth: u32,
-    /// True when the tree is too deep for obvhs' traversal stack and rays use a linear scan.
+    /// True when the tree is too deep for the traversal stack and rays use a linear scan.
     pub linear_fallback: bool,
 }
 
