@@ -1,34 +1,42 @@
 //! Pure-Rust backend: an obvhs compressed wide BVH8 (Ylitie, Karras, Laine 2017, "Efficient
-//! Incoherent Ray Traversal on GPUs Using Compressed Wide BVHs") built with PLOC, traversed by
-//! obvhs, with our own watertight triangle test ([`super::watertight`]).
+//! Incoherent Ray Traversal on GPUs Using Compressed Wide BVHs") built with PLOC, traversed by our
+//! own loop ([`traverse`]) with our own watertight triangle test ([`super::watertight`]).
 //!
-//! Four details make obvhs' traversal agree with a brute-force loop over the same triangle test:
+//! Three details make the traversal agree with a brute-force loop over the same triangle test:
 //! - Leaf boxes are the triangle boxes grown by a relative 2⁻²⁰ margin, so a ray through a
 //!   triangle's edge or vertex (which lies on its box's face) is never culled by slab rounding.
-//! - obvhs culls boxes ending before t = 10⁻⁴ and clamps 1/d to ±1/ε_f32. We hand it the direction
-//!   scaled by 2⁻²⁰ (t scaled by 2²⁰, exact powers of two) with our own 1/d clamped only at ±10³⁰,
-//!   so both effects fall far below f32 resolution of the scene.
-//! - Its traversal stack holds 32 entries and silently overwrites on overflow; a tree deeper than
-//!   that falls back to a linear scan (reported in [`BuildStats::linear_fallback`]).
+//! - The traversal stack holds [`traverse::STACK_SIZE`] entries; a tree deeper than that falls
+//!   back to a linear scan (reported in [`BuildStats::linear_fallback`]).
 //! - Triangles whose centroids share a cell of a 2²⁰-per-axis grid become one BVH primitive
 //!   (see `group_by_centroid_cell`): PLOC builds chains from equal Morton codes.
+//!
+//! Speed: triangles are stored lane-wise ([`TriangleLanes`]) in BVH leaf order, the triangle
+//! test is specialised per dominant ray axis, and when every group holds one triangle (the usual
+//! case) a BVH primitive index is a triangle index with no indirection.
 
 use std::time::Duration;
 
-use ::obvhs::{aabb::Aabb, cwbvh::builder::build_cwbvh, cwbvh::CwBvh, ray::RayHit, BvhBuildParams};
+use ::obvhs::{aabb::Aabb, cwbvh::builder::build_cwbvh, cwbvh::CwBvh, BvhBuildParams};
 use glam::{Vec3, Vec3A};
 use rayon::prelude::*;
 
-use super::watertight::{ShearedRay, TriangleHit};
+use super::watertight::{LaneRay, TriangleHit, TriangleLanes};
 use super::Accel;
 use crate::geometry::{Bounds3, Hit, Mesh, Ray};
 
-/// t seen by obvhs = t · T_SCALE (a power of two, so scaling is exact).
-pub(super) const T_SCALE: f32 = (1u32 << 20) as f32;
-/// Largest inverse-direction magnitude handed to obvhs' slab test (finite: avoids 0·∞ = NaN).
-const INV_DIR_LIMIT: f32 = 1e30;
-/// obvhs' traversal stack size (`cwbvh::TRAVERSAL_STACK_SIZE`, private in obvhs 0.4).
-pub(super) const OBVHS_STACK: u32 = 32;
+#[path = "obvhs_traverse.rs"]
+mod traverse;
+
+/// Relative margin by which leaf boxes are grown (a power of two).
+const BOX_PAD: f32 = 1.0 / (1u32 << 20) as f32;
+
+/// A triangle and its (geom_id, prim_id), one cache line each so a triangle test touches one line.
+#[derive(Clone, Copy, Debug)]
+#[repr(C, align(64))]
+struct Triangle {
+    lanes: TriangleLanes,
+    ids: (u32, u32),
+}
 
 /// BVH build effort: faster builds trace slower. Maps to obvhs' `BvhBuildParams` presets.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -66,20 +74,19 @@ pub struct BuildStats {
     pub skipped_bad_index: usize,
     /// Depth of the BVH8 (root = 0).
     pub max_depth: u32,
-    /// True when the tree is too deep for obvhs' traversal stack and rays use a linear scan.
+    /// True when the tree is too deep for the traversal stack and rays use a linear scan.
     pub linear_fallback: bool,
 }
 
 /// The obvhs CWBVH accelerator over a list of meshes (`geom_id` = index in that list).
 pub struct ObvhsAccel {
     bvh: CwBvh,
-    /// Triangle vertices in BVH leaf order (`bvh.primitive_indices` order), so a leaf's
-    /// triangles are contiguous in memory.
-    triangles: Vec<[Vec3; 3]>,
-    /// BVH primitive `k` is `triangles[group_start[k]..group_start[k + 1]]`.
+    /// Triangles in BVH leaf order (`bvh.primitive_indices` order), so a leaf's triangles are
+    /// contiguous in memory.
+    triangles: Vec<Triangle>,
+    /// BVH primitive `k` is `triangles[group_start[k]..group_start[k + 1]]`; empty when every
+    /// group is a single triangle (then primitive `k` is triangle `k`).
     group_start: Vec<u32>,
-    /// (geom_id, prim_id) for each entry of `triangles`.
-    ids: Vec<(u32, u32)>,
     bounds: Bounds3,
     stats: BuildStats,
 }
@@ -118,7 +125,7 @@ impl ObvhsAccel {
         }
         stats.triangles = tris.len();
         if tris.is_empty() {
-            return Self { bvh: CwBvh::default(), triangles: tris, group_start: vec![0], ids, bounds, stats };
+            return Self { bvh: CwBvh::default(), triangles: Vec::new(), group_start: Vec::new(), bounds, stats };
         }
         let (members, starts) = group_by_centroid_cell(&tris, bounds);
         let groups: Vec<&[u32]> = starts.windows(2).map(|w| &members[w[0] as usize..w[1] as usize]).collect();
@@ -128,19 +135,20 @@ impl ObvhsAccel {
             .collect();
         let bvh = build_cwbvh(&boxes, quality.params(), &mut Duration::default());
         let mut triangles = Vec::with_capacity(tris.len());
-        let mut ordered_ids = Vec::with_capacity(tris.len());
         let mut group_start = Vec::with_capacity(groups.len() + 1);
         group_start.push(0);
         for &g in &bvh.primitive_indices {
             for &i in groups[g as usize] {
-                triangles.push(tris[i as usize]);
-                ordered_ids.push(ids[i as usize]);
+                triangles.push(Triangle { lanes: TriangleLanes::new(tris[i as usize]), ids: ids[i as usize] });
             }
             group_start.push(triangles.len() as u32);
         }
+        if group_start.len() == triangles.len() + 1 {
+            group_start = Vec::new();
+        }
         stats.max_depth = max_depth(&bvh);
-        stats.linear_fallback = stats.max_depth + 1 >= OBVHS_STACK;
-        Self { bvh, triangles, group_start, ids: ordered_ids, bounds, stats }
+        stats.linear_fallback = stats.max_depth as usize + 1 >= traverse::STACK_SIZE;
+        Self { bvh, triangles, group_start, bounds, stats }
     }
 
     /// Build statistics (skipped triangles, depth).
@@ -150,12 +158,18 @@ impl ObvhsAccel {
 
     /// Closest-hit candidate for slot `i`: hit if nearer than `best`, or equally near with smaller
     /// (geom_id, prim_id), so the result does not depend on traversal order.
-    #[inline]
-    fn closer(&self, r: &ShearedRay, i: usize, best: &mut Option<(TriangleHit, usize)>, t_max: f32) -> bool {
-        let [p0, p1, p2] = self.triangles[i];
+    #[inline(always)]
+    fn closer<const KZ: usize>(
+        &self,
+        r: &LaneRay,
+        i: usize,
+        best: &mut Option<(TriangleHit, usize)>,
+        t_max: f32,
+    ) -> bool {
         let limit = best.map_or(t_max, |(h, _)| h.t);
-        match r.intersect(p0, p1, p2, limit) {
-            Some(h) if best.is_none_or(|(b, j)| h.t < b.t || self.ids[i] < self.ids[j]) => {
+        let tri = &self.triangles[i];
+        match r.intersect::<KZ>(&tri.lanes, limit) {
+            Some(h) if best.is_none_or(|(b, j)| h.t < b.t || tri.ids < self.triangles[j].ids) => {
                 *best = Some((h, i));
                 true
             }
@@ -164,35 +178,103 @@ impl ObvhsAccel {
     }
 
     /// Indices into `triangles` of BVH primitive `k`.
-    #[inline]
+    #[inline(always)]
     fn group(&self, k: usize) -> std::ops::Range<usize> {
-        self.group_start[k] as usize..self.group_start[k + 1] as usize
+        if self.group_start.is_empty() {
+            k..k + 1
+        } else {
+            self.group_start[k] as usize..self.group_start[k + 1] as usize
+        }
+    }
+
+    /// Loads (and discards) the first triangle of BVH primitive `k` to start its cache miss early.
+    #[inline(always)]
+    fn touch(&self, k: u32) {
+        if let Some(t) = self.triangles.get(self.group(k as usize).start) {
+            std::hint::black_box(*t);
+        }
     }
 
     fn hit_record(&self, (h, i): (TriangleHit, usize)) -> Hit {
-        let [p0, p1, p2] = self.triangles[i];
-        let (geom_id, prim_id) = self.ids[i];
+        let [p0, p1, p2] = self.triangles[i].lanes.vertices();
+        let (geom_id, prim_id) = self.triangles[i].ids;
         Hit { t: h.t, geom_id, prim_id, u: h.u, v: h.v, ng: (p1 - p0).cross(p2 - p0), inst_id: Hit::NO_INSTANCE }
     }
-}
 
-/// The ray as obvhs sees it: direction scaled by 1/T_SCALE, sign-consistent finite 1/d.
-pub(super) fn obvhs_ray(ray: &Ray, t_max_scaled: f32) -> ::obvhs::ray::Ray {
-    // Adding +0 turns -0 into +0: obvhs picks slab order from `d < 0`, so 1/d must agree in sign.
-    let d = ray.d * (1.0 / T_SCALE) + Vec3::ZERO;
-    let inv = |x: f32| {
-        if x == 0.0 {
-            INV_DIR_LIMIT
-        } else {
-            (1.0 / x).clamp(-INV_DIR_LIMIT, INV_DIR_LIMIT)
+    /// Closest hit with the triangle test specialised for dominant axis `KZ`.
+    #[inline(always)]
+    fn closest<const KZ: usize>(&self, ray: &Ray, r: &LaneRay) -> Option<(TriangleHit, usize)> {
+        let mut best = None;
+        if self.stats.linear_fallback {
+            for i in 0..self.triangles.len() {
+                self.closer::<KZ>(r, i, &mut best, ray.t_max);
+            }
+            return best;
         }
-    };
-    ::obvhs::ray::Ray {
-        origin: Vec3A::from(ray.o),
-        direction: Vec3A::from(d),
-        inv_direction: Vec3A::new(inv(d.x), inv(d.y), inv(d.z)),
-        tmin: 0.0,
-        tmax: t_max_scaled,
+        let br = traverse::BoxRay::new(ray.o, ray.d);
+        traverse::traverse(
+            &self.bvh,
+            &br,
+            ray.t_max,
+            |k| self.touch(k),
+            |k, t_max| {
+                let mut found = false;
+                for i in self.group(k as usize) {
+                    found |= self.closer::<KZ>(r, i, &mut best, ray.t_max);
+                }
+                if let (true, Some((h, _))) = (found, best) {
+                    *t_max = h.t;
+                }
+                false
+            },
+        );
+        best
+    }
+
+    /// Every hit with t in (0, t_max), in traversal order; the ray's range never shrinks.
+    fn all<const KZ: usize>(&self, ray: &Ray, r: &LaneRay, hits: &mut Vec<Hit>) {
+        let mut visit = |i: usize| {
+            if let Some(h) = r.intersect::<KZ>(&self.triangles[i].lanes, ray.t_max).filter(|h| h.t < ray.t_max) {
+                hits.push(self.hit_record((h, i)));
+            }
+        };
+        if self.stats.linear_fallback {
+            (0..self.triangles.len()).for_each(visit);
+            return;
+        }
+        let br = traverse::BoxRay::new(ray.o, ray.d);
+        traverse::traverse(
+            &self.bvh,
+            &br,
+            ray.t_max,
+            |k| self.touch(k),
+            |k, _| {
+                self.group(k as usize).for_each(&mut visit);
+                false
+            },
+        );
+    }
+
+    /// Any hit with t in (0, t_max), the triangle test specialised for dominant axis `KZ`.
+    #[inline(always)]
+    fn any<const KZ: usize>(&self, ray: &Ray, r: &LaneRay) -> bool {
+        let blocks = |i: usize| r.intersect::<KZ>(&self.triangles[i].lanes, ray.t_max).is_some_and(|h| h.t < ray.t_max);
+        if self.stats.linear_fallback {
+            return (0..self.triangles.len()).any(blocks);
+        }
+        let mut hit = false;
+        let br = traverse::BoxRay::new(ray.o, ray.d);
+        traverse::traverse(
+            &self.bvh,
+            &br,
+            ray.t_max,
+            |k| self.touch(k),
+            |k, _| {
+                hit = self.group(k as usize).any(blocks);
+                hit
+            },
+        );
+        hit
     }
 }
 
@@ -201,7 +283,7 @@ pub(super) fn obvhs_ray(ray: &Ray, t_max_scaled: f32) -> ::obvhs::ray::Ray {
 fn padded_box(t: &[Vec3; 3]) -> Aabb {
     let min = t[0].min(t[1]).min(t[2]);
     let max = t[0].max(t[1]).max(t[2]);
-    let pad = Vec3::splat(min.abs().max(max.abs()).max_element() * (1.0 / T_SCALE) + f32::MIN_POSITIVE);
+    let pad = Vec3::splat(min.abs().max(max.abs()).max_element() * BOX_PAD + f32::MIN_POSITIVE);
     Aabb::new(Vec3A::from(min - pad), Vec3A::from(max + pad))
 }
 
@@ -246,50 +328,30 @@ pub(super) fn max_depth(bvh: &CwBvh) -> u32 {
 
 impl Accel for ObvhsAccel {
     fn intersect(&self, ray: &Ray) -> Option<Hit> {
-        let r = ShearedRay::new(ray.o, ray.d)?;
+        let r = LaneRay::new(ray.o, ray.d)?;
         if self.triangles.is_empty() || ray.t_max.is_nan() || ray.t_max <= 0.0 {
             return None;
         }
-        let mut best = None;
-        if self.stats.linear_fallback {
-            for i in 0..self.triangles.len() {
-                self.closer(&r, i, &mut best, ray.t_max);
-            }
-        } else {
-            // next_up: obvhs keeps a hit only when t' < tmax, and t = t_max is inside our range.
-            let oray = obvhs_ray(ray, (ray.t_max * T_SCALE).next_up());
-            self.bvh.ray_traverse(oray, &mut RayHit::none(), |_, k| {
-                let mut found = false;
-                for i in self.group(k) {
-                    found |= self.closer(&r, i, &mut best, ray.t_max);
-                }
-                if found {
-                    best.map_or(f32::INFINITY, |(h, _)| h.t * T_SCALE)
-                } else {
-                    f32::INFINITY
-                }
-            });
-        }
+        let best = match r.kz() {
+            0 => self.closest::<0>(ray, &r),
+            1 => self.closest::<1>(ray, &r),
+            _ => self.closest::<2>(ray, &r),
+        };
         best.map(|b| self.hit_record(b))
     }
 
     fn occluded(&self, ray: &Ray) -> bool {
-        let Some(r) = ShearedRay::new(ray.o, ray.d) else {
+        let Some(r) = LaneRay::new(ray.o, ray.d) else {
             return false;
         };
         if self.triangles.is_empty() || ray.t_max.is_nan() || ray.t_max <= 0.0 {
             return false;
         }
-        let blocks = |i: usize| {
-            let [p0, p1, p2] = self.triangles[i];
-            r.intersect(p0, p1, p2, ray.t_max).is_some_and(|h| h.t < ray.t_max)
-        };
-        if self.stats.linear_fallback {
-            return (0..self.triangles.len()).any(blocks);
+        match r.kz() {
+            0 => self.any::<0>(ray, &r),
+            1 => self.any::<1>(ray, &r),
+            _ => self.any::<2>(ray, &r),
         }
-        let oray = obvhs_ray(ray, ray.t_max * T_SCALE);
-        // The traversal stops at the first t' < tmax; 0 always is.
-        !self.bvh.ray_traverse_miss(oray, |_, k| if self.group(k).any(blocks) { 0.0 } else { f32::INFINITY })
     }
 
     fn bounds(&self) -> Bounds3 {
@@ -304,7 +366,6 @@ impl Accel for ObvhsAccel {
             + bvh.exact_node_aabbs.as_ref().map_or(0, |a| size_of_val(&a[..]))
             + size_of_val(&self.triangles[..])
             + size_of_val(&self.group_start[..])
-            + size_of_val(&self.ids[..])
     }
 
     fn name(&self) -> &'static str {
@@ -313,24 +374,15 @@ impl Accel for ObvhsAccel {
 
     /// One traversal that records every hit and never shrinks the ray's t range.
     fn intersect_all(&self, ray: &Ray, hits: &mut Vec<Hit>) {
-        let Some(r) = ShearedRay::new(ray.o, ray.d) else { return };
+        let Some(r) = LaneRay::new(ray.o, ray.d) else { return };
         if self.triangles.is_empty() || ray.t_max.is_nan() || ray.t_max <= 0.0 {
             return;
         }
-        let mut visit = |i: usize| {
-            let [p0, p1, p2] = self.triangles[i];
-            if let Some(h) = r.intersect(p0, p1, p2, ray.t_max).filter(|h| h.t < ray.t_max) {
-                hits.push(self.hit_record((h, i)));
-            }
-        };
-        if self.stats.linear_fallback {
-            (0..self.triangles.len()).for_each(visit);
-            return;
+        match r.kz() {
+            0 => self.all::<0>(ray, &r, hits),
+            1 => self.all::<1>(ray, &r, hits),
+            _ => self.all::<2>(ray, &r, hits),
         }
-        self.bvh.ray_traverse(obvhs_ray(ray, ray.t_max * T_SCALE), &mut RayHit::none(), |_, k| {
-            self.group(k).for_each(&mut visit);
-            f32::INFINITY
-        });
     }
 }
 

@@ -14,7 +14,29 @@ use std::time::Duration;
 use ::obvhs::{aabb::Aabb, cwbvh::builder::build_cwbvh, cwbvh::CwBvh, ray::RayHit, BvhBuildParams};
 use glam::{Mat3, Mat4, Vec3, Vec3A};
 
-use super::obvhs::{max_depth, obvhs_ray, ObvhsAccel, OBVHS_STACK, T_SCALE};
+use super::obvhs::{max_depth, ObvhsAccel};
+
+/// t seen by obvhs' top-level traversal = t · T_SCALE (a power of two, so scaling is exact): obvhs
+/// culls boxes ending before t = 10⁻⁴, which the scaling puts far below f32 resolution.
+const T_SCALE: f32 = (1u32 << 20) as f32;
+/// Largest inverse-direction magnitude handed to obvhs' slab test (finite: avoids 0·∞ = NaN).
+const INV_DIR_LIMIT: f32 = 1e30;
+/// obvhs' traversal stack size (`cwbvh::TRAVERSAL_STACK_SIZE`, private in obvhs 0.4).
+const OBVHS_STACK: u32 = 32;
+
+/// The ray as obvhs sees it: direction scaled by 1/T_SCALE, sign-consistent finite 1/d.
+fn obvhs_ray(ray: &Ray, t_max_scaled: f32) -> ::obvhs::ray::Ray {
+    // Adding +0 turns -0 into +0: obvhs picks slab order from `d < 0`, so 1/d must agree in sign.
+    let d = ray.d * (1.0 / T_SCALE) + Vec3::ZERO;
+    let inv = |x: f32| if x == 0.0 { INV_DIR_LIMIT } else { (1.0 / x).clamp(-INV_DIR_LIMIT, INV_DIR_LIMIT) };
+    ::obvhs::ray::Ray {
+        origin: glam::Vec3A::from(ray.o),
+        direction: glam::Vec3A::from(d),
+        inv_direction: glam::Vec3A::new(inv(d.x), inv(d.y), inv(d.z)),
+        tmin: 0.0,
+        tmax: t_max_scaled,
+    }
+}
 use super::Accel;
 use crate::geometry::{Bounds3, Hit, Mesh, Ray};
 use crate::scene::instances::InstanceSet;

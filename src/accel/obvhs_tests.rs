@@ -4,6 +4,7 @@ use glam::{Mat4, Vec3};
 use rayon::prelude::*;
 
 use super::*;
+use crate::accel::watertight::ShearedRay;
 use crate::geometry::shapes::{axis_box, icosphere, quad, terrain, triangle_soup, uv_sphere};
 use crate::sampling::Rng;
 
@@ -270,7 +271,7 @@ fn coincident_triangles_and_all_qualities_agree_with_brute_force() {
 
 #[test]
 fn linear_fallback_agrees_with_traversal() {
-    // The fallback only triggers for trees deeper than obvhs' stack; force it to test the path.
+    // The fallback only triggers for trees deeper than the traversal stack; force it to test the path.
     let meshes = test_scene();
     let accel = ObvhsAccel::new(&meshes);
     assert!(!accel.stats().linear_fallback && accel.stats().max_depth > 0);

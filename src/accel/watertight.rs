@@ -5,8 +5,13 @@
 //! the projected triangle are then evaluated with the same arithmetic for an edge shared by two
 //! triangles, so a ray through an edge or vertex hits at least one of them. Edge functions that
 //! come out exactly 0 are recomputed in f64 (the paper's fallback) so their sign is exact.
+//!
+//! [`LaneRay`] runs the same test on a [`TriangleLanes`] (the three vertices in the lanes of
+//! SIMD registers) and gives the same values (a zero barycentric may differ in sign):
+//! watertightness only needs every vertex to be projected by the same deterministic arithmetic
+//! and the 2D edge functions' signs to be exact.
 
-use glam::Vec3;
+use glam::{Vec3, Vec3A, Vec3Swizzles};
 
 /// Per-ray constants of the shear transform (paper §3, Fig. 2 setup).
 #[derive(Clone, Copy, Debug)]
@@ -102,6 +107,114 @@ impl ShearedRay {
     }
 }
 
+/// A triangle stored lane-wise: lane i of `x`, `y`, `z` holds vertex p_i (48 bytes).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TriangleLanes {
+    x: Vec3A,
+    y: Vec3A,
+    z: Vec3A,
+}
+
+impl TriangleLanes {
+    /// Packs the vertices p0, p1, p2.
+    pub fn new([p0, p1, p2]: [Vec3; 3]) -> Self {
+        Self { x: Vec3A::new(p0.x, p1.x, p2.x), y: Vec3A::new(p0.y, p1.y, p2.y), z: Vec3A::new(p0.z, p1.z, p2.z) }
+    }
+
+    /// The vertices p0, p1, p2.
+    pub fn vertices(&self) -> [Vec3; 3] {
+        [0, 1, 2].map(|i| Vec3::new(self.x[i], self.y[i], self.z[i]))
+    }
+}
+
+/// The per-ray constants of [`ShearedRay`] for [`TriangleLanes`]. The dominant axis `kz` is a
+/// const parameter of [`LaneRay::intersect`] so the axis permutation costs nothing per triangle;
+/// callers dispatch on [`LaneRay::kz`] once per ray.
+///
+/// Unlike the scalar test this never swaps x and y when d_kz < 0: without back-face culling the
+/// swap only negates U, V, W, T and det together (exactly, in floating point), so t and the
+/// barycentrics come out the same, up to the sign of a zero.
+#[derive(Clone, Copy, Debug)]
+pub struct LaneRay {
+    /// Origin, one coordinate per register (all lanes equal).
+    o: [Vec3A; 3],
+    /// Shear constants d_kx/d_kz, d_ky/d_kz, 1/d_kz (all lanes equal).
+    sx: Vec3A,
+    sy: Vec3A,
+    sz: Vec3A,
+    kz: usize,
+}
+
+impl LaneRay {
+    /// Precomputes the shear for origin `o`, direction `d`; `None` like [`ShearedRay::new`].
+    pub fn new(o: Vec3, d: Vec3) -> Option<Self> {
+        if !o.is_finite() || !d.is_finite() || d == Vec3::ZERO {
+            return None;
+        }
+        let kz = d.abs().max_position();
+        let (kx, ky) = ((kz + 1) % 3, (kz + 2) % 3);
+        Some(Self {
+            o: [Vec3A::splat(o.x), Vec3A::splat(o.y), Vec3A::splat(o.z)],
+            sx: Vec3A::splat(d[kx] / d[kz]),
+            sy: Vec3A::splat(d[ky] / d[kz]),
+            sz: Vec3A::splat(1.0 / d[kz]),
+            kz,
+        })
+    }
+
+    /// The axis along which |d| is largest: the `KZ` to call [`LaneRay::intersect`] with.
+    #[inline]
+    pub fn kz(&self) -> usize {
+        self.kz
+    }
+
+    /// As [`ShearedRay::intersect`]: the same values, bit for bit except the sign of a zero
+    /// barycentric. `KZ` must equal [`LaneRay::kz`].
+    #[inline(always)]
+    pub fn intersect<const KZ: usize>(&self, tri: &TriangleLanes, t_max: f32) -> Option<TriangleHit> {
+        debug_assert_eq!(KZ, self.kz);
+        let (kx, ky) = ((KZ + 1) % 3, (KZ + 2) % 3);
+        let p = [tri.x - self.o[0], tri.y - self.o[1], tri.z - self.o[2]];
+        // Shear (paper eq. 1) for all three vertices at once: lanes are (a, b, c).
+        let xs = p[kx] - self.sx * p[KZ];
+        let ys = p[ky] - self.sy * p[KZ];
+        // Lanes of U, V, W: c×b, a×c, b×a in 2D (same products and order as the scalar test).
+        let mut uvw = xs.zxy() * ys.yzx() - ys.zxy() * xs.yzx();
+        if uvw.cmpeq(Vec3A::ZERO).any() {
+            let f = |p: f32, q: f32, r: f32, s: f32| (p as f64 * q as f64 - r as f64 * s as f64) as f32;
+            uvw = Vec3A::new(f(xs.z, ys.y, ys.z, xs.y), f(xs.x, ys.z, ys.x, xs.z), f(xs.y, ys.x, ys.y, xs.x));
+        }
+        if uvw.cmplt(Vec3A::ZERO).any() && uvw.cmpgt(Vec3A::ZERO).any() {
+            return None;
+        }
+        let [u, v, w] = uvw.to_array();
+        let det = u + v + w;
+        if det == 0.0 {
+            return None;
+        }
+        let [az, bz, cz] = (self.sz * p[KZ]).to_array();
+        let t_scaled = u * az + v * bz + w * cz;
+        if (det < 0.0 && t_scaled >= 0.0) || (det > 0.0 && t_scaled <= 0.0) {
+            return None;
+        }
+        let inv_det = 1.0 / det;
+        let t = t_scaled * inv_det;
+        if !(t > 0.0 && t <= t_max) {
+            return None;
+        }
+        Some(TriangleHit { t, u: v * inv_det, v: w * inv_det })
+    }
+
+    /// [`LaneRay::intersect`] with the dominant axis chosen at run time (tests, cold paths).
+    pub fn intersect_any_axis(&self, tri: &TriangleLanes, t_max: f32) -> Option<TriangleHit> {
+        match self.kz {
+            0 => self.intersect::<0>(tri, t_max),
+            1 => self.intersect::<1>(tri, t_max),
+            _ => self.intersect::<2>(tri, t_max),
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -154,5 +267,41 @@ mod tests {
             let hit2 = r.intersect(a, b, d, f32::INFINITY);
             assert!(hit1.is_some() || hit2.is_some(), "leak at {target:?} from {o:?}");
         }
+    }
+
+    #[test]
+    fn lane_test_gives_the_scalar_tests_values() {
+        // Random triangles and rays, half of them aimed exactly at a vertex or an edge point (where
+        // the f64 fallback and the sign tests matter), all axes and direction signs.
+        let mut seed = 11u32;
+        let mut rnd = || {
+            seed = seed.wrapping_mul(1664525).wrapping_add(1013904223);
+            (seed >> 8) as f32 / (1u32 << 24) as f32 * 2.0 - 1.0
+        };
+        let (mut hits, mut zero_edge) = (0, 0);
+        for k in 0..200_000 {
+            let p = [0, 1, 2].map(|_| Vec3::new(rnd(), rnd(), rnd()) * 3.0);
+            let o = Vec3::new(rnd(), rnd(), rnd()) * 5.0;
+            let target = match k % 4 {
+                0 => p[k % 3],
+                1 => p[0] + (p[1] - p[0]) * rnd().abs(),
+                _ => Vec3::new(rnd(), rnd(), rnd()) * 3.0,
+            };
+            let d = if k % 7 == 0 { Vec3::new(rnd(), 0.0, -0.0) } else { target - o };
+            let t_max = if k % 5 == 0 { rnd().abs() * 2.0 } else { f32::INFINITY };
+            let (Some(s), Some(l)) = (ShearedRay::new(o, d), LaneRay::new(o, d)) else {
+                continue;
+            };
+            let tri = TriangleLanes::new(p);
+            assert_eq!(tri.vertices(), p);
+            let want = s.intersect(p[0], p[1], p[2], t_max);
+            let got = l.intersect_any_axis(&tri, t_max);
+            // f32 `==`: exact, except that +0 and -0 compare equal (see `LaneRay`).
+            assert_eq!(got, want, "{p:?} {o:?} {d:?}");
+            hits += want.is_some() as usize;
+            zero_edge += (k % 4 == 0 && want.is_some()) as usize;
+        }
+        // Enough hits, including exact-vertex hits, for the comparison to mean something.
+        assert!(hits > 40_000 && zero_edge > 10_000, "{hits} {zero_edge}");
     }
 }
