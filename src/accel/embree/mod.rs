@@ -5,7 +5,7 @@ mod device;
 mod ffi;
 mod scene;
 
-pub use device::EmbreeError;
+pub use device::{error_name, Device, EmbreeError, CONFIG_ENV};
 
 use super::Accel;
 use crate::geometry::{Bounds3, Hit, Mesh, Ray};
