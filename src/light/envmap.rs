@@ -116,12 +116,15 @@ impl EnvMapLight {
 
     fn dir_to_uv(&self, d_world: Vec3) -> (Vec2, f32) {
         let d = (self.light_from_world * d_world).normalize_or_zero();
-        let theta = d.z.clamp(-1.0, 1.0).acos();
+        // sin θ from x, y rather than sin(acos z): near the poles acos loses precision, and
+        // sin(π as f32) is negative, which made the density there negative.
+        let sin_theta = (d.x * d.x + d.y * d.y).sqrt();
+        let theta = sin_theta.atan2(d.z);
         let mut phi = d.y.atan2(d.x);
         if phi < 0.0 {
             phi += 2.0 * PI;
         }
-        (Vec2::new(phi / (2.0 * PI), theta / PI), theta.sin())
+        (Vec2::new(phi / (2.0 * PI), theta / PI), sin_theta)
     }
 
     fn texel(&self, uv: Vec2) -> usize {
