@@ -11,7 +11,7 @@ use super::LightSample;
 use crate::image::Image;
 use crate::math::PI;
 use crate::sampling::Distribution2D;
-use crate::spectrum::{ColorSpace, SampledSpectrum, SampledWavelengths, Spectrum, LAMBDA_MAX, LAMBDA_MIN};
+use crate::spectrum::{ColorSpace, RgbToSpectrumTable, SampledSpectrum, SampledWavelengths, Spectrum, LAMBDA_MAX, LAMBDA_MIN};
 use glam::{Mat3, Vec2, Vec3};
 use rayon::prelude::*;
 use std::sync::Arc;
@@ -27,7 +27,7 @@ impl TexelSpectrum {
     /// The unbounded form of `Spectrum::from_rgb` (m = max(rgb), 2m · σ(fit of rgb/2m)), with the
     /// coefficients from the colour space's Jakob–Hanika table (trilinear, no Newton refinement:
     /// a 2k × 1k map has two million texels; accuracy in docs/colour.md).
-    fn from_rgb(rgb: [f32; 3], space: &ColorSpace) -> Self {
+    fn from_rgb(rgb: [f32; 3], table: &RgbToSpectrumTable) -> Self {
         let m = rgb[0].max(rgb[1]).max(rgb[2]);
         if !(m > 0.0 && m.is_finite()) {
             return Self::default();
@@ -37,7 +37,7 @@ impl TexelSpectrum {
             return Self { c: [0.0; 3], scale: 2.0 * m };
         }
         let scaled = rgb.map(|v| (v / (2.0 * m)) as f64);
-        let poly = space.rgb_to_spectrum_table().lookup(scaled);
+        let poly = table.lookup(scaled);
         Self { c: poly.c.map(|c| c as f32), scale: 2.0 * m }
     }
 
@@ -88,7 +88,11 @@ impl EnvMapLight {
             let rgb = if c >= 3 { [px(0), px(1), px(2)] } else { [px(0); 3] };
             rgb.map(|v| if v.is_finite() { v.max(0.0) } else { 0.0 })
         };
-        let texels: Vec<TexelSpectrum> = (0..w * h).into_par_iter().map(|i| TexelSpectrum::from_rgb(rgb_at(i), space)).collect();
+        // Build (or fetch) the lazily-made table before going parallel: its construction runs
+        // rayon jobs inside a OnceLock, and a worker stealing one of ours in the middle of it
+        // would re-enter the OnceLock and deadlock.
+        let table = space.rgb_to_spectrum_table();
+        let texels: Vec<TexelSpectrum> = (0..w * h).into_par_iter().map(|i| TexelSpectrum::from_rgb(rgb_at(i), table)).collect();
         let luminance: Vec<f32> = (0..w * h).map(|i| space.rgb_to_xyz(Vec3::from(rgb_at(i))).y.max(0.0)).collect();
         let mut f = vec![0.0f32; w * h];
         for y in 0..h {
