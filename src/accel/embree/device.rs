@@ -77,8 +77,9 @@ impl Device {
         if raw.is_null() {
             // SAFETY: querying the error of a null device reports device-creation errors.
             let code = unsafe { ffi::rtcGetDeviceError(std::ptr::null_mut()) };
+            // Embree 3 reports a malformed configuration (e.g. `threads=abc`) as an unknown error.
             let hint = match code {
-                2 => format!(" (check the configuration string {config:?} in {CONFIG_ENV})"),
+                1 | 2 if !config.is_empty() => format!(" (check the configuration {config:?} in {CONFIG_ENV})"),
                 4 => " (not enough memory)".into(),
                 5 => " (this CPU lacks the instruction set Embree was built for)".into(),
                 _ => String::new(),
