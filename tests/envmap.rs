@@ -58,7 +58,8 @@ fn importance_sampling_matches_its_density_chi2() {
     // the f32 CDF of the 1D distributions cannot resolve the dark texels beside the spot). The
     // maps with sharp features have 160 × 80 texels, one per χ² cell, so the cells' expected
     // counts need no quadrature across a 10⁶ step (the harness integrates with adaptive Simpson).
-    let spot = image(160, 80, |x, y| if (x, y) == (100, 42) || (x, y) == (5, 0) { [100.0, 200.0, 50.0] } else { [0.01; 3] });
+    let spot =
+        image(160, 80, |x, y| if (x, y) == (100, 42) || (x, y) == (5, 0) { [100.0, 200.0, 50.0] } else { [0.01; 3] });
     let cases = [
         ("gradient", EnvMapLight::new(&gradient, Mat3::IDENTITY, 1.0, srgb)),
         ("gradient rotated", EnvMapLight::new(&gradient, rot, 1.0, srgb)),
@@ -183,4 +184,3 @@ fn envmap_scene_renders_without_nans_and_shows_the_sky() {
     let bottom = film.xyz(24, 31);
     assert!(bottom.y > 0.01, "floor pixel {bottom}");
 }
-

@@ -28,8 +28,8 @@ struct SpawnCounts {
 /// spawned rays that hit the triangle they leave (acne), and spawned rays aimed straight at a
 /// parallel triangle `1e-3 · scale` (or 64 ulps) above that do not hit it (a leak: the origin jumped over it).
 fn spawn(scale: f32, shift: Vec3, offset: impl Fn(Vec3, Vec3, Vec3, Vec3) -> Vec3) -> SpawnCounts {
-    let tri = [Vec3::new(-1.0, -1.0, 0.1), Vec3::new(1.3, -0.8, -0.2), Vec3::new(-0.2, 1.1, 0.05)]
-        .map(|p| p * scale + shift);
+    let tri =
+        [Vec3::new(-1.0, -1.0, 0.1), Vec3::new(1.3, -0.8, -0.2), Vec3::new(-0.2, 1.1, 0.05)].map(|p| p * scale + shift);
     let n = (tri[1] - tri[0]).cross(tri[2] - tri[0]).normalize();
     // The gap must be representable: at least 64 ulps of the largest coordinate (far from the
     // origin a 1e-3 gap would round away, like the Cornell box test's 0.1 mm light gap).
@@ -165,8 +165,9 @@ fn watertight_test_never_leaks_at_shared_edges_and_vertices_where_moller_trumbor
                 for s in [0.0, 0.5, rng.uniform()] {
                     let d = a.lerp(b, s) - o;
                     rays += 1;
-                    let hit_ours = ShearedRay::new(o, d)
-                        .is_some_and(|r| tris.iter().any(|q| r.intersect(p[q[0]], p[q[1]], p[q[2]], f32::INFINITY).is_some()));
+                    let hit_ours = ShearedRay::new(o, d).is_some_and(|r| {
+                        tris.iter().any(|q| r.intersect(p[q[0]], p[q[1]], p[q[2]], f32::INFINITY).is_some())
+                    });
                     let hit_naive = tris.iter().any(|q| moller_trumbore(o, d, p[q[0]], p[q[1]], p[q[2]]).is_some());
                     ours_leaks += !hit_ours as usize;
                     naive_leaks += !hit_naive as usize;
@@ -264,10 +265,7 @@ fn smooth_or(alpha: f32, f: impl Fn(&TrowbridgeReitz) -> f32) -> f32 {
 
 #[test]
 fn ggx_density_and_masking_stay_finite_at_grazing_and_zero_roughness_where_naive_ggx_does_not() {
-    let ours = microfacet_failures(
-        |a, wm| smooth_or(a, |g| g.d(wm)),
-        |a, w, wm| smooth_or(a, |g| g.pdf(w, wm)),
-    );
+    let ours = microfacet_failures(|a, wm| smooth_or(a, |g| g.d(wm)), |a, w, wm| smooth_or(a, |g| g.pdf(w, wm)));
     assert_eq!(ours, 0, "prism's GGX produced {ours} non-finite values");
     assert!(microfacet_failures(naive_ggx_d, naive_vndf_pdf) > 0, "naive GGX never failed");
     // Masking is a probability at every angle, also for ours without the smooth switch.

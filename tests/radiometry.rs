@@ -254,7 +254,8 @@ fn luminous_flux_through_sphere(scene: &Scene, centre: Vec3, r: f32, n: u64) -> 
 #[test]
 fn pbrt_point_light_power_is_luminous_flux_in_lumens() {
     // An 800 lm incandescent bulb: E_v = Φ_v / (4π r²) cos θ [lux].
-    let scene = load_pbrt(r#"WorldBegin LightSource "point" "blackbody I" 2700 "float power" 800 "point3 from" [0 0 0]"#);
+    let scene =
+        load_pbrt(r#"WorldBegin LightSource "point" "blackbody I" 2700 "float power" 800 "point3 from" [0 0 0]"#);
     for (r, deg) in [(1.0f32, 0.0f32), (2.0, 60.0)] {
         let t = deg.to_radians();
         let m = irradiance(&scene, &direct(), Vec3::new(0.0, 0.0, r), Vec3::new(t.sin(), 0.0, -t.cos()), 20_000, 3);
@@ -262,7 +263,11 @@ fn pbrt_point_light_power_is_luminous_flux_in_lumens() {
         assert_close(&format!("800 lm bulb at r={r} θ={deg}"), m.illuminance, expected);
         // The radiant flux behind it: Φ_e = Φ_v / K, K the blackbody's luminous efficacy.
         let watts = radiant_flux_from_lumens(800.0, &Spectrum::blackbody(2700.0)) as f64;
-        assert_close(&format!("800 lm → {watts} W"), m.irradiance, watts / (4.0 * std::f64::consts::PI * (r * r) as f64) * t.cos() as f64);
+        assert_close(
+            &format!("800 lm → {watts} W"),
+            m.irradiance,
+            watts / (4.0 * std::f64::consts::PI * (r * r) as f64) * t.cos() as f64,
+        );
     }
 }
 

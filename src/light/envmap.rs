@@ -11,7 +11,9 @@ use super::LightSample;
 use crate::image::Image;
 use crate::math::PI;
 use crate::sampling::Distribution2D;
-use crate::spectrum::{ColorSpace, RgbToSpectrumTable, SampledSpectrum, SampledWavelengths, Spectrum, LAMBDA_MAX, LAMBDA_MIN};
+use crate::spectrum::{
+    ColorSpace, RgbToSpectrumTable, SampledSpectrum, SampledWavelengths, Spectrum, LAMBDA_MAX, LAMBDA_MIN,
+};
 use glam::{Mat3, Vec2, Vec3};
 use rayon::prelude::*;
 use std::sync::Arc;
@@ -92,7 +94,8 @@ impl EnvMapLight {
         // rayon jobs inside a OnceLock, and a worker stealing one of ours in the middle of it
         // would re-enter the OnceLock and deadlock.
         let table = space.rgb_to_spectrum_table();
-        let texels: Vec<TexelSpectrum> = (0..w * h).into_par_iter().map(|i| TexelSpectrum::from_rgb(rgb_at(i), table)).collect();
+        let texels: Vec<TexelSpectrum> =
+            (0..w * h).into_par_iter().map(|i| TexelSpectrum::from_rgb(rgb_at(i), table)).collect();
         let luminance: Vec<f32> = (0..w * h).map(|i| space.rgb_to_xyz(Vec3::from(rgb_at(i))).y.max(0.0)).collect();
         let mut f = vec![0.0f32; w * h];
         for y in 0..h {

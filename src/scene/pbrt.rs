@@ -392,7 +392,11 @@ impl Ctx<'_> {
     fn env_map(&mut self, l: &LightDesc) -> Result<EnvMapLight, SceneError> {
         let p = &l.params;
         if p.has("L") {
-            return Err(SceneError::syntax(&l.loc, "L", "an infinite light takes either \"L\" or \"filename\", not both"));
+            return Err(SceneError::syntax(
+                &l.loc,
+                "L",
+                "an infinite light takes either \"L\" or \"filename\", not both",
+            ));
         }
         let image = self.image(p, &l.loc)?;
         if image.width == image.height {
