@@ -6,6 +6,7 @@ mod area;
 mod distant;
 mod envmap;
 mod infinite;
+pub mod photometry;
 mod point;
 mod sampler;
 

@@ -3,7 +3,8 @@
 //!
 //! Light spectra follow pbrt-v4: a light's spectrum is normalised to unit luminance (Y = 1 in the
 //! lecture's normalisation, so `"rgb L" [1 1 1]` looks white with value 1), then multiplied by
-//! `scale`. `power` differs on purpose: in prism it is the radiometric flux over 360–830 nm [W].
+//! `scale`. Photometric parameters follow pbrt-v4's `lights.cpp` in SI units: `power` is luminous
+//! flux [lm] and `illuminance` is [lux] (K_m = 683 lm/W made explicit; docs/radiometry.md).
 
 mod subsurface;
 
@@ -13,7 +14,8 @@ use super::params::{FloatOrTexture, ParamSet, SpectrumOrTexture, SpectrumParam};
 use super::{CameraDesc, Emission, SceneBuilder};
 use crate::bsdf::{ior, metals};
 use crate::geometry::Mesh;
-use crate::light::{AreaLight, DistantLight, Light, PointLight, SpotFalloff, SpotLight, UniformInfiniteLight};
+use crate::light::photometry::lumens_per_unit_y;
+use crate::light::{DistantLight, EnvMapLight, Light, PointLight, SpotFalloff, SpotLight, UniformInfiniteLight};
 use crate::material::{FloatTexture, ImageTexture, Ior, Material, ReflectanceImage, Roughness, SpectrumTexture};
 use crate::spectrum::{ColorSpace, RgbKind, Spectrum};
 use glam::{Vec2, Vec3};
@@ -362,10 +364,10 @@ impl Ctx<'_> {
                 let p = &a.params;
                 let (spectrum, norm) = self.light_spectrum(p, "L", &a.loc)?;
                 let two_sided = p.bool_or("twosided", false);
-                let mut scale = p.float_or("scale", 1.0) * norm;
-                if let Some(power) = p.float("power") {
-                    scale = AreaLight::scale_for_flux(power, &spectrum, mesh.area(), two_sided);
-                }
+                // pbrt-v4 DiffuseAreaLight: k_e = π A per emitting side (world-space area, so any
+                // transform works).
+                let k_e = crate::math::PI * mesh.area() * if two_sided { 2.0 } else { 1.0 };
+                let scale = p.float_or("scale", 1.0) * norm * photometric_factor(p, "power", k_e);
                 Some(Emission { spectrum, scale, two_sided })
             }
         };
@@ -392,8 +394,47 @@ impl Ctx<'_> {
                 (s, r)
             }
         };
-        let y = reference.to_xyz().y;
-        Ok((s, if y > 0.0 { 1.0 / y } else { 0.0 }))
+        let y = reference.to_xyz_f64().y;
+        let norm = if y > 0.0 { 1.0 / y } else { 0.0 };
+        if (norm as f32).is_finite() || !matches!(p.spectrum(name), Some(q) if !matches!(q, SpectrumParam::Rgb(_))) {
+            Ok((s, (norm as f32).min(f32::MAX)))
+        } else {
+            // A nearly invisible spectrum (a blackbody of a few hundred kelvin): its 1/Y overflows
+            // f32, so fold it into the spectrum in double precision instead.
+            Ok((s.scaled(norm), 1.0))
+        }
+    }
+
+    /// pbrt "infinite" with "filename": an equirectangular map (+z up, u = φ/2π, v = θ/π; the
+    /// pbrt-v3 layout) whose RGB is an illuminant of the file's colour space, times `scale`, or
+    /// scaled so an upward-facing (+z) patch receives `illuminance` [lux].
+    fn env_map(&mut self, l: &LightDesc) -> Result<EnvMapLight, SceneError> {
+        let p = &l.params;
+        if p.has("L") {
+            return Err(SceneError::syntax(
+                &l.loc,
+                "L",
+                "an infinite light takes either \"L\" or \"filename\", not both",
+            ));
+        }
+        let image = self.image(p, &l.loc)?;
+        if image.width == image.height {
+            self.warn(
+                &l.loc,
+                "square environment map: pbrt-v4 stores equal-area octahedral maps, prism reads equirectangular ones"
+                    .into(),
+            );
+        }
+        let space = space_of(p);
+        let rotation = orthonormal(glam::Mat3::from_mat4(l.world_from_light));
+        let mut light = EnvMapLight::new(&image, rotation, p.float_or("scale", 1.0), space);
+        if let Some(ev) = p.float("illuminance").filter(|&e| e > 0.0) {
+            let k_e = light.upper_hemisphere_y() as f32;
+            if k_e > 0.0 {
+                light.scale *= ev / (k_e * lumens_per_unit_y());
+            }
+        }
+        Ok(light)
     }
 
     fn light(&mut self, l: &LightDesc) -> Result<(), SceneError> {
@@ -404,10 +445,8 @@ impl Ctx<'_> {
             "point" => {
                 let (s, norm) = self.light_spectrum(p, "I", &l.loc)?;
                 let pos = m.transform_point3(p.point3("from").unwrap_or(Vec3::ZERO));
-                let light = match p.float("power") {
-                    Some(phi) => PointLight::with_flux(pos, Arc::new(s), phi),
-                    None => PointLight::new(pos, Arc::new(s), scale * norm),
-                };
+                let k_e = 4.0 * crate::math::PI;
+                let light = PointLight::new(pos, Arc::new(s), scale * norm * photometric_factor(p, "power", k_e));
                 self.b.add_light(Light::Point(light));
             }
             "spot" => {
@@ -419,17 +458,17 @@ impl Ctx<'_> {
                     Some(e) => SpotFalloff::Warn { exponent: e.max(0.0) },
                     None => {
                         let cone = p.float_or("coneangle", 30.0);
-                        let delta = p.float_or("conedelta", 5.0);
+                        // pbrt-v4 spells it "conedeltaangle"; "conedelta" is accepted too.
+                        let delta = p.float("conedeltaangle").or_else(|| p.float("conedelta")).unwrap_or(5.0);
                         SpotFalloff::Cone {
                             cos_start: (cone - delta).to_radians().cos(),
                             cos_end: cone.to_radians().cos(),
                         }
                     }
                 };
-                let light = match p.float("power") {
-                    Some(phi) => SpotLight::with_flux(from, to - from, Arc::new(s), phi, falloff),
-                    None => SpotLight::new(from, to - from, Arc::new(s), scale * norm, falloff),
-                };
+                let k_e = falloff.solid_angle_integral();
+                let sc = scale * norm * photometric_factor(p, "power", k_e);
+                let light = SpotLight::new(from, to - from, Arc::new(s), sc, falloff);
                 self.b.add_light(Light::Spot(light));
             }
             "distant" => {
@@ -437,26 +476,21 @@ impl Ctx<'_> {
                 let from = p.point3("from").unwrap_or(Vec3::ZERO);
                 let to = p.point3("to").unwrap_or(Vec3::Z);
                 let to_light = m.transform_vector3(from - to).normalize_or_zero();
-                let mut e = scale * norm;
-                if let Some(ev) = p.float("illuminance") {
-                    // pbrt-v4: "illuminance" sets the perpendicular illuminance [lux].
-                    e = ev / (crate::measure::K_M as f32 * crate::spectrum::CIE_Y_INTEGRAL * s.to_xyz().y);
-                }
+                // "illuminance" [lux] on a surface perpendicular to the light (pbrt-v4 measures it
+                // on an upward-facing patch, k_e = −w.y, which is 0 for its default direction).
+                let e = scale * norm * photometric_factor(p, "illuminance", 1.0);
                 self.b.add_light(Light::Distant(DistantLight { to_light, spectrum: Arc::new(s), scale: e }));
             }
             "infinite" => {
-                if p.string("filename").is_some() {
-                    self.warn(
-                        &l.loc,
-                        "environment maps are not rendered yet; prism uses a uniform environment of their average 0.5"
-                            .into(),
-                    );
+                if p.has("filename") {
+                    let light = self.env_map(l)?;
+                    self.b.add_light(Light::EnvMap(light));
+                } else {
+                    // pbrt-v4: a uniform sky of illuminance E_v on any patch has k_e = π.
+                    let (s, norm) = self.light_spectrum(p, "L", &l.loc)?;
+                    let sc = scale * norm * photometric_factor(p, "illuminance", crate::math::PI);
+                    self.b.add_light(Light::UniformInfinite(UniformInfiniteLight { spectrum: Arc::new(s), scale: sc }));
                 }
-                let (s, norm) = self.light_spectrum(p, "L", &l.loc)?;
-                self.b.add_light(Light::UniformInfinite(UniformInfiniteLight {
-                    spectrum: Arc::new(s),
-                    scale: scale * norm,
-                }));
             }
             other => self.warn(&l.loc, format!("light \"{other}\" is not rendered by prism; skipped")),
         }
@@ -475,6 +509,26 @@ fn shape_mesh(s: &ShapeDesc) -> Mesh {
         }
     };
     orient(mesh, s.reverse_orientation)
+}
+
+/// The rotation (or mirror) part of `m` by Gram–Schmidt, so scales and shears in the CTM do
+/// not distort an environment's solid angles.
+fn orthonormal(m: glam::Mat3) -> glam::Mat3 {
+    let x = m.x_axis.normalize_or(Vec3::X);
+    let y = (m.y_axis - x * x.dot(m.y_axis)).normalize_or(Vec3::Y);
+    let z = x.cross(y);
+    let z = if z.dot(m.z_axis) < 0.0 { -z } else { z };
+    glam::Mat3::from_cols(x, y, z)
+}
+
+/// pbrt-v4's photometric scaling: with a positive `name` (luminous flux [lm] or illuminance
+/// [lux]) the unit-luminance spectrum is multiplied by q / (k_e · K_m ∫ȳ dλ), k_e being the
+/// light's geometric factor; otherwise by 1.
+fn photometric_factor(p: &ParamSet, name: &str, k_e: f32) -> f32 {
+    match p.float(name) {
+        Some(q) if q > 0.0 && k_e > 0.0 => q / (k_e * lumens_per_unit_y()),
+        _ => 1.0,
+    }
 }
 
 /// Orients triangles as pbrt-v4 does: with per-vertex normals the geometric normal faces them;

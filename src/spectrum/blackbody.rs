@@ -10,9 +10,11 @@ const KB: f64 = 1.380_649e-23;
 const WIEN_B: f64 = 2.897_771_955e-3;
 
 /// Spectral radiance of a blackbody, B(λ, T) = 2hc² / λ⁵ / (exp(hc / (λ k T)) − 1),
-/// in W sr⁻¹ m⁻² nm⁻¹, for `lambda_nm` [nm] and `kelvin` [K]. 0 for non-positive inputs.
+/// in W sr⁻¹ m⁻² nm⁻¹, for `lambda_nm` [nm] and `kelvin` [K]. 0 for non-positive or infinite inputs.
 pub fn blackbody_radiance(lambda_nm: f64, kelvin: f64) -> f64 {
-    if !(lambda_nm > 0.0 && kelvin > 0.0) {
+    // Infinite λ or T would give 0/0 or ∞/∞: there is no emission to speak of at λ = ∞, and
+    // T = ∞ is not a temperature.
+    if !(lambda_nm > 0.0 && kelvin > 0.0 && lambda_nm.is_finite() && kelvin.is_finite()) {
         return 0.0;
     }
     let l = lambda_nm * 1e-9;

@@ -106,7 +106,13 @@ pub fn smits_spectrum(rgb: [f64; 3], kind: SmitsKind, space: &ColorSpace) -> Spe
     let mut lambdas = vec![360.0];
     lambdas.extend((0..10).map(|i| 380.0 + 340.0 / 9.0 * i as f64));
     lambdas.push(830.0);
-    let values = lambdas.iter().map(|&l| steps.iter().map(|s| s.amount * s.basis.eval(l)).sum()).collect();
+    let values = lambdas.iter().map(|&l| steps.iter().map(|s| s.amount * s.basis.eval(l)).sum::<f64>());
+    // Smits' published red basis peaks at 1.0149: a reflectance must not exceed 1 (energy
+    // conservation), so the reflectance form is clamped; the emitter form is unbounded.
+    let values = match kind {
+        SmitsKind::Reflectance => values.map(|v| v.clamp(0.0, 1.0)).collect(),
+        SmitsKind::Illumination => values.map(|v| v.max(0.0)).collect(),
+    };
     let s = Spectrum::piecewise_linear_f64(lambdas, values).expect("fixed grid is well formed");
     match kind {
         SmitsKind::Reflectance => s,

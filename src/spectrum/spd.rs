@@ -146,7 +146,7 @@ pub enum Spectrum {
     Blackbody {
         /// Temperature [K].
         kelvin: f32,
-        /// 1 / B(λ_peak, T) [1 / (W sr⁻¹ m⁻² nm⁻¹)].
+        /// 1 / B(λ_peak, T) [1 / (W sr⁻¹ m⁻² nm⁻¹)], times any factor applied by `scaled`.
         inv_peak: f64,
     },
     /// `scale` · sigmoid(polynomial(λ)) (Jakob & Hanika 2019).
@@ -264,6 +264,9 @@ impl Spectrum {
     pub fn scaled(self, s: f64) -> Spectrum {
         match self {
             Spectrum::Constant(v) => Spectrum::Constant((v as f64 * s) as f32),
+            // Fold into the f64 normalisation: a cold blackbody's unit-luminance factor (1e30
+            // and beyond) overflows an f32 Constant and would turn 0 · ∞ into NaN.
+            Spectrum::Blackbody { kelvin, inv_peak } => Spectrum::Blackbody { kelvin, inv_peak: inv_peak * s },
             Spectrum::PiecewiseLinear(p) => {
                 let mut q = (*p).clone();
                 q.scale(s);

@@ -82,6 +82,7 @@ fn render_writes_image_and_stats_json_and_leaves_no_temp_files() {
     }
     assert_eq!(stats["spp"], 2);
     assert_eq!(stats["accel"], "obvhs");
+    assert_eq!(stats["nonfinite_samples"], 0);
     let leftovers: Vec<_> = std::fs::read_dir(&d)
         .unwrap()
         .filter_map(|e| e.ok())

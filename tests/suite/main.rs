@@ -4,11 +4,15 @@
 mod accel_agreement;
 mod cli;
 mod common;
+mod envmap;
 mod instancing;
+mod naive_fails;
 mod radiometry;
 mod render;
+mod resource_errors;
 mod robustness;
 mod scene_files;
 mod scene_fuzz;
 mod scene_parser;
+mod spectral_edges;
 mod strategies;

@@ -8,13 +8,14 @@ use prism::accel::AccelKind;
 use prism::camera::Camera;
 use prism::geometry::shapes::quad;
 use prism::integrator::{DirectStrategy, PathIntegrator, Stats};
+use prism::light::photometry::{lumens_per_unit_y, radiant_flux_from_lumens};
 use prism::light::{AreaLight, DistantLight, Light, PointLight, SpotFalloff, SpotLight, UniformInfiniteLight};
 use prism::material::Material;
 use prism::math::PI;
 use prism::measure::{irradiance, Estimate};
 use prism::sampling::Sampler;
 use prism::scene::{Emission, Scene, SceneBuilder};
-use prism::spectrum::{SampledWavelengths, Spectrum};
+use prism::spectrum::{ColorSpace, SampledWavelengths, Spectrum};
 use std::sync::Arc;
 
 fn builder() -> SceneBuilder {
@@ -203,7 +204,8 @@ fn lambertian_reflector_radiance_is_rho_e_over_pi() {
         integrator: PathIntegrator { max_depth: 1, ..Default::default() },
         time_limit: None,
     };
-    let (film, _) = prism::render::render(&scene, &s, |_| {});
+    let (film, stats) = prism::render::render(&scene, &s, |_| {});
+    assert_eq!(stats.nonfinite, 0);
     let expected = (rho * e0 * theta.cos() / PI) as f64;
     // Every pixel estimates the same radiance; the spread comes from wavelength sampling.
     let ys: Vec<f64> =
@@ -212,4 +214,94 @@ fn lambertian_reflector_radiance_is_rho_e_over_pi() {
     let mean = ys.iter().sum::<f64>() / n;
     let se = (ys.iter().map(|v| (v - mean) * (v - mean)).sum::<f64>() / (n - 1.0) / n).sqrt();
     assert_close("ρE/π", Estimate { mean, std_err: se }, expected);
+}
+
+// ---- Photometric scaling of pbrt-v4 lights (`power` [lm], `illuminance` [lux]) ----
+
+fn load_pbrt(text: &str) -> Scene {
+    let (desc, mut warnings) = prism::scene::parse_str(text, &Default::default()).unwrap();
+    let (b, _) = prism::scene::pbrt::build(&desc, &mut warnings).unwrap();
+    assert!(warnings.is_empty(), "{warnings:?}");
+    build(b)
+}
+
+/// Luminous flux [lm] through a sphere of radius `r` around `centre` (as `flux_through_sphere`,
+/// weighting each estimate by K_m ȳ instead of integrating over λ uniformly).
+fn luminous_flux_through_sphere(scene: &Scene, centre: Vec3, r: f32, n: u64) -> Estimate {
+    let integ = direct();
+    let mut sampler = Sampler::independent();
+    let mut stats = Stats::default();
+    let (mut s, mut s2) = (0.0f64, 0.0f64);
+    for i in 0..n {
+        sampler.start_pixel_sample((3, 4), i, 9);
+        let u = sampler.get_2d();
+        let z = 1.0 - 2.0 * u.x;
+        let rr = (1.0 - z * z).max(0.0).sqrt();
+        let phi = 2.0 * PI * u.y;
+        let dir = Vec3::new(rr * phi.cos(), rr * phi.sin(), z);
+        let mut w = SampledWavelengths::sample_uniform(sampler.get_1d());
+        let e = integ.irradiance(scene, centre + dir * r, -dir, &mut w, &mut sampler, &mut stats);
+        let lux = lumens_per_unit_y() as f64 * e.to_xyz(&w).y as f64;
+        let v = 4.0 * std::f64::consts::PI * (r * r) as f64 * lux;
+        s += v;
+        s2 += v * v;
+    }
+    let mean = s / n as f64;
+    let var = (s2 / n as f64 - mean * mean) * n as f64 / (n - 1) as f64;
+    Estimate { mean, std_err: (var / n as f64).sqrt() }
+}
+
+#[test]
+fn pbrt_point_light_power_is_luminous_flux_in_lumens() {
+    // An 800 lm incandescent bulb: E_v = Φ_v / (4π r²) cos θ [lux].
+    let scene =
+        load_pbrt(r#"WorldBegin LightSource "point" "blackbody I" 2700 "float power" 800 "point3 from" [0 0 0]"#);
+    for (r, deg) in [(1.0f32, 0.0f32), (2.0, 60.0)] {
+        let t = deg.to_radians();
+        let m = irradiance(&scene, &direct(), Vec3::new(0.0, 0.0, r), Vec3::new(t.sin(), 0.0, -t.cos()), 20_000, 3);
+        let expected = 800.0 / (4.0 * std::f64::consts::PI * (r * r) as f64) * t.cos() as f64;
+        assert_close(&format!("800 lm bulb at r={r} θ={deg}"), m.illuminance, expected);
+        // The radiant flux behind it: Φ_e = Φ_v / K, K the blackbody's luminous efficacy.
+        let watts = radiant_flux_from_lumens(800.0, &Spectrum::blackbody(2700.0)) as f64;
+        assert_close(
+            &format!("800 lm → {watts} W"),
+            m.irradiance,
+            watts / (4.0 * std::f64::consts::PI * (r * r) as f64) * t.cos() as f64,
+        );
+    }
+}
+
+#[test]
+fn pbrt_spot_and_area_light_power_is_the_luminous_flux_through_a_sphere() {
+    let spot = load_pbrt(
+        r#"WorldBegin LightSource "spot" "blackbody I" 4000 "float power" 500 "float coneangle" 30
+           "float conedeltaangle" 10 "point3 from" [0 0 0] "point3 to" [1 1 0]"#,
+    );
+    assert_close("spot 500 lm", luminous_flux_through_sphere(&spot, Vec3::ZERO, 2.0, 60_000), 500.0);
+    // pbrt-v4 multiplies `scale` in as well; the area is the transformed (world) area.
+    let area = load_pbrt(
+        r#"WorldBegin AttributeBegin Translate 0.2 0 0.1 Rotate 30 1 1 0 Scale 0.5 2 1
+           Material "diffuse" "rgb reflectance" [0 0 0]
+           AreaLightSource "diffuse" "blackbody L" 5500 "float power" 300 "float scale" 2 "bool twosided" true
+           Shape "trianglemesh" "point3 P" [-0.5 -0.5 0  0.5 -0.5 0  0.5 0.5 0  -0.5 0.5 0] "integer indices" [0 1 2 0 2 3]
+           AttributeEnd"#,
+    );
+    assert_close("area 2 × 300 lm", luminous_flux_through_sphere(&area, Vec3::new(0.2, 0.0, 0.1), 2.5, 60_000), 600.0);
+}
+
+#[test]
+fn pbrt_illuminance_of_distant_and_uniform_lights_is_in_lux() {
+    let distant = load_pbrt(
+        r#"WorldBegin LightSource "distant" "blackbody L" 5800 "float illuminance" 1000 "point3 from" [0 0 1] "point3 to" [0 0 0]"#,
+    );
+    for deg in [0.0f32, 60.0] {
+        let t = deg.to_radians();
+        let m = irradiance(&distant, &direct(), Vec3::ZERO, Vec3::new(t.sin(), 0.0, t.cos()), 4_000, 4);
+        assert_close(&format!("distant 1000 lx θ={deg}"), m.illuminance, 1000.0 * t.cos() as f64);
+    }
+    let sky = load_pbrt(r#"WorldBegin LightSource "infinite" "rgb L" [0.3 0.5 1] "float illuminance" 2000"#);
+    let m = irradiance(&sky, &direct(), Vec3::ZERO, Vec3::new(0.2, 0.9, -0.3), 20_000, 5);
+    // For an RGB illuminant, pbrt-v4 normalises by the white alone; the RGB's luminance stays.
+    let y_rgb = ColorSpace::srgb().rgb_to_xyz(Vec3::new(0.3, 0.5, 1.0)).y as f64;
+    assert_close("sky 2000 lx × Y(rgb)", m.illuminance, 2000.0 * y_rgb);
 }

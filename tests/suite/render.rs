@@ -119,8 +119,9 @@ fn embree_and_obvhs_render_the_same_image_within_noise() {
         return;
     }
     let s = settings(16, 64, 5);
-    let (a, _) = render(&cornell(AccelKind::Embree), &s, |_| {});
-    let (b, _) = render(&cornell(AccelKind::Obvhs), &s, |_| {});
+    let (a, sa) = render(&cornell(AccelKind::Embree), &s, |_| {});
+    let (b, sb) = render(&cornell(AccelKind::Obvhs), &s, |_| {});
+    assert_eq!((sa.nonfinite, sb.nonfinite), (0, 0));
     // Same seeds: pixels differ only where the two triangle tests round differently and a path
     // diverges. The per-pixel differences must average to zero within their standard error.
     let (m, se, mean) = film_difference(&a, &b);
@@ -134,8 +135,9 @@ fn cornell_box_pbrt_file_renders_like_the_built_in_scene() {
     let (builder, _) = prism::scene::pbrt::build(&desc, &mut warnings).unwrap();
     assert!(warnings.is_empty(), "{warnings:?}");
     let s = settings(24, 16, 5);
-    let (a, _) = render(&builder.build(AccelKind::Obvhs).unwrap(), &s, |_| {});
-    let (b, _) = render(&cornell(AccelKind::Obvhs), &s, |_| {});
+    let (a, sa) = render(&builder.build(AccelKind::Obvhs).unwrap(), &s, |_| {});
+    let (b, sb) = render(&cornell(AccelKind::Obvhs), &s, |_| {});
+    assert_eq!((sa.nonfinite, sb.nonfinite), (0, 0));
     let (m, se, mean) = film_difference(&a, &b);
     assert!(mean > 0.1, "black image");
     assert!(m.abs() <= 4.0 * se + 1e-5 * mean, "mean difference {m} ± {se}");

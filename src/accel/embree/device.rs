@@ -55,16 +55,50 @@ unsafe extern "C" fn on_memory(user: *mut c_void, bytes: isize, _post: bool) -> 
     true
 }
 
+/// Environment variable holding an Embree device configuration string (Embree's
+/// `rtcNewDevice` syntax, e.g. `threads=2,verbose=1`); empty or unset means the defaults.
+pub const CONFIG_ENV: &str = "PRISM_EMBREE_CONFIG";
+
+/// Embree 3's `RTCError` codes by name (rtcore_device.h), so an error says what went wrong.
+pub fn error_name(code: u32) -> &'static str {
+    match code {
+        0 => "no error",
+        1 => "unknown error",
+        2 => "invalid argument",
+        3 => "invalid operation",
+        4 => "out of memory",
+        5 => "unsupported CPU",
+        6 => "cancelled",
+        _ => "unrecognised error code",
+    }
+}
+
 impl Device {
-    /// Creates a device with Embree's default configuration.
+    /// Creates a device with the configuration in [`CONFIG_ENV`] (Embree's defaults if unset).
     pub fn new() -> Result<Self, EmbreeError> {
-        // SAFETY: a null config string asks for the defaults.
-        let raw = unsafe { ffi::rtcNewDevice(std::ptr::null()) };
+        Self::with_config(&std::env::var(CONFIG_ENV).unwrap_or_default())
+    }
+
+    /// Creates a device from an Embree configuration string. A failure (an unknown option, an
+    /// unsupported CPU, no memory) is an error carrying Embree's code and message.
+    pub fn with_config(config: &str) -> Result<Self, EmbreeError> {
+        let c = std::ffi::CString::new(config)
+            .map_err(|_| EmbreeError::Device(format!("configuration {config:?} contains a NUL byte")))?;
+        // SAFETY: `c` is a valid NUL-terminated string for the duration of the call.
+        let raw = unsafe { ffi::rtcNewDevice(if config.is_empty() { std::ptr::null() } else { c.as_ptr() }) };
         if raw.is_null() {
             // SAFETY: querying the error of a null device reports device-creation errors.
             let code = unsafe { ffi::rtcGetDeviceError(std::ptr::null_mut()) };
+            // Embree 3 reports a malformed configuration (e.g. `threads=abc`) as an unknown error.
+            let hint = match code {
+                1 | 2 if !config.is_empty() => format!(" (check the configuration {config:?} in {CONFIG_ENV})"),
+                4 => " (not enough memory)".into(),
+                5 => " (this CPU lacks the instruction set Embree was built for)".into(),
+                _ => String::new(),
+            };
             return Err(EmbreeError::Device(format!(
-                "rtcNewDevice failed with code {code} (is the CPU supported and memory available?)"
+                "rtcNewDevice failed: {} (code {code}){hint}",
+                error_name(code as u32)
             )));
         }
         let last_error = Box::new(Mutex::new(None));

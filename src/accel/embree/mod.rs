@@ -6,7 +6,7 @@ mod ffi;
 mod instanced;
 mod scene;
 
-pub use device::EmbreeError;
+pub use device::{error_name, Device, EmbreeError, CONFIG_ENV};
 
 use super::Accel;
 use crate::geometry::{Bounds3, Hit, Mesh, Ray};
