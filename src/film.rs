@@ -1,7 +1,63 @@
 //! The film: per-pixel sums of filter-weighted XYZ estimates, turned into the output colour
 //! space once at the end. Sums are f64 so long renders and merged parts lose nothing.
 
+use crate::sensor::Sensor;
 use glam::{DVec3, Vec3};
+
+/// The pixels of the full image that are rendered: [x0, x1) × [y0, y1) (pbrt-v4's pixel bounds).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct PixelBounds {
+    /// First column.
+    pub x0: u32,
+    /// One past the last column.
+    pub x1: u32,
+    /// First row.
+    pub y0: u32,
+    /// One past the last row.
+    pub y1: u32,
+}
+
+/// How a crop is asked for, before the resolution is known.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Crop {
+    /// pbrt-v4's "cropwindow" [x0, x1, y0, y1] in fractions of the image (0 = left/top).
+    Window([f32; 4]),
+    /// pbrt-v4's "pixelbounds" [x0, x1, y0, y1] in pixels.
+    Pixels([i64; 4]),
+}
+
+impl Crop {
+    /// The pixels this crop selects from an image of `resolution`, as pbrt-v4 computes them
+    /// (a window's corners are sorted, clamped to [0, 1] and rounded up to pixels; pixel bounds
+    /// are clipped to the image). An empty selection is an error.
+    pub fn bounds(&self, resolution: (u32, u32)) -> Result<PixelBounds, String> {
+        let (w, h) = (resolution.0 as i64, resolution.1 as i64);
+        let [x0, x1, y0, y1] = match *self {
+            Crop::Window(c) => {
+                if c.iter().any(|v| !v.is_finite()) {
+                    return Err(format!("cropwindow {c:?} is not finite"));
+                }
+                // In f32 as pbrt-v4 computes it, so the same window selects the same pixels.
+                let px = |v: f32, n: i64| (v.clamp(0.0, 1.0) * n as f32).ceil() as i64;
+                [px(c[0].min(c[1]), w), px(c[0].max(c[1]), w), px(c[2].min(c[3]), h), px(c[2].max(c[3]), h)]
+            }
+            Crop::Pixels(p) => [p[0].clamp(0, w), p[1].clamp(0, w), p[2].clamp(0, h), p[3].clamp(0, h)],
+        };
+        if x0 >= x1 || y0 >= y1 {
+            return Err(format!("{self:?} selects no pixels of a {w}x{h} image"));
+        }
+        Ok(PixelBounds { x0: x0 as u32, x1: x1 as u32, y0: y0 as u32, y1: y1 as u32 })
+    }
+}
+
+/// What the film records of the full image: which pixels, through which sensor.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct FilmSettings {
+    /// Only these pixels (the film is their size); `None`: the whole image.
+    pub crop: Option<PixelBounds>,
+    /// The sensor's response (ISO, exposure, white balance).
+    pub sensor: Sensor,
+}
 
 /// Accumulated samples of one pixel.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -62,5 +118,26 @@ impl Film {
     /// Total samples taken over all pixels.
     pub fn total_samples(&self) -> u64 {
         self.pixels.iter().map(|p| p.samples).sum()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn crops_select_pixels_as_pbrt_v4_does() {
+        let b = |x0, x1, y0, y1| PixelBounds { x0, x1, y0, y1 };
+        // Corners in either order, clamped to the image, rounded up.
+        assert_eq!(Crop::Window([0.6, 0.25, 0.1, 0.5]).bounds((40, 30)), Ok(b(10, 24, 3, 15)));
+        assert_eq!(Crop::Window([-1.0, 2.0, 0.0, 1.0]).bounds((7, 5)), Ok(b(0, 7, 0, 5)));
+        assert_eq!(Crop::Window([0.0, 0.01, 0.0, 1.0]).bounds((40, 30)), Ok(b(0, 1, 0, 30)));
+        // Pixel bounds are clipped to the image.
+        assert_eq!(Crop::Pixels([-5, 10, 20, 99]).bounds((40, 30)), Ok(b(0, 10, 20, 30)));
+        // Empty or non-finite: errors.
+        assert!(Crop::Window([0.5, 0.5, 0.0, 1.0]).bounds((40, 30)).is_err());
+        assert!(Crop::Window([f32::NAN, 0.5, 0.0, 1.0]).bounds((40, 30)).is_err());
+        assert!(Crop::Pixels([50, 60, 0, 10]).bounds((40, 30)).is_err());
+        assert!(Crop::Pixels([10, 5, 0, 10]).bounds((40, 30)).is_err());
     }
 }

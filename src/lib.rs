@@ -6,6 +6,7 @@
 //! let scene = SceneBuilder::cornell_box().build(AccelKind::Obvhs).unwrap();
 //! let settings = RenderSettings {
 //!     resolution: (64, 64),
+//!     film: Default::default(),
 //!     spp: 4,
 //!     seed: 0,
 //!     sampler: SamplerKind::Sobol,
@@ -39,4 +40,5 @@ pub mod media;
 pub mod render;
 pub mod sampling;
 pub mod scene;
+pub mod sensor;
 pub mod spectrum;

@@ -3,7 +3,7 @@
 //! its samples in index order, so the image is bit-identical for any thread count, and a render
 //! can be split into disjoint sample ranges and merged.
 
-use crate::film::Film;
+use crate::film::{Film, FilmSettings};
 use crate::filter::Filter;
 use crate::integrator::{PathIntegrator, Stats};
 use crate::sampling::Sampler;
@@ -38,8 +38,10 @@ impl SamplerKind {
 /// Everything about a render that is not the scene.
 #[derive(Clone, Debug)]
 pub struct RenderSettings {
-    /// Image size [pixels].
+    /// Size of the full image [pixels].
     pub resolution: (u32, u32),
+    /// The part of the image rendered and the sensor it is seen through.
+    pub film: FilmSettings,
     /// Samples per pixel.
     pub spp: u64,
     /// Seed of all random decisions.
@@ -54,10 +56,27 @@ pub struct RenderSettings {
     pub time_limit: Option<Duration>,
 }
 
+impl RenderSettings {
+    /// Size of the film: the crop, or the whole image [pixels].
+    pub fn film_size(&self) -> (u32, u32) {
+        match self.film.crop {
+            Some(b) => (b.x1 - b.x0, b.y1 - b.y0),
+            None => self.resolution,
+        }
+    }
+
+    /// The full-image pixel of the film's pixel (0, 0).
+    fn film_origin(&self) -> (u32, u32) {
+        self.film.crop.map_or((0, 0), |b| (b.x0, b.y0))
+    }
+}
+
 /// One pass's worth of work: samples `range` of every pixel.
 pub fn render_pass(scene: &Scene, settings: &RenderSettings, film: &mut Film, range: Range<u64>) -> Stats {
     let camera = scene.camera.camera(settings.resolution);
     let width = film.width as usize;
+    let (x0, y0) = settings.film_origin();
+    let sensor = settings.film.sensor;
     film.pixels
         .par_chunks_mut(width * BAND_ROWS)
         .enumerate()
@@ -65,8 +84,10 @@ pub fn render_pass(scene: &Scene, settings: &RenderSettings, film: &mut Film, ra
             let mut stats = Stats::default();
             let mut sampler = settings.sampler.make();
             for (i, px) in pixels.iter_mut().enumerate() {
-                let x = (i % width) as u32;
-                let y = (band * BAND_ROWS + i / width) as u32;
+                // Pixels are named by their place in the full image, so a crop renders exactly
+                // the samples of the same pixels of the full render.
+                let x = x0 + (i % width) as u32;
+                let y = y0 + (band * BAND_ROWS + i / width) as u32;
                 for s in range.clone() {
                     sampler.start_pixel_sample((x, y), s, settings.seed);
                     let mut lambdas = SampledWavelengths::sample_visible(sampler.get_1d());
@@ -75,7 +96,7 @@ pub fn render_pass(scene: &Scene, settings: &RenderSettings, film: &mut Film, ra
                     let ray = camera.generate_ray(p_film, sampler.get_2d());
                     let l = settings.integrator.li(scene, ray, &mut lambdas, &mut sampler, &mut stats);
                     stats.samples += 1;
-                    let xyz = l.to_xyz(&lambdas);
+                    let xyz = sensor.apply(l.to_xyz(&lambdas));
                     if !xyz.is_finite() {
                         stats.nonfinite += 1;
                         if stats.nonfinite_at.len() < 16 {
@@ -99,7 +120,7 @@ pub fn render_pass(scene: &Scene, settings: &RenderSettings, film: &mut Film, ra
 /// Renders `settings.spp` samples per pixel (or fewer if the time limit ends it), in passes
 /// of growing size, calling `progress(samples_done)` after each pass.
 pub fn render(scene: &Scene, settings: &RenderSettings, mut progress: impl FnMut(u64)) -> (Film, Stats) {
-    let (w, h) = settings.resolution;
+    let (w, h) = settings.film_size();
     let mut film = Film::new(w, h);
     let stats = render_range(scene, settings, &mut film, 0..settings.spp, |_, done| {
         progress(done);

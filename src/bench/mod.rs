@@ -116,6 +116,7 @@ fn load(cfg: &BenchConfig) -> Result<SceneBuilder> {
 fn settings(cfg: &BenchConfig, spp: u64, sampler: SamplerKind, seed: u64) -> RenderSettings {
     RenderSettings {
         resolution: cfg.resolution,
+        film: Default::default(),
         spp,
         seed,
         sampler,

@@ -1,13 +1,14 @@
 //! `prism render`: load a scene (or the built-in Cornell box), render it, write the image.
 
 use crate::accel::AccelKind;
-use crate::film::Film;
+use crate::film::{Crop, Film, FilmSettings};
 use crate::filter::Filter;
 use crate::image::Image;
 use crate::integrator::{PathIntegrator, Stats, SubsurfaceMethod};
 use crate::render::{RenderSettings, SamplerKind};
 use crate::scene::pbrt::FileSettings;
 use crate::scene::{Scene, SceneBuilder};
+use crate::sensor::Sensor;
 use crate::spectrum::ColorSpace;
 use anyhow::{bail, Context, Result};
 use std::path::{Path, PathBuf};
@@ -36,6 +37,13 @@ pub struct RenderArgs {
     /// Image size as WxH.
     #[arg(long, allow_hyphen_values = true)]
     pub resolution: Option<String>,
+    /// Render only this part of the image: x0,x1,y0,y1 as fractions in [0, 1] (pbrt's
+    /// --cropwindow; overrides the file's Film "cropwindow"/"pixelbounds").
+    #[arg(long, allow_hyphen_values = true)]
+    pub cropwindow: Option<String>,
+    /// Render only pixels [x0, x1) × [y0, y1), given as x0,x1,y0,y1 (pbrt's --pixelbounds).
+    #[arg(long, allow_hyphen_values = true, conflicts_with = "cropwindow")]
+    pub pixelbounds: Option<String>,
     /// Write timing figures as JSON to this file.
     #[arg(long)]
     pub stats_json: Option<PathBuf>,
@@ -112,6 +120,12 @@ fn parse_resolution(s: &str) -> Result<(u32, u32)> {
     Ok((w as u32, h as u32))
 }
 
+/// Parses four comma-separated numbers.
+fn parse_four<T: std::str::FromStr>(flag: &str, s: &str) -> Result<[T; 4]> {
+    let v: Vec<T> = s.split(',').map(|x| x.trim().parse()).collect::<Result<_, _>>().ok().unwrap_or_default();
+    v.try_into().map_err(|_| anyhow::anyhow!("--{flag} '{s}' is not x0,x1,y0,y1"))
+}
+
 /// Parses "30", "30s", "2m", "1h" into a duration.
 pub fn parse_duration(s: &str) -> Result<Duration> {
     let s = s.trim();
@@ -167,6 +181,11 @@ pub fn prepare(args: &RenderArgs) -> Result<Job> {
         None => AccelKind::default_available(),
     };
     let resolution = args.resolution.as_deref().map(parse_resolution).transpose()?;
+    let crop_arg = match (&args.cropwindow, &args.pixelbounds) {
+        (Some(c), _) => Some(Crop::Window(parse_four("cropwindow", c)?)),
+        (_, Some(p)) => Some(Crop::Pixels(parse_four("pixelbounds", p)?)),
+        _ => None,
+    };
     let time_limit = args.time_limit.as_deref().map(parse_duration).transpose()?;
 
     let (builder, file) = match &args.scene {
@@ -187,7 +206,7 @@ pub fn prepare(args: &RenderArgs) -> Result<Job> {
         }
         None => bail!("unknown filter '{filter_name}' (valid: box, gaussian, mitchell)"),
     };
-    let space_name = args.color_space.as_deref().unwrap_or("srgb");
+    let space_name = args.color_space.as_deref().or(file.color_space.as_deref()).unwrap_or("srgb");
     let space = ColorSpace::by_name(space_name).with_context(|| {
         format!("unknown colour space '{space_name}' (valid: srgb, rec2020, acescg, aces2065-1, display-p3)")
     })?;
@@ -209,8 +228,17 @@ pub fn prepare(args: &RenderArgs) -> Result<Job> {
     let max_depth = args.max_depth.or(file.max_depth).unwrap_or(8);
     let sss = SubsurfaceMethod::parse(&args.sss).map_err(anyhow::Error::msg)?;
     let integrator = PathIntegrator { max_depth, sss, ..Default::default() };
+    let resolution = resolution.or(file.resolution).unwrap_or((256, 256));
+    let crop = crop_arg.or(file.crop).map(|c| c.bounds(resolution)).transpose().map_err(anyhow::Error::msg)?;
+    let sensor = Sensor::new(
+        file.iso.unwrap_or(100.0),
+        file.exposure_time.unwrap_or(1.0),
+        file.white_balance.unwrap_or(0.0),
+        space,
+    );
     let settings = RenderSettings {
-        resolution: resolution.or(file.resolution).unwrap_or((256, 256)),
+        resolution,
+        film: FilmSettings { crop, sensor },
         spp: args.spp.map(|n| n as u64).or(file.spp).unwrap_or(16),
         seed: args.seed.or(file.seed).unwrap_or(0),
         sampler,
@@ -277,9 +305,10 @@ fn fingerprint(args: &RenderArgs, job: &Job) -> String {
     };
     let st = &job.settings;
     format!(
-        "{scene_id}|{}x{}|spp {}|seed {}|{:?}|{:?}|depth {}|{}",
+        "{scene_id}|{}x{}|{:?}|spp {}|seed {}|{:?}|{:?}|depth {}|{}",
         st.resolution.0,
         st.resolution.1,
+        st.film,
         st.spp,
         st.seed,
         st.sampler,
@@ -314,7 +343,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     let fp = fingerprint(args, &job);
     let ckpt_path = PathBuf::from(format!("{}.ckpt", job.output.display()));
     let ckpt_every = args.checkpoint_every.as_deref().map(parse_duration).transpose()?;
-    let (w, h) = job.settings.resolution;
+    let (w, h) = job.settings.film_size();
     let header = |samples: std::ops::Range<u64>| crate::checkpoint::FilmHeader {
         width: w,
         height: h,
@@ -409,7 +438,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
 }
 
 fn summarize(job: &Job, stats: &Stats, elapsed: f64) -> RenderStats {
-    let (w, h) = job.settings.resolution;
+    let (w, h) = job.settings.film_size();
     let pixels = w as u64 * h as u64;
     RenderStats {
         elapsed_s: elapsed,

@@ -55,6 +55,7 @@ pub struct SssRow {
 fn settings(size: u32, spp: u64, seed: u64, sss: SubsurfaceMethod) -> RenderSettings {
     RenderSettings {
         resolution: (size, size),
+        film: Default::default(),
         spp,
         seed,
         sampler: SamplerKind::Sobol,

@@ -8,7 +8,7 @@
 //! requested quantity over the light's geometric factor k_e (4π for a point light, the cone's
 //! solid angle for a spotlight, π·A per side for an area light, π for a uniform sky).
 
-use super::point::spectral_integral;
+pub(crate) use super::point::spectral_integral;
 use crate::spectrum::{Spectrum, CIE_Y_INTEGRAL};
 
 /// Maximum luminous efficacy K_m [lm/W].

@@ -3,8 +3,9 @@
 //!
 //! Light spectra follow pbrt-v4: a light's spectrum is normalised to unit luminance (Y = 1 in the
 //! lecture's normalisation, so `"rgb L" [1 1 1]` looks white with value 1), then multiplied by
-//! `scale`. Photometric parameters follow pbrt-v4's `lights.cpp` in SI units: `power` is luminous
-//! flux [lm] and `illuminance` is [lux] (K_m = 683 lm/W made explicit; docs/radiometry.md).
+//! `scale`. `power` and `illuminance` scale it exactly as pbrt-v4's `lights.cpp` does, so a pbrt-v4
+//! scene renders as bright as in pbrt-v4; prism's own `lumens`/`lux` (K_m = 683 lm/W) and
+//! `watts`/`irradiance` give SI photometric and radiometric targets instead (docs/radiometry.md).
 
 mod subsurface;
 
@@ -13,8 +14,9 @@ use super::error::{SceneError, Warning};
 use super::params::{FloatOrTexture, ParamSet, SpectrumOrTexture, SpectrumParam};
 use super::{CameraDesc, Emission, SceneBuilder};
 use crate::bsdf::{ior, metals};
+use crate::film::Crop;
 use crate::geometry::Mesh;
-use crate::light::photometry::lumens_per_unit_y;
+use crate::light::photometry::{lumens_per_unit_y, spectral_integral};
 use crate::light::{DistantLight, EnvMapLight, Light, PointLight, SpotFalloff, SpotLight, UniformInfiniteLight};
 use crate::material::{FloatTexture, ImageTexture, Ior, Material, ReflectanceImage, Roughness, SpectrumTexture};
 use crate::spectrum::{ColorSpace, RgbKind, Spectrum};
@@ -41,6 +43,14 @@ pub struct FileSettings {
     pub seed: Option<u64>,
     /// ColorSpace / film colour space.
     pub color_space: Option<String>,
+    /// Film "cropwindow" or "pixelbounds".
+    pub crop: Option<crate::film::Crop>,
+    /// Film "iso" (pbrt-v4's default 100).
+    pub iso: Option<f32>,
+    /// Camera "shutterclose" − "shutteropen" [s] (pbrt-v4's default 1).
+    pub exposure_time: Option<f32>,
+    /// Film "whitebalance" [K] (0: none; pbrt-v4's default for the cie1931 sensor).
+    pub white_balance: Option<f32>,
 }
 
 /// Turns a desc into a builder; warnings go to `warnings`.
@@ -99,9 +109,31 @@ impl Ctx<'_> {
             (None, None) => None,
             (x, y) => Some((x.unwrap_or(1280).max(1) as u32, y.unwrap_or(720).max(1) as u32)),
         };
-        if film.floats("cropwindow").is_some() {
-            self.warn(&d.film.loc, "Film \"cropwindow\" is not supported; prism renders the full image".into());
+        let crop = match (film.floats("cropwindow"), film.ints("pixelbounds")) {
+            (Some(c), _) if c.len() == 4 => Some(Crop::Window([c[0], c[1], c[2], c[3]])),
+            (_, Some(p)) if p.len() == 4 => Some(Crop::Pixels([p[0], p[1], p[2], p[3]].map(i64::from))),
+            (None, None) => None,
+            _ => {
+                self.warn(&d.film.loc, "Film \"cropwindow\"/\"pixelbounds\" needs 4 values; ignored".into());
+                None
+            }
+        };
+        let sensor = film.string("sensor").unwrap_or("cie1931");
+        let mut white_balance = film.float("whitebalance");
+        if sensor != "cie1931" {
+            self.warn(
+                &d.film.loc,
+                format!("prism has no data for the sensor \"{sensor}\"; using \"cie1931\" (white balanced)"),
+            );
+            // pbrt-v4 white balances a camera sensor to 6500 K unless told otherwise.
+            white_balance = white_balance.filter(|&t| t > 0.0).or(Some(6500.0));
         }
+        let cam = &d.camera.directive.params;
+        let shutter = (cam.float("shutteropen"), cam.float("shutterclose"));
+        let exposure_time = match shutter {
+            (None, None) => None,
+            (open, close) => Some(close.unwrap_or(1.0) - open.unwrap_or(0.0)),
+        };
         let sampler = match d.sampler.kind.as_str() {
             "independent" => "independent",
             _ => "sobol",
@@ -115,6 +147,10 @@ impl Ctx<'_> {
             sampler: Some(sampler.to_string()),
             seed: d.sampler.params.int("seed").or_else(|| d.options.int("seed")).map(|s| s as u64),
             color_space: Some(d.color_space.clone()),
+            crop,
+            iso: film.float("iso"),
+            exposure_time,
+            white_balance,
         }
     }
 
@@ -367,7 +403,8 @@ impl Ctx<'_> {
                 // pbrt-v4 DiffuseAreaLight: k_e = π A per emitting side (world-space area, so any
                 // transform works).
                 let k_e = crate::math::PI * mesh.area() * if two_sided { 2.0 } else { 1.0 };
-                let scale = p.float_or("scale", 1.0) * norm * photometric_factor(p, "power", k_e);
+                let scale =
+                    p.float_or("scale", 1.0) * norm * brightness_factor(p, FLUX, k_e, Some((&spectrum, norm)), &a.loc)?;
                 Some(Emission { spectrum, scale, two_sided })
             }
         };
@@ -428,12 +465,8 @@ impl Ctx<'_> {
         let space = space_of(p);
         let rotation = orthonormal(glam::Mat3::from_mat4(l.world_from_light));
         let mut light = EnvMapLight::new(&image, rotation, p.float_or("scale", 1.0), space);
-        if let Some(ev) = p.float("illuminance").filter(|&e| e > 0.0) {
-            let k_e = light.upper_hemisphere_y() as f32;
-            if k_e > 0.0 {
-                light.scale *= ev / (k_e * lumens_per_unit_y());
-            }
-        }
+        let k_e = light.upper_hemisphere_y() as f32;
+        light.scale *= brightness_factor(p, ILLUMINANCE, k_e, None, &l.loc)?;
         Ok(light)
     }
 
@@ -446,7 +479,8 @@ impl Ctx<'_> {
                 let (s, norm) = self.light_spectrum(p, "I", &l.loc)?;
                 let pos = m.transform_point3(p.point3("from").unwrap_or(Vec3::ZERO));
                 let k_e = 4.0 * crate::math::PI;
-                let light = PointLight::new(pos, Arc::new(s), scale * norm * photometric_factor(p, "power", k_e));
+                let sc = scale * norm * brightness_factor(p, FLUX, k_e, Some((&s, norm)), &l.loc)?;
+                let light = PointLight::new(pos, Arc::new(s), sc);
                 self.b.add_light(Light::Point(light));
             }
             "spot" => {
@@ -467,7 +501,7 @@ impl Ctx<'_> {
                     }
                 };
                 let k_e = falloff.solid_angle_integral();
-                let sc = scale * norm * photometric_factor(p, "power", k_e);
+                let sc = scale * norm * brightness_factor(p, FLUX, k_e, Some((&s, norm)), &l.loc)?;
                 let light = SpotLight::new(from, to - from, Arc::new(s), sc, falloff);
                 self.b.add_light(Light::Spot(light));
             }
@@ -478,7 +512,7 @@ impl Ctx<'_> {
                 let to_light = m.transform_vector3(from - to).normalize_or_zero();
                 // "illuminance" [lux] on a surface perpendicular to the light (pbrt-v4 measures it
                 // on an upward-facing patch, k_e = −w.y, which is 0 for its default direction).
-                let e = scale * norm * photometric_factor(p, "illuminance", 1.0);
+                let e = scale * norm * brightness_factor(p, ILLUMINANCE, 1.0, Some((&s, norm)), &l.loc)?;
                 self.b.add_light(Light::Distant(DistantLight { to_light, spectrum: Arc::new(s), scale: e }));
             }
             "infinite" => {
@@ -488,7 +522,8 @@ impl Ctx<'_> {
                 } else {
                     // pbrt-v4: a uniform sky of illuminance E_v on any patch has k_e = π.
                     let (s, norm) = self.light_spectrum(p, "L", &l.loc)?;
-                    let sc = scale * norm * photometric_factor(p, "illuminance", crate::math::PI);
+                    let sc =
+                        scale * norm * brightness_factor(p, ILLUMINANCE, crate::math::PI, Some((&s, norm)), &l.loc)?;
                     self.b.add_light(Light::UniformInfinite(UniformInfiniteLight { spectrum: Arc::new(s), scale: sc }));
                 }
             }
@@ -521,14 +556,58 @@ fn orthonormal(m: glam::Mat3) -> glam::Mat3 {
     glam::Mat3::from_cols(x, y, z)
 }
 
-/// pbrt-v4's photometric scaling: with a positive `name` (luminous flux [lm] or illuminance
-/// [lux]) the unit-luminance spectrum is multiplied by q / (k_e · K_m ∫ȳ dλ), k_e being the
-/// light's geometric factor; otherwise by 1.
-fn photometric_factor(p: &ParamSet, name: &str, k_e: f32) -> f32 {
-    match p.float(name) {
-        Some(q) if q > 0.0 && k_e > 0.0 => q / (k_e * lumens_per_unit_y()),
-        _ => 1.0,
-    }
+/// How a light's brightness may be given besides `scale`: pbrt-v4's parameter, and prism's SI
+/// photometric and radiometric ones.
+struct Target {
+    /// pbrt-v4's name; q sets the film's Y (the lecture's ∫ȳ-normalised luminance) to q / k_e.
+    pbrt: &'static str,
+    /// In lm or lux: q sets K_m ∫ ȳ(λ) x(λ) dλ to q / k_e.
+    photometric: &'static str,
+    /// In W or W/m²: q sets ∫ x(λ) dλ over 360–830 nm to q / k_e.
+    radiometric: &'static str,
+}
+
+/// Flux: pbrt-v4 `power`, prism `lumens` [lm] and `watts` [W].
+const FLUX: Target = Target { pbrt: "power", photometric: "lumens", radiometric: "watts" };
+/// Irradiance on a perpendicular (distant) or any (uniform infinite) patch: `illuminance`,
+/// `lux` [lx], `irradiance` [W/m²].
+const ILLUMINANCE: Target = Target { pbrt: "illuminance", photometric: "lux", radiometric: "irradiance" };
+
+/// The factor for a unit-luminance spectrum `s` that meets a brightness target
+/// (docs/radiometry.md). pbrt-v4 (`lights.cpp`) divides the spectrum by ∫ s ȳ dλ and multiplies
+/// by q / k_e, k_e being the light's geometric factor, and its film reads Y = ∫ ȳ L dλ (no 1/∫ȳ):
+/// so in the lecture's normalisation `power` q is a flux whose Y is q. The SI targets divide by
+/// what one unit gives: K_m ∫ȳ dλ lumens, or ∫ s dλ watts for the spectrum `s` × `norm`
+/// (`None`: not offered). Without a target, 1.
+fn brightness_factor(
+    p: &ParamSet,
+    t: Target,
+    k_e: f32,
+    s: Option<(&Spectrum, f32)>,
+    loc: &super::error::Location,
+) -> Result<f32, SceneError> {
+    let given: Vec<(&str, f32)> = [t.pbrt, t.photometric, t.radiometric]
+        .into_iter()
+        .filter_map(|n| p.float(n).filter(|&v| v > 0.0).map(|v| (n, v)))
+        .collect();
+    let (name, q) = match given.as_slice() {
+        [] => return Ok(1.0),
+        [one] => *one,
+        [(a, _), (b, _), ..] => {
+            return Err(SceneError::syntax(loc, b, format!("give one of \"{a}\" and \"{b}\", not both")));
+        }
+    };
+    let per_unit = if name == t.pbrt {
+        1.0
+    } else if name == t.photometric {
+        lumens_per_unit_y()
+    } else {
+        match s {
+            Some((s, norm)) => spectral_integral(s) * norm,
+            None => return Err(SceneError::syntax(loc, name, "this light does not take a radiometric target")),
+        }
+    };
+    Ok(if k_e > 0.0 && per_unit > 0.0 { q / (k_e * per_unit) } else { 1.0 })
 }
 
 /// Orients triangles as pbrt-v4 does: with per-vertex normals the geometric normal faces them;

@@ -1,26 +1,12 @@
 //! The `prism` binary end to end: clear one-line errors, no half-written files, stats JSON,
 //! split/merge equality, time limits, and resuming after `kill -9`.
 
+use crate::common::{film, prism, stderr, tmpdir};
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
-
-fn prism() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_prism"))
-}
-
-fn tmpdir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("prism-cli-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
+use std::process::Output;
 
 fn run(args: &[&str]) -> Output {
     prism().args(args).output().expect("run prism")
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
 }
 
 /// Bad input: a non-zero exit, one line starting "prism: error:", no panic.
@@ -89,10 +75,6 @@ fn render_writes_image_and_stats_json_and_leaves_no_temp_files() {
         .filter(|e| e.file_name().to_string_lossy().contains(".tmp-"))
         .collect();
     assert!(leftovers.is_empty(), "temporary files left: {leftovers:?}");
-}
-
-fn film(path: &Path) -> prism::film::Film {
-    prism::checkpoint::load(path).unwrap().0
 }
 
 #[test]

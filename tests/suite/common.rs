@@ -1,6 +1,31 @@
 //! Helpers shared by the end-to-end tests.
 
 use prism::film::Film;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+/// The `prism` binary.
+pub fn prism() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_prism"))
+}
+
+/// A fresh, empty directory for one test.
+pub fn tmpdir(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("prism-cli-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// A process's standard error as text.
+pub fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+/// A `.film` file (`prism render -o X.film`).
+pub fn film(path: &Path) -> Film {
+    prism::checkpoint::load(path).unwrap().0
+}
 
 /// Compares two films pixel by pixel on Y: the mean of the per-pixel differences, its standard
 /// error (pixels are independent estimates), and the mean Y of `a`.

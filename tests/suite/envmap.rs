@@ -54,8 +54,10 @@ fn importance_sampling_matches_its_density_chi2() {
     let srgb = ColorSpace::srgb();
     let rot = Mat3::from_rotation_x(0.7) * Mat3::from_rotation_z(0.3);
     let gradient = image(32, 16, |x, y| [1.0 + x as f32 * 0.1, 0.5 + y as f32, 0.2]);
-    // A dark map with one texel 10⁴ times brighter near the horizon and one at the pole (at 10⁶
-    // the f32 CDF of the 1D distributions cannot resolve the dark texels beside the spot). The
+    // A dark map with one texel 10⁴ times brighter near the horizon and one at the pole. (At 10⁶
+    // a dark texel's probability, ~10⁻⁸, is below the 2⁻²⁴ step of an f32 sample u, so light
+    // sampling never picks it and χ² would count 0 against a tiny expectation; the CDF is f64 and
+    // exact, and BSDF sampling with MIS still reaches those directions.) The
     // maps with sharp features have 160 × 80 texels, one per χ² cell, so the cells' expected
     // counts need no quadrature across a 10⁶ step (the harness integrates with adaptive Simpson).
     let spot =
@@ -133,16 +135,19 @@ fn load(text: &str) -> Scene {
 }
 
 #[test]
-fn pbrt_illuminance_sets_the_lux_on_an_upward_patch() {
-    // pbrt-v4: an image infinite light with "illuminance" is scaled so that a patch facing +z
-    // (the map's zenith) receives that illuminance, whatever the map holds.
-    let scene = load(
-        r#"Camera "perspective" WorldBegin
-        LightSource "infinite" "string filename" "textures/sky.exr" "float illuminance" 1500"#,
-    );
-    let integ = PathIntegrator { max_depth: 1, ..Default::default() };
-    let e = irradiance(&scene, &integ, Vec3::ZERO, Vec3::Z, 40_000, 2).illuminance;
-    assert!((e.mean - 1500.0).abs() <= 3.0 * e.std_err, "{} ± {} lux vs 1500", e.mean, e.std_err);
+fn illuminance_and_lux_set_the_upward_patch_as_pbrt_v4_and_si_say() {
+    // pbrt-v4: an image infinite light with "illuminance" q is scaled so that a patch facing +z
+    // (the map's zenith) reads Y = q on its film, whatever the map holds (K_m ∫ȳ dλ · q lux);
+    // prism's "lux" q gives it q lux.
+    for (param, lux) in [("illuminance", 1500.0 * lumens_per_unit_y() as f64), ("lux", 1500.0)] {
+        let scene = load(&format!(
+            r#"Camera "perspective" WorldBegin
+            LightSource "infinite" "string filename" "textures/sky.exr" "float {param}" 1500"#
+        ));
+        let integ = PathIntegrator { max_depth: 1, ..Default::default() };
+        let e = irradiance(&scene, &integ, Vec3::ZERO, Vec3::Z, 40_000, 2).illuminance;
+        assert!((e.mean - lux).abs() <= 3.0 * e.std_err, "{param}: {} ± {} lux vs {lux}", e.mean, e.std_err);
+    }
 }
 
 #[test]
@@ -168,6 +173,7 @@ fn envmap_scene_renders_without_nans_and_shows_the_sky() {
     let scene = b.build(AccelKind::Obvhs).unwrap();
     let s = prism::render::RenderSettings {
         resolution: (48, 32),
+        film: Default::default(),
         spp: 8,
         seed: 1,
         sampler: prism::render::SamplerKind::Independent,

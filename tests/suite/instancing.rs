@@ -197,6 +197,7 @@ fn many_instances_of_a_big_mesh_use_far_less_memory_than_flattened() {
 fn instanced_and_flattened_scenes_render_the_same_image() {
     let settings = RenderSettings {
         resolution: (48, 32),
+        film: Default::default(),
         spp: 8,
         seed: 4,
         sampler: SamplerKind::Independent,
@@ -232,6 +233,7 @@ fn pbrt_object_instances_are_real_instances() {
     assert_eq!(load().instance_count(), 13);
     let settings = RenderSettings {
         resolution: (64, 36),
+        film: Default::default(),
         spp: 8,
         seed: 2,
         sampler: SamplerKind::Independent,
@@ -264,6 +266,7 @@ fn render_cornell(m: Mat4, kind: AccelKind, instanced: bool, seed: u64) -> prism
     assert_eq!(scene.instances.len(), instanced as usize);
     let settings = RenderSettings {
         resolution: (24, 24),
+        film: Default::default(),
         spp: 32,
         seed,
         sampler: SamplerKind::Independent,

@@ -5,6 +5,7 @@ mod accel_agreement;
 mod cli;
 mod common;
 mod envmap;
+mod film;
 mod instancing;
 mod naive_fails;
 mod radiometry;

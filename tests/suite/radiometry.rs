@@ -197,6 +197,7 @@ fn lambertian_reflector_radiance_is_rho_e_over_pi() {
     let scene = build(b);
     let s = prism::render::RenderSettings {
         resolution: (16, 16),
+        film: Default::default(),
         spp: 4,
         seed: 0,
         sampler: prism::render::SamplerKind::Independent,
@@ -216,13 +217,23 @@ fn lambertian_reflector_radiance_is_rho_e_over_pi() {
     assert_close("ρE/π", Estimate { mean, std_err: se }, expected);
 }
 
-// ---- Photometric scaling of pbrt-v4 lights (`power` [lm], `illuminance` [lux]) ----
+// ---- Photometric targets: pbrt-v4's `power`/`illuminance`, prism's `lumens`/`lux` ----
+//
+// pbrt-v4's film reads Y = ∫ȳ L dλ where prism's reads ∫ȳ L dλ / ∫ȳ dλ, and pbrt-v4 scales a
+// light so that `power` q gives its film a flux of Y = q: in prism's (the lecture's) normalisation
+// that is the same Y = q, i.e. K_m ∫ȳ dλ · q lumens. `lumens`/`lux` are SI.
 
 fn load_pbrt(text: &str) -> Scene {
     let (desc, mut warnings) = prism::scene::parse_str(text, &Default::default()).unwrap();
     let (b, _) = prism::scene::pbrt::build(&desc, &mut warnings).unwrap();
     assert!(warnings.is_empty(), "{warnings:?}");
     build(b)
+}
+
+/// An illuminance estimate [lux] as the film's Y (lux / K_m ∫ȳ dλ).
+fn film_y(lux: Estimate) -> Estimate {
+    let k = lumens_per_unit_y() as f64;
+    Estimate { mean: lux.mean / k, std_err: lux.std_err / k }
 }
 
 /// Luminous flux [lm] through a sphere of radius `r` around `centre` (as `flux_through_sphere`,
@@ -252,56 +263,99 @@ fn luminous_flux_through_sphere(scene: &Scene, centre: Vec3, r: f32, n: u64) -> 
 }
 
 #[test]
-fn pbrt_point_light_power_is_luminous_flux_in_lumens() {
-    // An 800 lm incandescent bulb: E_v = Φ_v / (4π r²) cos θ [lux].
-    let scene =
-        load_pbrt(r#"WorldBegin LightSource "point" "blackbody I" 2700 "float power" 800 "point3 from" [0 0 0]"#);
+fn point_light_power_is_pbrt_v4s_and_lumens_and_watts_are_si() {
+    let bulb = |param: &str| {
+        load_pbrt(&format!(
+            r#"WorldBegin LightSource "point" "blackbody I" 2700 "float {param}" 800 "point3 from" [0 0 0]"#
+        ))
+    };
+    let (pbrt, si, radiometric) = (bulb("power"), bulb("lumens"), bulb("watts"));
     for (r, deg) in [(1.0f32, 0.0f32), (2.0, 60.0)] {
         let t = deg.to_radians();
-        let m = irradiance(&scene, &direct(), Vec3::new(0.0, 0.0, r), Vec3::new(t.sin(), 0.0, -t.cos()), 20_000, 3);
-        let expected = 800.0 / (4.0 * std::f64::consts::PI * (r * r) as f64) * t.cos() as f64;
-        assert_close(&format!("800 lm bulb at r={r} θ={deg}"), m.illuminance, expected);
-        // The radiant flux behind it: Φ_e = Φ_v / K, K the blackbody's luminous efficacy.
+        let n = Vec3::new(t.sin(), 0.0, -t.cos());
+        let at = Vec3::new(0.0, 0.0, r);
+        let lambert = 800.0 / (4.0 * std::f64::consts::PI * (r * r) as f64) * t.cos() as f64;
+        // pbrt-v4 `power` 800: the film reads E = 800 cos θ / (4π r²).
+        let m = irradiance(&pbrt, &direct(), at, n, 20_000, 3);
+        assert_close(&format!("power 800 at r={r} θ={deg}, film Y"), film_y(m.illuminance), lambert);
+        // An 800 lm incandescent bulb: E_v = Φ_v cos θ / (4π r²) [lux] ...
+        let m = irradiance(&si, &direct(), at, n, 20_000, 3);
+        assert_close(&format!("800 lm at r={r} θ={deg}"), m.illuminance, lambert);
+        // ... and Φ_e = Φ_v / K watts behind it, K the blackbody's luminous efficacy.
         let watts = radiant_flux_from_lumens(800.0, &Spectrum::blackbody(2700.0)) as f64;
-        assert_close(
-            &format!("800 lm → {watts} W"),
-            m.irradiance,
-            watts / (4.0 * std::f64::consts::PI * (r * r) as f64) * t.cos() as f64,
-        );
+        let e = watts / (4.0 * std::f64::consts::PI * (r * r) as f64) * t.cos() as f64;
+        assert_close(&format!("800 lm → {watts} W"), m.irradiance, e);
+        // prism's `watts` 800: radiant flux over 360–830 nm, E = Φ cos θ / (4π r²) [W/m²].
+        let m = irradiance(&radiometric, &direct(), at, n, 20_000, 3);
+        assert_close(&format!("800 W at r={r} θ={deg}"), m.irradiance, lambert);
     }
 }
 
-#[test]
-fn pbrt_spot_and_area_light_power_is_the_luminous_flux_through_a_sphere() {
-    let spot = load_pbrt(
-        r#"WorldBegin LightSource "spot" "blackbody I" 4000 "float power" 500 "float coneangle" 30
-           "float conedeltaangle" 10 "point3 from" [0 0 0] "point3 to" [1 1 0]"#,
-    );
-    assert_close("spot 500 lm", luminous_flux_through_sphere(&spot, Vec3::ZERO, 2.0, 60_000), 500.0);
-    // pbrt-v4 multiplies `scale` in as well; the area is the transformed (world) area.
-    let area = load_pbrt(
+/// A two-sided square area light with `param` 300 and `scale` 2 on a transformed mesh (pbrt-v4
+/// multiplies `scale` in as well; the area is the transformed, world-space area).
+fn area_light(param: &str) -> Scene {
+    load_pbrt(&format!(
         r#"WorldBegin AttributeBegin Translate 0.2 0 0.1 Rotate 30 1 1 0 Scale 0.5 2 1
            Material "diffuse" "rgb reflectance" [0 0 0]
-           AreaLightSource "diffuse" "blackbody L" 5500 "float power" 300 "float scale" 2 "bool twosided" true
+           AreaLightSource "diffuse" "blackbody L" 5500 "float {param}" 300 "float scale" 2 "bool twosided" true
            Shape "trianglemesh" "point3 P" [-0.5 -0.5 0  0.5 -0.5 0  0.5 0.5 0  -0.5 0.5 0] "integer indices" [0 1 2 0 2 3]
-           AttributeEnd"#,
-    );
-    assert_close("area 2 × 300 lm", luminous_flux_through_sphere(&area, Vec3::new(0.2, 0.0, 0.1), 2.5, 60_000), 600.0);
+           AttributeEnd"#
+    ))
 }
 
 #[test]
-fn pbrt_illuminance_of_distant_and_uniform_lights_is_in_lux() {
-    let distant = load_pbrt(
-        r#"WorldBegin LightSource "distant" "blackbody L" 5800 "float illuminance" 1000 "point3 from" [0 0 1] "point3 to" [0 0 0]"#,
-    );
-    for deg in [0.0f32, 60.0] {
-        let t = deg.to_radians();
-        let m = irradiance(&distant, &direct(), Vec3::ZERO, Vec3::new(t.sin(), 0.0, t.cos()), 4_000, 4);
-        assert_close(&format!("distant 1000 lx θ={deg}"), m.illuminance, 1000.0 * t.cos() as f64);
+fn pbrt_spot_and_area_light_emit_their_power_and_lumens_through_a_sphere() {
+    for (param, to_lumens) in [("power", lumens_per_unit_y() as f64), ("lumens", 1.0)] {
+        let spot = load_pbrt(&format!(
+            r#"WorldBegin LightSource "spot" "blackbody I" 4000 "float {param}" 500 "float coneangle" 30
+               "float conedeltaangle" 10 "point3 from" [0 0 0] "point3 to" [1 1 0]"#
+        ));
+        let m = luminous_flux_through_sphere(&spot, Vec3::ZERO, 2.0, 40_000);
+        assert_close(&format!("spot {param} 500"), m, 500.0 * to_lumens);
+        let area = area_light(param);
+        let m = luminous_flux_through_sphere(&area, Vec3::new(0.2, 0.0, 0.1), 2.5, 40_000);
+        assert_close(&format!("area 2 × {param} 300"), m, 600.0 * to_lumens);
     }
-    let sky = load_pbrt(r#"WorldBegin LightSource "infinite" "rgb L" [0.3 0.5 1] "float illuminance" 2000"#);
+}
+
+#[test]
+fn illuminance_of_distant_and_uniform_lights_is_pbrt_v4s_and_lux_is_si() {
+    for (param, to_lux) in [("illuminance", lumens_per_unit_y() as f64), ("lux", 1.0)] {
+        let distant = load_pbrt(&format!(
+            r#"WorldBegin LightSource "distant" "blackbody L" 5800 "float {param}" 1000 "point3 from" [0 0 1] "point3 to" [0 0 0]"#
+        ));
+        for deg in [0.0f32, 60.0] {
+            let t = deg.to_radians();
+            let m = irradiance(&distant, &direct(), Vec3::ZERO, Vec3::new(t.sin(), 0.0, t.cos()), 4_000, 4);
+            assert_close(&format!("distant {param} 1000 θ={deg}"), m.illuminance, 1000.0 * t.cos() as f64 * to_lux);
+        }
+        let sky = load_pbrt(&format!(r#"WorldBegin LightSource "infinite" "rgb L" [0.3 0.5 1] "float {param}" 2000"#));
+        let m = irradiance(&sky, &direct(), Vec3::ZERO, Vec3::new(0.2, 0.9, -0.3), 20_000, 5);
+        // For an RGB illuminant, pbrt-v4 normalises by the white alone; the RGB's luminance stays.
+        let y_rgb = ColorSpace::srgb().rgb_to_xyz(Vec3::new(0.3, 0.5, 1.0)).y as f64;
+        assert_close(&format!("sky {param} 2000 × Y(rgb)"), m.illuminance, 2000.0 * y_rgb * to_lux);
+    }
+}
+
+#[test]
+fn watts_and_irradiance_are_radiometric_si() {
+    let area = area_light("watts");
+    assert_close("area 2 × 300 W", flux_through_sphere(&area, Vec3::new(0.2, 0.0, 0.1), 2.5, 40_000), 600.0);
+    let distant = load_pbrt(
+        r#"WorldBegin LightSource "distant" "blackbody L" 5800 "float irradiance" 10 "point3 from" [0 0 1] "point3 to" [0 0 0]"#,
+    );
+    let m = irradiance(&distant, &direct(), Vec3::ZERO, Vec3::new(0.5, 0.0, 0.75f32.sqrt()), 4_000, 4);
+    assert_close("distant 10 W/m² at 30°", m.irradiance, 10.0 * 0.75f64.sqrt());
+    let sky = load_pbrt(r#"WorldBegin LightSource "infinite" "rgb L" [0.3 0.5 1] "float irradiance" 5"#);
     let m = irradiance(&sky, &direct(), Vec3::ZERO, Vec3::new(0.2, 0.9, -0.3), 20_000, 5);
-    // For an RGB illuminant, pbrt-v4 normalises by the white alone; the RGB's luminance stays.
-    let y_rgb = ColorSpace::srgb().rgb_to_xyz(Vec3::new(0.3, 0.5, 1.0)).y as f64;
-    assert_close("sky 2000 lx × Y(rgb)", m.illuminance, 2000.0 * y_rgb);
+    assert_close("sky 5 W/m²", m.irradiance, 5.0);
+}
+
+#[test]
+fn a_light_given_two_brightness_targets_is_an_error() {
+    let text = r#"WorldBegin LightSource "point" "float power" 1 "float lumens" 683"#;
+    let (desc, mut warnings) = prism::scene::parse_str(text, &Default::default()).unwrap();
+    let err = prism::scene::pbrt::build(&desc, &mut warnings).err().expect("must fail").to_string();
+    assert!(err.contains("give one of \"power\" and \"lumens\", not both"), "{err}");
+    assert!(err.contains("1:"), "no location: {err}");
 }

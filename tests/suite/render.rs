@@ -16,6 +16,7 @@ use prism::spectrum::Spectrum;
 fn settings(res: u32, spp: u64, max_depth: u32) -> RenderSettings {
     RenderSettings {
         resolution: (res, res),
+        film: Default::default(),
         spp,
         seed: 1,
         sampler: SamplerKind::Independent,

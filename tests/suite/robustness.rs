@@ -17,6 +17,7 @@ use prism::spectrum::Spectrum;
 fn settings() -> RenderSettings {
     RenderSettings {
         resolution: (24, 24),
+        film: Default::default(),
         spp: 32,
         seed: 5,
         sampler: SamplerKind::Independent,

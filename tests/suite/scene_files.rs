@@ -251,6 +251,7 @@ fn every_example_scene_builds_without_warnings_and_renders_finite_non_black() {
         let scene = builder.build(AccelKind::Obvhs).unwrap();
         let s = RenderSettings {
             resolution: (24, 16),
+            film: Default::default(),
             spp: 2,
             seed: 3,
             sampler: SamplerKind::Independent,

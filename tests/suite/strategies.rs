@@ -79,6 +79,7 @@ fn render_with(material: &Material, light: LightKind, strategy: DirectStrategy, 
     let scene = b.build(AccelKind::Obvhs).unwrap();
     let s = RenderSettings {
         resolution: (16, 16),
+        film: Default::default(),
         spp: 64,
         seed,
         sampler: SamplerKind::Independent,

@@ -1,0 +1,121 @@
+//! The pixel sensor between the film's XYZ and the image: pbrt-v4's "cie1931" sensor. Its
+//! response is the CIE 1931 matching functions themselves, scaled by the imaging ratio
+//! exposure time × ISO / 100 (1 by default, so scenes not written for a physical camera render
+//! unchanged), with an optional von Kries white balance that maps the white of a daylight
+//! illuminant of the given temperature to the output colour space's white.
+
+use crate::spectrum::{ColorSpace, Spectrum};
+use glam::{DMat3, DVec3, Mat3, Vec3};
+
+/// A linear map applied to every sample's XYZ before it reaches the film.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Sensor {
+    /// Exposure time [s] × ISO / 100.
+    pub imaging_ratio: f32,
+    /// Chromatic adaptation in XYZ, when white balancing.
+    pub white_balance: Option<Mat3>,
+}
+
+impl Default for Sensor {
+    fn default() -> Self {
+        Self { imaging_ratio: 1.0, white_balance: None }
+    }
+}
+
+impl Sensor {
+    /// A sensor with ISO `iso`, exposure `exposure_time` [s], and a white balance for daylight
+    /// of `white_balance_kelvin` (0: none) into `space`'s white.
+    pub fn new(iso: f32, exposure_time: f32, white_balance_kelvin: f32, space: &ColorSpace) -> Self {
+        let white_balance = (white_balance_kelvin > 0.0)
+            .then(|| von_kries(daylight_white(white_balance_kelvin as f64), space.white).as_mat3());
+        Self { imaging_ratio: exposure_time * iso / 100.0, white_balance }
+    }
+
+    /// The sensor's response to `xyz`.
+    #[inline]
+    pub fn apply(&self, xyz: Vec3) -> Vec3 {
+        let xyz = xyz * self.imaging_ratio;
+        match self.white_balance {
+            Some(m) => m * xyz,
+            None => xyz,
+        }
+    }
+}
+
+/// Bradford's cone-response (LMS) matrix, the one pbrt-v4 and ICC profiles adapt in.
+const LMS_FROM_XYZ: DMat3 = DMat3::from_cols_array(&[
+    0.8951, -0.7502, 0.0389, // column 1
+    0.2664, 1.7135, -0.0685, // column 2
+    -0.1614, 0.0367, 1.0296, // column 3
+]);
+
+/// XYZ with Y = 1 of chromaticity `xy`.
+fn xyz_of(xy: [f64; 2]) -> DVec3 {
+    DVec3::new(xy[0] / xy[1], 1.0, (1.0 - xy[0] - xy[1]) / xy[1])
+}
+
+/// von Kries adaptation from white `src` to white `dst` (xy): each cone response is scaled by
+/// dst/src, so `src`'s XYZ maps to `dst`'s.
+pub fn von_kries(src: [f64; 2], dst: [f64; 2]) -> DMat3 {
+    let (s, d) = (LMS_FROM_XYZ * xyz_of(src), LMS_FROM_XYZ * xyz_of(dst));
+    LMS_FROM_XYZ.inverse() * DMat3::from_diagonal(d / s) * LMS_FROM_XYZ
+}
+
+/// Chromaticity of CIE daylight at correlated colour temperature `t` [K] (CIE 015:2018 eq. 4.7
+/// and 4.8), with the temperature rescaled from c₂ = 1.4380 to 1.4388 cm·K as for the tabulated
+/// D illuminants; below 4000 K, where daylight is undefined, the blackbody's (as pbrt-v4 does).
+pub fn daylight_white(t: f64) -> [f64; 2] {
+    let t = t * 1.4388 / 1.4380;
+    if t < 4000.0 {
+        let xyz = Spectrum::blackbody(t as f32).to_xyz_f64();
+        let sum = xyz.x + xyz.y + xyz.z;
+        return [xyz.x / sum, xyz.y / sum];
+    }
+    let t = t.min(25_000.0);
+    let (a, b, c, d) = if t <= 7000.0 {
+        (-4.6070e9, 2.9678e6, 0.09911e3, 0.244063)
+    } else {
+        (-2.0064e9, 1.9018e6, 0.24748e3, 0.237040)
+    };
+    let x = a / (t * t * t) + b / (t * t) + c / t + d;
+    [x, -3.0 * x * x + 2.870 * x - 0.275]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn daylight_6504_k_is_d65_and_the_blackbody_takes_over_below_4000_k() {
+        // D65 is daylight at 6504 K (6500 K on the old c₂ scale): xy = (0.3127, 0.3290).
+        let d65 = daylight_white(6500.0);
+        assert!((d65[0] - 0.3127).abs() < 2e-4 && (d65[1] - 0.3290).abs() < 2e-4, "{d65:?}");
+        // D50 (5003 K): (0.3457, 0.3585).
+        let d50 = daylight_white(5000.0);
+        assert!((d50[0] - 0.3457).abs() < 2e-4 && (d50[1] - 0.3585).abs() < 2e-4, "{d50:?}");
+        // Illuminant A is a 2856 K blackbody: (0.4476, 0.4074).
+        let a = daylight_white(2856.0 * 1.4380 / 1.4388);
+        assert!((a[0] - 0.4476).abs() < 1e-3 && (a[1] - 0.4074).abs() < 1e-3, "{a:?}");
+    }
+
+    #[test]
+    fn white_balance_maps_the_illuminant_white_to_the_space_white_and_keeps_y_scale() {
+        let srgb = ColorSpace::srgb();
+        let sensor = Sensor::new(100.0, 1.0, 3200.0, srgb);
+        let src = xyz_of(daylight_white(3200.0)).as_vec3();
+        let out = sensor.apply(src * 2.0);
+        let dst = xyz_of(srgb.white).as_vec3() * 2.0;
+        assert!((out - dst).length() < 1e-4 * dst.length(), "{out:?} vs {dst:?}");
+        // White balancing to the space's own white is the identity.
+        let same = von_kries(srgb.white, srgb.white);
+        assert!((same - DMat3::IDENTITY).to_cols_array().iter().all(|v| v.abs() < 1e-12));
+    }
+
+    #[test]
+    fn imaging_ratio_is_exposure_times_iso_over_100() {
+        let s = Sensor::new(400.0, 0.5, 0.0, ColorSpace::srgb());
+        assert_eq!(s.imaging_ratio, 2.0);
+        assert_eq!(s.apply(Vec3::new(1.0, 2.0, 3.0)), Vec3::new(2.0, 4.0, 6.0));
+        assert_eq!(Sensor::default().apply(Vec3::ONE), Vec3::ONE);
+    }
+}
