@@ -1,4 +1,4 @@
-//! `prism measure irradiance`: the measuring instrument on the command line.
+//! `prism measure irradiance|radiance`: the measuring instrument on the command line.
 
 use crate::accel::AccelKind;
 use crate::integrator::PathIntegrator;
@@ -11,20 +11,31 @@ use std::path::PathBuf;
 #[derive(clap::Subcommand, Debug)]
 pub enum MeasureCommand {
     /// Irradiance E [W/m²] (and illuminance [lux]) at a point with a normal.
-    Irradiance(IrradianceArgs),
+    Irradiance {
+        #[command(flatten)]
+        at: Instrument,
+        /// Surface normal nx,ny,nz.
+        #[arg(long, allow_hyphen_values = true)]
+        normal: String,
+    },
+    /// Radiance L [W/(sr·m²)] (and luminance [cd/m²]) leaving a point toward a direction.
+    Radiance {
+        #[command(flatten)]
+        at: Instrument,
+        /// Direction dx,dy,dz the radiance travels in (e.g. from a surface toward a viewer).
+        #[arg(long, allow_hyphen_values = true)]
+        dir: String,
+    },
 }
 
-/// Arguments of `prism measure irradiance`.
+/// Where and how to measure.
 #[derive(clap::Args, Debug)]
-pub struct IrradianceArgs {
+pub struct Instrument {
     /// pbrt-v4 scene file; without one, the built-in Cornell box.
     pub scene: Option<PathBuf>,
     /// Point x,y,z.
     #[arg(long, allow_hyphen_values = true)]
     pub at: String,
-    /// Surface normal nx,ny,nz.
-    #[arg(long, allow_hyphen_values = true)]
-    pub normal: String,
     /// Number of independent estimates.
     #[arg(long, default_value_t = 100_000)]
     pub samples: u64,
@@ -53,11 +64,14 @@ fn parse_vec3(s: &str, what: &str) -> Result<Vec3> {
 
 /// Runs `prism measure`.
 pub fn run(cmd: &MeasureCommand) -> Result<()> {
-    let MeasureCommand::Irradiance(a) = cmd;
+    let (a, (dir, dir_name)) = match cmd {
+        MeasureCommand::Irradiance { at, normal } => (at, (normal, "--normal")),
+        MeasureCommand::Radiance { at, dir } => (at, (dir, "--dir")),
+    };
     let p = parse_vec3(&a.at, "--at")?;
-    let n = parse_vec3(&a.normal, "--normal")?;
-    if n.length() == 0.0 {
-        bail!("--normal must not be zero");
+    let d = parse_vec3(dir, dir_name)?;
+    if d.length() == 0.0 {
+        bail!("{dir_name} must not be zero");
     }
     if a.samples < 2 {
         bail!("--samples must be at least 2 (a standard error needs two)");
@@ -68,7 +82,20 @@ pub fn run(cmd: &MeasureCommand) -> Result<()> {
     };
     let scene = builder.build(AccelKind::default_available()).context("building the scene")?;
     let integrator = PathIntegrator { max_depth: a.max_depth, ..Default::default() };
-    let m = crate::measure::irradiance(&scene, &integrator, p, n, a.samples, a.seed);
+    if let MeasureCommand::Radiance { .. } = cmd {
+        let m = crate::measure::radiance(&scene, &integrator, p, d, a.samples, a.seed);
+        if a.json {
+            println!("{}", serde_json::to_string_pretty(&m)?);
+        } else {
+            println!(
+                "radiance  L = {:.6e} ± {:.2e} W/(sr·m²)  (360–830 nm, {} samples)",
+                m.radiance.mean, m.radiance.std_err, m.samples
+            );
+            println!("luminance Lv = {:.6e} ± {:.2e} cd/m²", m.luminance.mean, m.luminance.std_err);
+        }
+        return Ok(());
+    }
+    let m = crate::measure::irradiance(&scene, &integrator, p, d, a.samples, a.seed);
     if a.json {
         println!("{}", serde_json::to_string_pretty(&m)?);
     } else {

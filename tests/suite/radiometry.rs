@@ -215,6 +215,12 @@ fn lambertian_reflector_radiance_is_rho_e_over_pi() {
     let mean = ys.iter().sum::<f64>() / n;
     let se = (ys.iter().map(|v| (v - mean) * (v - mean)).sum::<f64>() / (n - 1.0) / n).sqrt();
     assert_close("ρE/π", Estimate { mean, std_err: se }, expected);
+    // The instrument reads the same radiance (∫ over 360–830 nm of a flat spectrum: × 470 nm)
+    // leaving the plane toward any direction above it.
+    for dir in [Vec3::Y, Vec3::new(0.5, 0.5, -0.7), Vec3::new(-0.9, 0.1, 0.3)] {
+        let m = prism::measure::radiance(&scene, &direct(), Vec3::new(0.3, 0.0, 0.2), dir, 2_000, 6);
+        assert_close(&format!("L toward {dir}"), m.radiance, expected * 470.0);
+    }
 }
 
 // ---- Photometric targets: pbrt-v4's `power`/`illuminance`, prism's `lumens`/`lux` ----
