@@ -22,10 +22,34 @@ pub enum Sampler {
     Sobol(SobolSampler),
 }
 
-/// Independent uniforms from a PCG32 stream per pixel, advanced to the sample.
+/// Independent uniforms from a PCG32 stream per pixel, advanced to the sample. Each sample owns
+/// 2¹⁶ consecutive draws of that stream; one that needs more (a long random walk in a medium)
+/// continues on a stream of its own rather than into the next sample's draws.
 #[derive(Clone, Debug)]
 pub struct IndependentSampler {
     rng: Rng,
+    pixel_seed: u64,
+    sample_index: u64,
+    /// Draws left before the sample's share of the pixel stream runs out.
+    left: u64,
+}
+
+impl IndependentSampler {
+    #[inline]
+    fn uniform(&mut self) -> f32 {
+        if self.left == 0 {
+            self.spill();
+        }
+        self.left -= 1;
+        self.rng.uniform()
+    }
+
+    #[cold]
+    fn spill(&mut self) {
+        let stream = hash64(&[self.pixel_seed, self.sample_index, DIMS_PER_SAMPLE]);
+        self.rng = Rng::new(0, stream);
+        self.left = u64::MAX;
+    }
 }
 
 /// Owen-scrambled Sobol (Burley 2020, "Practical Hash-based Owen Scrambling", JCGT 9(4)).
@@ -47,7 +71,7 @@ pub struct SobolSampler {
 impl Sampler {
     /// An independent sampler.
     pub fn independent() -> Self {
-        Self::Independent(IndependentSampler { rng: Rng::new(0, 0) })
+        Self::Independent(IndependentSampler { rng: Rng::new(0, 0), pixel_seed: 0, sample_index: 0, left: 0 })
     }
 
     /// An Owen-scrambled Sobol sampler.
@@ -63,6 +87,7 @@ impl Sampler {
             Self::Independent(s) => {
                 s.rng = Rng::new(0, pixel_seed);
                 s.rng.advance(sample_index.wrapping_mul(DIMS_PER_SAMPLE));
+                (s.pixel_seed, s.sample_index, s.left) = (pixel_seed, sample_index, DIMS_PER_SAMPLE);
             }
             Self::Sobol(s) => *s = SobolSampler { pixel_seed, sample_index, dimension: 0, buffer: [0.0; 4], used: 4 },
         }
@@ -71,7 +96,7 @@ impl Sampler {
     /// Next uniform in [0, 1).
     pub fn get_1d(&mut self) -> f32 {
         match self {
-            Self::Independent(s) => s.rng.uniform(),
+            Self::Independent(s) => s.uniform(),
             Self::Sobol(s) => s.take(1)[0],
         }
     }
@@ -79,7 +104,7 @@ impl Sampler {
     /// Next 2D uniform in [0, 1)².
     pub fn get_2d(&mut self) -> Vec2 {
         match self {
-            Self::Independent(s) => Vec2::new(s.rng.uniform(), s.rng.uniform()),
+            Self::Independent(s) => Vec2::new(s.uniform(), s.uniform()),
             Self::Sobol(s) => {
                 let v = s.take(2);
                 Vec2::new(v[0], v[1])
@@ -156,6 +181,25 @@ mod tests {
             let far = draws(&mut s, (3, 7), 42 + (1 << 16), 1);
             assert!(far.iter().all(|x| (0.0..1.0).contains(x)) && far != a);
         }
+    }
+
+    #[test]
+    fn a_sample_that_draws_more_than_its_share_does_not_reuse_the_next_samples_numbers() {
+        let mut s = Sampler::independent();
+        s.start_pixel_sample((1, 2), 1, 5);
+        let next: Vec<f32> = (0..8).map(|_| s.get_1d()).collect();
+        s.start_pixel_sample((1, 2), 0, 5);
+        for _ in 0..DIMS_PER_SAMPLE {
+            s.get_1d();
+        }
+        let spilled: Vec<f32> = (0..8).map(|_| s.get_1d()).collect();
+        assert_ne!(spilled, next, "draws past 2^16 repeat sample 1's stream");
+        // And the spill stream is still a function of (pixel, sample, seed) only.
+        s.start_pixel_sample((1, 2), 0, 5);
+        for _ in 0..DIMS_PER_SAMPLE {
+            s.get_1d();
+        }
+        assert_eq!((0..8).map(|_| s.get_1d()).collect::<Vec<_>>(), spilled);
     }
 
     /// RMS error over `pixels` independent pixels of the N-sample estimate of
