@@ -47,12 +47,17 @@ pub enum FilmFileError {
     /// Files that do not belong together.
     #[error("{0}")]
     Mismatch(String),
+    /// The film or its file buffer does not fit in memory.
+    #[error(transparent)]
+    Memory(#[from] crate::film::FilmAllocError),
 }
 
 /// Serialises `film` with `header` to `path` atomically.
 pub fn save(path: &Path, film: &Film, header: &FilmHeader) -> Result<(), FilmFileError> {
     let json = serde_json::to_vec(header).expect("header serialises");
-    let mut buf = Vec::with_capacity(MAGIC.len() + 4 + json.len() + film.pixels.len() * 40);
+    let size = MAGIC.len() + 4 + json.len() + film.pixels.len() * 40;
+    let mut buf = Vec::new();
+    buf.try_reserve_exact(size).map_err(|_| Film::alloc_error(film.width, film.height, size))?;
     buf.extend_from_slice(MAGIC);
     buf.extend_from_slice(&(json.len() as u32).to_le_bytes());
     buf.extend_from_slice(&json);
@@ -94,7 +99,7 @@ pub fn load(path: &Path) -> Result<(Film, FilmHeader), FilmFileError> {
     if data.len() as u64 != n * 40 {
         return Err(bad("pixel data has the wrong length"));
     }
-    let mut film = Film::new(header.width, header.height);
+    let mut film = Film::try_new(header.width, header.height)?;
     for (p, c) in film.pixels.iter_mut().zip(data.chunks_exact(40)) {
         let f64_at = |i: usize| f64::from_le_bytes(c[i * 8..i * 8 + 8].try_into().expect("8 bytes"));
         *p = Pixel {

@@ -81,10 +81,36 @@ pub struct Film {
     pub pixels: Vec<Pixel>,
 }
 
+/// A film (or a buffer of its size) that does not fit in memory.
+#[derive(Debug, thiserror::Error)]
+#[error("out of memory: a {width}x{height} film needs {gib:.1} GiB")]
+pub struct FilmAllocError {
+    /// Width [pixels].
+    pub width: u32,
+    /// Height [pixels].
+    pub height: u32,
+    /// Bytes asked for [GiB].
+    pub gib: f64,
+}
+
 impl Film {
-    /// An empty film.
+    /// An empty film; aborts like `vec!` if it does not fit in memory (see [`Film::try_new`]).
     pub fn new(width: u32, height: u32) -> Self {
         Self { width, height, pixels: vec![Pixel::default(); width as usize * height as usize] }
+    }
+
+    /// An empty film, or an error naming its size when the allocation fails.
+    pub fn try_new(width: u32, height: u32) -> Result<Self, FilmAllocError> {
+        let n = width as usize * height as usize;
+        let mut pixels = Vec::new();
+        pixels.try_reserve_exact(n).map_err(|_| Self::alloc_error(width, height, n * size_of::<Pixel>()))?;
+        pixels.resize(n, Pixel::default());
+        Ok(Self { width, height, pixels })
+    }
+
+    /// The error for a `width × height` film whose buffer of `bytes` could not be allocated.
+    pub fn alloc_error(width: u32, height: u32, bytes: usize) -> FilmAllocError {
+        FilmAllocError { width, height, gib: bytes as f64 / (1u64 << 30) as f64 }
     }
 
     /// Adds one sample's XYZ estimate with filter weight `w` to pixel (x, y).

@@ -13,7 +13,7 @@ use crate::cli::render::film_to_image;
 use crate::filter::Filter;
 use crate::image::{metrics, Image};
 use crate::integrator::PathIntegrator;
-use crate::render::{render, RenderSettings, SamplerKind};
+use crate::render::{render_range, RenderSettings, SamplerKind};
 use crate::scene::{Scene, SceneBuilder};
 use crate::spectrum::ColorSpace;
 use anyhow::{Context, Result};
@@ -126,10 +126,12 @@ fn settings(cfg: &BenchConfig, spp: u64, sampler: SamplerKind, seed: u64) -> Ren
     }
 }
 
-fn render_image(scene: &Scene, s: &RenderSettings) -> (Image, f64, crate::integrator::Stats) {
+fn render_image(scene: &Scene, s: &RenderSettings) -> Result<(Image, f64, crate::integrator::Stats)> {
     let t0 = Instant::now();
-    let (film, stats) = render(scene, s, |_| {});
-    (film_to_image(&film, ColorSpace::srgb()), t0.elapsed().as_secs_f64(), stats)
+    let (w, h) = s.film_size();
+    let mut film = crate::film::Film::try_new(w, h)?;
+    let stats = render_range(scene, s, &mut film, 0..s.spp, |_, _| true);
+    Ok((film_to_image(&film, ColorSpace::srgb())?, t0.elapsed().as_secs_f64(), stats))
 }
 
 /// The reference: the given image, or a cached render whose settings match, or a new render.
@@ -156,7 +158,7 @@ fn reference(cfg: &BenchConfig) -> Result<Image> {
     }
     eprintln!("bench: rendering a reference at {} spp (cached in {})", cfg.reference_spp, path.display());
     let scene = load(cfg)?.build(AccelKind::default_available())?;
-    let (img, _, _) = render_image(&scene, &settings(cfg, cfg.reference_spp, SamplerKind::Sobol, 0xfeed));
+    let (img, _, _) = render_image(&scene, &settings(cfg, cfg.reference_spp, SamplerKind::Sobol, 0xfeed))?;
     crate::image::write(&path, &img)?;
     crate::io::write_atomic(&meta_path, serde_json::to_string_pretty(&meta)?.as_bytes())?;
     Ok(img)
@@ -188,7 +190,7 @@ pub fn run(cfg: &BenchConfig) -> Result<Vec<BenchPoint>> {
         for &sampler in &cfg.samplers {
             for &spp in &cfg.ladder {
                 // A different seed from the reference's, so errors are not correlated with it.
-                let (img, time_s, stats) = render_image(&scene, &settings(cfg, spp, sampler, 1));
+                let (img, time_s, stats) = render_image(&scene, &settings(cfg, spp, sampler, 1))?;
                 let m = metrics::compare(&img, &reference)?;
                 let p = BenchPoint {
                     accel: accel.name().into(),

@@ -36,7 +36,7 @@ pub fn run(args: &MergeArgs) -> Result<()> {
     if args.output.extension().is_some_and(|e| e == "film") {
         checkpoint::save(&args.output, &film, &header)?;
     } else {
-        let image = super::render::film_to_image(&film, space);
+        let image = super::render::film_to_image(&film, space)?;
         crate::image::write(&args.output, &image).with_context(|| format!("writing {}", args.output.display()))?;
     }
     eprintln!("{}: merged {} parts, samples {:?}", args.output.display(), args.parts.len(), header.samples);

@@ -1,7 +1,7 @@
 //! `prism render`: load a scene (or the built-in Cornell box), render it, write the image.
 
 use crate::accel::AccelKind;
-use crate::film::{Crop, Film, FilmSettings};
+use crate::film::{Crop, Film, FilmAllocError, FilmSettings};
 use crate::filter::Filter;
 use crate::image::Image;
 use crate::integrator::{PathIntegrator, Stats, SubsurfaceMethod};
@@ -143,15 +143,17 @@ pub fn parse_duration(s: &str) -> Result<Duration> {
 }
 
 /// Converts the film's XYZ to linear RGB in `space`.
-pub fn film_to_image(film: &Film, space: &ColorSpace) -> Image {
-    let mut data = Vec::with_capacity(film.pixels.len() * 3);
+pub fn film_to_image(film: &Film, space: &ColorSpace) -> Result<Image, FilmAllocError> {
+    let n = film.pixels.len() * 3;
+    let mut data = Vec::new();
+    data.try_reserve_exact(n).map_err(|_| Film::alloc_error(film.width, film.height, n * 4))?;
     for y in 0..film.height {
         for x in 0..film.width {
             let rgb = space.xyz_to_rgb(film.xyz(x, y));
             data.extend_from_slice(&rgb.to_array());
         }
     }
-    Image { width: film.width, height: film.height, channels: 3, data }
+    Ok(Image { width: film.width, height: film.height, channels: 3, data })
 }
 
 /// Validated settings and I/O choices for one render.
@@ -352,7 +354,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         fingerprint: fp.clone(),
     };
 
-    let mut film = Film::new(w, h);
+    let mut film = Film::try_new(w, h)?;
     let mut start = range.start;
     if args.resume {
         let (f, hd) = crate::checkpoint::load(&ckpt_path)
@@ -404,7 +406,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     if film_output {
         crate::checkpoint::save(&job.output, &film, &header(range.start..done))?;
     } else {
-        let image = film_to_image(&film, job.space);
+        let image = film_to_image(&film, job.space)?;
         crate::image::write(&job.output, &image).with_context(|| format!("writing {}", job.output.display()))?;
     }
     if ckpt_every.is_some() && done >= range.end {

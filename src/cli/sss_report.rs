@@ -85,7 +85,7 @@ pub fn run(a: &SssReportArgs) -> Result<()> {
             let (film, st) =
                 render(&scene, &settings(a.size, a.reference_spp, 1000, SubsurfaceMethod::RandomWalk), |_| {});
             let reference_s = t0.elapsed().as_secs_f64();
-            let reference = film_to_image(&film, space);
+            let reference = film_to_image(&film, space)?;
             let name = format!("{}-{}", shape.name(), medium.name);
             save_png(&fig.join(format!("{name}-reference.png")), &reference)?;
             eprintln!("{name}: reference {reference_s:.1} s ({} non-finite)", st.nonfinite);
@@ -95,7 +95,7 @@ pub fn run(a: &SssReportArgs) -> Result<()> {
                     let t0 = Instant::now();
                     let (film, _) = render(&scene, &settings(a.size, spp, 1, method), |_| {});
                     let time_s = t0.elapsed().as_secs_f64();
-                    let img = film_to_image(&film, space);
+                    let img = film_to_image(&film, space)?;
                     let m = metrics::compare(&img, &reference)?;
                     rungs.push((spp, time_s, m.rmse));
                     let p = BenchPoint {
@@ -127,7 +127,7 @@ pub fn run(a: &SssReportArgs) -> Result<()> {
                 let bias = match method {
                     SubsurfaceMethod::Diffusion => {
                         let (film, _) = render(&scene, &settings(a.size, a.reference_spp, 2, method), |_| {});
-                        metrics::compare(&film_to_image(&film, space), &reference)?.rmse
+                        metrics::compare(&film_to_image(&film, space)?, &reference)?.rmse
                     }
                     SubsurfaceMethod::RandomWalk => {
                         let (n, _, e) = *rungs.last().unwrap();

@@ -71,6 +71,25 @@ fn cli_reports_an_absurd_ply_in_one_line() {
     assert!(!dir.join("out.exr").exists());
 }
 
+#[test]
+fn a_film_that_does_not_fit_in_memory_is_a_one_line_error() {
+    // An 8 GB address-space limit makes the 10 GiB film of a 16384² render fail to allocate on
+    // any machine; prism must say so instead of aborting ("memory allocation failed").
+    let dir = tmpdir("oom");
+    let out = dir.join("huge.png");
+    let cmd = format!(
+        "ulimit -v 8000000 && exec '{}' render --resolution 16384x16384 --spp 1 -o '{}'",
+        env!("CARGO_BIN_EXE_prism"),
+        out.display()
+    );
+    let o = Command::new("sh").args(["-c", &cmd]).env("RUST_BACKTRACE", "0").output().unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+    assert!(err.contains("out of memory: a 16384x16384 film needs 10.0 GiB"), "{err}");
+    assert!(!out.exists());
+}
+
 #[cfg(feature = "embree")]
 mod embree {
     use super::*;
