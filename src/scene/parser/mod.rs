@@ -1,0 +1,389 @@
+//! The directive parser: the graphics state, Include/Import and the checks at the end of the
+//! file; the directives themselves are in `transforms`, `options` (the options block) and
+//! `world` (the world block).
+//!
+//! Semantics follow the pbrt-v4 file-format reference (pbrt.org/fileformat-v4) and
+//! `BasicSceneBuilder` in pbrt-v4 (src/pbrt/scene.cpp): transforms post-multiply the current
+//! transformation matrix (CTM); AttributeBegin/End push and pop the whole graphics state.
+
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+mod options;
+mod transforms;
+mod world;
+
+pub use transforms::look_at;
+
+use glam::Mat4;
+
+use super::desc::*;
+use super::error::{Location, SceneError, Warning};
+use super::names::{self, Lookup};
+use super::params::{ParamSet, ParamValue};
+use super::source::Source;
+use super::tokenizer::{Token, TokenKind};
+
+/// Parser settings.
+#[derive(Clone, Debug, Default)]
+pub struct ParseOptions {
+    /// Unsupported pbrt-v4 features (media, hair, measured BSDFs, ...) are errors, not warnings.
+    pub strict: bool,
+    /// Directory that relative paths in [`parse_str`] text resolve against (default: the
+    /// current directory).
+    pub base_dir: Option<PathBuf>,
+}
+
+/// Include/Import nesting deeper than this is an error (guards against runaway recursion that is
+/// not a cycle, e.g. through symlinks).
+pub const MAX_INCLUDE_DEPTH: usize = 64;
+
+/// Parses the scene file at `path` (Include/Import resolve relative to the including file).
+pub fn parse_file(path: &Path, opts: &ParseOptions) -> Result<(SceneDesc, Vec<Warning>), SceneError> {
+    let file: Arc<Path> = Arc::from(path);
+    let loc = Location::new(file.clone(), 0, 0);
+    let text = read_text(path, &loc)?;
+    let mut p = Parser::new(opts);
+    p.include_stack.push(canonical(path));
+    p.parse_text(&text, file)?;
+    p.finish()
+}
+
+/// Parses scene text; relative paths resolve against `opts.base_dir`.
+pub fn parse_str(text: &str, opts: &ParseOptions) -> Result<(SceneDesc, Vec<Warning>), SceneError> {
+    let file: Arc<Path> = match &opts.base_dir {
+        Some(d) => Arc::from(d.join("<string>")),
+        None => Arc::from(Path::new("<string>")),
+    };
+    let mut p = Parser::new(opts);
+    p.parse_text(text, file)?;
+    p.finish()
+}
+
+fn canonical(path: &Path) -> PathBuf {
+    std::fs::canonicalize(path).unwrap_or_else(|_| path.to_path_buf())
+}
+
+fn read_text(path: &Path, loc: &Location) -> Result<String, SceneError> {
+    std::fs::read_to_string(path).map_err(|e| SceneError::Io {
+        loc: loc.clone(),
+        path: path.to_path_buf(),
+        reason: e.to_string(),
+    })
+}
+
+/// Which transforms of a (start, end) motion pair directives affect.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Active {
+    Start,
+    End,
+    All,
+}
+
+/// The graphics state that AttributeBegin saves.
+#[derive(Clone, Debug)]
+struct GraphicsState {
+    ctm: Mat4,
+    active: Active,
+    reverse_orientation: bool,
+    material: MaterialRef,
+    area_light: Option<AreaLightDesc>,
+    color_space: String,
+    /// `Attribute "shape" ...` etc.: defaults merged into later directives' parameters.
+    defaults: HashMap<&'static str, ParamSet>,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Pushed {
+    Attribute,
+    Transform,
+    Object,
+}
+
+struct Parser<'o> {
+    opts: &'o ParseOptions,
+    warnings: Vec<Warning>,
+    gs: GraphicsState,
+    stack: Vec<(GraphicsState, Pushed, Location)>,
+    named_cs: HashMap<String, Mat4>,
+    in_world: Option<Location>,
+    camera: Option<CameraDesc>,
+    film: Option<Directive>,
+    sampler: Option<Directive>,
+    integrator: Option<Directive>,
+    filter: Option<Directive>,
+    accelerator: Option<Directive>,
+    color_space: String,
+    options: ParamSet,
+    shapes: Vec<ShapeDesc>,
+    lights: Vec<LightDesc>,
+    materials: Vec<MaterialDesc>,
+    named_materials: Vec<NamedMaterial>,
+    named_material_uses: Vec<(String, Location)>,
+    textures: Vec<TextureDesc>,
+    objects: Vec<ObjectDesc>,
+    current_object: Option<ObjectDesc>,
+    instances: Vec<(String, Mat4, Location)>,
+    include_stack: Vec<PathBuf>,
+    /// Entries of `stack` below this belong to an importing file: an imported file cannot pop them.
+    stack_floor: usize,
+    warned_motion: bool,
+    last_loc: Option<Location>,
+}
+
+impl<'o> Parser<'o> {
+    fn new(opts: &'o ParseOptions) -> Self {
+        Self {
+            opts,
+            warnings: Vec::new(),
+            gs: GraphicsState {
+                ctm: Mat4::IDENTITY,
+                active: Active::All,
+                reverse_orientation: false,
+                material: MaterialRef::Default,
+                area_light: None,
+                color_space: "srgb".into(),
+                defaults: HashMap::new(),
+            },
+            stack: Vec::new(),
+            named_cs: HashMap::new(),
+            in_world: None,
+            camera: None,
+            film: None,
+            sampler: None,
+            integrator: None,
+            filter: None,
+            accelerator: None,
+            color_space: "srgb".into(),
+            options: ParamSet::new("srgb"),
+            shapes: Vec::new(),
+            lights: Vec::new(),
+            materials: Vec::new(),
+            named_materials: Vec::new(),
+            named_material_uses: Vec::new(),
+            textures: Vec::new(),
+            objects: Vec::new(),
+            current_object: None,
+            instances: Vec::new(),
+            include_stack: Vec::new(),
+            stack_floor: 0,
+            warned_motion: false,
+            last_loc: None,
+        }
+    }
+
+    fn warn(&mut self, loc: &Location, message: impl Into<String>) {
+        self.warnings.push(Warning { loc: loc.clone(), message: message.into() });
+    }
+
+    /// A pbrt-v4 feature prism does not render: an error under `strict`, else a warning.
+    fn unsupported(&mut self, loc: &Location, feature: &str, fallback: &str) -> Result<(), SceneError> {
+        if self.opts.strict {
+            return Err(SceneError::Unsupported {
+                loc: loc.clone(),
+                feature: feature.into(),
+                fallback: fallback.into(),
+            });
+        }
+        self.warn(loc, format!("unsupported feature: {feature}; prism {fallback}"));
+        Ok(())
+    }
+
+    /// Checks a type name; `Some(type to use)` or `None` to skip the directive.
+    fn resolve_type(
+        &mut self,
+        tok: &Token,
+        kind: &'static str,
+        supported: &[&str],
+        pbrt_only: &[(&'static str, &'static str)],
+        skip: bool,
+    ) -> Result<Option<String>, SceneError> {
+        match names::lookup(&tok.text, supported, pbrt_only) {
+            Lookup::Supported => Ok(Some(tok.text.clone())),
+            Lookup::Substitute(s) => {
+                let feature = format!("{kind} \"{}\"", tok.text);
+                if skip {
+                    self.unsupported(&tok.loc, &feature, s)?;
+                    Ok(None)
+                } else {
+                    self.unsupported(&tok.loc, &feature, &format!("uses \"{s}\" instead"))?;
+                    Ok(Some(s.to_string()))
+                }
+            }
+            Lookup::Unknown => Err(SceneError::UnknownType {
+                loc: tok.loc.clone(),
+                kind,
+                name: tok.text.clone(),
+                valid: names::valid_list(supported, pbrt_only),
+            }),
+        }
+    }
+
+    fn require_world(&self, tok: &Token) -> Result<(), SceneError> {
+        if self.in_world.is_none() {
+            return Err(SceneError::syntax(
+                &tok.loc,
+                &tok.text,
+                format!("{} is not allowed before WorldBegin", tok.text),
+            ));
+        }
+        Ok(())
+    }
+
+    fn require_options(&self, tok: &Token) -> Result<(), SceneError> {
+        if self.in_world.is_some() {
+            return Err(SceneError::syntax(
+                &tok.loc,
+                &tok.text,
+                format!("{} is not allowed after WorldBegin", tok.text),
+            ));
+        }
+        Ok(())
+    }
+
+    fn parse_text(&mut self, text: &str, file: Arc<Path>) -> Result<(), SceneError> {
+        // Editors on Windows may prepend a UTF-8 byte-order mark.
+        let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+        let mut src = Source::new(text, file);
+        while let Some(tok) = src.next()? {
+            if tok.kind != TokenKind::Word {
+                return Err(SceneError::syntax(&tok.loc, &tok.display(), "expected a directive"));
+            }
+            self.last_loc = Some(tok.loc.clone());
+            self.directive(&tok, &mut src)?;
+        }
+        Ok(())
+    }
+
+    fn directive(&mut self, tok: &Token, src: &mut Source) -> Result<(), SceneError> {
+        let cs = self.gs.color_space.clone();
+        if self.transform_directive(tok, src)?
+            || self.options_directive(tok, src, &cs)?
+            || self.world_directive(tok, src, &cs)?
+        {
+            return Ok(());
+        }
+        match tok.text.as_str() {
+            "Include" | "Import" => {
+                let name = src.string(tok, "a file name")?;
+                if tok.text == "Import" {
+                    self.require_world(tok)?;
+                }
+                self.include(tok, &name)?;
+            }
+            _ => {
+                return Err(SceneError::syntax(&tok.loc, &tok.text, format!("unknown directive \"{}\"", tok.text)));
+            }
+        }
+        Ok(())
+    }
+
+    fn include(&mut self, tok: &Token, name: &Token) -> Result<(), SceneError> {
+        let path = name.loc.base_dir().join(&name.text);
+        let canon = canonical(&path);
+        if let Some(i) = self.include_stack.iter().position(|p| *p == canon) {
+            let mut chain: Vec<String> = self.include_stack[i..].iter().map(|p| p.display().to_string()).collect();
+            chain.push(canon.display().to_string());
+            return Err(SceneError::IncludeCycle { loc: tok.loc.clone(), chain: chain.join(" -> ") });
+        }
+        if self.include_stack.len() >= MAX_INCLUDE_DEPTH {
+            return Err(SceneError::syntax(
+                &tok.loc,
+                &name.display(),
+                format!("includes nested deeper than {MAX_INCLUDE_DEPTH} files"),
+            ));
+        }
+        let text = read_text(&path, &name.loc)?;
+        self.include_stack.push(canon);
+        // pbrt-v4 parses an Import'ed file with its own copy of the graphics state (it may run
+        // in parallel): its transforms, materials, area lights and coordinate-system names do not
+        // leak back, and it cannot close blocks the importer opened. Named materials, textures,
+        // objects, shapes and lights it defines belong to the scene.
+        let saved = (tok.text == "Import").then(|| (self.gs.clone(), self.named_cs.clone(), self.stack_floor));
+        if saved.is_some() {
+            self.stack_floor = self.stack.len();
+        }
+        self.parse_text(&text, Arc::from(path.as_path()))?;
+        if let Some((gs, named_cs, floor)) = saved {
+            if self.stack.len() != self.stack_floor {
+                let (_, kind, loc) = self.stack.last().expect("deeper than the floor");
+                return Err(SceneError::syntax(
+                    &tok.loc,
+                    &name.display(),
+                    format!("the imported file leaves the {kind:?}Begin at {loc} open; an imported file must close every block it opens"),
+                ));
+            }
+            self.gs = gs;
+            self.named_cs = named_cs;
+            self.stack_floor = floor;
+        }
+        self.include_stack.pop();
+        Ok(())
+    }
+
+    fn finish(mut self) -> Result<(SceneDesc, Vec<Warning>), SceneError> {
+        let end = self.last_loc.clone().unwrap_or_else(|| Location::new(Arc::from(Path::new("<empty>")), 1, 1));
+        while let Some((_, kind, loc)) = self.stack.pop() {
+            if kind == Pushed::Object {
+                let o = self.current_object.take().expect("ObjectBegin pushed an object");
+                self.objects.push(o);
+                self.warn(&loc, "ObjectBegin without ObjectEnd; closed at end of file");
+            } else {
+                self.warn(&loc, format!("{kind:?}Begin without a matching End"));
+            }
+        }
+        for (name, loc) in &self.named_material_uses {
+            if !self.named_materials.iter().any(|m| &m.name == name) {
+                return Err(SceneError::syntax(loc, name, format!("named material \"{name}\" is not defined")));
+            }
+        }
+        let mut instances = Vec::with_capacity(self.instances.len());
+        for (object, m, loc) in self.instances.drain(..) {
+            let Some(object_index) = self.objects.iter().position(|o| o.name == object) else {
+                return Err(SceneError::syntax(&loc, &object, format!("object \"{object}\" is not defined")));
+            };
+            instances.push(InstanceDesc { object, object_index, world_from_instance: m, loc });
+        }
+        let textures = &self.textures;
+        let check_textures = |ps: &ParamSet| -> Result<(), SceneError> {
+            for p in ps.iter() {
+                if let ParamValue::Texture(t) = &p.value {
+                    if !textures.iter().any(|x| &x.name == t) {
+                        return Err(SceneError::syntax(&p.loc, t, format!("texture \"{t}\" is not defined")));
+                    }
+                }
+            }
+            Ok(())
+        };
+        for m in self.materials.iter().chain(self.named_materials.iter().map(|n| &n.material)) {
+            check_textures(&m.params)?;
+        }
+        for t in &self.textures {
+            check_textures(&t.params)?;
+        }
+        let default_loc = self.in_world.clone().unwrap_or_else(|| end.clone());
+        let cs = self.color_space.clone();
+        let dflt = |kind: &str| Directive { kind: kind.into(), params: ParamSet::new(&cs), loc: default_loc.clone() };
+        let desc = SceneDesc {
+            camera: self
+                .camera
+                .unwrap_or_else(|| CameraDesc { directive: dflt("perspective"), camera_from_world: Mat4::IDENTITY }),
+            film: self.film.unwrap_or_else(|| dflt("rgb")),
+            sampler: self.sampler.unwrap_or_else(|| dflt("zsobol")),
+            integrator: self.integrator.unwrap_or_else(|| dflt("path")),
+            filter: self.filter.unwrap_or_else(|| dflt("gaussian")),
+            accelerator: self.accelerator,
+            color_space: self.color_space,
+            options: self.options,
+            shapes: self.shapes,
+            lights: self.lights,
+            materials: self.materials,
+            named_materials: self.named_materials,
+            textures: self.textures,
+            objects: self.objects,
+            instances,
+        };
+        Ok((desc, self.warnings))
+    }
+}

@@ -1,0 +1,126 @@
+//! Directives of the options block (camera, film, sampler, integrator, filter, accelerator)
+//! and those allowed anywhere (Option, ColorSpace, media), WorldBegin/WorldEnd.
+
+use glam::Mat4;
+
+use super::Parser;
+use crate::scene::desc::*;
+use crate::scene::error::SceneError;
+use crate::scene::names;
+use crate::scene::source::Source;
+use crate::scene::tokenizer::{Token, TokenKind};
+
+impl Parser<'_> {
+    /// Camera, Film, Integrator, Sampler, PixelFilter, Accelerator, Option, ColorSpace,
+    /// MakeNamedMedium, MediumInterface, WorldBegin, WorldEnd. `Ok(false)` if `tok` is not one
+    /// of them.
+    pub(super) fn options_directive(&mut self, tok: &Token, src: &mut Source, cs: &str) -> Result<bool, SceneError> {
+        match tok.text.as_str() {
+            "Option" => {
+                let ps = src.params(cs)?;
+                let mut merged = ps;
+                merged.merge_defaults(&self.options);
+                self.options = merged;
+            }
+            "ColorSpace" => {
+                let name = src.string(tok, "a colour space name")?;
+                if !names::COLOR_SPACES.contains(&name.text.as_str()) {
+                    return Err(SceneError::UnknownType {
+                        loc: name.loc,
+                        kind: "color space",
+                        name: name.text,
+                        valid: names::COLOR_SPACES.join(", "),
+                    });
+                }
+                self.gs.color_space = name.text.clone();
+                if self.in_world.is_none() {
+                    self.color_space = name.text;
+                }
+            }
+            "Camera" => {
+                self.require_options(tok)?;
+                let ty = src.string(tok, "a camera type")?;
+                let params = src.params(cs)?;
+                let kind = self.resolve_type(&ty, "camera", names::PRISM_CAMERAS, names::PBRT_ONLY_CAMERAS, false)?;
+                let ctm = self.gs.ctm;
+                let det = ctm.determinant();
+                if det == 0.0 || !det.is_finite() {
+                    return Err(SceneError::syntax(&tok.loc, &tok.text, "the camera transform is not invertible"));
+                }
+                self.named_cs.insert("camera".into(), ctm.inverse());
+                self.camera = Some(CameraDesc {
+                    directive: Directive { kind: kind.unwrap_or_default(), params, loc: tok.loc.clone() },
+                    camera_from_world: ctm,
+                });
+            }
+            "Film" => {
+                self.require_options(tok)?;
+                let ty = src.string(tok, "a film type")?;
+                let params = src.params(cs)?;
+                let kind = self.resolve_type(&ty, "film", names::PRISM_FILMS, names::PBRT_ONLY_FILMS, false)?;
+                self.film = Some(Directive { kind: kind.unwrap_or_default(), params, loc: tok.loc.clone() });
+            }
+            "Integrator" => {
+                self.require_options(tok)?;
+                let ty = src.string(tok, "an integrator type")?;
+                let params = src.params(cs)?;
+                let kind = self.resolve_type(
+                    &ty,
+                    "integrator",
+                    names::PRISM_INTEGRATORS,
+                    names::PBRT_ONLY_INTEGRATORS,
+                    false,
+                )?;
+                self.integrator = Some(Directive { kind: kind.unwrap_or_default(), params, loc: tok.loc.clone() });
+            }
+            "Sampler" | "PixelFilter" | "Accelerator" => {
+                self.require_options(tok)?;
+                let ty = src.string(tok, "a type name")?;
+                let params = src.params(cs)?;
+                let (kind, valid): (&'static str, &[&str]) = match tok.text.as_str() {
+                    "Sampler" => ("sampler", names::SAMPLERS),
+                    "PixelFilter" => ("filter", names::FILTERS),
+                    _ => ("accelerator", &["bvh", "kdtree"]),
+                };
+                if !valid.contains(&ty.text.as_str()) {
+                    return Err(SceneError::UnknownType { loc: ty.loc, kind, name: ty.text, valid: valid.join(", ") });
+                }
+                let d = Directive { kind: ty.text, params, loc: tok.loc.clone() };
+                match kind {
+                    "sampler" => self.sampler = Some(d),
+                    "filter" => self.filter = Some(d),
+                    _ => self.accelerator = Some(d),
+                }
+            }
+            "MakeNamedMedium" => {
+                let name = src.string(tok, "a medium name")?;
+                let _ = src.params(cs)?;
+                self.unsupported(&tok.loc, &format!("participating medium \"{}\"", name.text), "ignores the medium")?;
+            }
+            "MediumInterface" => {
+                let inside = src.string(tok, "a medium name")?;
+                // The outside name is optional (one name means both sides).
+                let outside = match src.peek()? {
+                    Some(t) if t.kind == TokenKind::Str && !t.text.contains(' ') => src.next()?.map(|t| t.text),
+                    _ => None,
+                };
+                // `MediumInterface "" ""` (vacuum on both sides) is what prism renders anyway.
+                if !inside.text.is_empty() || outside.is_some_and(|o| !o.is_empty()) {
+                    self.unsupported(&tok.loc, "MediumInterface (inside/outside media)", "ignores the media names")?;
+                }
+            }
+            "WorldBegin" => {
+                self.require_options(tok)?;
+                self.in_world = Some(tok.loc.clone());
+                self.gs.ctm = Mat4::IDENTITY;
+                self.named_cs.insert("world".into(), Mat4::IDENTITY);
+            }
+            "WorldEnd" => {
+                self.require_world(tok)?;
+                self.warn(&tok.loc, "WorldEnd is a pbrt-v3 directive; ignored");
+            }
+            _ => return Ok(false),
+        }
+        Ok(true)
+    }
+}

@@ -1,0 +1,288 @@
+//! Directives of the world block: attribute and object blocks, materials, textures, lights,
+//! shapes.
+
+use super::{Parser, Pushed};
+use crate::scene::desc::*;
+use crate::scene::error::SceneError;
+use crate::scene::names;
+use crate::scene::params::{Param, ParamSet, ParamValue};
+use crate::scene::shapes;
+use crate::scene::source::Source;
+use crate::scene::tokenizer::{Token, TokenKind};
+
+impl Parser<'_> {
+    /// AttributeBegin/End, TransformBegin/End, Attribute, ObjectBegin/End, ObjectInstance,
+    /// Material, MakeNamedMaterial, NamedMaterial, Texture, LightSource, AreaLightSource, Shape.
+    /// `Ok(false)` if `tok` is not one of them.
+    pub(super) fn world_directive(&mut self, tok: &Token, src: &mut Source, cs: &str) -> Result<bool, SceneError> {
+        match tok.text.as_str() {
+            "AttributeBegin" | "TransformBegin" => {
+                self.require_world(tok)?;
+                let kind = if tok.text == "AttributeBegin" { Pushed::Attribute } else { Pushed::Transform };
+                if kind == Pushed::Transform {
+                    self.warn(&tok.loc, "TransformBegin is deprecated in pbrt-v4; use AttributeBegin");
+                }
+                self.stack.push((self.gs.clone(), kind, tok.loc.clone()));
+            }
+            "AttributeEnd" | "TransformEnd" => {
+                self.require_world(tok)?;
+                let want = if tok.text == "AttributeEnd" { Pushed::Attribute } else { Pushed::Transform };
+                self.pop(tok, want)?;
+            }
+            "Attribute" => {
+                self.require_world(tok)?;
+                let target = src.string(tok, "a target (shape, light, material, medium, texture)")?;
+                let key: &'static str = match target.text.as_str() {
+                    "shape" => "shape",
+                    "light" => "light",
+                    "material" => "material",
+                    "medium" => "medium",
+                    "texture" => "texture",
+                    _ => {
+                        return Err(SceneError::syntax(
+                            &target.loc,
+                            &target.display(),
+                            "Attribute target must be one of shape, light, material, medium, texture",
+                        ))
+                    }
+                };
+                let ps = src.params(cs)?;
+                let entry = self.gs.defaults.entry(key).or_insert_with(|| ParamSet::new(cs));
+                // Later Attribute values override earlier ones.
+                let mut merged = ps;
+                merged.merge_defaults(entry);
+                *entry = merged;
+            }
+            "ObjectBegin" => {
+                self.require_world(tok)?;
+                let name = src.string(tok, "an object name")?;
+                if let Some(o) = &self.current_object {
+                    return Err(SceneError::syntax(
+                        &tok.loc,
+                        &tok.text,
+                        format!("ObjectBegin inside the definition of object \"{}\" ({})", o.name, o.loc),
+                    ));
+                }
+                if let Some(o) = self.objects.iter().find(|o| o.name == name.text) {
+                    return Err(SceneError::syntax(
+                        &name.loc,
+                        &name.display(),
+                        format!("object \"{}\" redefined (first defined at {})", o.name, o.loc),
+                    ));
+                }
+                self.stack.push((self.gs.clone(), Pushed::Object, tok.loc.clone()));
+                self.current_object = Some(ObjectDesc { name: name.text, shapes: Vec::new(), loc: tok.loc.clone() });
+            }
+            "ObjectEnd" => {
+                self.require_world(tok)?;
+                self.pop(tok, Pushed::Object)?;
+            }
+            "ObjectInstance" => {
+                self.require_world(tok)?;
+                let name = src.string(tok, "an object name")?;
+                if let Some(o) = &self.current_object {
+                    return Err(SceneError::syntax(
+                        &tok.loc,
+                        &tok.text,
+                        format!("ObjectInstance inside the definition of object \"{}\"", o.name),
+                    ));
+                }
+                self.instances.push((name.text, self.gs.ctm, tok.loc.clone()));
+            }
+            "Material" => {
+                self.require_world(tok)?;
+                let ty = src.string(tok, "a material type")?;
+                let params = src.params(cs)?;
+                let m = self.material(&ty, params)?;
+                self.materials.push(m);
+                self.gs.material = MaterialRef::Anonymous(self.materials.len() - 1);
+            }
+            "MakeNamedMaterial" => {
+                self.require_world(tok)?;
+                let name = src.string(tok, "a material name")?;
+                let params = src.params(cs)?;
+                if let Some(m) = self.named_materials.iter().find(|m| m.name == name.text) {
+                    return Err(SceneError::syntax(
+                        &name.loc,
+                        &name.display(),
+                        format!("named material \"{}\" redefined (first defined at {})", m.name, m.material.loc),
+                    ));
+                }
+                let ty = match params.get("type") {
+                    Some(Param { value: ParamValue::String(s), loc, .. }) if s.len() == 1 => {
+                        Token { kind: TokenKind::Str, text: s[0].clone(), loc: loc.clone() }
+                    }
+                    _ => {
+                        return Err(SceneError::syntax(
+                            &name.loc,
+                            &name.display(),
+                            format!("MakeNamedMaterial \"{}\" needs a \"string type\" parameter", name.text),
+                        ))
+                    }
+                };
+                let mut m = self.material(&ty, params)?;
+                m.loc = tok.loc.clone();
+                self.named_materials.push(NamedMaterial { name: name.text, material: m });
+            }
+            "NamedMaterial" => {
+                self.require_world(tok)?;
+                let name = src.string(tok, "a material name")?;
+                self.named_material_uses.push((name.text.clone(), name.loc.clone()));
+                self.gs.material = MaterialRef::Named(name.text);
+            }
+            "Texture" => {
+                self.require_world(tok)?;
+                let name = src.string(tok, "a texture name")?;
+                let class = src.string(tok, "a texture class (\"float\" or \"spectrum\")")?;
+                let ty = src.string(tok, "a texture type")?;
+                let mut params = src.params(cs)?;
+                let class = match class.text.as_str() {
+                    "float" => TextureClass::Float,
+                    "spectrum" | "color" => TextureClass::Spectrum,
+                    _ => {
+                        return Err(SceneError::syntax(
+                            &class.loc,
+                            &class.display(),
+                            "texture class must be \"float\" or \"spectrum\"",
+                        ))
+                    }
+                };
+                if !names::TEXTURES.contains(&ty.text.as_str()) {
+                    return Err(SceneError::UnknownType {
+                        loc: ty.loc,
+                        kind: "texture",
+                        name: ty.text,
+                        valid: names::TEXTURES.join(", "),
+                    });
+                }
+                if let Some(d) = self.gs.defaults.get("texture") {
+                    params.merge_defaults(d);
+                }
+                if self.textures.iter().any(|t| t.name == name.text && t.class == class) {
+                    self.warn(&name.loc, format!("texture \"{}\" redefined; the later definition is used", name.text));
+                }
+                self.textures.push(TextureDesc {
+                    name: name.text,
+                    class,
+                    kind: ty.text,
+                    params,
+                    world_from_texture: self.gs.ctm,
+                    loc: tok.loc.clone(),
+                });
+            }
+            "LightSource" => {
+                self.require_world(tok)?;
+                let ty = src.string(tok, "a light type")?;
+                let mut params = src.params(cs)?;
+                if let Some(kind) =
+                    self.resolve_type(&ty, "light", names::PRISM_LIGHTS, names::PBRT_ONLY_LIGHTS, true)?
+                {
+                    if let Some(d) = self.gs.defaults.get("light") {
+                        params.merge_defaults(d);
+                    }
+                    if self.current_object.is_some() {
+                        self.warn(&tok.loc, "LightSource inside ObjectBegin is not instanced; it is added once");
+                    }
+                    self.lights.push(LightDesc { kind, params, world_from_light: self.gs.ctm, loc: tok.loc.clone() });
+                }
+            }
+            "AreaLightSource" => {
+                self.require_world(tok)?;
+                let ty = src.string(tok, "an area light type")?;
+                let mut params = src.params(cs)?;
+                if let Some(kind) = self.resolve_type(&ty, "area light", names::PRISM_AREA_LIGHTS, &[], true)? {
+                    if let Some(d) = self.gs.defaults.get("light") {
+                        params.merge_defaults(d);
+                    }
+                    self.gs.area_light = Some(AreaLightDesc { kind, params, loc: tok.loc.clone() });
+                }
+            }
+            "Shape" => {
+                self.require_world(tok)?;
+                let ty = src.string(tok, "a shape type")?;
+                let params = src.params(cs)?;
+                self.shape(tok, &ty, params)?;
+            }
+            _ => return Ok(false),
+        }
+        Ok(true)
+    }
+
+    pub(super) fn pop(&mut self, tok: &Token, want: Pushed) -> Result<(), SceneError> {
+        let begin = match want {
+            Pushed::Attribute => "AttributeBegin",
+            Pushed::Transform => "TransformBegin",
+            Pushed::Object => "ObjectBegin",
+        };
+        match self.stack.last().filter(|_| self.stack.len() > self.stack_floor) {
+            None => Err(SceneError::syntax(&tok.loc, &tok.text, format!("{} without a matching {begin}", tok.text))),
+            Some((_, got, loc)) if *got != want => Err(SceneError::syntax(
+                &tok.loc,
+                &tok.text,
+                format!("{} does not match the open {:?}Begin at {loc}", tok.text, got),
+            )),
+            Some(_) => {
+                let (gs, _, _) = self.stack.pop().expect("checked non-empty");
+                if want == Pushed::Transform {
+                    self.gs.ctm = gs.ctm;
+                } else {
+                    self.gs = gs;
+                }
+                if want == Pushed::Object {
+                    let o = self.current_object.take().expect("ObjectBegin pushed an object");
+                    self.objects.push(o);
+                }
+                Ok(())
+            }
+        }
+    }
+
+    pub(super) fn material(&mut self, ty: &Token, mut params: ParamSet) -> Result<MaterialDesc, SceneError> {
+        let kind = self
+            .resolve_type(ty, "material", names::PRISM_MATERIALS, names::PBRT_ONLY_MATERIALS, false)?
+            .unwrap_or_default();
+        if kind != ty.text {
+            // The replacement's parameters mean something else: start from its defaults.
+            let mut fresh = ParamSet::new(&params.color_space);
+            if ty.text == "interface" {
+                let decl = Token { kind: TokenKind::Str, text: "float eta".into(), loc: ty.loc.clone() };
+                let one = Token { kind: TokenKind::Word, text: "1".into(), loc: ty.loc.clone() };
+                fresh.push(Param::parse(&decl, &[one])?)?;
+            }
+            params = fresh;
+        } else if let Some(d) = self.gs.defaults.get("material") {
+            params.merge_defaults(d);
+        }
+        Ok(MaterialDesc { kind, params, loc: ty.loc.clone() })
+    }
+
+    pub(super) fn shape(&mut self, tok: &Token, ty: &Token, mut params: ParamSet) -> Result<(), SceneError> {
+        let Some(kind) = self.resolve_type(ty, "shape", names::PRISM_SHAPES, names::PBRT_ONLY_SHAPES, true)? else {
+            return Ok(());
+        };
+        if let Some(d) = self.gs.defaults.get("shape") {
+            params.merge_defaults(d);
+        }
+        let geometry = shapes::load(&kind, &params, &tok.loc, &mut self.warnings)?;
+        let mut area_light = self.gs.area_light.clone();
+        if self.current_object.is_some() && area_light.is_some() {
+            self.unsupported(&tok.loc, "area light on a shape inside ObjectBegin", "makes the shape non-emissive")?;
+            area_light = None;
+        }
+        let s = ShapeDesc {
+            kind,
+            params,
+            geometry,
+            world_from_object: self.gs.ctm,
+            reverse_orientation: self.gs.reverse_orientation,
+            material: self.gs.material.clone(),
+            area_light,
+            loc: tok.loc.clone(),
+        };
+        match &mut self.current_object {
+            Some(o) => o.shapes.push(s),
+            None => self.shapes.push(s),
+        }
+        Ok(())
+    }
+}
