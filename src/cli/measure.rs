@@ -82,28 +82,30 @@ pub fn run(cmd: &MeasureCommand) -> Result<()> {
     };
     let scene = builder.build(AccelKind::default_available()).context("building the scene")?;
     let integrator = PathIntegrator { max_depth: a.max_depth, ..Default::default() };
-    if let MeasureCommand::Radiance { .. } = cmd {
-        let m = crate::measure::radiance(&scene, &integrator, p, d, a.samples, a.seed);
-        if a.json {
-            println!("{}", serde_json::to_string_pretty(&m)?);
-        } else {
-            println!(
-                "radiance  L = {:.6e} ± {:.2e} W/(sr·m²)  (360–830 nm, {} samples)",
-                m.radiance.mean, m.radiance.std_err, m.samples
+    use crate::measure::Estimate;
+    let line = |name: &str, e: Estimate, unit: &str| format!("{name} = {:.6e} ± {:.2e} {unit}", e.mean, e.std_err);
+    let (text, json) = match cmd {
+        MeasureCommand::Radiance { .. } => {
+            let m = crate::measure::radiance(&scene, &integrator, p, d, a.samples, a.seed);
+            let text = format!(
+                "{}  (360–830 nm, {} samples)\n{}",
+                line("radiance  L", m.radiance, "W/(sr·m²)"),
+                m.samples,
+                line("luminance Lv", m.luminance, "cd/m²")
             );
-            println!("luminance Lv = {:.6e} ± {:.2e} cd/m²", m.luminance.mean, m.luminance.std_err);
+            (text, serde_json::to_string_pretty(&m)?)
         }
-        return Ok(());
-    }
-    let m = crate::measure::irradiance(&scene, &integrator, p, d, a.samples, a.seed);
-    if a.json {
-        println!("{}", serde_json::to_string_pretty(&m)?);
-    } else {
-        println!(
-            "irradiance  E = {:.6e} ± {:.2e} W/m²  (360–830 nm, {} samples)",
-            m.irradiance.mean, m.irradiance.std_err, m.samples
-        );
-        println!("illuminance Ev = {:.6e} ± {:.2e} lx", m.illuminance.mean, m.illuminance.std_err);
-    }
+        MeasureCommand::Irradiance { .. } => {
+            let m = crate::measure::irradiance(&scene, &integrator, p, d, a.samples, a.seed);
+            let text = format!(
+                "{}  (360–830 nm, {} samples)\n{}",
+                line("irradiance  E", m.irradiance, "W/m²"),
+                m.samples,
+                line("illuminance Ev", m.illuminance, "lx")
+            );
+            (text, serde_json::to_string_pretty(&m)?)
+        }
+    };
+    println!("{}", if a.json { json } else { text });
     Ok(())
 }
