@@ -7,20 +7,21 @@
 //! scene renders as bright as in pbrt-v4; prism's own `lumens`/`lux` (K_m = 683 lm/W) and
 //! `watts`/`irradiance` give SI photometric and radiometric targets instead (docs/radiometry.md).
 
+mod lights;
 mod subsurface;
 
-use super::desc::{LightDesc, MaterialDesc, SceneDesc, ShapeDesc, ShapeGeometry, TextureClass};
+use lights::{brightness_factor, FLUX};
+
+use super::desc::{MaterialDesc, SceneDesc, ShapeDesc, ShapeGeometry, TextureClass};
 use super::error::{SceneError, Warning};
 use super::params::{FloatOrTexture, ParamSet, SpectrumOrTexture, SpectrumParam};
 use super::{CameraDesc, Emission, SceneBuilder};
 use crate::bsdf::{ior, metals};
 use crate::film::Crop;
 use crate::geometry::Mesh;
-use crate::light::photometry::{lumens_per_unit_y, spectral_integral};
-use crate::light::{DistantLight, EnvMapLight, Light, PointLight, SpotFalloff, SpotLight, UniformInfiniteLight};
 use crate::material::{FloatTexture, ImageTexture, Ior, Material, ReflectanceImage, Roughness, SpectrumTexture};
 use crate::spectrum::{ColorSpace, RgbKind, Spectrum};
-use glam::{Vec2, Vec3};
+use glam::Vec2;
 use std::collections::HashMap;
 use std::sync::Arc;
 
@@ -411,126 +412,6 @@ impl Ctx<'_> {
         self.b.add_mesh(mesh, material, emission);
         Ok(())
     }
-
-    /// A light's spectrum and the factor that gives it unit luminance (pbrt-v4's normalisation;
-    /// RGB illuminants are normalised by their illuminant alone so the RGB sets brightness).
-    fn light_spectrum(
-        &mut self,
-        p: &ParamSet,
-        name: &str,
-        loc: &super::error::Location,
-    ) -> Result<(Spectrum, f32), SceneError> {
-        let space = space_of(p);
-        let white = Spectrum::from_rgb([1.0, 1.0, 1.0], RgbKind::Illuminant, space);
-        let (s, reference) = match p.spectrum(name) {
-            None => (white.clone(), white),
-            Some(sp) => {
-                let sp = sp.clone();
-                let s = self.spectrum(&sp, RgbKind::Illuminant, p).map_err(|e| SceneError::syntax(loc, name, e))?;
-                let r = if matches!(sp, SpectrumParam::Rgb(_)) { white } else { s.clone() };
-                (s, r)
-            }
-        };
-        let y = reference.to_xyz_f64().y;
-        let norm = if y > 0.0 { 1.0 / y } else { 0.0 };
-        if (norm as f32).is_finite() || !matches!(p.spectrum(name), Some(q) if !matches!(q, SpectrumParam::Rgb(_))) {
-            Ok((s, (norm as f32).min(f32::MAX)))
-        } else {
-            // A nearly invisible spectrum (a blackbody of a few hundred kelvin): its 1/Y overflows
-            // f32, so fold it into the spectrum in double precision instead.
-            Ok((s.scaled(norm), 1.0))
-        }
-    }
-
-    /// pbrt "infinite" with "filename": an equirectangular map (+z up, u = φ/2π, v = θ/π; the
-    /// pbrt-v3 layout) whose RGB is an illuminant of the file's colour space, times `scale`, or
-    /// scaled so an upward-facing (+z) patch receives `illuminance` [lux].
-    fn env_map(&mut self, l: &LightDesc) -> Result<EnvMapLight, SceneError> {
-        let p = &l.params;
-        if p.has("L") {
-            return Err(SceneError::syntax(
-                &l.loc,
-                "L",
-                "an infinite light takes either \"L\" or \"filename\", not both",
-            ));
-        }
-        let image = self.image(p, &l.loc)?;
-        if image.width == image.height {
-            self.warn(
-                &l.loc,
-                "square environment map: pbrt-v4 stores equal-area octahedral maps, prism reads equirectangular ones"
-                    .into(),
-            );
-        }
-        let space = space_of(p);
-        let rotation = orthonormal(glam::Mat3::from_mat4(l.world_from_light));
-        let mut light = EnvMapLight::new(&image, rotation, p.float_or("scale", 1.0), space);
-        let k_e = light.upper_hemisphere_y() as f32;
-        light.scale *= brightness_factor(p, ILLUMINANCE, k_e, None, &l.loc)?;
-        Ok(light)
-    }
-
-    fn light(&mut self, l: &LightDesc) -> Result<(), SceneError> {
-        let p = &l.params;
-        let m = l.world_from_light;
-        let scale = p.float_or("scale", 1.0);
-        match l.kind.as_str() {
-            "point" => {
-                let (s, norm) = self.light_spectrum(p, "I", &l.loc)?;
-                let pos = m.transform_point3(p.point3("from").unwrap_or(Vec3::ZERO));
-                let k_e = 4.0 * crate::math::PI;
-                let sc = scale * norm * brightness_factor(p, FLUX, k_e, Some((&s, norm)), &l.loc)?;
-                let light = PointLight::new(pos, Arc::new(s), sc);
-                self.b.add_light(Light::Point(light));
-            }
-            "spot" => {
-                let (s, norm) = self.light_spectrum(p, "I", &l.loc)?;
-                let from = m.transform_point3(p.point3("from").unwrap_or(Vec3::ZERO));
-                let to = m.transform_point3(p.point3("to").unwrap_or(Vec3::Z));
-                let falloff = match p.float("exponent") {
-                    // prism's extension: Warn's cos^s spotlight (lecture).
-                    Some(e) => SpotFalloff::Warn { exponent: e.max(0.0) },
-                    None => {
-                        let cone = p.float_or("coneangle", 30.0);
-                        // pbrt-v4 spells it "conedeltaangle"; "conedelta" is accepted too.
-                        let delta = p.float("conedeltaangle").or_else(|| p.float("conedelta")).unwrap_or(5.0);
-                        SpotFalloff::Cone {
-                            cos_start: (cone - delta).to_radians().cos(),
-                            cos_end: cone.to_radians().cos(),
-                        }
-                    }
-                };
-                let k_e = falloff.solid_angle_integral();
-                let sc = scale * norm * brightness_factor(p, FLUX, k_e, Some((&s, norm)), &l.loc)?;
-                let light = SpotLight::new(from, to - from, Arc::new(s), sc, falloff);
-                self.b.add_light(Light::Spot(light));
-            }
-            "distant" => {
-                let (s, norm) = self.light_spectrum(p, "L", &l.loc)?;
-                let from = p.point3("from").unwrap_or(Vec3::ZERO);
-                let to = p.point3("to").unwrap_or(Vec3::Z);
-                let to_light = m.transform_vector3(from - to).normalize_or_zero();
-                // "illuminance" [lux] on a surface perpendicular to the light (pbrt-v4 measures it
-                // on an upward-facing patch, k_e = −w.y, which is 0 for its default direction).
-                let e = scale * norm * brightness_factor(p, ILLUMINANCE, 1.0, Some((&s, norm)), &l.loc)?;
-                self.b.add_light(Light::Distant(DistantLight { to_light, spectrum: Arc::new(s), scale: e }));
-            }
-            "infinite" => {
-                if p.has("filename") {
-                    let light = self.env_map(l)?;
-                    self.b.add_light(Light::EnvMap(light));
-                } else {
-                    // pbrt-v4: a uniform sky of illuminance E_v on any patch has k_e = π.
-                    let (s, norm) = self.light_spectrum(p, "L", &l.loc)?;
-                    let sc =
-                        scale * norm * brightness_factor(p, ILLUMINANCE, crate::math::PI, Some((&s, norm)), &l.loc)?;
-                    self.b.add_light(Light::UniformInfinite(UniformInfiniteLight { spectrum: Arc::new(s), scale: sc }));
-                }
-            }
-            other => self.warn(&l.loc, format!("light \"{other}\" is not rendered by prism; skipped")),
-        }
-        Ok(())
-    }
 }
 
 /// A shape's triangles in the space its transform leads to (world, or instance space inside an
@@ -544,70 +425,6 @@ fn shape_mesh(s: &ShapeDesc) -> Mesh {
         }
     };
     orient(mesh, s.reverse_orientation)
-}
-
-/// The rotation (or mirror) part of `m` by Gram–Schmidt, so scales and shears in the CTM do
-/// not distort an environment's solid angles.
-fn orthonormal(m: glam::Mat3) -> glam::Mat3 {
-    let x = m.x_axis.normalize_or(Vec3::X);
-    let y = (m.y_axis - x * x.dot(m.y_axis)).normalize_or(Vec3::Y);
-    let z = x.cross(y);
-    let z = if z.dot(m.z_axis) < 0.0 { -z } else { z };
-    glam::Mat3::from_cols(x, y, z)
-}
-
-/// How a light's brightness may be given besides `scale`: pbrt-v4's parameter, and prism's SI
-/// photometric and radiometric ones.
-struct Target {
-    /// pbrt-v4's name; q sets the film's Y (the lecture's ∫ȳ-normalised luminance) to q / k_e.
-    pbrt: &'static str,
-    /// In lm or lux: q sets K_m ∫ ȳ(λ) x(λ) dλ to q / k_e.
-    photometric: &'static str,
-    /// In W or W/m²: q sets ∫ x(λ) dλ over 360–830 nm to q / k_e.
-    radiometric: &'static str,
-}
-
-/// Flux: pbrt-v4 `power`, prism `lumens` [lm] and `watts` [W].
-const FLUX: Target = Target { pbrt: "power", photometric: "lumens", radiometric: "watts" };
-/// Irradiance on a perpendicular (distant) or any (uniform infinite) patch: `illuminance`,
-/// `lux` [lx], `irradiance` [W/m²].
-const ILLUMINANCE: Target = Target { pbrt: "illuminance", photometric: "lux", radiometric: "irradiance" };
-
-/// The factor for a unit-luminance spectrum `s` that meets a brightness target
-/// (docs/radiometry.md). pbrt-v4 (`lights.cpp`) divides the spectrum by ∫ s ȳ dλ and multiplies
-/// by q / k_e, k_e being the light's geometric factor, and its film reads Y = ∫ ȳ L dλ (no 1/∫ȳ):
-/// so in the lecture's normalisation `power` q is a flux whose Y is q. The SI targets divide by
-/// what one unit gives: K_m ∫ȳ dλ lumens, or ∫ s dλ watts for the spectrum `s` × `norm`
-/// (`None`: not offered). Without a target, 1.
-fn brightness_factor(
-    p: &ParamSet,
-    t: Target,
-    k_e: f32,
-    s: Option<(&Spectrum, f32)>,
-    loc: &super::error::Location,
-) -> Result<f32, SceneError> {
-    let given: Vec<(&str, f32)> = [t.pbrt, t.photometric, t.radiometric]
-        .into_iter()
-        .filter_map(|n| p.float(n).filter(|&v| v > 0.0).map(|v| (n, v)))
-        .collect();
-    let (name, q) = match given.as_slice() {
-        [] => return Ok(1.0),
-        [one] => *one,
-        [(a, _), (b, _), ..] => {
-            return Err(SceneError::syntax(loc, b, format!("give one of \"{a}\" and \"{b}\", not both")));
-        }
-    };
-    let per_unit = if name == t.pbrt {
-        1.0
-    } else if name == t.photometric {
-        lumens_per_unit_y()
-    } else {
-        match s {
-            Some((s, norm)) => spectral_integral(s) * norm,
-            None => return Err(SceneError::syntax(loc, name, "this light does not take a radiometric target")),
-        }
-    };
-    Ok(if k_e > 0.0 && per_unit > 0.0 { q / (k_e * per_unit) } else { 1.0 })
 }
 
 /// Orients triangles as pbrt-v4 does: with per-vertex normals the geometric normal faces them;
