@@ -129,6 +129,9 @@ impl InstancedScene {
     /// Closest hit, with mesh ids of the scene and a world-space normal.
     #[inline]
     pub fn intersect(&self, ray: &Ray) -> Option<Hit> {
+        if !Scene::accepts(ray) {
+            return None;
+        }
         let mut ctx = Scene::context();
         let mut rh = ffi::RTCRayHit {
             ray: Scene::rtc_ray(ray),
@@ -155,6 +158,9 @@ impl InstancedScene {
     /// Any hit before `ray.t_max`.
     #[inline]
     pub fn occluded(&self, ray: &Ray) -> bool {
+        if !Scene::accepts(ray) {
+            return false;
+        }
         let mut ctx = Scene::context();
         let mut r = Scene::rtc_ray(ray);
         // SAFETY: committed scene; ctx and r are valid, properly aligned locals.

@@ -181,6 +181,15 @@ impl Scene {
         }
     }
 
+    /// True when Embree accepts the ray: |origin|, |direction| ≤ 1.844·10¹⁸ (Embree's
+    /// `FLT_LARGE`) and t_max not NaN (`RayK::valid` in Embree 3). Debian's Embree is built with
+    /// assertions, so any other ray would abort the process; such rays hit nothing.
+    #[inline]
+    pub(super) fn accepts(ray: &Ray) -> bool {
+        const FLT_LARGE: f32 = 1.844e18;
+        ray.o.abs().max_element() <= FLT_LARGE && ray.d.abs().max_element() <= FLT_LARGE && !ray.t_max.is_nan()
+    }
+
     #[inline]
     pub(super) fn rtc_ray(ray: &Ray) -> ffi::RTCRay {
         ffi::RTCRay {
@@ -205,6 +214,9 @@ impl Scene {
     /// Closest hit.
     #[inline]
     pub fn intersect(&self, ray: &Ray) -> Option<Hit> {
+        if !Self::accepts(ray) {
+            return None;
+        }
         let mut ctx = Self::context();
         let mut rh = ffi::RTCRayHit {
             ray: Self::rtc_ray(ray),
@@ -229,6 +241,9 @@ impl Scene {
     /// Any hit before `ray.t_max`.
     #[inline]
     pub fn occluded(&self, ray: &Ray) -> bool {
+        if !Self::accepts(ray) {
+            return false;
+        }
         let mut ctx = Self::context();
         let mut r = Self::rtc_ray(ray);
         // SAFETY: committed scene; ctx and r are valid, properly aligned locals.
