@@ -138,7 +138,7 @@ impl InstancedScene {
             hit: ffi::RTCHit { geomID: ffi::RTC_INVALID_GEOMETRY_ID, ..Default::default() },
         };
         // SAFETY: committed scene; ctx and rh are valid, properly aligned locals.
-        unsafe { ffi::rtcIntersect1(self.top.raw, &mut ctx, &mut rh) };
+        unsafe { ffi::rtcIntersect1(self.top.raw, ctx.as_mut_ptr(), &mut rh) };
         if rh.hit.geomID == ffi::RTC_INVALID_GEOMETRY_ID {
             return None;
         }
@@ -164,7 +164,7 @@ impl InstancedScene {
         let mut ctx = Scene::context();
         let mut r = Scene::rtc_ray(ray);
         // SAFETY: committed scene; ctx and r are valid, properly aligned locals.
-        unsafe { ffi::rtcOccluded1(self.top.raw, &mut ctx, &mut r) };
+        unsafe { ffi::rtcOccluded1(self.top.raw, ctx.as_mut_ptr(), &mut r) };
         r.tfar == f32::NEG_INFINITY
     }
 }

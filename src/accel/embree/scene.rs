@@ -2,7 +2,7 @@
 
 use super::device::{Device, EmbreeError};
 use super::ffi;
-use super::user_triangles::{self, UserMesh};
+use super::user_triangles::{self, ShearCache, UserMesh};
 use super::TriangleTest;
 use crate::geometry::{Bounds3, Hit, Mesh, Ray};
 use glam::Vec3;
@@ -125,6 +125,25 @@ impl Drop for SceneHandle {
     }
 }
 
+/// The intersect context of every query: Embree's, extended with per-ray data for the
+/// user-geometry callbacks (Embree 3 passes the caller's context pointer through to them, so it
+/// may start a larger struct; rtcore_common.h, `RTCIntersectContext`).
+#[repr(C)]
+pub(super) struct RayContext {
+    rtc: ffi::RTCIntersectContext,
+    /// The watertight test's per-ray constants, computed by the first triangle test of a ray.
+    pub(super) shear: ShearCache,
+}
+
+impl RayContext {
+    /// The pointer to hand to `rtcIntersect1`/`rtcOccluded1` (to the whole struct, so the
+    /// callbacks may read `shear` through it).
+    #[inline]
+    pub(super) fn as_mut_ptr(&mut self) -> *mut ffi::RTCIntersectContext {
+        (self as *mut Self).cast()
+    }
+}
+
 /// A committed scene of triangle meshes (and the device that keeps it alive).
 pub struct Scene {
     raw: SceneHandle,
@@ -171,13 +190,18 @@ impl Scene {
         self.bounds
     }
 
+    /// A fresh context for one query. Every query passes a [`RayContext`] (the user-geometry
+    /// callbacks rely on it).
     #[inline]
-    pub(super) fn context() -> ffi::RTCIntersectContext {
+    pub(super) fn context() -> RayContext {
         // rtcInitIntersectContext is force-inlined in the header, so bindgen does not emit it.
-        ffi::RTCIntersectContext {
-            flags: ffi::RTCIntersectContextFlags_RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT,
-            filter: None,
-            instID: [ffi::RTC_INVALID_GEOMETRY_ID; ffi::RTC_MAX_INSTANCE_LEVEL_COUNT as usize],
+        RayContext {
+            rtc: ffi::RTCIntersectContext {
+                flags: ffi::RTCIntersectContextFlags_RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT,
+                filter: None,
+                instID: [ffi::RTC_INVALID_GEOMETRY_ID; ffi::RTC_MAX_INSTANCE_LEVEL_COUNT as usize],
+            },
+            shear: ShearCache::default(),
         }
     }
 
@@ -223,7 +247,7 @@ impl Scene {
             hit: ffi::RTCHit { geomID: ffi::RTC_INVALID_GEOMETRY_ID, ..Default::default() },
         };
         // SAFETY: committed scene; ctx and rh are valid, properly aligned locals.
-        unsafe { ffi::rtcIntersect1(self.raw.raw, &mut ctx, &mut rh) };
+        unsafe { ffi::rtcIntersect1(self.raw.raw, ctx.as_mut_ptr(), &mut rh) };
         if rh.hit.geomID == ffi::RTC_INVALID_GEOMETRY_ID {
             return None;
         }
@@ -247,7 +271,7 @@ impl Scene {
         let mut ctx = Self::context();
         let mut r = Self::rtc_ray(ray);
         // SAFETY: committed scene; ctx and r are valid, properly aligned locals.
-        unsafe { ffi::rtcOccluded1(self.raw.raw, &mut ctx, &mut r) };
+        unsafe { ffi::rtcOccluded1(self.raw.raw, ctx.as_mut_ptr(), &mut r) };
         // Embree sets tfar to -inf when an occluder was found.
         r.tfar == f32::NEG_INFINITY
     }
@@ -257,6 +281,6 @@ impl Scene {
     pub fn raw_intersect(&self, rh: &mut ffi::RTCRayHit) {
         let mut ctx = Self::context();
         // SAFETY: committed scene; the caller's ray-hit is a valid, aligned struct.
-        unsafe { ffi::rtcIntersect1(self.raw.raw, &mut ctx, rh) };
+        unsafe { ffi::rtcIntersect1(self.raw.raw, ctx.as_mut_ptr(), rh) };
     }
 }

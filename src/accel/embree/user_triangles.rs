@@ -20,10 +20,13 @@
 //! `RTCRayN_*`/`RTCHitN_*`: field k of ray i at float index k·N + i); `rtcIntersect1` passes
 //! N = 1, whose layout is `RTCRayHit`'s.
 
+use std::cell::Cell;
+
 use glam::Vec3;
 
 use super::device::{Device, EmbreeError};
 use super::ffi;
+use super::scene::RayContext;
 use crate::accel::watertight::{LaneRay, TriangleLanes};
 use crate::geometry::Mesh;
 
@@ -131,6 +134,28 @@ unsafe extern "C" fn bounds(args: *const ffi::RTCBoundsFunctionArguments) {
     }
 }
 
+/// The watertight test's per-ray constants for the last ray seen (keyed by the bits of its
+/// origin and direction, which differ under each instance's transform), so that the shear's
+/// three divisions are done once per ray and not once per triangle.
+#[derive(Default)]
+pub(super) struct ShearCache(Cell<Option<([u32; 6], Option<LaneRay>)>>);
+
+impl ShearCache {
+    /// [`LaneRay::new`]`(o, d)`, computed at most once per (o, d) in a row.
+    #[inline(always)]
+    fn get(&self, o: Vec3, d: Vec3) -> Option<LaneRay> {
+        let key = [o.x, o.y, o.z, d.x, d.y, d.z].map(f32::to_bits);
+        match self.0.get() {
+            Some((k, ray)) if k == key => ray,
+            _ => {
+                let ray = LaneRay::new(o, d);
+                self.0.set(Some((key, ray)));
+                ray
+            }
+        }
+    }
+}
+
 /// Float indices of `RTCRayHitN` fields, in units of N (rtcore_ray.h).
 mod field {
     pub const ORG: usize = 0;
@@ -182,11 +207,13 @@ impl Lane {
 unsafe extern "C" fn intersect(args: *const ffi::RTCIntersectFunctionNArguments) {
     // SAFETY: Embree passes valid arguments for the duration of the call: `valid` has N entries,
     // `rayhit` is an RTCRayHitN of width N (all fields up to instID[L−1]), `context` is the
-    // caller's context, and the user pointer is the geometry's UserMesh with primID < its count.
+    // caller's context, which every query in this module makes a RayContext (Scene::context),
+    // and the user pointer is the geometry's UserMesh with primID < its count.
     unsafe {
         let args = &*args;
         let mesh = &*(args.geometryUserPtr as *const UserMesh);
         let tri = &mesh.triangles[args.primID as usize];
+        let ctx = &*(args.context as *const RayContext);
         let inst = (*args.context).instID;
         let n = args.N as usize;
         for i in 0..n {
@@ -195,7 +222,7 @@ unsafe extern "C" fn intersect(args: *const ffi::RTCIntersectFunctionNArguments)
             }
             let lane = Lane { base: args.rayhit as *mut f32, n, i };
             let (o, d, tnear, tfar) = lane.ray();
-            let Some(h) = LaneRay::new(o, d).and_then(|r| r.intersect_any_axis(&tri.lanes, tfar)) else {
+            let Some(h) = ctx.shear.get(o, d).and_then(|r| r.intersect_any_axis(&tri.lanes, tfar)) else {
                 continue;
             };
             if h.t < tnear {
@@ -232,6 +259,7 @@ unsafe extern "C" fn occluded(args: *const ffi::RTCOccludedFunctionNArguments) {
         let args = &*args;
         let mesh = &*(args.geometryUserPtr as *const UserMesh);
         let tri = &mesh.triangles[args.primID as usize];
+        let ctx = &*(args.context as *const RayContext);
         let n = args.N as usize;
         for i in 0..n {
             if *args.valid.add(i) == 0 {
@@ -239,7 +267,7 @@ unsafe extern "C" fn occluded(args: *const ffi::RTCOccludedFunctionNArguments) {
             }
             let lane = Lane { base: args.ray as *mut f32, n, i };
             let (o, d, tnear, tfar) = lane.ray();
-            let hit = LaneRay::new(o, d).and_then(|r| r.intersect_any_axis(&tri.lanes, tfar));
+            let hit = ctx.shear.get(o, d).and_then(|r| r.intersect_any_axis(&tri.lanes, tfar));
             if hit.is_some_and(|h| h.t >= tnear && h.t < tfar) {
                 // Embree's convention for "occluded": tfar = −∞.
                 lane.set(field::TFAR, f32::NEG_INFINITY);
