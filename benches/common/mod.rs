@@ -48,4 +48,3 @@ pub fn incoherent_rays(accel: &dyn Accel) -> Vec<Ray> {
         })
         .collect()
 }
-

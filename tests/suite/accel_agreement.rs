@@ -20,8 +20,8 @@
 
 use glam::{Mat4, Vec3};
 use prism::accel::{embree::EmbreeAccel, obvhs::ObvhsAccel, Accel};
-use prism::geometry::Hit;
 use prism::geometry::shapes::{axis_box, icosphere, terrain, triangle_soup, uv_sphere};
+use prism::geometry::Hit;
 use prism::geometry::{Mesh, Ray};
 use prism::sampling::Rng;
 

@@ -103,15 +103,7 @@ impl InstancedScene {
         }
         top.commit(&device)?;
         let instances = set.instances.iter().map(|i| (i.prototype, i.normal_cofactor)).collect();
-        Ok(Self {
-            top,
-            prototypes,
-            device,
-            world_ids: set.world_meshes.clone(),
-            proto_ids,
-            instances,
-            bounds,
-        })
+        Ok(Self { top, prototypes, device, world_ids: set.world_meshes.clone(), proto_ids, instances, bounds })
     }
 
     /// World bounds (instance boxes are the transformed corners of their prototypes' boxes).
