@@ -12,7 +12,7 @@
 
 use std::time::Instant;
 
-use prism::accel::{Accel, ObvhsAccel};
+use prism::accel::{Accel, AccelKind};
 use prism::geometry::{Mesh, Ray};
 use rayon::prelude::*;
 
@@ -91,24 +91,23 @@ fn main() {
     let passes: usize = std::env::var("PRISM_BENCH_PASSES").ok().and_then(|s| s.parse().ok()).unwrap_or(8);
     let meshes = scene();
     let tris: usize = meshes.iter().map(Mesh::len).sum();
-    let build = |name: &str, f: &dyn Fn(&[Mesh]) -> Box<dyn Accel>| {
-        let t0 = Instant::now();
-        let a = f(&meshes);
-        println!(
-            "build {name}: {:.2} s ({tris} triangles, {:.1} MB)",
-            t0.elapsed().as_secs_f64(),
-            a.memory_bytes() as f64 / 1e6
-        );
-        (a.name(), a)
-    };
-    let mut backends: Vec<(&str, Box<dyn Accel>)> = Vec::new();
-    #[cfg(feature = "embree")]
-    {
-        use prism::accel::embree::EmbreeAccel;
-        backends.push(build("embree", &|m| Box::new(EmbreeAccel::new(m).expect("embree"))));
-        backends.push(build("embree-watertight", &|m| Box::new(EmbreeAccel::watertight(m).expect("embree"))));
-    }
-    backends.push(build("obvhs", &|m| Box::new(ObvhsAccel::new(m))));
+    let kinds = [AccelKind::Embree, AccelKind::EmbreeWatertight]
+        .into_iter()
+        .filter(|_| cfg!(feature = "embree"))
+        .chain([AccelKind::Obvhs]);
+    let backends: Vec<(&str, Box<dyn Accel>)> = kinds
+        .map(|kind| {
+            let t0 = Instant::now();
+            let a = prism::accel::build(kind, &meshes).expect("accelerator");
+            println!(
+                "build {}: {:.2} s ({tris} triangles, {:.1} MB)",
+                kind.name(),
+                t0.elapsed().as_secs_f64(),
+                a.memory_bytes() as f64 / 1e6
+            );
+            (kind.name(), a)
+        })
+        .collect();
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(2)
         .start_handler(|_| prism::accel::init_render_thread())

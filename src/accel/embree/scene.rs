@@ -13,6 +13,8 @@ pub(super) struct SceneHandle {
     test: TriangleTest,
     /// Triangles of the user geometries ([`TriangleTest::Watertight`]); dropped after `raw` is
     /// released, since Embree's callbacks read them.
+    /// Boxed: Embree holds each UserMesh's address, which must not move when the Vec grows.
+    #[allow(clippy::vec_box)]
     user_meshes: Vec<Box<UserMesh>>,
 }
 
