@@ -15,7 +15,8 @@
 //! than the test's tolerance ε = ulp·|U+V+W|; the signs are not those of any one planar
 //! configuration, so every triangle of the fan can reject the ray (`embree_vertex_leak_repro`).
 //! No flag, build quality, geometry type or ISA of Embree 3 changes the test (the AVX, SSE4.2
-//! and SSE2 kernels leak on other rays); only a user geometry with our own test would.
+//! and SSE2 kernels leak on other rays); a user geometry with our own test does
+//! (`EmbreeAccel::watertight`, src/accel/embree/user_triangles.rs).
 #![cfg(feature = "embree")]
 
 use glam::{Mat4, Vec3};
@@ -341,4 +342,30 @@ fn a_million_vertex_and_edge_rays_never_escape() {
     // AVX2, ten times the rate of the test above; docs/benchmarks.md).
     eprintln!("embree (triangle kernel): {leaks} of {vertex_rays} vertex rays and {edge_leaks} edge rays escaped");
     assert_eq!(edge_leaks, 0, "embree's triangle kernel leaked through an edge");
+}
+
+/// Rays from far away (|o| up to 50× the mesh's size, beyond which the watertight mode's box
+/// margin no longer covers Embree's slab-test rounding; see user_triangles.rs), aimed exactly at
+/// vertices and through the surface toward the interior: every one hits, on obvhs and on the
+/// watertight Embree mode.
+#[test]
+fn rays_from_far_away_aimed_at_vertices_hit() {
+    let meshes = vec![icosphere(Vec3::new(0.25, -0.5, 0.125), 1.0, 3)];
+    let m = &meshes[0];
+    let centre = m.bounds().center();
+    let w = EmbreeAccel::watertight(&meshes).unwrap();
+    let o = ObvhsAccel::new(&meshes);
+    let mut rng = Rng::new(8, 8);
+    let mut fired = 0;
+    for &p in m.positions.iter().cycle().take(20_000) {
+        let outward = (p - centre).normalize();
+        let dist = 2.0 + 48.0 * rng.uniform();
+        let orig = p + (outward + random_dir(&mut rng) * 0.5).normalize() * dist;
+        let ray = Ray::new(orig, p - orig);
+        for accel in [&w as &dyn Accel, &o] {
+            assert!(accel.intersect(&ray).is_some(), "{}: missed {ray:?}", accel.name());
+        }
+        fired += 1;
+    }
+    assert_eq!(fired, 20_000);
 }

@@ -7,7 +7,7 @@
 //! vertices"); no flag or kernel choice of Embree 3 fixes it. Embree still builds and traverses
 //! the BVH (over our per-triangle boxes); only the leaf test is ours.
 //!
-//! Conventions, the same as the triangle path (scene.rs):
+//! Conventions, those of the triangle path (scene.rs) and of obvhs:
 //! - A closest hit is accepted for tnear ≤ t ≤ tfar; the hit record is t (in tfar), u, v (the
 //!   weights of p1 and p2), Ng = (p1−p0)×(p2−p0) in the geometry's space (object space under an
 //!   instance, as Embree reports for triangles), primID = the mesh's triangle index, geomID, and
@@ -15,6 +15,9 @@
 //! - Equally distant hits are resolved by the smallest (instID, geomID, primID), as the obvhs
 //!   backend does, so results do not depend on Embree's traversal order.
 //! - An occlusion counts for tnear ≤ t < tfar (the `Accel::occluded` range (0, t_max)).
+//!
+//! - The shear constants of the test (three divisions) are computed once per ray: every query
+//!   passes a [`RayContext`] that caches them, keyed by the ray as the callback sees it.
 //!
 //! Callbacks receive rays in Embree's structure-of-arrays layout of width N (rtcore_ray.h,
 //! `RTCRayN_*`/`RTCHitN_*`: field k of ray i at float index k·N + i); `rtcIntersect1` passes
