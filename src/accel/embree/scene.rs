@@ -213,7 +213,9 @@ impl Scene {
     #[inline]
     pub(super) fn accepts(ray: &Ray) -> bool {
         const FLT_LARGE: f32 = 1.844e18;
-        ray.o.abs().max_element() <= FLT_LARGE && ray.d.abs().max_element() <= FLT_LARGE && !ray.t_max.is_nan()
+        // `cmple` is false for NaN (unlike `max_element`, which skips NaN).
+        let small = |v: Vec3| v.abs().cmple(Vec3::splat(FLT_LARGE)).all();
+        small(ray.o) && small(ray.d) && !ray.t_max.is_nan()
     }
 
     #[inline]
