@@ -11,7 +11,7 @@ use std::path::PathBuf;
 pub struct BenchArgs {
     /// pbrt-v4 scene, or a built-in: builtin:cornell (the default), builtin:terrain (1M triangles).
     pub scene: Option<PathBuf>,
-    /// Backends, comma separated.
+    /// Backends, comma separated: embree, embree-watertight, obvhs.
     #[arg(long, default_value = "embree,obvhs")]
     pub accel: String,
     /// Samplers, comma separated.

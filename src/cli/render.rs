@@ -22,7 +22,8 @@ pub struct RenderArgs {
     /// Samples per pixel.
     #[arg(long, allow_negative_numbers = true)]
     pub spp: Option<i64>,
-    /// Intersection backend: embree or obvhs.
+    /// Intersection backend: embree (fastest), embree-watertight (Embree's BVH with prism's
+    /// watertight triangle test: no ray leaks through vertices, slower) or obvhs (pure Rust).
     #[arg(long)]
     pub accel: Option<String>,
     /// Output image; the format follows the extension (.exr linear float; .png/.jpg/.tif sRGB).

@@ -64,12 +64,13 @@ impl Mesh {
         before - self.indices.len()
     }
 
-    /// Bounds of all vertices.
+    /// Bounds of all vertices of triangles (indices out of range are ignored).
     pub fn bounds(&self) -> Bounds3 {
         self.indices
             .iter()
             .flat_map(|t| t.iter())
-            .fold(Bounds3::EMPTY, |b, &i| b.union_point(self.positions[i as usize]))
+            .filter_map(|&i| self.positions.get(i as usize))
+            .fold(Bounds3::EMPTY, |b, &p| b.union_point(p))
     }
 }
 

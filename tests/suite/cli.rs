@@ -207,3 +207,24 @@ fn resume_after_kill_matches_an_uninterrupted_render() {
         assert!((p.xyz_sum - q.xyz_sum).abs().max_element() <= 1e-9 * (1.0 + p.xyz_sum.abs().max_element()));
     }
 }
+
+/// `--accel` lists the three backends in `render --help` and in its error, and
+/// `embree-watertight` renders (and is named in the stats), or is a clear error without Embree.
+#[test]
+fn accel_choices_are_listed_and_embree_watertight_renders() {
+    let help = String::from_utf8_lossy(&run(&["render", "--help"]).stdout).into_owned();
+    assert!(help.contains("embree-watertight") && help.contains("obvhs"), "{help}");
+    let d = tmpdir("accel");
+    let (png, json) = (d.join("w.png"), d.join("w.json"));
+    let (png, json) = (png.to_str().unwrap(), json.to_str().unwrap());
+    assert_clean_error(&["render", "--accel", "optix", "-o", png], "valid: embree, embree-watertight, obvhs");
+    let args = ["render", "--accel", "embree-watertight", "--spp", "1", "--resolution", "8x8", "-o", png];
+    if cfg!(feature = "embree") {
+        let o = run(&[&args[..], &["--stats-json", json]].concat());
+        assert!(o.status.success(), "{}", stderr(&o));
+        let stats: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(json).unwrap()).unwrap();
+        assert_eq!(stats["accel"], "embree-watertight");
+    } else {
+        assert_clean_error(&args, "built without Embree");
+    }
+}

@@ -11,6 +11,7 @@ use glam::{Mat3, Vec3};
 use super::device::{Device, EmbreeError};
 use super::ffi;
 use super::scene::{Scene, SceneHandle};
+use super::TriangleTest;
 use crate::geometry::{Bounds3, Hit, Mesh, Ray};
 use crate::scene::instances::InstanceSet;
 
@@ -18,7 +19,7 @@ use crate::scene::instances::InstanceSet;
 pub struct InstancedScene {
     // Field order is drop order: the top scene, then the prototypes it instances, then the device.
     top: SceneHandle,
-    _prototypes: Vec<SceneHandle>,
+    prototypes: Vec<SceneHandle>,
     device: Device,
     /// Scene mesh id of top-level geometry `i < W`.
     world_ids: Vec<u32>,
@@ -42,12 +43,13 @@ impl InstancedScene {
         meshes: &[Mesh],
         set: &InstanceSet,
         quality: ffi::RTCBuildQuality,
+        test: TriangleTest,
     ) -> Result<Self, EmbreeError> {
         let proto_bounds = set.prototype_bounds(meshes);
         let mut prototypes = Vec::with_capacity(set.prototypes.len());
         let mut proto_ids = Vec::with_capacity(set.prototypes.len());
         for p in &set.prototypes {
-            let scene = SceneHandle::new(&device, quality)?;
+            let mut scene = SceneHandle::new(&device, quality, test)?;
             for (local, &m) in p.meshes.iter().enumerate() {
                 if !meshes[m as usize].is_empty() {
                     scene.attach_mesh(&device, &meshes[m as usize], local as u32)?;
@@ -57,7 +59,7 @@ impl InstancedScene {
             prototypes.push(scene);
             proto_ids.push(p.meshes.clone());
         }
-        let top = SceneHandle::new(&device, quality)?;
+        let mut top = SceneHandle::new(&device, quality, test)?;
         let mut bounds = Bounds3::EMPTY;
         for (i, &m) in set.world_meshes.iter().enumerate() {
             let mesh = &meshes[m as usize];
@@ -84,7 +86,7 @@ impl InstancedScene {
                 if geom.is_null() {
                     return Err(EmbreeError::Call(device.take_error().unwrap_or_default()));
                 }
-                ffi::rtcSetGeometryInstancedScene(geom, proto.0);
+                ffi::rtcSetGeometryInstancedScene(geom, proto.raw);
                 ffi::rtcSetGeometryTransform(
                     geom,
                     0,
@@ -92,7 +94,7 @@ impl InstancedScene {
                     xfm.as_ptr() as *const std::ffi::c_void,
                 );
                 ffi::rtcCommitGeometry(geom);
-                ffi::rtcAttachGeometryByID(top.0, geom, first_instance + i as u32);
+                ffi::rtcAttachGeometryByID(top.raw, geom, first_instance + i as u32);
                 ffi::rtcReleaseGeometry(geom);
             }
             if let Some(e) = device.take_error() {
@@ -101,15 +103,7 @@ impl InstancedScene {
         }
         top.commit(&device)?;
         let instances = set.instances.iter().map(|i| (i.prototype, i.normal_cofactor)).collect();
-        Ok(Self {
-            top,
-            _prototypes: prototypes,
-            device,
-            world_ids: set.world_meshes.clone(),
-            proto_ids,
-            instances,
-            bounds,
-        })
+        Ok(Self { top, prototypes, device, world_ids: set.world_meshes.clone(), proto_ids, instances, bounds })
     }
 
     /// World bounds (instance boxes are the transformed corners of their prototypes' boxes).
@@ -117,21 +111,26 @@ impl InstancedScene {
         self.bounds
     }
 
-    /// Bytes Embree holds for all scenes of this accelerator.
+    /// Bytes Embree holds for all scenes of this accelerator, and the user geometries' triangles.
     pub fn memory_bytes(&self) -> usize {
         self.device.memory_bytes()
+            + self.top.user_bytes()
+            + self.prototypes.iter().map(SceneHandle::user_bytes).sum::<usize>()
     }
 
     /// Closest hit, with mesh ids of the scene and a world-space normal.
     #[inline]
     pub fn intersect(&self, ray: &Ray) -> Option<Hit> {
+        if !Scene::accepts(ray) {
+            return None;
+        }
         let mut ctx = Scene::context();
         let mut rh = ffi::RTCRayHit {
             ray: Scene::rtc_ray(ray),
             hit: ffi::RTCHit { geomID: ffi::RTC_INVALID_GEOMETRY_ID, ..Default::default() },
         };
         // SAFETY: committed scene; ctx and rh are valid, properly aligned locals.
-        unsafe { ffi::rtcIntersect1(self.top.0, &mut ctx, &mut rh) };
+        unsafe { ffi::rtcIntersect1(self.top.raw, ctx.as_mut_ptr(), &mut rh) };
         if rh.hit.geomID == ffi::RTC_INVALID_GEOMETRY_ID {
             return None;
         }
@@ -151,10 +150,13 @@ impl InstancedScene {
     /// Any hit before `ray.t_max`.
     #[inline]
     pub fn occluded(&self, ray: &Ray) -> bool {
+        if !Scene::accepts(ray) {
+            return false;
+        }
         let mut ctx = Scene::context();
         let mut r = Scene::rtc_ray(ray);
         // SAFETY: committed scene; ctx and r are valid, properly aligned locals.
-        unsafe { ffi::rtcOccluded1(self.top.0, &mut ctx, &mut r) };
+        unsafe { ffi::rtcOccluded1(self.top.raw, ctx.as_mut_ptr(), &mut r) };
         r.tfar == f32::NEG_INFINITY
     }
 }

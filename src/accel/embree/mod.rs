@@ -1,10 +1,16 @@
 //! Intel Embree 3 backend (feature `embree`). Embree types never leave this module; everything
-//! specific to Embree 3 (vs 4) is in ffi.rs, device.rs and scene.rs.
+//! specific to Embree 3 (vs 4) is in ffi.rs, device.rs, scene.rs and user_triangles.rs.
+//!
+//! Two triangle tests ([`TriangleTest`]): Embree's own kernel (fast; lets about 1 in 4000 rays
+//! aimed exactly at a vertex through a closed mesh), or prism's watertight test run from Embree
+//! user-geometry callbacks (no leaks; slower), selected on the command line as `embree` and
+//! `embree-watertight`.
 
 mod device;
 mod ffi;
 mod instanced;
 mod scene;
+mod user_triangles;
 
 pub use device::{error_name, Device, EmbreeError, CONFIG_ENV};
 
@@ -24,9 +30,22 @@ pub enum BuildQuality {
     High,
 }
 
+/// Which ray–triangle test Embree runs at the BVH's leaves.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum TriangleTest {
+    /// Embree's triangle geometry and its robust kernel (Plücker edge tests): the fastest, but
+    /// not watertight at vertices (docs/benchmarks.md, "Why Embree leaks at vertices").
+    #[default]
+    Embree,
+    /// User geometry whose callbacks run [`crate::accel::watertight`] (Woop et al. 2013): no ray
+    /// passes between triangles sharing an edge or a vertex.
+    Watertight,
+}
+
 /// Ray intersection through Embree.
 pub struct EmbreeAccel {
     scene: Levels,
+    test: TriangleTest,
 }
 
 /// One scene of meshes, or prototypes instanced into a top-level scene.
@@ -53,16 +72,36 @@ impl EmbreeAccel {
 
     /// Builds with the given quality.
     pub fn with_quality(meshes: &[Mesh], quality: BuildQuality) -> Result<Self, EmbreeError> {
+        Self::with_test(meshes, quality, TriangleTest::Embree)
+    }
+
+    /// Builds over `meshes` with the watertight triangle test ([`TriangleTest::Watertight`]).
+    pub fn watertight(meshes: &[Mesh]) -> Result<Self, EmbreeError> {
+        Self::with_test(meshes, BuildQuality::Medium, TriangleTest::Watertight)
+    }
+
+    /// Builds with the given quality and triangle test.
+    pub fn with_test(meshes: &[Mesh], quality: BuildQuality, test: TriangleTest) -> Result<Self, EmbreeError> {
         let device = device::Device::new()?;
-        Ok(Self { scene: Levels::Flat(scene::Scene::build(device, meshes, quality.rtc())?) })
+        Ok(Self { scene: Levels::Flat(scene::Scene::build(device, meshes, quality.rtc(), test)?), test })
     }
 
     /// Builds a two-level scene: one Embree scene per prototype, instanced into a top scene
     /// that also holds `set.world_meshes`. Hits report scene mesh ids and the instance index.
     pub fn instanced(meshes: &[Mesh], set: &InstanceSet) -> Result<Self, EmbreeError> {
+        Self::instanced_with_test(meshes, set, TriangleTest::Embree)
+    }
+
+    /// [`EmbreeAccel::instanced`] with the given triangle test (in prototypes and world meshes).
+    pub fn instanced_with_test(meshes: &[Mesh], set: &InstanceSet, test: TriangleTest) -> Result<Self, EmbreeError> {
         let device = device::Device::new()?;
         let q = BuildQuality::Medium.rtc();
-        Ok(Self { scene: Levels::Instanced(instanced::InstancedScene::build(device, meshes, set, q)?) })
+        Ok(Self { scene: Levels::Instanced(instanced::InstancedScene::build(device, meshes, set, q, test)?), test })
+    }
+
+    /// The triangle test this accelerator runs.
+    pub fn triangle_test(&self) -> TriangleTest {
+        self.test
     }
 
     /// Traces `rays` through raw `rtcIntersect1` with no conversion to prism's types, returning
@@ -113,7 +152,10 @@ impl Accel for EmbreeAccel {
         }
     }
     fn name(&self) -> &'static str {
-        "embree"
+        match self.test {
+            TriangleTest::Embree => "embree",
+            TriangleTest::Watertight => "embree-watertight",
+        }
     }
 }
 

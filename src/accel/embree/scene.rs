@@ -2,15 +2,26 @@
 
 use super::device::{Device, EmbreeError};
 use super::ffi;
+use super::user_triangles::{self, ShearCache, UserMesh};
+use super::TriangleTest;
 use crate::geometry::{Bounds3, Hit, Mesh, Ray};
 use glam::Vec3;
 
 /// Owns one `RTCScene` handle; released in Drop. The device must outlive it.
-pub(super) struct SceneHandle(pub(super) ffi::RTCScene);
+pub(super) struct SceneHandle {
+    pub(super) raw: ffi::RTCScene,
+    test: TriangleTest,
+    /// Triangles of the user geometries ([`TriangleTest::Watertight`]); dropped after `raw` is
+    /// released, since Embree's callbacks read them.
+    /// Boxed: Embree holds each UserMesh's address, which must not move when the Vec grows.
+    #[allow(clippy::vec_box)]
+    user_meshes: Vec<Box<UserMesh>>,
+}
 
 impl SceneHandle {
-    /// A new robust scene (RTC_SCENE_FLAG_ROBUST: no leaks through shared edges) of `quality`.
-    pub(super) fn new(device: &Device, quality: ffi::RTCBuildQuality) -> Result<Self, EmbreeError> {
+    /// A new robust scene (RTC_SCENE_FLAG_ROBUST: no leaks through shared edges) of `quality`,
+    /// whose meshes will be intersected by `test`.
+    pub(super) fn new(device: &Device, quality: ffi::RTCBuildQuality, test: TriangleTest) -> Result<Self, EmbreeError> {
         // SAFETY: `device` holds a valid device.
         let raw = unsafe { ffi::rtcNewScene(device.raw()) };
         if raw.is_null() {
@@ -21,21 +32,46 @@ impl SceneHandle {
             ffi::rtcSetSceneFlags(raw, ffi::RTCSceneFlags_RTC_SCENE_FLAG_ROBUST);
             ffi::rtcSetSceneBuildQuality(raw, quality);
         }
-        Ok(Self(raw))
+        Ok(Self { raw, test, user_meshes: Vec::new() })
+    }
+
+    /// Bytes of triangle storage held by prism for the user geometries (Embree's own
+    /// allocations are counted by the device).
+    pub(super) fn user_bytes(&self) -> usize {
+        self.user_meshes.iter().map(|m| m.bytes()).sum()
     }
 
     /// Builds the BVH over everything attached.
     pub(super) fn commit(&self, device: &Device) -> Result<(), EmbreeError> {
         // SAFETY: all geometries are committed and attached.
-        unsafe { ffi::rtcCommitScene(self.0) };
+        unsafe { ffi::rtcCommitScene(self.raw) };
         match device.take_error() {
             Some(e) => Err(EmbreeError::Call(e)),
             None => Ok(()),
         }
     }
 
+    /// Attaches `mesh` as geometry `id`: Embree triangle geometry, or user geometry running
+    /// the watertight test, as chosen at [`SceneHandle::new`].
+    pub(super) fn attach_mesh(&mut self, device: &Device, mesh: &Mesh, id: u32) -> Result<(), EmbreeError> {
+        match self.test {
+            TriangleTest::Embree => self.attach_triangles(device, mesh, id),
+            TriangleTest::Watertight => {
+                let (geom, user) = user_triangles::new_geometry(device, mesh)?;
+                self.user_meshes.push(user);
+                // SAFETY: valid scene and committed geometry; the scene takes its own reference,
+                // and the UserMesh it points to is kept in `user_meshes` until after the release.
+                unsafe {
+                    ffi::rtcAttachGeometryByID(self.raw, geom, id);
+                    ffi::rtcReleaseGeometry(geom);
+                }
+                device.take_error().map_or(Ok(()), |e| Err(EmbreeError::Call(e)))
+            }
+        }
+    }
+
     /// Attaches `mesh` as triangle geometry `id`, copying it into Embree's buffers.
-    pub(super) fn attach_mesh(&self, device: &Device, mesh: &Mesh, id: u32) -> Result<(), EmbreeError> {
+    fn attach_triangles(&self, device: &Device, mesh: &Mesh, id: u32) -> Result<(), EmbreeError> {
         // SAFETY: valid device; the geometry is released below after attaching (the scene keeps
         // its own reference).
         unsafe {
@@ -73,7 +109,7 @@ impl SceneHandle {
             let idx = std::slice::from_raw_parts_mut(ib, mesh.indices.len());
             idx.copy_from_slice(&mesh.indices);
             ffi::rtcCommitGeometry(geom);
-            ffi::rtcAttachGeometryByID(self.0, geom, id);
+            ffi::rtcAttachGeometryByID(self.raw, geom, id);
             ffi::rtcReleaseGeometry(geom);
         }
         match device.take_error() {
@@ -87,7 +123,26 @@ impl Drop for SceneHandle {
     fn drop(&mut self) {
         // SAFETY: the handle came from rtcNewScene and is released exactly once; owners drop it
         // before their device.
-        unsafe { ffi::rtcReleaseScene(self.0) };
+        unsafe { ffi::rtcReleaseScene(self.raw) };
+    }
+}
+
+/// The intersect context of every query: Embree's, extended with per-ray data for the
+/// user-geometry callbacks (Embree 3 passes the caller's context pointer through to them, so it
+/// may start a larger struct; rtcore_common.h, `RTCIntersectContext`).
+#[repr(C)]
+pub(super) struct RayContext {
+    rtc: ffi::RTCIntersectContext,
+    /// The watertight test's per-ray constants, computed by the first triangle test of a ray.
+    pub(super) shear: ShearCache,
+}
+
+impl RayContext {
+    /// The pointer to hand to `rtcIntersect1`/`rtcOccluded1` (to the whole struct, so the
+    /// callbacks may read `shear` through it).
+    #[inline]
+    pub(super) fn as_mut_ptr(&mut self) -> *mut ffi::RTCIntersectContext {
+        (self as *mut Self).cast()
     }
 }
 
@@ -107,8 +162,13 @@ unsafe impl Sync for Scene {}
 impl Scene {
     /// Builds a robust scene with one triangle geometry per mesh; geometry ids equal mesh
     /// indices. Empty meshes are skipped.
-    pub fn build(device: Device, meshes: &[Mesh], quality: ffi::RTCBuildQuality) -> Result<Self, EmbreeError> {
-        let raw = SceneHandle::new(&device, quality)?;
+    pub fn build(
+        device: Device,
+        meshes: &[Mesh],
+        quality: ffi::RTCBuildQuality,
+        test: TriangleTest,
+    ) -> Result<Self, EmbreeError> {
+        let mut raw = SceneHandle::new(&device, quality, test)?;
         let mut bounds = Bounds3::EMPTY;
         for (id, mesh) in meshes.iter().enumerate() {
             if mesh.is_empty() {
@@ -121,9 +181,10 @@ impl Scene {
         Ok(Self { raw, device, bounds })
     }
 
-    /// Bytes Embree holds for this scene (BVH and vertex/index copies).
+    /// Bytes held for this scene: Embree's (BVH and vertex/index copies) and the user
+    /// geometries' triangles.
     pub fn memory_bytes(&self) -> usize {
-        self.device.memory_bytes()
+        self.device.memory_bytes() + self.raw.user_bytes()
     }
 
     /// Bounds of all attached meshes.
@@ -131,14 +192,30 @@ impl Scene {
         self.bounds
     }
 
+    /// A fresh context for one query. Every query passes a [`RayContext`] (the user-geometry
+    /// callbacks rely on it).
     #[inline]
-    pub(super) fn context() -> ffi::RTCIntersectContext {
+    pub(super) fn context() -> RayContext {
         // rtcInitIntersectContext is force-inlined in the header, so bindgen does not emit it.
-        ffi::RTCIntersectContext {
-            flags: ffi::RTCIntersectContextFlags_RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT,
-            filter: None,
-            instID: [ffi::RTC_INVALID_GEOMETRY_ID; ffi::RTC_MAX_INSTANCE_LEVEL_COUNT as usize],
+        RayContext {
+            rtc: ffi::RTCIntersectContext {
+                flags: ffi::RTCIntersectContextFlags_RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT,
+                filter: None,
+                instID: [ffi::RTC_INVALID_GEOMETRY_ID; ffi::RTC_MAX_INSTANCE_LEVEL_COUNT as usize],
+            },
+            shear: ShearCache::default(),
         }
+    }
+
+    /// True when Embree accepts the ray: |origin|, |direction| ≤ 1.844·10¹⁸ (Embree's
+    /// `FLT_LARGE`) and t_max not NaN (`RayK::valid` in Embree 3). Debian's Embree is built with
+    /// assertions, so any other ray would abort the process; such rays hit nothing.
+    #[inline]
+    pub(super) fn accepts(ray: &Ray) -> bool {
+        const FLT_LARGE: f32 = 1.844e18;
+        // `cmple` is false for NaN (unlike `max_element`, which skips NaN).
+        let small = |v: Vec3| v.abs().cmple(Vec3::splat(FLT_LARGE)).all();
+        small(ray.o) && small(ray.d) && !ray.t_max.is_nan()
     }
 
     #[inline]
@@ -165,13 +242,16 @@ impl Scene {
     /// Closest hit.
     #[inline]
     pub fn intersect(&self, ray: &Ray) -> Option<Hit> {
+        if !Self::accepts(ray) {
+            return None;
+        }
         let mut ctx = Self::context();
         let mut rh = ffi::RTCRayHit {
             ray: Self::rtc_ray(ray),
             hit: ffi::RTCHit { geomID: ffi::RTC_INVALID_GEOMETRY_ID, ..Default::default() },
         };
         // SAFETY: committed scene; ctx and rh are valid, properly aligned locals.
-        unsafe { ffi::rtcIntersect1(self.raw.0, &mut ctx, &mut rh) };
+        unsafe { ffi::rtcIntersect1(self.raw.raw, ctx.as_mut_ptr(), &mut rh) };
         if rh.hit.geomID == ffi::RTC_INVALID_GEOMETRY_ID {
             return None;
         }
@@ -189,10 +269,13 @@ impl Scene {
     /// Any hit before `ray.t_max`.
     #[inline]
     pub fn occluded(&self, ray: &Ray) -> bool {
+        if !Self::accepts(ray) {
+            return false;
+        }
         let mut ctx = Self::context();
         let mut r = Self::rtc_ray(ray);
         // SAFETY: committed scene; ctx and r are valid, properly aligned locals.
-        unsafe { ffi::rtcOccluded1(self.raw.0, &mut ctx, &mut r) };
+        unsafe { ffi::rtcOccluded1(self.raw.raw, ctx.as_mut_ptr(), &mut r) };
         // Embree sets tfar to -inf when an occluder was found.
         r.tfar == f32::NEG_INFINITY
     }
@@ -202,6 +285,6 @@ impl Scene {
     pub fn raw_intersect(&self, rh: &mut ffi::RTCRayHit) {
         let mut ctx = Self::context();
         // SAFETY: committed scene; the caller's ray-hit is a valid, aligned struct.
-        unsafe { ffi::rtcIntersect1(self.raw.0, &mut ctx, rh) };
+        unsafe { ffi::rtcIntersect1(self.raw.raw, ctx.as_mut_ptr(), rh) };
     }
 }

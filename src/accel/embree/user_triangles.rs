@@ -1,0 +1,280 @@
+//! Triangle meshes as Embree *user geometry* (`RTC_GEOMETRY_TYPE_USER`) whose intersect and
+//! occluded callbacks run prism's watertight ray–triangle test ([`crate::accel::watertight`],
+//! Woop, Benthin, Wald 2013) instead of Embree's triangle kernel.
+//!
+//! Why: Embree 3.13's robust triangle kernel (`BVH8Triangle4vIntersector1Pluecker`) lets rays
+//! aimed exactly at a vertex through a closed mesh (docs/benchmarks.md, "Why Embree leaks at
+//! vertices"); no flag or kernel choice of Embree 3 fixes it. Embree still builds and traverses
+//! the BVH (over our per-triangle boxes); only the leaf test is ours.
+//!
+//! Conventions, those of the triangle path (scene.rs) and of obvhs:
+//! - A closest hit is accepted for tnear ≤ t ≤ tfar; the hit record is t (in tfar), u, v (the
+//!   weights of p1 and p2), Ng = (p1−p0)×(p2−p0) in the geometry's space (object space under an
+//!   instance, as Embree reports for triangles), primID = the mesh's triangle index, geomID, and
+//!   instID copied from the intersect context (Embree leaves that to user geometry).
+//! - Equally distant hits are resolved by the smallest (instID, geomID, primID), as the obvhs
+//!   backend does, so results do not depend on Embree's traversal order.
+//! - An occlusion counts for tnear ≤ t < tfar (the `Accel::occluded` range (0, t_max)).
+//!
+//! - The shear constants of the test (three divisions) are computed once per ray: every query
+//!   passes a [`RayContext`] that caches them, keyed by the ray as the callback sees it.
+//!
+//! Callbacks receive rays in Embree's structure-of-arrays layout of width N (rtcore_ray.h,
+//! `RTCRayN_*`/`RTCHitN_*`: field k of ray i at float index k·N + i); `rtcIntersect1` passes
+//! N = 1, whose layout is `RTCRayHit`'s.
+
+use std::cell::Cell;
+
+use glam::Vec3;
+
+use super::device::{Device, EmbreeError};
+use super::ffi;
+use super::scene::RayContext;
+use crate::accel::watertight::{LaneRay, TriangleLanes};
+use crate::geometry::Mesh;
+
+/// Margin by which primitive boxes are grown, relative to the mesh's largest coordinate
+/// magnitude M. A ray through a triangle's edge or vertex lies on its box's face and must never
+/// be culled there; Embree traverses user geometry with its non-robust slab test,
+/// t = lower·(1/d) − o·(1/d) (FMA), whose rounding is about 2⁻²⁴·|o|/|d|. A margin of 2⁻¹⁸·M
+/// covers it for ray origins up to ~60·M from the origin of the mesh's space (object space
+/// under an instance); it grows the boxes of the 1M-triangle benchmark terrain by ~0.2%.
+const BOX_PAD: f32 = 1.0 / (1u32 << 18) as f32;
+
+/// One triangle, lane-wise, with its index in the mesh; one 64-byte cache line.
+#[derive(Clone, Copy, Debug)]
+#[repr(C, align(64))]
+struct UserTriangle {
+    lanes: TriangleLanes,
+    prim_id: u32,
+}
+
+/// The triangles of one mesh that can be hit (finite, non-zero area, indices in range; the same
+/// ones the obvhs backend keeps), in mesh order. Embree's user primitive `k` is `triangles[k]`.
+/// Boxed by its owner: Embree holds its address as the geometry's user pointer.
+pub(super) struct UserMesh {
+    triangles: Vec<UserTriangle>,
+    /// Absolute box margin: `BOX_PAD` × the largest vertex coordinate magnitude.
+    pad: f32,
+}
+
+impl UserMesh {
+    fn new(mesh: &Mesh) -> Self {
+        let mut triangles = Vec::with_capacity(mesh.len());
+        let mut magnitude = 0.0f32;
+        for (prim_id, idx) in mesh.indices.iter().enumerate() {
+            let Some(p) = idx.iter().map(|&i| mesh.positions.get(i as usize).copied()).collect::<Option<Vec<_>>>()
+            else {
+                continue;
+            };
+            let p = [p[0], p[1], p[2]];
+            if p.iter().all(|v| v.is_finite()) && (p[1] - p[0]).cross(p[2] - p[0]) != Vec3::ZERO {
+                triangles.push(UserTriangle { lanes: TriangleLanes::new(p), prim_id: prim_id as u32 });
+                magnitude = p.iter().fold(magnitude, |m, v| m.max(v.abs().max_element()));
+            }
+        }
+        Self { triangles, pad: magnitude * BOX_PAD + f32::MIN_POSITIVE }
+    }
+
+    /// Bytes of triangle storage (held by prism, not by Embree's allocator).
+    pub(super) fn bytes(&self) -> usize {
+        std::mem::size_of_val(&self.triangles[..])
+    }
+}
+
+/// Creates a committed user geometry for `mesh`, not yet attached. The returned `UserMesh`
+/// must outlive every scene the geometry is attached to.
+pub(super) fn new_geometry(device: &Device, mesh: &Mesh) -> Result<(ffi::RTCGeometry, Box<UserMesh>), EmbreeError> {
+    let user = Box::new(UserMesh::new(mesh));
+    let ptr = &*user as *const UserMesh as *mut std::ffi::c_void;
+    // SAFETY: valid device; `ptr` points to the boxed UserMesh, whose heap address does not change
+    // when the Box moves and which the caller keeps alive as long as the geometry; the callbacks
+    // only read through it.
+    let geom = unsafe {
+        let geom = ffi::rtcNewGeometry(device.raw(), ffi::RTCGeometryType_RTC_GEOMETRY_TYPE_USER);
+        if geom.is_null() {
+            return Err(EmbreeError::Call(device.take_error().unwrap_or_default()));
+        }
+        ffi::rtcSetGeometryUserPrimitiveCount(geom, user.triangles.len() as u32);
+        ffi::rtcSetGeometryUserData(geom, ptr);
+        ffi::rtcSetGeometryBoundsFunction(geom, Some(bounds), ptr);
+        ffi::rtcSetGeometryIntersectFunction(geom, Some(intersect));
+        ffi::rtcSetGeometryOccludedFunction(geom, Some(occluded));
+        ffi::rtcCommitGeometry(geom);
+        geom
+    };
+    if let Some(e) = device.take_error() {
+        // SAFETY: `geom` is a valid geometry we own one reference to.
+        unsafe { ffi::rtcReleaseGeometry(geom) };
+        return Err(EmbreeError::Call(e));
+    }
+    Ok((geom, user))
+}
+
+/// The triangle's box grown by `pad` (see [`BOX_PAD`]).
+fn padded_bounds(t: &UserTriangle, pad: f32) -> ffi::RTCBounds {
+    let [a, b, c] = t.lanes.vertices();
+    let (lo, hi) = (a.min(b).min(c) - pad, a.max(b).max(c) + pad);
+    ffi::RTCBounds {
+        lower_x: lo.x,
+        lower_y: lo.y,
+        lower_z: lo.z,
+        align0: 0.0,
+        upper_x: hi.x,
+        upper_y: hi.y,
+        upper_z: hi.z,
+        align1: 0.0,
+    }
+}
+
+unsafe extern "C" fn bounds(args: *const ffi::RTCBoundsFunctionArguments) {
+    // SAFETY: Embree passes valid arguments for the duration of the call; the user pointer is
+    // the UserMesh given to rtcSetGeometryBoundsFunction, and primID < the primitive count.
+    unsafe {
+        let args = &*args;
+        let mesh = &*(args.geometryUserPtr as *const UserMesh);
+        *args.bounds_o = padded_bounds(&mesh.triangles[args.primID as usize], mesh.pad);
+    }
+}
+
+/// The watertight test's per-ray constants for the last ray seen (keyed by the bits of its
+/// origin and direction, which differ under each instance's transform), so that the shear's
+/// three divisions are done once per ray and not once per triangle.
+#[derive(Default)]
+pub(super) struct ShearCache(Cell<Option<([u32; 6], Option<LaneRay>)>>);
+
+impl ShearCache {
+    /// [`LaneRay::new`]`(o, d)`, computed at most once per (o, d) in a row.
+    #[inline(always)]
+    fn get(&self, o: Vec3, d: Vec3) -> Option<LaneRay> {
+        let key = [o.x, o.y, o.z, d.x, d.y, d.z].map(f32::to_bits);
+        match self.0.get() {
+            Some((k, ray)) if k == key => ray,
+            _ => {
+                let ray = LaneRay::new(o, d);
+                self.0.set(Some((key, ray)));
+                ray
+            }
+        }
+    }
+}
+
+/// Float indices of `RTCRayHitN` fields, in units of N (rtcore_ray.h).
+mod field {
+    pub const ORG: usize = 0;
+    pub const TNEAR: usize = 3;
+    pub const DIR: usize = 4;
+    pub const TFAR: usize = 8;
+    pub const NG: usize = 12;
+    pub const U: usize = 15;
+    pub const V: usize = 16;
+    pub const PRIM_ID: usize = 17;
+    pub const GEOM_ID: usize = 18;
+    pub const INST_ID: usize = 19;
+}
+
+/// Ray `i` of a structure-of-arrays packet of width `n` starting at `base`.
+struct Lane {
+    base: *mut f32,
+    n: usize,
+    i: usize,
+}
+
+impl Lane {
+    /// # Safety
+    /// `k·n + i` must index a float of the packet.
+    #[inline(always)]
+    unsafe fn get(&self, k: usize) -> f32 {
+        // SAFETY: by the caller's contract.
+        unsafe { *self.base.add(k * self.n + self.i) }
+    }
+    /// # Safety
+    /// As [`Lane::get`], and the packet must be writable.
+    #[inline(always)]
+    unsafe fn set(&self, k: usize, x: f32) {
+        // SAFETY: by the caller's contract.
+        unsafe { *self.base.add(k * self.n + self.i) = x }
+    }
+    /// # Safety
+    /// As [`Lane::get`] for fields 0..=8.
+    #[inline(always)]
+    unsafe fn ray(&self) -> (Vec3, Vec3, f32, f32) {
+        // SAFETY: by the caller's contract.
+        unsafe {
+            let v = |k: usize| Vec3::new(self.get(k), self.get(k + 1), self.get(k + 2));
+            (v(field::ORG), v(field::DIR), self.get(field::TNEAR), self.get(field::TFAR))
+        }
+    }
+}
+
+unsafe extern "C" fn intersect(args: *const ffi::RTCIntersectFunctionNArguments) {
+    // SAFETY: Embree passes valid arguments for the duration of the call: `valid` has N entries,
+    // `rayhit` is an RTCRayHitN of width N (all fields up to instID[L−1]), `context` is the
+    // caller's context, which every query in this module makes a RayContext (Scene::context),
+    // and the user pointer is the geometry's UserMesh with primID < its count.
+    unsafe {
+        let args = &*args;
+        let mesh = &*(args.geometryUserPtr as *const UserMesh);
+        let tri = &mesh.triangles[args.primID as usize];
+        let ctx = &*(args.context as *const RayContext);
+        let inst = (*args.context).instID;
+        let n = args.N as usize;
+        for i in 0..n {
+            if *args.valid.add(i) == 0 {
+                continue;
+            }
+            let lane = Lane { base: args.rayhit as *mut f32, n, i };
+            let (o, d, tnear, tfar) = lane.ray();
+            let Some(h) = ctx.shear.get(o, d).and_then(|r| r.intersect_any_axis(&tri.lanes, tfar)) else {
+                continue;
+            };
+            if h.t < tnear {
+                continue;
+            }
+            if h.t == tfar {
+                // A tie with the current hit: keep the smaller (instID, geomID, primID).
+                let old_geom = lane.get(field::GEOM_ID).to_bits();
+                let old = (lane.get(field::INST_ID).to_bits(), old_geom, lane.get(field::PRIM_ID).to_bits());
+                if old_geom != ffi::RTC_INVALID_GEOMETRY_ID && (inst[0], args.geomID, tri.prim_id) >= old {
+                    continue;
+                }
+            }
+            let [p0, p1, p2] = tri.lanes.vertices();
+            let ng = (p1 - p0).cross(p2 - p0);
+            lane.set(field::TFAR, h.t);
+            lane.set(field::NG, ng.x);
+            lane.set(field::NG + 1, ng.y);
+            lane.set(field::NG + 2, ng.z);
+            lane.set(field::U, h.u);
+            lane.set(field::V, h.v);
+            lane.set(field::PRIM_ID, f32::from_bits(tri.prim_id));
+            lane.set(field::GEOM_ID, f32::from_bits(args.geomID));
+            for (l, &id) in inst.iter().enumerate() {
+                lane.set(field::INST_ID + l, f32::from_bits(id));
+            }
+        }
+    }
+}
+
+unsafe extern "C" fn occluded(args: *const ffi::RTCOccludedFunctionNArguments) {
+    // SAFETY: as in `intersect`; `ray` is an RTCRayN of width N.
+    unsafe {
+        let args = &*args;
+        let mesh = &*(args.geometryUserPtr as *const UserMesh);
+        let tri = &mesh.triangles[args.primID as usize];
+        let ctx = &*(args.context as *const RayContext);
+        let n = args.N as usize;
+        for i in 0..n {
+            if *args.valid.add(i) == 0 {
+                continue;
+            }
+            let lane = Lane { base: args.ray as *mut f32, n, i };
+            let (o, d, tnear, tfar) = lane.ray();
+            let hit = ctx.shear.get(o, d).and_then(|r| r.intersect_any_axis(&tri.lanes, tfar));
+            if hit.is_some_and(|h| h.t >= tnear && h.t < tfar) {
+                // Embree's convention for "occluded": tfar = −∞.
+                lane.set(field::TFAR, f32::NEG_INFINITY);
+            }
+        }
+    }
+}
