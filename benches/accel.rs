@@ -10,22 +10,12 @@ use std::hint::black_box;
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
 use prism::accel::{Accel, BuildQuality, ObvhsAccel};
-use prism::geometry::shapes::{icosphere, terrain};
 use prism::geometry::{Mesh, Ray};
 use prism::math::Vec3;
-use prism::sampling::Rng;
 use rayon::prelude::*;
 
-/// Rays per batch in the ray benchmarks.
-const RAYS: usize = 1 << 18;
-
-/// Terrain (~70%) plus a finely tessellated sphere (~30%): ~1M triangles at scale 1.
-fn scene() -> Vec<Mesh> {
-    let scale: f32 = std::env::var("PRISM_BENCH_SCALE").ok().and_then(|s| s.parse().ok()).unwrap_or(1.0);
-    let res = ((350_000.0 * scale).sqrt() as u32).max(4);
-    let subdiv = ((327_680.0 * scale / 20.0).log(4.0).round() as u32).clamp(1, 7);
-    vec![terrain(100.0, res, 4.0, 1), icosphere(Vec3::new(0.0, 12.0, 0.0), 8.0, subdiv)]
-}
+mod common;
+use common::{incoherent_rays, scene, RAYS};
 
 /// A 512×512 pinhole camera looking down at the scene.
 fn coherent_rays() -> Vec<Ray> {
@@ -39,21 +29,6 @@ fn coherent_rays() -> Vec<Ray> {
             let x = ((k % n) as f32 + 0.5) / n as f32 * 2.0 - 1.0;
             let y = ((k / n) as f32 + 0.5) / n as f32 * 2.0 - 1.0;
             Ray::new(eye, (forward + 0.7 * x * right + 0.7 * y * up).normalize())
-        })
-        .collect()
-}
-
-/// Random origins in the scene's bounds with uniformly random directions (like diffuse bounces).
-fn incoherent_rays(accel: &dyn Accel) -> Vec<Ray> {
-    let b = accel.bounds();
-    let mut rng = Rng::new(2024, 0);
-    (0..RAYS)
-        .map(|_| {
-            let o = b.min + (b.max - b.min) * Vec3::new(rng.uniform(), rng.uniform(), rng.uniform());
-            let z = 1.0 - 2.0 * rng.uniform();
-            let phi = std::f32::consts::TAU * rng.uniform();
-            let r = (1.0 - z * z).max(0.0).sqrt();
-            Ray::new(o, Vec3::new(r * phi.cos(), r * phi.sin(), z))
         })
         .collect()
 }
