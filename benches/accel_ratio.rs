@@ -1,7 +1,8 @@
 //! obvhs ÷ Embree ray throughput measured side by side, for machines too busy for absolute
 //! timings: the backends take turns on 4096-ray chunks of the same incoherent rays (one thread),
-//! and each chunk is timed by this thread's CPU time (`/proc/thread-self/schedstat`), so load
-//! from other processes cancels out of the ratios. One pass traces every ray once per backend;
+//! and each chunk is timed by this thread's CPU time (`CLOCK_THREAD_CPUTIME_ID`, exact to the
+//! nanosecond, unlike `/proc/thread-self/schedstat`, which lags by up to a scheduler tick), so
+//! time spent in other processes is not counted. One pass traces every ray once per backend;
 //! the ratio of a pass is Embree's CPU time over the other backend's (> 1: faster than Embree).
 //!
 //! Backends: Embree (feature `embree`), obvhs (arrays in huge-page-advised memory) and
@@ -12,6 +13,7 @@
 
 use std::time::Instant;
 
+use cpu_time::ThreadTime;
 use prism::accel::{Accel, ObvhsAccel};
 use prism::geometry::Ray;
 
@@ -22,12 +24,6 @@ use common::{incoherent_rays, scene};
 const CHUNK: usize = 4096;
 /// Any-hit rays are segments of this length (as in `accel.rs`).
 const SHADOW_T: f32 = 50.0;
-
-/// CPU time this thread has run, in nanoseconds (first field of schedstat).
-fn thread_cpu_ns() -> u64 {
-    let text = std::fs::read_to_string("/proc/thread-self/schedstat").expect("Linux schedstat");
-    text.split_whitespace().next().and_then(|s| s.parse().ok()).expect("schedstat field")
-}
 
 /// AnonHugePages of the whole process in MiB (`/proc/self/smaps_rollup`), NaN if unreadable.
 fn process_huge_mib() -> f64 {
@@ -51,9 +47,9 @@ fn pass(backends: &[(&str, &dyn Accel)], rays: &[Ray], any_hit: bool, counts: &m
     for (c, chunk) in rays.chunks(CHUNK).enumerate() {
         for k in 0..backends.len() {
             let b = (c + k) % backends.len();
-            let start = thread_cpu_ns();
+            let start = ThreadTime::now();
             counts[b] += run(backends[b].1, chunk, any_hit);
-            cpu[b] += thread_cpu_ns() - start;
+            cpu[b] += start.elapsed().as_nanos() as u64;
         }
     }
     cpu.iter().map(|&ns| ns as f64 * 1e-9).collect()

@@ -24,7 +24,11 @@ pub const HUGE_PAGE_BYTES: usize = 2 << 20;
 enum Storage<T> {
     Heap(Vec<T>),
     /// `len` elements from byte `offset` (a multiple of [`HUGE_PAGE_BYTES`] in address space).
-    Mapped { map: MmapMut, offset: usize, len: usize },
+    Mapped {
+        map: MmapMut,
+        offset: usize,
+        len: usize,
+    },
 }
 
 /// A read-only array of plain-old-data elements, huge-page advised when it spans at least one

@@ -136,11 +136,14 @@ impl ObvhsAccel {
             .collect();
         let bvh = build_cwbvh(&boxes, quality.params(), &mut Duration::default());
         let leaf_order = bvh.primitive_indices.iter().flat_map(|&g| groups[g as usize]);
-        let triangles = HugeArray::from_exact_iter(ExactLen(tris.len(), leaf_order.map(|&i| Triangle {
-            lanes: TriangleLanes::new(tris[i as usize]),
-            ids: ids[i as usize],
-            _pad: [0; 2],
-        })));
+        let triangles = HugeArray::from_exact_iter(ExactLen(
+            tris.len(),
+            leaf_order.map(|&i| Triangle {
+                lanes: TriangleLanes::new(tris[i as usize]),
+                ids: ids[i as usize],
+                _pad: [0; 2],
+            }),
+        ));
         let mut group_start = Vec::new();
         if groups.len() < tris.len() {
             group_start.reserve(groups.len() + 1);
