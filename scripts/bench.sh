@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Regenerates the figures in docs/benchmarks.md on this machine (run from the repository root):
 #   1. criterion: BVH build and rays/s, Embree vs raw rtcIntersect1 vs obvhs, ~1M triangles;
+#      then accel_ratio: obvhs ÷ Embree measured side by side (huge pages vs heap);
 #   2. prism bench: the Cornell box's error against time per backend and sampler, with plots;
 #   3. prism bench on the built-in 1M-triangle terrain and on scenes/instanced_orchard.pbrt:
 #      build time, rays/s and memory per triangle per backend.
@@ -11,6 +12,7 @@ mkdir -p bench-out
 cargo build --release
 echo "== machine: $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | xargs), $(date -u +%F)"
 cargo bench --bench accel -- --noplot 2>&1 | grep -E "^[a-z-]+/|time:|thrpt:" | tee bench-out/accel.txt
+PRISM_RATIO_PASSES=16 cargo bench --bench accel_ratio 2>&1 | grep -vE "^ *(Compiling|Finished|Running)" | tee bench-out/accel_ratio.txt
 ./target/release/prism bench --accel embree,obvhs --sampler independent,sobol \
     --spp-ladder "${SPP_LADDER:-1,4,16,64}" --reference-spp "${REF_SPP:-1024}" \
     --resolution "${RES:-128x128}" --max-depth 8 --out bench-out/cornell
