@@ -74,11 +74,12 @@ fn main() {
     let obvhs = ObvhsAccel::new(&meshes);
     let build = t0.elapsed().as_secs_f64();
     let heap = ObvhsAccel::new(&meshes).without_huge_pages();
-    let mut views: Vec<(&str, &dyn Accel)> = Vec::new();
-    #[cfg(feature = "embree")]
-    views.push(("embree", &embree));
-    views.push(("obvhs", &obvhs));
-    views.push(("obvhs-heap", &heap));
+    let views: Vec<(&str, &dyn Accel)> = vec![
+        #[cfg(feature = "embree")]
+        ("embree", &embree),
+        ("obvhs", &obvhs),
+        ("obvhs-heap", &heap),
+    ];
     let rays = incoherent_rays(&obvhs);
     println!("{triangles} triangles, {} incoherent rays, {passes} passes, obvhs build {build:.2} s", rays.len());
     let huge_mb = |a: &ObvhsAccel| a.huge_page_bytes().map_or(f64::NAN, |b| b as f64 / (1 << 20) as f64);
