@@ -1,5 +1,9 @@
-//! The ray-benchmark scene and ray sets, shared by `accel.rs` (criterion) and `accel_ratio.rs`
-//! (interleaved backend ratios).
+//! The ray-benchmark scene and ray sets, shared by `accel.rs` (criterion), `accel_ratio.rs`
+//! (interleaved backend ratios) and `obvhs_huge_pages.rs`. `PRISM_BENCH_SCALE` (default 1.0)
+//! scales the triangle count.
+
+// Each bench uses a subset of these helpers.
+#![allow(dead_code)]
 
 use prism::accel::Accel;
 use prism::geometry::shapes::{icosphere, terrain};

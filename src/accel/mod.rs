@@ -3,6 +3,7 @@
 
 #[cfg(feature = "embree")]
 pub mod embree;
+pub mod huge_array;
 pub mod obvhs;
 pub mod obvhs_instanced;
 pub mod watertight;

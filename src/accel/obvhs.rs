@@ -12,31 +12,30 @@
 //!
 //! Speed: triangles are stored lane-wise ([`TriangleLanes`]) in BVH leaf order, the triangle
 //! test is specialised per dominant ray axis, and when every group holds one triangle (the usual
-//! case) a BVH primitive index is a triangle index with no indirection.
+//! case) a BVH primitive index is a triangle index with no indirection. Nodes and triangles
+//! live in huge-page-advised memory ([`HugeArray`]): over a million triangles, incoherent rays
+//! would otherwise pay a TLB miss on most loads.
 
 use std::time::Duration;
 
-use ::obvhs::{aabb::Aabb, cwbvh::builder::build_cwbvh, cwbvh::CwBvh, BvhBuildParams};
+use ::obvhs::{aabb::Aabb, cwbvh::builder::build_cwbvh, cwbvh::node::CwBvhNode, BvhBuildParams};
 use glam::{Vec3, Vec3A};
 use rayon::prelude::*;
 
+use super::huge_array::HugeArray;
 use super::watertight::{LaneRay, TriangleHit, TriangleLanes};
 use super::Accel;
 use crate::geometry::{Bounds3, Hit, Mesh, Ray};
 
+#[path = "obvhs_leaves.rs"]
+mod leaves;
 #[path = "obvhs_traverse.rs"]
 mod traverse;
 
+use leaves::{ExactLen, Leaves, Triangle};
+
 /// Relative margin by which leaf boxes are grown (a power of two).
 const BOX_PAD: f32 = 1.0 / (1u32 << 20) as f32;
-
-/// A triangle and its (geom_id, prim_id), one cache line each so a triangle test touches one line.
-#[derive(Clone, Copy, Debug)]
-#[repr(C, align(64))]
-struct Triangle {
-    lanes: TriangleLanes,
-    ids: (u32, u32),
-}
 
 /// BVH build effort: faster builds trace slower. Maps to obvhs' `BvhBuildParams` presets.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -80,13 +79,14 @@ pub struct BuildStats {
 
 /// The obvhs CWBVH accelerator over a list of meshes (`geom_id` = index in that list).
 pub struct ObvhsAccel {
-    bvh: CwBvh,
-    /// Triangles in BVH leaf order (`bvh.primitive_indices` order), so a leaf's triangles are
-    /// contiguous in memory.
-    triangles: Vec<Triangle>,
+    /// obvhs' CWBVH nodes (the rest of its `CwBvh` is not needed after the build).
+    nodes: HugeArray<CwBvhNode>,
+    /// Triangles in BVH leaf order (the CWBVH's `primitive_indices` order), so a leaf's
+    /// triangles are contiguous in memory.
+    triangles: HugeArray<Triangle>,
     /// BVH primitive `k` is `triangles[group_start[k]..group_start[k + 1]]`; empty when every
     /// group is a single triangle (then primitive `k` is triangle `k`).
-    group_start: Vec<u32>,
+    group_start: HugeArray<u32>,
     bounds: Bounds3,
     stats: BuildStats,
 }
@@ -120,12 +120,13 @@ impl ObvhsAccel {
                 }
                 bounds = tri.iter().fold(bounds, |b, &v| b.union_point(v));
                 tris.push(tri);
-                ids.push((g as u32, p as u32));
+                ids.push([g as u32, p as u32]);
             }
         }
         stats.triangles = tris.len();
         if tris.is_empty() {
-            return Self { bvh: CwBvh::default(), triangles: Vec::new(), group_start: Vec::new(), bounds, stats };
+            let (nodes, triangles, group_start) = Default::default();
+            return Self { nodes, triangles, group_start, bounds, stats };
         }
         let (members, starts) = group_by_centroid_cell(&tris, bounds);
         let groups: Vec<&[u32]> = starts.windows(2).map(|w| &members[w[0] as usize..w[1] as usize]).collect();
@@ -134,21 +135,44 @@ impl ObvhsAccel {
             .map(|g| g.iter().fold(Aabb::empty(), |b, &i| b.union(&padded_box(&tris[i as usize]))))
             .collect();
         let bvh = build_cwbvh(&boxes, quality.params(), &mut Duration::default());
-        let mut triangles = Vec::with_capacity(tris.len());
-        let mut group_start = Vec::with_capacity(groups.len() + 1);
-        group_start.push(0);
-        for &g in &bvh.primitive_indices {
-            for &i in groups[g as usize] {
-                triangles.push(Triangle { lanes: TriangleLanes::new(tris[i as usize]), ids: ids[i as usize] });
+        let leaf_order = bvh.primitive_indices.iter().flat_map(|&g| groups[g as usize]);
+        let triangles = HugeArray::from_exact_iter(ExactLen(
+            tris.len(),
+            leaf_order.map(|&i| Triangle {
+                lanes: TriangleLanes::new(tris[i as usize]),
+                ids: ids[i as usize],
+                _pad: [0; 2],
+            }),
+        ));
+        let mut group_start = Vec::new();
+        if groups.len() < tris.len() {
+            group_start.reserve(groups.len() + 1);
+            group_start.push(0);
+            for &g in &bvh.primitive_indices {
+                group_start.push(group_start[group_start.len() - 1] + groups[g as usize].len() as u32);
             }
-            group_start.push(triangles.len() as u32);
         }
-        if group_start.len() == triangles.len() + 1 {
-            group_start = Vec::new();
-        }
-        stats.max_depth = max_depth(&bvh);
+        stats.max_depth = max_depth(&bvh.nodes);
         stats.linear_fallback = stats.max_depth as usize + 1 >= traverse::STACK_SIZE;
-        Self { bvh, triangles, group_start, bounds, stats }
+        let nodes = HugeArray::new(&bvh.nodes);
+        Self { nodes, triangles, group_start: HugeArray::new(&group_start), bounds, stats }
+    }
+
+    /// The same accelerator with its arrays in ordinary heap memory (no huge pages): the
+    /// baseline that benchmarks compare against.
+    pub fn without_huge_pages(self) -> Self {
+        Self {
+            nodes: self.nodes.to_heap(),
+            triangles: self.triangles.to_heap(),
+            group_start: self.group_start.to_heap(),
+            ..self
+        }
+    }
+
+    /// Bytes of nodes and triangles the kernel currently backs with transparent huge pages
+    /// (from `/proc/self/smaps`; Linux only).
+    pub fn huge_page_bytes(&self) -> std::io::Result<usize> {
+        Ok(self.nodes.huge_page_bytes()? + self.triangles.huge_page_bytes()? + self.group_start.huge_page_bytes()?)
     }
 
     /// Build statistics (skipped triangles, depth).
@@ -156,71 +180,33 @@ impl ObvhsAccel {
         self.stats
     }
 
-    /// Closest-hit candidate for slot `i`: hit if nearer than `best`, or equally near with smaller
-    /// (geom_id, prim_id), so the result does not depend on traversal order.
+    /// The arrays a ray reads, dereferenced once per ray.
     #[inline(always)]
-    fn closer<const KZ: usize>(
-        &self,
-        r: &LaneRay,
-        i: usize,
-        best: &mut Option<(TriangleHit, usize)>,
-        t_max: f32,
-    ) -> bool {
-        let limit = best.map_or(t_max, |(h, _)| h.t);
-        let tri = &self.triangles[i];
-        match r.intersect::<KZ>(&tri.lanes, limit) {
-            Some(h) if best.is_none_or(|(b, j)| h.t < b.t || tri.ids < self.triangles[j].ids) => {
-                *best = Some((h, i));
-                true
-            }
-            _ => false,
-        }
-    }
-
-    /// Indices into `triangles` of BVH primitive `k`.
-    #[inline(always)]
-    fn group(&self, k: usize) -> std::ops::Range<usize> {
-        if self.group_start.is_empty() {
-            k..k + 1
-        } else {
-            self.group_start[k] as usize..self.group_start[k + 1] as usize
-        }
-    }
-
-    /// Loads (and discards) the first triangle of BVH primitive `k` to start its cache miss early.
-    #[inline(always)]
-    fn touch(&self, k: u32) {
-        if let Some(t) = self.triangles.get(self.group(k as usize).start) {
-            std::hint::black_box(*t);
-        }
-    }
-
-    fn hit_record(&self, (h, i): (TriangleHit, usize)) -> Hit {
-        let [p0, p1, p2] = self.triangles[i].lanes.vertices();
-        let (geom_id, prim_id) = self.triangles[i].ids;
-        Hit { t: h.t, geom_id, prim_id, u: h.u, v: h.v, ng: (p1 - p0).cross(p2 - p0), inst_id: Hit::NO_INSTANCE }
+    fn leaves(&self) -> Leaves<'_> {
+        Leaves { triangles: &self.triangles, group_start: &self.group_start }
     }
 
     /// Closest hit with the triangle test specialised for dominant axis `KZ`.
     #[inline(always)]
     fn closest<const KZ: usize>(&self, ray: &Ray, r: &LaneRay) -> Option<(TriangleHit, usize)> {
         let mut best = None;
+        let l = self.leaves();
         if self.stats.linear_fallback {
-            for i in 0..self.triangles.len() {
-                self.closer::<KZ>(r, i, &mut best, ray.t_max);
+            for i in 0..l.triangles.len() {
+                l.closer::<KZ>(r, i, &mut best, ray.t_max);
             }
             return best;
         }
         let br = traverse::BoxRay::new(ray.o, ray.d);
         traverse::traverse(
-            &self.bvh,
+            &self.nodes,
             &br,
             ray.t_max,
-            |k| self.touch(k),
+            |k| l.touch(k),
             |k, t_max| {
                 let mut found = false;
-                for i in self.group(k as usize) {
-                    found |= self.closer::<KZ>(r, i, &mut best, ray.t_max);
+                for i in l.group(k as usize) {
+                    found |= l.closer::<KZ>(r, i, &mut best, ray.t_max);
                 }
                 if let (true, Some((h, _))) = (found, best) {
                     *t_max = h.t;
@@ -233,23 +219,24 @@ impl ObvhsAccel {
 
     /// Every hit with t in (0, t_max), in traversal order; the ray's range never shrinks.
     fn all<const KZ: usize>(&self, ray: &Ray, r: &LaneRay, hits: &mut Vec<Hit>) {
+        let l = self.leaves();
         let mut visit = |i: usize| {
-            if let Some(h) = r.intersect::<KZ>(&self.triangles[i].lanes, ray.t_max).filter(|h| h.t < ray.t_max) {
-                hits.push(self.hit_record((h, i)));
+            if let Some(h) = r.intersect::<KZ>(&l.triangles[i].lanes, ray.t_max).filter(|h| h.t < ray.t_max) {
+                hits.push(l.hit_record((h, i)));
             }
         };
         if self.stats.linear_fallback {
-            (0..self.triangles.len()).for_each(visit);
+            (0..l.triangles.len()).for_each(visit);
             return;
         }
         let br = traverse::BoxRay::new(ray.o, ray.d);
         traverse::traverse(
-            &self.bvh,
+            &self.nodes,
             &br,
             ray.t_max,
-            |k| self.touch(k),
+            |k| l.touch(k),
             |k, _| {
-                self.group(k as usize).for_each(&mut visit);
+                l.group(k as usize).for_each(&mut visit);
                 false
             },
         );
@@ -258,19 +245,20 @@ impl ObvhsAccel {
     /// Any hit with t in (0, t_max), the triangle test specialised for dominant axis `KZ`.
     #[inline(always)]
     fn any<const KZ: usize>(&self, ray: &Ray, r: &LaneRay) -> bool {
-        let blocks = |i: usize| r.intersect::<KZ>(&self.triangles[i].lanes, ray.t_max).is_some_and(|h| h.t < ray.t_max);
+        let l = self.leaves();
+        let blocks = |i: usize| r.intersect::<KZ>(&l.triangles[i].lanes, ray.t_max).is_some_and(|h| h.t < ray.t_max);
         if self.stats.linear_fallback {
-            return (0..self.triangles.len()).any(blocks);
+            return (0..l.triangles.len()).any(blocks);
         }
         let mut hit = false;
         let br = traverse::BoxRay::new(ray.o, ray.d);
         traverse::traverse(
-            &self.bvh,
+            &self.nodes,
             &br,
             ray.t_max,
-            |k| self.touch(k),
+            |k| l.touch(k),
             |k, _| {
-                hit = self.group(k as usize).any(blocks);
+                hit = l.group(k as usize).any(blocks);
                 hit
             },
         );
@@ -311,12 +299,12 @@ fn group_by_centroid_cell(tris: &[[Vec3; 3]], bounds: Bounds3) -> (Vec<u32>, Vec
 }
 
 /// Depth of the deepest internal node (root = 0).
-pub(super) fn max_depth(bvh: &CwBvh) -> u32 {
+pub(super) fn max_depth(nodes: &[CwBvhNode]) -> u32 {
     let mut deepest = 0;
     let mut stack = vec![(0usize, 0u32)];
     while let Some((n, depth)) = stack.pop() {
         deepest = deepest.max(depth);
-        let node = &bvh.nodes[n];
+        let node = &nodes[n];
         for ch in 0..8 {
             if !node.is_child_empty(ch) && !node.is_leaf(ch) {
                 stack.push((node.child_node_index(ch) as usize, depth + 1));
@@ -337,7 +325,7 @@ impl Accel for ObvhsAccel {
             1 => self.closest::<1>(ray, &r),
             _ => self.closest::<2>(ray, &r),
         };
-        best.map(|b| self.hit_record(b))
+        best.map(|b| self.leaves().hit_record(b))
     }
 
     fn occluded(&self, ray: &Ray) -> bool {
@@ -360,12 +348,7 @@ impl Accel for ObvhsAccel {
 
     fn memory_bytes(&self) -> usize {
         use std::mem::size_of_val;
-        let bvh = &self.bvh;
-        size_of_val(&bvh.nodes[..])
-            + size_of_val(&bvh.primitive_indices[..])
-            + bvh.exact_node_aabbs.as_ref().map_or(0, |a| size_of_val(&a[..]))
-            + size_of_val(&self.triangles[..])
-            + size_of_val(&self.group_start[..])
+        size_of_val(&self.nodes[..]) + size_of_val(&self.triangles[..]) + size_of_val(&self.group_start[..])
     }
 
     fn name(&self) -> &'static str {

@@ -108,7 +108,7 @@ impl ObvhsInstancedAccel {
         let mut linear_fallback = false;
         if !boxes.is_empty() {
             tlas = build_cwbvh(&boxes, BvhBuildParams::medium_build(), &mut Duration::default());
-            linear_fallback = max_depth(&tlas) + 1 >= OBVHS_STACK;
+            linear_fallback = max_depth(&tlas.nodes) + 1 >= OBVHS_STACK;
             // Reorder so that TLAS primitive k is placed[k].
             let mut slots: Vec<Option<Placed>> = placed.into_iter().map(Some).collect();
             placed = tlas.primitive_indices.iter().map(|&k| slots[k as usize].take().expect("a permutation")).collect();

@@ -282,3 +282,35 @@ fn linear_fallback_agrees_with_traversal() {
         assert_eq!(linear.occluded(ray), accel.occluded(ray), "{ray:?}");
     }
 }
+
+#[test]
+fn huge_page_arrays_agree_with_heap_arrays_and_brute_force() {
+    // 32,768 + 5,120 triangles: 2.4 MB of triangle records, more than one 2 MiB huge page.
+    let meshes = vec![terrain(8.0, 128, 0.5, 9), icosphere(Vec3::new(0.0, 1.5, 0.0), 1.0, 4)];
+    let accel = ObvhsAccel::new(&meshes);
+    assert_eq!(accel.triangles.is_mapped(), cfg!(unix));
+    let heap = ObvhsAccel::new(&meshes).without_huge_pages();
+    assert!(!heap.triangles.is_mapped() && !heap.nodes.is_mapped());
+    assert_eq!(accel.memory_bytes(), heap.memory_bytes());
+    let mut rng = Rng::new(77, 3);
+    let rays: Vec<Ray> = (0..4000)
+        .map(|_| {
+            let o = Vec3::new(rng.uniform() * 8.0 - 4.0, rng.uniform() * 3.0 - 0.5, rng.uniform() * 8.0 - 4.0);
+            Ray::new(o, random_dir(&mut rng))
+        })
+        .collect();
+    let hits: usize = rays
+        .par_iter()
+        .enumerate()
+        .map(|(k, ray)| {
+            let got = accel.intersect(ray);
+            assert_eq!(got, heap.intersect(ray), "{ray:?}");
+            assert_eq!(accel.occluded(ray), heap.occluded(ray), "{ray:?}");
+            if k % 8 == 0 {
+                assert_eq!(got, brute_intersect(&meshes, ray), "{ray:?}");
+            }
+            got.is_some() as usize
+        })
+        .sum();
+    assert!(hits > rays.len() / 3, "{hits} of {}", rays.len());
+}

@@ -6,7 +6,7 @@
 //! widened eight at a time (the loops below vectorise), the ray interval starts at 0 instead of
 //! obvhs' fixed 10⁻⁴, and 1/d is clamped at ±10³⁰ so an axis-parallel ray never computes 0·∞.
 
-use ::obvhs::cwbvh::{node::CwBvhNode, CwBvh};
+use ::obvhs::cwbvh::node::CwBvhNode;
 use glam::{Vec3, Vec3A};
 
 /// Entries in the traversal stack. Every entry is a level of the current path, so a tree whose
@@ -63,7 +63,13 @@ fn min(a: f32, b: f32) -> f32 {
 #[inline(always)]
 fn slab(lo: &[u8; 8], hi: &[u8; 8], neg: bool, scale: f32, offset: f32) -> ([f32; 8], [f32; 8]) {
     let (near, far) = if neg { (hi, lo) } else { (lo, hi) };
-    (near.map(|q| q as f32 * scale + offset), far.map(|q| q as f32 * scale + offset))
+    // Plain loops: `<[u8; 8]>::map` was not inlined (a call per slab in profiles).
+    let (mut t_near, mut t_far) = ([0.0; 8], [0.0; 8]);
+    for i in 0..8 {
+        t_near[i] = near[i] as f32 * scale + offset;
+        t_far[i] = far[i] as f32 * scale + offset;
+    }
+    (t_near, t_far)
 }
 
 /// Bit i set when child slot i's box overlaps [0, t_max] along the ray.
@@ -100,32 +106,32 @@ fn hit_mask(node: &CwBvhNode, mut slots: u32, oct_inv4: u32) -> u32 {
 /// Loads (and discards) both ends of the children of `node` that the ray will visit, so that
 /// their cache misses overlap with each other and with the work before their turn comes.
 #[inline(always)]
-fn touch_children(bvh: &CwBvh, node: &CwBvhNode, mask: u32, oct_inv4: u32) {
+fn touch_children(nodes: &[CwBvhNode], node: &CwBvhNode, mask: u32, oct_inv4: u32) {
     let mut pending = mask >> 24;
     while pending != 0 {
         let slot = pending.trailing_zeros() ^ (oct_inv4 & 0xff);
         pending &= pending - 1;
         let index = node.child_base_idx + (node.imask as u32 & !(u32::MAX << slot)).count_ones();
-        if let Some(child) = bvh.nodes.get(index as usize) {
+        if let Some(child) = nodes.get(index as usize) {
             std::hint::black_box((child.p.x, child.child_max_z[7]));
         }
     }
 }
 
-/// Calls `visit(k, &mut t_max)` for every BVH primitive `k` (an index into
-/// `bvh.primitive_indices`) in a leaf whose box the ray reaches within [0, t_max]. `visit` may
+/// Calls `visit(k, &mut t_max)` for every BVH primitive `k` (an index into the CWBVH's
+/// `primitive_indices`) in a leaf whose box the ray reaches within [0, t_max]. `visit` may
 /// shrink t_max (closest hit) and returns true to stop (any hit); `touch(k)` is called for all
 /// primitives of a node before the first `visit`, to start their memory loads early. The tree's
 /// depth must be below [`STACK_SIZE`].
 #[inline(always)]
 pub(super) fn traverse(
-    bvh: &CwBvh,
+    bvh: &[CwBvhNode],
     r: &BoxRay,
     mut t_max: f32,
     touch: impl Fn(u32),
     mut visit: impl FnMut(u32, &mut f32) -> bool,
 ) {
-    if bvh.nodes.is_empty() {
+    if bvh.is_empty() {
         return;
     }
     let mut stack = [(0u32, 0u32); STACK_SIZE];
@@ -144,7 +150,7 @@ pub(super) fn traverse(
                 depth += 1;
             }
             let slot = (bit - 24) ^ (r.oct_inv4 & 0xff);
-            let node = &bvh.nodes[(nodes.0 + (hits & !(u32::MAX << slot)).count_ones()) as usize];
+            let node = &bvh[(nodes.0 + (hits & !(u32::MAX << slot)).count_ones()) as usize];
             let mask = hit_mask(node, slot_hits(node, r, t_max), r.oct_inv4);
             touch_children(bvh, node, mask, r.oct_inv4);
             let mut leaves = mask & 0x00ff_ffff;

@@ -108,7 +108,8 @@ impl ShearedRay {
 }
 
 /// A triangle stored lane-wise: lane i of `x`, `y`, `z` holds vertex p_i (48 bytes).
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+#[repr(C)]
 pub struct TriangleLanes {
     x: Vec3A,
     y: Vec3A,
