@@ -215,7 +215,7 @@ pub fn parse(bytes: &[u8]) -> Result<Mesh, String> {
                     .or_else(|| pick(["s", "t"]))
                     .or_else(|| pick(["texture_u", "texture_v"]))
                     .or_else(|| pick(["texture_s", "texture_t"]));
-                positions.reserve_exact(e.count);
+                reserve(&mut positions, e.count, "vertices")?;
                 let mut vals = vec![0.0f64; e.props.len()];
                 for _ in 0..e.count {
                     for (k, p) in e.props.iter().enumerate() {
@@ -251,7 +251,7 @@ pub fn parse(bytes: &[u8]) -> Result<Mesh, String> {
                 else {
                     return Err("face element lacks a vertex_indices list".into());
                 };
-                tris.reserve(e.count);
+                reserve(&mut tris, e.count, "faces")?;
                 let mut poly = Vec::with_capacity(MAX_FACE_VERTICES);
                 for f in 0..e.count {
                     for (k, p) in e.props.iter().enumerate() {
@@ -369,9 +369,26 @@ pub fn write(mesh: &Mesh, faces: &[Vec<u32>], binary: bool) -> Vec<u8> {
     out
 }
 
+/// Room for `n` more elements, or an error naming the size when memory runs out (a real mesh
+/// of that size, since counts were checked against the file's length).
+fn reserve<T>(v: &mut Vec<T>, n: usize, what: &str) -> Result<(), String> {
+    v.try_reserve_exact(n).map_err(|_| {
+        let gib = (n * size_of::<T>()) as f64 / (1u64 << 30) as f64;
+        format!("out of memory: {n} {what} need {gib:.1} GiB")
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_mesh_too_large_for_memory_is_an_error_naming_its_size() {
+        let mut v: Vec<Vec3> = Vec::new();
+        let e = reserve(&mut v, usize::MAX / 64, "vertices").unwrap_err();
+        assert!(e.starts_with("out of memory: ") && e.contains(" vertices need ") && e.ends_with(" GiB"), "{e}");
+        assert!(reserve(&mut v, 10, "vertices").is_ok() && v.capacity() >= 10);
+    }
 
     fn quad() -> (Mesh, Vec<Vec<u32>>) {
         let mut m = Mesh::new(vec![Vec3::ZERO, Vec3::X, Vec3::new(1., 1., 0.), Vec3::Y, Vec3::Z], vec![]);
