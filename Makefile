@@ -20,11 +20,11 @@ test-default:
 	$(CARGO) test
 
 # Without the C libraries only the backends (accel, image) and what picks them (cli, bench)
-# behave differently; the rest of the unit tests already ran in test-default.
+# behave differently: their unit tests and the end-to-end suite run again; the rest of the unit
+# tests and the doc test already ran in test-default.
 test-pure:
 	$(CARGO) test --no-default-features --lib -- accel:: image:: cli:: bench::
-	$(CARGO) test --no-default-features --bins --test suite
-	$(CARGO) test --no-default-features --doc
+	$(CARGO) test --no-default-features --test suite
 
 lint:
 	$(CARGO) fmt --check
