@@ -35,7 +35,7 @@ impl Crop {
         let [x0, x1, y0, y1] = match *self {
             Crop::Window(c) => {
                 if c.iter().any(|v| !v.is_finite()) {
-                    return Err(format!("cropwindow {c:?} is not finite"));
+                    return Err(format!("{self} is not finite"));
                 }
                 // In f32 as pbrt-v4 computes it, so the same window selects the same pixels.
                 let px = |v: f32, n: i64| (v.clamp(0.0, 1.0) * n as f32).ceil() as i64;
@@ -44,9 +44,18 @@ impl Crop {
             Crop::Pixels(p) => [p[0].clamp(0, w), p[1].clamp(0, w), p[2].clamp(0, h), p[3].clamp(0, h)],
         };
         if x0 >= x1 || y0 >= y1 {
-            return Err(format!("{self:?} selects no pixels of a {w}x{h} image"));
+            return Err(format!("{self} selects no pixels of a {w}x{h} image"));
         }
         Ok(PixelBounds { x0: x0 as u32, x1: x1 as u32, y0: y0 as u32, y1: y1 as u32 })
+    }
+}
+
+impl std::fmt::Display for Crop {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Crop::Window([a, b, c, d]) => write!(f, "cropwindow [{a} {b} {c} {d}]"),
+            Crop::Pixels([a, b, c, d]) => write!(f, "pixelbounds [{a} {b} {c} {d}]"),
+        }
     }
 }
 

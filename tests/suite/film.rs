@@ -58,7 +58,11 @@ fn a_crop_renders_exactly_those_pixels_of_the_full_image() {
     // An empty crop is a clear error, not a panic or an empty image.
     let out = d.join("empty.png");
     let o = prism().args(["render", "--cropwindow", "0.5,0.5,0,1", "-o", out.to_str().unwrap()]).output().unwrap();
-    assert!(!o.status.success() && stderr(&o).contains("selects no pixels"), "{}", stderr(&o));
+    assert!(
+        !o.status.success() && stderr(&o).contains("cropwindow [0.5 0.5 0 1] selects no pixels of a 256x256 image"),
+        "{}",
+        stderr(&o)
+    );
     assert!(!out.exists());
 }
 
