@@ -82,30 +82,23 @@ pub fn run(cmd: &MeasureCommand) -> Result<()> {
     };
     let scene = builder.build(AccelKind::default_available()).context("building the scene")?;
     let integrator = PathIntegrator { max_depth: a.max_depth, ..Default::default() };
-    use crate::measure::Estimate;
-    let line = |name: &str, e: Estimate, unit: &str| format!("{name} = {:.6e} ± {:.2e} {unit}", e.mean, e.std_err);
-    let (text, json) = match cmd {
+    // (radiometric name, estimate, unit), (photometric ...), samples, JSON.
+    let ((rn, re, ru), (pn, pe, pu), samples, json) = match cmd {
         MeasureCommand::Radiance { .. } => {
             let m = crate::measure::radiance(&scene, &integrator, p, d, a.samples, a.seed);
-            let text = format!(
-                "{}  (360–830 nm, {} samples)\n{}",
-                line("radiance  L", m.radiance, "W/(sr·m²)"),
-                m.samples,
-                line("luminance Lv", m.luminance, "cd/m²")
-            );
-            (text, serde_json::to_string_pretty(&m)?)
+            let json = serde_json::to_string_pretty(&m)?;
+            (("radiance  L", m.radiance, "W/(sr·m²)"), ("luminance Lv", m.luminance, "cd/m²"), m.samples, json)
         }
         MeasureCommand::Irradiance { .. } => {
             let m = crate::measure::irradiance(&scene, &integrator, p, d, a.samples, a.seed);
-            let text = format!(
-                "{}  (360–830 nm, {} samples)\n{}",
-                line("irradiance  E", m.irradiance, "W/m²"),
-                m.samples,
-                line("illuminance Ev", m.illuminance, "lx")
-            );
-            (text, serde_json::to_string_pretty(&m)?)
+            let json = serde_json::to_string_pretty(&m)?;
+            (("irradiance  E", m.irradiance, "W/m²"), ("illuminance Ev", m.illuminance, "lx"), m.samples, json)
         }
     };
+    let text = format!(
+        "{rn} = {:.6e} ± {:.2e} {ru}  (360–830 nm, {samples} samples)\n{pn} = {:.6e} ± {:.2e} {pu}",
+        re.mean, re.std_err, pe.mean, pe.std_err
+    );
     println!("{}", if a.json { json } else { text });
     Ok(())
 }

@@ -56,14 +56,23 @@ fn point_light_inverse_square_and_lambert_cosine() {
 }
 
 /// Flux through a sphere of radius `r` around `centre`: Φ = ∫ E dA, by measuring E (normal toward
-/// the centre) at uniformly distributed points, one estimate each.
-fn flux_through_sphere(scene: &Scene, centre: Vec3, r: f32, n: u64) -> Estimate {
+/// the centre) at uniformly distributed points, one estimate each; `weight(E, λ)` turns a spectral
+/// estimate into the quantity integrated (W/m², or lux for luminous flux).
+fn sphere_integral(
+    scene: &Scene,
+    centre: Vec3,
+    r: f32,
+    n: u64,
+    pixel: (u32, u32),
+    seed: u64,
+    weight: impl Fn(&prism::spectrum::SampledSpectrum, &SampledWavelengths) -> f64,
+) -> Estimate {
     let integ = direct();
     let mut sampler = Sampler::independent();
     let mut stats = Stats::default();
     let (mut s, mut s2) = (0.0f64, 0.0f64);
     for i in 0..n {
-        sampler.start_pixel_sample((1, 2), i, 7);
+        sampler.start_pixel_sample(pixel, i, seed);
         let u = sampler.get_2d();
         let z = 1.0 - 2.0 * u.x;
         let rr = (1.0 - z * z).max(0.0).sqrt();
@@ -71,13 +80,18 @@ fn flux_through_sphere(scene: &Scene, centre: Vec3, r: f32, n: u64) -> Estimate 
         let dir = Vec3::new(rr * phi.cos(), rr * phi.sin(), z);
         let mut w = SampledWavelengths::sample_uniform(sampler.get_1d());
         let e = integ.irradiance(scene, centre + dir * r, -dir, &mut w, &mut sampler, &mut stats);
-        let v = 4.0 * std::f64::consts::PI * (r * r) as f64 * e.safe_div(w.pdf()).average() as f64;
+        let v = 4.0 * std::f64::consts::PI * (r * r) as f64 * weight(&e, &w);
         s += v;
         s2 += v * v;
     }
     let mean = s / n as f64;
     let var = (s2 / n as f64 - mean * mean) * n as f64 / (n - 1) as f64;
     Estimate { mean, std_err: (var / n as f64).sqrt() }
+}
+
+/// Radiant flux [W] through a sphere (∫ over 360–830 nm).
+fn flux_through_sphere(scene: &Scene, centre: Vec3, r: f32, n: u64) -> Estimate {
+    sphere_integral(scene, centre, r, n, (1, 2), 7, |e, w| e.safe_div(w.pdf()).average() as f64)
 }
 
 #[test]
@@ -242,30 +256,10 @@ fn film_y(lux: Estimate) -> Estimate {
     Estimate { mean: lux.mean / k, std_err: lux.std_err / k }
 }
 
-/// Luminous flux [lm] through a sphere of radius `r` around `centre` (as `flux_through_sphere`,
-/// weighting each estimate by K_m ȳ instead of integrating over λ uniformly).
+/// Luminous flux [lm] through a sphere: each estimate weighted by K_m ȳ instead of integrated
+/// over λ uniformly.
 fn luminous_flux_through_sphere(scene: &Scene, centre: Vec3, r: f32, n: u64) -> Estimate {
-    let integ = direct();
-    let mut sampler = Sampler::independent();
-    let mut stats = Stats::default();
-    let (mut s, mut s2) = (0.0f64, 0.0f64);
-    for i in 0..n {
-        sampler.start_pixel_sample((3, 4), i, 9);
-        let u = sampler.get_2d();
-        let z = 1.0 - 2.0 * u.x;
-        let rr = (1.0 - z * z).max(0.0).sqrt();
-        let phi = 2.0 * PI * u.y;
-        let dir = Vec3::new(rr * phi.cos(), rr * phi.sin(), z);
-        let mut w = SampledWavelengths::sample_uniform(sampler.get_1d());
-        let e = integ.irradiance(scene, centre + dir * r, -dir, &mut w, &mut sampler, &mut stats);
-        let lux = lumens_per_unit_y() as f64 * e.to_xyz(&w).y as f64;
-        let v = 4.0 * std::f64::consts::PI * (r * r) as f64 * lux;
-        s += v;
-        s2 += v * v;
-    }
-    let mean = s / n as f64;
-    let var = (s2 / n as f64 - mean * mean) * n as f64 / (n - 1) as f64;
-    Estimate { mean, std_err: (var / n as f64).sqrt() }
+    sphere_integral(scene, centre, r, n, (3, 4), 9, |e, w| lumens_per_unit_y() as f64 * e.to_xyz(w).y as f64)
 }
 
 #[test]
