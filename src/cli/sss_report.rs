@@ -11,7 +11,9 @@ use crate::cli::render::film_to_image;
 use crate::filter::Filter;
 use crate::image::{metrics, Image};
 use crate::integrator::{PathIntegrator, SubsurfaceMethod};
-use crate::render::{render, RenderSettings, SamplerKind};
+use crate::checkpoint::{self, FilmHeader};
+use crate::film::Film;
+use crate::render::{render, render_range, RenderSettings, SamplerKind};
 use crate::spectrum::ColorSpace;
 use anyhow::{bail, Context, Result};
 use std::path::{Path, PathBuf};
@@ -29,9 +31,17 @@ pub struct SssReportArgs {
     /// Samples per pixel of the random-walk reference.
     #[arg(long, default_value_t = 512)]
     pub reference_spp: u64,
+    /// Samples per pixel of the diffusion render whose error against the reference is the
+    /// model's remaining error (at most the reference's).
+    #[arg(long, default_value_t = 1024)]
+    pub convergence_spp: u64,
     /// Sample counts rendered with each method (comma-separated, increasing).
     #[arg(long, default_value = "4,16,64")]
     pub ladder: String,
+    /// Directory where references are kept as film files, extended and reused by later runs
+    /// with the same scene, medium and size (delete it after changing the random walk).
+    #[arg(long, default_value = "target/sss-reference")]
+    pub cache: PathBuf,
 }
 
 /// One row of the report.
@@ -43,7 +53,7 @@ pub struct SssRow {
     pub medium: String,
     /// Method.
     pub method: String,
-    /// Time of the reference render [s].
+    /// Time of the reference render [s], summed over the runs that built it.
     pub reference_s: f64,
     /// (spp, time [s], RMSE) along the ladder.
     pub ladder: Vec<(u64, f64, f64)>,
@@ -81,14 +91,11 @@ pub fn run(a: &SssReportArgs) -> Result<()> {
         let mut shape_points = Vec::new();
         for medium in &MEDIA {
             let scene = build(shape, medium).build(AccelKind::default_available()).context("building the scene")?;
-            let t0 = Instant::now();
-            let (film, st) =
-                render(&scene, &settings(a.size, a.reference_spp, 1000, SubsurfaceMethod::RandomWalk), |_| {});
-            let reference_s = t0.elapsed().as_secs_f64();
-            let reference = film_to_image(&film, space)?;
             let name = format!("{}-{}", shape.name(), medium.name);
+            let fingerprint = format!("sss-report {} {name} {medium:?} {}", env!("CARGO_PKG_VERSION"), a.size);
+            let (film, reference_s) = reference(&scene, a, &name, &fingerprint)?;
+            let reference = film_to_image(&film, space)?;
             save_png(&fig.join(format!("{name}-reference.png")), &reference)?;
-            eprintln!("{name}: reference {reference_s:.1} s ({} non-finite)", st.nonfinite);
             for method in [SubsurfaceMethod::Diffusion, SubsurfaceMethod::RandomWalk] {
                 let mut rungs = Vec::new();
                 for &spp in &ladder {
@@ -121,12 +128,13 @@ pub fn run(a: &SssReportArgs) -> Result<()> {
                         save_png(&fig.join(format!("{name}-{}.png", method.name())), &img)?;
                     }
                 }
-                // The error left at convergence: diffusion rendered at the reference's sample count
-                // (cheap) against the reference; the walk is unbiased, so its value is the
-                // reference's own noise, extrapolated from the last rung as 1/√spp.
+                // The error left at convergence: diffusion rendered at many samples against the
+                // reference; the walk is unbiased, so its value is the reference's own noise,
+                // extrapolated from the last rung as 1/√spp.
                 let bias = match method {
                     SubsurfaceMethod::Diffusion => {
-                        let (film, _) = render(&scene, &settings(a.size, a.reference_spp, 2, method), |_| {});
+                        let spp = a.convergence_spp.min(a.reference_spp);
+                        let (film, _) = render(&scene, &settings(a.size, spp, 2, method), |_| {});
                         metrics::compare(&film_to_image(&film, space)?, &reference)?.rmse
                     }
                     SubsurfaceMethod::RandomWalk => {
@@ -157,13 +165,58 @@ pub fn run(a: &SssReportArgs) -> Result<()> {
     Ok(())
 }
 
+/// The random-walk reference of one scene and medium at `a.reference_spp`, and the time spent
+/// rendering it [s]. Sobol samples depend only on their index, so the film kept in the cache is
+/// extended by the missing sample range (saved after every pass) and equals a render in one go.
+fn reference(scene: &crate::scene::Scene, a: &SssReportArgs, name: &str, fingerprint: &str) -> Result<(Film, f64)> {
+    std::fs::create_dir_all(&a.cache).with_context(|| format!("creating {}", a.cache.display()))?;
+    let path = a.cache.join(format!("{name}-{}.film", a.size));
+    let time_path = path.with_extension("seconds");
+    let cached = match checkpoint::load(&path) {
+        Ok((film, h)) if h.fingerprint == fingerprint && h.samples.start == 0 && h.samples.end <= a.reference_spp => {
+            let seconds = std::fs::read_to_string(&time_path).ok().and_then(|s| s.trim().parse().ok());
+            seconds.map(|s: f64| (film, h.samples.end, s))
+        }
+        _ => None,
+    };
+    let (mut film, done, before_s) = match cached {
+        Some(c) => c,
+        None => (Film::try_new(a.size, a.size)?, 0, 0.0),
+    };
+    let settings = settings(a.size, a.reference_spp, 1000, SubsurfaceMethod::RandomWalk);
+    let t0 = Instant::now();
+    let mut saved = Ok(());
+    let stats = render_range(scene, &settings, &mut film, done..a.reference_spp, |film, end| {
+        let header = FilmHeader {
+            width: a.size,
+            height: a.size,
+            samples: 0..end,
+            spp_total: a.reference_spp,
+            fingerprint: fingerprint.to_string(),
+        };
+        let seconds = before_s + t0.elapsed().as_secs_f64();
+        saved = checkpoint::save(&path, film, &header)
+            .map_err(anyhow::Error::from)
+            .and_then(|()| Ok(crate::io::write_atomic(&time_path, seconds.to_string().as_bytes())?));
+        saved.is_ok()
+    });
+    saved.with_context(|| format!("caching the reference in {}", path.display()))?;
+    let seconds = before_s + t0.elapsed().as_secs_f64();
+    eprintln!(
+        "{name}: reference {} spp ({done} cached), {seconds:.1} s ({} non-finite)",
+        a.reference_spp, stats.nonfinite
+    );
+    Ok((film, seconds))
+}
+
 fn markdown(rows: &[SssRow], a: &SssReportArgs, ladder: &[u64]) -> String {
     let mut s = format!(
-        "Generated by `prism sss-report --out {} --size {} --reference-spp {} --ladder {}` ({}×{} px, \
-         random-walk reference at {} spp, Sobol sampler, box filter). RMSE in linear sRGB.\n\n",
+        "Generated by `prism sss-report --out {} --size {} --reference-spp {} --convergence-spp {} --ladder {}` \
+         ({}×{} px, random-walk reference at {} spp, Sobol sampler, box filter). RMSE in linear sRGB.\n\n",
         a.out.display(),
         a.size,
         a.reference_spp,
+        a.convergence_spp,
         a.ladder,
         a.size,
         a.size,
@@ -185,10 +238,11 @@ fn markdown(rows: &[SssRow], a: &SssReportArgs, ladder: &[u64]) -> String {
     }
     let last = ladder[ladder.len() - 1];
     s += &format!(
-        "\n¹ diffusion: rendered at {} spp against the reference (the model's bias plus the \
-         reference's noise); random walk: unbiased, so this is the reference's own noise, \
+        "\n¹ diffusion: rendered at {} spp against the reference (the model's bias plus both \
+         images' noise); random walk: unbiased, so this is the reference's own noise, \
          estimated as RMSE@{last} × √({last}/{}).\n",
-        a.reference_spp, a.reference_spp
+        a.convergence_spp.min(a.reference_spp),
+        a.reference_spp
     );
     s
 }
