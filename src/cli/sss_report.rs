@@ -7,12 +7,12 @@
 use super::sss_scenes::{build, MEDIA, SHAPES};
 use crate::accel::AccelKind;
 use crate::bench::{plot_error_vs_time, BenchPoint};
+use crate::checkpoint::{self, FilmHeader};
 use crate::cli::render::film_to_image;
+use crate::film::Film;
 use crate::filter::Filter;
 use crate::image::{metrics, Image};
 use crate::integrator::{PathIntegrator, SubsurfaceMethod};
-use crate::checkpoint::{self, FilmHeader};
-use crate::film::Film;
 use crate::render::{render, render_range, RenderSettings, SamplerKind};
 use crate::spectrum::ColorSpace;
 use anyhow::{bail, Context, Result};

@@ -6,6 +6,7 @@ pub mod distribution;
 pub mod mis;
 pub mod rng;
 pub mod sampler;
+mod sobol;
 pub mod warp;
 
 pub use alias::AliasTable;

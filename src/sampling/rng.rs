@@ -66,14 +66,19 @@ impl Rng {
 /// 64-bit hash of a few integers (splitmix64 finaliser), for deterministic per-pixel seeds.
 #[inline]
 pub fn hash64(values: &[u64]) -> u64 {
-    let mut h = 0x9e37_79b9_7f4a_7c15u64;
-    for &v in values {
-        h ^= v.wrapping_add(0x9e37_79b9_7f4a_7c15).wrapping_add(h << 6).wrapping_add(h >> 2);
-        h = (h ^ (h >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        h = (h ^ (h >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        h ^= h >> 31;
-    }
-    h
+    values.iter().fold(HASH64_START, |h, &v| hash64_step(h, v))
+}
+
+/// The state [`hash64`] starts from: `hash64(&[a, b])` = `hash64_step(hash64_step(HASH64_START, a), b)`.
+pub const HASH64_START: u64 = 0x9e37_79b9_7f4a_7c15;
+
+/// Mixes one more value into a [`hash64`] state (to reuse the state of a common prefix).
+#[inline]
+pub fn hash64_step(mut h: u64, v: u64) -> u64 {
+    h ^= v.wrapping_add(0x9e37_79b9_7f4a_7c15).wrapping_add(h << 6).wrapping_add(h >> 2);
+    h = (h ^ (h >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+    h = (h ^ (h >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+    h ^ (h >> 31)
 }
 
 #[cfg(test)]

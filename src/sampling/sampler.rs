@@ -4,7 +4,7 @@
 
 use glam::Vec2;
 
-use super::rng::{hash64, Rng};
+use super::rng::{hash64, hash64_step, Rng, HASH64_START};
 
 /// Dimensions reserved per sample for the PCG stream (pbrt-v4 uses the same 2¹⁶ stride).
 const DIMS_PER_SAMPLE: u64 = 1 << 16;
@@ -59,7 +59,8 @@ impl IndependentSampler {
 /// indices uses a new seed (independent blocks).
 #[derive(Clone, Debug)]
 pub struct SobolSampler {
-    pixel_seed: u64,
+    /// `hash64` state after the pixel seed (every group's seed starts with it).
+    pixel_state: u64,
     sample_index: u64,
     /// Index of the next padded 4D group.
     dimension: u64,
@@ -76,7 +77,7 @@ impl Sampler {
 
     /// An Owen-scrambled Sobol sampler.
     pub fn sobol() -> Self {
-        Self::Sobol(SobolSampler { pixel_seed: 0, sample_index: 0, dimension: 0, buffer: [0.0; 4], used: 4 })
+        Self::Sobol(SobolSampler { pixel_state: 0, sample_index: 0, dimension: 0, buffer: [0.0; 4], used: 4 })
     }
 
     /// Positions the sampler at `sample_index` of `pixel` for the render seed `seed`; dimension
@@ -89,7 +90,10 @@ impl Sampler {
                 s.rng.advance(sample_index.wrapping_mul(DIMS_PER_SAMPLE));
                 (s.pixel_seed, s.sample_index, s.left) = (pixel_seed, sample_index, DIMS_PER_SAMPLE);
             }
-            Self::Sobol(s) => *s = SobolSampler { pixel_seed, sample_index, dimension: 0, buffer: [0.0; 4], used: 4 },
+            Self::Sobol(s) => {
+                let pixel_state = hash64_step(HASH64_START, pixel_seed);
+                *s = SobolSampler { pixel_state, sample_index, dimension: 0, buffer: [0.0; 4], used: 4 }
+            }
         }
     }
 
@@ -127,7 +131,7 @@ impl Sampler {
 
 impl SobolSampler {
     /// The next `n` (1 or 2) values. Values come in padded groups of four consecutive Sobol
-    /// dimensions (one SIMD call, `sobol_burley::sample_4d`), each group Owen-scrambled with its
+    /// dimensions (`sobol::sample_4d`, the crate's `sample_4d` with table lookups), each group Owen-scrambled with its
     /// own seed; a 2D draw never straddles two groups, so its two values are jointly stratified.
     #[inline]
     fn take(&mut self, n: usize) -> [f32; 2] {
@@ -146,9 +150,9 @@ impl SobolSampler {
     fn group(&self, dim: u64) -> [f32; 4] {
         let block = self.sample_index / SOBOL_LEN;
         let index = (self.sample_index % SOBOL_LEN) as u32;
-        let seed = hash64(&[self.pixel_seed, dim, block]);
-        // Fold to 32 bits: sobol_burley seeds are u32.
-        sobol_burley::sample_4d(index, 0, (seed ^ (seed >> 32)) as u32)
+        let seed = hash64_step(hash64_step(self.pixel_state, dim), block); // hash64(pixel_seed, dim, block)
+                                                                           // Fold to 32 bits: sobol_burley seeds are u32.
+        super::sobol::sample_4d(index, (seed ^ (seed >> 32)) as u32)
     }
 }
 
