@@ -172,13 +172,18 @@ fn reference(scene: &crate::scene::Scene, a: &SssReportArgs, name: &str, fingerp
     std::fs::create_dir_all(&a.cache).with_context(|| format!("creating {}", a.cache.display()))?;
     let path = a.cache.join(format!("{name}-{}.film", a.size));
     let time_path = path.with_extension("seconds");
-    let cached = match checkpoint::load(&path) {
-        Ok((film, h)) if h.fingerprint == fingerprint && h.samples.start == 0 && h.samples.end <= a.reference_spp => {
-            let seconds = std::fs::read_to_string(&time_path).ok().and_then(|s| s.trim().parse().ok());
-            seconds.map(|s: f64| (film, h.samples.end, s))
+    // A cache holding more samples than asked for is left alone (and not used).
+    let (mut cached, mut keep) = (None, true);
+    if let Ok((film, h)) = checkpoint::load(&path) {
+        if h.fingerprint == fingerprint && h.samples.start == 0 {
+            let seconds = std::fs::read_to_string(&time_path).ok().and_then(|s| s.trim().parse::<f64>().ok());
+            match seconds {
+                Some(s) if h.samples.end <= a.reference_spp => cached = Some((film, h.samples.end, s)),
+                Some(_) => keep = false,
+                None => {}
+            }
         }
-        _ => None,
-    };
+    }
     let (mut film, done, before_s) = match cached {
         Some(c) => c,
         None => (Film::try_new(a.size, a.size)?, 0, 0.0),
@@ -187,6 +192,9 @@ fn reference(scene: &crate::scene::Scene, a: &SssReportArgs, name: &str, fingerp
     let t0 = Instant::now();
     let mut saved = Ok(());
     let stats = render_range(scene, &settings, &mut film, done..a.reference_spp, |film, end| {
+        if !keep {
+            return true;
+        }
         let header = FilmHeader {
             width: a.size,
             height: a.size,
@@ -265,6 +273,37 @@ fn save_png(path: &Path, img: &Image) -> Result<()> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_cached_reference_is_extended_to_exactly_the_render_in_one_go() {
+        let dir = std::env::temp_dir().join(format!("prism-sss-cache-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        let args = |spp: u64, cache: &str| SssReportArgs {
+            out: dir.clone(),
+            size: 6,
+            reference_spp: spp,
+            convergence_spp: spp,
+            ladder: "1,2".into(),
+            cache: dir.join(cache),
+        };
+        let scene = build(SHAPES[0], &MEDIA[0]).build(AccelKind::default_available()).unwrap();
+        let (half, _) = reference(&scene, &args(4, "a"), "t", "fp").unwrap();
+        let (extended, _) = reference(&scene, &args(8, "a"), "t", "fp").unwrap();
+        let (direct, _) = reference(&scene, &args(8, "b"), "t", "fp").unwrap();
+        assert_eq!(half.total_samples(), 36 * 4);
+        assert_eq!(extended.pixels, direct.pixels);
+        assert!(extended.pixels.iter().any(|p| p.xyz_sum.y > 0.0), "the reference is black");
+        // Fewer samples than cached: rendered afresh, the cache kept.
+        let (fewer, _) = reference(&scene, &args(4, "a"), "t", "fp").unwrap();
+        assert_eq!(fewer.pixels, half.pixels);
+        assert_eq!(checkpoint::load(&dir.join("a").join("t-6.film")).unwrap().1.samples, 0..8);
+        // Another fingerprint (another medium or code version) starts over.
+        let (other, _) = reference(&scene, &args(4, "a"), "t", "other").unwrap();
+        assert_eq!(other.pixels, half.pixels);
+        let (_, h) = checkpoint::load(&dir.join("a").join("t-6.film")).unwrap();
+        assert_eq!((h.samples, h.fingerprint.as_str()), (0..4, "other"));
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
 
     #[test]
     fn report_table_is_spliced_between_its_markers() {
