@@ -60,6 +60,10 @@ pub struct SssRow {
     /// RMSE remaining at convergence: diffusion at the reference's spp against the reference;
     /// for the walk, the reference's own noise (estimated).
     pub bias: f64,
+    /// Diffusion: the model's bias alone, √(bias² − σ_D² − σ_R²), with the noise σ_D of the
+    /// diffusion image (half the squared RMSE between two seeds) and σ_R of the reference
+    /// removed. None for the walk (unbiased).
+    pub model_bias: Option<f64>,
 }
 
 fn settings(size: u32, spp: u64, seed: u64, sss: SubsurfaceMethod) -> RenderSettings {
@@ -96,6 +100,7 @@ pub fn run(a: &SssReportArgs) -> Result<()> {
             let (film, reference_s) = reference(&scene, a, &name, &fingerprint)?;
             let reference = film_to_image(&film, space)?;
             save_png(&fig.join(format!("{name}-reference.png")), &reference)?;
+            let mut diffusion_noise2 = 0.0;
             for method in [SubsurfaceMethod::Diffusion, SubsurfaceMethod::RandomWalk] {
                 let mut rungs = Vec::new();
                 for &spp in &ladder {
@@ -134,8 +139,13 @@ pub fn run(a: &SssReportArgs) -> Result<()> {
                 let bias = match method {
                     SubsurfaceMethod::Diffusion => {
                         let spp = a.convergence_spp.min(a.reference_spp);
-                        let (film, _) = render(&scene, &settings(a.size, spp, 2, method), |_| {});
-                        metrics::compare(&film_to_image(&film, space)?, &reference)?.rmse
+                        let render_seed = |seed| {
+                            let (film, _) = render(&scene, &settings(a.size, spp, seed, method), |_| {});
+                            film_to_image(&film, space)
+                        };
+                        let (d, d2) = (render_seed(2)?, render_seed(3)?);
+                        diffusion_noise2 = metrics::compare(&d, &d2)?.rmse.powi(2) / 2.0;
+                        metrics::compare(&d, &reference)?.rmse
                     }
                     SubsurfaceMethod::RandomWalk => {
                         let (n, _, e) = *rungs.last().unwrap();
@@ -150,8 +160,14 @@ pub fn run(a: &SssReportArgs) -> Result<()> {
                     reference_s,
                     ladder: rungs,
                     bias,
+                    model_bias: None,
                 });
             }
+            // Rows: [.., diffusion, walk]; the walk's value is the reference's noise.
+            let n = rows.len();
+            let (reference_noise, d) = (rows[n - 1].bias, rows[n - 2].bias);
+            rows[n - 2].model_bias =
+                Some((d * d - diffusion_noise2 - reference_noise * reference_noise).max(0.0).sqrt());
         }
         plot_error_vs_time(&shape_points, &fig.join(format!("{}-error.png", shape.name())))?;
     }
@@ -234,21 +250,24 @@ fn markdown(rows: &[SssRow], a: &SssReportArgs, ladder: &[u64]) -> String {
     for n in ladder {
         s += &format!(" time @{n} [s] | RMSE @{n} |");
     }
-    s += " RMSE at convergence¹ |\n|---|---|---|---|";
+    s += " RMSE at convergence¹ | model bias² |\n|---|---|---|---|";
     s += &"---|---|".repeat(ladder.len());
-    s += "---|\n";
+    s += "---|---|\n";
     for r in rows {
         s += &format!("| {} | {} | {} | {:.1} |", r.scene, r.medium, r.method, r.reference_s);
         for (_, t, e) in &r.ladder {
             s += &format!(" {t:.2} | {e:.4} |");
         }
-        s += &format!(" {:.4} |\n", r.bias);
+        let model = r.model_bias.map_or("–".to_string(), |b| format!("{b:.4}"));
+        s += &format!(" {:.4} | {model} |\n", r.bias);
     }
     let last = ladder[ladder.len() - 1];
     s += &format!(
         "\n¹ diffusion: rendered at {} spp against the reference (the model's bias plus both \
          images' noise); random walk: unbiased, so this is the reference's own noise, \
-         estimated as RMSE@{last} × √({last}/{}).\n",
+         estimated as RMSE@{last} × √({last}/{}).\n\n\
+         ² the diffusion's bias with both images' noise removed: √(RMSE² − σ_D² − σ_R²), where σ_D² is \
+         half the squared RMSE between two diffusion renders (seeds 2, 3) and σ_R the walk's row.\n",
         a.convergence_spp.min(a.reference_spp),
         a.reference_spp
     );
