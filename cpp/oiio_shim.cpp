@@ -62,7 +62,7 @@ void name_channels(ImageSpec &spec, int channels) {
 }
 
 int write_impl(const char *path, int width, int height, int channels, const float *pixels,
-               int format, int quality, char *err, size_t err_len) {
+               int format, int quality, const int *window, char *err, size_t err_len) {
     TypeDesc type;
     if (!to_typedesc(format, type)) {
         set_error(err, err_len, "unknown pixel format code " + std::to_string(format));
@@ -79,6 +79,15 @@ int write_impl(const char *path, int width, int height, int channels, const floa
     }
     ImageSpec spec(width, height, channels, type);
     name_channels(spec, channels);
+    if (window != nullptr && window[2] > 0 && window[3] > 0) {
+        /* A crop: its pixels are the data window inside the full image's display window. */
+        spec.x = window[0];
+        spec.y = window[1];
+        spec.full_x = 0;
+        spec.full_y = 0;
+        spec.full_width = window[2];
+        spec.full_height = window[3];
+    }
     // The caller's alpha is straight (unassociated): store it as given.
     spec.attribute("oiio:UnassociatedAlpha", 1);
     if (out->format_name() == std::string("openexr")) spec.attribute("compression", "zip");
@@ -156,10 +165,10 @@ int read_impl(const char *path, int width, int height, int channels, float *pixe
 } // namespace
 
 extern "C" int prism_oiio_write(const char *path, int width, int height, int channels,
-                                const float *pixels, int format, int quality, char *err,
-                                size_t err_len) {
+                                const float *pixels, int format, int quality,
+                                const int *window, char *err, size_t err_len) {
     try {
-        return write_impl(path, width, height, channels, pixels, format, quality, err, err_len);
+        return write_impl(path, width, height, channels, pixels, format, quality, window, err, err_len);
     } catch (const std::exception &e) {
         set_error(err, err_len, e.what());
     } catch (...) {

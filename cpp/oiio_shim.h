@@ -24,9 +24,12 @@ enum prism_oiio_format {
 /* Writes `width`×`height`×`channels` interleaved floats (row-major, top row first) to `path`,
  * stored as `format`; the file type comes from the extension. Integer formats are clamped to
  * [0,1] and rounded; no transfer curve is applied here (the caller encodes first).
- * `quality` (1–100) is used by lossy formats such as JPEG; 0 keeps OIIO's default. */
+ * `quality` (1–100) is used by lossy formats such as JPEG; 0 keeps OIIO's default.
+ * `window` (4 ints, may be NULL): x, y of the image's first pixel in a larger image of size
+ * window[2]×window[3] — the image is stored as that data window inside that display window
+ * (formats that have them); a zero size means the image is whole. */
 int prism_oiio_write(const char *path, int width, int height, int channels, const float *pixels,
-                     int format, int quality, char *err, size_t err_len);
+                     int format, int quality, const int *window, char *err, size_t err_len);
 
 /* Reports the size, channel count and stored pixel format of the first subimage of `path`. */
 int prism_oiio_read_info(const char *path, int *width, int *height, int *channels, int *format,

@@ -4,6 +4,7 @@ use crate::accel::AccelKind;
 use crate::film::{Crop, Film, FilmAllocError, FilmSettings};
 use crate::filter::Filter;
 use crate::image::Image;
+use crate::image::{CropWindow, WriteOptions};
 use crate::integrator::{PathIntegrator, Stats, SubsurfaceMethod};
 use crate::render::{RenderSettings, SamplerKind};
 use crate::scene::pbrt::FileSettings;
@@ -408,7 +409,12 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         crate::checkpoint::save(&job.output, &film, &header(range.start..done))?;
     } else {
         let image = film_to_image(&film, job.space)?;
-        crate::image::write(&job.output, &image).with_context(|| format!("writing {}", job.output.display()))?;
+        // A crop keeps its place in the full image (OpenEXR data and display windows).
+        let (full_width, full_height) = job.settings.resolution;
+        let window = job.settings.film.crop.map(|b| CropWindow { x0: b.x0, y0: b.y0, full_width, full_height });
+        let opts = WriteOptions { window, ..Default::default() };
+        crate::image::write_with(&job.output, &image, &opts)
+            .with_context(|| format!("writing {}", job.output.display()))?;
     }
     if ckpt_every.is_some() && done >= range.end {
         let _ = std::fs::remove_file(&ckpt_path);

@@ -131,11 +131,33 @@ pub struct WriteOptions {
     pub tiff_16bit: bool,
     /// JPEG quality, 1–100.
     pub jpeg_quality: u8,
+    /// For OpenEXR: the image is the part of a larger one (a crop), stored as the file's data
+    /// window inside that display window, as pbrt-v4 writes crops. Other formats ignore it.
+    pub window: Option<CropWindow>,
+}
+
+/// Where an image lies in the full image it was cropped from [pixels].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct CropWindow {
+    /// Column of the image's first pixel in the full image.
+    pub x0: u32,
+    /// Row of the image's first pixel in the full image.
+    pub y0: u32,
+    /// Width of the full image.
+    pub full_width: u32,
+    /// Height of the full image.
+    pub full_height: u32,
 }
 
 impl Default for WriteOptions {
     fn default() -> Self {
-        Self { backend: Backend::preferred(), exr_sample: ExrSample::Half, tiff_16bit: false, jpeg_quality: 95 }
+        Self {
+            backend: Backend::preferred(),
+            exr_sample: ExrSample::Half,
+            tiff_16bit: false,
+            jpeg_quality: 95,
+            window: None,
+        }
     }
 }
 

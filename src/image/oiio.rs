@@ -30,6 +30,7 @@ mod ffi {
             pixels: *const f32,
             format: c_int,
             quality: c_int,
+            window: *const c_int,
             err: *mut c_char,
             err_len: usize,
         ) -> c_int;
@@ -104,8 +105,18 @@ pub(crate) fn write(path: &Path, format: FileFormat, img: &Image, opts: &WriteOp
         ),
     };
     let quality = if format == FileFormat::Jpeg { c_int::from(opts.jpeg_quality.clamp(1, 100)) } else { 0 };
+    // x, y of the first pixel and the full size; zeros: the image is whole.
+    let window = match (format, opts.window) {
+        (FileFormat::Exr, Some(w)) => [
+            to_c_int(w.x0, "crop origin")?,
+            to_c_int(w.y0, "crop origin")?,
+            to_c_int(w.full_width, "full width")?,
+            to_c_int(w.full_height, "full height")?,
+        ],
+        _ => [0; 4],
+    };
     let mut err = [0 as c_char; ERR_LEN];
-    // SAFETY: `cpath` is a live NUL-terminated string; `pixels` holds exactly
+    // SAFETY: `cpath` is a live NUL-terminated string; `window` is 4 live integers; `pixels` holds exactly
     // width·height·channels floats (checked by `Image::validate` before we get here) and
     // outlives the call; `err` is a writable buffer of ERR_LEN bytes whose length we pass.
     let rc = unsafe {
@@ -117,6 +128,7 @@ pub(crate) fn write(path: &Path, format: FileFormat, img: &Image, opts: &WriteOp
             pixels.as_ptr(),
             code,
             quality,
+            window.as_ptr(),
             err.as_mut_ptr(),
             ERR_LEN,
         )

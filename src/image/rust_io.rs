@@ -25,7 +25,7 @@ pub(crate) fn channel_names(channels: usize) -> &'static [&'static str] {
 /// Writes `img` (already validated for `format`) to `path`.
 pub(crate) fn write(path: &Path, format: FileFormat, img: &Image, opts: &WriteOptions) -> Result<(), String> {
     match format {
-        FileFormat::Exr => write_exr(path, img, opts.exr_sample),
+        FileFormat::Exr => write_exr(path, img, opts),
         FileFormat::Hdr => {
             let buf = ImageBuffer::from_raw(img.width, img.height, img.data.clone())
                 .ok_or("pixel buffer does not match the image size")?;
@@ -73,26 +73,34 @@ fn encoded_dynamic_image(img: &Image, sixteen_bit: bool) -> Result<DynamicImage,
     }
 }
 
-fn write_exr(path: &Path, img: &Image, sample: ExrSample) -> Result<(), String> {
+fn write_exr(path: &Path, img: &Image, opts: &WriteOptions) -> Result<(), String> {
     let c = img.channels as usize;
     let names = channel_names(c);
     let list: SmallVec<[exr_p::AnyChannel<exr_p::FlatSamples>; 4]> = (0..c)
         .map(|ch| {
             let plane = img.data.iter().skip(ch).step_by(c).copied();
-            let samples = match sample {
+            let samples = match opts.exr_sample {
                 ExrSample::Float => exr_p::FlatSamples::F32(plane.collect()),
                 ExrSample::Half => exr_p::FlatSamples::F16(plane.map(f16::from_f32).collect()),
             };
             exr_p::AnyChannel::new(names[ch], samples)
         })
         .collect();
-    let layer = exr_p::Layer::new(
+    let mut layer = exr_p::Layer::new(
         (img.width as usize, img.height as usize),
         exr_p::LayerAttributes::default(),
         exr_p::Encoding::SMALL_LOSSLESS, // ZIP, as OIIO writes
         exr_p::AnyChannels::sort(list),
     );
-    exr_p::Image::from_layer(layer).write().to_file(path).map_err(|e| e.to_string())
+    let display = match opts.window {
+        Some(w) => {
+            let origin = |v: u32| i32::try_from(v).map_err(|_| format!("crop origin {v} is too large for OpenEXR"));
+            layer.attributes.layer_position = exr_p::Vec2(origin(w.x0)?, origin(w.y0)?);
+            exr_p::IntegerBounds::new((0, 0), (w.full_width as usize, w.full_height as usize))
+        }
+        None => exr_p::IntegerBounds::new((0, 0), layer.size),
+    };
+    exr_p::Image::new(exr_p::ImageAttributes::new(display), layer).write().to_file(path).map_err(|e| e.to_string())
 }
 
 /// Reads `path` as `format` into linear floats.

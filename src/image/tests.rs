@@ -358,3 +358,32 @@ fn backend_availability_matches_the_build() {
         assert_eq!(Backend::preferred(), Backend::Rust);
     }
 }
+
+#[test]
+fn a_cropped_exr_keeps_its_place_in_the_full_image() {
+    // pbrt-v4 writes a crop as the data window inside the full image's display window.
+    let dir = Scratch::new("window");
+    let img = pattern(3, 2, 3, 4.0);
+    let window = CropWindow { x0: 5, y0: 7, full_width: 20, full_height: 10 };
+    for &backend in Backend::available() {
+        let path = dir.path(&format!("crop-{backend:?}.exr"));
+        let opts = WriteOptions { backend, window: Some(window), exr_sample: ExrSample::Float, ..Default::default() };
+        write_with(&path, &img, &opts).unwrap();
+        let meta = exr::meta::MetaData::read_from_file(&path, false).unwrap();
+        let header = &meta.headers[0];
+        let data = header.data_window();
+        assert_eq!((data.position.x(), data.position.y(), data.size.x(), data.size.y()), (5, 7, 3, 2), "{backend:?}");
+        let display = header.shared_attributes.display_window;
+        assert_eq!((display.position.x(), display.position.y()), (0, 0), "{backend:?}");
+        assert_eq!((display.size.x(), display.size.y()), (20, 10), "{backend:?}");
+        // Read back by either backend: the crop's own pixels.
+        for &reader in Backend::available() {
+            assert_eq!(read_with(&path, reader).unwrap(), img, "{backend:?} → {reader:?}");
+        }
+    }
+    // Without a window the image is whole: data window = display window.
+    let path = dir.path("whole.exr");
+    write_with(&path, &img, &WriteOptions::default()).unwrap();
+    let meta = exr::meta::MetaData::read_from_file(&path, false).unwrap();
+    assert_eq!(meta.headers[0].shared_attributes.display_window, meta.headers[0].data_window());
+}
