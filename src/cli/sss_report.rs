@@ -29,7 +29,7 @@ pub struct SssReportArgs {
     #[arg(long, default_value_t = 64)]
     pub size: u32,
     /// Samples per pixel of the random-walk reference.
-    #[arg(long, default_value_t = 512)]
+    #[arg(long, default_value_t = 8192)]
     pub reference_spp: u64,
     /// Samples per pixel of the diffusion render whose error against the reference is the
     /// model's remaining error (at most the reference's).
@@ -64,6 +64,9 @@ pub struct SssRow {
     /// diffusion image (half the squared RMSE between two seeds) and σ_R of the reference
     /// removed. None for the walk (unbiased).
     pub model_bias: Option<f64>,
+    /// Diffusion: the render time [s] after which the walk's expected RMSE, RMSE@last × √(t_last/t),
+    /// falls below the diffusion's model bias: beyond it the unbiased method is the better buy.
+    pub walk_wins_after_s: Option<f64>,
 }
 
 fn settings(size: u32, spp: u64, seed: u64, sss: SubsurfaceMethod) -> RenderSettings {
@@ -102,6 +105,8 @@ pub fn run(a: &SssReportArgs) -> Result<()> {
             save_png(&fig.join(format!("{name}-reference.png")), &reference)?;
             let mut diffusion_noise2 = 0.0;
             for method in [SubsurfaceMethod::Diffusion, SubsurfaceMethod::RandomWalk] {
+                // Untimed: builds the diffusion table (a once-per-material cost, not a render's).
+                render(&scene, &settings(a.size, 1, 0, method), |_| {});
                 let mut rungs = Vec::new();
                 for &spp in &ladder {
                     let t0 = Instant::now();
@@ -161,6 +166,7 @@ pub fn run(a: &SssReportArgs) -> Result<()> {
                     ladder: rungs,
                     bias,
                     model_bias: None,
+                    walk_wins_after_s: None,
                 });
             }
             // Rows: [.., diffusion, walk]; the walk's value is the reference's noise.
@@ -250,16 +256,17 @@ fn markdown(rows: &[SssRow], a: &SssReportArgs, ladder: &[u64]) -> String {
     for n in ladder {
         s += &format!(" time @{n} [s] | RMSE @{n} |");
     }
-    s += " RMSE at convergence¹ | model bias² |\n|---|---|---|---|";
+    s += " RMSE at convergence¹ | model bias² | walk better after [s]³ |\n|---|---|---|---|";
     s += &"---|---|".repeat(ladder.len());
-    s += "---|---|\n";
+    s += "---|---|---|\n";
     for r in rows {
         s += &format!("| {} | {} | {} | {:.1} |", r.scene, r.medium, r.method, r.reference_s);
         for (_, t, e) in &r.ladder {
             s += &format!(" {t:.2} | {e:.4} |");
         }
         let model = r.model_bias.map_or("–".to_string(), |b| format!("{b:.4}"));
-        s += &format!(" {:.4} | {model} |\n", r.bias);
+        let after = r.walk_wins_after_s.map_or("–".to_string(), |t| format!("{t:.1}"));
+        s += &format!(" {:.4} | {model} | {after} |\n", r.bias);
     }
     let last = ladder[ladder.len() - 1];
     s += &format!(
@@ -267,7 +274,9 @@ fn markdown(rows: &[SssRow], a: &SssReportArgs, ladder: &[u64]) -> String {
          images' noise); random walk: unbiased, so this is the reference's own noise, \
          estimated as RMSE@{last} × √({last}/{}).\n\n\
          ² the diffusion's bias with both images' noise removed: √(RMSE² − σ_D² − σ_R²), where σ_D² is \
-         half the squared RMSE between two diffusion renders (seeds 2, 3) and σ_R the walk's row.\n",
+         half the squared RMSE between two diffusion renders (seeds 2, 3) and σ_R the walk's row.\n\n\
+         ³ the render time from which the random walk's expected RMSE, RMSE@{last} × √(t@{last} / t), \
+         is below the diffusion's model bias: the unbiased method is then the better buy.\n",
         a.convergence_spp.min(a.reference_spp),
         a.reference_spp
     );
