@@ -27,6 +27,8 @@ use super::watertight::{LaneRay, TriangleHit, TriangleLanes};
 use super::Accel;
 use crate::geometry::{Bounds3, Hit, Mesh, Ray};
 
+#[path = "obvhs_isa.rs"]
+mod isa;
 #[path = "obvhs_leaves.rs"]
 mod leaves;
 #[path = "obvhs_traverse.rs"]
@@ -186,6 +188,52 @@ impl ObvhsAccel {
         Leaves { triangles: &self.triangles, group_start: &self.group_start }
     }
 
+    /// [`Accel::intersect`] compiled for the caller's target features (the trait method calls it
+    /// through [`isa::closest_hit`], which picks the CPU's best variant).
+    #[inline(always)]
+    fn closest_hit(&self, ray: &Ray) -> Option<Hit> {
+        let r = LaneRay::new(ray.o, ray.d)?;
+        if self.triangles.is_empty() || ray.t_max.is_nan() || ray.t_max <= 0.0 {
+            return None;
+        }
+        let best = match r.kz() {
+            0 => self.closest::<0>(ray, &r),
+            1 => self.closest::<1>(ray, &r),
+            _ => self.closest::<2>(ray, &r),
+        };
+        best.map(|b| self.leaves().hit_record(b))
+    }
+
+    /// [`Accel::occluded`] compiled for the caller's target features (see [`isa::any_hit`]).
+    #[inline(always)]
+    fn any_hit(&self, ray: &Ray) -> bool {
+        let Some(r) = LaneRay::new(ray.o, ray.d) else {
+            return false;
+        };
+        if self.triangles.is_empty() || ray.t_max.is_nan() || ray.t_max <= 0.0 {
+            return false;
+        }
+        match r.kz() {
+            0 => self.any::<0>(ray, &r),
+            1 => self.any::<1>(ray, &r),
+            _ => self.any::<2>(ray, &r),
+        }
+    }
+
+    /// [`Accel::intersect_all`] compiled for the caller's target features (see [`isa::every_hit`]).
+    #[inline(always)]
+    fn every_hit(&self, ray: &Ray, hits: &mut Vec<Hit>) {
+        let Some(r) = LaneRay::new(ray.o, ray.d) else { return };
+        if self.triangles.is_empty() || ray.t_max.is_nan() || ray.t_max <= 0.0 {
+            return;
+        }
+        match r.kz() {
+            0 => self.all::<0>(ray, &r, hits),
+            1 => self.all::<1>(ray, &r, hits),
+            _ => self.all::<2>(ray, &r, hits),
+        }
+    }
+
     /// Closest hit with the triangle test specialised for dominant axis `KZ`.
     #[inline(always)]
     fn closest<const KZ: usize>(&self, ray: &Ray, r: &LaneRay) -> Option<(TriangleHit, usize)> {
@@ -218,6 +266,7 @@ impl ObvhsAccel {
     }
 
     /// Every hit with t in (0, t_max), in traversal order; the ray's range never shrinks.
+    #[inline(always)]
     fn all<const KZ: usize>(&self, ray: &Ray, r: &LaneRay, hits: &mut Vec<Hit>) {
         let l = self.leaves();
         let mut visit = |i: usize| {
@@ -316,30 +365,11 @@ pub(super) fn max_depth(nodes: &[CwBvhNode]) -> u32 {
 
 impl Accel for ObvhsAccel {
     fn intersect(&self, ray: &Ray) -> Option<Hit> {
-        let r = LaneRay::new(ray.o, ray.d)?;
-        if self.triangles.is_empty() || ray.t_max.is_nan() || ray.t_max <= 0.0 {
-            return None;
-        }
-        let best = match r.kz() {
-            0 => self.closest::<0>(ray, &r),
-            1 => self.closest::<1>(ray, &r),
-            _ => self.closest::<2>(ray, &r),
-        };
-        best.map(|b| self.leaves().hit_record(b))
+        isa::closest_hit(self, ray)
     }
 
     fn occluded(&self, ray: &Ray) -> bool {
-        let Some(r) = LaneRay::new(ray.o, ray.d) else {
-            return false;
-        };
-        if self.triangles.is_empty() || ray.t_max.is_nan() || ray.t_max <= 0.0 {
-            return false;
-        }
-        match r.kz() {
-            0 => self.any::<0>(ray, &r),
-            1 => self.any::<1>(ray, &r),
-            _ => self.any::<2>(ray, &r),
-        }
+        isa::any_hit(self, ray)
     }
 
     fn bounds(&self) -> Bounds3 {
@@ -357,15 +387,7 @@ impl Accel for ObvhsAccel {
 
     /// One traversal that records every hit and never shrinks the ray's t range.
     fn intersect_all(&self, ray: &Ray, hits: &mut Vec<Hit>) {
-        let Some(r) = LaneRay::new(ray.o, ray.d) else { return };
-        if self.triangles.is_empty() || ray.t_max.is_nan() || ray.t_max <= 0.0 {
-            return;
-        }
-        match r.kz() {
-            0 => self.all::<0>(ray, &r, hits),
-            1 => self.all::<1>(ray, &r, hits),
-            _ => self.all::<2>(ray, &r, hits),
-        }
+        isa::every_hit(self, ray, hits)
     }
 }
 
