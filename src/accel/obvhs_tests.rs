@@ -342,7 +342,10 @@ fn dispatched_and_baseline_queries_agree_bit_for_bit() {
             want_all.clear();
             accel.intersect_all(ray, &mut got_all);
             accel.every_hit(ray, &mut want_all);
-            assert_eq!(got_all.iter().map(hit_bits).collect::<Vec<_>>(), want_all.iter().map(hit_bits).collect::<Vec<_>>());
+            assert_eq!(
+                got_all.iter().map(hit_bits).collect::<Vec<_>>(),
+                want_all.iter().map(hit_bits).collect::<Vec<_>>()
+            );
             all_hits += got_all.len();
         }
         hits += got.is_some() as usize;
