@@ -251,7 +251,9 @@ impl ObvhsAccel {
             &self.nodes,
             &br,
             ray.t_max,
+            #[inline(always)]
             |k| l.touch(k),
+            #[inline(always)]
             |k, t_max| {
                 let mut found = false;
                 for i in l.group(k as usize) {
@@ -270,13 +272,10 @@ impl ObvhsAccel {
     #[inline(always)]
     fn all<const KZ: usize>(&self, ray: &Ray, r: &LaneRay, hits: &mut Vec<Hit>) {
         let l = self.leaves();
-        let mut visit = |i: usize| {
-            if let Some(h) = r.intersect::<KZ>(&l.triangles[i].lanes, ray.t_max).filter(|h| h.t < ray.t_max) {
-                hits.push(l.hit_record((h, i)));
-            }
-        };
         if self.stats.linear_fallback {
-            (0..l.triangles.len()).for_each(visit);
+            for i in 0..l.triangles.len() {
+                hits.extend(l.blocks::<KZ>(r, i, ray.t_max).map(|h| l.hit_record((h, i))));
+            }
             return;
         }
         let br = traverse::BoxRay::new(ray.o, ray.d);
@@ -284,9 +283,13 @@ impl ObvhsAccel {
             &self.nodes,
             &br,
             ray.t_max,
+            #[inline(always)]
             |k| l.touch(k),
+            #[inline(always)]
             |k, _| {
-                l.group(k as usize).for_each(&mut visit);
+                for i in l.group(k as usize) {
+                    hits.extend(l.blocks::<KZ>(r, i, ray.t_max).map(|h| l.hit_record((h, i))));
+                }
                 false
             },
         );
@@ -296,9 +299,8 @@ impl ObvhsAccel {
     #[inline(always)]
     fn any<const KZ: usize>(&self, ray: &Ray, r: &LaneRay) -> bool {
         let l = self.leaves();
-        let blocks = |i: usize| r.intersect::<KZ>(&l.triangles[i].lanes, ray.t_max).is_some_and(|h| h.t < ray.t_max);
         if self.stats.linear_fallback {
-            return (0..l.triangles.len()).any(blocks);
+            return (0..l.triangles.len()).any(|i| l.blocks::<KZ>(r, i, ray.t_max).is_some());
         }
         let mut hit = false;
         let br = traverse::BoxRay::new(ray.o, ray.d);
@@ -306,9 +308,16 @@ impl ObvhsAccel {
             &self.nodes,
             &br,
             ray.t_max,
+            #[inline(always)]
             |k| l.touch(k),
+            #[inline(always)]
             |k, _| {
-                hit = l.group(k as usize).any(blocks);
+                for i in l.group(k as usize) {
+                    if l.blocks::<KZ>(r, i, ray.t_max).is_some() {
+                        hit = true;
+                        break;
+                    }
+                }
                 hit
             },
         );

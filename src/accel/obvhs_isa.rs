@@ -16,19 +16,19 @@ use super::ObvhsAccel;
 use crate::geometry::{Hit, Ray};
 
 /// [`ObvhsAccel::closest_hit`] in the CPU's best variant.
-#[multiversion(targets("x86_64+avx2+fma"))]
+#[multiversion(targets("x86_64+avx2+fma+bmi1+bmi2+lzcnt+popcnt"))]
 pub(super) fn closest_hit(accel: &ObvhsAccel, ray: &Ray) -> Option<Hit> {
     accel.closest_hit(ray)
 }
 
 /// [`ObvhsAccel::any_hit`] in the CPU's best variant.
-#[multiversion(targets("x86_64+avx2+fma"))]
+#[multiversion(targets("x86_64+avx2+fma+bmi1+bmi2+lzcnt+popcnt"))]
 pub(super) fn any_hit(accel: &ObvhsAccel, ray: &Ray) -> bool {
     accel.any_hit(ray)
 }
 
 /// [`ObvhsAccel::every_hit`] in the CPU's best variant.
-#[multiversion(targets("x86_64+avx2+fma"))]
+#[multiversion(targets("x86_64+avx2+fma+bmi1+bmi2+lzcnt+popcnt"))]
 pub(super) fn every_hit(accel: &ObvhsAccel, ray: &Ray, hits: &mut Vec<Hit>) {
     accel.every_hit(ray, hits)
 }
