@@ -9,7 +9,7 @@
 //! that is not inlined runs baseline code). They compute the same values bit for bit: Rust never
 //! contracts `a * b + c` into a fused multiply-add, the backend's code has no explicit
 //! `mul_add`, and glam chooses its own fused paths by compile-time `cfg(target_feature)`, which a
-//! per-function target does not change. `avx2_and_baseline_queries_agree_bit_for_bit` (in
+//! per-function target does not change. `dispatched_and_baseline_queries_agree_bit_for_bit` (in
 //! `obvhs_tests.rs`) checks it against [`ObvhsAccel::closest_hit`] & co. called directly, i.e.
 //! compiled for the crate's baseline target.
 
