@@ -14,7 +14,8 @@
 //! test is specialised per dominant ray axis, and when every group holds one triangle (the usual
 //! case) a BVH primitive index is a triangle index with no indirection. Nodes and triangles
 //! live in huge-page-advised memory ([`HugeArray`]): over a million triangles, incoherent rays
-//! would otherwise pay a TLB miss on most loads.
+//! would otherwise pay a TLB miss on most loads. The queries are compiled for AVX2+FMA as well
+//! as for baseline x86-64, and the CPU's best variant is chosen at run time (`obvhs_isa.rs`).
 
 use std::time::Duration;
 
@@ -27,6 +28,8 @@ use super::watertight::{LaneRay, TriangleHit, TriangleLanes};
 use super::Accel;
 use crate::geometry::{Bounds3, Hit, Mesh, Ray};
 
+#[path = "obvhs_isa.rs"]
+mod isa;
 #[path = "obvhs_leaves.rs"]
 mod leaves;
 #[path = "obvhs_traverse.rs"]
@@ -186,6 +189,52 @@ impl ObvhsAccel {
         Leaves { triangles: &self.triangles, group_start: &self.group_start }
     }
 
+    /// [`Accel::intersect`] compiled for the caller's target features (the trait method calls it
+    /// through [`isa::closest_hit`], which picks the CPU's best variant).
+    #[inline(always)]
+    fn closest_hit(&self, ray: &Ray) -> Option<Hit> {
+        let r = LaneRay::new(ray.o, ray.d)?;
+        if self.triangles.is_empty() || ray.t_max.is_nan() || ray.t_max <= 0.0 {
+            return None;
+        }
+        let best = match r.kz() {
+            0 => self.closest::<0>(ray, &r),
+            1 => self.closest::<1>(ray, &r),
+            _ => self.closest::<2>(ray, &r),
+        };
+        best.map(|b| self.leaves().hit_record(b))
+    }
+
+    /// [`Accel::occluded`] compiled for the caller's target features (see [`isa::any_hit`]).
+    #[inline(always)]
+    fn any_hit(&self, ray: &Ray) -> bool {
+        let Some(r) = LaneRay::new(ray.o, ray.d) else {
+            return false;
+        };
+        if self.triangles.is_empty() || ray.t_max.is_nan() || ray.t_max <= 0.0 {
+            return false;
+        }
+        match r.kz() {
+            0 => self.any::<0>(ray, &r),
+            1 => self.any::<1>(ray, &r),
+            _ => self.any::<2>(ray, &r),
+        }
+    }
+
+    /// [`Accel::intersect_all`] compiled for the caller's target features (see [`isa::every_hit`]).
+    #[inline(always)]
+    fn every_hit(&self, ray: &Ray, hits: &mut Vec<Hit>) {
+        let Some(r) = LaneRay::new(ray.o, ray.d) else { return };
+        if self.triangles.is_empty() || ray.t_max.is_nan() || ray.t_max <= 0.0 {
+            return;
+        }
+        match r.kz() {
+            0 => self.all::<0>(ray, &r, hits),
+            1 => self.all::<1>(ray, &r, hits),
+            _ => self.all::<2>(ray, &r, hits),
+        }
+    }
+
     /// Closest hit with the triangle test specialised for dominant axis `KZ`.
     #[inline(always)]
     fn closest<const KZ: usize>(&self, ray: &Ray, r: &LaneRay) -> Option<(TriangleHit, usize)> {
@@ -202,7 +251,9 @@ impl ObvhsAccel {
             &self.nodes,
             &br,
             ray.t_max,
+            #[inline(always)]
             |k| l.touch(k),
+            #[inline(always)]
             |k, t_max| {
                 let mut found = false;
                 for i in l.group(k as usize) {
@@ -218,15 +269,13 @@ impl ObvhsAccel {
     }
 
     /// Every hit with t in (0, t_max), in traversal order; the ray's range never shrinks.
+    #[inline(always)]
     fn all<const KZ: usize>(&self, ray: &Ray, r: &LaneRay, hits: &mut Vec<Hit>) {
         let l = self.leaves();
-        let mut visit = |i: usize| {
-            if let Some(h) = r.intersect::<KZ>(&l.triangles[i].lanes, ray.t_max).filter(|h| h.t < ray.t_max) {
-                hits.push(l.hit_record((h, i)));
-            }
-        };
         if self.stats.linear_fallback {
-            (0..l.triangles.len()).for_each(visit);
+            for i in 0..l.triangles.len() {
+                hits.extend(l.blocks::<KZ>(r, i, ray.t_max).map(|h| l.hit_record((h, i))));
+            }
             return;
         }
         let br = traverse::BoxRay::new(ray.o, ray.d);
@@ -234,9 +283,13 @@ impl ObvhsAccel {
             &self.nodes,
             &br,
             ray.t_max,
+            #[inline(always)]
             |k| l.touch(k),
+            #[inline(always)]
             |k, _| {
-                l.group(k as usize).for_each(&mut visit);
+                for i in l.group(k as usize) {
+                    hits.extend(l.blocks::<KZ>(r, i, ray.t_max).map(|h| l.hit_record((h, i))));
+                }
                 false
             },
         );
@@ -246,9 +299,8 @@ impl ObvhsAccel {
     #[inline(always)]
     fn any<const KZ: usize>(&self, ray: &Ray, r: &LaneRay) -> bool {
         let l = self.leaves();
-        let blocks = |i: usize| r.intersect::<KZ>(&l.triangles[i].lanes, ray.t_max).is_some_and(|h| h.t < ray.t_max);
         if self.stats.linear_fallback {
-            return (0..l.triangles.len()).any(blocks);
+            return (0..l.triangles.len()).any(|i| l.blocks::<KZ>(r, i, ray.t_max).is_some());
         }
         let mut hit = false;
         let br = traverse::BoxRay::new(ray.o, ray.d);
@@ -256,9 +308,16 @@ impl ObvhsAccel {
             &self.nodes,
             &br,
             ray.t_max,
+            #[inline(always)]
             |k| l.touch(k),
+            #[inline(always)]
             |k, _| {
-                hit = l.group(k as usize).any(blocks);
+                for i in l.group(k as usize) {
+                    if l.blocks::<KZ>(r, i, ray.t_max).is_some() {
+                        hit = true;
+                        break;
+                    }
+                }
                 hit
             },
         );
@@ -316,30 +375,11 @@ pub(super) fn max_depth(nodes: &[CwBvhNode]) -> u32 {
 
 impl Accel for ObvhsAccel {
     fn intersect(&self, ray: &Ray) -> Option<Hit> {
-        let r = LaneRay::new(ray.o, ray.d)?;
-        if self.triangles.is_empty() || ray.t_max.is_nan() || ray.t_max <= 0.0 {
-            return None;
-        }
-        let best = match r.kz() {
-            0 => self.closest::<0>(ray, &r),
-            1 => self.closest::<1>(ray, &r),
-            _ => self.closest::<2>(ray, &r),
-        };
-        best.map(|b| self.leaves().hit_record(b))
+        isa::closest_hit(self, ray)
     }
 
     fn occluded(&self, ray: &Ray) -> bool {
-        let Some(r) = LaneRay::new(ray.o, ray.d) else {
-            return false;
-        };
-        if self.triangles.is_empty() || ray.t_max.is_nan() || ray.t_max <= 0.0 {
-            return false;
-        }
-        match r.kz() {
-            0 => self.any::<0>(ray, &r),
-            1 => self.any::<1>(ray, &r),
-            _ => self.any::<2>(ray, &r),
-        }
+        isa::any_hit(self, ray)
     }
 
     fn bounds(&self) -> Bounds3 {
@@ -357,15 +397,7 @@ impl Accel for ObvhsAccel {
 
     /// One traversal that records every hit and never shrinks the ray's t range.
     fn intersect_all(&self, ray: &Ray, hits: &mut Vec<Hit>) {
-        let Some(r) = LaneRay::new(ray.o, ray.d) else { return };
-        if self.triangles.is_empty() || ray.t_max.is_nan() || ray.t_max <= 0.0 {
-            return;
-        }
-        match r.kz() {
-            0 => self.all::<0>(ray, &r, hits),
-            1 => self.all::<1>(ray, &r, hits),
-            _ => self.all::<2>(ray, &r, hits),
-        }
+        isa::every_hit(self, ray, hits)
     }
 }
 

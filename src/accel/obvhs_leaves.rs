@@ -44,6 +44,12 @@ impl Leaves<'_> {
         }
     }
 
+    /// The hit on triangle `i` with t in (0, t_max) (open at t_max: shadow rays, every-hit).
+    #[inline(always)]
+    pub(super) fn blocks<const KZ: usize>(&self, r: &LaneRay, i: usize, t_max: f32) -> Option<TriangleHit> {
+        r.intersect::<KZ>(&self.triangles[i].lanes, t_max).filter(|h| h.t < t_max)
+    }
+
     /// Indices into `triangles` of BVH primitive `k`.
     #[inline(always)]
     pub(super) fn group(&self, k: usize) -> std::ops::Range<usize> {

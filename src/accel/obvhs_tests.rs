@@ -314,3 +314,43 @@ fn huge_page_arrays_agree_with_heap_arrays_and_brute_force() {
         .sum();
     assert!(hits > rays.len() / 3, "{hits} of {}", rays.len());
 }
+
+/// A hit's floats as bits: stricter than `==` (which equates +0 and -0).
+fn hit_bits(h: &Hit) -> (u32, u32, u32, [u32; 3], u32, u32) {
+    (h.t.to_bits(), h.u.to_bits(), h.v.to_bits(), h.ng.to_array().map(f32::to_bits), h.geom_id, h.prim_id)
+}
+
+#[test]
+fn dispatched_and_baseline_queries_agree_bit_for_bit() {
+    // The trait methods run the AVX2+FMA variant on a CPU that has both (`obvhs_isa.rs`); the
+    // inherent methods called here are inlined into this test, compiled for the baseline target.
+    #[cfg(target_arch = "x86_64")]
+    let avx2 = std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma");
+    #[cfg(not(target_arch = "x86_64"))]
+    let avx2 = false;
+    let meshes = test_scene();
+    let accel = ObvhsAccel::new(&meshes);
+    let rays = test_rays(&meshes);
+    let (mut hits, mut all_hits) = (0, 0);
+    let (mut got_all, mut want_all) = (Vec::new(), Vec::new());
+    for (k, ray) in rays.iter().enumerate() {
+        let got = accel.intersect(ray);
+        assert_eq!(got.as_ref().map(hit_bits), accel.closest_hit(ray).as_ref().map(hit_bits), "{ray:?}");
+        assert_eq!(accel.occluded(ray), accel.any_hit(ray), "{ray:?}");
+        if k % 4 == 0 {
+            got_all.clear();
+            want_all.clear();
+            accel.intersect_all(ray, &mut got_all);
+            accel.every_hit(ray, &mut want_all);
+            assert_eq!(
+                got_all.iter().map(hit_bits).collect::<Vec<_>>(),
+                want_all.iter().map(hit_bits).collect::<Vec<_>>()
+            );
+            all_hits += got_all.len();
+        }
+        hits += got.is_some() as usize;
+    }
+    assert!(hits > rays.len() / 2 && all_hits > hits / 4, "{hits} {all_hits} of {}", rays.len());
+    // Two different variants were compared only where the CPU has AVX2+FMA and this build does not.
+    eprintln!("AVX2+FMA variant against baseline: {}", avx2 && !cfg!(target_feature = "avx2"));
+}

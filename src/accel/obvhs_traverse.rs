@@ -28,6 +28,7 @@ pub(super) struct BoxRay {
 
 impl BoxRay {
     /// Constants for origin `o` and direction `d` (finite, non-zero).
+    #[inline(always)]
     pub(super) fn new(o: Vec3, d: Vec3) -> Self {
         // Adding +0 turns -0 into +0 so the slab order (from `d < 0`) and the sign of 1/d agree.
         let d = d + Vec3::ZERO;

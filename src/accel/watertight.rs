@@ -148,6 +148,7 @@ pub struct LaneRay {
 
 impl LaneRay {
     /// Precomputes the shear for origin `o`, direction `d`; `None` like [`ShearedRay::new`].
+    #[inline]
     pub fn new(o: Vec3, d: Vec3) -> Option<Self> {
         if !o.is_finite() || !d.is_finite() || d == Vec3::ZERO {
             return None;
