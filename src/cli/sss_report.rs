@@ -172,8 +172,10 @@ pub fn run(a: &SssReportArgs) -> Result<()> {
             // Rows: [.., diffusion, walk]; the walk's value is the reference's noise.
             let n = rows.len();
             let (reference_noise, d) = (rows[n - 1].bias, rows[n - 2].bias);
-            rows[n - 2].model_bias =
-                Some((d * d - diffusion_noise2 - reference_noise * reference_noise).max(0.0).sqrt());
+            let model_bias = (d * d - diffusion_noise2 - reference_noise * reference_noise).max(0.0).sqrt();
+            let &(_, t, e) = rows[n - 1].ladder.last().unwrap();
+            rows[n - 2].model_bias = Some(model_bias);
+            rows[n - 2].walk_wins_after_s = (model_bias > 0.0).then(|| t * (e / model_bias).powi(2));
         }
         plot_error_vs_time(&shape_points, &fig.join(format!("{}-error.png", shape.name())))?;
     }
