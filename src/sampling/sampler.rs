@@ -131,8 +131,9 @@ impl Sampler {
 
 impl SobolSampler {
     /// The next `n` (1 or 2) values. Values come in padded groups of four consecutive Sobol
-    /// dimensions (`sobol::sample_4d`, the crate's `sample_4d` with table lookups), each group Owen-scrambled with its
-    /// own seed; a 2D draw never straddles two groups, so its two values are jointly stratified.
+    /// dimensions (`sobol::sample_4d`: the crate's `sample_4d` with table lookups), each group
+    /// Owen-scrambled with its own seed; a 2D draw never straddles two groups, so its two values
+    /// are jointly stratified.
     #[inline]
     fn take(&mut self, n: usize) -> [f32; 2] {
         if self.used + n > 4 {
@@ -150,8 +151,9 @@ impl SobolSampler {
     fn group(&self, dim: u64) -> [f32; 4] {
         let block = self.sample_index / SOBOL_LEN;
         let index = (self.sample_index % SOBOL_LEN) as u32;
-        let seed = hash64_step(hash64_step(self.pixel_state, dim), block); // hash64(pixel_seed, dim, block)
-                                                                           // Fold to 32 bits: sobol_burley seeds are u32.
+        // hash64(&[pixel_seed, dim, block]), from the state after the pixel seed.
+        let seed = hash64_step(hash64_step(self.pixel_state, dim), block);
+        // Fold to 32 bits: sobol_burley seeds are u32.
         super::sobol::sample_4d(index, (seed ^ (seed >> 32)) as u32)
     }
 }
