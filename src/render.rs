@@ -90,8 +90,9 @@ pub fn render_pass(scene: &Scene, settings: &RenderSettings, film: &mut Film, ra
                 let y = y0 + (band * BAND_ROWS + i / width) as u32;
                 for s in range.clone() {
                     sampler.start_pixel_sample((x, y), s, settings.seed);
-                    let mut lambdas = SampledWavelengths::sample_visible(sampler.get_1d());
-                    let (offset, weight) = settings.filter.sample(sampler.get_pixel_2d());
+                    let u = sampler.get_pixel_3d();
+                    let mut lambdas = SampledWavelengths::sample_visible(u.z);
+                    let (offset, weight) = settings.filter.sample(u.truncate());
                     let p_film = Vec2::new(x as f32 + 0.5, y as f32 + 0.5) + offset;
                     let ray = camera.generate_ray(p_film, sampler.get_2d());
                     let l = settings.integrator.li(scene, ray, &mut lambdas, &mut sampler, &mut stats);

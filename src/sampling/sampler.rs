@@ -2,7 +2,7 @@
 //! dimension), so renders are bit-identical for any thread count and can be split into sample
 //! ranges (pbrt-v4 `IndependentSampler`, `PaddedSobolSampler`).
 
-use glam::Vec2;
+use glam::{Vec2, Vec3};
 
 use super::rng::{hash64, hash64_step, Rng, HASH64_START};
 
@@ -116,14 +116,16 @@ impl Sampler {
         }
     }
 
-    /// The film position within the pixel, in [0, 1)². For Sobol it uses its own fixed scramble,
-    /// independent of how many dimensions were drawn before.
-    pub fn get_pixel_2d(&mut self) -> Vec2 {
+    /// The film position within the pixel (x, y) and the wavelength sample (z), in [0, 1)³.
+    /// For Sobol they are dimensions 0–2 of one scrambled sequence, independent of how many
+    /// dimensions were drawn before: jointly stratified, so the samples that land on a bright
+    /// region covering part of the pixel still spread over the spectrum.
+    pub fn get_pixel_3d(&mut self) -> Vec3 {
         match self {
-            Self::Independent(_) => self.get_2d(),
+            Self::Independent(s) => Vec3::new(s.uniform(), s.uniform(), s.uniform()),
             Self::Sobol(s) => {
                 let v = s.group(PIXEL_DIM);
-                Vec2::new(v[0], v[1])
+                Vec3::new(v[0], v[1], v[2])
             }
         }
     }
@@ -166,7 +168,7 @@ mod tests {
         s.start_pixel_sample(pixel, index, seed);
         let mut v = vec![s.get_1d()];
         v.extend(s.get_2d().to_array());
-        v.extend(s.get_pixel_2d().to_array());
+        v.extend(s.get_pixel_3d().to_array());
         v.push(s.get_1d());
         v
     }
@@ -240,16 +242,26 @@ mod tests {
     }
 
     #[test]
-    fn sobol_pixel_2d_is_stratified() {
-        // 2D stratification: 256 Sobol points put exactly one point in each of 16×16 cells... for
-        // the elementary intervals of a (0,2)-sequence; check the 16×16 grid has no empty cell.
+    fn sobol_pixel_3d_is_stratified_jointly() {
+        // 256 points of Sobol dimensions 0–2: every 2D projection puts one point in each of
+        // 16×16 cells ((0,2)-sequences), and in 3D each 8×8×4 box holds exactly one (the
+        // three dimensions form a (1,3)-sequence). An independent film position and
+        // wavelength would leave about a third of each grid's cells empty.
         let mut s = Sampler::sobol();
-        let mut cells = [0u32; 256];
-        for i in 0..256 {
-            s.start_pixel_sample((5, 5), i, 0);
-            let p = s.get_pixel_2d();
-            cells[(p.y * 16.0) as usize * 16 + (p.x * 16.0) as usize] += 1;
+        for pixel in [(5, 5), (0, 9), (300, 2)] {
+            let mut grids = [[0u32; 256]; 4];
+            for i in 0..256 {
+                s.start_pixel_sample(pixel, i, 3);
+                let p = s.get_pixel_3d().to_array().map(|c| c as f64);
+                let cell = |a: f64, na: f64, b: f64, nb: f64| (a * na) as usize * nb as usize + (b * nb) as usize;
+                grids[0][cell(p[0], 16.0, p[1], 16.0)] += 1;
+                grids[1][cell(p[0], 16.0, p[2], 16.0)] += 1;
+                grids[2][cell(p[1], 16.0, p[2], 16.0)] += 1;
+                grids[3][cell(p[0], 8.0, p[1], 8.0) * 4 + (p[2] * 4.0) as usize] += 1;
+            }
+            for (k, g) in grids.iter().enumerate() {
+                assert!(g.iter().all(|&c| c == 1), "pixel {pixel:?}, grid {k}: {g:?}");
+            }
         }
-        assert!(cells.iter().all(|&c| c == 1), "{cells:?}");
     }
 }

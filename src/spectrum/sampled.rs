@@ -195,23 +195,14 @@ impl SampledWavelengths {
     /// Uniform hero sampling over [lmin, lmax].
     pub fn sample_uniform_range(u: f32, lmin: f32, lmax: f32) -> Self {
         let range = lmax - lmin;
-        let hero = lmin + u * range;
-        let delta = range / N_SPECTRUM_SAMPLES as f32;
-        let mut lambda = [0.0; N_SPECTRUM_SAMPLES];
-        for (i, l) in lambda.iter_mut().enumerate() {
-            let mut x = hero + delta * i as f32;
-            if x > lmax {
-                x = lmin + (x - lmax);
-            }
-            *l = x;
-        }
+        let lambda = stratified_quantiles(u).map(|up| (lmin + up * range).min(lmax));
         Self { lambda, pdf: [1.0 / range; N_SPECTRUM_SAMPLES] }
     }
 
     /// Hero sampling with density ∝ 1/cosh²(0.0072 (λ − 538 nm)) on [360, 830] nm, which
     /// roughly follows the luminous efficiency ȳ and cuts colour noise (pbrt-v4,
-    /// `SampleVisibleWavelengths`). The three other wavelengths rotate `u` by quarters, so
-    /// each has the same marginal density.
+    /// `SampleVisibleWavelengths`). The four are one per quarter of the CDF, see
+    /// [`stratified_quantiles`].
     pub fn sample_visible(u: f32) -> Self {
         let mut lambda = [0.0; N_SPECTRUM_SAMPLES];
         let mut pdf = [0.0; N_SPECTRUM_SAMPLES];
@@ -223,12 +214,8 @@ impl SampledWavelengths {
         let (lo, hi) = *VISIBLE_TANH_BOUNDS;
         let norm = (VISIBLE_A / (hi - lo)) as f32;
         let (lo, width) = (lo as f32, (hi - lo) as f32);
-        for i in 0..N_SPECTRUM_SAMPLES {
-            let mut up = u + i as f32 / N_SPECTRUM_SAMPLES as f32;
-            if up > 1.0 {
-                up -= 1.0;
-            }
-            let t = lo + up.clamp(0.0, 1.0) * width;
+        for (i, up) in stratified_quantiles(u).into_iter().enumerate() {
+            let t = lo + up * width;
             let atanh = 0.5 * ((1.0 + t) / (1.0 - t)).ln();
             lambda[i] = (VISIBLE_MU as f32 + atanh / VISIBLE_A as f32).clamp(LAMBDA_MIN, LAMBDA_MAX);
             pdf[i] = norm * (1.0 - t * t);
@@ -260,6 +247,26 @@ impl SampledWavelengths {
         }
         self.pdf[0] /= N_SPECTRUM_SAMPLES as f32;
     }
+}
+
+/// The CDF values of the four wavelengths drawn from one uniform `u`: one in each quarter of
+/// [0, 1), at the same place r within its quarter, the hero (index 0) in quarter q:
+/// vᵢ = (r + (q + i) mod 4) / 4.
+///
+/// pbrt-v4 rotates `u` itself by quarters (vᵢ = frac(u + i/4)), which makes r = frac(4u): the
+/// coarse strata of a low-discrepancy `u` fold onto each other (the 16 strata of 16 Sobol points
+/// give r only 4), so the four wavelengths lose most of the sampler's stratification. Here r
+/// takes `u`'s 22 leading bits, so N stratified values of `u` put the 4N wavelengths one per 1/4N
+/// of the CDF, and q takes its two last bits, which any stratification of up to 2²² points leaves
+/// uniform. (q, r) is a bijection of `u`'s 24 bits, so a uniform `u` gives a uniform hero, whose
+/// density a dispersive interface relies on ([`SampledWavelengths::terminate_secondary`]).
+#[inline]
+fn stratified_quantiles(u: f32) -> [f32; N_SPECTRUM_SAMPLES] {
+    const _: () = assert!(N_SPECTRUM_SAMPLES == 4, "q is two bits");
+    const BITS: u32 = 24;
+    let x = ((u.clamp(0.0, 1.0) * (1u32 << BITS) as f32) as u32).min((1 << BITS) - 1);
+    let (r, q) = ((x >> 2) as f32 * (1.0 / (1u32 << (BITS - 2)) as f32), x & 3);
+    std::array::from_fn(|i| (r + ((q + i as u32) % 4) as f32) * 0.25)
 }
 
 /// Slope a [1/nm] and centre μ [nm] of the visible-wavelength density sech²(a(λ − μ)).
@@ -389,7 +396,8 @@ mod tests {
         for k in 0..1000 {
             let u = (k as f32 + 0.5) / 1000.0;
             let w = SampledWavelengths::sample_visible(u);
-            assert!((w.lambda[0] - sample_visible_wavelength(u)).abs() < 1e-3, "u = {u}: {:?}", w.lambda);
+            let hero = sample_visible_wavelength(stratified_quantiles(u)[0]);
+            assert!((w.lambda[0] - hero).abs() < 1e-3, "u = {u}: {:?}", w.lambda);
             for (&l, &p) in w.lambda.iter().zip(&w.pdf) {
                 let want = visible_wavelength_pdf(l);
                 assert!((p - want).abs() <= 1e-5 * want, "λ = {l}: {p} vs {want}");
@@ -407,6 +415,42 @@ mod tests {
         // The test has power: uniform samples against the visible pdf fail it badly.
         let (bad, _) = chi2(|u| LAMBDA_MIN + u * (LAMBDA_MAX - LAMBDA_MIN), visible_wavelength_pdf, 80, 100_000);
         assert!(bad > 1000.0, "{bad}");
+    }
+
+    #[test]
+    fn the_hero_and_every_secondary_wavelength_have_the_visible_density() {
+        // The hero's density matters on its own once a dispersive interface drops the others.
+        for i in 0..N_SPECTRUM_SAMPLES {
+            let (stat, _) =
+                chi2(|u| SampledWavelengths::sample_visible(u).lambda[i], visible_wavelength_pdf, 80, 400_000);
+            assert!(stat < 111.1, "wavelength {i}: χ² = {stat}");
+        }
+    }
+
+    #[test]
+    fn stratified_uniforms_put_one_wavelength_in_each_stratum_of_the_cdf() {
+        // N Owen-scrambled Sobol values of u (one per 1/N) must give 4N quantiles, one per 1/4N.
+        // The quarter rotation frac(u + i/4) fails this from N = 8: its strata fold onto each other.
+        let strata_hit = |n: u64, pixel: u32, quantiles: &dyn Fn(f32) -> [f32; 4]| {
+            let mut s = crate::sampling::Sampler::sobol();
+            let mut counts = vec![0u32; 4 * n as usize];
+            for i in 0..n {
+                s.start_pixel_sample((pixel, 3), i, 17);
+                for v in quantiles(s.get_1d()) {
+                    counts[(v * 4.0 * n as f32) as usize] += 1;
+                }
+            }
+            counts.iter().all(|&c| c == 1)
+        };
+        let rotation = |u: f32| std::array::from_fn(|i| (u + i as f32 / 4.0).fract());
+        for n in [1, 4, 16, 64, 256, 4096] {
+            for pixel in 0..8 {
+                assert!(strata_hit(n, pixel, &stratified_quantiles), "{n} samples, pixel {pixel}");
+                if n >= 8 {
+                    assert!(!strata_hit(n, pixel, &rotation), "{n} samples, pixel {pixel}");
+                }
+            }
+        }
     }
 
     #[test]
