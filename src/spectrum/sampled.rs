@@ -256,14 +256,15 @@ impl SampledWavelengths {
 /// pbrt-v4 rotates `u` itself by quarters (vᵢ = frac(u + i/4)), which makes r = frac(4u): the
 /// coarse strata of a low-discrepancy `u` fold onto each other (the 16 strata of 16 Sobol points
 /// give r only 4), so the four wavelengths lose most of the sampler's stratification. Here r
-/// takes `u`'s 22 leading bits, so N stratified values of `u` put the 4N wavelengths one per 1/4N
-/// of the CDF, and q takes its two last bits, which any stratification of up to 2²² points leaves
-/// uniform. (q, r) is a bijection of `u`'s 24 bits, so a uniform `u` gives a uniform hero, whose
-/// density a dispersive interface relies on ([`SampledWavelengths::terminate_secondary`]).
+/// takes the leading 21 of `u`'s first 23 bits, so N stratified values of `u` put the 4N
+/// wavelengths one per 1/4N of the CDF, and q takes the last two, which any stratification of up
+/// to 2²¹ points leaves uniform. (q, r) is a bijection of those 23 bits, so a uniform `u` gives a
+/// uniform hero, whose density a dispersive interface relies on
+/// ([`SampledWavelengths::terminate_secondary`]). 23, not 24: Sobol values carry 23 bits.
 #[inline]
 fn stratified_quantiles(u: f32) -> [f32; N_SPECTRUM_SAMPLES] {
     const _: () = assert!(N_SPECTRUM_SAMPLES == 4, "q is two bits");
-    const BITS: u32 = 24;
+    const BITS: u32 = 23;
     let x = ((u.clamp(0.0, 1.0) * (1u32 << BITS) as f32) as u32).min((1 << BITS) - 1);
     let (r, q) = ((x >> 2) as f32 * (1.0 / (1u32 << (BITS - 2)) as f32), x & 3);
     std::array::from_fn(|i| (r + ((q + i as u32) % 4) as f32) * 0.25)
@@ -368,7 +369,7 @@ mod tests {
 
     /// Pearson χ² of `n` draws of `sample(u)` against `pdf` over `bins` equal bins of
     /// [360, 830]; returns (statistic, degrees of freedom).
-    fn chi2(sample: impl Fn(f32) -> f32, pdf: impl Fn(f32) -> f32, bins: usize, n: usize) -> (f64, usize) {
+    fn chi2(mut sample: impl FnMut(f32) -> f32, pdf: impl Fn(f32) -> f32, bins: usize, n: usize) -> (f64, usize) {
         let mut rng = crate::sampling::Rng::new(7, 3);
         let mut counts = vec![0u64; bins];
         let w = (LAMBDA_MAX - LAMBDA_MIN) as f64 / bins as f64;
@@ -425,6 +426,25 @@ mod tests {
                 chi2(|u| SampledWavelengths::sample_visible(u).lambda[i], visible_wavelength_pdf, 80, 400_000);
             assert!(stat < 111.1, "wavelength {i}: χ² = {stat}");
         }
+        // Also with the u that renders draw: Sobol values (23 bits), 64 samples in each pixel.
+        // The hero's quarter comes from u's lowest bits, so this fails if those are not uniform.
+        let mut s = crate::sampling::Sampler::sobol();
+        let (mut k, mut quarters) = (0u32, [0u32; 4]);
+        let (stat, _) = chi2(
+            |_| {
+                s.start_pixel_sample((k / 64, 0), (k % 64) as u64, 1);
+                k += 1;
+                let u = s.get_1d();
+                quarters[(stratified_quantiles(u)[0] * 4.0) as usize] += 1;
+                SampledWavelengths::sample_visible(u).lambda[0]
+            },
+            visible_wavelength_pdf,
+            80,
+            400_000,
+        );
+        assert!(stat < 111.1, "hero from Sobol: χ² = {stat}");
+        // Each quarter 1/4 of the time: binomial σ = √(n·¼·¾) ≈ 274.
+        assert!(quarters.iter().all(|&c| (c as f64 - 100_000.0).abs() < 4.0 * 274.0), "{quarters:?}");
     }
 
     #[test]
