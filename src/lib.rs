@@ -14,7 +14,7 @@
 //!     integrator: Default::default(),
 //!     time_limit: None,
 //! };
-//! let (film, stats) = render(&scene, &settings, |_| {});
+//! let (film, stats) = render(&scene, &settings, |_| {}).unwrap();
 //! assert_eq!(stats.samples, 64 * 64 * 4);
 //! let xyz = film.xyz(32, 32);
 //! ```

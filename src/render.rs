@@ -3,7 +3,7 @@
 //! its samples in index order, so the image is bit-identical for any thread count, and a render
 //! can be split into disjoint sample ranges and merged.
 
-use crate::film::{Film, FilmSettings};
+use crate::film::{Film, FilmAllocError, FilmSettings};
 use crate::filter::Filter;
 use crate::integrator::{PathIntegrator, Stats};
 use crate::sampling::Sampler;
@@ -119,15 +119,20 @@ pub fn render_pass(scene: &Scene, settings: &RenderSettings, film: &mut Film, ra
 }
 
 /// Renders `settings.spp` samples per pixel (or fewer if the time limit ends it), in passes
-/// of growing size, calling `progress(samples_done)` after each pass.
-pub fn render(scene: &Scene, settings: &RenderSettings, mut progress: impl FnMut(u64)) -> (Film, Stats) {
+/// of growing size, calling `progress(samples_done)` after each pass. Fails only when the film
+/// cannot be allocated.
+pub fn render(
+    scene: &Scene,
+    settings: &RenderSettings,
+    mut progress: impl FnMut(u64),
+) -> Result<(Film, Stats), FilmAllocError> {
     let (w, h) = settings.film_size();
-    let mut film = Film::new(w, h);
+    let mut film = Film::try_new(w, h)?;
     let stats = render_range(scene, settings, &mut film, 0..settings.spp, |_, done| {
         progress(done);
         true
     });
-    (film, stats)
+    Ok((film, stats))
 }
 
 /// Adds samples `range` of every pixel to `film`, in passes of 1, 1, 2, 4, … 16 samples. After

@@ -106,11 +106,11 @@ pub fn run(a: &SssReportArgs) -> Result<()> {
             let mut diffusion_noise2 = 0.0;
             for method in [SubsurfaceMethod::Diffusion, SubsurfaceMethod::RandomWalk] {
                 // Untimed: builds the diffusion table (a once-per-material cost, not a render's).
-                render(&scene, &settings(a.size, 1, 0, method), |_| {});
+                render(&scene, &settings(a.size, 1, 0, method), |_| {})?;
                 let mut rungs = Vec::new();
                 for &spp in &ladder {
                     let t0 = Instant::now();
-                    let (film, _) = render(&scene, &settings(a.size, spp, 1, method), |_| {});
+                    let (film, _) = render(&scene, &settings(a.size, spp, 1, method), |_| {})?;
                     let time_s = t0.elapsed().as_secs_f64();
                     let img = film_to_image(&film, space)?;
                     let m = metrics::compare(&img, &reference)?;
@@ -145,7 +145,7 @@ pub fn run(a: &SssReportArgs) -> Result<()> {
                     SubsurfaceMethod::Diffusion => {
                         let spp = a.convergence_spp.min(a.reference_spp);
                         let render_seed = |seed| {
-                            let (film, _) = render(&scene, &settings(a.size, spp, seed, method), |_| {});
+                            let (film, _) = render(&scene, &settings(a.size, spp, seed, method), |_| {})?;
                             film_to_image(&film, space)
                         };
                         let (d, d2) = (render_seed(2)?, render_seed(3)?);

@@ -181,7 +181,7 @@ fn envmap_scene_renders_without_nans_and_shows_the_sky() {
         integrator: PathIntegrator { max_depth: 3, ..Default::default() },
         time_limit: None,
     };
-    let (film, stats) = prism::render::render(&scene, &s, |_| {});
+    let (film, stats) = prism::render::render(&scene, &s, |_| {}).unwrap();
     assert_eq!(stats.nonfinite, 0);
     // The top row sees the sky (bluish: Z > Y... in XYZ a blue sky has z/y > 1), the bottom row
     // the lit floor.

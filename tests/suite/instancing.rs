@@ -219,8 +219,8 @@ fn instanced_and_flattened_scenes_render_the_same_image() {
         let mut flat_b = instanced_builder();
         flat_b.flatten_instances();
         let flat = flat_b.build(kind).unwrap();
-        let (a, sa) = render(&inst, &settings, |_| {});
-        let (b, sb) = render(&flat, &settings, |_| {});
+        let (a, sa) = render(&inst, &settings, |_| {}).unwrap();
+        let (b, sb) = render(&flat, &settings, |_| {}).unwrap();
         assert_eq!((sa.nonfinite, sb.nonfinite), (0, 0));
         let (d, se, mean) = film_difference(&a, &b);
         eprintln!("{kind:?}: mean Y {mean:.4}, difference {d:.2e} ± {se:.2e}");
@@ -256,8 +256,8 @@ fn pbrt_object_instances_are_real_instances() {
         let mut flat_b = load();
         flat_b.flatten_instances();
         let flat = flat_b.build(kind).unwrap();
-        let (a, sa) = render(&inst, &settings, |_| {});
-        let (b, sb) = render(&flat, &settings, |_| {});
+        let (a, sa) = render(&inst, &settings, |_| {}).unwrap();
+        let (b, sb) = render(&flat, &settings, |_| {}).unwrap();
         assert_eq!((sa.nonfinite, sb.nonfinite), (0, 0));
         let (d, se, mean) = film_difference(&a, &b);
         eprintln!("orchard {kind:?}: mean Y {mean:.4}, difference {d:.2e} ± {se:.2e}");
@@ -283,7 +283,7 @@ fn render_cornell(m: Mat4, kind: AccelKind, instanced: bool, seed: u64) -> prism
         integrator: PathIntegrator { max_depth: 4, ..Default::default() },
         time_limit: None,
     };
-    let (film, stats) = render(&scene, &settings, |_| {});
+    let (film, stats) = render(&scene, &settings, |_| {}).unwrap();
     assert_eq!(stats.nonfinite, 0);
     film
 }

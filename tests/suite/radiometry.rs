@@ -219,7 +219,7 @@ fn lambertian_reflector_radiance_is_rho_e_over_pi() {
         integrator: PathIntegrator { max_depth: 1, ..Default::default() },
         time_limit: None,
     };
-    let (film, stats) = prism::render::render(&scene, &s, |_| {});
+    let (film, stats) = prism::render::render(&scene, &s, |_| {}).unwrap();
     assert_eq!(stats.nonfinite, 0);
     let expected = (rho * e0 * theta.cos() / PI) as f64;
     // Every pixel estimates the same radiance; the spread comes from wavelength sampling.

@@ -58,7 +58,7 @@ fn rendered_furnace_matches_geometric_series() {
             b.add_mesh(icosphere(Vec3::ZERO, 1.0, 3), m, Some(em));
             b.set_camera(Camera::look_at(Vec3::ZERO, Vec3::Z, Vec3::Y), 60.0);
             let scene = b.build(accel).unwrap();
-            let (film, stats) = render(&scene, &settings(32, 16, 200), |_| {});
+            let (film, stats) = render(&scene, &settings(32, 16, 200), |_| {}).unwrap();
             assert_eq!(stats.nonfinite, 0);
             let (m, se) = mean_y(&film);
             let expected = le as f64 / (1.0 - rho as f64);
@@ -73,7 +73,7 @@ fn cornell(accel: AccelKind) -> Scene {
 }
 
 fn render_with_threads(scene: &Scene, s: &RenderSettings, threads: usize) -> (Film, Stats) {
-    rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap().install(|| render(scene, s, |_| {}))
+    rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap().install(|| render(scene, s, |_| {}).unwrap())
 }
 
 #[test]
@@ -93,7 +93,7 @@ fn cornell_box_has_red_left_green_right_and_no_nans() {
     for accel in accels() {
         let scene = cornell(accel);
         let s = settings(32, 16, 5);
-        let (film, stats) = render(&scene, &s, |_| {});
+        let (film, stats) = render(&scene, &s, |_| {}).unwrap();
         assert_eq!(stats.nonfinite, 0, "{accel:?}");
         let space = prism::spectrum::ColorSpace::srgb();
         let avg = |x0: u32, x1: u32| {
@@ -120,8 +120,8 @@ fn embree_and_obvhs_render_the_same_image_within_noise() {
         return;
     }
     let s = settings(16, 64, 5);
-    let (a, sa) = render(&cornell(AccelKind::Embree), &s, |_| {});
-    let (b, sb) = render(&cornell(AccelKind::Obvhs), &s, |_| {});
+    let (a, sa) = render(&cornell(AccelKind::Embree), &s, |_| {}).unwrap();
+    let (b, sb) = render(&cornell(AccelKind::Obvhs), &s, |_| {}).unwrap();
     assert_eq!((sa.nonfinite, sb.nonfinite), (0, 0));
     // Same seeds: pixels differ only where the two triangle tests round differently and a path
     // diverges. The per-pixel differences must average to zero within their standard error.
@@ -136,8 +136,8 @@ fn cornell_box_pbrt_file_renders_like_the_built_in_scene() {
     let (builder, _) = prism::scene::pbrt::build(&desc, &mut warnings).unwrap();
     assert!(warnings.is_empty(), "{warnings:?}");
     let s = settings(24, 16, 5);
-    let (a, sa) = render(&builder.build(AccelKind::Obvhs).unwrap(), &s, |_| {});
-    let (b, sb) = render(&cornell(AccelKind::Obvhs), &s, |_| {});
+    let (a, sa) = render(&builder.build(AccelKind::Obvhs).unwrap(), &s, |_| {}).unwrap();
+    let (b, sb) = render(&cornell(AccelKind::Obvhs), &s, |_| {}).unwrap();
     assert_eq!((sa.nonfinite, sb.nonfinite), (0, 0));
     let (m, se, mean) = film_difference(&a, &b);
     assert!(mean > 0.1, "black image");

@@ -31,7 +31,7 @@ fn render_cornell(m: Mat4, accel: AccelKind, seed: u64) -> Film {
     let mut b = SceneBuilder::cornell_box();
     b.transform(m);
     let scene = b.build(accel).unwrap();
-    let (film, stats) = render(&scene, &RenderSettings { seed, ..settings() }, |_| {});
+    let (film, stats) = render(&scene, &RenderSettings { seed, ..settings() }, |_| {}).unwrap();
     assert_eq!(stats.nonfinite, 0);
     film
 }
@@ -120,7 +120,7 @@ fn degenerate_geometry_is_skipped_with_one_warning_and_no_nans() {
     assert!(b.warnings[0].contains("skipped 4 degenerate"), "{:?}", b.warnings);
     for accel in [AccelKind::Obvhs].into_iter().chain(cfg!(feature = "embree").then_some(AccelKind::Embree)) {
         let scene = with_bad_meshes().build(accel).unwrap();
-        let (film, stats) = render(&scene, &settings(), |_| {});
+        let (film, stats) = render(&scene, &settings(), |_| {}).unwrap();
         assert_eq!(stats.nonfinite, 0, "{accel:?}");
         assert!(film.pixels.iter().all(|p| p.xyz_sum.is_finite()));
     }

@@ -259,7 +259,7 @@ fn every_example_scene_builds_without_warnings_and_renders_finite_non_black() {
             integrator: PathIntegrator { max_depth: 4, ..Default::default() },
             time_limit: None,
         };
-        let (film, stats) = render(&scene, &s, |_| {});
+        let (film, stats) = render(&scene, &s, |_| {}).unwrap();
         assert_eq!(stats.nonfinite, 0, "{name}: {:?}", stats.nonfinite_at);
         let y: f64 = film.pixels.iter().map(|p| p.xyz_sum.y / p.weight_sum).sum();
         assert!(y > 0.0, "{name}: black image");

@@ -87,7 +87,7 @@ fn render_with(material: &Material, light: LightKind, strategy: DirectStrategy, 
         integrator: PathIntegrator { max_depth: 3, strategy, ..Default::default() },
         time_limit: None,
     };
-    let (film, stats) = render(&scene, &s, |_| {});
+    let (film, stats) = render(&scene, &s, |_| {}).unwrap();
     assert_eq!(stats.nonfinite, 0);
     film
 }
