@@ -204,6 +204,10 @@ ObjectInstance "tri""#
         "<string>:3:1: ObjectBegin inside the definition of object \"a\" (<string>:2:1) (at \"ObjectBegin\")"
     );
     assert_eq!(
+        err("WorldBegin\nObjectBegin \"a\"\nObjectInstance \"a\""),
+        "<string>:3:1: ObjectInstance inside the definition of object \"a\" (<string>:2:1) (at \"ObjectInstance\")"
+    );
+    assert_eq!(
         err("WorldBegin\nObjectBegin \"a\"\nAttributeEnd"),
         "<string>:3:1: AttributeEnd does not match the open ObjectBegin at <string>:2:1 (at \"AttributeEnd\")"
     );

@@ -231,6 +231,18 @@ impl<'o> Parser<'o> {
         Ok(())
     }
 
+    /// Objects do not nest, and an object cannot instance another (pbrt-v4 refuses both).
+    fn require_outside_object(&self, tok: &Token) -> Result<(), SceneError> {
+        match &self.current_object {
+            Some(o) => Err(SceneError::syntax(
+                &tok.loc,
+                &tok.text,
+                format!("{} inside the definition of object \"{}\" ({})", tok.text, o.name, o.loc),
+            )),
+            None => Ok(()),
+        }
+    }
+
     fn require_options(&self, tok: &Token) -> Result<(), SceneError> {
         if self.in_world.is_some() {
             return Err(SceneError::syntax(

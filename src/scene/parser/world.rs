@@ -56,13 +56,7 @@ impl Parser<'_> {
             "ObjectBegin" => {
                 self.require_world(tok)?;
                 let name = src.string(tok, "an object name")?;
-                if let Some(o) = &self.current_object {
-                    return Err(SceneError::syntax(
-                        &tok.loc,
-                        &tok.text,
-                        format!("ObjectBegin inside the definition of object \"{}\" ({})", o.name, o.loc),
-                    ));
-                }
+                self.require_outside_object(tok)?;
                 if let Some(o) = self.objects.iter().find(|o| o.name == name.text) {
                     return Err(SceneError::syntax(
                         &name.loc,
@@ -80,13 +74,7 @@ impl Parser<'_> {
             "ObjectInstance" => {
                 self.require_world(tok)?;
                 let name = src.string(tok, "an object name")?;
-                if let Some(o) = &self.current_object {
-                    return Err(SceneError::syntax(
-                        &tok.loc,
-                        &tok.text,
-                        format!("ObjectInstance inside the definition of object \"{}\"", o.name),
-                    ));
-                }
+                self.require_outside_object(tok)?;
                 self.instances.push((name.text, self.gs.ctm, tok.loc.clone()));
             }
             "Material" => {
