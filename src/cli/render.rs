@@ -309,13 +309,14 @@ fn fingerprint(args: &RenderArgs, job: &Job) -> String {
     };
     let st = &job.settings;
     format!(
-        "{scene_id}|{}x{}|{:?}|spp {}|seed {}|{:?}|{:?}|depth {}|{}",
+        "{scene_id}|{}x{}|{:?}|spp {}|seed {}|{:?} v{}|{:?}|depth {}|{}",
         st.resolution.0,
         st.resolution.1,
         st.film,
         st.spp,
         st.seed,
         st.sampler,
+        crate::render::SAMPLE_STREAM_VERSION,
         st.filter.kind(),
         st.integrator.max_depth,
         job.scene.accel.name()

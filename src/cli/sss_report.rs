@@ -99,7 +99,12 @@ pub fn run(a: &SssReportArgs) -> Result<()> {
         for medium in &MEDIA {
             let scene = build(shape, medium).build(AccelKind::default_available()).context("building the scene")?;
             let name = format!("{}-{}", shape.name(), medium.name);
-            let fingerprint = format!("sss-report {} {name} {medium:?} {}", env!("CARGO_PKG_VERSION"), a.size);
+            let fingerprint = format!(
+                "sss-report {} samples v{} {name} {medium:?} {}",
+                env!("CARGO_PKG_VERSION"),
+                crate::render::SAMPLE_STREAM_VERSION,
+                a.size
+            );
             let (film, reference_s) = reference(&scene, a, &name, &fingerprint)?;
             let reference = film_to_image(&film, space)?;
             save_png(&fig.join(format!("{name}-reference.png")), &reference)?;
