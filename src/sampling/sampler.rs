@@ -59,9 +59,11 @@ impl IndependentSampler {
 /// indices uses a new seed (independent blocks).
 #[derive(Clone, Debug)]
 pub struct SobolSampler {
-    /// `hash64` state after the pixel seed (every group's seed starts with it).
-    pixel_state: u64,
-    sample_index: u64,
+    /// `hash64` state after the pixel seed and the index's block of 2¹⁶ (every group's seed
+    /// of this sample starts with it).
+    sample_state: u64,
+    /// The index within its block, bits reversed.
+    index_rev: u32,
     /// Index of the next padded 4D group.
     dimension: u64,
     /// The current group's four values and how many are used (4 = empty).
@@ -77,7 +79,7 @@ impl Sampler {
 
     /// An Owen-scrambled Sobol sampler.
     pub fn sobol() -> Self {
-        Self::Sobol(SobolSampler { pixel_state: 0, sample_index: 0, dimension: 0, buffer: [0.0; 4], used: 4 })
+        Self::Sobol(SobolSampler { sample_state: 0, index_rev: 0, dimension: 0, buffer: [0.0; 4], used: 4 })
     }
 
     /// Positions the sampler at `sample_index` of `pixel` for the render seed `seed`; dimension
@@ -91,8 +93,11 @@ impl Sampler {
                 (s.pixel_seed, s.sample_index, s.left) = (pixel_seed, sample_index, DIMS_PER_SAMPLE);
             }
             Self::Sobol(s) => {
-                let pixel_state = hash64_step(HASH64_START, pixel_seed);
-                *s = SobolSampler { pixel_state, sample_index, dimension: 0, buffer: [0.0; 4], used: 4 }
+                // hash64(&[pixel_seed, block, …]): the group's number is the last value.
+                let block = sample_index / SOBOL_LEN;
+                let sample_state = hash64_step(hash64_step(HASH64_START, pixel_seed), block);
+                let index_rev = ((sample_index % SOBOL_LEN) as u32).reverse_bits();
+                *s = SobolSampler { sample_state, index_rev, dimension: 0, buffer: [0.0; 4], used: 4 }
             }
         }
     }
@@ -151,12 +156,10 @@ impl SobolSampler {
     /// The four values of padded group `dim` for this pixel sample.
     #[inline]
     fn group(&self, dim: u64) -> [f32; 4] {
-        let block = self.sample_index / SOBOL_LEN;
-        let index = (self.sample_index % SOBOL_LEN) as u32;
-        // hash64(&[pixel_seed, dim, block]), from the state after the pixel seed.
-        let seed = hash64_step(hash64_step(self.pixel_state, dim), block);
+        // hash64(&[pixel_seed, block, dim]), from the state the sample's groups share.
+        let seed = hash64_step(self.sample_state, dim);
         // Fold to 32 bits: sobol_burley seeds are u32.
-        super::sobol::sample_4d(index, (seed ^ (seed >> 32)) as u32)
+        super::sobol::sample_4d_rev(self.index_rev, (seed ^ (seed >> 32)) as u32)
     }
 }
 

@@ -32,7 +32,14 @@ static TABLES: LazyLock<Tables> = LazyLock::new(|| {
 /// Sobol point `sample_index` (< 2¹⁶) of the sequence seeded by `seed`, in [0, 1).
 #[inline]
 pub fn sample_4d(sample_index: u32, seed: u32) -> [f32; 4] {
-    let rev = owen_scramble_rev(sample_index.reverse_bits(), hash(seed ^ 0x79c68e4a));
+    sample_4d_rev(sample_index.reverse_bits(), seed)
+}
+
+/// [`sample_4d`] of the index whose bits reversed are `index_rev` (a sampler draws several
+/// groups for one index, so it reverses it once).
+#[inline]
+pub fn sample_4d_rev(index_rev: u32, seed: u32) -> [f32; 4] {
+    let rev = owen_scramble_rev(index_rev, hash(seed ^ 0x79c68e4a));
     let t = &*TABLES;
     let (a, b) = (t.hi[(rev >> 24) as usize], t.lo[((rev >> 16) & 0xff) as usize]);
     let sobol: Int4 = [a[0] ^ b[0], a[1] ^ b[1], a[2] ^ b[2], a[3] ^ b[3]].into();
