@@ -168,10 +168,13 @@ fn time_limit_stops_at_a_pass_and_writes_a_valid_image() {
 fn resume_after_kill_matches_an_uninterrupted_render() {
     let d = tmpdir("resume");
     let out = d.join("r.film");
+    // About 1.5 s of work on one thread, seven times the checkpoint interval: the render must still
+    // be running when it is killed (at 400 spp it sometimes finished first and removed its
+    // checkpoint).
     let args = [
         "render",
         "--spp",
-        "400",
+        "1200",
         "--resolution",
         "24x24",
         "--accel",
@@ -188,12 +191,12 @@ fn resume_after_kill_matches_an_uninterrupted_render() {
     while !ckpt.exists() && t0.elapsed().as_secs() < 60 {
         std::thread::sleep(std::time::Duration::from_millis(50));
     }
-    std::thread::sleep(std::time::Duration::from_millis(300));
+    std::thread::sleep(std::time::Duration::from_millis(100));
     child.kill().unwrap(); // SIGKILL
     child.wait().unwrap();
     assert!(ckpt.exists(), "no checkpoint was written");
     let (partial, h) = prism::checkpoint::load(&ckpt).unwrap();
-    assert!(h.samples.end < 400, "the render finished before it was killed");
+    assert!(h.samples.end < 1200, "the render finished before it was killed");
     assert!(partial.pixels[0].samples > 0);
     let o = prism().args(args).arg(&out).arg("--resume").output().unwrap();
     assert!(o.status.success(), "{}", stderr(&o));
@@ -203,7 +206,7 @@ fn resume_after_kill_matches_an_uninterrupted_render() {
     // Same samples (indices are deterministic), so equal up to summation grouping.
     let (a, b) = (film(&out), film(&whole));
     for (p, q) in a.pixels.iter().zip(&b.pixels) {
-        assert_eq!(p.samples, 400);
+        assert_eq!(p.samples, 1200);
         assert!((p.xyz_sum - q.xyz_sum).abs().max_element() <= 1e-9 * (1.0 + p.xyz_sum.abs().max_element()));
     }
 }
