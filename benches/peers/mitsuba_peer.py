@@ -10,6 +10,7 @@ same machine and thread count, it
   4. renders Mitsuba's converged image and compares it with the reference (and prism's own
      image at the same spp, to separate noise from disagreement);
   5. reports the time each renderer needs to reach a target RMSE, as ratios to Mitsuba's.
+Steps 2 and 3 run --rounds times, the renderers taking turns; each point's time is the median.
 Outputs: OUT/peer.json (every point), OUT/peer.md (tables), OUT/*.exr.
 """
 
@@ -122,6 +123,25 @@ def time_to_target(points, target):
     return near["time_s"] * (near["rmse"] / target) ** 2, "extrapolated"
 
 
+def median_points(rounds, pixels):
+    """One point per (renderer, spp): the median time over the rounds, with its range. On a
+    shared machine one renderer's run can be slowed by 20% or more while another's is not;
+    taking turns and the median keeps that out of the ratios. The images are the same in every
+    round (fixed seeds), so the RMSE is."""
+    by_key = {}
+    for pts in rounds:
+        for p in pts:
+            by_key.setdefault((p["renderer"], p["spp"]), []).append(p)
+    out = []
+    for (renderer, spp), ps in by_key.items():
+        times = sorted(p["time_s"] for p in ps)
+        t = times[len(times) // 2] if len(times) % 2 else 0.5 * (times[len(times) // 2 - 1] + times[len(times) // 2])
+        out.append({"renderer": renderer, "spp": spp, "time_s": t, "time_min_s": times[0], "time_max_s": times[-1],
+                    "rmse": ps[0]["rmse"], "rmse_spread": max(p["rmse"] for p in ps) - min(p["rmse"] for p in ps),
+                    "samples_per_s": pixels * spp / t})
+    return out
+
+
 def converged(a, ref, out):
     """Mitsuba's converged image against prism's reference, beside prism's own image at the same
     spp and a different seed: if Mitsuba agrees, both RMSEs are the same noise floor."""
@@ -151,10 +171,12 @@ def converged(a, ref, out):
 
 
 def markdown(points, conv, times_by_target):
-    lines = ["| renderer | spp | time [s] | M samples/s | RMSE |", "|---|---|---|---|---|"]
+    lines = ["| renderer | spp | time [s], median | range over rounds [s] | M samples/s | RMSE |",
+             "|---|---|---|---|---|---|"]
     for p in points:
-        lines.append("| %s | %d | %.3f | %.3f | %.3e |" % (p["renderer"], p["spp"], p["time_s"],
-                                                          p["samples_per_s"] / 1e6, p["rmse"]))
+        lines.append("| %s | %d | %.3f | %.3f–%.3f | %.3f | %.3e |" % (
+            p["renderer"], p["spp"], p["time_s"], p["time_min_s"], p["time_max_s"], p["samples_per_s"] / 1e6,
+            p["rmse"]))
     for target, times in times_by_target.items():
         lines += ["", "Time to RMSE %.3g (linear sRGB, against prism's reference):" % target, "",
                   "| renderer | time [s] | how | time / best Mitsuba scalar_spectral | "
@@ -193,6 +215,8 @@ def main():
     p.add_argument("--variants", default="scalar_spectral,llvm_ad_spectral")
     p.add_argument("--mitsuba-samplers", default="independent,ldsampler",
                    help="Mitsuba samplers (ldsampler: its low-discrepancy (0,2)-sequence sampler)")
+    p.add_argument("--rounds", type=int, default=3,
+                   help="the renderers take turns this many times; each point's time is the median")
     p.add_argument("--converged-spp", type=int, default=512)
     p.add_argument("--converged-variant", default="llvm_ad_spectral")
     p.add_argument("--target-rmse", default="0.05,0.02,0.01",
@@ -200,10 +224,15 @@ def main():
     a = p.parse_args()
     os.makedirs(a.out, exist_ok=True)
     ref = prism_reference(a, a.out)
-    points = prism_ladder(a, ref, a.out)
-    for v in [v for v in a.variants.split(",") if v]:
-        for sampler in a.mitsuba_samplers.split(","):
-            points += mitsuba_ladder(a, v, sampler, ref, a.out)
+    rounds = []
+    for r in range(a.rounds):
+        print("== round %d of %d" % (r + 1, a.rounds), file=sys.stderr, flush=True)
+        pts = prism_ladder(a, ref, a.out)
+        for v in [v for v in a.variants.split(",") if v]:
+            for sampler in a.mitsuba_samplers.split(","):
+                pts += mitsuba_ladder(a, v, sampler, ref, a.out)
+        rounds.append(pts)
+    points = median_points(rounds, a.size * a.size)
     conv = converged(a, ref, a.out) if a.converged_spp > 0 else None
     renderers = list(dict.fromkeys(p["renderer"] for p in points))
     times_by_target = {}
