@@ -138,7 +138,7 @@ impl Sampler {
 
 impl SobolSampler {
     /// The next `n` (1 or 2) values. Values come in padded groups of four consecutive Sobol
-    /// dimensions (`sobol::sample_4d`: the crate's `sample_4d` with table lookups), each group
+    /// dimensions (`sobol::sample_4d_rev`: the crate's `sample_4d` with table lookups), each group
     /// Owen-scrambled with its own seed; a 2D draw never straddles two groups, so its two values
     /// are jointly stratified.
     #[inline]

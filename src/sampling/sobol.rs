@@ -28,15 +28,10 @@ static TABLES: LazyLock<Tables> = LazyLock::new(|| {
     t
 });
 
-/// Equals `sobol_burley::sample_4d(sample_index, 0, seed)`: dimensions 0–3 of the Owen-scrambled
-/// Sobol point `sample_index` (< 2¹⁶) of the sequence seeded by `seed`, in [0, 1).
-#[inline]
-pub fn sample_4d(sample_index: u32, seed: u32) -> [f32; 4] {
-    sample_4d_rev(sample_index.reverse_bits(), seed)
-}
-
-/// [`sample_4d`] of the index whose bits reversed are `index_rev` (a sampler draws several
-/// groups for one index, so it reverses it once).
+/// Equals `sobol_burley::sample_4d(sample_index, 0, seed)` with `index_rev` =
+/// `sample_index.reverse_bits()` (a sampler draws several groups for one index, so it reverses
+/// it once): dimensions 0–3 of the Owen-scrambled Sobol point `sample_index` (< 2¹⁶) of the
+/// sequence seeded by `seed`, in [0, 1).
 #[inline]
 pub fn sample_4d_rev(index_rev: u32, seed: u32) -> [f32; 4] {
     let rev = owen_scramble_rev(index_rev, hash(seed ^ 0x79c68e4a));
@@ -61,7 +56,7 @@ mod tests {
         cases.extend([(0, 0), (0xffff, 0), (1, u32::MAX), (0x8000, 12345)]);
         for (i, s) in cases {
             assert_eq!(
-                sample_4d(i, s).map(f32::to_bits),
+                sample_4d_rev(i.reverse_bits(), s).map(f32::to_bits),
                 sobol_burley::sample_4d(i, 0, s).map(f32::to_bits),
                 "{i} {s}"
             );
