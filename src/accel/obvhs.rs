@@ -189,14 +189,21 @@ impl ObvhsAccel {
         Leaves { triangles: &self.triangles, group_start: &self.group_start }
     }
 
+    /// The ray set up for the triangle test; None when it can hit nothing (no triangles, an
+    /// empty or NaN range, or a non-finite or zero ray).
+    #[inline(always)]
+    fn lane_ray(&self, ray: &Ray) -> Option<LaneRay> {
+        if self.triangles.is_empty() || ray.t_max.is_nan() || ray.t_max <= 0.0 {
+            return None;
+        }
+        LaneRay::new(ray.o, ray.d)
+    }
+
     /// [`Accel::intersect`] compiled for the caller's target features (the trait method calls it
     /// through [`isa::closest_hit`], which picks the CPU's best variant).
     #[inline(always)]
     fn closest_hit(&self, ray: &Ray) -> Option<Hit> {
-        let r = LaneRay::new(ray.o, ray.d)?;
-        if self.triangles.is_empty() || ray.t_max.is_nan() || ray.t_max <= 0.0 {
-            return None;
-        }
+        let r = self.lane_ray(ray)?;
         let best = match r.kz() {
             0 => self.closest::<0>(ray, &r),
             1 => self.closest::<1>(ray, &r),
@@ -208,12 +215,7 @@ impl ObvhsAccel {
     /// [`Accel::occluded`] compiled for the caller's target features (see [`isa::any_hit`]).
     #[inline(always)]
     fn any_hit(&self, ray: &Ray) -> bool {
-        let Some(r) = LaneRay::new(ray.o, ray.d) else {
-            return false;
-        };
-        if self.triangles.is_empty() || ray.t_max.is_nan() || ray.t_max <= 0.0 {
-            return false;
-        }
+        let Some(r) = self.lane_ray(ray) else { return false };
         match r.kz() {
             0 => self.any::<0>(ray, &r),
             1 => self.any::<1>(ray, &r),
@@ -224,10 +226,7 @@ impl ObvhsAccel {
     /// [`Accel::intersect_all`] compiled for the caller's target features (see [`isa::every_hit`]).
     #[inline(always)]
     fn every_hit(&self, ray: &Ray, hits: &mut Vec<Hit>) {
-        let Some(r) = LaneRay::new(ray.o, ray.d) else { return };
-        if self.triangles.is_empty() || ray.t_max.is_nan() || ray.t_max <= 0.0 {
-            return;
-        }
+        let Some(r) = self.lane_ray(ray) else { return };
         match r.kz() {
             0 => self.all::<0>(ray, &r, hits),
             1 => self.all::<1>(ray, &r, hits),
