@@ -4,8 +4,8 @@ Run through benches/peers/mitsuba.sh, which makes the virtual environment. In on
 same machine and thread count, it
   1. renders (or reuses) prism's converged reference (Sobol, high spp);
   2. runs `prism bench` (Embree; independent and Sobol samplers) against that reference;
-  3. renders the same scene with Mitsuba's scalar_spectral and llvm_ad_spectral variants at each
-     spp of a ladder, and measures the RMSE of every image against prism's reference with
+  3. renders the same scene with Mitsuba's scalar_spectral and llvm_ad_spectral variants and
+     several of its samplers at each spp of a ladder, in one pass each, and measures the RMSE of every image against prism's reference with
      `prism compare`;
   4. renders Mitsuba's converged image and compares it with the reference (and prism's own
      image at the same spp, to separate noise from disagreement);
@@ -65,9 +65,12 @@ def prism_ladder(a, ref, out):
 
 
 def mitsuba_render(mi, scene, spp, pass_spp, seed0):
-    """`spp` samples per pixel in passes of at most `pass_spp` (the LLVM variant holds one lane
-    per sample in memory); the box-filtered passes are averaged with equal weights."""
+    """`spp` samples per pixel in passes of at most `pass_spp` (0: one pass); the box-filtered
+    passes are averaged with equal weights. One pass is Mitsuba at its best: its ldsampler
+    stratifies over all the pixel's samples only within a pass, and the LLVM variant's memory
+    stays small (144 MB peak at 256 spp, 256², in one pass)."""
     import drjit as dr
+    pass_spp = pass_spp or spp
     acc, done, k = None, 0, 0
     while done < spp:
         n = min(pass_spp, spp - done)
@@ -81,6 +84,15 @@ def mitsuba_render(mi, scene, spp, pass_spp, seed0):
     return acc
 
 
+# (variant, sampler, spp) whose LLVM kernels this process has compiled.
+WARMED = set()
+
+
+def pass_spp_of(a, variant):
+    """The scalar variant always renders in one pass; the LLVM one as --llvm-pass-spp says."""
+    return 0 if variant.startswith("scalar") else a.llvm_pass_spp
+
+
 def mitsuba_ladder(a, variant, sampler, ref, out):
     import mitsuba as mi
     import drjit as dr
@@ -88,13 +100,19 @@ def mitsuba_ladder(a, variant, sampler, ref, out):
     dr.set_thread_count(a.threads)
     d = scene_dict(mi, REPO, os.path.join(out, "scene"), (a.size, a.size), 1, a.max_depth, sampler)
     scene = mi.load_dict(d)
-    pass_spp = 1 << 30 if variant.startswith("scalar") else a.llvm_pass_spp
+    pass_spp = pass_spp_of(a, variant)
     ladder = [int(s) for s in (a.llvm_ladder if variant.startswith("llvm") else a.scalar_ladder).split(",")]
-    # Warm-up: the LLVM variant compiles a kernel per pass size on first use (then caches it);
-    # compilation is a start-up cost, like prism's scene build, and is not timed.
+    if sampler == "ldsampler":
+        # Mitsuba rounds ldsampler's sample count up to a square power of two (4^k).
+        ladder = [n for n in ladder if n & (n - 1) == 0 and n.bit_length() % 2 == 1]
+    # Warm-up, in the first round only: the LLVM variant compiles a kernel per pass size on
+    # first use (then caches it); compilation is a start-up cost, like prism's scene build, and
+    # is not timed.
     t0 = time.time()
-    for n in sorted({min(spp, pass_spp) for spp in ladder}) if variant.startswith("llvm") else []:
-        mitsuba_render(mi, scene, n, pass_spp, 999)
+    for n in sorted({min(spp, pass_spp or spp) for spp in ladder}) if variant.startswith("llvm") else []:
+        if (variant, sampler, n) not in WARMED:
+            mitsuba_render(mi, scene, n, pass_spp, 999)
+            WARMED.add((variant, sampler, n))
     print("%s: warm-up %.2f s" % (variant, time.time() - t0), file=sys.stderr)
     pts = []
     for spp in ladder:
@@ -151,8 +169,7 @@ def converged(a, ref, out):
     mi.set_variant(variant)
     dr.set_thread_count(a.threads)
     scene = mi.load_dict(scene_dict(mi, REPO, os.path.join(out, "scene"), (a.size, a.size), 1, a.max_depth))
-    pass_spp = 1 << 30 if variant.startswith("scalar") else a.llvm_pass_spp
-    img = mitsuba_render(mi, scene, a.converged_spp, pass_spp, 77)
+    img = mitsuba_render(mi, scene, a.converged_spp, pass_spp_of(a, variant), 77)
     mpath = os.path.join(out, "mitsuba_converged.exr")
     mi.Bitmap(img).write(mpath)
     ppath = os.path.join(out, "prism_converged.exr")
@@ -208,13 +225,16 @@ def main():
     p.add_argument("--size", type=int, default=256)
     p.add_argument("--max-depth", type=int, default=8, help="pbrt's convention: scattering events")
     p.add_argument("--reference-spp", type=int, default=2048)
-    p.add_argument("--prism-ladder", default="4,16,64,256")
-    p.add_argument("--scalar-ladder", default="4,16,64,256")
-    p.add_argument("--llvm-ladder", default="4,16,64,256")
-    p.add_argument("--llvm-pass-spp", type=int, default=16)
+    ladder = "4,8,16,32,64,128,256"
+    p.add_argument("--prism-ladder", default=ladder)
+    p.add_argument("--scalar-ladder", default=ladder)
+    p.add_argument("--llvm-ladder", default=ladder)
+    p.add_argument("--llvm-pass-spp", type=int, default=0,
+                   help="render the LLVM variant in passes of at most this many spp (0: one pass)")
     p.add_argument("--variants", default="scalar_spectral,llvm_ad_spectral")
-    p.add_argument("--mitsuba-samplers", default="independent,ldsampler",
-                   help="Mitsuba samplers (ldsampler: its low-discrepancy (0,2)-sequence sampler)")
+    p.add_argument("--mitsuba-samplers", default="independent,ldsampler,multijitter",
+                   help="Mitsuba samplers (ldsampler: its low-discrepancy (0,2)-sequence sampler, at 4^k spp "
+                        "only; multijitter: correlated multi-jittered sampling)")
     p.add_argument("--rounds", type=int, default=3,
                    help="the renderers take turns this many times; each point's time is the median")
     p.add_argument("--converged-spp", type=int, default=512)
