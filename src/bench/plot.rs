@@ -4,6 +4,7 @@
 
 use super::BenchPoint;
 use anyhow::{anyhow, Result};
+use plotters::coord::combinators::WithKeyPoints;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use std::path::Path;
@@ -72,14 +73,14 @@ where
         .margin(16)
         .x_label_area_size(48)
         .y_label_area_size(72)
-        .build_cartesian_2d((tmin / 1.5..tmax * 1.5).log_scale(), (emin / 1.5..emax * 1.5).log_scale())
+        .build_cartesian_2d(log_axis(tmin / 1.5, tmax * 1.5), log_axis(emin / 1.5, emax * 1.5))
         .map_err(err)?;
     chart
         .configure_mesh()
         .x_desc("time [s]")
         .y_desc("RMSE vs reference (linear RGB)")
-        .x_label_formatter(&|v| format!("{v:.3}"))
-        .y_label_formatter(&|v| format!("{v:.3}"))
+        .x_label_formatter(&|v| tick_label(*v))
+        .y_label_formatter(&|v| tick_label(*v))
         .label_style(("sans-serif", 14))
         .draw()
         .map_err(err)?;
@@ -113,6 +114,31 @@ where
         .map_err(err)?;
     root.present().map_err(err)?;
     Ok(())
+}
+
+/// A log axis over [lo, hi] (lo > 0) labelled at 1, 2 and 5 × 10^k with a mesh line at every
+/// m × 10^k. plotters' own log ticks start at the first power of ten inside the range, so a
+/// range such as 0.15–5 would get no label below 1.
+fn log_axis(lo: f64, hi: f64) -> WithKeyPoints<LogCoord<f64>> {
+    let (mut bold, mut light) = (Vec::new(), Vec::new());
+    for k in lo.log10().floor() as i32..=hi.log10().ceil() as i32 {
+        for m in 1..10 {
+            let v = m as f64 * 10f64.powi(k);
+            if (lo..=hi).contains(&v) {
+                if matches!(m, 1 | 2 | 5) {
+                    bold.push(v);
+                }
+                light.push(v);
+            }
+        }
+    }
+    (lo..hi).log_scale().with_key_points(bold).with_light_points(light)
+}
+
+/// A tick value with as many decimals as its leading digit needs (0.002, 0.5, 20).
+fn tick_label(v: f64) -> String {
+    let decimals = (-(v.log10() + 1e-9).floor()).max(0.0) as usize;
+    format!("{v:.decimals$}")
 }
 
 fn rays_chart<DB: DrawingBackend>(root: DrawingArea<DB, Shift>, points: &[BenchPoint]) -> Result<()>
@@ -169,4 +195,20 @@ pub fn plot_error_vs_time(points: &[BenchPoint], path: &Path) -> Result<()> {
 /// Rays per second per backend/sampler.
 pub fn plot_rays_per_s(points: &[BenchPoint], path: &Path) -> Result<()> {
     with_backend(path, |a| rays_chart(a, points), |a| rays_chart(a, points))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn log_axes_are_labelled_in_every_decade_they_cover() {
+        // 0.15–5 holds no power of ten but 1: plotters' own ticks label only 1 … 5 there.
+        let axis = log_axis(0.15, 5.0);
+        assert_eq!(axis.bold_points(), [0.2, 0.5, 1.0, 2.0, 5.0]);
+        assert_eq!(axis.light_points().len(), 8 + 5); // 0.2 … 0.9, then 1 … 5
+        let labels: Vec<String> = log_axis(0.0015, 0.06).bold_points().iter().map(|&v| tick_label(v)).collect();
+        assert_eq!(labels, ["0.002", "0.005", "0.01", "0.02", "0.05"]);
+        assert_eq!(tick_label(20.0), "20");
+    }
 }
