@@ -5,8 +5,8 @@ same machine and thread count, it
   1. renders (or reuses) prism's converged reference (Sobol, high spp);
   2. runs `prism bench` (Embree; independent and Sobol samplers) against that reference;
   3. renders the same scene with Mitsuba's scalar_spectral and llvm_ad_spectral variants and
-     several of its samplers at each spp of a ladder, in one pass each, and measures the RMSE of every image against prism's reference with
-     `prism compare`;
+     several of its samplers at each spp of a ladder, in one pass each, and measures the RMSE
+     of every image against prism's reference with `prism compare`;
   4. renders Mitsuba's converged image and compares it with the reference (and prism's own
      image at the same spp, to separate noise from disagreement);
   5. reports the time each renderer needs to reach a target RMSE, as ratios to Mitsuba's.
@@ -18,6 +18,7 @@ import argparse
 import json
 import math
 import os
+import statistics
 import subprocess
 import sys
 import time
@@ -153,7 +154,7 @@ def median_points(rounds, pixels):
     out = []
     for (renderer, spp), ps in by_key.items():
         times = sorted(p["time_s"] for p in ps)
-        t = times[len(times) // 2] if len(times) % 2 else 0.5 * (times[len(times) // 2 - 1] + times[len(times) // 2])
+        t = statistics.median(times)
         out.append({"renderer": renderer, "spp": spp, "time_s": t, "time_min_s": times[0], "time_max_s": times[-1],
                     "rmse": ps[0]["rmse"], "rmse_spread": max(p["rmse"] for p in ps) - min(p["rmse"] for p in ps),
                     "samples_per_s": pixels * spp / t})

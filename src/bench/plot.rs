@@ -123,7 +123,8 @@ fn log_axis(lo: f64, hi: f64) -> WithKeyPoints<LogCoord<f64>> {
     let (mut bold, mut light) = (Vec::new(), Vec::new());
     for k in lo.log10().floor() as i32..=hi.log10().ceil() as i32 {
         for m in 1..10 {
-            let v = m as f64 * 10f64.powi(k);
+            // Divided for k < 0 so that e.g. 0.3 is the double nearest 3/10, not 3 × 0.1.
+            let v = if k < 0 { m as f64 / 10f64.powi(-k) } else { m as f64 * 10f64.powi(k) };
             if (lo..=hi).contains(&v) {
                 if matches!(m, 1 | 2 | 5) {
                     bold.push(v);
@@ -131,6 +132,10 @@ fn log_axis(lo: f64, hi: f64) -> WithKeyPoints<LogCoord<f64>> {
                 light.push(v);
             }
         }
+    }
+    // A narrow range (e.g. 0.21–0.47) may hold no 1, 2 or 5: label every mesh line instead.
+    if bold.len() < 2 {
+        bold.clone_from(&light);
     }
     (lo..hi).log_scale().with_key_points(bold).with_light_points(light)
 }
@@ -210,5 +215,7 @@ mod tests {
         let labels: Vec<String> = log_axis(0.0015, 0.06).bold_points().iter().map(|&v| tick_label(v)).collect();
         assert_eq!(labels, ["0.002", "0.005", "0.01", "0.02", "0.05"]);
         assert_eq!(tick_label(20.0), "20");
+        // No 1, 2 or 5 inside: every m × 10^k is labelled.
+        assert_eq!(log_axis(0.21, 0.47).bold_points(), [0.3, 0.4]);
     }
 }
