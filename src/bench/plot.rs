@@ -18,6 +18,9 @@ fn register_font() {
 }
 
 const SIZE: (u32, u32) = (900, 600);
+/// Width of the key beside the error chart: curves of an error–time chart fill the corners a key
+/// would sit in (slow methods the top right, biased ones the bottom right), so it sits outside.
+const KEY_WIDTH: u32 = 220;
 const PALETTE: [RGBColor; 6] = [
     RGBColor(31, 119, 180),
     RGBColor(255, 127, 14),
@@ -42,6 +45,7 @@ fn series(points: &[BenchPoint]) -> Vec<(String, Vec<&BenchPoint>)> {
 
 fn with_backend(
     path: &Path,
+    size: (u32, u32),
     draw: impl Fn(DrawingArea<SVGBackend, Shift>) -> Result<()>,
     draw_png: impl Fn(DrawingArea<BitMapBackend, Shift>) -> Result<()>,
 ) -> Result<()> {
@@ -49,9 +53,9 @@ fn with_backend(
     // Draw into a temporary file and rename, like every other output.
     let temp = crate::io::TempFile::create(path)?;
     if path.extension().is_some_and(|e| e == "svg") {
-        draw(SVGBackend::new(temp.path(), SIZE).into_drawing_area())?;
+        draw(SVGBackend::new(temp.path(), size).into_drawing_area())?;
     } else {
-        draw_png(BitMapBackend::new(temp.path(), SIZE).into_drawing_area())?;
+        draw_png(BitMapBackend::new(temp.path(), size).into_drawing_area())?;
     }
     Ok(temp.commit()?)
 }
@@ -68,7 +72,8 @@ where
     }
     let (tmin, tmax) = pts.iter().fold((f64::MAX, 0f64), |(a, b), p| (a.min(p.time_s), b.max(p.time_s)));
     let (emin, emax) = pts.iter().fold((f64::MAX, 0f64), |(a, b), p| (a.min(p.rmse), b.max(p.rmse)));
-    let mut chart = ChartBuilder::on(&root)
+    let (plot, key) = root.split_horizontally(SIZE.0);
+    let mut chart = ChartBuilder::on(&plot)
         .caption("RMSE against render time (log–log)", ("sans-serif", 24))
         .margin(16)
         .x_label_area_size(48)
@@ -84,34 +89,30 @@ where
         .label_style(("sans-serif", 14))
         .draw()
         .map_err(err)?;
+    let (mut entries, mut ideal_entry) = (Vec::new(), None);
     for (i, (name, s)) in series(points).into_iter().enumerate() {
         let c = PALETTE[i % PALETTE.len()];
         let data: Vec<(f64, f64)> =
             s.iter().filter(|p| p.time_s > 0.0 && p.rmse > 0.0).map(|p| (p.time_s, p.rmse)).collect();
-        chart
-            .draw_series(LineSeries::new(data.clone(), c.stroke_width(2)))
-            .map_err(err)?
-            .label(name)
-            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], c.stroke_width(2)));
+        chart.draw_series(LineSeries::new(data.clone(), c.stroke_width(2))).map_err(err)?;
         chart.draw_series(data.iter().map(|&p| Circle::new(p, 4, c.filled()))).map_err(err)?;
+        entries.push((name, c.stroke_width(2)));
         if i == 0 {
             // Ideal Monte Carlo convergence through this curve's first point: RMSE ∝ 1/√t.
             let (t0, e0) = data[0];
             let ideal: Vec<(f64, f64)> = [tmin / 1.5, tmax * 1.5].iter().map(|&t| (t, e0 * (t0 / t).sqrt())).collect();
-            chart
-                .draw_series(LineSeries::new(ideal, BLACK.mix(0.5).stroke_width(1)))
-                .map_err(err)?
-                .label("ideal 1/√t")
-                .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], BLACK.mix(0.5)));
+            let style = BLACK.mix(0.5).stroke_width(1);
+            chart.draw_series(LineSeries::new(ideal, style)).map_err(err)?;
+            ideal_entry = Some(("ideal 1/√t".to_string(), style));
         }
     }
-    chart
-        .configure_series_labels()
-        .background_style(WHITE.mix(0.9))
-        .border_style(BLACK)
-        .label_font(("sans-serif", 14))
-        .draw()
-        .map_err(err)?;
+    entries.extend(ideal_entry);
+    // The key, top-aligned with the plotting area.
+    for (i, (name, style)) in entries.into_iter().enumerate() {
+        let y = 60 + 24 * i as i32;
+        key.draw(&PathElement::new(vec![(0, y), (24, y)], style)).map_err(err)?;
+        key.draw(&Text::new(name, (32, y - 8), ("sans-serif", 14))).map_err(err)?;
+    }
     root.present().map_err(err)?;
     Ok(())
 }
@@ -194,12 +195,12 @@ where
 
 /// Error against time, one curve per backend/sampler, with the ideal 1/√t slope.
 pub fn plot_error_vs_time(points: &[BenchPoint], path: &Path) -> Result<()> {
-    with_backend(path, |a| error_chart(a, points), |a| error_chart(a, points))
+    with_backend(path, (SIZE.0 + KEY_WIDTH, SIZE.1), |a| error_chart(a, points), |a| error_chart(a, points))
 }
 
 /// Rays per second per backend/sampler.
 pub fn plot_rays_per_s(points: &[BenchPoint], path: &Path) -> Result<()> {
-    with_backend(path, |a| rays_chart(a, points), |a| rays_chart(a, points))
+    with_backend(path, SIZE, |a| rays_chart(a, points), |a| rays_chart(a, points))
 }
 
 #[cfg(test)]
