@@ -34,12 +34,14 @@ pub struct FilmHeader {
 #[derive(Debug, thiserror::Error)]
 pub enum FilmFileError {
     /// I/O failure.
-    #[error("{path}: {source}")]
+    // The cause is part of the message, not a `source` (which the CLI would print a second
+    // time when it joins an error's chain).
+    #[error("{path}: {cause}")]
     Io {
         /// File.
         path: String,
         /// Cause.
-        source: std::io::Error,
+        cause: std::io::Error,
     },
     /// Not a prism film file or damaged.
     #[error("{0}: not a prism film file, or damaged ({1})")]
@@ -67,13 +69,13 @@ pub fn save(path: &Path, film: &Film, header: &FilmHeader) -> Result<(), FilmFil
         }
         buf.extend_from_slice(&p.samples.to_le_bytes());
     }
-    crate::io::write_atomic(path, &buf).map_err(|e| FilmFileError::Io { path: path.display().to_string(), source: e })
+    crate::io::write_atomic(path, &buf).map_err(|e| FilmFileError::Io { path: path.display().to_string(), cause: e })
 }
 
 /// Reads a film file.
 pub fn load(path: &Path) -> Result<(Film, FilmHeader), FilmFileError> {
     let name = path.display().to_string();
-    let io = |e| FilmFileError::Io { path: name.clone(), source: e };
+    let io = |e| FilmFileError::Io { path: name.clone(), cause: e };
     let bad = |why: &str| FilmFileError::Format(name.clone(), why.to_string());
     let mut f = std::fs::File::open(path).map_err(io)?;
     let mut magic = [0u8; 12];

@@ -80,6 +80,9 @@ impl RenderSettings {
 pub fn render_pass(scene: &Scene, settings: &RenderSettings, film: &mut Film, range: Range<u64>) -> Stats {
     let camera = scene.camera.camera(settings.resolution);
     let width = film.width as usize;
+    if width == 0 {
+        return Stats::default(); // an empty film: nothing to render (and no chunk size of 0)
+    }
     let (x0, y0) = settings.film_origin();
     let sensor = settings.film.sensor;
     film.pixels

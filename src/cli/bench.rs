@@ -1,5 +1,6 @@
 //! `prism bench` and `prism compare`.
 
+use super::positive;
 use crate::accel::AccelKind;
 use crate::bench::{self, BenchConfig};
 use crate::render::SamplerKind;
@@ -57,12 +58,12 @@ pub fn run(a: &BenchArgs) -> Result<()> {
         o => bail!("unknown sampler '{o}' (valid: independent, sobol)"),
     })?;
     let ladder = list(&a.spp_ladder, "--spp-ladder", |s| {
-        let n: u64 = s.parse().with_context(|| format!("--spp-ladder: '{s}' is not a count"))?;
-        if n == 0 {
-            bail!("--spp-ladder: counts must be positive");
-        }
-        Ok(n)
+        positive(s.parse::<u64>().with_context(|| format!("--spp-ladder: '{s}' is not a count"))?, "--spp-ladder")
     })?;
+    positive(a.reference_spp, "--reference-spp")?;
+    if a.threads == Some(0) {
+        bail!("--threads must be at least 1");
+    }
     let (w, h) = a
         .resolution
         .split_once('x')

@@ -8,3 +8,11 @@ pub mod merge;
 pub mod render;
 pub mod sss_report;
 pub mod sss_scenes;
+
+/// `n`, or the one-line error "`flag` must be positive" (sample counts, image sizes).
+fn positive<T: Default + PartialEq>(n: T, flag: &str) -> anyhow::Result<T> {
+    if n == T::default() {
+        anyhow::bail!("{flag} must be positive, got 0");
+    }
+    Ok(n)
+}

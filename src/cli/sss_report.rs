@@ -4,6 +4,7 @@
 //! docs/subsurface.md (between marker comments), CSV/JSON, an error-vs-time plot per scene, and
 //! PNGs of the references and of the diffusion renders.
 
+use super::positive;
 use super::sss_scenes::{build, MEDIA, SHAPES};
 use crate::accel::AccelKind;
 use crate::bench::{plot_error_vs_time, BenchPoint};
@@ -86,6 +87,10 @@ fn settings(size: u32, spp: u64, seed: u64, sss: SubsurfaceMethod) -> RenderSett
 pub fn run(a: &SssReportArgs) -> Result<()> {
     let ladder: Vec<u64> =
         a.ladder.split(',').map(|s| s.trim().parse::<u64>()).collect::<Result<_, _>>().context("--ladder")?;
+    positive(ladder[0], "--ladder")?;
+    positive(a.size, "--size")?;
+    positive(a.reference_spp, "--reference-spp")?;
+    positive(a.convergence_spp, "--convergence-spp")?;
     if ladder.len() < 2 || ladder.windows(2).any(|w| w[0] >= w[1]) {
         bail!("--ladder needs at least two increasing sample counts");
     }

@@ -10,12 +10,14 @@ use std::path::Path;
 #[derive(Debug, thiserror::Error)]
 pub enum SpdError {
     /// The file could not be read.
-    #[error("cannot read {path}: {source}")]
+    // The cause is part of the message, not a `source` (which the CLI would print a second
+    // time when it joins an error's chain).
+    #[error("cannot read {path}: {cause}")]
     Io {
         /// The path given.
         path: String,
         /// The OS error.
-        source: std::io::Error,
+        cause: std::io::Error,
     },
     /// A line does not have exactly two fields.
     #[error("line {line}: expected 2 fields (wavelength, value), found {found}")]
@@ -134,8 +136,8 @@ impl Spectrum {
     /// Reads an SPD file (see the module docs) as a piecewise-linear spectrum.
     pub fn from_spd_file(path: impl AsRef<Path>) -> Result<Spectrum, SpdError> {
         let path = path.as_ref();
-        let text = std::fs::read_to_string(path)
-            .map_err(|source| SpdError::Io { path: path.display().to_string(), source })?;
+        let text =
+            std::fs::read_to_string(path).map_err(|cause| SpdError::Io { path: path.display().to_string(), cause })?;
         Spectrum::from_spd_str(&text)
     }
 

@@ -39,7 +39,29 @@ fn bad_input_gets_one_clear_line() {
     let bench_out = d.join("bench");
     let bench_args = ["bench", "builtin:nope", "--out", bench_out.to_str().unwrap()];
     assert_clean_error(&bench_args, "unknown built-in scene 'builtin:nope'");
+    let bench_out_s = bench_out.to_str().unwrap();
+    assert_clean_error(&["bench", "--reference-spp", "0", "--out", bench_out_s], "--reference-spp must be positive");
+    assert_clean_error(&["bench", "--spp-ladder", "1,0", "--out", bench_out_s], "--spp-ladder must be positive");
+    assert_clean_error(&["bench", "--threads", "0", "--out", bench_out_s], "--threads must be at least 1");
     assert!(!bench_out.exists(), "bench must fail before rendering anything");
+    let sss_out = d.join("sss");
+    let sss = |extra: &[&str], needle: &str| {
+        let mut args = vec!["sss-report", "--out", sss_out.to_str().unwrap()];
+        args.extend_from_slice(extra);
+        assert_clean_error(&args, needle);
+    };
+    sss(&["--size", "0"], "--size must be positive");
+    sss(&["--reference-spp", "0"], "--reference-spp must be positive");
+    sss(&["--convergence-spp", "0"], "--convergence-spp must be positive");
+    sss(&["--ladder", "0,4"], "--ladder must be positive");
+    assert!(!sss_out.exists(), "sss-report must fail before rendering anything");
+    // A missing file's OS error is said once, not again by the error's chain of causes.
+    let missing = d.join("missing.film");
+    let missing = missing.to_str().unwrap();
+    for args in [vec!["merge", missing, "-o", out], vec!["color", "xyz", "--spd", missing]] {
+        assert_clean_error(&args, "No such file");
+        assert_eq!(stderr(&run(&args)).matches("No such file").count(), 1, "{args:?}");
+    }
 }
 
 #[test]

@@ -89,6 +89,17 @@ fn renders_are_bit_identical_for_any_thread_count() {
 }
 
 #[test]
+fn an_image_without_pixels_renders_to_an_empty_film() {
+    // The library takes any size; the CLI rejects 0, but nothing below it may panic on one.
+    let scene = cornell(AccelKind::Obvhs);
+    for res in [(0, 0), (0, 8), (8, 0)] {
+        let s = RenderSettings { resolution: res, ..settings(8, 2, 3) };
+        let (film, stats) = render(&scene, &s, |_| {}).unwrap();
+        assert!(film.pixels.is_empty() && stats.samples == 0, "{res:?}");
+    }
+}
+
+#[test]
 fn cornell_box_has_red_left_green_right_and_no_nans() {
     for accel in accels() {
         let scene = cornell(accel);
