@@ -13,7 +13,7 @@ mod subsurface;
 use lights::{brightness_factor, FLUX};
 
 use super::desc::{MaterialDesc, SceneDesc, ShapeDesc, ShapeGeometry, TextureClass};
-use super::error::{SceneError, Warning};
+use super::error::{Location, SceneError, Warning};
 use super::params::{FloatOrTexture, ParamSet, SpectrumOrTexture, SpectrumParam};
 use super::{CameraDesc, Emission, SceneBuilder};
 use crate::bsdf::{ior, metals};
@@ -58,7 +58,7 @@ pub struct FileSettings {
 pub fn build(desc: &SceneDesc, warnings: &mut Vec<Warning>) -> Result<(SceneBuilder, FileSettings), SceneError> {
     let mut ctx = Ctx { desc, b: SceneBuilder::new(), warnings, materials: HashMap::new() };
     ctx.camera()?;
-    let settings = ctx.settings();
+    let settings = ctx.settings()?;
     for shape in &desc.shapes {
         ctx.shape(shape)?;
     }
@@ -78,6 +78,11 @@ struct Ctx<'a> {
     materials: HashMap<String, u32>,
 }
 
+/// An error at parameter `name` of `params` (at `directive` where the parameter is not written).
+fn param_error(params: &ParamSet, name: &str, directive: &Location, message: String) -> SceneError {
+    SceneError::syntax(params.get(name).map_or(directive, |p| &p.loc), name, message)
+}
+
 fn space_of(params: &ParamSet) -> &'static ColorSpace {
     ColorSpace::by_name(&params.color_space).unwrap_or_else(ColorSpace::srgb)
 }
@@ -91,6 +96,10 @@ impl Ctx<'_> {
         let c = &self.desc.camera;
         let p = &c.directive.params;
         let fov = p.float_or("fov", 90.0);
+        if !(fov > 0.0 && fov < 180.0) {
+            let message = format!("\"fov\" must be between 0 and 180 degrees, got {fov}");
+            return Err(param_error(p, "fov", &c.directive.loc, message));
+        }
         let screen_window = p.floats("screenwindow").filter(|s| s.len() == 4).map(|s| [s[0], s[1], s[2], s[3]]);
         self.b.set_camera_desc(CameraDesc {
             camera_to_world: c.camera_from_world.inverse(),
@@ -102,13 +111,22 @@ impl Ctx<'_> {
         Ok(())
     }
 
-    fn settings(&mut self) -> FileSettings {
+    fn settings(&mut self) -> Result<FileSettings, SceneError> {
         let d = self.desc;
         let film = &d.film.params;
-        let res = (film.int("xresolution"), film.int("yresolution"));
+        // Counts must be positive and a depth non-negative; clamping them silently would render
+        // something other than what the file says.
+        let count = |params: &ParamSet, name: &str, loc: &Location, min: i32| match params.int(name) {
+            Some(n) if n < min => {
+                let message = format!("\"{name}\" must be at least {min}, got {n}");
+                Err(param_error(params, name, loc, message))
+            }
+            n => Ok(n),
+        };
+        let res = (count(film, "xresolution", &d.film.loc, 1)?, count(film, "yresolution", &d.film.loc, 1)?);
         let resolution = match res {
             (None, None) => None,
-            (x, y) => Some((x.unwrap_or(1280).max(1) as u32, y.unwrap_or(720).max(1) as u32)),
+            (x, y) => Some((x.unwrap_or(1280) as u32, y.unwrap_or(720) as u32)),
         };
         let crop = match (film.floats("cropwindow"), film.ints("pixelbounds")) {
             (Some(c), _) if c.len() == 4 => Some(Crop::Window([c[0], c[1], c[2], c[3]])),
@@ -139,11 +157,11 @@ impl Ctx<'_> {
             "independent" => "independent",
             _ => "sobol",
         };
-        FileSettings {
+        Ok(FileSettings {
             resolution,
             filename: film.string("filename").map(Into::into),
-            spp: d.sampler.params.int("pixelsamples").map(|n| n.max(1) as u64),
-            max_depth: d.integrator.params.int("maxdepth").map(|n| n.max(0) as u32),
+            spp: count(&d.sampler.params, "pixelsamples", &d.sampler.loc, 1)?.map(|n| n as u64),
+            max_depth: count(&d.integrator.params, "maxdepth", &d.integrator.loc, 0)?.map(|n| n as u32),
             filter: Some(d.filter.kind.clone()),
             sampler: Some(sampler.to_string()),
             seed: d.sampler.params.int("seed").or_else(|| d.options.int("seed")).map(|s| s as u64),
@@ -152,7 +170,7 @@ impl Ctx<'_> {
             iso: film.float("iso"),
             exposure_time,
             white_balance,
-        }
+        })
     }
 
     /// A spectrum for a reflectance-like ("albedo"), unbounded or illuminant parameter.

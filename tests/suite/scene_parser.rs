@@ -261,6 +261,39 @@ fn spheres_meshes_and_index_errors() {
     );
 }
 
+/// The error of building (not just parsing) the scene `s`.
+fn build_err(s: &str) -> String {
+    pbrt::build(&parse(s).0, &mut Vec::new()).err().expect("must not build").to_string()
+}
+
+#[test]
+fn render_settings_out_of_range_are_errors_at_their_parameter() {
+    // prism used to clamp these silently (0 spp to 1, depth -1 to 0, a 0-pixel side to 1).
+    assert_eq!(
+        build_err("Film \"rgb\" \"integer xresolution\" 0\nWorldBegin"),
+        "<string>:1:12: \"xresolution\" must be at least 1, got 0 (at \"xresolution\")"
+    );
+    assert_eq!(
+        build_err("Sampler \"sobol\"\n  \"integer pixelsamples\" -4\nWorldBegin"),
+        "<string>:2:3: \"pixelsamples\" must be at least 1, got -4 (at \"pixelsamples\")"
+    );
+    assert_eq!(
+        build_err("Integrator \"path\" \"integer maxdepth\" -1\nWorldBegin"),
+        "<string>:1:19: \"maxdepth\" must be at least 0, got -1 (at \"maxdepth\")"
+    );
+    for fov in ["0", "180", "-30"] {
+        assert_eq!(
+            build_err(&format!("Camera \"perspective\" \"float fov\" {fov}\nWorldBegin")),
+            format!("<string>:1:22: \"fov\" must be between 0 and 180 degrees, got {fov} (at \"fov\")")
+        );
+    }
+    // The edges of what is allowed still build.
+    let ok = "Film \"rgb\" \"integer xresolution\" 1 \"integer yresolution\" 1\nSampler \"sobol\" \"integer pixelsamples\" 1\n\
+              Integrator \"path\" \"integer maxdepth\" 0\nCamera \"perspective\" \"float fov\" 179\nWorldBegin";
+    let (_, settings) = pbrt::build(&parse(ok).0, &mut Vec::new()).unwrap();
+    assert_eq!((settings.resolution, settings.spp, settings.max_depth), (Some((1, 1)), Some(1), Some(0)));
+}
+
 #[test]
 fn unknown_types_list_valid_names() {
     assert_eq!(
