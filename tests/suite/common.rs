@@ -37,3 +37,10 @@ pub fn film_difference(a: &Film, b: &Film) -> (f64, f64, f64) {
     let se = (d.iter().map(|v| (v - m) * (v - m)).sum::<f64>() / (n - 1.0) / n).sqrt();
     (m, se, a.pixels.iter().map(y).sum::<f64>() / n)
 }
+
+/// Pixels whose Y differs from `b`'s by more than half of it (light leaks and acne show up as
+/// many such pixels; noise as few).
+pub fn pixels_far_off(a: &Film, b: &Film) -> usize {
+    let y = |p: &prism::film::Pixel| p.xyz_sum.y / p.weight_sum;
+    a.pixels.iter().zip(&b.pixels).filter(|(p, q)| (y(p) - y(q)).abs() > 0.5 * y(q).abs().max(0.05)).count()
+}

@@ -3,7 +3,7 @@
 //! from inside transformed closed meshes never escape; and many instances of a big mesh cost far
 //! less memory than their flattened copies.
 
-use crate::common::film_difference;
+use crate::common::{film_difference, pixels_far_off};
 use glam::{Mat4, Quat, Vec3};
 use prism::accel::{self, AccelKind};
 use prism::camera::Camera;
@@ -308,15 +308,7 @@ fn an_instance_far_from_the_origin_renders_without_acne() {
             let (d, _, mean) = film_difference(&f, &reference);
             assert!(mean > 0.05, "{name}: black image");
             assert!(d.abs() <= 4.0 * noise, "{kind:?} {name}: mean difference {d} vs noise {noise} (mean {mean})");
-            let bad = f
-                .pixels
-                .iter()
-                .zip(&reference.pixels)
-                .filter(|(p, q)| {
-                    let (a, b) = (p.xyz_sum.y / p.weight_sum, q.xyz_sum.y / q.weight_sum);
-                    (a - b).abs() > 0.5 * b.abs().max(0.05)
-                })
-                .count();
+            let bad = pixels_far_off(&f, &reference);
             assert!(bad <= f.pixels.len() / 50, "{kind:?} {name}: {bad} pixels differ wildly");
         }
     }

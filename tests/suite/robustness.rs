@@ -2,7 +2,7 @@
 //! (spawned rays are offset by a bound on the hit point's rounding error, not a global epsilon),
 //! and degenerate geometry never produces NaN pixels.
 
-use crate::common::film_difference as diff;
+use crate::common::{film_difference as diff, pixels_far_off};
 use glam::{Mat4, Vec3};
 use prism::accel::AccelKind;
 use prism::film::Film;
@@ -61,17 +61,7 @@ fn cornell_box_is_the_same_at_every_scale_and_far_from_the_origin() {
                 d.abs() <= 4.0 * noise,
                 "{accel:?} scale {name}: mean difference {d} vs noise {noise} (mean {mean})"
             );
-            // Light leaks or acne show up as many pixels far off; count pixels that differ by
-            // more than half their value.
-            let bad = f
-                .pixels
-                .iter()
-                .zip(&reference.pixels)
-                .filter(|(p, q)| {
-                    let (a, b) = (p.xyz_sum.y / p.weight_sum, q.xyz_sum.y / q.weight_sum);
-                    (a - b).abs() > 0.5 * b.abs().max(0.05)
-                })
-                .count();
+            let bad = pixels_far_off(&f, &reference);
             assert!(bad <= f.pixels.len() / 50, "{accel:?} scale {name}: {bad} pixels differ wildly");
         }
     }

@@ -37,67 +37,13 @@ fn torus(big: f32, small: f32, nu: u32, nv: u32) -> (Mesh, Vec<Vec<u32>>) {
     (m, faces)
 }
 
-/// Unit icosphere: an icosahedron subdivided `levels` times, vertices pushed to the sphere.
+/// Unit icosphere: prism's own generator, with its triangles as PLY faces.
 fn icosphere(levels: u32) -> (Mesh, Vec<Vec<u32>>) {
-    let t = (1.0 + 5f32.sqrt()) / 2.0;
-    let mut p: Vec<Vec3> = [
-        [-1., t, 0.],
-        [1., t, 0.],
-        [-1., -t, 0.],
-        [1., -t, 0.],
-        [0., -1., t],
-        [0., 1., t],
-        [0., -1., -t],
-        [0., 1., -t],
-        [t, 0., -1.],
-        [t, 0., 1.],
-        [-t, 0., -1.],
-        [-t, 0., 1.],
-    ]
-    .iter()
-    .map(|a| Vec3::from_array(*a).normalize())
-    .collect();
-    let mut f: Vec<[u32; 3]> = vec![
-        [0, 11, 5],
-        [0, 5, 1],
-        [0, 1, 7],
-        [0, 7, 10],
-        [0, 10, 11],
-        [1, 5, 9],
-        [5, 11, 4],
-        [11, 10, 2],
-        [10, 7, 6],
-        [7, 1, 8],
-        [3, 9, 4],
-        [3, 4, 2],
-        [3, 2, 6],
-        [3, 6, 8],
-        [3, 8, 9],
-        [4, 9, 5],
-        [2, 4, 11],
-        [6, 2, 10],
-        [8, 6, 7],
-        [9, 8, 1],
-    ];
-    for _ in 0..levels {
-        let mut mid = std::collections::HashMap::new();
-        let mut split = |a: u32, b: u32, p: &mut Vec<Vec3>| {
-            *mid.entry((a.min(b), a.max(b))).or_insert_with(|| {
-                p.push((p[a as usize] + p[b as usize]).normalize());
-                p.len() as u32 - 1
-            })
-        };
-        f = f
-            .iter()
-            .flat_map(|&[a, b, c]| {
-                let (ab, bc, ca) = (split(a, b, &mut p), split(b, c, &mut p), split(c, a, &mut p));
-                [[a, ab, ca], [b, bc, ab], [c, ca, bc], [ab, bc, ca]]
-            })
-            .collect();
-    }
-    let mut m = Mesh::new(p.clone(), vec![]);
-    m.normals = Some(p);
-    (m, f.iter().map(|t| t.to_vec()).collect())
+    let m = prism::geometry::shapes::icosphere(Vec3::ZERO, 1.0, levels);
+    let faces = m.indices.iter().map(|t| t.to_vec()).collect();
+    let mut out = Mesh::new(m.positions, vec![]);
+    out.normals = m.normals;
+    (out, faces)
 }
 
 /// Floor grid on y = 0 over [−half, half]², `n`×`n` quads facing +y, uv over [0, 1]².
