@@ -3,9 +3,11 @@
 //! converged reference; writes CSV, JSON and plots.
 
 mod plot;
+mod run_info;
 mod terrain;
 
 pub use plot::{plot_error_vs_time, plot_rays_per_s};
+pub use run_info::RunInfo;
 pub use terrain::{terrain_scene, TERRAIN_TRIANGLES};
 
 use crate::accel::AccelKind;
@@ -149,6 +151,7 @@ fn reference(cfg: &BenchConfig) -> Result<Image> {
         "sampler": "sobol",
         "seed": 0xfeed,
         "filter": "box",
+        "exr_samples": "f32",
     });
     if let (Ok(old), Ok(img)) = (std::fs::read_to_string(&meta_path), crate::image::read(&path)) {
         if serde_json::from_str::<serde_json::Value>(&old).ok().as_ref() == Some(&meta) {
@@ -159,7 +162,10 @@ fn reference(cfg: &BenchConfig) -> Result<Image> {
     eprintln!("bench: rendering a reference at {} spp (cached in {})", cfg.reference_spp, path.display());
     let scene = load(cfg)?.build(AccelKind::default_available())?;
     let (img, _, _) = render_image(&scene, &settings(cfg, cfg.reference_spp, SamplerKind::Sobol, 0xfeed))?;
-    crate::image::write(&path, &img)?;
+    // 32-bit samples: the cached reference is then exactly the one just measured against, so a
+    // later run that reuses it measures the same errors.
+    let exact = crate::image::WriteOptions { exr_sample: crate::image::ExrSample::Float, ..Default::default() };
+    crate::image::write_with(&path, &img, &exact)?;
     crate::io::write_atomic(&meta_path, serde_json::to_string_pretty(&meta)?.as_bytes())?;
     Ok(img)
 }
@@ -172,6 +178,7 @@ pub fn run(cfg: &BenchConfig) -> Result<Vec<BenchPoint>> {
         }
     }
     std::fs::create_dir_all(&cfg.out).with_context(|| format!("creating {}", cfg.out.display()))?;
+    let info = RunInfo::collect(cfg);
     let reference = reference(cfg)?;
     let mut points = Vec::new();
     for &accel in &cfg.accels {
@@ -222,7 +229,7 @@ pub fn run(cfg: &BenchConfig) -> Result<Vec<BenchPoint>> {
             }
         }
     }
-    write_outputs(&cfg.out, &points)?;
+    write_outputs(&cfg.out, &points, &info)?;
     Ok(points)
 }
 
@@ -267,8 +274,8 @@ pub fn markdown_table(points: &[BenchPoint]) -> String {
     t
 }
 
-/// Writes bench.csv, bench.json, bench.md and the plots into `dir`.
-pub fn write_outputs(dir: &Path, points: &[BenchPoint]) -> Result<()> {
+/// Writes bench.csv, bench.json, bench.md (headed by `info`), run.json and the plots into `dir`.
+pub fn write_outputs(dir: &Path, points: &[BenchPoint], info: &RunInfo) -> Result<()> {
     let mut csv = String::from(
         "accel,sampler,spp,time_s,samples_per_s,rays_per_s,build_s,scene_bytes,triangles,accel_bytes,build_peak_bytes,peak_rss_bytes,rmse,rel_mse,mae\n",
     );
@@ -294,7 +301,9 @@ pub fn write_outputs(dir: &Path, points: &[BenchPoint]) -> Result<()> {
     }
     crate::io::write_atomic(&dir.join("bench.csv"), csv.as_bytes())?;
     crate::io::write_atomic(&dir.join("bench.json"), serde_json::to_string_pretty(points)?.as_bytes())?;
-    crate::io::write_atomic(&dir.join("bench.md"), markdown_table(points).as_bytes())?;
+    crate::io::write_atomic(&dir.join("run.json"), serde_json::to_string_pretty(info)?.as_bytes())?;
+    let md = format!("{}\n{}", info.markdown(), markdown_table(points));
+    crate::io::write_atomic(&dir.join("bench.md"), md.as_bytes())?;
     for ext in ["png", "svg"] {
         plot_error_vs_time(points, &dir.join(format!("error_vs_time.{ext}")))?;
         plot_rays_per_s(points, &dir.join(format!("rays_per_s.{ext}")))?;

@@ -87,7 +87,7 @@ pub fn run(a: &BenchArgs) -> Result<()> {
         .build()?;
     pool.install(|| bench::run(&cfg))?;
     eprintln!(
-        "bench: wrote bench.csv, bench.json, error_vs_time.{{png,svg}}, rays_per_s.{{png,svg}} in {}",
+        "bench: wrote bench.csv, bench.json, bench.md, run.json, error_vs_time.{{png,svg}}, rays_per_s.{{png,svg}} in {}",
         a.out.display()
     );
     Ok(())

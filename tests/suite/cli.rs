@@ -253,3 +253,70 @@ fn accel_choices_are_listed_and_embree_watertight_renders() {
         assert_clean_error(&args, "built without Embree");
     }
 }
+
+#[test]
+fn bench_writes_every_output_and_reuses_its_cached_reference() {
+    let d = tmpdir("bench");
+    let out = d.join("out");
+    let accels = if cfg!(feature = "embree") { "embree,obvhs" } else { "obvhs" };
+    let args = [
+        "bench",
+        "--accel",
+        accels,
+        "--spp-ladder",
+        "1,16",
+        "--reference-spp",
+        "64",
+        "--resolution",
+        "24x16",
+        "--max-depth",
+        "4",
+        "--threads",
+        "1",
+        "--out",
+        out.to_str().unwrap(),
+    ];
+    let first = run(&args);
+    assert!(first.status.success(), "{}", stderr(&first));
+    for f in ["bench.csv", "bench.json", "bench.md", "run.json", "error_vs_time.png", "error_vs_time.svg"] {
+        assert!(std::fs::metadata(out.join(f)).is_ok_and(|m| m.len() > 0), "{f} missing or empty");
+    }
+    let json = |name: &str| -> serde_json::Value {
+        serde_json::from_str(&std::fs::read_to_string(out.join(name)).unwrap()).unwrap()
+    };
+    let points = json("bench.json");
+    let points = points.as_array().unwrap();
+    let n_accels = accels.split(',').count();
+    assert_eq!(points.len(), n_accels * 2 * 2, "accels × samplers × ladder");
+    let rmse = |accel: &str, sampler: &str, spp: u64| {
+        let p = points.iter().find(|p| p["accel"] == accel && p["sampler"] == sampler && p["spp"] == spp);
+        p.unwrap_or_else(|| panic!("no point {accel} {sampler} {spp}"))["rmse"].as_f64().unwrap()
+    };
+    for p in points {
+        let f = |k: &str| p[k].as_f64().unwrap();
+        // Every sample traces at least its camera ray.
+        assert!(f("samples_per_s") > 0.0 && f("rays_per_s") >= f("samples_per_s"), "{p}");
+    }
+    for sampler in ["independent", "sobol"] {
+        // 16× the samples: Monte Carlo error falls ~4× (more with Sobol); 2× leaves room for the
+        // noise of a 384-pixel RMSE and of the 64-spp reference.
+        let (e1, e16) = (rmse("obvhs", sampler, 1), rmse("obvhs", sampler, 16));
+        assert!(e16 > 0.0 && e1 > 2.0 * e16, "{sampler}: RMSE {e1} at 1 spp, {e16} at 16");
+        if cfg!(feature = "embree") {
+            // The backends trace the same paths, so their images (and errors) are the same.
+            let e = rmse("embree", sampler, 16);
+            assert!((e - e16).abs() <= 1e-3 * e16, "{sampler}: embree {e} vs obvhs {e16}");
+        }
+    }
+    let info = json("run.json");
+    assert_eq!((info["threads"].as_u64(), info["max_depth"].as_u64()), (Some(1), Some(4)));
+    assert_eq!(info["resolution"], serde_json::json!([24, 16]));
+    assert!(std::fs::read_to_string(out.join("bench.md")).unwrap().starts_with("- machine: "));
+    // A second run with the same settings reuses the reference and measures the same errors.
+    let second = run(&args);
+    assert!(stderr(&second).contains("using the cached reference"), "{}", stderr(&second));
+    let again = json("bench.json");
+    for (a, b) in points.iter().zip(again.as_array().unwrap()) {
+        assert_eq!(a["rmse"], b["rmse"]);
+    }
+}
