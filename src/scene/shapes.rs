@@ -63,7 +63,12 @@ pub fn load(
                 reason: e.to_string(),
             })?;
             let mesh = if kind == "plymesh" { mesh_io::ply::parse(&bytes) } else { mesh_io::obj::parse(&bytes) };
-            let mesh = mesh.map_err(|message| SceneError::Mesh { loc: loc.clone(), path, message })?;
+            let mesh = mesh.map_err(|message| SceneError::Mesh { loc: loc.clone(), path: path.clone(), message })?;
+            if mesh.indices.is_empty() {
+                // OBJ readers skip what they do not know, so a wrong file can parse to nothing.
+                let message = format!("mesh file \"{}\" holds no triangles; the shape is empty", path.display());
+                warnings.push(Warning { loc: loc.clone(), message });
+            }
             Ok(ShapeGeometry::Mesh(Arc::new(mesh)))
         }
         _ => Err(err(format!("no geometry loader for shape type \"{kind}\""))),

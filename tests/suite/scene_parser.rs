@@ -573,6 +573,12 @@ fn plymesh_and_objmesh_load_relative_to_the_scene() {
         })
         .collect();
     assert_eq!(areas, [1.0, 0.5]);
+    // OBJ skips unknown statements, so a file that is not OBJ at all parses to no triangles: say so.
+    std::fs::write(d.join("geo/x.obj"), "not an obj file\n").unwrap();
+    std::fs::write(d.join("s.pbrt"), "WorldBegin\nShape \"objmesh\" \"string filename\" \"geo/x.obj\"\n").unwrap();
+    let (_, w) = parse_file(&d.join("s.pbrt"), &ParseOptions::default()).unwrap();
+    let w: Vec<String> = w.iter().map(|w| w.to_string()).collect();
+    assert!(w.len() == 1 && w[0].contains("2:1:") && w[0].contains("x.obj\" holds no triangles"), "{w:?}");
 }
 
 #[test]
