@@ -4,7 +4,7 @@
 //! and [`ParamSet::report_unused`] warns about the rest, so typos like `"float radisu"` are seen.
 
 use std::path::PathBuf;
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 
 use glam::{Vec2, Vec3};
 
@@ -66,6 +66,9 @@ pub struct Param {
     /// Location of the `"type name"` declaration.
     pub loc: Location,
     used: AtomicBool,
+    /// How many values it held when read as a single one (0: never; more than 1: the rest were
+    /// ignored).
+    read_as_one: AtomicUsize,
 }
 
 impl Clone for Param {
@@ -76,6 +79,7 @@ impl Clone for Param {
             value: self.value.clone(),
             loc: self.loc.clone(),
             used: AtomicBool::new(self.used.load(Ordering::Relaxed)),
+            read_as_one: AtomicUsize::new(self.read_as_one.load(Ordering::Relaxed)),
         }
     }
 }
@@ -83,7 +87,7 @@ impl Clone for Param {
 impl Param {
     /// A parameter that has not been read yet.
     pub fn new(name: String, type_name: &'static str, value: ParamValue, loc: Location) -> Self {
-        Self { name, type_name, value, loc, used: AtomicBool::new(false) }
+        Self { name, type_name, value, loc, used: AtomicBool::new(false), read_as_one: AtomicUsize::new(0) }
     }
 
     /// True once a getter read it.
@@ -286,9 +290,10 @@ macro_rules! getters {
                 _ => None,
             })
         }
-        /// The first value of this parameter, if present with this type (marks it used).
+        /// The first value of this parameter, if present with this type (marks it used; more
+        /// than one value is reported by [`ParamSet::report_unused`]).
         pub fn $one(&self, name: &str) -> Option<$t> {
-            self.$many(name).and_then(|v| v.first().cloned())
+            self.$many(name).and_then(|v| self.first(name, v)).cloned()
         }
     };
 }
@@ -389,7 +394,17 @@ impl ParamSet {
 
     /// The first string of a "string" parameter.
     pub fn string(&self, name: &str) -> Option<&str> {
-        self.strings(name).and_then(|v| v.first()).map(String::as_str)
+        self.strings(name).and_then(|v| self.first(name, v)).map(String::as_str)
+    }
+
+    /// The first of the values `v` of parameter `name`, noting when there were more.
+    fn first<'a, T>(&self, name: &str, v: &'a [T]) -> Option<&'a T> {
+        if v.len() > 1 {
+            if let Some(p) = self.params.iter().find(|p| p.name == name) {
+                p.read_as_one.store(v.len(), Ordering::Relaxed);
+            }
+        }
+        v.first()
     }
 
     /// A "string" parameter naming a file, resolved relative to the scene file it was written in.
@@ -431,17 +446,23 @@ impl ParamSet {
         self.float(name).map(FloatOrTexture::Float)
     }
 
-    /// Warnings for every parameter no getter has read, naming the directive it belongs to
-    /// (e.g. `Shape "sphere"`).
+    /// Warnings for every parameter no getter has read, or read as one value of several, naming
+    /// the directive it belongs to (e.g. `Shape "sphere"`).
     pub fn report_unused(&self, context: &str) -> Vec<Warning> {
-        self.params
-            .iter()
-            .filter(|p| !p.is_used())
-            .map(|p| Warning {
-                loc: p.loc.clone(),
-                message: format!("parameter \"{} {}\" of {context} was not used", p.type_name, p.name),
-            })
-            .collect()
+        let unused = self.params.iter().filter(|p| !p.is_used()).map(|p| Warning {
+            loc: p.loc.clone(),
+            message: format!("parameter \"{} {}\" of {context} was not used", p.type_name, p.name),
+        });
+        let extra = self.params.iter().filter(|p| p.read_as_one.load(Ordering::Relaxed) > 1).map(|p| Warning {
+            loc: p.loc.clone(),
+            message: format!(
+                "parameter \"{} {}\" of {context} takes one value, but {} were given; the rest were ignored",
+                p.type_name,
+                p.name,
+                p.read_as_one.load(Ordering::Relaxed)
+            ),
+        });
+        unused.chain(extra).collect()
     }
 }
 

@@ -385,6 +385,15 @@ NamedMaterial "b"
     ));
     let w: Vec<String> = d.report_unused().iter().map(|w| w.message.clone()).collect();
     assert_eq!(w, ["parameter \"float y\" of MakeNamedMaterial \"b\" was not used"]);
+    // A single-valued parameter given several values: the first is used and the rest reported
+    // (pbrt-v4 stops with an error here).
+    let (d, _) = parse("WorldBegin\nShape \"sphere\" \"float radius\" [2 5]");
+    let w: Vec<String> = d.report_unused().iter().map(|w| w.to_string()).collect();
+    assert_eq!(
+        w,
+        ["<string>:2:16: warning: parameter \"float radius\" of Shape \"sphere\" takes one value, but 2 were given; \
+          the rest were ignored"]
+    );
 }
 
 #[test]
