@@ -49,9 +49,10 @@ impl RunInfo {
             logical_cpus: std::thread::available_parallelism().map_or(1, |n| n.get()),
             threads: rayon::current_num_threads(),
             os: format!("{} {}", std::env::consts::OS, kernel.trim()).trim().to_string(),
-            prism: match libraries.is_empty() {
-                true => format!("{} (pure Rust)", env!("CARGO_PKG_VERSION")),
-                false => format!("{} (with {})", env!("CARGO_PKG_VERSION"), libraries.join(", ")),
+            prism: if libraries.is_empty() {
+                format!("{} (pure Rust)", env!("CARGO_PKG_VERSION"))
+            } else {
+                format!("{} (with {})", env!("CARGO_PKG_VERSION"), libraries.join(", "))
             },
             started_utc: iso8601_utc(since_epoch),
             scene: cfg.scene.as_ref().map_or("builtin:cornell".into(), |p| p.display().to_string()),
