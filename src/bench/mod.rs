@@ -143,8 +143,15 @@ fn reference(cfg: &BenchConfig) -> Result<Image> {
     }
     let path = cfg.out.join("reference.exr");
     let meta_path = cfg.out.join("reference.json");
+    // An edited scene file must not reuse the old reference: its size and modification time are
+    // part of the key (files it includes or loads are not).
+    let scene_file = cfg.scene.as_ref().and_then(|p| std::fs::metadata(p).ok()).map(|m| {
+        let modified = m.modified().ok().and_then(|t| t.duration_since(std::time::UNIX_EPOCH).ok());
+        serde_json::json!({ "bytes": m.len(), "modified_ns": modified.map_or(0, |d| d.as_nanos() as u64) })
+    });
     let meta = serde_json::json!({
         "scene": cfg.scene.as_ref().map(|p| p.display().to_string()).unwrap_or_else(|| "cornell-box".into()),
+        "scene_file": scene_file,
         "spp": cfg.reference_spp,
         "resolution": [cfg.resolution.0, cfg.resolution.1],
         "max_depth": cfg.max_depth,

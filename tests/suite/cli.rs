@@ -320,3 +320,37 @@ fn bench_writes_every_output_and_reuses_its_cached_reference() {
         assert_eq!(a["rmse"], b["rmse"]);
     }
 }
+
+#[test]
+fn bench_renders_a_new_reference_after_its_scene_file_changes() {
+    let d = tmpdir("bench-scene");
+    let scene = d.join("s.pbrt");
+    let body = "LookAt 0 0 5  0 0 0  0 1 0\nCamera \"perspective\" \"float fov\" 40\nWorldBegin\n\
+                LightSource \"point\" \"rgb I\" [10 10 10] \"point3 from\" [0 3 3]\nShape \"sphere\"\n";
+    std::fs::write(&scene, body).unwrap();
+    let out = d.join("out");
+    let args = [
+        "bench",
+        scene.to_str().unwrap(),
+        "--accel",
+        "obvhs",
+        "--sampler",
+        "sobol",
+        "--spp-ladder",
+        "1",
+        "--reference-spp",
+        "4",
+        "--resolution",
+        "8x8",
+        "--out",
+        out.to_str().unwrap(),
+    ];
+    let rendered = |o: &Output| {
+        assert!(o.status.success(), "{}", stderr(o));
+        stderr(o).contains("rendering a reference")
+    };
+    assert!(rendered(&run(&args)), "first run renders the reference");
+    assert!(!rendered(&run(&args)), "an unchanged scene reuses it");
+    std::fs::write(&scene, format!("{body}# edited\n")).unwrap();
+    assert!(rendered(&run(&args)), "an edited scene file renders a new one");
+}
