@@ -446,8 +446,9 @@ impl ParamSet {
         self.float(name).map(FloatOrTexture::Float)
     }
 
-    /// Warnings for every parameter no getter has read, or read as one value of several, naming
-    /// the directive it belongs to (e.g. `Shape "sphere"`).
+    /// Warnings for every parameter no getter has read, read as one value of several, or given
+    /// as RGB with negative components, naming the directive it belongs to (e.g. `Shape
+    /// "sphere"`).
     pub fn report_unused(&self, context: &str) -> Vec<Warning> {
         let unused = self.params.iter().filter(|p| !p.is_used()).map(|p| Warning {
             loc: p.loc.clone(),
@@ -462,7 +463,18 @@ impl ParamSet {
                 p.read_as_one.load(Ordering::Relaxed)
             ),
         });
-        unused.chain(extra).collect()
+        // The RGB → spectrum conversion takes negative components as 0: say so.
+        let negative = self.params.iter().filter_map(|p| match &p.value {
+            ParamValue::Spectrum(SpectrumParam::Rgb(c)) if c.iter().any(|&x| x < 0.0) => Some(Warning {
+                loc: p.loc.clone(),
+                message: format!(
+                    "parameter \"{} {}\" of {context} has negative components {c:?}; they are taken as 0",
+                    p.type_name, p.name
+                ),
+            }),
+            _ => None,
+        });
+        unused.chain(extra).chain(negative).collect()
     }
 }
 

@@ -394,6 +394,15 @@ NamedMaterial "b"
         ["<string>:2:16: warning: parameter \"float radius\" of Shape \"sphere\" takes one value, but 2 were given; \
           the rest were ignored"]
     );
+    // Negative RGB components are taken as 0, and said to be.
+    let (d, _) = parse("WorldBegin\nLightSource \"point\" \"rgb I\" [1 -2 0.5]");
+    let _ = d.lights[0].params.spectrum("I");
+    let w: Vec<String> = d.report_unused().iter().map(|w| w.to_string()).collect();
+    assert_eq!(
+        w,
+        ["<string>:2:21: warning: parameter \"rgb I\" of LightSource \"point\" has negative components \
+          [1.0, -2.0, 0.5]; they are taken as 0"]
+    );
 }
 
 #[test]
