@@ -463,9 +463,10 @@ impl ParamSet {
                 p.read_as_one.load(Ordering::Relaxed)
             ),
         });
-        // The RGB → spectrum conversion takes negative components as 0: say so.
+        // The RGB → spectrum conversion takes negative components as 0: say so (once: an unused
+        // parameter is reported as unused only).
         let negative = self.params.iter().filter_map(|p| match &p.value {
-            ParamValue::Spectrum(SpectrumParam::Rgb(c)) if c.iter().any(|&x| x < 0.0) => Some(Warning {
+            ParamValue::Spectrum(SpectrumParam::Rgb(c)) if p.is_used() && c.iter().any(|&x| x < 0.0) => Some(Warning {
                 loc: p.loc.clone(),
                 message: format!(
                     "parameter \"{} {}\" of {context} has negative components {c:?}; they are taken as 0",
