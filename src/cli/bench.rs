@@ -61,9 +61,7 @@ pub fn run(a: &BenchArgs) -> Result<()> {
         positive(s.parse::<u64>().with_context(|| format!("--spp-ladder: '{s}' is not a count"))?, "--spp-ladder")
     })?;
     positive(a.reference_spp, "--reference-spp")?;
-    if a.threads == Some(0) {
-        bail!("--threads must be at least 1");
-    }
+    let pool = super::worker_pool(a.threads)?;
     let (w, h) = a
         .resolution
         .split_once('x')
@@ -81,10 +79,6 @@ pub fn run(a: &BenchArgs) -> Result<()> {
         resolution: (w, h),
         max_depth: a.max_depth,
     };
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(a.threads.unwrap_or(0))
-        .start_handler(|_| crate::accel::init_render_thread())
-        .build()?;
     pool.install(|| bench::run(&cfg))?;
     eprintln!(
         "bench: wrote bench.csv, bench.json, bench.md, run.json, error_vs_time.{{png,svg}}, rays_per_s.{{png,svg}} in {}",

@@ -9,6 +9,19 @@ pub mod render;
 pub mod sss_report;
 pub mod sss_scenes;
 
+/// The render workers for `--threads` (all cores without it; 0 is an error), each set up for
+/// rendering by [`crate::accel::init_render_thread`].
+fn worker_pool(threads: Option<usize>) -> anyhow::Result<rayon::ThreadPool> {
+    if threads == Some(0) {
+        anyhow::bail!("--threads must be at least 1");
+    }
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads.unwrap_or(0))
+        .start_handler(|_| crate::accel::init_render_thread())
+        .build()
+        .map_err(|e| anyhow::anyhow!("starting worker threads: {e}"))
+}
+
 /// `n`, or the one-line error "`flag` must be positive" (sample counts, image sizes).
 fn positive<T: Default + PartialEq>(n: T, flag: &str) -> anyhow::Result<T> {
     if n == T::default() {

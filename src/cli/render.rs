@@ -329,9 +329,7 @@ fn fnv(bytes: &[u8]) -> u64 {
 
 /// Runs `prism render`.
 pub fn run(args: &RenderArgs) -> Result<()> {
-    if args.threads == Some(0) {
-        bail!("--threads must be at least 1");
-    }
+    let pool = super::worker_pool(args.threads)?;
     let job = prepare(args)?;
     let spp = job.settings.spp;
     let range = match &args.part {
@@ -370,11 +368,6 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         eprintln!("prism: resuming at sample {start} of {}", range.end);
     }
 
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(args.threads.unwrap_or(0))
-        .start_handler(|_| crate::accel::init_render_thread())
-        .build()
-        .context("starting worker threads")?;
     let bar = indicatif::ProgressBar::new(range.end - range.start);
     bar.set_style(
         indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} spp  {elapsed_precise} eta {eta}")
