@@ -20,7 +20,7 @@ use crate::scene::{Scene, SceneBuilder};
 use crate::spectrum::ColorSpace;
 use anyhow::{Context, Result};
 use std::path::{Path, PathBuf};
-use std::time::Instant;
+use std::time::{Instant, UNIX_EPOCH};
 
 /// One rendered point of the ladder.
 #[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
@@ -136,6 +136,27 @@ fn render_image(scene: &Scene, s: &RenderSettings) -> Result<(Image, f64, crate:
     Ok((film_to_image(&film, ColorSpace::srgb())?, t0.elapsed().as_secs_f64(), stats))
 }
 
+/// The size and modification time of every file the scene reads (none for a built-in scene),
+/// so that an edited scene file, or a file it includes or loads, is not rendered against the
+/// old reference.
+fn input_stamps(cfg: &BenchConfig) -> Result<Vec<serde_json::Value>> {
+    let Some(path) = cfg.scene.as_ref().filter(|p| p.exists()) else { return Ok(Vec::new()) };
+    let (desc, _) = crate::scene::parse_file(path, &Default::default())?;
+    Ok(desc
+        .input_files()
+        .iter()
+        .map(|f| {
+            let m = std::fs::metadata(f).ok();
+            let modified = m.as_ref().and_then(|m| m.modified().ok()).and_then(|t| t.duration_since(UNIX_EPOCH).ok());
+            serde_json::json!({
+                "file": f.display().to_string(),
+                "bytes": m.map(|m| m.len()),
+                "modified_ns": modified.map(|d| d.as_nanos() as u64),
+            })
+        })
+        .collect())
+}
+
 /// The reference: the given image, or a cached render whose settings match, or a new render.
 fn reference(cfg: &BenchConfig) -> Result<Image> {
     if let Some(p) = &cfg.reference {
@@ -143,15 +164,9 @@ fn reference(cfg: &BenchConfig) -> Result<Image> {
     }
     let path = cfg.out.join("reference.exr");
     let meta_path = cfg.out.join("reference.json");
-    // An edited scene file must not reuse the old reference: its size and modification time are
-    // part of the key (files it includes or loads are not).
-    let scene_file = cfg.scene.as_ref().and_then(|p| std::fs::metadata(p).ok()).map(|m| {
-        let modified = m.modified().ok().and_then(|t| t.duration_since(std::time::UNIX_EPOCH).ok());
-        serde_json::json!({ "bytes": m.len(), "modified_ns": modified.map_or(0, |d| d.as_nanos() as u64) })
-    });
     let meta = serde_json::json!({
         "scene": cfg.scene.as_ref().map(|p| p.display().to_string()).unwrap_or_else(|| "cornell-box".into()),
-        "scene_file": scene_file,
+        "inputs": input_stamps(cfg)?,
         "spp": cfg.reference_spp,
         "resolution": [cfg.resolution.0, cfg.resolution.1],
         "max_depth": cfg.max_depth,

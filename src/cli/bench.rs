@@ -21,7 +21,8 @@ pub struct BenchArgs {
     /// Sample counts, comma separated.
     #[arg(long, default_value = "1,4,16,64,256")]
     pub spp_ladder: String,
-    /// Reference image (EXR); without one, a reference is rendered and cached in --out.
+    /// Reference image (EXR); without one, a reference is rendered and cached in --out, and
+    /// rendered again when the settings or any file the scene reads (includes, meshes, …) change.
     #[arg(long)]
     pub reference: Option<PathBuf>,
     /// Samples per pixel of a rendered reference.

@@ -3,6 +3,8 @@
 //! Transforms follow pbrt-v4: `world_from_object` maps object space to world space; glam
 //! matrices are column-major like the numbers of pbrt's `Transform` directive.
 
+use std::collections::HashSet;
+use std::path::PathBuf;
 use std::sync::Arc;
 
 use glam::Mat4;
@@ -210,6 +212,8 @@ pub struct SceneDesc {
     pub objects: Vec<ObjectDesc>,
     /// Object instances.
     pub instances: Vec<InstanceDesc>,
+    /// The scene files read: the one parsed, then every Include/Import (empty for parsed text).
+    pub scene_files: Vec<PathBuf>,
 }
 
 impl SceneDesc {
@@ -235,6 +239,28 @@ impl SceneDesc {
     /// The texture `name` of class `class` (the last definition wins, as in pbrt-v4).
     pub fn texture(&self, name: &str, class: TextureClass) -> Option<&TextureDesc> {
         self.textures.iter().rev().find(|t| t.name == name && t.class == class)
+    }
+
+    /// Every file rendering this scene reads, each once in first-use order: the scene files,
+    /// then the data files parameters name (meshes, images, spectra). The Film's "filename" is
+    /// where the image goes, so it is left out.
+    pub fn input_files(&self) -> Vec<PathBuf> {
+        let shapes = self.shapes.iter().chain(self.objects.iter().flat_map(|o| o.shapes.iter()));
+        let materials = self.materials.iter().chain(self.named_materials.iter().map(|n| &n.material));
+        let sets = [&self.camera.directive.params, &self.sampler.params, &self.integrator.params, &self.filter.params]
+            .into_iter()
+            .chain(shapes.flat_map(|s| std::iter::once(&s.params).chain(s.area_light.as_ref().map(|a| &a.params))))
+            .chain(self.lights.iter().map(|l| &l.params))
+            .chain(materials.map(|m| &m.params))
+            .chain(self.textures.iter().map(|t| &t.params));
+        let mut seen: HashSet<PathBuf> = self.scene_files.iter().cloned().collect();
+        let mut files = self.scene_files.clone();
+        for f in sets.flat_map(ParamSet::named_files) {
+            if seen.insert(f.clone()) {
+                files.push(f);
+            }
+        }
+        files
     }
 
     /// Warnings for parameters nothing read; call after the scene builder has consumed the desc.

@@ -414,6 +414,16 @@ impl ParamSet {
         Some(p.loc.base_dir().join(s))
     }
 
+    /// The files this set's parameters name, resolved as [`ParamSet::filename`] does: every
+    /// "string filename" and every spectrum read from a file. Does not mark them used.
+    pub fn named_files(&self) -> impl Iterator<Item = PathBuf> + '_ {
+        self.params.iter().flat_map(|p| match &p.value {
+            ParamValue::String(v) if p.name == "filename" => v.iter().map(|s| p.loc.base_dir().join(s)).collect(),
+            ParamValue::Spectrum(SpectrumParam::File(f)) => vec![f.clone()],
+            _ => Vec::new(),
+        })
+    }
+
     /// A "rgb"/"blackbody"/"spectrum" parameter.
     pub fn spectrum(&self, name: &str) -> Option<&SpectrumParam> {
         self.find(name, |v| match v {

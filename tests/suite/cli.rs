@@ -322,12 +322,16 @@ fn bench_writes_every_output_and_reuses_its_cached_reference() {
 }
 
 #[test]
-fn bench_renders_a_new_reference_after_its_scene_file_changes() {
+fn bench_renders_a_new_reference_after_its_scene_or_a_file_it_reads_changes() {
     let d = tmpdir("bench-scene");
     let scene = d.join("s.pbrt");
     let body = "LookAt 0 0 5  0 0 0  0 1 0\nCamera \"perspective\" \"float fov\" 40\nWorldBegin\n\
-                LightSource \"point\" \"rgb I\" [10 10 10] \"point3 from\" [0 3 3]\nShape \"sphere\"\n";
+                Include \"light.pbrt\"\nShape \"sphere\"\nShape \"objmesh\" \"string filename\" \"tri.obj\"\n";
     std::fs::write(&scene, body).unwrap();
+    let light = "LightSource \"point\" \"rgb I\" [10 10 10] \"point3 from\" [0 3 3]\n";
+    std::fs::write(d.join("light.pbrt"), light).unwrap();
+    let mesh = "v -2 -2 -1\nv 2 -2 -1\nv 0 2 -1\nf 1 2 3\n";
+    std::fs::write(d.join("tri.obj"), mesh).unwrap();
     let out = d.join("out");
     let args = [
         "bench",
@@ -353,4 +357,9 @@ fn bench_renders_a_new_reference_after_its_scene_file_changes() {
     assert!(!rendered(&run(&args)), "an unchanged scene reuses it");
     std::fs::write(&scene, format!("{body}# edited\n")).unwrap();
     assert!(rendered(&run(&args)), "an edited scene file renders a new one");
+    std::fs::write(d.join("light.pbrt"), light.replace("[10 10 10]", "[20 20 20]")).unwrap();
+    assert!(rendered(&run(&args)), "an edited included file renders a new one");
+    assert!(!rendered(&run(&args)), "and the new one is reused");
+    std::fs::write(d.join("tri.obj"), mesh.replace("v 0 2 -1", "v 0 3 -1")).unwrap();
+    assert!(rendered(&run(&args)), "an edited mesh file renders a new one");
 }

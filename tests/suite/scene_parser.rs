@@ -422,6 +422,32 @@ fn include_is_relative_to_the_including_file_and_shares_state() {
 }
 
 #[test]
+fn input_files_are_every_file_the_scene_reads_and_not_the_output() {
+    let d = tmp("inputs");
+    std::fs::create_dir_all(d.join("sub")).unwrap();
+    std::fs::write(
+        d.join("main.pbrt"),
+        "Film \"rgb\" \"string filename\" \"out.exr\"\nWorldBegin\nInclude \"sub/a.pbrt\"\n\
+         Shape \"objmesh\" \"string filename\" \"sub/tri.obj\"\n",
+    )
+    .unwrap();
+    // The included file names its data relative to itself, and names the mesh a second time.
+    std::fs::write(
+        d.join("sub/a.pbrt"),
+        "Material \"diffuse\" \"spectrum reflectance\" \"r.spd\"\nShape \"objmesh\" \"string filename\" \"tri.obj\"\n",
+    )
+    .unwrap();
+    std::fs::write(d.join("sub/tri.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
+    let (s, _) = parse_file(&d.join("main.pbrt"), &ParseOptions::default()).unwrap();
+    let files: Vec<PathBuf> = s.input_files().iter().map(|f| f.strip_prefix(&d).unwrap().to_path_buf()).collect();
+    let expect: Vec<PathBuf> = ["main.pbrt", "sub/a.pbrt", "sub/tri.obj", "sub/r.spd"].map(PathBuf::from).into();
+    assert_eq!(files.len(), expect.len(), "{files:?}");
+    for f in &expect {
+        assert!(files.iter().any(|g| g.components().eq(f.components())), "{f:?} missing from {files:?}");
+    }
+}
+
+#[test]
 fn import_does_not_change_the_importers_state() {
     let d = tmp("import");
     std::fs::write(d.join("main.pbrt"), "WorldBegin\nImport \"part.pbrt\"\nShape \"sphere\"\n").unwrap();

@@ -46,6 +46,7 @@ pub fn parse_file(path: &Path, opts: &ParseOptions) -> Result<(SceneDesc, Vec<Wa
     let text = read_text(path, &loc)?;
     let mut p = Parser::new(opts);
     p.include_stack.push(canonical(path));
+    p.files_read.push(path.to_path_buf());
     p.parse_text(&text, file)?;
     p.finish()
 }
@@ -126,6 +127,8 @@ struct Parser<'o> {
     current_object: Option<ObjectDesc>,
     instances: Vec<(String, Mat4, Location)>,
     include_stack: Vec<PathBuf>,
+    /// Every file read so far: the scene file, then each Include/Import in reading order.
+    files_read: Vec<PathBuf>,
     /// Entries of `stack` below this belong to an importing file: an imported file cannot pop them.
     stack_floor: usize,
     warned_motion: bool,
@@ -167,6 +170,7 @@ impl<'o> Parser<'o> {
             current_object: None,
             instances: Vec::new(),
             include_stack: Vec::new(),
+            files_read: Vec::new(),
             stack_floor: 0,
             warned_motion: false,
             last_loc: None,
@@ -308,6 +312,7 @@ impl<'o> Parser<'o> {
         }
         let text = read_text(&path, &name.loc)?;
         self.include_stack.push(canon);
+        self.files_read.push(path.clone());
         // pbrt-v4 parses an Import'ed file with its own copy of the graphics state (it may run
         // in parallel): its transforms, materials, area lights and coordinate-system names do not
         // leak back, and it cannot close blocks the importer opened. Named materials, textures,
@@ -395,6 +400,7 @@ impl<'o> Parser<'o> {
             textures: self.textures,
             objects: self.objects,
             instances,
+            scene_files: self.files_read,
         };
         Ok((desc, self.warnings))
     }
