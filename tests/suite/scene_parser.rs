@@ -295,6 +295,43 @@ fn render_settings_out_of_range_are_errors_at_their_parameter() {
 }
 
 #[test]
+fn spotlight_angles_out_of_range_are_errors_and_a_delta_wider_than_the_cone_is_clamped() {
+    let spot = |params: &str| format!("WorldBegin\nLightSource \"spot\" {params}");
+    assert_eq!(
+        build_err(&spot("\"float coneangle\" -20")),
+        "<string>:2:20: \"coneangle\" must be in (0, 180] degrees, got -20 (at \"coneangle\")"
+    );
+    assert_eq!(
+        build_err(&spot("\"float coneangle\" 200")),
+        "<string>:2:20: \"coneangle\" must be in (0, 180] degrees, got 200 (at \"coneangle\")"
+    );
+    assert_eq!(
+        build_err(&spot("\"float conedeltaangle\" -1")),
+        "<string>:2:20: \"conedeltaangle\" must be ≥ 0 degrees, got -1 (at \"conedeltaangle\")"
+    );
+    assert_eq!(
+        build_err(&spot("\"float exponent\" -2")),
+        "<string>:2:20: \"exponent\" must be a finite number ≥ 0, got -2 (at \"exponent\")"
+    );
+    // A delta wider than the cone (given, or pbrt-v4's default of 5° under a narrower cone) is
+    // taken as the whole cone, with a warning at the parameter or the directive.
+    let warnings = |s: &str| {
+        let mut w = Vec::new();
+        pbrt::build(&parse(s).0, &mut w).expect("builds");
+        w.iter().map(|w| w.to_string()).collect::<Vec<_>>()
+    };
+    assert_eq!(
+        warnings(&spot("\"float coneangle\" 10 \"float conedelta\" 30")),
+        ["<string>:2:41: warning: \"conedelta\" 30 is larger than \"coneangle\" 10; the falloff spans the whole cone"]
+    );
+    assert_eq!(
+        warnings(&spot("\"float coneangle\" 2")),
+        ["<string>:2:1: warning: \"conedeltaangle\" 5 (the default) is larger than \"coneangle\" 2; the falloff spans the whole cone"]
+    );
+    assert!(warnings(&spot("\"float coneangle\" 180 \"float conedeltaangle\" 180")).is_empty());
+}
+
+#[test]
 fn unknown_types_list_valid_names() {
     assert_eq!(
         err("WorldBegin\nShape \"cube\""),

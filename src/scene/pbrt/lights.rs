@@ -2,7 +2,7 @@
 //! image infinite lights, and the brightness targets (`scale`, pbrt-v4's `power`/`illuminance`,
 //! prism's SI `lumens`/`lux`/`watts`/`irradiance`; docs/radiometry.md).
 
-use super::{space_of, Ctx};
+use super::{param_error, space_of, Ctx};
 use crate::light::photometry::{lumens_per_unit_y, spectral_integral};
 use crate::light::{DistantLight, EnvMapLight, Light, PointLight, SpotFalloff, SpotLight, UniformInfiniteLight};
 use crate::scene::desc::LightDesc;
@@ -71,6 +71,43 @@ impl Ctx<'_> {
         Ok(light)
     }
 
+    /// A spotlight's falloff: Warn's cos^s lobe given "exponent" s ≥ 0 (prism's extension;
+    /// lecture), else pbrt-v4's cone: full intensity out to "coneangle" − "conedeltaangle",
+    /// smoothstep to zero at "coneangle" (degrees; 0 < coneangle ≤ 180, 0 ≤ delta ≤ coneangle).
+    fn spot_falloff(&mut self, p: &ParamSet, loc: &Location) -> Result<SpotFalloff, SceneError> {
+        if let Some(exponent) = p.float("exponent") {
+            if !(exponent >= 0.0 && exponent.is_finite()) {
+                let message = format!("\"exponent\" must be a finite number ≥ 0, got {exponent}");
+                return Err(param_error(p, "exponent", loc, message));
+            }
+            return Ok(SpotFalloff::Warn { exponent });
+        }
+        let cone = p.float_or("coneangle", 30.0);
+        if !(cone > 0.0 && cone <= 180.0) {
+            let message = format!("\"coneangle\" must be in (0, 180] degrees, got {cone}");
+            return Err(param_error(p, "coneangle", loc, message));
+        }
+        // pbrt-v4 spells it "conedeltaangle"; "conedelta" is accepted too.
+        let name = if p.has("conedelta") && !p.has("conedeltaangle") { "conedelta" } else { "conedeltaangle" };
+        let mut delta = p.float(name).unwrap_or(5.0);
+        if !(delta >= 0.0) {
+            return Err(param_error(p, name, loc, format!("\"{name}\" must be ≥ 0 degrees, got {delta}")));
+        }
+        if delta > cone {
+            // pbrt-v4 takes cos(coneangle − delta) as it comes: its falloff then starts at
+            // |coneangle − delta|, and from delta > 2 coneangle on it lights everything outside
+            // the cone and nothing inside it.
+            let at = p.get(name).map_or(loc, |q| &q.loc).clone();
+            let given = if p.has(name) { "" } else { " (the default)" };
+            let message = format!(
+                "\"{name}\" {delta}{given} is larger than \"coneangle\" {cone}; the falloff spans the whole cone"
+            );
+            self.warn(&at, message);
+            delta = cone;
+        }
+        Ok(SpotFalloff::Cone { cos_start: (cone - delta).to_radians().cos(), cos_end: cone.to_radians().cos() })
+    }
+
     pub(super) fn light(&mut self, l: &LightDesc) -> Result<(), SceneError> {
         let p = &l.params;
         let m = l.world_from_light;
@@ -88,19 +125,7 @@ impl Ctx<'_> {
                 let (s, norm) = self.light_spectrum(p, "I", &l.loc)?;
                 let from = m.transform_point3(p.point3("from").unwrap_or(Vec3::ZERO));
                 let to = m.transform_point3(p.point3("to").unwrap_or(Vec3::Z));
-                let falloff = match p.float("exponent") {
-                    // prism's extension: Warn's cos^s spotlight (lecture).
-                    Some(e) => SpotFalloff::Warn { exponent: e.max(0.0) },
-                    None => {
-                        let cone = p.float_or("coneangle", 30.0);
-                        // pbrt-v4 spells it "conedeltaangle"; "conedelta" is accepted too.
-                        let delta = p.float("conedeltaangle").or_else(|| p.float("conedelta")).unwrap_or(5.0);
-                        SpotFalloff::Cone {
-                            cos_start: (cone - delta).to_radians().cos(),
-                            cos_end: cone.to_radians().cos(),
-                        }
-                    }
-                };
+                let falloff = self.spot_falloff(p, &l.loc)?;
                 let k_e = falloff.solid_angle_integral();
                 let sc = scale * norm * brightness_factor(p, FLUX, k_e, Some((&s, norm)), &l.loc)?;
                 let light = SpotLight::new(from, to - from, Arc::new(s), sc, falloff);
