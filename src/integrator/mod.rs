@@ -3,7 +3,7 @@
 mod path;
 pub mod subsurface;
 
-pub use path::{DirectStrategy, PathIntegrator};
+pub use path::{DirectStrategy, PathIntegrator, UNBOUNDED_DEPTH};
 pub use subsurface::SubsurfaceMethod;
 
 /// Counters gathered while rendering (summed over threads).

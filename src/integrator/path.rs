@@ -26,10 +26,13 @@ pub enum DirectStrategy {
     BsdfOnly,
 }
 
+/// A `max_depth` of no limit: Russian roulette alone ends paths.
+pub const UNBOUNDED_DEPTH: u32 = u32::MAX;
+
 /// The path tracer's settings.
 #[derive(Clone, Copy, Debug)]
 pub struct PathIntegrator {
-    /// Maximum number of scattering events.
+    /// Maximum number of scattering events, or [`UNBOUNDED_DEPTH`].
     pub max_depth: u32,
     /// Depth from which Russian roulette may end paths.
     pub rr_depth: u32,
@@ -183,10 +186,15 @@ impl PathIntegrator {
                 break;
             }
 
-            // Russian roulette on the throughput with the radiance-scaling of refraction undone.
+            // Russian roulette on the throughput with the radiance-scaling of refraction undone:
+            // survival min(max β, 1) (pbrt-v4). With no depth limit, a path whose throughput
+            // stays ≥ 1 (a closed white room) must still end, so survival is at most 0.95 there
+            // (Mitsuba 3's rule).
             let rr_beta = beta * eta_scale;
-            if depth >= self.rr_depth && rr_beta.max_value() < 1.0 {
-                let q = (1.0 - rr_beta.max_value()).max(0.0);
+            let cap = if self.max_depth == UNBOUNDED_DEPTH { 0.95 } else { 1.0 };
+            let survival = rr_beta.max_value().min(cap);
+            if depth >= self.rr_depth && survival < 1.0 {
+                let q = (1.0 - survival).max(0.0);
                 if sampler.get_1d() < q {
                     break;
                 }

@@ -18,6 +18,7 @@ use super::params::{FloatOrTexture, ParamSet, SpectrumOrTexture, SpectrumParam};
 use super::{CameraDesc, Emission, SceneBuilder};
 use crate::bsdf::{ior, metals};
 use crate::film::Crop;
+use crate::integrator::UNBOUNDED_DEPTH;
 use crate::geometry::Mesh;
 use crate::material::{FloatTexture, ImageTexture, Ior, Material, ReflectanceImage, Roughness, SpectrumTexture};
 use crate::spectrum::{ColorSpace, RgbKind, Spectrum};
@@ -92,6 +93,20 @@ impl Ctx<'_> {
         self.warnings.push(Warning { loc: loc.clone(), message });
     }
 
+    /// Integrator "maxdepth": a depth ≥ 0, or −1 for no limit (Mitsuba's convention; pbrt-v4's
+    /// loop never reaches a negative depth either).
+    fn max_depth(&self) -> Result<Option<u32>, SceneError> {
+        let (params, loc) = (&self.desc.integrator.params, &self.desc.integrator.loc);
+        match params.int("maxdepth") {
+            Some(-1) => Ok(Some(UNBOUNDED_DEPTH)),
+            Some(n) if n < 0 => {
+                let message = format!("\"maxdepth\" must be at least 0, or -1 for no limit, got {n}");
+                Err(param_error(params, "maxdepth", loc, message))
+            }
+            n => Ok(n.map(|n| n as u32)),
+        }
+    }
+
     fn camera(&mut self) -> Result<(), SceneError> {
         let c = &self.desc.camera;
         let p = &c.directive.params;
@@ -161,7 +176,7 @@ impl Ctx<'_> {
             resolution,
             filename: film.string("filename").map(Into::into),
             spp: count(&d.sampler.params, "pixelsamples", &d.sampler.loc, 1)?.map(|n| n as u64),
-            max_depth: count(&d.integrator.params, "maxdepth", &d.integrator.loc, 0)?.map(|n| n as u32),
+            max_depth: self.max_depth()?,
             filter: Some(d.filter.kind.clone()),
             sampler: Some(sampler.to_string()),
             seed: d.sampler.params.int("seed").or_else(|| d.options.int("seed")).map(|s| s as u64),

@@ -33,6 +33,7 @@ fn bad_input_gets_one_clear_line() {
     assert_clean_error(&["render", "--resolution", "0x64", "-o", out], "resolution must be positive");
     assert_clean_error(&["render", "--resolution", "-4x64", "-o", out], "resolution must be positive");
     assert_clean_error(&["render", "--threads", "0", "-o", out], "--threads must be at least 1");
+    assert_clean_error(&["render", "--max-depth", "-2", "-o", out], "--max-depth must be at least 0, or -1 for no limit");
     assert_clean_error(&["measure", "radiance", "--at", "0,0,0", "--dir", "0,0,0"], "--dir must not be zero");
     assert_clean_error(&["measure", "irradiance", "--at", "0,0", "--normal", "0,0,1"], "--at '0,0' is not three");
     assert!(!Path::new(out).exists(), "no image may be written on error");

@@ -6,8 +6,9 @@
 use glam::{Mat4, Vec3};
 use prism::accel::AccelKind;
 use prism::camera::Camera;
-use prism::geometry::shapes::quad;
-use prism::integrator::{DirectStrategy, PathIntegrator, Stats};
+use prism::geometry::shapes::{icosphere, quad};
+use prism::geometry::Mesh;
+use prism::integrator::{DirectStrategy, PathIntegrator, Stats, UNBOUNDED_DEPTH};
 use prism::light::photometry::{lumens_per_unit_y, radiant_flux_from_lumens};
 use prism::light::{AreaLight, DistantLight, Light, PointLight, SpotFalloff, SpotLight, UniformInfiniteLight};
 use prism::material::Material;
@@ -235,6 +236,54 @@ fn lambertian_reflector_radiance_is_rho_e_over_pi() {
         let m = prism::measure::radiance(&scene, &direct(), Vec3::new(0.3, 0.0, 0.2), dir, 2_000, 6);
         assert_close(&format!("L toward {dir}"), m.radiance, expected * 470.0);
     }
+}
+
+#[test]
+fn closed_glowing_room_sends_le_over_one_minus_rho_with_no_depth_limit() {
+    // Inside a closed shape whose walls all emit L_e and reflect ρ (Lambertian), every ray sees
+    // L = L_e Σ ρ^k: L_e (1 − ρ^(d+1)) / (1 − ρ) with at most d scattering events, and
+    // L_e / (1 − ρ) with no limit. Russian roulette renormalises the throughput to 1, so with
+    // ρ = 0.97 the paths survive with min(0.97, 0.95): no limit is estimated through the cap.
+    let (le, rho) = (2.0f32, 0.97f64);
+    let mut b = builder();
+    let m = b.add_material(Material::diffuse(Spectrum::constant(rho as f32)));
+    let glow = Emission { spectrum: Spectrum::constant(1.0), scale: le, two_sided: true };
+    // Flat faces: with the interpolated normals a few sampled directions would cross the walls.
+    b.add_mesh(Mesh { normals: None, ..icosphere(Vec3::ZERO, 1.0, 2) }, m, Some(glow));
+    let scene = build(b);
+    let truncated = |d: i32| (1.0 - rho.powi(d + 1)) / (1.0 - rho);
+    for (max_depth, sum) in [(1, truncated(1)), (8, truncated(8)), (UNBOUNDED_DEPTH, 1.0 / (1.0 - rho))] {
+        let integ = PathIntegrator { max_depth, ..Default::default() };
+        let m = prism::measure::radiance(&scene, &integ, Vec3::ZERO, Vec3::X, 20_000, 8);
+        // Flat spectra: the measured radiance is integrated over 360–830 nm.
+        assert_close(&format!("max depth {max_depth}"), m.radiance, le as f64 * sum * 470.0);
+    }
+}
+
+#[test]
+fn with_no_depth_limit_paths_in_a_closed_white_room_still_end() {
+    // ρ = 1 keeps the throughput at 1 forever, so only the 0.95 survival cap ends a path: from
+    // the Russian-roulette depth 3 on, each bounce continues with probability 0.95, and a path
+    // casts 1 + 2 + Σ_{k≥1} 0.95^k = 22 rays on average (no lights: no shadow rays).
+    let mut b = builder();
+    let white = b.add_material(Material::diffuse(Spectrum::constant(1.0)));
+    b.add_mesh(Mesh { normals: None, ..icosphere(Vec3::ZERO, 1.0, 1) }, white, None);
+    let scene = build(b);
+    let integ = PathIntegrator { max_depth: UNBOUNDED_DEPTH, ..Default::default() };
+    let (mut sampler, n) = (Sampler::independent(), 4000u64);
+    let (mut sum, mut sum2) = (0.0f64, 0.0f64);
+    for i in 0..n {
+        let mut stats = Stats::default();
+        sampler.start_pixel_sample((0, 0), i, 17);
+        let mut w = SampledWavelengths::sample_visible(sampler.get_1d());
+        let ray = prism::geometry::Ray::new(Vec3::ZERO, Vec3::new(0.3, 0.5, 0.8));
+        assert!(integ.li(&scene, ray, &mut w, &mut sampler, &mut stats).is_black());
+        sum += stats.rays as f64;
+        sum2 += (stats.rays * stats.rays) as f64;
+    }
+    let mean = sum / n as f64;
+    let se = ((sum2 / n as f64 - mean * mean) / n as f64).sqrt();
+    assert!((mean - 22.0).abs() < 4.0 * se, "{mean} ± {se} rays per path, expected 22");
 }
 
 // ---- Photometric targets: pbrt-v4's `power`/`illuminance`, prism's `lumens`/`lux` ----

@@ -268,7 +268,7 @@ fn build_err(s: &str) -> String {
 
 #[test]
 fn render_settings_out_of_range_are_errors_at_their_parameter() {
-    // prism used to clamp these silently (0 spp to 1, depth -1 to 0, a 0-pixel side to 1).
+    // prism used to clamp these silently (0 spp to 1, depth -2 to 0, a 0-pixel side to 1).
     assert_eq!(
         build_err("Film \"rgb\" \"integer xresolution\" 0\nWorldBegin"),
         "<string>:1:12: \"xresolution\" must be at least 1, got 0 (at \"xresolution\")"
@@ -278,9 +278,13 @@ fn render_settings_out_of_range_are_errors_at_their_parameter() {
         "<string>:2:3: \"pixelsamples\" must be at least 1, got -4 (at \"pixelsamples\")"
     );
     assert_eq!(
-        build_err("Integrator \"path\" \"integer maxdepth\" -1\nWorldBegin"),
-        "<string>:1:19: \"maxdepth\" must be at least 0, got -1 (at \"maxdepth\")"
+        build_err("Integrator \"path\" \"integer maxdepth\" -2\nWorldBegin"),
+        "<string>:1:19: \"maxdepth\" must be at least 0, or -1 for no limit, got -2 (at \"maxdepth\")"
     );
+    // -1 is no limit, as in Mitsuba 3 (and pbrt-v4, whose depth never reaches it).
+    let (_, settings) =
+        pbrt::build(&parse("Integrator \"path\" \"integer maxdepth\" -1\nWorldBegin").0, &mut Vec::new()).unwrap();
+    assert_eq!(settings.max_depth, Some(prism::integrator::UNBOUNDED_DEPTH));
     for fov in ["0", "180", "-30"] {
         assert_eq!(
             build_err(&format!("Camera \"perspective\" \"float fov\" {fov}\nWorldBegin")),
