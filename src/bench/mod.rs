@@ -5,10 +5,12 @@
 mod plot;
 mod run_info;
 mod terrain;
+mod time_to_error;
 
 pub use plot::{plot_error_vs_time, plot_rays_per_s};
 pub use run_info::RunInfo;
 pub use terrain::{terrain_scene, TERRAIN_TRIANGLES};
+pub use time_to_error::{default_target, time_to, times_to_rmse, Reading, TimeToRmse};
 
 use crate::accel::AccelKind;
 use crate::cli::render::film_to_image;
@@ -82,6 +84,8 @@ pub struct BenchConfig {
     pub resolution: (u32, u32),
     /// Maximum path depth.
     pub max_depth: u32,
+    /// RMSEs to report each curve's time to (empty: [`default_target`]).
+    pub target_rmse: Vec<f64>,
 }
 
 /// Resident set size (current, peak) of this process [bytes], from /proc/self/status.
@@ -251,7 +255,12 @@ pub fn run(cfg: &BenchConfig) -> Result<Vec<BenchPoint>> {
             }
         }
     }
-    write_outputs(&cfg.out, &points, &info)?;
+    let targets = if cfg.target_rmse.is_empty() {
+        default_target(&points).into_iter().collect()
+    } else {
+        cfg.target_rmse.clone()
+    };
+    write_outputs(&cfg.out, &points, &targets, &info)?;
     Ok(points)
 }
 
@@ -296,8 +305,9 @@ pub fn markdown_table(points: &[BenchPoint]) -> String {
     t
 }
 
-/// Writes bench.csv, bench.json, bench.md (headed by `info`), run.json and the plots into `dir`.
-pub fn write_outputs(dir: &Path, points: &[BenchPoint], info: &RunInfo) -> Result<()> {
+/// Writes bench.csv, bench.json, time_to_rmse.json (each curve's time to each of `targets`),
+/// bench.md (headed by `info`), run.json and the plots into `dir`.
+pub fn write_outputs(dir: &Path, points: &[BenchPoint], targets: &[f64], info: &RunInfo) -> Result<()> {
     let mut csv = String::from(
         "accel,sampler,spp,time_s,samples_per_s,rays_per_s,build_s,scene_bytes,triangles,accel_bytes,build_peak_bytes,peak_rss_bytes,rmse,rel_mse,mae\n",
     );
@@ -324,7 +334,13 @@ pub fn write_outputs(dir: &Path, points: &[BenchPoint], info: &RunInfo) -> Resul
     crate::io::write_atomic(&dir.join("bench.csv"), csv.as_bytes())?;
     crate::io::write_atomic(&dir.join("bench.json"), serde_json::to_string_pretty(points)?.as_bytes())?;
     crate::io::write_atomic(&dir.join("run.json"), serde_json::to_string_pretty(info)?.as_bytes())?;
-    let md = format!("{}\n{}", info.markdown(), markdown_table(points));
+    let times = times_to_rmse(points, targets);
+    for t in &times {
+        let how = if t.reading == Reading::Extrapolated { " (extrapolated)" } else { "" };
+        eprintln!("bench: {:6} {:11} reaches RMSE {:.3e} in {:.3} s{how}", t.accel, t.sampler, t.target_rmse, t.time_s);
+    }
+    crate::io::write_atomic(&dir.join("time_to_rmse.json"), serde_json::to_string_pretty(&times)?.as_bytes())?;
+    let md = format!("{}\n{}\n{}", info.markdown(), markdown_table(points), time_to_error::markdown(&times));
     crate::io::write_atomic(&dir.join("bench.md"), md.as_bytes())?;
     for ext in ["png", "svg"] {
         plot_error_vs_time(points, &dir.join(format!("error_vs_time.{ext}")))?;

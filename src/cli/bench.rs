@@ -37,6 +37,10 @@ pub struct BenchArgs {
     /// Maximum path depth.
     #[arg(long, default_value_t = 8)]
     pub max_depth: u32,
+    /// Target RMSEs, comma separated: bench.md and time_to_rmse.json give each curve's time to
+    /// each [default: the lowest RMSE every curve reaches].
+    #[arg(long)]
+    pub target_rmse: Option<String>,
     /// Worker threads (default: all cores).
     #[arg(long)]
     pub threads: Option<usize>,
@@ -62,6 +66,13 @@ pub fn run(a: &BenchArgs) -> Result<()> {
         positive(s.parse::<u64>().with_context(|| format!("--spp-ladder: '{s}' is not a count"))?, "--spp-ladder")
     })?;
     positive(a.reference_spp, "--reference-spp")?;
+    let target_rmse = match &a.target_rmse {
+        None => Vec::new(),
+        Some(t) => list(t, "--target-rmse", |s| match s.parse::<f64>() {
+            Ok(x) if x > 0.0 && x.is_finite() => Ok(x),
+            _ => bail!("--target-rmse: '{s}' is not a positive number"),
+        })?,
+    };
     let pool = super::worker_pool(a.threads)?;
     let (w, h) = a
         .resolution
@@ -79,10 +90,11 @@ pub fn run(a: &BenchArgs) -> Result<()> {
         out: a.out.clone(),
         resolution: (w, h),
         max_depth: a.max_depth,
+        target_rmse,
     };
     pool.install(|| bench::run(&cfg))?;
     eprintln!(
-        "bench: wrote bench.csv, bench.json, bench.md, run.json, error_vs_time.{{png,svg}}, rays_per_s.{{png,svg}} in {}",
+        "bench: wrote bench.csv, bench.json, time_to_rmse.json, bench.md, run.json, error_vs_time.{{png,svg}}, rays_per_s.{{png,svg}} in {}",
         a.out.display()
     );
     Ok(())

@@ -258,7 +258,9 @@ pub fn prepare(args: &RenderArgs) -> Result<Job> {
 fn max_depth_arg(d: i64) -> Result<u32> {
     match d {
         -1 => Ok(UNBOUNDED_DEPTH),
-        d => u32::try_from(d).map_err(|_| anyhow::anyhow!("--max-depth must be at least 0, or -1 for no limit, got {d}")),
+        d => {
+            u32::try_from(d).map_err(|_| anyhow::anyhow!("--max-depth must be at least 0, or -1 for no limit, got {d}"))
+        }
     }
 }
 

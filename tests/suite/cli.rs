@@ -33,7 +33,10 @@ fn bad_input_gets_one_clear_line() {
     assert_clean_error(&["render", "--resolution", "0x64", "-o", out], "resolution must be positive");
     assert_clean_error(&["render", "--resolution", "-4x64", "-o", out], "resolution must be positive");
     assert_clean_error(&["render", "--threads", "0", "-o", out], "--threads must be at least 1");
-    assert_clean_error(&["render", "--max-depth", "-2", "-o", out], "--max-depth must be at least 0, or -1 for no limit");
+    assert_clean_error(
+        &["render", "--max-depth", "-2", "-o", out],
+        "--max-depth must be at least 0, or -1 for no limit",
+    );
     assert_clean_error(&["measure", "radiance", "--at", "0,0,0", "--dir", "0,0,0"], "--dir must not be zero");
     assert_clean_error(&["measure", "irradiance", "--at", "0,0", "--normal", "0,0,1"], "--at '0,0' is not three");
     assert!(!Path::new(out).exists(), "no image may be written on error");
@@ -44,6 +47,10 @@ fn bad_input_gets_one_clear_line() {
     assert_clean_error(&["bench", "--reference-spp", "0", "--out", bench_out_s], "--reference-spp must be positive");
     assert_clean_error(&["bench", "--spp-ladder", "1,0", "--out", bench_out_s], "--spp-ladder must be positive");
     assert_clean_error(&["bench", "--threads", "0", "--out", bench_out_s], "--threads must be at least 1");
+    assert_clean_error(
+        &["bench", "--target-rmse", "0.01,-1", "--out", bench_out_s],
+        "--target-rmse: '-1' is not a positive",
+    );
     assert!(!bench_out.exists(), "bench must fail before rendering anything");
     let sss_out = d.join("sss");
     let sss = |extra: &[&str], needle: &str| {
@@ -298,6 +305,20 @@ fn bench_writes_every_output_and_reuses_its_cached_reference() {
         // Every sample traces at least its camera ray.
         assert!(f("samples_per_s") > 0.0 && f("rays_per_s") >= f("samples_per_s"), "{p}");
     }
+    // The default target is the lowest RMSE every curve reaches, so each curve reaches it no
+    // later than its last ladder point.
+    let times = json("time_to_rmse.json");
+    let times = times.as_array().unwrap();
+    assert_eq!(times.len(), n_accels * 2, "one time per curve: {times:?}");
+    for t in times {
+        let curve = points.iter().filter(|p| p["accel"] == t["accel"] && p["sampler"] == t["sampler"]);
+        let (last_time, best) = curve.fold((0.0f64, f64::MAX), |(lt, b), p| {
+            (lt.max(p["time_s"].as_f64().unwrap()), b.min(p["rmse"].as_f64().unwrap()))
+        });
+        let (target, time) = (t["target_rmse"].as_f64().unwrap(), t["time_s"].as_f64().unwrap());
+        assert!(target >= best && time > 0.0 && time <= last_time * (1.0 + 1e-9), "{t} of {points:?}");
+    }
+    assert!(std::fs::read_to_string(out.join("bench.md")).unwrap().contains("time to RMSE"));
     for sampler in ["independent", "sobol"] {
         // 16× the samples: Monte Carlo error falls ~4× (more with Sobol); 2× leaves room for the
         // noise of a 384-pixel RMSE and of the 64-spp reference.
@@ -319,6 +340,18 @@ fn bench_writes_every_output_and_reuses_its_cached_reference() {
     let again = json("bench.json");
     for (a, b) in points.iter().zip(again.as_array().unwrap()) {
         assert_eq!(a["rmse"], b["rmse"]);
+    }
+    // Targets given: a tighter one takes every curve longer.
+    let third = run(&[&args[..], &["--target-rmse", "0.5,0.05"]].concat());
+    assert!(third.status.success(), "{}", stderr(&third));
+    let times = json("time_to_rmse.json");
+    let time = |t: &serde_json::Value, target: f64| {
+        let same = |u: &&serde_json::Value| u["accel"] == t["accel"] && u["sampler"] == t["sampler"];
+        let at = times.as_array().unwrap().iter().filter(same).find(|u| u["target_rmse"] == target);
+        at.unwrap_or_else(|| panic!("no time to {target} in {times}"))["time_s"].as_f64().unwrap()
+    };
+    for t in times.as_array().unwrap() {
+        assert!(time(t, 0.05) > time(t, 0.5), "{times}");
     }
 }
 

@@ -90,7 +90,7 @@ impl Ctx<'_> {
         // pbrt-v4 spells it "conedeltaangle"; "conedelta" is accepted too.
         let name = if p.has("conedelta") && !p.has("conedeltaangle") { "conedelta" } else { "conedeltaangle" };
         let mut delta = p.float(name).unwrap_or(5.0);
-        if !(delta >= 0.0) {
+        if delta.is_nan() || delta < 0.0 {
             return Err(param_error(p, name, loc, format!("\"{name}\" must be ≥ 0 degrees, got {delta}")));
         }
         if delta > cone {
