@@ -3,14 +3,18 @@
 //! load changes hit all of them alike; each pass gives one throughput per backend, and the
 //! ratios are reported as the median (and range) over passes.
 //!
-//! One thread: each chunk is timed by the thread's CPU time (`/proc/thread-self/schedstat`),
-//! which excludes time the thread spent descheduled. Two threads: the chunk is split over a
+//! One thread: each chunk is timed by the thread's CPU time (`CLOCK_THREAD_CPUTIME_ID`), which
+//! excludes time the thread spent descheduled. (`/proc/thread-self/schedstat`, used until
+//! session 8, lags by up to a scheduler tick, longer than a chunk takes: its per-pass ratios
+//! spread over a factor 2–4.) Two threads: the chunk is split over a
 //! 2-thread rayon pool and timed by the wall clock.
 //!
 //! `cargo bench --bench accel_ratio` (release profile). `PRISM_BENCH_PASSES` (default 8),
 //! `PRISM_BENCH_SCALE` as in `accel.rs`.
 
 use std::time::Instant;
+
+use cpu_time::ThreadTime;
 
 use prism::accel::{Accel, AccelKind};
 use prism::geometry::{Mesh, Ray};
@@ -21,12 +25,6 @@ use common::{coherent_rays, incoherent_rays, scene, RAYS};
 
 /// Rays per interleaved chunk.
 const CHUNK: usize = 4096;
-
-/// This thread's time on a CPU [ns] (first field of /proc/thread-self/schedstat).
-fn thread_cpu_ns() -> u64 {
-    let s = std::fs::read_to_string("/proc/thread-self/schedstat").expect("/proc/thread-self/schedstat");
-    s.split_whitespace().next().and_then(|x| x.parse().ok()).expect("schedstat format")
-}
 
 #[derive(Clone, Copy)]
 enum Query {
@@ -58,9 +56,9 @@ fn pass(
             let accel = backends[b].1.as_ref();
             match pool {
                 None => {
-                    let t0 = thread_cpu_ns();
+                    let t0 = ThreadTime::now();
                     hits[b] += run(accel, chunk, q);
-                    secs[b] += (thread_cpu_ns() - t0) as f64 * 1e-9;
+                    secs[b] += t0.elapsed().as_secs_f64();
                 }
                 Some(pool) => {
                     let t0 = Instant::now();
