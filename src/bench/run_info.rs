@@ -3,6 +3,7 @@
 //! head of `bench.md`).
 
 use super::BenchConfig;
+use crate::integrator::UNBOUNDED_DEPTH;
 use std::time::{SystemTime, UNIX_EPOCH};
 
 /// The context of one `prism bench` run.
@@ -24,8 +25,8 @@ pub struct RunInfo {
     pub scene: String,
     /// Image size [pixels].
     pub resolution: (u32, u32),
-    /// Maximum path depth.
-    pub max_depth: u32,
+    /// Maximum path depth (-1: no limit).
+    pub max_depth: i64,
     /// The reference image, or the spp of the rendered one.
     pub reference: String,
 }
@@ -57,7 +58,7 @@ impl RunInfo {
             started_utc: iso8601_utc(since_epoch),
             scene: cfg.scene.as_ref().map_or("builtin:cornell".into(), |p| p.display().to_string()),
             resolution: cfg.resolution,
-            max_depth: cfg.max_depth,
+            max_depth: if cfg.max_depth == UNBOUNDED_DEPTH { -1 } else { cfg.max_depth as i64 },
             reference: match &cfg.reference {
                 Some(p) => p.display().to_string(),
                 None => format!("rendered at {} spp (Sobol)", cfg.reference_spp),

@@ -34,9 +34,9 @@ pub struct BenchArgs {
     /// Image size as WxH.
     #[arg(long, default_value = "256x256")]
     pub resolution: String,
-    /// Maximum path depth.
-    #[arg(long, default_value_t = 8)]
-    pub max_depth: u32,
+    /// Maximum path depth, or -1 for no limit.
+    #[arg(long, default_value_t = 8, allow_negative_numbers = true)]
+    pub max_depth: i64,
     /// Target RMSEs, comma separated: bench.md and time_to_rmse.json give each curve's time to
     /// each [default: the lowest RMSE every curve reaches].
     #[arg(long)]
@@ -89,7 +89,7 @@ pub fn run(a: &BenchArgs) -> Result<()> {
         reference_spp: a.reference_spp,
         out: a.out.clone(),
         resolution: (w, h),
-        max_depth: a.max_depth,
+        max_depth: super::max_depth(a.max_depth)?,
         target_rmse,
     };
     pool.install(|| bench::run(&cfg))?;

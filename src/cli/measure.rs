@@ -42,9 +42,9 @@ pub struct Instrument {
     /// Seed.
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
-    /// Maximum path depth.
-    #[arg(long, default_value_t = 8)]
-    pub max_depth: u32,
+    /// Maximum path depth, or -1 for no limit.
+    #[arg(long, default_value_t = 8, allow_negative_numbers = true)]
+    pub max_depth: i64,
     /// Print JSON instead of text.
     #[arg(long)]
     pub json: bool,
@@ -76,12 +76,13 @@ pub fn run(cmd: &MeasureCommand) -> Result<()> {
     if a.samples < 2 {
         bail!("--samples must be at least 2 (a standard error needs two)");
     }
+    let max_depth = super::max_depth(a.max_depth)?;
     let builder = match &a.scene {
         None => SceneBuilder::cornell_box(),
         Some(path) => super::render::load_scene_file(path, false)?.0,
     };
     let scene = builder.build(AccelKind::default_available()).context("building the scene")?;
-    let integrator = PathIntegrator { max_depth: a.max_depth, ..Default::default() };
+    let integrator = PathIntegrator { max_depth, ..Default::default() };
     // (radiometric name, estimate, unit), (photometric ...), samples, JSON.
     let ((rn, re, ru), (pn, pe, pu), samples, json) = match cmd {
         MeasureCommand::Radiance { .. } => {

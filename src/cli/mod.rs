@@ -29,3 +29,13 @@ fn positive<T: Default + PartialEq>(n: T, flag: &str) -> anyhow::Result<T> {
     }
     Ok(n)
 }
+
+/// `--max-depth`: a depth ≥ 0, or -1 for no limit ([`crate::integrator::UNBOUNDED_DEPTH`]).
+fn max_depth(d: i64) -> anyhow::Result<u32> {
+    match d {
+        -1 => Ok(crate::integrator::UNBOUNDED_DEPTH),
+        d => {
+            u32::try_from(d).map_err(|_| anyhow::anyhow!("--max-depth must be at least 0, or -1 for no limit, got {d}"))
+        }
+    }
+}

@@ -5,7 +5,7 @@ use crate::film::{Crop, Film, FilmAllocError, FilmSettings};
 use crate::filter::Filter;
 use crate::image::Image;
 use crate::image::{CropWindow, WriteOptions};
-use crate::integrator::{PathIntegrator, Stats, SubsurfaceMethod, UNBOUNDED_DEPTH};
+use crate::integrator::{PathIntegrator, Stats, SubsurfaceMethod};
 use crate::render::{RenderSettings, SamplerKind};
 use crate::scene::pbrt::FileSettings;
 use crate::scene::{Scene, SceneBuilder};
@@ -230,7 +230,7 @@ pub fn prepare(args: &RenderArgs) -> Result<Job> {
     let t0 = Instant::now();
     let scene = builder.build(accel).context("building the scene")?;
     let build_s = t0.elapsed().as_secs_f64();
-    let max_depth = args.max_depth.map(max_depth_arg).transpose()?.or(file.max_depth).unwrap_or(8);
+    let max_depth = args.max_depth.map(super::max_depth).transpose()?.or(file.max_depth).unwrap_or(8);
     let sss = SubsurfaceMethod::parse(&args.sss).map_err(anyhow::Error::msg)?;
     let integrator = PathIntegrator { max_depth, sss, ..Default::default() };
     let resolution = resolution.or(file.resolution).unwrap_or((256, 256));
@@ -252,16 +252,6 @@ pub fn prepare(args: &RenderArgs) -> Result<Job> {
         time_limit,
     };
     Ok(Job { scene, settings, output, space, build_s })
-}
-
-/// `--max-depth`: a depth ≥ 0, or -1 for [`UNBOUNDED_DEPTH`].
-fn max_depth_arg(d: i64) -> Result<u32> {
-    match d {
-        -1 => Ok(UNBOUNDED_DEPTH),
-        d => {
-            u32::try_from(d).map_err(|_| anyhow::anyhow!("--max-depth must be at least 0, or -1 for no limit, got {d}"))
-        }
-    }
 }
 
 /// Parses a pbrt-v4 file and maps it onto a builder, printing its warnings.

@@ -51,6 +51,9 @@ fn bad_input_gets_one_clear_line() {
         &["bench", "--target-rmse", "0.01,-1", "--out", bench_out_s],
         "--target-rmse: '-1' is not a positive",
     );
+    let depth = "--max-depth must be at least 0, or -1";
+    assert_clean_error(&["bench", "--max-depth", "-2", "--out", bench_out_s], depth);
+    assert_clean_error(&["measure", "radiance", "--at", "0,0,0", "--dir", "0,0,1", "--max-depth", "-2"], depth);
     assert!(!bench_out.exists(), "bench must fail before rendering anything");
     let sss_out = d.join("sss");
     let sss = |extra: &[&str], needle: &str| {
