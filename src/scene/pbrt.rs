@@ -129,8 +129,8 @@ impl Ctx<'_> {
     fn settings(&mut self) -> Result<FileSettings, SceneError> {
         let d = self.desc;
         let film = &d.film.params;
-        // Counts must be positive and a depth non-negative; clamping them silently would render
-        // something other than what the file says.
+        // Counts must be positive (the depth has its own rule); clamping them silently would
+        // render something other than what the file says.
         let count = |params: &ParamSet, name: &str, loc: &Location, min: i32| match params.int(name) {
             Some(n) if n < min => {
                 let message = format!("\"{name}\" must be at least {min}, got {n}");
