@@ -301,22 +301,17 @@ fn render_settings_out_of_range_are_errors_at_their_parameter() {
 #[test]
 fn spotlight_angles_out_of_range_are_errors_and_a_delta_wider_than_the_cone_is_clamped() {
     let spot = |params: &str| format!("WorldBegin\nLightSource \"spot\" {params}");
-    assert_eq!(
-        build_err(&spot("\"float coneangle\" -20")),
-        "<string>:2:20: \"coneangle\" must be in (0, 180] degrees, got -20 (at \"coneangle\")"
-    );
-    assert_eq!(
-        build_err(&spot("\"float coneangle\" 200")),
-        "<string>:2:20: \"coneangle\" must be in (0, 180] degrees, got 200 (at \"coneangle\")"
-    );
-    assert_eq!(
-        build_err(&spot("\"float conedeltaangle\" -1")),
-        "<string>:2:20: \"conedeltaangle\" must be ≥ 0 degrees, got -1 (at \"conedeltaangle\")"
-    );
-    assert_eq!(
-        build_err(&spot("\"float exponent\" -2")),
-        "<string>:2:20: \"exponent\" must be a finite number ≥ 0, got -2 (at \"exponent\")"
-    );
+    for (param, value, rule) in [
+        ("coneangle", "-20", "must be in (0, 180] degrees"),
+        ("coneangle", "200", "must be in (0, 180] degrees"),
+        ("conedeltaangle", "-1", "must be ≥ 0 degrees"),
+        ("exponent", "-2", "must be a finite number ≥ 0"),
+    ] {
+        assert_eq!(
+            build_err(&spot(&format!("\"float {param}\" {value}"))),
+            format!("<string>:2:20: \"{param}\" {rule}, got {value} (at \"{param}\")")
+        );
+    }
     // A delta wider than the cone (given, or pbrt-v4's default of 5° under a narrower cone) is
     // taken as the whole cone, with a warning at the parameter or the directive.
     let warnings = |s: &str| {
