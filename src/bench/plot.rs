@@ -228,15 +228,8 @@ mod tests {
             time_s,
             samples_per_s: 1e6,
             rays_per_s: 4e6,
-            build_s: 0.0,
-            scene_bytes: 0,
-            triangles: 0,
-            accel_bytes: 0,
-            build_peak_bytes: 0,
-            peak_rss_bytes: 0,
             rmse,
-            rel_mse: 0.0,
-            mae: 0.0,
+            ..Default::default()
         }
     }
 

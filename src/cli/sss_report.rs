@@ -130,17 +130,10 @@ pub fn run(a: &SssReportArgs) -> Result<()> {
                         sampler: method.name().to_string(),
                         spp,
                         time_s,
-                        samples_per_s: 0.0,
-                        rays_per_s: 0.0,
-                        build_s: 0.0,
-                        scene_bytes: 0,
-                        peak_rss_bytes: 0,
-                        triangles: 0,
-                        accel_bytes: 0,
-                        build_peak_bytes: 0,
                         rmse: m.rmse,
                         rel_mse: m.rel_mse,
                         mae: m.mae,
+                        ..Default::default()
                     };
                     shape_points.push(p.clone());
                     points.push((shape.name(), p));

@@ -307,6 +307,8 @@ fn bench_writes_every_output_and_reuses_its_cached_reference() {
         let f = |k: &str| p[k].as_f64().unwrap();
         // Every sample traces at least its camera ray.
         assert!(f("samples_per_s") > 0.0 && f("rays_per_s") >= f("samples_per_s"), "{p}");
+        // The accelerator's own count of its bytes: at least its triangles' 36 bytes of vertices.
+        assert!(f("accel_own_bytes") >= 36.0 * f("triangles") && f("triangles") > 0.0, "{p}");
     }
     // The default target is the lowest RMSE every curve reaches, so each curve reaches it no
     // later than its last ladder point.
