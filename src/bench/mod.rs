@@ -136,11 +136,20 @@ fn settings(cfg: &BenchConfig, spp: u64, sampler: SamplerKind, seed: u64) -> Ren
     }
 }
 
-fn render_image(scene: &Scene, s: &RenderSettings) -> Result<(Image, f64, crate::integrator::Stats)> {
+/// Renders `s` and returns the image, its render time [s] and the statistics, calling
+/// `progress(samples per pixel done)` after each pass.
+fn render_image(
+    scene: &Scene,
+    s: &RenderSettings,
+    mut progress: impl FnMut(u64),
+) -> Result<(Image, f64, crate::integrator::Stats)> {
     let t0 = Instant::now();
     let (w, h) = s.film_size();
     let mut film = crate::film::Film::try_new(w, h)?;
-    let stats = render_range(scene, s, &mut film, 0..s.spp, |_, _| true);
+    let stats = render_range(scene, s, &mut film, 0..s.spp, |_, done| {
+        progress(done);
+        true
+    });
     Ok((film_to_image(&film, ColorSpace::srgb())?, t0.elapsed().as_secs_f64(), stats))
 }
 
@@ -191,7 +200,11 @@ fn reference(cfg: &BenchConfig) -> Result<Image> {
     }
     eprintln!("bench: rendering a reference at {} spp (cached in {})", cfg.reference_spp, path.display());
     let scene = load(cfg)?.build(AccelKind::default_available())?;
-    let (img, _, _) = render_image(&scene, &settings(cfg, cfg.reference_spp, SamplerKind::Sobol, 0xfeed))?;
+    let bar = crate::cli::spp_progress_bar(cfg.reference_spp);
+    let (img, _, _) = render_image(&scene, &settings(cfg, cfg.reference_spp, SamplerKind::Sobol, 0xfeed), |done| {
+        bar.set_position(done)
+    })?;
+    bar.finish_and_clear();
     // 32-bit samples: the cached reference is then exactly the one just measured against, so a
     // later run that reuses it measures the same errors.
     let exact = crate::image::WriteOptions { exr_sample: crate::image::ExrSample::Float, ..Default::default() };
@@ -228,7 +241,7 @@ pub fn run(cfg: &BenchConfig) -> Result<Vec<BenchPoint>> {
         for &sampler in &cfg.samplers {
             for &spp in &cfg.ladder {
                 // A different seed from the reference's, so errors are not correlated with it.
-                let (img, time_s, stats) = render_image(&scene, &settings(cfg, spp, sampler, 1))?;
+                let (img, time_s, stats) = render_image(&scene, &settings(cfg, spp, sampler, 1), |_| {})?;
                 let m = metrics::compare(&img, &reference)?;
                 let p = BenchPoint {
                     accel: accel.name().into(),

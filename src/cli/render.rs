@@ -369,11 +369,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         eprintln!("prism: resuming at sample {start} of {}", range.end);
     }
 
-    let bar = indicatif::ProgressBar::new(range.end - range.start);
-    bar.set_style(
-        indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} spp  {elapsed_precise} eta {eta}")
-            .expect("static template"),
-    );
+    let bar = super::spp_progress_bar(range.end - range.start);
     bar.set_position(start - range.start);
     let t0 = Instant::now();
     let mut last_ckpt = Instant::now();
