@@ -177,7 +177,18 @@ fn input_stamps(cfg: &BenchConfig) -> Result<Vec<serde_json::Value>> {
 /// The reference: the given image, or a cached render whose settings match, or a new render.
 fn reference(cfg: &BenchConfig) -> Result<Image> {
     if let Some(p) = &cfg.reference {
-        return crate::image::read(p).with_context(|| format!("reading the reference {}", p.display()));
+        let img = crate::image::read(p).with_context(|| format!("reading the reference {}", p.display()))?;
+        // Checked before rendering anything: every point is compared with it pixel by pixel.
+        let (w, h) = cfg.resolution;
+        if (img.width, img.height) != (w, h) {
+            anyhow::bail!(
+                "the reference {} is {}x{}, but the bench renders {w}x{h} (--resolution)",
+                p.display(),
+                img.width,
+                img.height
+            );
+        }
+        return Ok(img);
     }
     let path = cfg.out.join("reference.exr");
     let meta_path = cfg.out.join("reference.json");

@@ -358,6 +358,13 @@ fn bench_writes_every_output_and_reuses_its_cached_reference() {
     for t in times.as_array().unwrap() {
         assert!(time(t, 0.05) > time(t, 0.5), "{times}");
     }
+    // A given reference of another size is refused before anything renders.
+    let reference = out.join("reference.exr");
+    let other = d.join("other");
+    let wrong =
+        ["bench", "--reference", reference.to_str().unwrap(), "--resolution", "8x8", "--out", other.to_str().unwrap()];
+    assert_clean_error(&wrong, "is 24x16, but the bench renders 8x8 (--resolution)");
+    assert!(!other.join("bench.json").exists());
 }
 
 #[test]
