@@ -117,9 +117,14 @@ pub struct CompareArgs {
 
 /// Runs `prism compare`.
 pub fn compare(a: &CompareArgs) -> Result<()> {
+    if let Some(d) = &a.diff {
+        // Fail before printing any metrics, not after.
+        crate::io::check_dir_writable(d).with_context(|| format!("cannot write {}", d.display()))?;
+    }
     let ia = crate::image::read(&a.a).with_context(|| format!("reading {}", a.a.display()))?;
     let ib = crate::image::read(&a.b).with_context(|| format!("reading {}", a.b.display()))?;
-    let m = crate::image::metrics::compare(&ia, &ib)?;
+    let m = crate::image::metrics::compare(&ia, &ib)
+        .with_context(|| format!("comparing {} with {}", a.a.display(), a.b.display()))?;
     if a.json {
         let j = serde_json::json!({"rmse": m.rmse, "rel_mse": m.rel_mse, "mae": m.mae, "max_abs": m.max_abs});
         println!("{}", serde_json::to_string_pretty(&j)?);

@@ -409,3 +409,30 @@ fn bench_renders_a_new_reference_after_its_scene_or_a_file_it_reads_changes() {
     std::fs::write(d.join("tri.obj"), mesh.replace("v 0 2 -1", "v 0 3 -1")).unwrap();
     assert!(rendered(&run(&args)), "an edited mesh file renders a new one");
 }
+
+#[test]
+fn compare_prints_the_metrics_and_writes_the_difference_image() {
+    let d = tmpdir("compare");
+    let image = |name: &str, (w, h): (u32, u32), v: f32| {
+        let path = d.join(name);
+        let img = prism::image::Image { width: w, height: h, channels: 3, data: vec![v; (w * h * 3) as usize] };
+        prism::image::write(&path, &img).unwrap();
+        path.to_str().unwrap().to_owned()
+    };
+    let (a, b, small) = (image("a.exr", (8, 4), 0.5), image("b.exr", (8, 4), 0.25), image("s.exr", (4, 4), 0.25));
+    let diff = d.join("diff.png");
+    let o = run(&["compare", &a, &b, "--json", "--diff", diff.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let m: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    // Every sample differs by 0.25 (exact in half and single precision).
+    for k in ["rmse", "mae", "max_abs"] {
+        assert_eq!(m[k].as_f64(), Some(0.25), "{k}: {m}");
+    }
+    let png = prism::image::read(&diff).unwrap();
+    assert_eq!((png.width, png.height), (8, 4));
+    // Images of two sizes, and a difference image that cannot be written: one line, no metrics.
+    assert_clean_error(&["compare", &a, &small], &format!("comparing {a} with {small}: image size mismatch"));
+    let o = run(&["compare", &a, &b, "--diff", "/no/such/dir/d.png"]);
+    assert!(!o.status.success() && o.stdout.is_empty(), "{}", String::from_utf8_lossy(&o.stdout));
+    assert!(stderr(&o).starts_with("prism: error: cannot write /no/such/dir/d.png"), "{}", stderr(&o));
+}
