@@ -119,7 +119,7 @@ pub struct CompareArgs {
 pub fn compare(a: &CompareArgs) -> Result<()> {
     if let Some(d) = &a.diff {
         // Fail before printing any metrics, not after.
-        crate::io::check_dir_writable(d).with_context(|| format!("cannot write {}", d.display()))?;
+        super::render::check_output(d)?;
     }
     let ia = crate::image::read(&a.a).with_context(|| format!("reading {}", a.a.display()))?;
     let ib = crate::image::read(&a.b).with_context(|| format!("reading {}", a.b.display()))?;

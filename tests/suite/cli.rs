@@ -33,10 +33,8 @@ fn bad_input_gets_one_clear_line() {
     assert_clean_error(&["render", "--resolution", "0x64", "-o", out], "resolution must be positive");
     assert_clean_error(&["render", "--resolution", "-4x64", "-o", out], "resolution must be positive");
     assert_clean_error(&["render", "--threads", "0", "-o", out], "--threads must be at least 1");
-    assert_clean_error(
-        &["render", "--max-depth", "-2", "-o", out],
-        "--max-depth must be at least 0, or -1 for no limit",
-    );
+    let depth = "--max-depth must be at least 0, or -1 for no limit";
+    assert_clean_error(&["render", "--max-depth", "-2", "-o", out], depth);
     assert_clean_error(&["measure", "radiance", "--at", "0,0,0", "--dir", "0,0,0"], "--dir must not be zero");
     assert_clean_error(&["measure", "irradiance", "--at", "0,0", "--normal", "0,0,1"], "--at '0,0' is not three");
     assert!(!Path::new(out).exists(), "no image may be written on error");
@@ -47,11 +45,8 @@ fn bad_input_gets_one_clear_line() {
     assert_clean_error(&["bench", "--reference-spp", "0", "--out", bench_out_s], "--reference-spp must be positive");
     assert_clean_error(&["bench", "--spp-ladder", "1,0", "--out", bench_out_s], "--spp-ladder must be positive");
     assert_clean_error(&["bench", "--threads", "0", "--out", bench_out_s], "--threads must be at least 1");
-    assert_clean_error(
-        &["bench", "--target-rmse", "0.01,-1", "--out", bench_out_s],
-        "--target-rmse: '-1' is not a positive",
-    );
-    let depth = "--max-depth must be at least 0, or -1";
+    let target = "--target-rmse: '-1' is not a positive";
+    assert_clean_error(&["bench", "--target-rmse", "0.01,-1", "--out", bench_out_s], target);
     assert_clean_error(&["bench", "--max-depth", "-2", "--out", bench_out_s], depth);
     assert_clean_error(&["measure", "radiance", "--at", "0,0,0", "--dir", "0,0,1", "--max-depth", "-2"], depth);
     assert!(!bench_out.exists(), "bench must fail before rendering anything");
