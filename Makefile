@@ -1,6 +1,7 @@
 # prism: two commands on a fresh Debian 12 machine (see README).
 #   make render   installs what is missing, builds, renders the default scene to prism.png
 #   make test     runs the whole test suite (both feature sets)
+#   make lint     rustfmt and clippy (-D warnings) on both feature sets; CI runs it before make test
 
 CARGO ?= cargo
 SPP ?= 64
@@ -26,7 +27,7 @@ test-pure:
 	$(CARGO) test --no-default-features --lib -- accel:: image:: cli:: bench::
 	$(CARGO) test --no-default-features --test suite
 
-lint:
+lint: deps
 	$(CARGO) fmt --check
 	$(CARGO) clippy --all-targets -- -D warnings
 	$(CARGO) clippy --all-targets --no-default-features -- -D warnings

@@ -32,12 +32,12 @@ fn build_embree() {
     };
     let header = include_dir.join("embree3/rtcore.h");
     if !header.exists() {
-        panic!(
-            "\n\nprism: Embree 3 headers not found at {}.\n\
-             Install them with `apt-get install libembree-dev` (Debian 12), set EMBREE_DIR to an\n\
-             Embree 3 install prefix, or build without Embree: `cargo build --no-default-features`.\n",
+        fail(&format!(
+            "Embree 3 headers not found at {}: run scripts/install-deps.sh (or `apt-get install \
+             libembree-dev`), set EMBREE_DIR to an Embree 3 prefix, or build without Embree \
+             (`cargo build --no-default-features`)",
             header.display()
-        );
+        ));
     }
     if let Some(lib) = lib_dir {
         println!("cargo:rustc-link-search=native={}", lib.display());
@@ -45,7 +45,7 @@ fn build_embree() {
     println!("cargo:rustc-link-lib=dylib=embree3");
     println!("cargo:rerun-if-changed={}", header.display());
 
-    let bindings = bindgen::Builder::default()
+    let builder = bindgen::Builder::default()
         .header(header.to_string_lossy())
         .clang_arg(format!("-I{}", include_dir.display()))
         .allowlist_function("rtc.*")
@@ -53,15 +53,43 @@ fn build_embree() {
         .allowlist_var("RTC.*")
         .default_enum_style(bindgen::EnumVariation::Consts)
         .derive_default(true)
-        .layout_tests(false)
-        .generate()
-        .unwrap_or_else(|e| panic!("prism: bindgen failed on {} ({e}); is libclang-dev installed?", header.display()));
+        .layout_tests(false);
+    let bindings = generate_bindings(builder, &header);
     let out = PathBuf::from(env::var("OUT_DIR").expect("OUT_DIR")).join("embree3_bindings.rs");
-    bindings.write_to_file(&out).expect("write Embree bindings");
+    if let Err(e) = bindings.write_to_file(&out) {
+        fail(&format!("cannot write the Embree bindings to {}: {e}", out.display()));
+    }
+}
+
+/// Runs bindgen. bindgen panics when it cannot load libclang (clang-sys's loader is `expect`ed
+/// inside it); that panic is caught with the default hook silenced, so a missing libclang is one
+/// line naming the package, not a backtrace.
+#[cfg(feature = "embree")]
+fn generate_bindings(builder: bindgen::Builder, header: &std::path::Path) -> bindgen::Bindings {
+    println!("cargo:rerun-if-env-changed=LIBCLANG_PATH");
+    let hook = std::panic::take_hook();
+    std::panic::set_hook(Box::new(|_| {}));
+    let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(move || builder.generate()));
+    std::panic::set_hook(hook);
+    match result {
+        Ok(Ok(bindings)) => bindings,
+        Ok(Err(e)) => fail(&format!("bindgen failed on {}: {e}", header.display())),
+        Err(_) => fail(
+            "bindgen cannot load libclang: run scripts/install-deps.sh (or `apt-get install \
+             libclang-dev`), or set LIBCLANG_PATH to the directory holding libclang.so",
+        ),
+    }
 }
 
 #[cfg(not(feature = "embree"))]
 fn build_embree() {}
+
+/// Ends the build script with a one-line error (cargo shows the script's stderr), never a panic.
+#[allow(dead_code)]
+fn fail(message: &str) -> ! {
+    eprintln!("error: prism: {message}");
+    std::process::exit(1);
+}
 
 /// Compiles `cpp/oiio_shim.cpp` (C++17) against the system OpenImageIO found by pkg-config and
 /// links it together with `OpenImageIO` and `OpenImageIO_Util`.
@@ -75,11 +103,12 @@ fn build_oiio() {
     // OIIO shared libraries on the link line, or the linker drops them as unneeded.
     let oiio = match pkg_config::Config::new().cargo_metadata(false).probe("OpenImageIO") {
         Ok(lib) => lib,
-        Err(e) => panic!(
-            "feature `oiio` needs OpenImageIO: install `libopenimageio-dev` (Debian/Ubuntu) \
-             or build with `--no-default-features` for the pure-Rust image path.\n\
-             pkg-config said: {e}"
-        ),
+        Err(e) => fail(&format!(
+            "feature `oiio` needs OpenImageIO: run scripts/install-deps.sh (or `apt-get install \
+             libopenimageio-dev`), or build with `--no-default-features` for the pure-Rust image \
+             path (pkg-config: {})",
+            e.to_string().lines().next().unwrap_or_default()
+        )),
     };
 
     let mut build = cc::Build::new();
