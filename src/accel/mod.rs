@@ -11,8 +11,8 @@ pub mod watertight;
 pub use self::obvhs::{BuildQuality, BuildStats, ObvhsAccel};
 pub use self::obvhs_instanced::ObvhsInstancedAccel;
 
+use crate::geometry::InstanceSet;
 use crate::geometry::{Bounds3, Hit, Mesh, Ray};
-use crate::scene::instances::InstanceSet;
 
 /// A ray-intersection accelerator over a set of triangle meshes.
 pub trait Accel: Send + Sync {

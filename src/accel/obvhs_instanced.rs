@@ -38,8 +38,8 @@ fn obvhs_ray(ray: &Ray, t_max_scaled: f32) -> ::obvhs::ray::Ray {
     }
 }
 use super::Accel;
+use crate::geometry::InstanceSet;
 use crate::geometry::{Bounds3, Hit, Mesh, Ray};
-use crate::scene::instances::InstanceSet;
 
 /// One instance in TLAS primitive order.
 struct Placed {

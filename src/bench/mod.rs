@@ -247,8 +247,8 @@ pub fn run(cfg: &BenchConfig) -> Result<Vec<BenchPoint>> {
         let scene_bytes = rss_built as i64 - rss0 as i64;
         let accel_bytes = rss_built as i64 - rss_loaded as i64;
         let build_peak_bytes = if can_reset { peak as i64 - rss0 as i64 } else { 0 };
-        let triangles = scene.meshes.iter().map(|m| m.len() as u64).sum();
-        let accel_own_bytes = scene.accel.memory_bytes() as u64;
+        let triangles = scene.triangle_count();
+        let accel_own_bytes = scene.accel().memory_bytes() as u64;
         for &sampler in &cfg.samplers {
             for &spp in &cfg.ladder {
                 // A different seed from the reference's, so errors are not correlated with it.

@@ -320,7 +320,7 @@ fn fingerprint(args: &RenderArgs, job: &Job) -> String {
         crate::render::SAMPLE_STREAM_VERSION,
         st.filter.kind(),
         st.integrator.max_depth,
-        job.scene.accel.name()
+        job.scene.accel().name()
     )
 }
 
@@ -448,7 +448,7 @@ fn summarize(job: &Job, stats: &Stats, elapsed: f64) -> RenderStats {
         rays: stats.rays,
         rays_per_s: stats.rays as f64 / elapsed.max(1e-9),
         samples_per_s: stats.samples as f64 / elapsed.max(1e-9),
-        accel: job.scene.accel.name().to_string(),
+        accel: job.scene.accel().name().to_string(),
         nonfinite_samples: stats.nonfinite,
         build_s: job.build_s,
         sss: job.settings.integrator.sss.name().to_string(),

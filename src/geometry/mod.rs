@@ -1,8 +1,10 @@
-//! Geometry: rays, hits, triangle meshes, test shapes.
+//! Geometry: rays, hits, triangle meshes, object instances, test shapes.
 
+pub mod instance;
 mod mesh;
 mod ray;
 pub mod shapes;
 
+pub use instance::{Instance, InstanceSet, Prototype};
 pub use mesh::{Bounds3, Mesh};
 pub use ray::{Hit, Ray};

@@ -1,12 +1,11 @@
 //! Unidirectional path tracing of the reflection equation L_o = L_e + ∫ f_r L_i cos θ_i dω_i
-//! (lecture: "BRDF"), with next-event estimation and BSDF sampling combined by multiple importance
+//! (Kajiya 1986), with next-event estimation and BSDF sampling combined by multiple importance
 //! sampling (Veach 1997, power heuristic β = 2) and Russian roulette.
 
 use super::subsurface::{self, Exit, SubsurfaceMethod};
 use super::Stats;
 use crate::bsdf::{Bsdf, Diffuse, TransportMode};
 use crate::geometry::Ray;
-use crate::light::Light;
 use crate::material::Material;
 use crate::math::PI;
 use crate::sampling::mis::power_heuristic;
@@ -48,6 +47,50 @@ impl Default for PathIntegrator {
     }
 }
 
+/// What the path loop carries from one vertex to the next (the locals of pbrt-v4's
+/// `PathIntegrator::Li`, §13.4).
+#[derive(Clone, Copy, Debug)]
+struct PathState {
+    /// Radiance gathered so far.
+    l: SampledSpectrum,
+    /// Throughput β: the path's weight per unit radiance arriving along the current ray.
+    beta: SampledSpectrum,
+    /// Product of η² over the refractions so far, undone for Russian roulette (pbrt-v4
+    /// `etaScale`): radiance scaled by refraction is not a reason to end a path.
+    eta_scale: f32,
+    /// The vertex the current ray left: the reference point of the light's pdf when the ray
+    /// finds emission, for MIS against next-event estimation.
+    prev_p: Vec3,
+    /// Solid-angle pdf of the sample that made the current ray.
+    prev_pdf: f32,
+    /// The current ray came from a delta lobe (or is the camera ray): emission it finds was not
+    /// sampled by next-event estimation.
+    specular_bounce: bool,
+    /// Scattering vertices so far; every vertex counts, subsurface exits included.
+    depth: u32,
+}
+
+impl PathState {
+    fn new(origin: Vec3) -> Self {
+        Self {
+            l: SampledSpectrum::zero(),
+            beta: SampledSpectrum::one(),
+            eta_scale: 1.0,
+            prev_p: origin,
+            prev_pdf: 0.0,
+            specular_bounce: true,
+            depth: 0,
+        }
+    }
+}
+
+/// The next vertex of a path: found by tracing the current ray, or handed over by a
+/// subsurface event (the diffusion BSSRDF's exit point with its BSDF).
+enum Next<'s> {
+    Trace,
+    Vertex(SurfaceInteraction<'s>, Bsdf),
+}
+
 impl PathIntegrator {
     /// Radiance [W/(sr·m²·nm)] arriving along `ray` at its origin, at the wavelengths `w` (which a
     /// dispersive interface may reduce to the hero wavelength).
@@ -59,12 +102,12 @@ impl PathIntegrator {
         sampler: &mut Sampler,
         stats: &mut Stats,
     ) -> SampledSpectrum {
-        self.trace(scene, ray, None, w, sampler, stats)
+        self.trace(scene, ray, Next::Trace, w, sampler, stats)
     }
 
     /// Irradiance E [W/(m²·nm)] at `p` on a surface with unit normal `n`, by the full integrator:
-    /// an ideal white Lambertian sensor at `p` reflects L_o = E/π (lecture: E = ∫ L_i cos θ dω),
-    /// so E = π L_o, with L_o estimated by NEE + BSDF sampling + MIS like any other surface.
+    /// an ideal white Lambertian sensor at `p` reflects L_o = E/π (E = ∫ L_i cos θ dω), so
+    /// E = π L_o, with L_o estimated by NEE + BSDF sampling + MIS like any other surface.
     pub fn irradiance(
         &self,
         scene: &Scene,
@@ -77,72 +120,61 @@ impl PathIntegrator {
         let si = SurfaceInteraction::sensor(p, n);
         let bsdf = Bsdf::new(n, Vec3::ZERO, n, Diffuse::new(SampledSpectrum::one()).into());
         let probe = Ray::new(p + n, -n); // only its origin matters for MIS bookkeeping
-        self.trace(scene, probe, Some((si, bsdf)), w, sampler, stats) * PI
+        self.trace(scene, probe, Next::Vertex(si, bsdf), w, sampler, stats) * PI
     }
 
-    fn trace(
+    /// MIS weight of emission found by BSDF sampling, given the light's solid-angle pdf.
+    fn emission_weight(&self, state: &PathState, p_light: f32) -> f32 {
+        if state.specular_bounce || self.strategy == DirectStrategy::BsdfOnly {
+            1.0
+        } else if self.strategy == DirectStrategy::LightOnly {
+            0.0
+        } else {
+            power_heuristic(1, state.prev_pdf, 1, p_light)
+        }
+    }
+
+    fn trace<'s>(
         &self,
-        scene: &Scene,
+        scene: &'s Scene,
         mut ray: Ray,
-        mut first: Option<(SurfaceInteraction, Bsdf)>,
+        mut next: Next<'s>,
         w: &mut SampledWavelengths,
         sampler: &mut Sampler,
         stats: &mut Stats,
     ) -> SampledSpectrum {
-        let mut l = SampledSpectrum::zero();
-        let mut beta = SampledSpectrum::one();
-        let mut specular_bounce = true; // the camera ray counts as a delta event
-        let mut prev_pdf = 0.0f32; // solid-angle pdf of the BSDF sample that made `ray`
-        let mut prev_p = ray.o;
-        let mut eta_scale = 1.0f32;
+        let mut state = PathState::new(ray.o);
         let use_nee = self.strategy != DirectStrategy::BsdfOnly;
-        let use_bsdf_hits = self.strategy != DirectStrategy::LightOnly;
-        // MIS weight of emission found by BSDF sampling, given the light's solid-angle pdf.
-        let hit_weight = |specular: bool, prev_pdf: f32, p_light: f32| {
-            if specular || !use_nee {
-                1.0
-            } else if !use_bsdf_hits {
-                0.0
-            } else {
-                power_heuristic(1, prev_pdf, 1, p_light)
-            }
-        };
-
-        let mut depth = 0u32;
         loop {
-            let (si, bsdf, material) = match first.take() {
-                Some((si, bsdf)) => (si, bsdf, None),
-                None => {
+            // The next vertex, and the emission the ray finds there.
+            let (si, given_bsdf) = match std::mem::replace(&mut next, Next::Trace) {
+                Next::Vertex(si, bsdf) => (si, Some(bsdf)),
+                Next::Trace => {
                     stats.rays += 1;
-                    let Some(hit) = scene.accel.intersect(&ray) else {
+                    let Some(si) = scene.intersect(&ray) else {
                         let d = ray.d.normalize();
-                        for &li in &scene.infinite_lights {
-                            let light = &scene.lights[li];
-                            let p_light = scene.light_sampler.pmf(li) * light.pdf_li(prev_p, d, prev_p, d);
-                            l += beta * light.escaped_radiance(d, w) * hit_weight(specular_bounce, prev_pdf, p_light);
+                        for (id, light) in scene.infinite_lights() {
+                            let weight = self.emission_weight(&state, scene.light_pdf(id, state.prev_p, d));
+                            state.l += state.beta * light.escaped_radiance(d, w) * weight;
                         }
                         break;
                     };
-                    let si = SurfaceInteraction::new(scene, &ray, &hit);
-                    if let Some(li) = scene.area_light_index(hit.geom_id, hit.prim_id) {
-                        if let Light::Area(area) = &scene.lights[li] {
-                            let le = area.radiance(si.wo, w);
-                            if !le.is_black() {
-                                let p_light =
-                                    scene.light_sampler.pmf(li) * area.pdf_li(prev_p, -si.wo, si.p, si.shading.ng);
-                                l += beta * le * hit_weight(specular_bounce, prev_pdf, p_light);
-                            }
+                    if let Some((id, _)) = si.area_light() {
+                        let le = si.emitted(w);
+                        if !le.is_black() {
+                            let weight = self.emission_weight(&state, scene.light_pdf(id, state.prev_p, -si.wo));
+                            state.l += state.beta * le * weight;
                         }
                     }
-                    if depth == self.max_depth {
-                        break;
-                    }
-                    let material = &scene.materials[scene.mesh_material[si.mesh as usize] as usize];
-                    let bsdf = material.bsdf(&si.shading, w);
-                    (si, bsdf, Some(material))
+                    (si, None)
                 }
             };
-            depth += 1;
+            // Every vertex counts toward the depth limit, a subsurface exit included.
+            if state.depth == self.max_depth {
+                break;
+            }
+            state.depth += 1;
+            let Some(bsdf) = given_bsdf.or_else(|| si.bsdf(w)) else { break };
             let flags = bsdf.flags();
             if flags.is_empty() {
                 break;
@@ -150,7 +182,7 @@ impl PathIntegrator {
 
             // Next-event estimation (not for purely specular BSDFs, whose f is zero off the delta).
             if use_nee && flags.is_non_specular() {
-                l += beta * self.sample_light(scene, &si, &bsdf, w, sampler, stats);
+                state.l += state.beta * self.sample_light(scene, &si, &bsdf, w, sampler, stats);
             }
 
             // Continue the path by sampling the BSDF.
@@ -158,31 +190,49 @@ impl PathIntegrator {
             let u = sampler.get_2d();
             let Some(bs) = bsdf.sample_f(si.wo, uc, u, TransportMode::Radiance) else { break };
             let cos = bs.wi.dot(si.shading.ns).abs();
-            beta *= bs.f * (cos / bs.pdf);
-            prev_pdf = if bs.pdf_is_proportional { bsdf.pdf(si.wo, bs.wi, TransportMode::Radiance) } else { bs.pdf };
-            specular_bounce = bs.is_specular();
+            state.beta *= bs.f * (cos / bs.pdf);
+            state.prev_pdf =
+                if bs.pdf_is_proportional { bsdf.pdf(si.wo, bs.wi, TransportMode::Radiance) } else { bs.pdf };
+            state.specular_bounce = bs.is_specular();
             ray = si.spawn_ray(bs.wi);
-            prev_p = si.p;
+            state.prev_p = si.p;
             if bs.is_transmission() {
                 // Refraction into a subsurface medium: continue where light leaves it. Entering and
                 // leaving scale radiance by 1/η² and η², so eta_scale is left alone.
-                if let (Some(Material::Subsurface(m)), true) = (material, bs.wi.dot(si.shading.ns) < 0.0) {
-                    match subsurface::enter(self, scene, m, &si, bs.wi, (&mut beta, &mut l), w, sampler, stats) {
+                let entered = si.material().and_then(Material::subsurface).filter(|_| bs.wi.dot(si.shading.ns) < 0.0);
+                if let Some(m) = entered {
+                    match subsurface::enter(
+                        self,
+                        scene,
+                        m,
+                        &si,
+                        bs.wi,
+                        (&mut state.beta, &mut state.l),
+                        w,
+                        sampler,
+                        stats,
+                    ) {
                         None => break,
                         Some(Exit::Vertex(vsi, vbsdf)) => {
-                            first = Some((vsi, vbsdf));
+                            next = Next::Vertex(vsi, vbsdf);
                             continue;
                         }
                         Some(Exit::Ray(exit, origin, pdf)) => {
-                            (ray, prev_p, specular_bounce, prev_pdf) =
+                            // The walk's last boundary vertex did its own light sampling and
+                            // chose the way out: it counts as a vertex like the diffusion exit.
+                            if state.depth == self.max_depth {
+                                break;
+                            }
+                            state.depth += 1;
+                            (ray, state.prev_p, state.specular_bounce, state.prev_pdf) =
                                 (exit, origin, pdf.is_none(), pdf.unwrap_or(0.0));
                         }
                     }
                 } else {
-                    eta_scale *= bs.eta * bs.eta;
+                    state.eta_scale *= bs.eta * bs.eta;
                 }
             }
-            if beta.is_black() {
+            if state.beta.is_black() {
                 break;
             }
 
@@ -190,19 +240,19 @@ impl PathIntegrator {
             // survival min(max β, 1) (pbrt-v4). With no depth limit, a path whose throughput
             // stays ≥ 1 (a closed white room) must still end, so survival is at most 0.95 there
             // (Mitsuba 3's rule).
-            let rr_beta = beta * eta_scale;
+            let rr_beta = state.beta * state.eta_scale;
             let cap = if self.max_depth == UNBOUNDED_DEPTH { 0.95 } else { 1.0 };
             let survival = rr_beta.max_value().min(cap);
-            if depth >= self.rr_depth && survival < 1.0 {
+            if state.depth >= self.rr_depth && survival < 1.0 {
                 let q = (1.0 - survival).max(0.0);
                 if sampler.get_1d() < q {
                     break;
                 }
-                beta /= 1.0 - q;
+                state.beta /= 1.0 - q;
             }
         }
-        stats.last_depth = depth;
-        l
+        stats.last_depth = state.depth;
+        state.l
     }
 
     /// One light sample at `si`, MIS-weighted against BSDF sampling (pbrt-v4 `SampleLd`).
@@ -217,8 +267,7 @@ impl PathIntegrator {
     ) -> SampledSpectrum {
         let ul = sampler.get_1d();
         let u = sampler.get_2d();
-        let Some((li, pmf)) = scene.light_sampler.sample(ul) else { return SampledSpectrum::zero() };
-        let light = &scene.lights[li];
+        let Some((_, light, pmf)) = scene.sample_light(ul) else { return SampledSpectrum::zero() };
         let Some(ls) = light.sample_li(si.p, u, w) else { return SampledSpectrum::zero() };
         if ls.pdf <= 0.0 || ls.li.is_black() {
             return SampledSpectrum::zero();
@@ -229,7 +278,7 @@ impl PathIntegrator {
         }
         stats.rays += 1;
         let shadow = if ls.dist.is_finite() { si.spawn_ray_to(ls.p_light) } else { si.spawn_ray(ls.wi) };
-        if scene.accel.occluded(&shadow) {
+        if scene.occluded(&shadow) {
             return SampledSpectrum::zero();
         }
         let p_light = pmf * ls.pdf;

@@ -65,10 +65,10 @@ impl SubsurfaceMethod {
 }
 
 /// Where the path goes on after the subsurface event.
-pub(super) enum Exit {
+pub(super) enum Exit<'s> {
     /// A new vertex at p_i with its BSDF (diffusion): light sampling and BSDF sampling go on
     /// from there.
-    Vertex(SurfaceInteraction, Bsdf),
+    Vertex(SurfaceInteraction<'s>, Bsdf),
     /// A ray leaving the object from `origin` (random walk), sampled from the boundary's lobe
     /// with this solid-angle density (`None`: a delta lobe), for MIS with the light sampling
     /// done at the exit point.
@@ -78,24 +78,24 @@ pub(super) enum Exit {
 /// Continues a path that refracted at `si` into the material along `wi`, multiplying `beta`
 /// by the transport inside. `None`: the path ends (absorbed, or no entry point found).
 #[allow(clippy::too_many_arguments)]
-pub(super) fn enter(
+pub(super) fn enter<'s>(
     integ: &PathIntegrator,
-    scene: &Scene,
+    scene: &'s Scene,
     material: &SubsurfaceMaterial,
-    si: &SurfaceInteraction,
+    si: &SurfaceInteraction<'s>,
     wi: Vec3,
     (beta, l): (&mut SampledSpectrum, &mut SampledSpectrum),
     w: &SampledWavelengths,
     sampler: &mut Sampler,
     stats: &mut Stats,
-) -> Option<Exit> {
+) -> Option<Exit<'s>> {
     let medium = material.medium(&si.shading, w);
     // Diffusion assumes an optically thick object; where the longest mean free path exceeds the
     // object's bounding radius, the medium is nearly clear, PBD would lose most of the light,
     // and a walk needs only a few events: take the walk.
     let thin = || {
         let mfp = medium.sigma_t().min_value().recip();
-        mfp > material.object_radius(|| object_radius(scene, si.mesh))
+        mfp > material.object_radius(|| si.material_radius(scene))
     };
     match integ.sss {
         SubsurfaceMethod::Diffusion if !thin() => diffusion(scene, material, &medium, si, beta, sampler, stats),
@@ -106,26 +106,15 @@ pub(super) fn enter(
     }
 }
 
-/// The largest bounding-sphere radius of the meshes that share the material of `mesh`.
-fn object_radius(scene: &Scene, mesh: u32) -> f32 {
-    let id = scene.mesh_material[mesh as usize];
-    (0..scene.meshes.len())
-        .filter(|&m| scene.mesh_material[m] == id)
-        .map(|m| scene.meshes[m].bounds())
-        .filter(|b| !b.is_empty())
-        .map(|b| b.radius())
-        .fold(0.0, f32::max)
-}
-
-fn diffusion(
-    scene: &Scene,
+fn diffusion<'s>(
+    scene: &'s Scene,
     material: &SubsurfaceMaterial,
     medium: &HomogeneousMedium,
-    si: &SurfaceInteraction,
+    si: &SurfaceInteraction<'s>,
     beta: &mut SampledSpectrum,
     sampler: &mut Sampler,
     stats: &mut Stats,
-) -> Option<Exit> {
+) -> Option<Exit<'s>> {
     let frame = Frame::from_normal_tangent(si.shading.ns, si.shading.dpdu);
     let bssrdf = TabulatedBssrdf::new(material.table(), si.p, frame, medium.sigma_t(), medium.albedo());
     let u1 = sampler.get_1d();
@@ -135,7 +124,7 @@ fn diffusion(
     let probe = Ray::segment(seg.p0, seg.p1 - seg.p0, 1.0);
     let mut hits: Vec<Hit> = Vec::with_capacity(8);
     stats.rays += 1;
-    scene.accel.intersect_all(&probe, &mut hits);
+    scene.all_hits(&probe, &mut hits);
     hits.retain(|h| h.geom_id == si.mesh);
     if hits.is_empty() {
         return None;
@@ -143,7 +132,7 @@ fn diffusion(
     // Deterministic order, so the choice does not depend on the backend's traversal order.
     hits.sort_by(|a, b| a.t.total_cmp(&b.t));
     let k = ((uh * hits.len() as f32) as usize).min(hits.len() - 1);
-    let mut pi = SurfaceInteraction::new(scene, &probe, &hits[k]);
+    let mut pi = scene.interaction(&probe, &hits[k]);
     let pdf = bssrdf.pdf_sp(pi.p, pi.shading.ng) / hits.len() as f32;
     if pdf.is_nan() || pdf <= 0.0 {
         return None;
@@ -171,14 +160,14 @@ impl Walk<'_> {
     /// Walks from `si` along `wi` (into the medium) until the path refracts out. At every
     /// boundary hit with a non-delta lobe, light is sampled through the boundary (next-event
     /// estimation, MIS against the lobe) and added to `l`.
-    fn run(
+    fn run<'s>(
         &self,
-        si: &SurfaceInteraction,
+        si: &SurfaceInteraction<'_>,
         wi: Vec3,
         (beta, l): (&mut SampledSpectrum, &mut SampledSpectrum),
         sampler: &mut Sampler,
         stats: &mut Stats,
-    ) -> Option<Exit> {
+    ) -> Option<Exit<'s>> {
         let scene = self.scene;
         let phase = self.material.phase();
         let nee = self.integ.strategy != DirectStrategy::BsdfOnly;
@@ -186,7 +175,7 @@ impl Walk<'_> {
         let mut scatterings = 0u32;
         for _ in 0..MAX_WALK_EVENTS {
             stats.rays += 1;
-            let hit = scene.accel.intersect(&ray);
+            let hit = scene.closest_hit(&ray);
             let t_hit = hit.map_or(f32::INFINITY, |h| h.t);
             let (uc, ud) = (sampler.get_1d(), sampler.get_1d());
             match self.medium.sample_free_flight(t_hit, uc, ud) {
@@ -199,7 +188,7 @@ impl Walk<'_> {
                 FreeFlight::Pass { weight } => {
                     *beta *= weight;
                     let h = hit?;
-                    let b = SurfaceInteraction::new(scene, &ray, &h);
+                    let b = scene.interaction(&ray, &h);
                     let bsdf = self.material.boundary_bsdf(&b.shading);
                     if nee && bsdf.flags().is_non_specular() {
                         *l += *beta * self.integ.sample_light(scene, &b, &bsdf, self.w, sampler, stats);

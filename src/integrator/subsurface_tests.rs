@@ -192,7 +192,7 @@ fn hard_cases_stay_finite() {
 fn tables_are_built_only_when_diffusion_needs_them() {
     let scene = furnace(vec![icosphere(Vec3::ZERO, 1.0, 2)], material(coefficients(0.5, 2.0), 1.33), AccelKind::Obvhs);
     let ray = Ray::new(Vec3::new(0.1, 0.0, 3.0), -Vec3::Z);
-    let Material::Subsurface(m) = &scene.materials[0] else { unreachable!() };
+    let Material::Subsurface(m) = &scene.materials()[0] else { unreachable!() };
     estimate(&scene, ray, SubsurfaceMethod::RandomWalk, 200, 6);
     assert!(!m.table_built(), "the random walk with coefficients needs no table");
     estimate(&scene, ray, SubsurfaceMethod::Diffusion, 200, 6);
@@ -244,6 +244,40 @@ fn intersect_all_agrees_with_brute_force_on_both_backends() {
                 for g in 0..meshes.len() as u32 {
                     assert_eq!(per_mesh(&got, g), per_mesh(&want, g), "embree, mesh {g}, {ray:?}");
                 }
+            }
+        }
+    }
+}
+
+#[test]
+fn the_depth_limit_holds_after_a_subsurface_exit() {
+    // With max depth 1 only the first vertex scatters: a ray refracted into the slab ends there,
+    // whichever method would continue it, so L is the smooth boundary's Fresnel reflectance of
+    // the furnace's unit radiance, F(1) = ((η − 1)/(η + 1))² (a Bernoulli estimate: reflect with
+    // probability F, weight 1). At every depth no path goes deeper than the limit.
+    let eta = 1.33f32;
+    let fresnel = (((eta - 1.0) / (eta + 1.0)) as f64).powi(2);
+    for sss in [SubsurfaceMethod::Diffusion, SubsurfaceMethod::RandomWalk] {
+        for max_depth in [1u32, 2, 3] {
+            let (meshes, ray) = slab();
+            let scene = furnace(meshes, material(coefficients(0.05, 0.95), eta), AccelKind::Obvhs);
+            let integ = PathIntegrator { max_depth, sss, ..Default::default() };
+            let mut sampler = Sampler::independent();
+            let mut stats = Stats::default();
+            let (n, mut sum, mut deepest) = (20_000u64, 0.0f64, 0u32);
+            for i in 0..n {
+                sampler.start_pixel_sample((0, 0), i, 11);
+                let mut w = SampledWavelengths::sample_visible(sampler.get_1d());
+                sum += integ.li(&scene, ray, &mut w, &mut sampler, &mut stats).average() as f64;
+                deepest = deepest.max(stats.last_depth);
+            }
+            assert!(deepest <= max_depth, "{sss:?}, max depth {max_depth}: a path reached depth {deepest}");
+            if max_depth == 1 {
+                let (l, se) = (sum / n as f64, (fresnel * (1.0 - fresnel) / n as f64).sqrt());
+                assert!(
+                    (l - fresnel).abs() < 4.0 * se,
+                    "{sss:?}: L {l:.5} at depth 1, expected F = {fresnel:.5} ± {se:.5}"
+                );
             }
         }
     }

@@ -25,10 +25,6 @@ pub struct AreaLight {
     pub scale: f32,
     /// Emits from both sides.
     pub two_sided: bool,
-    /// Index of the mesh this triangle belongs to, and the triangle's index in it.
-    pub mesh: u32,
-    /// See `mesh`.
-    pub prim: u32,
 }
 
 impl AreaLight {
@@ -65,14 +61,40 @@ impl AreaLight {
         Some(LightSample { li, wi, pdf, p_light, dist })
     }
 
-    /// Solid-angle density of `sample_li` at `p` choosing the point `p_light` (normal `n_light`).
-    pub fn pdf_li(&self, p: Vec3, wi: Vec3, p_light: Vec3, n_light: Vec3) -> f32 {
-        let r2 = (p_light - p).length_squared();
-        let cos_l = n_light.normalize_or_zero().dot(-wi).abs();
+    /// Solid-angle density with which `sample_li` at `p` picks the direction `wi` (unit):
+    /// r² / (|cos θ_l| A) at the point where the ray from `p` along `wi` meets the triangle, 0
+    /// when it misses (pbrt-v4 `Triangle::PDF(ctx, wi)`, which intersects the shape likewise).
+    pub fn pdf_li(&self, p: Vec3, wi: Vec3) -> f32 {
+        let Some(t) = self.ray_distance(p, wi) else { return 0.0 };
+        let cos_l = self.n.dot(wi).abs();
         if cos_l == 0.0 {
             return 0.0;
         }
-        r2 / (cos_l * self.area)
+        t * t / (cos_l * self.area)
+    }
+
+    /// Distance along the unit direction `d` from `o` to the triangle, if the ray meets it
+    /// (Möller & Trumbore 1997).
+    fn ray_distance(&self, o: Vec3, d: Vec3) -> Option<f32> {
+        let (e1, e2) = (self.p[1] - self.p[0], self.p[2] - self.p[0]);
+        let pv = d.cross(e2);
+        let det = e1.dot(pv);
+        if det == 0.0 || !det.is_finite() {
+            return None;
+        }
+        let inv = 1.0 / det;
+        let tv = o - self.p[0];
+        let u = tv.dot(pv) * inv;
+        let qv = tv.cross(e1);
+        let v = d.dot(qv) * inv;
+        // A small tolerance: the caller found the hit with another (watertight) test, and a
+        // direction grazing an edge must not lose its density to rounding.
+        const EDGE: f32 = 1e-5;
+        if u < -EDGE || v < -EDGE || u + v > 1.0 + EDGE {
+            return None;
+        }
+        let t = e2.dot(qv) * inv;
+        (t > 0.0).then_some(t)
     }
 
     /// Φ = π L A per emitting side [W] (with L integrated over 360–830 nm).
@@ -92,5 +114,42 @@ impl AreaLight {
         } else {
             0.0
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sampling::rng::Rng;
+
+    fn triangle() -> AreaLight {
+        let p = [Vec3::new(0.0, 2.0, 0.0), Vec3::new(1.0, 2.0, 0.0), Vec3::new(0.0, 2.5, 1.5)];
+        let n = (p[1] - p[0]).cross(p[2] - p[0]);
+        AreaLight {
+            p,
+            n: n.normalize(),
+            area: 0.5 * n.length(),
+            spectrum: Arc::new(Spectrum::constant(1.0)),
+            scale: 1.0,
+            two_sided: true,
+        }
+    }
+
+    #[test]
+    fn pdf_li_from_the_direction_alone_matches_the_sampled_density() {
+        // The sample's density is r²/(|cos θ_l| A) at the sampled point; pdf_li must find the
+        // same point from (p, ωi) by intersecting the triangle.
+        let light = triangle();
+        let w = SampledWavelengths::sample_visible(0.5);
+        let mut rng = Rng::new(3, 5);
+        for _ in 0..10_000 {
+            let p = Vec3::new(rng.uniform() * 4.0 - 2.0, rng.uniform() * 4.0 - 2.0, rng.uniform() * 4.0 - 2.0);
+            let Some(ls) = light.sample_li(p, Vec2::new(rng.uniform(), rng.uniform()), &w) else { continue };
+            let pdf = light.pdf_li(p, ls.wi);
+            assert!((pdf - ls.pdf).abs() <= 1e-3 * ls.pdf, "p {p}: pdf_li {pdf} vs sampled {}", ls.pdf);
+        }
+        // Directions that miss the triangle have density 0.
+        assert_eq!(light.pdf_li(Vec3::ZERO, -Vec3::Y), 0.0);
+        assert_eq!(light.pdf_li(Vec3::ZERO, Vec3::new(5.0, 1.0, 0.0).normalize()), 0.0);
     }
 }

@@ -71,12 +71,11 @@ impl Light {
         }
     }
 
-    /// Solid-angle density with which `sample_li` at `p` picks direction `wi`, given that a ray
-    /// from `p` along `wi` reaches the light at `p_light` with light normal `n_light` (area
-    /// lights) or escapes the scene (infinite lights).
-    pub fn pdf_li(&self, p: Vec3, wi: Vec3, p_light: Vec3, n_light: Vec3) -> f32 {
+    /// Solid-angle density [1/sr] with which `sample_li` at the reference point `p` picks the
+    /// unit direction `wi` (pbrt-v4 `Light::PDF_Li(ctx, wi)`); 0 for delta lights.
+    pub fn pdf_li(&self, p: Vec3, wi: Vec3) -> f32 {
         match self {
-            Light::Area(l) => l.pdf_li(p, wi, p_light, n_light),
+            Light::Area(l) => l.pdf_li(p, wi),
             Light::UniformInfinite(_) => infinite::uniform_sphere_pdf(),
             Light::EnvMap(l) => l.pdf_li(wi),
             _ => 0.0,

@@ -131,6 +131,15 @@ impl Material {
         Material::Diffuse { reflectance: SpectrumTexture::Constant(reflectance) }
     }
 
+    /// The subsurface material, when light refracted into this one scatters beneath the
+    /// surface (pbrt-v4 `Material::HasSubsurfaceScattering`).
+    pub fn subsurface(&self) -> Option<&SubsurfaceMaterial> {
+        match self {
+            Material::Subsurface(m) => Some(m),
+            _ => None,
+        }
+    }
+
     /// True when any lobe of this material can change a path's wavelengths' directions
     /// differently (so secondary wavelengths must be terminated at it).
     pub fn is_dispersive(&self) -> bool {

@@ -1,15 +1,19 @@
 //! The local geometry at a ray hit, recomputed from the mesh (not the backend) so that both
-//! backends give identical shading and a bounded error for robust ray spawning.
+//! backends give identical shading and a bounded error for robust ray spawning; and what the hit
+//! primitive binds to it (material, area light, media), which the integrator asks for here.
 
-use super::Scene;
+use super::{LightId, MediumInterface, Primitive, Scene};
+use crate::bsdf::Bsdf;
 use crate::geometry::{Hit, Ray};
-use crate::material::ShadingPoint;
+use crate::light::{AreaLight, Light};
+use crate::material::{Material, ShadingPoint};
 use crate::math::{offset_ray_origin, triangle_point};
+use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 use glam::{Vec2, Vec3};
 
-/// A point on a surface where a ray hit.
+/// A point on a surface where a ray hit, with the primitive it belongs to.
 #[derive(Clone, Copy, Debug)]
-pub struct SurfaceInteraction {
+pub struct SurfaceInteraction<'s> {
     /// Hit point.
     pub p: Vec3,
     /// Per-axis bound on the absolute error of `p`.
@@ -18,7 +22,9 @@ pub struct SurfaceInteraction {
     pub shading: ShadingPoint,
     /// Unit direction back along the incoming ray.
     pub wo: Vec3,
-    /// Mesh index.
+    /// The primitive hit, with the scene's materials and lights (`None`: a virtual sensor).
+    bound: Option<Bound<'s>>,
+    /// Primitive index (the hit's `geom_id`).
     pub mesh: u32,
     /// Triangle index within the mesh.
     pub prim: u32,
@@ -26,10 +32,24 @@ pub struct SurfaceInteraction {
     pub inst: u32,
 }
 
-impl SurfaceInteraction {
+/// What a hit on a primitive can ask of the scene.
+#[derive(Clone, Copy, Debug)]
+struct Bound<'s> {
+    primitive: &'s Primitive,
+    material: &'s Material,
+    area_light: Option<(LightId, &'s AreaLight)>,
+}
+
+impl<'s> SurfaceInteraction<'s> {
     /// Builds the interaction for `hit` of `ray` in `scene`.
-    pub fn new(scene: &Scene, ray: &Ray, hit: &Hit) -> Self {
-        let mesh = &scene.meshes[hit.geom_id as usize];
+    pub(super) fn new(scene: &'s Scene, ray: &Ray, hit: &Hit) -> Self {
+        let primitive = &scene.primitives[hit.geom_id as usize];
+        let area_light = primitive.area_light(hit.prim_id).map(|id| match &scene.lights[id as usize] {
+            Light::Area(a) => (id, a),
+            _ => unreachable!("a primitive's area lights are Light::Area"),
+        });
+        let bound = Bound { primitive, material: &scene.materials[primitive.material as usize], area_light };
+        let mesh = &primitive.mesh;
         let tri = mesh.indices[hit.prim_id as usize];
         let p = mesh.triangle(hit.prim_id as usize);
         let b = [1.0 - hit.u - hit.v, hit.u, hit.v];
@@ -86,6 +106,7 @@ impl SurfaceInteraction {
             p_err,
             shading: ShadingPoint { ns, ng: ng_oriented, dpdu, uv },
             wo: -ray.d.normalize(),
+            bound: Some(bound),
             mesh: hit.geom_id,
             prim: hit.prim_id,
             inst: hit.inst_id,
@@ -99,10 +120,52 @@ impl SurfaceInteraction {
             p_err: p.abs() * crate::math::offset::gamma(4),
             shading: ShadingPoint { ns: n, ng: n, dpdu: Vec3::ZERO, uv: Vec2::ZERO },
             wo: n,
+            bound: None,
             mesh: u32::MAX,
             prim: u32::MAX,
             inst: Hit::NO_INSTANCE,
         }
+    }
+
+    /// The material of the surface (`None` for a virtual sensor).
+    #[inline]
+    pub fn material(&self) -> Option<&'s Material> {
+        self.bound.map(|b| b.material)
+    }
+
+    /// The BSDF at this point at the wavelengths `w`, which a dispersive material reduces to
+    /// the hero wavelength (`None` for a virtual sensor).
+    #[inline]
+    pub fn bsdf(&self, w: &mut SampledWavelengths) -> Option<Bsdf> {
+        self.material().map(|m| m.bsdf(&self.shading, w))
+    }
+
+    /// The area light of the triangle hit, if it emits: its index (for the light sampler's pmf,
+    /// [`Scene::light_pdf`]) and the light.
+    #[inline]
+    pub fn area_light(&self) -> Option<(LightId, &'s AreaLight)> {
+        self.bound.and_then(|b| b.area_light)
+    }
+
+    /// Radiance L_e [W/(sr·m²·nm)] the surface emits toward `wo` (pbrt-v4 `SurfaceInteraction::Le`).
+    #[inline]
+    pub fn emitted(&self, w: &SampledWavelengths) -> SampledSpectrum {
+        match self.area_light() {
+            Some((_, light)) => light.radiance(self.wo, w),
+            None => SampledSpectrum::zero(),
+        }
+    }
+
+    /// The largest bounding-sphere radius among the primitives of this point's material (0 for a
+    /// virtual sensor): the size of the object a path entering it is inside.
+    pub fn material_radius(&self, scene: &Scene) -> f32 {
+        self.bound.map_or(0.0, |b| scene.material_radius(b.primitive.material))
+    }
+
+    /// The media on either side of the surface.
+    #[inline]
+    pub fn medium_interface(&self) -> MediumInterface {
+        self.bound.map_or_else(MediumInterface::default, |b| b.primitive.medium_interface)
     }
 
     /// A ray leaving the surface along `d`, its origin offset past the error bound of `p`.

@@ -1,16 +1,17 @@
 //! Scenes: a builder that collects meshes, materials and lights (from the built-in Cornell box or
-//! a pbrt-v4 file), and the render-ready [`Scene`] with its accelerator.
+//! a pbrt-v4 file), and the render-ready [`Scene`]: its accelerator over [`Primitive`]s, which
+//! bind geometry to material, emission and media.
 
 mod cornell;
 pub mod desc;
 pub mod error;
-pub mod instances;
 mod interaction;
 pub mod mesh_io;
 pub mod names;
 pub mod params;
 pub mod parser;
 pub mod pbrt;
+mod primitive;
 pub mod shapes;
 mod source;
 pub mod tokenizer;
@@ -21,14 +22,14 @@ pub use desc::{
     ShapeDesc, ShapeGeometry, TextureClass, TextureDesc,
 };
 pub use error::{Location, SceneError, Warning};
-pub use instances::{Instance, InstanceSet, Prototype};
 pub use interaction::SurfaceInteraction;
 pub use params::{FloatOrTexture, ParamSet, ParamValue, SpectrumOrTexture, SpectrumParam};
 pub use parser::{look_at, parse_file, parse_str, ParseOptions};
+pub use primitive::{MediumInterface, Primitive};
 
 use crate::accel::{self, Accel, AccelKind};
 use crate::camera::Camera;
-use crate::geometry::Mesh;
+use crate::geometry::{Hit, Instance, InstanceSet, Mesh, Prototype, Ray};
 use crate::light::{AreaLight, Light, LightSampler};
 use crate::material::Material;
 use crate::spectrum::Spectrum;
@@ -86,14 +87,20 @@ pub enum BuildError {
     NoCamera,
 }
 
+/// One primitive while the scene is collected: geometry, material and emission, and the
+/// prototype it belongs to when it is instanced.
+struct PendingPrimitive {
+    mesh: Mesh,
+    material: u32,
+    emission: Option<Emission>,
+    /// Its prototype (`None`: placed in the world as it is).
+    prototype: Option<u32>,
+}
+
 /// Collects a scene's parts before the accelerator is built.
 #[derive(Default)]
 pub struct SceneBuilder {
-    meshes: Vec<Mesh>,
-    mesh_material: Vec<u32>,
-    mesh_emission: Vec<Option<Emission>>,
-    /// Prototype each mesh belongs to (`u32::MAX`: a world mesh).
-    mesh_prototype: Vec<u32>,
+    primitives: Vec<PendingPrimitive>,
     prototypes: Vec<Prototype>,
     instances: Vec<Instance>,
     materials: Vec<Material>,
@@ -122,19 +129,16 @@ impl SceneBuilder {
         self.materials.len() as u32 - 1
     }
 
-    /// Adds a mesh with a material and optional area emission, returning its id. Triangles with
-    /// non-finite vertices or zero area are dropped with one warning naming the mesh.
+    /// Adds a mesh with a material and optional area emission as a primitive, returning its id.
+    /// Triangles with non-finite vertices or zero area are dropped with one warning naming it.
     pub fn add_mesh(&mut self, mut mesh: Mesh, material: u32, emission: Option<Emission>) -> u32 {
-        let id = self.meshes.len() as u32;
+        let id = self.primitives.len() as u32;
         let dropped = mesh.remove_degenerate();
         if dropped > 0 {
             self.warnings
                 .push(format!("mesh {id}: skipped {dropped} degenerate triangle(s) (zero area or NaN/Inf vertices)"));
         }
-        self.meshes.push(mesh);
-        self.mesh_material.push(material);
-        self.mesh_emission.push(emission);
-        self.mesh_prototype.push(u32::MAX);
+        self.primitives.push(PendingPrimitive { mesh, material, emission, prototype: None });
         id
     }
 
@@ -145,7 +149,7 @@ impl SceneBuilder {
         let mut ids = Vec::with_capacity(meshes.len());
         for (mesh, material) in meshes {
             let id = self.add_mesh(mesh, material, None);
-            self.mesh_prototype[id as usize] = proto;
+            self.primitives[id as usize].prototype = Some(proto);
             ids.push(id);
         }
         self.prototypes.push(Prototype { meshes: ids });
@@ -174,19 +178,23 @@ impl SceneBuilder {
         }
     }
 
-    /// Moves every non-emissive world mesh into one new prototype placed once at the identity
-    /// (so that `transform` then moves it as an instance); returns the prototype, or `None` when
-    /// there was nothing to move. Lets tests trace any scene through the instancing paths.
+    /// Moves every non-emissive world primitive into one new prototype placed once at the
+    /// identity (so that `transform` then moves it as an instance); returns the prototype, or
+    /// `None` when there was nothing to move. Lets tests trace any scene through the instancing
+    /// paths.
     pub fn instance_world_geometry(&mut self) -> Option<u32> {
         let proto = self.prototypes.len() as u32;
-        let ids: Vec<u32> = (0..self.meshes.len() as u32)
-            .filter(|&m| self.mesh_prototype[m as usize] == u32::MAX && self.mesh_emission[m as usize].is_none())
+        let ids: Vec<u32> = (0..self.primitives.len() as u32)
+            .filter(|&m| {
+                let p = &self.primitives[m as usize];
+                p.prototype.is_none() && p.emission.is_none()
+            })
             .collect();
         if ids.is_empty() {
             return None;
         }
         for &m in &ids {
-            self.mesh_prototype[m as usize] = proto;
+            self.primitives[m as usize].prototype = Some(proto);
         }
         self.prototypes.push(Prototype { meshes: ids });
         self.add_instance(proto, Mat4::IDENTITY).then_some(proto)
@@ -197,19 +205,21 @@ impl SceneBuilder {
         self.instances.len()
     }
 
-    /// Replaces every instance by world-space copies of its prototype's meshes (the reference
-    /// that instancing must reproduce); the prototypes' own meshes become empty.
+    /// Replaces every instance by world-space copies of its prototype's primitives (the
+    /// reference that instancing must reproduce); the prototypes' own meshes become empty.
     pub fn flatten_instances(&mut self) {
         for inst in std::mem::take(&mut self.instances) {
             for &m in &self.prototypes[inst.prototype as usize].meshes.clone() {
-                let copy = self.meshes[m as usize].transformed(&inst.world_from_object);
-                self.add_mesh(copy, self.mesh_material[m as usize], None);
+                let p = &self.primitives[m as usize];
+                let copy = p.mesh.transformed(&inst.world_from_object);
+                self.add_mesh(copy, p.material, None);
             }
         }
-        for p in std::mem::take(&mut self.prototypes) {
-            for m in p.meshes {
-                self.meshes[m as usize] = Mesh::default();
-                self.mesh_prototype[m as usize] = u32::MAX;
+        for proto in std::mem::take(&mut self.prototypes) {
+            for m in proto.meshes {
+                let p = &mut self.primitives[m as usize];
+                p.mesh = Mesh::default();
+                p.prototype = None;
             }
         }
     }
@@ -233,10 +243,8 @@ impl SceneBuilder {
     /// Applies `m` (a similarity: rotation, uniform scale, translation) to all geometry, lights
     /// and the camera. Used to test that nothing depends on the scene's scale or position.
     pub fn transform(&mut self, m: Mat4) {
-        for (mesh, &proto) in self.meshes.iter_mut().zip(&self.mesh_prototype) {
-            if proto == u32::MAX {
-                *mesh = mesh.transformed(&m);
-            }
+        for p in self.primitives.iter_mut().filter(|p| p.prototype.is_none()) {
+            p.mesh = p.mesh.transformed(&m);
         }
         for inst in self.instances.iter_mut() {
             *inst =
@@ -252,52 +260,51 @@ impl SceneBuilder {
         assert!(self.lights.is_empty(), "SceneBuilder::transform: transform lights before adding them");
     }
 
-    /// Builds the accelerator and the lights.
+    /// Builds the accelerator, the area lights and the primitives.
     pub fn build(self, accel_kind: AccelKind) -> Result<Scene, BuildError> {
         let camera = self.camera.ok_or(BuildError::NoCamera)?;
+        // The accelerator reads the meshes as one slice; they then move into their primitives.
+        let world_meshes =
+            (0..self.primitives.len() as u32).filter(|&m| self.primitives[m as usize].prototype.is_none()).collect();
+        let (meshes, parts): (Vec<Mesh>, Vec<(u32, Option<Emission>)>) =
+            self.primitives.into_iter().map(|p| (p.mesh, (p.material, p.emission))).unzip();
         let accel = if self.prototypes.is_empty() {
-            accel::build(accel_kind, &self.meshes)
+            accel::build(accel_kind, &meshes)
         } else {
-            let set = InstanceSet {
-                world_meshes: (0..self.meshes.len() as u32)
-                    .filter(|&m| self.mesh_prototype[m as usize] == u32::MAX)
-                    .collect(),
-                prototypes: self.prototypes,
-                instances: self.instances.clone(),
-            };
-            accel::build_instanced(accel_kind, &self.meshes, &set)
+            let set = InstanceSet { world_meshes, prototypes: self.prototypes, instances: self.instances.clone() };
+            accel::build_instanced(accel_kind, &meshes, &set)
         }
         .map_err(BuildError::Accel)?;
         let mut lights = self.lights;
-        let mut mesh_light_offset = vec![u32::MAX; self.meshes.len()];
-        for (mi, (mesh, em)) in self.meshes.iter().zip(&self.mesh_emission).enumerate() {
-            let Some(em) = em else { continue };
-            mesh_light_offset[mi] = lights.len() as u32;
-            let spectrum = Arc::new(em.spectrum.clone());
-            for prim in 0..mesh.len() {
-                let p = mesh.triangle(prim);
-                let n = (p[1] - p[0]).cross(p[2] - p[0]);
-                lights.push(Light::Area(AreaLight {
-                    p,
-                    n: n.normalize_or_zero(),
-                    area: 0.5 * n.length(),
-                    spectrum: spectrum.clone(),
-                    scale: em.scale,
-                    two_sided: em.two_sided,
-                    mesh: mi as u32,
-                    prim: prim as u32,
-                }));
-            }
+        let mut primitives = Vec::with_capacity(meshes.len());
+        for (mesh, (material, emission)) in meshes.into_iter().zip(parts) {
+            let area_lights = emission.map(|em| {
+                let first = lights.len() as u32;
+                let spectrum = Arc::new(em.spectrum);
+                for prim in 0..mesh.len() {
+                    let p = mesh.triangle(prim);
+                    let n = (p[1] - p[0]).cross(p[2] - p[0]);
+                    lights.push(Light::Area(AreaLight {
+                        p,
+                        n: n.normalize_or_zero(),
+                        area: 0.5 * n.length(),
+                        spectrum: spectrum.clone(),
+                        scale: em.scale,
+                        two_sided: em.two_sided,
+                    }));
+                }
+                first
+            });
+            primitives.push(Primitive { mesh, material, area_lights, medium_interface: MediumInterface::default() });
         }
         let bounds = accel.bounds();
         let radius = if bounds.is_empty() { 1.0 } else { bounds.radius().max(1e-6) };
         let light_sampler = LightSampler::new(&lights, radius);
-        let infinite_lights = lights.iter().enumerate().filter(|(_, l)| l.is_infinite()).map(|(i, _)| i).collect();
+        let infinite_lights =
+            lights.iter().enumerate().filter(|(_, l)| l.is_infinite()).map(|(i, _)| i as u32).collect();
         Ok(Scene {
             accel,
-            meshes: self.meshes,
-            mesh_material: self.mesh_material,
-            mesh_light_offset,
+            primitives,
             instances: self.instances,
             materials: self.materials,
             lights,
@@ -310,27 +317,22 @@ impl SceneBuilder {
     }
 }
 
-/// A scene ready to render.
+/// A scene ready to render: the integrator traces rays through it ([`Scene::intersect`],
+/// [`Scene::occluded`]) and asks the returned [`SurfaceInteraction`] for the material and
+/// emission at the hit; lights are reached through the light sampler.
 pub struct Scene {
-    /// Ray intersection.
-    pub accel: Box<dyn Accel>,
-    /// Geometry (geometry id = index).
-    pub meshes: Vec<Mesh>,
-    /// Material id of each mesh.
-    pub mesh_material: Vec<u32>,
-    /// Index of the first area light of each emissive mesh (light of triangle i = offset + i),
-    /// `u32::MAX` for meshes that do not emit.
-    pub mesh_light_offset: Vec<u32>,
-    /// Object instances (`Hit::inst_id` indexes this); their meshes are in object space.
-    pub instances: Vec<Instance>,
-    /// Materials.
-    pub materials: Vec<Material>,
+    accel: Box<dyn Accel>,
+    /// Geometry with its material, emission and media (a hit's `geom_id` indexes this).
+    primitives: Vec<Primitive>,
+    /// Object instances (`Hit::inst_id` indexes this); their primitives are in object space.
+    instances: Vec<Instance>,
+    materials: Vec<Material>,
     /// All lights (area lights one per emissive triangle).
-    pub lights: Vec<Light>,
-    /// Indices of lights seen by rays that escape the scene.
-    pub infinite_lights: Vec<usize>,
+    lights: Vec<Light>,
+    /// Lights seen by rays that escape the scene.
+    infinite_lights: Vec<u32>,
     /// Power-proportional light choice.
-    pub light_sampler: LightSampler,
+    light_sampler: LightSampler,
     /// The camera.
     pub camera: CameraDesc,
     /// Centre of the scene bounds.
@@ -340,11 +342,90 @@ pub struct Scene {
 }
 
 impl Scene {
-    /// The area light for triangle `prim` of mesh `mesh`, if it emits.
+    /// The closest surface along `ray` (t in (0, ray.t_max]), with its shading geometry,
+    /// material and emission.
     #[inline]
-    pub fn area_light_index(&self, mesh: u32, prim: u32) -> Option<usize> {
-        let off = self.mesh_light_offset[mesh as usize];
-        (off != u32::MAX).then(|| (off + prim) as usize)
+    pub fn intersect(&self, ray: &Ray) -> Option<SurfaceInteraction<'_>> {
+        self.accel.intersect(ray).map(|hit| SurfaceInteraction::new(self, ray, &hit))
+    }
+
+    /// The closest hit record along `ray`, for callers that decide from its distance alone
+    /// whether they need the interaction ([`Scene::interaction`]).
+    #[inline]
+    pub fn closest_hit(&self, ray: &Ray) -> Option<Hit> {
+        self.accel.intersect(ray)
+    }
+
+    /// Every hit along `ray` with t in (0, ray.t_max), in any order (BSSRDF probe rays).
+    pub fn all_hits(&self, ray: &Ray, hits: &mut Vec<Hit>) {
+        self.accel.intersect_all(ray, hits);
+    }
+
+    /// The interaction at `hit`, found along `ray`.
+    #[inline]
+    pub fn interaction(&self, ray: &Ray, hit: &Hit) -> SurfaceInteraction<'_> {
+        SurfaceInteraction::new(self, ray, hit)
+    }
+
+    /// True when something blocks `ray` with t in (0, ray.t_max) (shadow rays).
+    #[inline]
+    pub fn occluded(&self, ray: &Ray) -> bool {
+        self.accel.occluded(ray)
+    }
+
+    /// The accelerator (its name and memory figures).
+    pub fn accel(&self) -> &dyn Accel {
+        self.accel.as_ref()
+    }
+
+    /// The primitives (a hit's `geom_id` indexes them).
+    pub fn primitives(&self) -> &[Primitive] {
+        &self.primitives
+    }
+
+    /// The object instances (a hit's `inst_id` indexes them).
+    pub fn instances(&self) -> &[Instance] {
+        &self.instances
+    }
+
+    /// The materials (a primitive's `material` indexes them).
+    pub fn materials(&self) -> &[Material] {
+        &self.materials
+    }
+
+    /// Number of distinct triangles (instanced ones counted once).
+    pub fn triangle_count(&self) -> u64 {
+        self.primitives.iter().map(|p| p.mesh.len() as u64).sum()
+    }
+
+    /// Chooses a light for next-event estimation with `u` in [0, 1): the light and the
+    /// probability of choosing it.
+    #[inline]
+    pub fn sample_light(&self, u: f32) -> Option<(LightId, &Light, f32)> {
+        self.light_sampler.sample(u).map(|(i, pmf)| (i as LightId, &self.lights[i], pmf))
+    }
+
+    /// Probability with which [`Scene::sample_light`] chooses `light`, times the light's own
+    /// solid-angle density of sampling `wi` from `p` (pbrt-v4 `PMF(ctx, light) · PDF_Li(ctx, wi)`).
+    #[inline]
+    pub fn light_pdf(&self, light: LightId, p: Vec3, wi: Vec3) -> f32 {
+        self.light_sampler.pmf(light as usize) * self.lights[light as usize].pdf_li(p, wi)
+    }
+
+    /// The lights that rays escaping the scene see.
+    pub fn infinite_lights(&self) -> impl Iterator<Item = (LightId, &Light)> + '_ {
+        self.infinite_lights.iter().map(|&i| (i, &self.lights[i as usize]))
+    }
+
+    /// The largest bounding-sphere radius of the primitives made of `material`.
+    pub fn material_radius(&self, material: u32) -> f32 {
+        self.primitives
+            .iter()
+            .filter(|p| p.material == material)
+            .map(|p| p.mesh.bounds())
+            .filter(|b| !b.is_empty())
+            .map(|b| b.radius())
+            .fold(0.0, f32::max)
     }
 
     /// True when some material disperses light (model only what the scene needs).
@@ -352,3 +433,6 @@ impl Scene {
         self.materials.iter().any(Material::is_dispersive)
     }
 }
+
+/// A light's index in the scene's light list: the handle the light sampler's pmf is keyed by.
+pub type LightId = u32;

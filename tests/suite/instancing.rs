@@ -9,12 +9,12 @@ use prism::accel::{self, AccelKind};
 use prism::camera::Camera;
 use prism::filter::Filter;
 use prism::geometry::shapes::{axis_box, icosphere, quad, terrain};
-use prism::geometry::{Hit, Mesh, Ray};
+use prism::geometry::{Hit, Instance, InstanceSet, Mesh, Prototype, Ray};
 use prism::integrator::PathIntegrator;
 use prism::material::Material;
 use prism::render::{render, RenderSettings, SamplerKind};
 use prism::sampling::Rng;
-use prism::scene::{Emission, Instance, InstanceSet, Prototype, SceneBuilder};
+use prism::scene::{Emission, SceneBuilder};
 use prism::spectrum::Spectrum;
 
 /// Relative tolerance on hit distances between an instance (ray carried into object space) and
@@ -91,16 +91,16 @@ fn instanced_and_flattened_scenes_give_the_same_hits() {
         let mut flat_b = instanced_builder();
         flat_b.flatten_instances();
         let flat = flat_b.build(kind).unwrap();
-        assert_eq!(inst.instances.len(), 36);
-        assert!(flat.instances.is_empty());
+        assert_eq!(inst.instances().len(), 36);
+        assert!(flat.instances().is_empty());
         let mut rng = Rng::new(17, 3);
         let (mut hits, mut instance_hits, mut total) = (0, 0, 0);
         for _ in 0..40_000 {
             let o = Vec3::new(rng.uniform() * 24.0 - 12.0, rng.uniform() * 6.0 + 0.5, rng.uniform() * 24.0 - 12.0);
             let ray = Ray::new(o, random_dir(&mut rng));
             total += 1;
-            let (a, b) = (inst.accel.intersect(&ray), flat.accel.intersect(&ray));
-            assert_eq!(inst.accel.occluded(&ray), a.is_some(), "{kind:?}: occluded disagrees with intersect");
+            let (a, b) = (inst.closest_hit(&ray), flat.closest_hit(&ray));
+            assert_eq!(inst.occluded(&ray), a.is_some(), "{kind:?}: occluded disagrees with intersect");
             match (a, b) {
                 (None, None) => {}
                 (Some(a), Some(b)) => {
@@ -108,7 +108,10 @@ fn instanced_and_flattened_scenes_give_the_same_hits() {
                     let tol = T_REL_TOL * a.t.max(1.0);
                     assert!((a.t - b.t).abs() <= tol, "{kind:?}: t {} vs {} for {ray:?}", a.t, b.t);
                     // Same surface: the flattened copy of the instance's mesh has its material.
-                    assert_eq!(inst.mesh_material[a.geom_id as usize], flat.mesh_material[b.geom_id as usize]);
+                    assert_eq!(
+                        inst.primitives()[a.geom_id as usize].material,
+                        flat.primitives()[b.geom_id as usize].material
+                    );
                     assert_eq!(a.prim_id, b.prim_id, "{kind:?}: prim for {ray:?}");
                     // World-space normals agree in direction (mirrored instances included).
                     let (na, nb) = (a.ng.normalize(), b.ng.normalize());
@@ -252,7 +255,7 @@ fn pbrt_object_instances_are_real_instances() {
     };
     for kind in accels() {
         let inst = load().build(kind).unwrap();
-        assert_eq!(inst.instances.len(), 13);
+        assert_eq!(inst.instances().len(), 13);
         let mut flat_b = load();
         flat_b.flatten_instances();
         let flat = flat_b.build(kind).unwrap();
@@ -272,7 +275,7 @@ fn render_cornell(m: Mat4, kind: AccelKind, instanced: bool, seed: u64) -> prism
     }
     b.transform(m);
     let scene = b.build(kind).unwrap();
-    assert_eq!(scene.instances.len(), instanced as usize);
+    assert_eq!(scene.instances().len(), instanced as usize);
     let settings = RenderSettings {
         resolution: (24, 24),
         film: Default::default(),

@@ -12,8 +12,8 @@ use super::device::{Device, EmbreeError};
 use super::ffi;
 use super::scene::{Scene, SceneHandle};
 use super::TriangleTest;
+use crate::geometry::InstanceSet;
 use crate::geometry::{Bounds3, Hit, Mesh, Ray};
-use crate::scene::instances::InstanceSet;
 
 /// Prototype scenes, instances and world meshes in one top-level Embree scene.
 pub struct InstancedScene {

@@ -15,8 +15,8 @@ mod user_triangles;
 pub use device::{error_name, Device, EmbreeError, CONFIG_ENV};
 
 use super::Accel;
+use crate::geometry::InstanceSet;
 use crate::geometry::{Bounds3, Hit, Mesh, Ray};
-use crate::scene::instances::InstanceSet;
 
 /// BVH build quality, as Embree names it.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]

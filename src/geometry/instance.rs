@@ -9,7 +9,7 @@
 
 use glam::{Mat3, Mat4, Vec3};
 
-use crate::geometry::{Bounds3, Mesh};
+use super::{Bounds3, Mesh};
 use crate::math::offset::gamma;
 
 /// A prototype: meshes (indices into the scene's mesh list) that are instanced together.

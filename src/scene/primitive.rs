@@ -1,0 +1,41 @@
+//! Primitives: a shape's geometry bound to what a ray hit on it needs — its material, its area
+//! light and the media on either side — as pbrt-v4's `GeometricPrimitive` (Pharr, Jakob &
+//! Humphreys, *Physically Based Rendering*, 4th ed., §7.1.1) and Mitsuba 3's `Shape` do. The
+//! integrator asks the hit ([`super::SurfaceInteraction`]) for these, never the scene's lists.
+
+use crate::geometry::Mesh;
+
+/// The participating media on the two sides of a surface (pbrt-v4 `MediumInterface`): indices
+/// into the scene's media, `None` for vacuum. `inside` is the side the geometric normal points
+/// away from.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct MediumInterface {
+    /// Medium behind the surface (opposite its geometric normal).
+    pub inside: Option<u32>,
+    /// Medium in front of the surface.
+    pub outside: Option<u32>,
+}
+
+/// A triangle mesh with its material, area emission and medium interface. A hit's `geom_id`
+/// names its primitive; primitives of object instances are in object space.
+#[derive(Clone, Debug, Default)]
+pub struct Primitive {
+    /// The geometry.
+    pub mesh: Mesh,
+    /// Index of its material in the scene's materials.
+    pub material: u32,
+    /// Index in the scene's lights of the area light of triangle 0, when the primitive emits
+    /// (triangle `i` is light `first + i`: one light per triangle, so the light sampler can pick
+    /// triangles in proportion to their power).
+    pub area_lights: Option<u32>,
+    /// The media inside and outside the surface.
+    pub medium_interface: MediumInterface,
+}
+
+impl Primitive {
+    /// The light index of triangle `prim`'s area light, if the primitive emits.
+    #[inline]
+    pub fn area_light(&self, prim: u32) -> Option<u32> {
+        self.area_lights.map(|first| first + prim)
+    }
+}
