@@ -84,13 +84,6 @@ impl PathState {
     }
 }
 
-/// The next vertex of a path: found by tracing the current ray, or handed over by a
-/// subsurface event (the diffusion BSSRDF's exit point with its BSDF).
-enum Next<'s> {
-    Trace,
-    Vertex(SurfaceInteraction<'s>, Bsdf),
-}
-
 impl PathIntegrator {
     /// Radiance [W/(sr·m²·nm)] arriving along `ray` at its origin, at the wavelengths `w` (which a
     /// dispersive interface may reduce to the hero wavelength).
@@ -102,7 +95,7 @@ impl PathIntegrator {
         sampler: &mut Sampler,
         stats: &mut Stats,
     ) -> SampledSpectrum {
-        self.trace(scene, ray, Next::Trace, w, sampler, stats)
+        self.trace(scene, ray, None, w, sampler, stats)
     }
 
     /// Irradiance E [W/(m²·nm)] at `p` on a surface with unit normal `n`, by the full integrator:
@@ -120,7 +113,7 @@ impl PathIntegrator {
         let si = SurfaceInteraction::sensor(p, n);
         let bsdf = Bsdf::new(n, Vec3::ZERO, n, Diffuse::new(SampledSpectrum::one()).into());
         let probe = Ray::new(p + n, -n); // only its origin matters for MIS bookkeeping
-        self.trace(scene, probe, Next::Vertex(si, bsdf), w, sampler, stats) * PI
+        self.trace(scene, probe, Some((si, bsdf)), w, sampler, stats) * PI
     }
 
     /// MIS weight of emission found by BSDF sampling, given the light's solid-angle pdf.
@@ -134,11 +127,13 @@ impl PathIntegrator {
         }
     }
 
+    /// The path loop. `pending` is a vertex found without tracing the current ray (the
+    /// irradiance sensor; a subsurface exit), whose BSDF is given.
     fn trace<'s>(
         &self,
         scene: &'s Scene,
         mut ray: Ray,
-        mut next: Next<'s>,
+        mut pending: Option<(SurfaceInteraction<'s>, Bsdf)>,
         w: &mut SampledWavelengths,
         sampler: &mut Sampler,
         stats: &mut Stats,
@@ -147,9 +142,9 @@ impl PathIntegrator {
         let use_nee = self.strategy != DirectStrategy::BsdfOnly;
         loop {
             // The next vertex, and the emission the ray finds there.
-            let (si, given_bsdf) = match std::mem::replace(&mut next, Next::Trace) {
-                Next::Vertex(si, bsdf) => (si, Some(bsdf)),
-                Next::Trace => {
+            let (si, given_bsdf) = match pending.take() {
+                Some((si, bsdf)) => (si, Some(bsdf)),
+                None => {
                     stats.rays += 1;
                     let Some(si) = scene.intersect(&ray) else {
                         let d = ray.d.normalize();
@@ -214,7 +209,7 @@ impl PathIntegrator {
                     ) {
                         None => break,
                         Some(Exit::Vertex(vsi, vbsdf)) => {
-                            next = Next::Vertex(vsi, vbsdf);
+                            pending = Some((vsi, vbsdf));
                             continue;
                         }
                         Some(Exit::Ray(exit, origin, pdf)) => {
