@@ -4,8 +4,8 @@
 //! ratios are reported as the median (and range) over passes.
 //!
 //! One thread: each chunk is timed by the thread's CPU time (`CLOCK_THREAD_CPUTIME_ID`), which
-//! excludes time the thread spent descheduled. (`/proc/thread-self/schedstat`, used until
-//! session 8, lags by up to a scheduler tick, longer than a chunk takes: its per-pass ratios
+//! excludes time the thread spent descheduled. (`/proc/thread-self/schedstat`, the
+//! earlier timer, lags by up to a scheduler tick, longer than a chunk takes: its per-pass ratios
 //! spread over a factor 2–4.) Two threads: the chunk is split over a
 //! 2-thread rayon pool and timed by the wall clock.
 //!

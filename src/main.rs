@@ -15,7 +15,7 @@ struct Cli {
 enum Command {
     /// Render a pbrt-v4 scene (or the built-in Cornell box).
     Render(cli::render::RenderArgs),
-    /// Colour tools: XYZ of an SPD file, RGB→spectrum, basis projection (lecture: "Color").
+    /// Colour tools: XYZ of an SPD file, RGB→spectrum, basis projection.
     #[command(subcommand)]
     Color(cli::color::ColorCommand),
     /// Combine the .film parts of a split render (`render --part i/N`) into one image.

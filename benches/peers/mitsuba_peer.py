@@ -1,4 +1,4 @@
-"""Peer benchmark: prism against Mitsuba 3 on prism's built-in Cornell box (issue #8).
+"""Peer benchmark: prism against Mitsuba 3 on prism's built-in Cornell box.
 
 Run through benches/peers/mitsuba.sh, which makes the virtual environment. In one run, on the
 same machine and thread count, it

@@ -1,4 +1,4 @@
-//! The closed set of BxDF models, dispatched by `match` (design.md: enums for closed sets).
+//! The closed set of BxDF models, an enum, dispatched by `match`.
 
 use super::{
     BsdfSample, BxdfFlags, CoatedDiffuse, Conductor, Dielectric, Diffuse, DiffuseTransmission, NormalizedFresnel,

@@ -1,4 +1,4 @@
-//! `prism color ...`: command-line checks of the colour pipeline (issue #3). Each subcommand
+//! `prism color ...`: command-line checks of the colour pipeline. Each subcommand
 //! is a function returning its text so that tests can call it; `run` prints.
 
 use crate::spectrum::projection::{project, Basis, Fit};
@@ -13,7 +13,7 @@ use std::path::{Path, PathBuf};
 /// RGB → spectrum method.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
 pub enum Method {
-    /// Smits 1999 basis spectra (the lecture's method).
+    /// Smits 1999 basis spectra (B. Smits, JGT 4(4)).
     Smits,
     /// Jakob & Hanika 2019 sigmoid polynomials (the default).
     Jakob,
@@ -44,7 +44,7 @@ pub enum BasisArg {
 pub enum FitArg {
     /// L² optimum (solve A β = b).
     Exact,
-    /// Box averages (the lecture's shortcut).
+    /// Box averages of F around each node (no linear solve).
     Average,
 }
 
@@ -108,7 +108,7 @@ fn load_spd(path: &Path) -> Result<Spectrum> {
     Spectrum::from_spd_file(path).with_context(|| format!("in SPD file {}", path.display()))
 }
 
-/// `prism color xyz`: "X Y Z" of the SPD file, lecture normalisation.
+/// `prism color xyz`: "X Y Z" of the SPD file, in the ∫ȳ normalisation (see `spectrum::cie`).
 pub fn xyz_text(spd: &Path) -> Result<String> {
     let xyz = load_spd(spd)?.to_xyz_f64();
     Ok(format!("{:.9} {:.9} {:.9}\n", xyz.x, xyz.y, xyz.z))

@@ -16,7 +16,9 @@ const INTRO: &str = r#"# Colour in prism
 `cargo test --no-default-features --lib write_colour_doc -- --ignored`). Do not edit by hand:
 change the prose in `src/cli/color_report.rs`.*
 
-Specification: the colour lecture (`shared/seeds/000_95e20b1c34266a7c.txt`) and issue #3.
+Specification: the CIE 1931 2° standard observer (CIE 015:2004) and the XYZ integrals below;
+RGB spaces from primary and white chromaticities (SMPTE RP 177-1993); RGB → spectrum by
+Jakob & Hanika (2019) and Smits (1999); a display given by its panels' emission spectra.
 Ground truth: `tests/data/colour_truth.json` (colour-science 0.4.7), checked by
 `src/spectrum/truth_tests.rs`.
 
@@ -24,7 +26,7 @@ Ground truth: `tests/data/colour_truth.json` (colour-science 0.4.7), checked by
 - A tabulated spectrum (SPD file, CIE table) is the piecewise-linear function through its
   samples, zero outside them. The CIE 1931 2° CMFs (1 nm, 360–830 nm) are linear between
   samples too.
-- XYZ as the lecture writes it: X = ∫ S x̄ dλ / ∫ ȳ dλ. Integrals are *exact* for
+- XYZ normalised by ∫ȳ: X = ∫ S x̄ dλ / ∫ ȳ dλ (Y, Z alike). Integrals are *exact* for
   piecewise-linear S (3-point Gauss–Legendre on every interval between the merged knots of S
   and the 1 nm table); ∫ȳ = 106.856915 nm (`CIE_Y_INTEGRAL`).
 - Named illuminants are normalised to Y = 1 (as pbrt-v4 does); blackbodies to peak 1.
@@ -49,13 +51,13 @@ like pbrt-v4), so white stays white: no blue tinge.
 
 ## Smits
 Smits' reflectance spectra (10 samples, 380–720 nm, held constant beyond) are combined
-exactly as in the lecture (white, then cyan/magenta/yellow, then red/green/blue). Smits
+in his order (white, then cyan/magenta/yellow, then red/green/blue). Smits
 published no emission basis; the illumination set is the reflectance set times the colour
 space's white illuminant, so W ↦ that white.
 
-## A display given by emission spectra (lecture) versus pbrt
-The lecture builds M_ij = ∫ P_j X̄_i / ∫ Ȳ directly from the panel spectra R, G, B (module
-`spectrum::display`); drive values are M⁻¹ XYZ(S). The columns keep each panel's absolute
+## A display given by emission spectra versus pbrt
+An additive display has M_ij = ∫ P_j X̄_i / ∫ Ȳ, built directly from the panel spectra R, G, B
+(module `spectrum::display`); drive values are M⁻¹ XYZ(S). The columns keep each panel's absolute
 output, and white need not map to (1,1,1). pbrt (and `ColorSpace`) instead defines a space by
 primary chromaticities and a white point, and scales the columns so RGB (1,1,1) is that
 white at Y = 1 — only the chromaticities of the panels matter, their spectra never appear.

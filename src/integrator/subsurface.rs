@@ -4,7 +4,8 @@
 //!   probe ray ([`crate::bssrdf::TabulatedBssrdf`]) among all surfaces of the same mesh on the
 //!   probe segment (one chosen uniformly), the throughput is multiplied by
 //!   S_p(p_i) / (pdf(p_i) / n_hits), and the path continues from p_i with the S_ω lobe
-//!   (lecture: L_o = ∫_A ∫ S L_i cos θ dω dA, estimated with one area sample).
+//!   (L_o = ∫_A ∫_{H²} S L_i cos θ_i dω_i dA, Jensen et al., "A Practical Model for Subsurface
+//!   Light Transport", SIGGRAPH 2001; estimated with one area sample).
 //! - [`SubsurfaceMethod::RandomWalk`]: the reference. Volumetric path tracing inside the object:
 //!   free-flight sampling with spectral MIS ([`crate::media::HomogeneousMedium`]),
 //!   Henyey–Greenstein scattering, and the dielectric boundary sampled at every surface hit

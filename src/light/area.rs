@@ -1,5 +1,5 @@
 //! Diffuse area light: one emissive triangle of constant radiance L [W/(sr·m²·nm)] on its front
-//! side (or both). Flux per side Φ = π L A (lecture: Φ = ∫_A ∫_{H²} L cos θ dω dA).
+//! side (or both). Flux per side Φ = π L A (Φ = ∫_A ∫_{H²} L cos θ dω dA).
 
 use super::point::spectral_integral;
 use super::LightSample;

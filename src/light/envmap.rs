@@ -64,7 +64,7 @@ pub struct EnvMapLight {
     width: usize,
     height: usize,
     texels: Arc<Vec<TexelSpectrum>>,
-    /// Luminance Y of each texel (lecture normalisation: Y = 1 for RGB white).
+    /// Luminance Y of each texel (∫ȳ normalisation of `spectrum::cie`: Y = 1 for RGB white).
     luminance: Arc<Vec<f32>>,
     distribution: Arc<Distribution2D>,
     /// Light space → world (a rotation; + z is the map's zenith).

@@ -1,4 +1,4 @@
-//! Light sources in SI units (lecture: "Radiometry"). Spectral quantities are per nanometre:
+//! Light sources in SI units (PBR 4th ed. §4.1). Spectral quantities are per nanometre:
 //! radiance L [W/(sr·m²·nm)], intensity I [W/(sr·nm)], irradiance E [W/(m²·nm)], flux Φ [W/nm].
 //! A light's `power` parameter is its radiometric flux integrated over 360–830 nm [W].
 
@@ -36,7 +36,7 @@ pub struct LightSample {
     pub dist: f32,
 }
 
-/// Every light prism renders. A closed set, dispatched by `match` (see design.md).
+/// Every light prism renders. A closed set: an enum, dispatched by `match`.
 #[derive(Clone, Debug)]
 pub enum Light {
     /// Isotropic point light.

@@ -14,7 +14,7 @@ use crate::spectrum::{Spectrum, CIE_Y_INTEGRAL};
 /// Maximum luminous efficacy K_m [lm/W].
 pub const K_M: f32 = crate::measure::K_M as f32;
 
-/// Lumens per watt of a spectrum with luminance Y = 1 in the lecture's normalisation
+/// Lumens per watt of a spectrum with luminance Y = 1 in the ∫ȳ normalisation (see `spectrum::cie`)
 /// (∫ s ȳ dλ = ∫ ȳ dλ): K_m ∫ ȳ dλ ≈ 72 983 [lm/W·nm].
 pub fn lumens_per_unit_y() -> f32 {
     K_M * CIE_Y_INTEGRAL

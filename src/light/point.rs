@@ -1,5 +1,6 @@
 //! Point and spot lights. Intensity I [W/(sr·nm)]; E at distance r is I cos θ / r²
-//! (lecture: isotropic point light I = Φ/4π, E = Φ/(4πr²); Warn's spotlight I(ω) = I₀ cos^s θ).
+//! (isotropic point light I = Φ/4π, E = Φ/(4πr²); Warn's spotlight I(ω) = I₀ cos^s θ, D. R. Warn,
+//! "Lighting Controls for Synthetic Images", SIGGRAPH 1983).
 
 use super::LightSample;
 use crate::math::{Frame, PI};
@@ -24,7 +25,7 @@ impl PointLight {
         Self { position, spectrum, scale }
     }
 
-    /// A point light emitting total flux `flux` [W] over 360–830 nm: I = Φ / 4π (lecture).
+    /// A point light emitting total flux `flux` [W] over 360–830 nm: I = Φ / 4π.
     pub fn with_flux(position: Vec3, spectrum: Arc<Spectrum>, flux: f32) -> Self {
         let scale = flux / (4.0 * PI * spectral_integral(&spectrum));
         Self { position, spectrum, scale }
@@ -75,7 +76,7 @@ impl SpotFalloff {
     /// ∫ I(ω)/I₀ dω over the sphere [sr]: Φ = I₀ × this.
     pub fn solid_angle_integral(&self) -> f32 {
         match *self {
-            // Lecture: ∫_{H²} cos^s θ dω = 2π/(s+1).
+            // ∫_{H²} cos^s θ dω = 2π ∫₀¹ μ^s dμ = 2π/(s+1).
             SpotFalloff::Warn { exponent } => 2.0 * PI / (exponent + 1.0),
             // pbrt-v4 SpotLight::Phi: 2π((1 − cosStart) + (cosStart − cosEnd)/2).
             SpotFalloff::Cone { cos_start, cos_end } => 2.0 * PI * ((1.0 - cos_start) + (cos_start - cos_end) / 2.0),

@@ -1,6 +1,6 @@
 //! The type names prism renders, and pbrt-v4's other names with what prism substitutes.
 //!
-//! One place for the lead to extend as materials and lights land: move a name from a
+//! One place to extend as materials and lights land: move a name from a
 //! `PBRT_ONLY_*` table into the matching `PRISM_*` list.
 
 /// Shapes prism renders. "objmesh" is prism's extension (docs/scene-format.md).

@@ -2,7 +2,7 @@
 //! lights, shapes, camera and the render settings the file asks for.
 //!
 //! Light spectra follow pbrt-v4: a light's spectrum is normalised to unit luminance (Y = 1 in the
-//! lecture's normalisation, so `"rgb L" [1 1 1]` looks white with value 1), then multiplied by
+//! ∫ȳ normalisation of `spectrum::cie`, so `"rgb L" [1 1 1]` looks white with value 1), then multiplied by
 //! `scale`. `power` and `illuminance` scale it exactly as pbrt-v4's `lights.cpp` does, so a pbrt-v4
 //! scene renders as bright as in pbrt-v4; prism's own `lumens`/`lux` (K_m = 683 lm/W) and
 //! `watts`/`irradiance` give SI photometric and radiometric targets instead (docs/radiometry.md).

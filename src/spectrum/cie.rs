@@ -1,5 +1,5 @@
 //! CIE 1931 2° colour matching functions x̄, ȳ, z̄ (360–830 nm at 1 nm) and the exact
-//! integrals that turn a spectrum into XYZ (lecture: "XYZ Color").
+//! integrals that turn a spectrum into XYZ (CIE 015:2004, *Colorimetry*).
 //!
 //! The table is taken to mean the piecewise-linear function through its samples, zero
 //! outside 360–830 nm. Integrals against it are computed exactly for piecewise-linear
@@ -17,8 +17,9 @@ pub const CIE_LAMBDA_MAX: f64 = 830.0;
 pub const CIE_SAMPLES: usize = 471;
 
 /// ∫ȳ(λ) dλ over the table [nm] (the trapezoid sum, which is the exact integral of the
-/// piecewise-linear ȳ). Dividing by it gives the lecture's normalisation: a spectrum that is
-/// 1 everywhere has Y = 1.
+/// piecewise-linear ȳ). Dividing by it gives the ∫ȳ normalisation used throughout prism:
+/// X = ∫ S x̄ dλ / ∫ ȳ dλ (Y, Z alike), so a spectrum that is 1 everywhere has Y = 1, and so does
+/// RGB white (1, 1, 1) in every [`super::ColorSpace`].
 pub const CIE_Y_INTEGRAL: f32 = 106.856_91;
 /// [`CIE_Y_INTEGRAL`] in double precision.
 pub const CIE_Y_INTEGRAL_F64: f64 = 106.856_914_916_767;
@@ -88,7 +89,7 @@ pub fn integrate_xyz(f: impl Fn(f64) -> f64, knots: &[f64]) -> DVec3 {
     acc
 }
 
-/// XYZ of the spectrum f exactly as the lecture writes it: X = ∫ f x̄ / ∫ ȳ (Y, Z alike).
+/// XYZ of the spectrum f in the ∫ȳ normalisation: X = ∫ f x̄ / ∫ ȳ (Y, Z alike).
 pub fn xyz_of(f: impl Fn(f64) -> f64, knots: &[f64]) -> DVec3 {
     integrate_xyz(f, knots) / CIE_Y_INTEGRAL_F64
 }

@@ -1,4 +1,4 @@
-//! RGB colour spaces defined by primaries and a white point (lecture: "RGB Color"), with
+//! RGB colour spaces defined by primaries and a white point, with
 //! XYZ↔RGB matrices derived from the chromaticities (SMPTE RP 177-1993 §3.3), not pasted.
 
 use super::illuminant::named_illuminant;

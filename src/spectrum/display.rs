@@ -1,10 +1,10 @@
-//! A display described by the emission spectra of its three channels (lecture: "RGB Color,
-//! Displays"): the colour of r·R(λ) + g·G(λ) + b·B(λ) is M (r, g, b)ᵀ with
+//! A display described by the emission spectra of its three channels (an additive
+//! display): the colour of r·R(λ) + g·G(λ) + b·B(λ) is M (r, g, b)ᵀ with
 //! M_ij = ∫ Pⱼ(λ) X̄ᵢ(λ) dλ / ∫ Ȳ dλ (P = R, G, B; X̄ᵢ = x̄, ȳ, z̄), so the drive values that
 //! reproduce a spectrum S on the display are M⁻¹ XYZ(S).
 //!
 //! pbrt differs: its colour spaces are defined by primary *chromaticities* and a white
-//! point, with the matrix scaled so that RGB (1,1,1) is the white at Y = 1; the lecture's M
+//! point, with the matrix scaled so that RGB (1,1,1) is the white at Y = 1; this M
 //! keeps the panels' absolute emission (a brighter blue panel gives a larger column) and has
 //! no white-point constraint. See docs/colour.md.
 
@@ -14,7 +14,7 @@ use glam::{DMat3, DVec3};
 /// A display given by its channels' emission spectra.
 #[derive(Clone, Debug)]
 pub struct EmissionDisplay {
-    /// M: drive values → XYZ (lecture normalisation).
+    /// M: drive values → XYZ (the ∫ȳ normalisation (see `spectrum::cie`)).
     pub rgb_to_xyz: DMat3,
     /// M⁻¹: XYZ → drive values.
     pub xyz_to_rgb: DMat3,

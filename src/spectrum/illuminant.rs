@@ -18,7 +18,7 @@ fn from_table(t: &(f64, f64, &[f64])) -> Spectrum {
     normalise_luminance(s)
 }
 
-/// Scales `s` so that its luminance Y (lecture normalisation) is 1.
+/// Scales `s` so that its luminance Y (the ∫ȳ normalisation (see `spectrum::cie`)) is 1.
 pub fn normalise_luminance(s: Spectrum) -> Spectrum {
     let y = s.to_xyz_f64().y;
     if y > 0.0 {

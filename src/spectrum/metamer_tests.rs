@@ -1,4 +1,4 @@
-//! Metamers (lecture: "XYZ Color"): clearly different SPDs with the same XYZ.
+//! Metamers: clearly different SPDs with the same XYZ.
 
 use super::cie::xyz_of;
 use super::Spectrum;

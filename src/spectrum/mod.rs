@@ -1,5 +1,5 @@
 //! Spectral and colorimetric core: sampled spectra, spectral representations, CIE colour
-//! matching, colour spaces and RGB→spectrum upsampling (lecture: "Color").
+//! matching, colour spaces and RGB→spectrum upsampling.
 
 mod blackbody;
 pub mod cie;

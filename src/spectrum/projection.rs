@@ -1,6 +1,6 @@
-//! Projection of a measured SPD onto a finite basis (lecture: "Aside: best approximation"):
+//! Projection of a measured SPD onto a finite basis (the L² best approximation):
 //! minimise ∫ (F − Σ βᵢBᵢ)² dλ ⇒ A β = b with A_ij = ∫ BᵢBⱼ, bᵢ = ∫ BᵢF. For boxes A is
-//! diagonal; for hats it is tridiagonal and solved by the Thomas algorithm. The lecture's
+//! diagonal; for hats it is tridiagonal and solved by the Thomas algorithm. A cheaper
 //! shortcut replaces the solve by box averages βᵢ = (1/|Iᵢ|) ∫_{Iᵢ} F around each node.
 
 use super::cie::for_each_node;
@@ -20,7 +20,7 @@ pub enum Basis {
 pub enum Fit {
     /// The L² optimum, A β = b.
     Exact,
-    /// Box averages of F around each node (the lecture's shortcut).
+    /// Box averages of F around each node (no linear solve).
     Average,
 }
 

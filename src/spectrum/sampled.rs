@@ -95,7 +95,7 @@ impl SampledSpectrum {
         self.0.to_array()
     }
 
-    /// Monte Carlo estimate of the lecture's XYZ, X = ∫ S x̄ dλ / ∫ ȳ dλ (Y, Z alike), from the
+    /// Monte Carlo estimate of XYZ in the ∫ȳ normalisation, X = ∫ S x̄ dλ / ∫ ȳ dλ (Y, Z alike), from the
     /// values at `w`: (1/4) Σᵢ x̄ȳz̄(λᵢ) sᵢ / pdfᵢ / ∫ȳ, skipping wavelengths whose pdf is 0.
     /// A spectrum equal to 1 everywhere has E[Y] = 1.
     pub fn to_xyz(&self, w: &SampledWavelengths) -> Vec3 {

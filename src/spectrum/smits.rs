@@ -1,5 +1,5 @@
-//! Smits' RGB → spectrum method exactly as the lecture gives it (B. Smits, "An RGB-to-Spectrum
-//! Conversion for Reflectances", JGT 4(4), 1999): remove the smallest component as white,
+//! Smits' RGB → spectrum method (B. Smits, "An RGB-to-Spectrum Conversion for Reflectances",
+//! JGT 4(4), 1999): remove the smallest component as white,
 //! then the smaller of the remaining pair as cyan/magenta/yellow, then the last as
 //! red/green/blue, adding each basis SPD with the amount removed. Not linear in RGB.
 
@@ -71,7 +71,7 @@ pub struct SmitsStep {
     pub amount: f64,
 }
 
-/// The lecture's decomposition of `rgb` (components clamped to ≥ 0), skipping zero steps.
+/// Smits' decomposition of `rgb` (components clamped to ≥ 0), skipping zero steps.
 pub fn smits_steps(rgb: [f64; 3]) -> Vec<SmitsStep> {
     let mut c = rgb.map(|v| if v.is_finite() { v.max(0.0) } else { 0.0 });
     let mut steps = Vec::with_capacity(3);
@@ -126,7 +126,8 @@ mod tests {
 
     #[test]
     fn lecture_worked_example() {
-        // (0.6, 0.2, 0.5): W·0.2, then M·0.3, then R·0.1.
+        // Worked example (0.6, 0.2, 0.5): white 0.2 (the minimum) leaves (0.4, 0, 0.3); magenta 0.3
+        // (the smaller of red and blue) leaves (0.1, 0, 0); red 0.1.
         let s = smits_steps([0.6, 0.2, 0.5]);
         assert_eq!(s.len(), 3);
         assert_eq!(s[0].basis, SmitsBasis::White);

@@ -1,5 +1,5 @@
-//! `Spectrum`: a spectral power distribution (or reflectance) as a function of wavelength
-//! (lecture: "Spectral Power Distribution"). A closed set, so an enum: evaluation is a `match`
+//! `Spectrum`: a spectral power distribution (or reflectance) as a function of wavelength.
+//! A closed set, so an enum: evaluation is a `match`
 //! and tables sit behind `Arc`, making `clone` cheap.
 
 use super::blackbody::{blackbody_normalised, blackbody_peak_radiance};
@@ -249,8 +249,8 @@ impl Spectrum {
         }
     }
 
-    /// XYZ as the lecture writes it, X = ∫ S x̄ dλ / ∫ ȳ dλ (Y, Z alike), integrated exactly
-    /// over the 1 nm CMF table and the spectrum's own knots, in double precision.
+    /// XYZ in the ∫ȳ normalisation of `spectrum::cie`, X = ∫ S x̄ dλ / ∫ ȳ dλ (Y, Z alike),
+    /// integrated exactly over the 1 nm CMF table and the spectrum's own knots, in double precision.
     pub fn to_xyz_f64(&self) -> DVec3 {
         xyz_of(|l| self.eval_f64(l), &self.knots())
     }

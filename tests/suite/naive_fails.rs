@@ -1,6 +1,6 @@
 //! Robustness proofs: each test runs prism's routine and a naive textbook variant (written out
 //! here) through the same assertion, and checks that ours passes where the naive one fails, so
-//! the test would catch a regression to the naive form (issue #9, "Numerics").
+//! the test would catch a regression to the naive form.
 
 use glam::{Vec2, Vec3};
 use prism::accel::watertight::ShearedRay;

@@ -1,4 +1,4 @@
-//! Radiometry in SI units, checked against closed forms (lecture: "Radiometry") with the
+//! Radiometry in SI units, checked against closed forms (PBR 4th ed. §4.1–4.2) with the
 //! measuring instrument (full integrator, mean ± standard error). Tolerances are 3 standard
 //! errors; estimators with zero variance (flat spectra, one delta light) get a 1e-4 relative
 //! allowance for f32 rounding instead.
@@ -110,7 +110,7 @@ fn warn_spotlight_flux_is_two_pi_i0_over_s_plus_one() {
         b.add_light(Light::Spot(spot));
         let scene = build(b);
         let phi = flux_through_sphere(&scene, Vec3::ZERO, 3.0, 200_000);
-        // Lecture: Φ = 2π I₀/(s+1) per nm, × 470 nm of flat spectrum.
+        // Warn's lobe: Φ = 2π I₀/(s+1) per nm, × 470 nm of flat spectrum.
         let expected = 2.0 * std::f64::consts::PI * i0 as f64 / (s as f64 + 1.0) * 470.0;
         assert_close(&format!("Warn s={s}"), phi, expected);
     }
@@ -289,7 +289,7 @@ fn with_no_depth_limit_paths_in_a_closed_white_room_still_end() {
 // ---- Photometric targets: pbrt-v4's `power`/`illuminance`, prism's `lumens`/`lux` ----
 //
 // pbrt-v4's film reads Y = ∫ȳ L dλ where prism's reads ∫ȳ L dλ / ∫ȳ dλ, and pbrt-v4 scales a
-// light so that `power` q gives its film a flux of Y = q: in prism's (the lecture's) normalisation
+// light so that `power` q gives its film a flux of Y = q: in prism's ∫ȳ normalisation
 // that is the same Y = q, i.e. K_m ∫ȳ dλ · q lumens. `lumens`/`lux` are SI.
 
 fn load_pbrt(text: &str) -> Scene {

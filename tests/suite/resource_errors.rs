@@ -1,4 +1,4 @@
-//! Out of memory and failed devices (issue #9): inputs that would need absurd allocations, and an
+//! Out of memory and failed devices: inputs that would need absurd allocations, and an
 //! Embree device that cannot be created, end in a clear error naming the cause — one line from
 //! the CLI, never an abort.
 

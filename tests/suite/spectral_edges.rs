@@ -1,4 +1,4 @@
-//! Spectral edge cases (issue #9): wavelengths at and just outside 360/830 nm, saturated and
+//! Spectral edge cases: wavelengths at and just outside 360/830 nm, saturated and
 //! out-of-gamut RGB through Jakob–Hanika and Smits upsampling, and very hot and very cold
 //! blackbodies. Everything must stay finite and physically ranged.
 

@@ -71,9 +71,10 @@ impl Ctx<'_> {
         Ok(light)
     }
 
-    /// A spotlight's falloff: Warn's cos^s lobe given "exponent" s ≥ 0 (prism's extension;
-    /// lecture), else pbrt-v4's cone: full intensity out to "coneangle" − "conedeltaangle",
-    /// smoothstep to zero at "coneangle" (degrees; 0 < coneangle ≤ 180, 0 ≤ delta ≤ coneangle).
+    /// A spotlight's falloff: Warn's cos^s lobe given "exponent" s ≥ 0 (prism's extension; D. R.
+    /// Warn, "Lighting Controls for Synthetic Images", SIGGRAPH 1983), else pbrt-v4's cone: full
+    /// intensity out to "coneangle" − "conedeltaangle", smoothstep to zero at "coneangle" (degrees;
+    /// 0 < coneangle ≤ 180, 0 ≤ delta ≤ coneangle).
     fn spot_falloff(&mut self, p: &ParamSet, loc: &Location) -> Result<SpotFalloff, SceneError> {
         if let Some(exponent) = p.float("exponent") {
             if !(exponent >= 0.0 && exponent.is_finite()) {
@@ -172,7 +173,7 @@ fn orthonormal(m: glam::Mat3) -> glam::Mat3 {
 /// How a light's brightness may be given besides `scale`: pbrt-v4's parameter, and prism's SI
 /// photometric and radiometric ones.
 pub(super) struct Target {
-    /// pbrt-v4's name; q sets the film's Y (the lecture's ∫ȳ-normalised luminance) to q / k_e.
+    /// pbrt-v4's name; q sets the film's Y (its luminance in the ∫ȳ normalisation of `spectrum::cie`) to q / k_e.
     pbrt: &'static str,
     /// In lm or lux: q sets K_m ∫ ȳ(λ) x(λ) dλ to q / k_e.
     photometric: &'static str,
@@ -189,7 +190,7 @@ pub(super) const ILLUMINANCE: Target = Target { pbrt: "illuminance", photometric
 /// The factor for a unit-luminance spectrum `s` that meets a brightness target
 /// (docs/radiometry.md). pbrt-v4 (`lights.cpp`) divides the spectrum by ∫ s ȳ dλ and multiplies
 /// by q / k_e, k_e being the light's geometric factor, and its film reads Y = ∫ ȳ L dλ (no 1/∫ȳ):
-/// so in the lecture's normalisation `power` q is a flux whose Y is q. The SI targets divide by
+/// so in the ∫ȳ normalisation (see `spectrum::cie`) `power` q is a flux whose Y is q. The SI targets divide by
 /// what one unit gives: K_m ∫ȳ dλ lumens, or ∫ s dλ watts for the spectrum `s` × `norm`
 /// (`None`: not offered). Without a target, 1.
 pub(super) fn brightness_factor(
