@@ -168,7 +168,7 @@ mod tests {
     use super::*;
 
     #[test]
-    fn warn_flux_integral_matches_lecture_closed_form() {
+    fn warn_flux_integral_matches_the_closed_form() {
         // Numerically integrate cos^s θ over the hemisphere and compare with 2π/(s+1).
         for s in [0.0f32, 1.0, 10.0, 100.0] {
             let f = SpotFalloff::Warn { exponent: s };

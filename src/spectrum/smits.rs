@@ -125,7 +125,7 @@ mod tests {
     use super::*;
 
     #[test]
-    fn lecture_worked_example() {
+    fn worked_example_decomposes_into_white_magenta_red() {
         // Worked example (0.6, 0.2, 0.5): white 0.2 (the minimum) leaves (0.4, 0, 0.3); magenta 0.3
         // (the smaller of red and blue) leaves (0.1, 0, 0); red 0.1.
         let s = smits_steps([0.6, 0.2, 0.5]);
