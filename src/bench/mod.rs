@@ -119,7 +119,7 @@ fn load(cfg: &BenchConfig) -> Result<SceneBuilder> {
     Ok(match cfg.scene.as_ref().and_then(|p| p.to_str()) {
         None | Some("builtin:cornell") => SceneBuilder::cornell_box(),
         Some("builtin:terrain") => terrain_scene(),
-        Some(_) => crate::cli::render::load_scene_file(cfg.scene.as_ref().expect("matched Some"), false)?.0,
+        Some(_) => crate::cli::render::load_scene_file(cfg.scene.as_ref().expect("matched Some"), false)?.builder,
     })
 }
 

@@ -7,7 +7,7 @@ use crate::image::Image;
 use crate::image::{CropWindow, WriteOptions};
 use crate::integrator::{PathIntegrator, Stats, SubsurfaceMethod};
 use crate::render::{RenderSettings, SamplerKind};
-use crate::scene::pbrt::FileSettings;
+use crate::scene::pbrt::{FileSettings, LoadedScene};
 use crate::scene::{Scene, SceneBuilder};
 use crate::sensor::Sensor;
 use crate::spectrum::ColorSpace;
@@ -195,7 +195,10 @@ pub fn prepare(args: &RenderArgs) -> Result<Job> {
 
     let (builder, file) = match &args.scene {
         None => (SceneBuilder::cornell_box(), FileSettings::default()),
-        Some(path) => load_scene_file(path, args.strict)?,
+        Some(path) => {
+            let loaded = load_scene_file(path, args.strict)?;
+            (loaded.builder, loaded.settings)
+        }
     };
     let sampler = match args.sampler.as_deref().or(file.sampler.as_deref()).unwrap_or("sobol") {
         "independent" => SamplerKind::Independent,
@@ -203,14 +206,8 @@ pub fn prepare(args: &RenderArgs) -> Result<Job> {
         other => bail!("unknown sampler '{other}' (valid: independent, sobol)"),
     };
     let filter_name = args.filter.as_deref().or(file.filter.as_deref()).unwrap_or("gaussian");
-    let filter = match Filter::by_name(filter_name) {
-        Some(f) => f,
-        None if args.filter.is_none() => {
-            log::warn!("the scene's pixel filter '{filter_name}' is not available; using gaussian");
-            Filter::by_name("gaussian").expect("built in")
-        }
-        None => bail!("unknown filter '{filter_name}' (valid: box, gaussian, mitchell)"),
-    };
+    let filter = Filter::by_name(filter_name)
+        .with_context(|| format!("unknown filter '{filter_name}' (valid: box, gaussian, mitchell)"))?;
     let space_name = args.color_space.as_deref().or(file.color_space.as_deref()).unwrap_or("srgb");
     let space = ColorSpace::by_name(space_name).with_context(|| {
         format!("unknown colour space '{space_name}' (valid: srgb, rec2020, acescg, aces2065-1, display-p3)")
@@ -254,19 +251,18 @@ pub fn prepare(args: &RenderArgs) -> Result<Job> {
     Ok(Job { scene, settings, output, space, build_s })
 }
 
-/// Parses a pbrt-v4 file and maps it onto a builder, printing its warnings.
-pub(crate) fn load_scene_file(path: &Path, strict: bool) -> Result<(SceneBuilder, FileSettings)> {
+/// Parses a pbrt-v4 file and maps it onto a builder, printing its warnings (in strict mode an
+/// unsupported feature is the error instead).
+pub(crate) fn load_scene_file(path: &Path, strict: bool) -> Result<LoadedScene> {
     if !path.exists() {
         bail!("scene file '{}' does not exist", path.display());
     }
     let opts = crate::scene::ParseOptions { strict, ..Default::default() };
-    let (desc, mut warnings) = crate::scene::parse_file(path, &opts)?;
-    let (builder, settings) = crate::scene::pbrt::build(&desc, &mut warnings)?;
-    warnings.extend(desc.report_unused());
-    for w in &warnings {
+    let loaded = crate::scene::pbrt::load_file(path, &opts)?;
+    for w in &loaded.warnings {
         log::warn!("{w}");
     }
-    Ok((builder, settings))
+    Ok(loaded)
 }
 
 /// Extensions `prism render -o` accepts.

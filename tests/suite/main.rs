@@ -17,3 +17,4 @@ mod scene_fuzz;
 mod scene_parser;
 mod spectral_edges;
 mod strategies;
+mod strict;
