@@ -7,10 +7,12 @@
 //! scene renders as bright as in pbrt-v4; prism's own `lumens`/`lux` (K_m = 683 lm/W) and
 //! `watts`/`irradiance` give SI photometric and radiometric targets instead (docs/radiometry.md).
 
+mod inputs;
 mod lights;
 mod load;
 mod subsurface;
 
+pub use inputs::{input_stamps, InputStamp};
 pub use load::{load_file, LoadedScene};
 
 use lights::{brightness_factor, FLUX};

@@ -7,6 +7,7 @@ mod common;
 mod envmap;
 mod film;
 mod instancing;
+mod merge;
 mod naive_fails;
 mod radiometry;
 mod render;
