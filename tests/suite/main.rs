@@ -10,6 +10,7 @@ mod instancing;
 mod merge;
 mod naive_fails;
 mod radiometry;
+mod readme;
 mod render;
 mod resource_errors;
 mod robustness;
