@@ -6,6 +6,7 @@
 //! per pixel X, Y, Z, weight as f64 and the sample count as u64, all little-endian.
 
 use crate::film::{Film, Pixel};
+use crate::image::CropWindow;
 use glam::DVec3;
 use std::io::Read;
 use std::ops::Range;
@@ -26,8 +27,15 @@ pub struct FilmHeader {
     pub samples: Range<u64>,
     /// Total samples per pixel the whole render is meant to have.
     pub spp_total: u64,
-    /// Settings and scene fingerprint: parts and checkpoints only combine when equal.
+    /// Settings and scene fingerprint ([`crate::fingerprint`]): parts and checkpoints only
+    /// combine when equal.
     pub fingerprint: String,
+    /// Where a cropped film lies in the full image (`None`: the film is the whole image).
+    #[serde(default)]
+    pub window: Option<CropWindow>,
+    /// The colour space the render writes its image in (`None`: sRGB).
+    #[serde(default)]
+    pub color_space: Option<String>,
 }
 
 /// Errors reading or combining film files.
@@ -128,8 +136,8 @@ pub fn merge(mut parts: Vec<(Film, FilmHeader)>) -> Result<(Film, FilmHeader), F
                 h.width, h.height, header.width, header.height
             )));
         }
-        if h.fingerprint != header.fingerprint {
-            return Err(FilmFileError::Mismatch("parts come from different scenes or settings".into()));
+        if let Some(d) = crate::fingerprint::difference(&header.fingerprint, &h.fingerprint) {
+            return Err(FilmFileError::Mismatch(format!("parts come from different scenes or settings: {d}")));
         }
         if h.samples.start < header.samples.end {
             return Err(FilmFileError::Mismatch(format!(
@@ -167,7 +175,15 @@ mod tests {
     fn save_load_round_trip_and_merge() {
         let dir = std::env::temp_dir().join(format!("prism-film-{}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();
-        let h = |r: Range<u64>| FilmHeader { width: 3, height: 2, samples: r, spp_total: 4, fingerprint: "x".into() };
+        let h = |r: Range<u64>| FilmHeader {
+            width: 3,
+            height: 2,
+            samples: r,
+            spp_total: 4,
+            fingerprint: "x".into(),
+            window: Some(CropWindow { x0: 1, y0: 2, full_width: 8, full_height: 6 }),
+            color_space: Some("rec2020".into()),
+        };
         let (a, b) = (film(1.0), film(2.0));
         save(&dir.join("a.film"), &a, &h(0..2)).unwrap();
         save(&dir.join("b.film"), &b, &h(2..4)).unwrap();

@@ -28,6 +28,7 @@ pub mod checkpoint;
 pub mod cli;
 pub mod film;
 pub mod filter;
+pub mod fingerprint;
 pub mod geometry;
 pub mod image;
 pub mod integrator;

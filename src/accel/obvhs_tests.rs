@@ -324,10 +324,17 @@ fn hit_bits(h: &Hit) -> (u32, u32, u32, [u32; 3], u32, u32) {
 fn dispatched_and_baseline_queries_agree_bit_for_bit() {
     // The trait methods run the AVX2+FMA variant on a CPU that has both (`obvhs_isa.rs`); the
     // inherent methods called here are inlined into this test, compiled for the baseline target.
+    // Both must return the same bits.
     #[cfg(target_arch = "x86_64")]
     let avx2 = std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma");
     #[cfg(not(target_arch = "x86_64"))]
     let avx2 = false;
+    // Without AVX2+FMA at run time, or with a build that already targets AVX2, the dispatcher
+    // runs the baseline code itself: the comparison would hold trivially.
+    if !avx2 || cfg!(target_feature = "avx2") {
+        eprintln!("skipped: dispatched and baseline queries are the same code on this CPU and build");
+        return;
+    }
     let meshes = test_scene();
     let accel = ObvhsAccel::new(&meshes);
     let rays = test_rays(&meshes);
@@ -351,6 +358,4 @@ fn dispatched_and_baseline_queries_agree_bit_for_bit() {
         hits += got.is_some() as usize;
     }
     assert!(hits > rays.len() / 2 && all_hits > hits / 4, "{hits} {all_hits} of {}", rays.len());
-    // Two different variants were compared only where the CPU has AVX2+FMA and this build does not.
-    eprintln!("AVX2+FMA variant against baseline: {}", avx2 && !cfg!(target_feature = "avx2"));
 }

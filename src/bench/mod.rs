@@ -18,11 +18,12 @@ use crate::filter::Filter;
 use crate::image::{metrics, Image};
 use crate::integrator::PathIntegrator;
 use crate::render::{render_range, RenderSettings, SamplerKind};
+use crate::scene::pbrt::InputStamp;
 use crate::scene::{Scene, SceneBuilder};
 use crate::spectrum::ColorSpace;
 use anyhow::{Context, Result};
 use std::path::{Path, PathBuf};
-use std::time::{Instant, UNIX_EPOCH};
+use std::time::Instant;
 
 /// One rendered point of the ladder.
 #[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
@@ -119,7 +120,7 @@ fn load(cfg: &BenchConfig) -> Result<SceneBuilder> {
     Ok(match cfg.scene.as_ref().and_then(|p| p.to_str()) {
         None | Some("builtin:cornell") => SceneBuilder::cornell_box(),
         Some("builtin:terrain") => terrain_scene(),
-        Some(_) => crate::cli::render::load_scene_file(cfg.scene.as_ref().expect("matched Some"), false)?.0,
+        Some(_) => crate::cli::render::load_scene_file(cfg.scene.as_ref().expect("matched Some"), false)?.builder,
     })
 }
 
@@ -153,25 +154,13 @@ fn render_image(
     Ok((film_to_image(&film, ColorSpace::srgb())?, t0.elapsed().as_secs_f64(), stats))
 }
 
-/// The size and modification time of every file the scene reads (none for a built-in scene),
-/// so that an edited scene file, or a file it includes or loads, is not rendered against the
-/// old reference.
-fn input_stamps(cfg: &BenchConfig) -> Result<Vec<serde_json::Value>> {
+/// The stamps (size, hash of the contents) of every file the scene reads (none for a built-in
+/// scene), so that an edited scene file, or a file it includes or loads, is not rendered against
+/// the old reference.
+fn input_stamps(cfg: &BenchConfig) -> Result<Vec<InputStamp>> {
     let Some(path) = cfg.scene.as_ref().filter(|p| p.exists()) else { return Ok(Vec::new()) };
     let (desc, _) = crate::scene::parse_file(path, &Default::default())?;
-    Ok(desc
-        .input_files()
-        .iter()
-        .map(|f| {
-            let m = std::fs::metadata(f).ok();
-            let modified = m.as_ref().and_then(|m| m.modified().ok()).and_then(|t| t.duration_since(UNIX_EPOCH).ok());
-            serde_json::json!({
-                "file": f.display().to_string(),
-                "bytes": m.map(|m| m.len()),
-                "modified_ns": modified.map(|d| d.as_nanos() as u64),
-            })
-        })
-        .collect())
+    Ok(crate::scene::pbrt::input_stamps(&desc.input_files(), path.parent().unwrap_or(Path::new(""))))
 }
 
 /// The reference: the given image, or a cached render whose settings match, or a new render.

@@ -188,18 +188,8 @@ pub fn project_text(basis: BasisArg, fit: FitArg, bins: usize, spd: &Path) -> Re
 #[cfg(test)]
 mod tests {
     use super::*;
-    use clap::{Parser, Subcommand};
-
-    #[derive(Parser)]
-    struct Cli {
-        #[command(subcommand)]
-        cmd: Wrapper,
-    }
-    #[derive(Subcommand)]
-    enum Wrapper {
-        #[command(subcommand)]
-        Color(ColorCommand),
-    }
+    use crate::cli::{Cli, Command};
+    use clap::Parser;
 
     fn write_tmp(name: &str, text: &str) -> PathBuf {
         let dir = std::env::temp_dir().join(format!("prism-color-{}", std::process::id()));
@@ -226,7 +216,7 @@ mod tests {
             "0.5",
         ])
         .unwrap();
-        let Wrapper::Color(ColorCommand::Rgb2spec { method, rgb, kind, .. }) = cli.cmd else {
+        let Command::Color(ColorCommand::Rgb2spec { method, rgb, kind, .. }) = cli.command else {
             panic!("wrong subcommand")
         };
         assert_eq!((method, kind, rgb), (Method::Smits, Kind::Illuminant, vec![0.6, 0.2, 0.5]));
@@ -234,7 +224,7 @@ mod tests {
             "prism", "color", "project", "--basis", "linear", "--fit", "average", "--bins", "12", "--spd", "a.spd",
         ])
         .unwrap();
-        assert!(matches!(cli.cmd, Wrapper::Color(ColorCommand::Project { bins: 12, .. })));
+        assert!(matches!(cli.command, Command::Color(ColorCommand::Project { bins: 12, .. })));
         assert!(Cli::try_parse_from(["prism", "color", "rgb2spec", "0.1", "0.2"]).is_err());
         assert!(Cli::try_parse_from(["prism", "color", "xyz"]).is_err());
     }

@@ -79,7 +79,7 @@ pub fn run(cmd: &MeasureCommand) -> Result<()> {
     let max_depth = super::max_depth(a.max_depth)?;
     let builder = match &a.scene {
         None => SceneBuilder::cornell_box(),
-        Some(path) => super::render::load_scene_file(path, false)?.0,
+        Some(path) => super::render::load_scene_file(path, false)?.builder,
     };
     let scene = builder.build(AccelKind::default_available()).context("building the scene")?;
     let integrator = PathIntegrator { max_depth, ..Default::default() };

@@ -1,6 +1,7 @@
 //! `prism merge`: combine the .film parts of a split render into one image.
 
 use crate::checkpoint;
+use crate::image::WriteOptions;
 use crate::spectrum::ColorSpace;
 use anyhow::{Context, Result};
 use std::path::PathBuf;
@@ -14,18 +15,21 @@ pub struct MergeArgs {
     /// Output image (or .film).
     #[arg(short = 'o', long = "output")]
     pub output: PathBuf,
-    /// Output colour space.
-    #[arg(long, default_value = "srgb")]
-    pub color_space: String,
+    /// Output colour space [default: the render's].
+    #[arg(long)]
+    pub color_space: Option<String>,
 }
 
 /// Runs `prism merge`.
 pub fn run(args: &MergeArgs) -> Result<()> {
-    let space = ColorSpace::by_name(&args.color_space)
-        .with_context(|| format!("unknown colour space '{}'", args.color_space))?;
+    if let Some(name) = &args.color_space {
+        ColorSpace::by_name(name).with_context(|| format!("unknown colour space '{name}'"))?;
+    }
     super::render::check_output(&args.output)?;
     let parts = args.parts.iter().map(|p| checkpoint::load(p)).collect::<Result<Vec<_>, _>>()?;
     let (film, header) = checkpoint::merge(parts)?;
+    let name = args.color_space.as_deref().or(header.color_space.as_deref()).unwrap_or("srgb");
+    let space = ColorSpace::by_name(name).with_context(|| format!("the parts' colour space '{name}' is unknown"))?;
     if header.samples.end - header.samples.start != header.spp_total {
         log::warn!(
             "the parts hold samples {:?} of {}: the image has fewer samples than the render asked for",
@@ -37,7 +41,10 @@ pub fn run(args: &MergeArgs) -> Result<()> {
         checkpoint::save(&args.output, &film, &header)?;
     } else {
         let image = super::render::film_to_image(&film, space)?;
-        crate::image::write(&args.output, &image).with_context(|| format!("writing {}", args.output.display()))?;
+        // A cropped render keeps its place in the full image, as `prism render` writes it.
+        let opts = WriteOptions { window: header.window, ..Default::default() };
+        crate::image::write_with(&args.output, &image, &opts)
+            .with_context(|| format!("writing {}", args.output.display()))?;
     }
     eprintln!("{}: merged {} parts, samples {:?}", args.output.display(), args.parts.len(), header.samples);
     Ok(())

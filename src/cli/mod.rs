@@ -1,4 +1,5 @@
-//! Command-line subcommands (the binary in main.rs only parses and dispatches to these).
+//! The command line: [`Cli`] and one module per subcommand. The binary in main.rs parses a
+//! [`Cli`] and runs it; nothing else in the library uses this module.
 
 pub mod bench;
 pub mod color;
@@ -8,6 +9,51 @@ pub mod merge;
 pub mod render;
 pub mod sss_report;
 pub mod sss_scenes;
+
+/// `prism`'s arguments.
+#[derive(clap::Parser, Debug)]
+#[command(name = "prism", version, about = "A spectral, physically based offline renderer")]
+pub struct Cli {
+    /// What to do.
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+/// The subcommands.
+#[derive(clap::Subcommand, Debug)]
+pub enum Command {
+    /// Render a pbrt-v4 scene (or the built-in Cornell box).
+    Render(render::RenderArgs),
+    /// Colour tools: XYZ of an SPD file, RGB→spectrum, basis projection.
+    #[command(subcommand)]
+    Color(color::ColorCommand),
+    /// Combine the .film parts of a split render (`render --part i/N`) into one image.
+    Merge(merge::MergeArgs),
+    /// Measure radiometric quantities with the full integrator (mean ± standard error).
+    #[command(subcommand)]
+    Measure(measure::MeasureCommand),
+    /// Render a ladder of sample counts per backend and sampler; error vs time, plots.
+    Bench(bench::BenchArgs),
+    /// Error metrics between two images (RMSE, relMSE, MAE) and a false-colour difference.
+    Compare(bench::CompareArgs),
+    /// Subsurface report: diffusion vs random walk, time and RMSE (docs/subsurface.md).
+    SssReport(sss_report::SssReportArgs),
+}
+
+impl Cli {
+    /// Runs the subcommand.
+    pub fn run(self) -> anyhow::Result<()> {
+        match self.command {
+            Command::Render(a) => render::run(&a),
+            Command::Color(c) => color::run(c),
+            Command::Merge(a) => merge::run(&a),
+            Command::Measure(c) => measure::run(&c),
+            Command::Bench(a) => bench::run(&a),
+            Command::Compare(a) => bench::compare(&a),
+            Command::SssReport(a) => sss_report::run(&a),
+        }
+    }
+}
 
 /// The render workers for `--threads` (all cores without it; 0 is an error), each set up for
 /// rendering by [`crate::accel::init_render_thread`].

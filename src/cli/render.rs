@@ -7,7 +7,7 @@ use crate::image::Image;
 use crate::image::{CropWindow, WriteOptions};
 use crate::integrator::{PathIntegrator, Stats, SubsurfaceMethod};
 use crate::render::{RenderSettings, SamplerKind};
-use crate::scene::pbrt::FileSettings;
+use crate::scene::pbrt::{input_stamps, FileSettings, InputStamp, LoadedScene};
 use crate::scene::{Scene, SceneBuilder};
 use crate::sensor::Sensor;
 use crate::spectrum::ColorSpace;
@@ -171,6 +171,10 @@ pub struct Job {
     pub space: &'static ColorSpace,
     /// Scene build time [s].
     pub build_s: f64,
+    /// The scene's name: the built-in Cornell box's, or the scene file's.
+    pub scene_name: String,
+    /// The files the scene reads, identified by their contents (none for the built-in scene).
+    pub inputs: Vec<InputStamp>,
 }
 
 /// Checks every argument and loads the scene, before any rendering starts. Command-line values
@@ -193,9 +197,14 @@ pub fn prepare(args: &RenderArgs) -> Result<Job> {
     };
     let time_limit = args.time_limit.as_deref().map(parse_duration).transpose()?;
 
-    let (builder, file) = match &args.scene {
-        None => (SceneBuilder::cornell_box(), FileSettings::default()),
-        Some(path) => load_scene_file(path, args.strict)?,
+    let (builder, file, scene_name, inputs) = match &args.scene {
+        None => (SceneBuilder::cornell_box(), FileSettings::default(), "builtin:cornell".to_string(), Vec::new()),
+        Some(path) => {
+            let loaded = load_scene_file(path, args.strict)?;
+            let base = path.parent().unwrap_or(Path::new(""));
+            let name = path.file_name().map_or(String::new(), |n| n.to_string_lossy().into_owned());
+            (loaded.builder, loaded.settings, name, input_stamps(&loaded.inputs, base))
+        }
     };
     let sampler = match args.sampler.as_deref().or(file.sampler.as_deref()).unwrap_or("sobol") {
         "independent" => SamplerKind::Independent,
@@ -203,14 +212,8 @@ pub fn prepare(args: &RenderArgs) -> Result<Job> {
         other => bail!("unknown sampler '{other}' (valid: independent, sobol)"),
     };
     let filter_name = args.filter.as_deref().or(file.filter.as_deref()).unwrap_or("gaussian");
-    let filter = match Filter::by_name(filter_name) {
-        Some(f) => f,
-        None if args.filter.is_none() => {
-            log::warn!("the scene's pixel filter '{filter_name}' is not available; using gaussian");
-            Filter::by_name("gaussian").expect("built in")
-        }
-        None => bail!("unknown filter '{filter_name}' (valid: box, gaussian, mitchell)"),
-    };
+    let filter = Filter::by_name(filter_name)
+        .with_context(|| format!("unknown filter '{filter_name}' (valid: box, gaussian, mitchell)"))?;
     let space_name = args.color_space.as_deref().or(file.color_space.as_deref()).unwrap_or("srgb");
     let space = ColorSpace::by_name(space_name).with_context(|| {
         format!("unknown colour space '{space_name}' (valid: srgb, rec2020, acescg, aces2065-1, display-p3)")
@@ -251,22 +254,21 @@ pub fn prepare(args: &RenderArgs) -> Result<Job> {
         integrator,
         time_limit,
     };
-    Ok(Job { scene, settings, output, space, build_s })
+    Ok(Job { scene, settings, output, space, build_s, scene_name, inputs })
 }
 
-/// Parses a pbrt-v4 file and maps it onto a builder, printing its warnings.
-pub(crate) fn load_scene_file(path: &Path, strict: bool) -> Result<(SceneBuilder, FileSettings)> {
+/// Parses a pbrt-v4 file and maps it onto a builder, printing its warnings (in strict mode an
+/// unsupported feature is the error instead).
+pub(crate) fn load_scene_file(path: &Path, strict: bool) -> Result<LoadedScene> {
     if !path.exists() {
         bail!("scene file '{}' does not exist", path.display());
     }
     let opts = crate::scene::ParseOptions { strict, ..Default::default() };
-    let (desc, mut warnings) = crate::scene::parse_file(path, &opts)?;
-    let (builder, settings) = crate::scene::pbrt::build(&desc, &mut warnings)?;
-    warnings.extend(desc.report_unused());
-    for w in &warnings {
+    let loaded = crate::scene::pbrt::load_file(path, &opts)?;
+    for w in &loaded.warnings {
         log::warn!("{w}");
     }
-    Ok((builder, settings))
+    Ok(loaded)
 }
 
 /// Extensions `prism render -o` accepts.
@@ -299,35 +301,6 @@ fn parse_part(s: &str) -> Result<(u64, u64)> {
     Ok((i, n))
 }
 
-/// What identifies a render: parts and checkpoints combine only when this is equal.
-fn fingerprint(args: &RenderArgs, job: &Job) -> String {
-    let scene_id = match &args.scene {
-        None => "cornell-box".to_string(),
-        Some(p) => {
-            let bytes = std::fs::read(p).unwrap_or_default();
-            format!("{}:{:016x}", p.display(), crate::sampling::rng::hash64(&[bytes.len() as u64, fnv(&bytes)]))
-        }
-    };
-    let st = &job.settings;
-    format!(
-        "{scene_id}|{}x{}|{:?}|spp {}|seed {}|{:?} v{}|{:?}|depth {}|{}",
-        st.resolution.0,
-        st.resolution.1,
-        st.film,
-        st.spp,
-        st.seed,
-        st.sampler,
-        crate::render::SAMPLE_STREAM_VERSION,
-        st.filter.kind(),
-        st.integrator.max_depth,
-        job.scene.accel().name()
-    )
-}
-
-fn fnv(bytes: &[u8]) -> u64 {
-    bytes.iter().fold(0xcbf2_9ce4_8422_2325u64, |h, &b| (h ^ b as u64).wrapping_mul(0x0100_0000_01b3))
-}
-
 /// Runs `prism render`.
 pub fn run(args: &RenderArgs) -> Result<()> {
     let pool = super::worker_pool(args.threads)?;
@@ -344,16 +317,27 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     if args.part.is_some() && !film_output {
         bail!("--part writes a share of the samples: give a .film output and combine with `prism merge`");
     }
-    let fp = fingerprint(args, &job);
+    let fp = crate::fingerprint::fingerprint(
+        &job.scene_name,
+        &job.inputs,
+        &job.settings,
+        job.space.name,
+        job.scene.accel().name(),
+    );
     let ckpt_path = PathBuf::from(format!("{}.ckpt", job.output.display()));
     let ckpt_every = args.checkpoint_every.as_deref().map(parse_duration).transpose()?;
     let (w, h) = job.settings.film_size();
+    // A crop keeps its place in the full image (OpenEXR data and display windows).
+    let (full_width, full_height) = job.settings.resolution;
+    let window = job.settings.film.crop.map(|b| CropWindow { x0: b.x0, y0: b.y0, full_width, full_height });
     let header = |samples: std::ops::Range<u64>| crate::checkpoint::FilmHeader {
         width: w,
         height: h,
         samples,
         spp_total: spp,
         fingerprint: fp.clone(),
+        window,
+        color_space: Some(job.space.name.to_string()),
     };
 
     let mut film = Film::try_new(w, h)?;
@@ -361,8 +345,11 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     if args.resume {
         let (f, hd) = crate::checkpoint::load(&ckpt_path)
             .with_context(|| format!("--resume: reading the checkpoint {}", ckpt_path.display()))?;
-        if hd.fingerprint != fp || (hd.width, hd.height) != (w, h) || hd.samples.start != range.start {
-            bail!("--resume: {} was written by a different scene or settings", ckpt_path.display());
+        if let Some(d) = crate::fingerprint::difference(&hd.fingerprint, &fp) {
+            bail!("--resume: {} was written by a different scene or settings: {d}", ckpt_path.display());
+        }
+        if (hd.width, hd.height) != (w, h) || hd.samples.start != range.start {
+            bail!("--resume: {} holds another part of the samples or image", ckpt_path.display());
         }
         film = f;
         start = hd.samples.end.min(range.end);
@@ -400,9 +387,6 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         crate::checkpoint::save(&job.output, &film, &header(range.start..done))?;
     } else {
         let image = film_to_image(&film, job.space)?;
-        // A crop keeps its place in the full image (OpenEXR data and display windows).
-        let (full_width, full_height) = job.settings.resolution;
-        let window = job.settings.film.crop.map(|b| CropWindow { x0: b.x0, y0: b.y0, full_width, full_height });
         let opts = WriteOptions { window, ..Default::default() };
         crate::image::write_with(&job.output, &image, &opts)
             .with_context(|| format!("writing {}", job.output.display()))?;

@@ -228,6 +228,8 @@ fn reference(scene: &crate::scene::Scene, a: &SssReportArgs, name: &str, fingerp
             samples: 0..end,
             spp_total: a.reference_spp,
             fingerprint: fingerprint.to_string(),
+            window: None,
+            color_space: None,
         };
         let seconds = before_s + t0.elapsed().as_secs_f64();
         saved = checkpoint::save(&path, film, &header)

@@ -137,7 +137,7 @@ pub struct WriteOptions {
 }
 
 /// Where an image lies in the full image it was cropped from [pixels].
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub struct CropWindow {
     /// Column of the image's first pixel in the full image.
     pub x0: u32,

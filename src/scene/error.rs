@@ -61,7 +61,7 @@ pub enum SceneError {
         /// Comma-separated valid names.
         valid: String,
     },
-    /// A pbrt-v4 feature prism does not render, under `ParseOptions::strict`.
+    /// A pbrt-v4 feature prism does not render, in strict mode (`ParseOptions::strict`).
     #[error("{loc}: unsupported feature: {feature} (strict mode; without --strict prism {fallback})")]
     Unsupported {
         /// Where.
@@ -127,6 +127,58 @@ pub struct Warning {
     pub loc: Location,
     /// What.
     pub message: String,
+    /// Whether it reports a feature prism does not render.
+    pub kind: WarningKind,
+}
+
+/// What a warning reports.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum WarningKind {
+    /// Something worth knowing (deprecated syntax, an unused parameter, an empty mesh file); the
+    /// scene renders as written.
+    Note,
+    /// A pbrt-v4 feature prism does not render and what prism does instead: an error in strict
+    /// mode ([`check_strict`]).
+    Unsupported {
+        /// What the file asked for.
+        feature: String,
+        /// What prism does instead ("renders the control mesh").
+        fallback: String,
+    },
+}
+
+impl Warning {
+    /// A warning that is never an error.
+    pub fn note(loc: &Location, message: impl Into<String>) -> Self {
+        Self { loc: loc.clone(), message: message.into(), kind: WarningKind::Note }
+    }
+
+    /// A pbrt-v4 feature prism does not render: "unsupported feature: {feature}; prism {fallback}".
+    pub fn unsupported(loc: &Location, feature: impl Into<String>, fallback: impl Into<String>) -> Self {
+        let (feature, fallback) = (feature.into(), fallback.into());
+        let message = format!("unsupported feature: {feature}; prism {fallback}");
+        Self { loc: loc.clone(), message, kind: WarningKind::Unsupported { feature, fallback } }
+    }
+
+    /// The error this warning is in strict mode, if it is one.
+    pub fn strict_error(&self) -> Option<SceneError> {
+        match &self.kind {
+            WarningKind::Note => None,
+            WarningKind::Unsupported { feature, fallback } => Some(SceneError::Unsupported {
+                loc: self.loc.clone(),
+                feature: feature.clone(),
+                fallback: fallback.clone(),
+            }),
+        }
+    }
+}
+
+/// Strict mode: the first warning about an unsupported feature, as an error.
+pub fn check_strict(warnings: &[Warning]) -> Result<(), SceneError> {
+    match warnings.iter().find_map(Warning::strict_error) {
+        Some(e) => Err(e),
+        None => Ok(()),
+    }
 }
 
 impl fmt::Display for Warning {

@@ -460,29 +460,30 @@ impl ParamSet {
     /// as RGB with negative components, naming the directive it belongs to (e.g. `Shape
     /// "sphere"`).
     pub fn report_unused(&self, context: &str) -> Vec<Warning> {
-        let unused = self.params.iter().filter(|p| !p.is_used()).map(|p| Warning {
-            loc: p.loc.clone(),
-            message: format!("parameter \"{} {}\" of {context} was not used", p.type_name, p.name),
+        let unused = self.params.iter().filter(|p| !p.is_used()).map(|p| {
+            Warning::note(&p.loc, format!("parameter \"{} {}\" of {context} was not used", p.type_name, p.name))
         });
-        let extra = self.params.iter().filter(|p| p.read_as_one.load(Ordering::Relaxed) > 1).map(|p| Warning {
-            loc: p.loc.clone(),
-            message: format!(
+        let extra = self.params.iter().filter(|p| p.read_as_one.load(Ordering::Relaxed) > 1).map(|p| {
+            let message = format!(
                 "parameter \"{} {}\" of {context} takes one value, but {} were given; the rest were ignored",
                 p.type_name,
                 p.name,
                 p.read_as_one.load(Ordering::Relaxed)
-            ),
+            );
+            Warning::note(&p.loc, message)
         });
         // The RGB → spectrum conversion takes negative components as 0: say so (once: an unused
         // parameter is reported as unused only).
         let negative = self.params.iter().filter_map(|p| match &p.value {
-            ParamValue::Spectrum(SpectrumParam::Rgb(c)) if p.is_used() && c.iter().any(|&x| x < 0.0) => Some(Warning {
-                loc: p.loc.clone(),
-                message: format!(
-                    "parameter \"{} {}\" of {context} has negative components {c:?}; they are taken as 0",
-                    p.type_name, p.name
-                ),
-            }),
+            ParamValue::Spectrum(SpectrumParam::Rgb(c)) if p.is_used() && c.iter().any(|&x| x < 0.0) => {
+                Some(Warning::note(
+                    &p.loc,
+                    format!(
+                        "parameter \"{} {}\" of {context} has negative components {c:?}; they are taken as 0",
+                        p.type_name, p.name
+                    ),
+                ))
+            }
             _ => None,
         });
         unused.chain(extra).chain(negative).collect()

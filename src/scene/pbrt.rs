@@ -7,8 +7,13 @@
 //! scene renders as bright as in pbrt-v4; prism's own `lumens`/`lux` (K_m = 683 lm/W) and
 //! `watts`/`irradiance` give SI photometric and radiometric targets instead (docs/radiometry.md).
 
+mod inputs;
 mod lights;
+mod load;
 mod subsurface;
+
+pub use inputs::{input_stamps, InputStamp};
+pub use load::{load_file, LoadedScene};
 
 use lights::{brightness_factor, FLUX};
 
@@ -37,7 +42,7 @@ pub struct FileSettings {
     pub spp: Option<u64>,
     /// Integrator "maxdepth".
     pub max_depth: Option<u32>,
-    /// PixelFilter type.
+    /// PixelFilter type (one prism has: [`crate::filter::Filter::by_name`] knows it).
     pub filter: Option<String>,
     /// Sampler type mapped to prism's ("independent" or "sobol").
     pub sampler: Option<String>,
@@ -89,8 +94,13 @@ fn space_of(params: &ParamSet) -> &'static ColorSpace {
 }
 
 impl Ctx<'_> {
-    fn warn(&mut self, loc: &super::error::Location, message: String) {
-        self.warnings.push(Warning { loc: loc.clone(), message });
+    fn warn(&mut self, loc: &Location, message: String) {
+        self.warnings.push(Warning::note(loc, message));
+    }
+
+    /// A pbrt-v4 feature prism does not render, and what prism does instead.
+    fn unsupported(&mut self, loc: &Location, feature: String, fallback: &str) {
+        self.warnings.push(Warning::unsupported(loc, feature, fallback));
     }
 
     /// Integrator "maxdepth": a depth ≥ 0, or −1 for no limit (Mitsuba's convention; pbrt-v4's
@@ -155,10 +165,8 @@ impl Ctx<'_> {
         let sensor = film.string("sensor").unwrap_or("cie1931");
         let mut white_balance = film.float("whitebalance");
         if sensor != "cie1931" {
-            self.warn(
-                &d.film.loc,
-                format!("prism has no data for the sensor \"{sensor}\"; using \"cie1931\" (white balanced)"),
-            );
+            let feature = format!("sensor \"{sensor}\" (prism has no data for it)");
+            self.unsupported(&d.film.loc, feature, "uses \"cie1931\" (white balanced)");
             // pbrt-v4 white balances a camera sensor to 6500 K unless told otherwise.
             white_balance = white_balance.filter(|&t| t > 0.0).or(Some(6500.0));
         }
@@ -167,6 +175,13 @@ impl Ctx<'_> {
         let exposure_time = match shutter {
             (None, None) => None,
             (open, close) => Some(close.unwrap_or(1.0) - open.unwrap_or(0.0)),
+        };
+        let filter = match crate::filter::Filter::by_name(&d.filter.kind) {
+            Some(_) => d.filter.kind.clone(),
+            None => {
+                self.unsupported(&d.filter.loc, format!("pixel filter \"{}\"", d.filter.kind), "uses \"gaussian\"");
+                "gaussian".to_string()
+            }
         };
         let sampler = match d.sampler.kind.as_str() {
             "independent" => "independent",
@@ -177,7 +192,7 @@ impl Ctx<'_> {
             filename: film.string("filename").map(Into::into),
             spp: count(&d.sampler.params, "pixelsamples", &d.sampler.loc, 1)?.map(|n| n as u64),
             max_depth: self.max_depth()?,
-            filter: Some(d.filter.kind.clone()),
+            filter: Some(filter),
             sampler: Some(sampler.to_string()),
             seed: d.sampler.params.int("seed").or_else(|| d.options.int("seed")).map(|s| s as u64),
             color_space: Some(d.color_space.clone()),
@@ -203,14 +218,13 @@ impl Ctx<'_> {
                     // A pbrt-v4 name whose data prism does not ship: substitute and say so.
                     let sub = if n.starts_with("glass-") { "glass-BK7" } else { "metal-Al-eta" };
                     let sub = if n.ends_with("-k") { "metal-Al-k" } else { sub };
-                    self.warnings.push(Warning {
-                        loc: params
-                            .iter()
-                            .next()
-                            .map(|p| p.loc.clone())
-                            .unwrap_or_else(|| self.desc.camera.directive.loc.clone()),
-                        message: format!("prism has no data for the named spectrum \"{n}\"; using \"{sub}\""),
-                    });
+                    let loc = params
+                        .iter()
+                        .next()
+                        .map(|p| p.loc.clone())
+                        .unwrap_or_else(|| self.desc.camera.directive.loc.clone());
+                    let feature = format!("named spectrum \"{n}\" (prism has no data for it)");
+                    self.unsupported(&loc, feature, &format!("uses \"{sub}\""));
                     named_spectrum(sub).ok_or("built-in spectrum missing")?
                 }
             },
@@ -260,7 +274,7 @@ impl Ctx<'_> {
                 Ok(SpectrumTexture::Image(ReflectanceImage::new(texture)))
             }
             other => {
-                self.warn(&t.loc, format!("texture type \"{other}\" is not supported; prism uses a constant 0.5"));
+                self.unsupported(&t.loc, format!("texture type \"{other}\""), "uses a constant 0.5");
                 Ok(SpectrumTexture::Constant(Spectrum::constant(0.5)))
             }
         }
@@ -299,7 +313,7 @@ impl Ctx<'_> {
                     }
                     other => {
                         let loc = td.loc.clone();
-                        self.warn(&loc, format!("float texture type \"{other}\" is not supported; using {default}"));
+                        self.unsupported(&loc, format!("float texture type \"{other}\""), &format!("uses {default}"));
                         FloatTexture::Constant(default)
                     }
                 }
@@ -371,7 +385,7 @@ impl Ctx<'_> {
             },
             "subsurface" => self.subsurface(m)?,
             other => {
-                self.warn(loc, format!("material \"{other}\" is not rendered by prism; using diffuse 0.5"));
+                self.unsupported(loc, format!("material \"{other}\""), "uses diffuse 0.5");
                 Material::diffuse(Spectrum::constant(0.5))
             }
         })
@@ -419,7 +433,7 @@ impl Ctx<'_> {
             };
             let Some(proto) = proto else { continue };
             if !self.b.add_instance(proto, inst.world_from_instance) {
-                self.warnings.extend(self.b.warnings.pop().map(|message| Warning { loc: inst.loc.clone(), message }));
+                self.warnings.extend(self.b.warnings.pop().map(|message| Warning::note(&inst.loc, message)));
             }
         }
         Ok(())

@@ -40,10 +40,7 @@ pub fn load(
         "bilinearmesh" => Ok(ShapeGeometry::Mesh(Arc::new(inline_mesh(ps, loc, 4)?))),
         "loopsubdiv" => {
             let _ = ps.int("levels");
-            warnings.push(Warning {
-                loc: loc.clone(),
-                message: "unsupported feature: loop subdivision; prism renders the control mesh".into(),
-            });
+            warnings.push(Warning::unsupported(loc, "loop subdivision", "renders the control mesh"));
             Ok(ShapeGeometry::Mesh(Arc::new(inline_mesh(ps, loc, 3)?)))
         }
         "plymesh" | "objmesh" => {
@@ -51,10 +48,7 @@ pub fn load(
                 return Err(err(format!("{kind} needs a \"string filename\" parameter")));
             };
             if ps.texture("displacement").is_some() {
-                warnings.push(Warning {
-                    loc: loc.clone(),
-                    message: "unsupported feature: displacement mapping; prism ignores it".into(),
-                });
+                warnings.push(Warning::unsupported(loc, "displacement mapping", "ignores it"));
                 let _ = ps.float("edgelength");
             }
             let bytes = std::fs::read(&path).map_err(|e| SceneError::Io {
@@ -67,7 +61,7 @@ pub fn load(
             if mesh.indices.is_empty() {
                 // OBJ readers skip what they do not know, so a wrong file can parse to nothing.
                 let message = format!("mesh file \"{}\" holds no triangles; the shape is empty", path.display());
-                warnings.push(Warning { loc: loc.clone(), message });
+                warnings.push(Warning::note(loc, message));
             }
             Ok(ShapeGeometry::Mesh(Arc::new(mesh)))
         }

@@ -137,6 +137,8 @@ fn embree_and_obvhs_render_the_same_image_within_noise() {
     // Same seeds: pixels differ only where the two triangle tests round differently and a path
     // diverges. The per-pixel differences must average to zero within their standard error.
     let (m, se, mean) = film_difference(&a, &b);
+    // A black image would pass the comparison: the box must be lit.
+    assert!(mean > 0.1, "black image (mean Y {mean})");
     assert!(m.abs() <= 4.0 * se + 1e-6 * mean, "mean difference {m} ± {se}");
 }
 

@@ -67,27 +67,24 @@ fn cornell_box_is_the_same_at_every_scale_and_far_from_the_origin() {
     }
 }
 
-fn with_bad_meshes() -> SceneBuilder {
+/// The Cornell box plus a mesh of `bad` triangles and two good ones (one inverted), and a
+/// non-manifold mesh. `bad`: zero area (duplicate vertex), NaN and Inf vertices, a collapsed
+/// triangle, an index out of range.
+fn with_meshes(bad: bool) -> SceneBuilder {
     let mut b = SceneBuilder::cornell_box();
     let m = b.add_material(Material::diffuse(Spectrum::constant(0.5)));
     let (nan, inf) = (f32::NAN, f32::INFINITY);
     let v = |x, y, z| Vec3::new(x, y, z);
-    // Zero area (duplicate vertex), NaN and Inf vertices, a collapsed triangle, an index out of
-    // range; and two good triangles (one inverted).
-    let degenerate = Mesh::new(
-        vec![
-            v(100.0, 100.0, 100.0),
-            v(100.0, 100.0, 100.0),
-            v(200.0, 100.0, 100.0),
-            v(nan, 0.0, 0.0),
-            v(inf, 1.0, 0.0),
-            v(300.0, 200.0, 300.0),
-            v(400.0, 200.0, 300.0),
-            v(300.0, 300.0, 300.0),
-        ],
-        vec![[0, 1, 2], [3, 4, 5], [2, 2, 2], [5, 6, 7], [7, 6, 5], [0, 9, 1]],
-    );
-    b.add_mesh(degenerate, m, None);
+    let good = [v(300.0, 200.0, 300.0), v(400.0, 200.0, 300.0), v(300.0, 300.0, 300.0)];
+    let mesh = if bad {
+        let mut p = vec![v(100.0, 100.0, 100.0), v(100.0, 100.0, 100.0), v(200.0, 100.0, 100.0), v(nan, 0.0, 0.0)];
+        p.push(v(inf, 1.0, 0.0));
+        p.extend(good);
+        Mesh::new(p, vec![[0, 1, 2], [3, 4, 5], [2, 2, 2], [5, 6, 7], [7, 6, 5], [0, 9, 1]])
+    } else {
+        Mesh::new(good.to_vec(), vec![[0, 1, 2], [2, 1, 0]])
+    };
+    b.add_mesh(mesh, m, None);
     // Non-manifold: three triangles sharing one edge, plus a back-to-back duplicate.
     let non_manifold = Mesh::new(
         vec![
@@ -105,13 +102,22 @@ fn with_bad_meshes() -> SceneBuilder {
 
 #[test]
 fn degenerate_geometry_is_skipped_with_one_warning_and_no_nans() {
-    let b = with_bad_meshes();
+    let b = with_meshes(true);
     assert_eq!(b.warnings.len(), 1, "{:?}", b.warnings);
     assert!(b.warnings[0].contains("skipped 4 degenerate"), "{:?}", b.warnings);
+    assert!(with_meshes(false).warnings.is_empty());
     for accel in [AccelKind::Obvhs].into_iter().chain(cfg!(feature = "embree").then_some(AccelKind::Embree)) {
-        let scene = with_bad_meshes().build(accel).unwrap();
+        let scene = with_meshes(true).build(accel).unwrap();
         let (film, stats) = render(&scene, &settings(), |_| {}).unwrap();
         assert_eq!(stats.nonfinite, 0, "{accel:?}");
-        assert!(film.pixels.iter().all(|p| p.xyz_sum.is_finite()));
+        // Skipped means gone: the image is that of the scene without the bad triangles (same
+        // seeds, so equal up to paths that part where the two BVHs order equal-distance hits).
+        let clean = with_meshes(false).build(accel).unwrap();
+        let (reference, _) = render(&clean, &settings(), |_| {}).unwrap();
+        let (d, se, mean) = diff(&film, &reference);
+        assert!(mean > 0.1, "{accel:?}: black image (mean Y {mean})");
+        assert!(d.abs() <= 4.0 * se + 1e-6 * mean, "{accel:?}: mean difference {d} ± {se}");
+        let bad = pixels_far_off(&film, &reference);
+        assert!(bad <= film.pixels.len() / 50, "{accel:?}: {bad} pixels differ wildly");
     }
 }

@@ -79,15 +79,41 @@ fn thin_dielectric_passes_straight_through() {
     }
 }
 
+/// Unpolarised Fresnel reflectance of a smooth interface into index `eta` from outside, from
+/// the Fresnel equations and Snell's law in f64 (Born & Wolf §1.5), written apart from
+/// `fresnel.rs` so the tests below check it rather than reuse it.
+fn fresnel_outside(cos_i: f64, eta: f64) -> f64 {
+    let cos_t = (1.0 - (1.0 - cos_i * cos_i) / (eta * eta)).sqrt();
+    let r_s = (cos_i - eta * cos_t) / (cos_i + eta * cos_t);
+    let r_p = (eta * cos_i - cos_t) / (eta * cos_i + cos_t);
+    0.5 * (r_s * r_s + r_p * r_p)
+}
+
 #[test]
-fn smooth_coat_mirror_carries_the_fresnel_reflectance() {
-    let b = CoatedDiffuse::new(SampledSpectrum::splat(0.5), 1.5, ggx(0.0));
+fn smooth_coat_mirror_is_chosen_by_its_share_of_the_albedo_and_weighted_by_fresnel() {
+    // The coat's mirror reflects F(θo); the base returns (1 − F(θo)) ρ / (1 − ρ F̄_int) (the
+    // geometric series of internal bounces, F̄_int = 1 − (1 − F̄)/η² by reciprocity, F̄ =
+    // 2∫₀¹ F(μ) μ dμ). The mirror is chosen with probability p = F / (F + (1 − F) ρ / (1 − ρ F̄_int))
+    // and its estimator weight f cos θ / p is then F / p.
+    let (rho, eta) = (0.5f64, 1.5f64);
+    let n = 100_000;
+    let f_avg = (0..n).map(|i| (i as f64 + 0.5) / n as f64).map(|mu| 2.0 * fresnel_outside(mu, eta) * mu).sum::<f64>()
+        / n as f64;
+    // The published hemispherical reflectance of a glass (η = 1.5) surface lit from outside.
+    assert!((f_avg - 0.0918).abs() < 1e-4, "F̄ = {f_avg}");
+    let base = rho / (1.0 - rho * (1.0 - (1.0 - f_avg) / (eta * eta)));
+    let b = CoatedDiffuse::new(SampledSpectrum::splat(rho as f32), eta as f32, ggx(0.0));
     for &t in &ANGLES_DEG[..4] {
         let wo = dir(t);
-        let s = b.sample_f(wo, 0.0, U, TransportMode::Radiance).unwrap();
-        assert!(s.is_specular() && s.wi == Vec3::new(-wo.x, -wo.y, wo.z));
-        let w = s.f.average() * s.wi.z / s.pdf;
-        let want = fresnel::fr_dielectric(wo.z, 1.5) / s.pdf;
-        assert!((w - want).abs() < 1e-5);
+        let f = fresnel_outside(wo.z as f64, eta);
+        let p = f / (f + (1.0 - f) * base);
+        // Just below p the mirror is sampled, just above it the base.
+        let s = b.sample_f(wo, (p * 0.999) as f32, U, TransportMode::Radiance).unwrap();
+        assert!(s.is_specular() && s.wi == Vec3::new(-wo.x, -wo.y, wo.z), "θ={t}");
+        assert!((s.pdf as f64 - p).abs() < 1e-4 * p, "θ={t}: pdf {} vs {p}", s.pdf);
+        let w = (s.f.average() * s.wi.z / s.pdf) as f64;
+        assert!((w - f / p).abs() < 1e-4 * (f / p), "θ={t}: weight {w} vs {}", f / p);
+        let s = b.sample_f(wo, (p * 1.001) as f32, U, TransportMode::Radiance).unwrap();
+        assert!(!s.is_specular() && s.is_reflection(), "θ={t}: above p the base is sampled");
     }
 }

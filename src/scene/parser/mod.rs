@@ -19,7 +19,7 @@ pub use transforms::look_at;
 use glam::Mat4;
 
 use super::desc::*;
-use super::error::{Location, SceneError, Warning};
+use super::error::{check_strict, Location, SceneError, Warning};
 use super::names::{self, Lookup};
 use super::params::{ParamSet, ParamValue};
 use super::source::Source;
@@ -28,7 +28,8 @@ use super::tokenizer::{Token, TokenKind};
 /// Parser settings.
 #[derive(Clone, Debug, Default)]
 pub struct ParseOptions {
-    /// Unsupported pbrt-v4 features (media, hair, measured BSDFs, ...) are errors, not warnings.
+    /// Unsupported pbrt-v4 features (media, hair, measured BSDFs, loop subdivision, ...) are
+    /// errors, not warnings: [`parse_file`] and [`parse_str`] fail with the first.
     pub strict: bool,
     /// Directory that relative paths in [`parse_str`] text resolve against (default: the
     /// current directory).
@@ -178,20 +179,12 @@ impl<'o> Parser<'o> {
     }
 
     fn warn(&mut self, loc: &Location, message: impl Into<String>) {
-        self.warnings.push(Warning { loc: loc.clone(), message: message.into() });
+        self.warnings.push(Warning::note(loc, message));
     }
 
-    /// A pbrt-v4 feature prism does not render: an error under `strict`, else a warning.
-    fn unsupported(&mut self, loc: &Location, feature: &str, fallback: &str) -> Result<(), SceneError> {
-        if self.opts.strict {
-            return Err(SceneError::Unsupported {
-                loc: loc.clone(),
-                feature: feature.into(),
-                fallback: fallback.into(),
-            });
-        }
-        self.warn(loc, format!("unsupported feature: {feature}; prism {fallback}"));
-        Ok(())
+    /// A pbrt-v4 feature prism does not render (an error in strict mode, when parsing ends).
+    fn unsupported(&mut self, loc: &Location, feature: &str, fallback: &str) {
+        self.warnings.push(Warning::unsupported(loc, feature, fallback));
     }
 
     /// Checks a type name; `Some(type to use)` or `None` to skip the directive.
@@ -208,10 +201,10 @@ impl<'o> Parser<'o> {
             Lookup::Substitute(s) => {
                 let feature = format!("{kind} \"{}\"", tok.text);
                 if skip {
-                    self.unsupported(&tok.loc, &feature, s)?;
+                    self.unsupported(&tok.loc, &feature, s);
                     Ok(None)
                 } else {
-                    self.unsupported(&tok.loc, &feature, &format!("uses \"{s}\" instead"))?;
+                    self.unsupported(&tok.loc, &feature, &format!("uses \"{s}\" instead"));
                     Ok(Some(s.to_string()))
                 }
             }
@@ -402,6 +395,9 @@ impl<'o> Parser<'o> {
             instances,
             scene_files: self.files_read,
         };
+        if self.opts.strict {
+            check_strict(&self.warnings)?;
+        }
         Ok((desc, self.warnings))
     }
 }

@@ -95,7 +95,7 @@ impl Parser<'_> {
             "MakeNamedMedium" => {
                 let name = src.string(tok, "a medium name")?;
                 let _ = src.params(cs)?;
-                self.unsupported(&tok.loc, &format!("participating medium \"{}\"", name.text), "ignores the medium")?;
+                self.unsupported(&tok.loc, &format!("participating medium \"{}\"", name.text), "ignores the medium");
             }
             "MediumInterface" => {
                 let inside = src.string(tok, "a medium name")?;
@@ -106,7 +106,7 @@ impl Parser<'_> {
                 };
                 // `MediumInterface "" ""` (vacuum on both sides) is what prism renders anyway.
                 if !inside.text.is_empty() || outside.is_some_and(|o| !o.is_empty()) {
-                    self.unsupported(&tok.loc, "MediumInterface (inside/outside media)", "ignores the media names")?;
+                    self.unsupported(&tok.loc, "MediumInterface (inside/outside media)", "ignores the media names");
                 }
             }
             "WorldBegin" => {

@@ -18,10 +18,7 @@ impl Parser<'_> {
         if self.gs.active == Active::End {
             if !self.warned_motion {
                 self.warned_motion = true;
-                self.warn(
-                    &tok.loc,
-                    "unsupported feature: motion blur (ActiveTransform EndTime); prism uses the start transform",
-                );
+                self.unsupported(&tok.loc, "motion blur (ActiveTransform EndTime)", "uses the start transform");
             }
             return;
         }

@@ -254,7 +254,7 @@ impl Parser<'_> {
         let geometry = shapes::load(&kind, &params, &tok.loc, &mut self.warnings)?;
         let mut area_light = self.gs.area_light.clone();
         if self.current_object.is_some() && area_light.is_some() {
-            self.unsupported(&tok.loc, "area light on a shape inside ObjectBegin", "makes the shape non-emissive")?;
+            self.unsupported(&tok.loc, "area light on a shape inside ObjectBegin", "makes the shape non-emissive");
             area_light = None;
         }
         let s = ShapeDesc {

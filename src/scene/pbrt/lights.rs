@@ -57,11 +57,8 @@ impl Ctx<'_> {
         }
         let image = self.image(p, &l.loc)?;
         if image.width == image.height {
-            self.warn(
-                &l.loc,
-                "square environment map: pbrt-v4 stores equal-area octahedral maps, prism reads equirectangular ones"
-                    .into(),
-            );
+            let feature = "equal-area octahedral environment map (pbrt-v4 stores them square)".to_string();
+            self.unsupported(&l.loc, feature, "reads the square map as equirectangular");
         }
         let space = space_of(p);
         let rotation = orthonormal(glam::Mat3::from_mat4(l.world_from_light));
@@ -154,7 +151,7 @@ impl Ctx<'_> {
                     self.b.add_light(Light::UniformInfinite(UniformInfiniteLight { spectrum: Arc::new(s), scale: sc }));
                 }
             }
-            other => self.warn(&l.loc, format!("light \"{other}\" is not rendered by prism; skipped")),
+            other => self.unsupported(&l.loc, format!("light \"{other}\""), "skips the light"),
         }
         Ok(())
     }

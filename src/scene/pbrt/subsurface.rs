@@ -16,10 +16,8 @@ impl Ctx<'_> {
         let loc = &m.loc;
         if let Some(name) = p.string("name") {
             let name = name.to_string();
-            self.warn(
-                loc,
-                format!("subsurface: measured medium \"{name}\" is not shipped with prism; using sigma_a/sigma_s"),
-            );
+            let feature = format!("subsurface: measured medium \"{name}\" (not shipped with prism)");
+            self.unsupported(loc, feature, "uses sigma_a/sigma_s");
         }
         let scale = p.float_or("scale", 1.0);
         let spec = if p.has("reflectance") {

@@ -1,0 +1,169 @@
+//! Strict mode: every feature prism does not render is a warning, and under `--strict` an error
+//! at the directive that asked for it, wherever the warning arises (the parser, shape loading,
+//! the scene builder's films, filters, spectra, textures, materials and lights).
+
+use crate::common::{prism, stderr, tmpdir};
+use prism::scene::error::WarningKind;
+use prism::scene::pbrt::load_file;
+use prism::scene::{ParseOptions, SceneError};
+use std::path::{Path, PathBuf};
+
+fn repo() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+/// A scene with a camera, a light and a sphere, plus `options` before WorldBegin and `world` after.
+fn scene_text(options: &str, world: &str) -> String {
+    format!(
+        "LookAt 0 0 5  0 0 0  0 1 0\nCamera \"perspective\" \"float fov\" 40\n{options}\nWorldBegin\n\
+         LightSource \"point\" \"rgb I\" [10 10 10] \"point3 from\" [0 3 3]\nShape \"sphere\"\n{world}\n"
+    )
+}
+
+/// `file:line:col` of the first occurrence of `needle` in `text`.
+fn location_of(file: &Path, text: &str, needle: &str) -> String {
+    let (i, line) = text.lines().enumerate().find(|(_, l)| l.contains(needle)).expect("needle in the scene");
+    let col = line[..line.find(needle).unwrap()].chars().count() + 1;
+    format!("{}:{}:{col}", file.display(), i + 1)
+}
+
+/// A loop-subdivision surface: prism renders its control mesh.
+const LOOP_SUBDIV: &str =
+    "Shape \"loopsubdiv\" \"integer levels\" 1 \"point3 P\" [-1 -1 0  1 -1 0  0 1 0] \"integer indices\" [0 1 2]";
+
+#[test]
+fn every_unsupported_feature_warns_and_is_an_error_in_strict_mode() {
+    let d = tmpdir("strict");
+    let ply = repo().join("scenes/meshes/icosphere.ply");
+    let square = d.join("square.exr");
+    let px = prism::image::Image { width: 4, height: 4, channels: 3, data: vec![0.5; 48] };
+    prism::image::write(&square, &px).unwrap();
+    // (where it goes, the directive, the text at the location the error names, the feature).
+    let cases: Vec<(bool, String, &str, &str)> = vec![
+        (false, LOOP_SUBDIV.into(), "Shape \"loopsubdiv\"", "loop subdivision"),
+        (
+            false,
+            format!(
+                "Texture \"d\" \"float\" \"constant\" \"float value\" 0.1\n\
+                 Shape \"plymesh\" \"string filename\" \"{}\" \"texture displacement\" \"d\"",
+                ply.display()
+            ),
+            "Shape \"plymesh\"",
+            "displacement mapping",
+        ),
+        (
+            false,
+            "AttributeBegin\nActiveTransform EndTime\nTranslate 0 0 1\nActiveTransform All\nAttributeEnd".into(),
+            "Translate",
+            "motion blur",
+        ),
+        (
+            true,
+            "MakeNamedMedium \"fog\" \"string type\" \"homogeneous\"".into(),
+            "MakeNamedMedium",
+            "participating medium",
+        ),
+        (true, "Film \"rgb\" \"string sensor\" \"canon_eos_100d\"".into(), "Film", "sensor \"canon_eos_100d\""),
+        (true, "PixelFilter \"sinc\"".into(), "PixelFilter", "pixel filter \"sinc\""),
+        (
+            false,
+            "LightSource \"point\" \"spectrum I\" \"stdillum-F7\"".into(),
+            "\"spectrum I\"",
+            "named spectrum \"stdillum-F7\"",
+        ),
+        (
+            false,
+            "Texture \"t\" \"spectrum\" \"fbm\"\nMaterial \"diffuse\" \"texture reflectance\" \"t\"\nShape \"sphere\""
+                .into(),
+            "Texture \"t\"",
+            "texture type \"fbm\"",
+        ),
+        (
+            false,
+            "Material \"subsurface\" \"string name\" \"Skin1\"\nShape \"sphere\"".into(),
+            "\"subsurface\"",
+            "subsurface: measured medium \"Skin1\"",
+        ),
+        (
+            false,
+            format!("LightSource \"infinite\" \"string filename\" \"{}\"", square.display()),
+            "LightSource \"infinite\"",
+            "equal-area octahedral environment map",
+        ),
+        (false, "Material \"hair\"\nShape \"sphere\"".into(), "\"hair\"", "material \"hair\""),
+    ];
+    let strict = ParseOptions { strict: true, ..Default::default() };
+    for (i, (in_options, directive, at, feature)) in cases.iter().enumerate() {
+        let text = if *in_options { scene_text(directive, "") } else { scene_text("", directive) };
+        let path = d.join(format!("case{i}.pbrt"));
+        std::fs::write(&path, &text).unwrap();
+        let loaded = load_file(&path, &Default::default()).unwrap_or_else(|e| panic!("{feature}: {e}"));
+        let unsupported: Vec<_> =
+            loaded.warnings.iter().filter(|w| matches!(w.kind, WarningKind::Unsupported { .. })).collect();
+        assert_eq!(unsupported.len(), 1, "{feature}: {:?}", loaded.warnings);
+        let loc = location_of(&path, &text, at);
+        let w = unsupported[0].to_string();
+        assert!(w.starts_with(&format!("{loc}: warning: unsupported feature: {feature}")), "{w}");
+        let e = load_file(&path, &strict).err().unwrap_or_else(|| panic!("{feature}: strict mode loaded the scene"));
+        assert!(matches!(e, SceneError::Unsupported { .. }), "{feature}: {e}");
+        let e = e.to_string();
+        assert!(e.starts_with(&format!("{loc}: unsupported feature: {feature}")), "{e}");
+        assert!(e.contains("(strict mode; without --strict prism "), "{e}");
+    }
+    // What is only worth knowing stays a warning in strict mode.
+    let notes = scene_text("", "TransformBegin\nTransformEnd\nShape \"sphere\" \"float radisu\" 2");
+    let path = d.join("notes.pbrt");
+    std::fs::write(&path, notes).unwrap();
+    let loaded = load_file(&path, &strict).unwrap();
+    assert_eq!(loaded.warnings.len(), 2, "{:?}", loaded.warnings);
+    assert!(loaded.warnings.iter().all(|w| w.kind == WarningKind::Note));
+}
+
+/// `--strict` exits non-zero with one line naming the file, line and column.
+fn assert_strict_refuses(scene: &Path, out: &Path, feature: &str) {
+    let o = prism()
+        .args(["render", scene.to_str().unwrap(), "--strict", "--spp", "1", "--resolution", "8x8", "-o"])
+        .arg(out)
+        .output()
+        .unwrap();
+    let e = stderr(&o);
+    assert!(!o.status.success(), "--strict rendered {}: {e}", scene.display());
+    assert_eq!(e.lines().count(), 1, "{e}");
+    let prefix = format!("prism: error: {}:", scene.display());
+    assert!(e.starts_with(&prefix) && e.contains(&format!(": unsupported feature: {feature}")), "{e}");
+    assert!(!out.exists(), "no image may be written");
+}
+
+#[test]
+fn render_strict_refuses_loop_subdivision_and_renders_without_it() {
+    let d = tmpdir("strict-cli");
+    let scene = d.join("loop.pbrt");
+    std::fs::write(&scene, scene_text("", LOOP_SUBDIV)).unwrap();
+    let out = d.join("x.png");
+    assert_strict_refuses(&scene, &out, "loop subdivision");
+    let o =
+        prism().args(["render", scene.to_str().unwrap(), "--spp", "1", "--resolution", "8x8", "-o"]).arg(&out).output();
+    let o = o.unwrap();
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(stderr(&o).contains("warning: unsupported feature: loop subdivision"), "{}", stderr(&o));
+}
+
+/// pbrt-v4's own killeroo scene (a `loopsubdiv` control mesh), where it is available beside the
+/// repository.
+#[test]
+fn render_strict_refuses_pbrt_v4s_killeroo_scene() {
+    let scene = repo().join("../shared/scenes/pbrt-v4-scenes/killeroos/killeroo-simple.pbrt");
+    if !scene.exists() {
+        eprintln!("skipped: {} is not available", scene.display());
+        return;
+    }
+    let scene = scene.canonicalize().unwrap();
+    let d = tmpdir("strict-killeroo");
+    let o = prism().args(["render", scene.to_str().unwrap(), "--strict", "-o"]).arg(d.join("k.png")).output().unwrap();
+    let e = stderr(&o);
+    assert!(!o.status.success(), "{e}");
+    assert_eq!(e.lines().count(), 1, "{e}");
+    let include = scene.parent().unwrap().join("geometry/killeroo.pbrt");
+    let prefix = format!("prism: error: {}:", include.display());
+    assert!(e.starts_with(&prefix) && e.contains(": unsupported feature: loop subdivision"), "{e}");
+}
