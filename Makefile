@@ -2,11 +2,12 @@
 #   make render   installs what is missing, builds, renders the default scene to prism.png
 #   make test     runs the whole test suite (both feature sets)
 #   make lint     rustfmt and clippy (-D warnings) on both feature sets; CI runs it before make test
+#   make test-embree4  installs Embree 4 and runs the whole suite against it (not part of make test)
 
 CARGO ?= cargo
 SPP ?= 64
 
-.PHONY: deps render test test-default test-pure lint bench docs
+.PHONY: deps render test test-default test-pure test-embree4 lint bench docs
 
 deps:
 	bash scripts/install-deps.sh
@@ -26,6 +27,11 @@ test-default:
 test-pure:
 	$(CARGO) test --no-default-features --lib -- accel:: image:: cli:: bench::
 	$(CARGO) test --no-default-features --test suite
+
+# The Embree 4 build (feature `embree4` instead of `embree`): every test, Embree's included.
+test-embree4: deps
+	bash scripts/install-embree4.sh
+	$(CARGO) test --no-default-features --features embree4,oiio
 
 lint: deps
 	$(CARGO) fmt --check

@@ -1,15 +1,36 @@
-//! Build script: Embree 3 bindings by bindgen (feature `embree`) and the OpenImageIO C++ shim
-//! compiled by cc (feature `oiio`). Each system library is found at its standard Debian path,
-//! with an environment-variable override, and a missing one fails with the package to install.
+//! Build script: Embree 3 bindings by bindgen (feature `embree`) or the Embree 4 library to link
+//! (feature `embree4`; its declarations are in src/accel/embree/ffi/), and the OpenImageIO C++
+//! shim compiled by cc (feature `oiio`). Each system library is found at its standard Debian
+//! path, with an environment-variable override, and a missing one fails with what to install.
+//!
+//! Either Embree feature sets `cfg(embree)`, which the code outside src/accel/embree/ tests.
 
 use std::env;
-#[cfg(feature = "embree")]
+#[cfg(any(feature = "embree", feature = "embree4"))]
 use std::path::PathBuf;
 
 fn main() {
     println!("cargo:rerun-if-changed=build.rs");
-    if env::var_os("CARGO_FEATURE_EMBREE").is_some() {
+    println!("cargo::rustc-check-cfg=cfg(embree)");
+    let embree3 = env::var_os("CARGO_FEATURE_EMBREE").is_some();
+    let embree4 = env::var_os("CARGO_FEATURE_EMBREE4").is_some();
+    if embree3 && embree4 {
+        fail(
+            "features `embree` (Embree 3) and `embree4` are mutually exclusive (both libraries \
+             export the same rtc* symbols): build with `--no-default-features --features embree4,oiio`",
+        );
+    }
+    if embree3 || embree4 {
+        println!("cargo:rustc-cfg=embree");
+    }
+    // Embree before OpenImageIO on the link line: the dynamic loader then searches Embree 4's
+    // own oneTBB (a dependency of libembree4) before the system oneTBB that OpenImageIO pulls in,
+    // and both export the same unversioned symbols.
+    if embree3 {
         build_embree();
+    }
+    if embree4 {
+        build_embree4();
     }
     if env::var_os("CARGO_FEATURE_OIIO").is_some() {
         build_oiio();
@@ -83,6 +104,78 @@ fn generate_bindings(builder: bindgen::Builder, header: &std::path::Path) -> bin
 
 #[cfg(not(feature = "embree"))]
 fn build_embree() {}
+
+/// Embree 4, found in this order: `EMBREE4_DIR` (a directory holding `libembree4.so`); a system
+/// Embree ≥ 4.3 known to pkg-config as `embree4`; the copy scripts/install-embree4.sh unpacks
+/// into target/embree4/lib. A directory is linked with an rpath to it, so the binaries, tests
+/// and benches find the library (and, through its own `$ORIGIN` rpath, its oneTBB) at run time.
+#[cfg(feature = "embree4")]
+fn build_embree4() {
+    println!("cargo:rerun-if-env-changed=EMBREE4_DIR");
+    println!("cargo:rerun-if-env-changed=PKG_CONFIG_PATH");
+    let manifest = PathBuf::from(env::var("CARGO_MANIFEST_DIR").expect("CARGO_MANIFEST_DIR"));
+    let local = manifest.join("target/embree4/lib");
+    let dir = if let Some(d) = env::var_os("EMBREE4_DIR") {
+        PathBuf::from(d)
+    } else if let Ok(lib) = pkg_config::Config::new().cargo_metadata(false).atleast_version("4.3").probe("embree4") {
+        check_embree4_config(&lib.include_paths);
+        for dir in &lib.link_paths {
+            println!("cargo:rustc-link-search=native={}", dir.display());
+        }
+        println!("cargo:rustc-link-lib=dylib=embree4");
+        return;
+    } else {
+        local
+    };
+    let lib = dir.join("libembree4.so");
+    if !lib.exists() {
+        fail(&format!(
+            "feature `embree4` needs Embree 4: run `scripts/install-deps.sh --embree4` (or \
+             scripts/install-embree4.sh), install a system Embree >= 4.3 with pkg-config file \
+             embree4, or set EMBREE4_DIR to a directory holding libembree4.so (not found: {})",
+            lib.display()
+        ));
+    }
+    println!("cargo:rerun-if-changed={}", lib.display());
+    println!("cargo:rustc-link-search=native={}", dir.display());
+    println!("cargo:rustc-link-lib=dylib=embree4");
+    println!("cargo:rustc-link-arg=-Wl,-rpath,{}", dir.display());
+}
+
+/// A system Embree 4's configuration must be the one src/accel/embree/ffi/embree4_api.rs
+/// declares (one instance level, instance arrays), as its rtcore_config.h states it; the device
+/// checks the library itself again at start-up.
+#[cfg(feature = "embree4")]
+fn check_embree4_config(include_paths: &[PathBuf]) {
+    let config = include_paths
+        .iter()
+        .chain([PathBuf::from("/usr/include")].iter())
+        .map(|d| d.join("embree4/rtcore_config.h"))
+        .find(|p| p.exists());
+    let Some(config) = config else {
+        fail("pkg-config knows embree4 but embree4/rtcore_config.h is not in its include paths");
+    };
+    println!("cargo:rerun-if-changed={}", config.display());
+    let text = std::fs::read_to_string(&config).unwrap_or_default();
+    let defines = |name: &str, value: &str| {
+        text.lines().any(|l| {
+            let mut w = l.split_whitespace();
+            w.next() == Some("#define") && w.next() == Some(name) && w.next().unwrap_or("") == value
+        })
+    };
+    // The header defines RTC_GEOMETRY_INSTANCE_ARRAY under `#if defined(EMBREE_GEOMETRY_INSTANCE_ARRAY)`.
+    if !defines("RTC_MAX_INSTANCE_LEVEL_COUNT", "1") || !defines("EMBREE_GEOMETRY_INSTANCE_ARRAY", "") {
+        fail(&format!(
+            "the system Embree 4 ({}) is configured with other than RTC_MAX_INSTANCE_LEVEL_COUNT 1 \
+             and RTC_GEOMETRY_INSTANCE_ARRAY, whose hit layout prism declares: use \
+             scripts/install-embree4.sh's copy (EMBREE4_DIR) instead",
+            config.display()
+        ));
+    }
+}
+
+#[cfg(not(feature = "embree4"))]
+fn build_embree4() {}
 
 /// Ends the build script with a one-line error (cargo shows the script's stderr), never a panic.
 #[allow(dead_code)]

@@ -64,7 +64,7 @@ pub fn bench_backend(c: &mut Criterion, name: &str, meshes: &[Mesh], build: &dyn
 
 /// The Embree wrapper against raw `rtcIntersect1` on the same rays (one thread): the wrapper's
 /// overhead is the ratio of the two.
-#[cfg(feature = "embree")]
+#[cfg(embree)]
 fn bench_embree_raw(c: &mut Criterion, meshes: &[Mesh]) {
     let accel = prism::accel::embree::EmbreeAccel::new(meshes).expect("embree device");
     let sets = [("coherent", coherent_rays()), ("incoherent", incoherent_rays(&accel))];
@@ -82,7 +82,7 @@ fn benches(c: &mut Criterion) {
     let _ = rayon::ThreadPoolBuilder::new().start_handler(|_| prism::accel::init_render_thread()).build_global();
     prism::accel::init_render_thread();
     let meshes = scene();
-    #[cfg(feature = "embree")]
+    #[cfg(embree)]
     {
         bench_backend(c, "embree", &meshes, &|m| {
             Box::new(prism::accel::embree::EmbreeAccel::new(m).expect("embree device"))

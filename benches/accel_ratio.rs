@@ -91,7 +91,7 @@ fn main() {
     let tris: usize = meshes.iter().map(Mesh::len).sum();
     let kinds = [AccelKind::Embree, AccelKind::EmbreeWatertight]
         .into_iter()
-        .filter(|_| cfg!(feature = "embree"))
+        .filter(|_| cfg!(embree))
         .chain([AccelKind::Obvhs]);
     let backends: Vec<(&str, Box<dyn Accel>)> = kinds
         .map(|kind| {

@@ -68,14 +68,14 @@ fn main() {
     let passes: usize = std::env::var("PRISM_RATIO_PASSES").ok().and_then(|s| s.parse().ok()).unwrap_or(8);
     let meshes = scene();
     let triangles: usize = meshes.iter().map(|m| m.len()).sum();
-    #[cfg(feature = "embree")]
+    #[cfg(embree)]
     let embree = prism::accel::embree::EmbreeAccel::new(&meshes).expect("embree device");
     let t0 = Instant::now();
     let obvhs = ObvhsAccel::new(&meshes);
     let build = t0.elapsed().as_secs_f64();
     let heap = ObvhsAccel::new(&meshes).without_huge_pages();
     let views: Vec<(&str, &dyn Accel)> = vec![
-        #[cfg(feature = "embree")]
+        #[cfg(embree)]
         ("embree", &embree),
         ("obvhs", &obvhs),
         ("obvhs-heap", &heap),

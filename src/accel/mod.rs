@@ -1,7 +1,7 @@
-//! Ray intersection. One trait, two backends: Intel Embree (feature `embree`) and the pure-Rust
-//! obvhs BVH. Nothing backend-specific leaves this module.
+//! Ray intersection. One trait, two backends: Intel Embree (feature `embree` for Embree 3 or
+//! `embree4` for Embree 4; either sets `cfg(embree)`) and the pure-Rust obvhs BVH. Nothing backend-specific leaves this module.
 
-#[cfg(feature = "embree")]
+#[cfg(embree)]
 pub mod embree;
 pub mod huge_array;
 pub mod obvhs;
@@ -49,10 +49,10 @@ pub trait Accel: Send + Sync {
 /// The backends, as named on the command line.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum AccelKind {
-    /// Intel Embree 3 (feature `embree`) with its own triangle kernel: the fastest; lets about
+    /// Intel Embree (feature `embree` or `embree4`) with its own triangle kernel: the fastest; lets about
     /// 1 in 4000 rays aimed exactly at a vertex through a closed mesh.
     Embree,
-    /// Intel Embree 3's BVH with prism's watertight triangle test in user-geometry callbacks:
+    /// Intel Embree's BVH with prism's watertight triangle test in user-geometry callbacks:
     /// no leaks, slower.
     EmbreeWatertight,
     /// The pure-Rust obvhs CWBVH (watertight).
@@ -72,7 +72,7 @@ impl AccelKind {
 
     /// The default: Embree when compiled in, else obvhs.
     pub fn default_available() -> Self {
-        if cfg!(feature = "embree") {
+        if cfg!(embree) {
             AccelKind::Embree
         } else {
             AccelKind::Obvhs
@@ -89,19 +89,19 @@ impl AccelKind {
     }
 }
 
-#[cfg(not(feature = "embree"))]
-const NO_EMBREE: &str = "this prism was built without Embree (feature `embree`); use --accel obvhs";
+#[cfg(not(embree))]
+const NO_EMBREE: &str = "this prism was built without Embree (feature `embree` or `embree4`); use --accel obvhs";
 
 /// Builds the chosen backend over `meshes` (geometry id = mesh index).
 pub fn build(kind: AccelKind, meshes: &[Mesh]) -> Result<Box<dyn Accel>, String> {
     match kind {
-        #[cfg(feature = "embree")]
+        #[cfg(embree)]
         AccelKind::Embree => Ok(Box::new(embree::EmbreeAccel::new(meshes).map_err(|e| e.to_string())?)),
-        #[cfg(feature = "embree")]
+        #[cfg(embree)]
         AccelKind::EmbreeWatertight => {
             Ok(Box::new(embree::EmbreeAccel::watertight(meshes).map_err(|e| e.to_string())?))
         }
-        #[cfg(not(feature = "embree"))]
+        #[cfg(not(embree))]
         AccelKind::Embree | AccelKind::EmbreeWatertight => Err(NO_EMBREE.into()),
         AccelKind::Obvhs => Ok(Box::new(obvhs::ObvhsAccel::new(meshes))),
     }
@@ -112,14 +112,14 @@ pub fn build(kind: AccelKind, meshes: &[Mesh]) -> Result<Box<dyn Accel>, String>
 /// Hits report scene mesh ids (`geom_id`) and the instance index (`inst_id`).
 pub fn build_instanced(kind: AccelKind, meshes: &[Mesh], set: &InstanceSet) -> Result<Box<dyn Accel>, String> {
     match kind {
-        #[cfg(feature = "embree")]
+        #[cfg(embree)]
         AccelKind::Embree => Ok(Box::new(embree::EmbreeAccel::instanced(meshes, set).map_err(|e| e.to_string())?)),
-        #[cfg(feature = "embree")]
+        #[cfg(embree)]
         AccelKind::EmbreeWatertight => Ok(Box::new(
             embree::EmbreeAccel::instanced_with_test(meshes, set, embree::TriangleTest::Watertight)
                 .map_err(|e| e.to_string())?,
         )),
-        #[cfg(not(feature = "embree"))]
+        #[cfg(not(embree))]
         AccelKind::Embree | AccelKind::EmbreeWatertight => Err(NO_EMBREE.into()),
         AccelKind::Obvhs => Ok(Box::new(obvhs_instanced::ObvhsInstancedAccel::new(meshes, set))),
     }
@@ -127,6 +127,6 @@ pub fn build_instanced(kind: AccelKind, meshes: &[Mesh], set: &InstanceSet) -> R
 
 /// Per-thread set-up a backend needs on every render thread (Embree: FTZ/DAZ).
 pub fn init_render_thread() {
-    #[cfg(feature = "embree")]
+    #[cfg(embree)]
     embree::set_flush_denormals();
 }

@@ -40,10 +40,14 @@ impl RunInfo {
             .find_map(|l| l.strip_prefix("model name")?.split_once(':').map(|(_, v)| v.trim().to_string()))
             .unwrap_or_else(|| "unknown".into());
         let kernel = std::fs::read_to_string("/proc/sys/kernel/osrelease").unwrap_or_default();
-        let libraries: Vec<&str> = [(cfg!(feature = "embree"), "Embree"), (cfg!(feature = "oiio"), "OpenImageIO")]
-            .into_iter()
-            .filter_map(|(on, name)| on.then_some(name))
-            .collect();
+        let libraries: Vec<&str> = [
+            (cfg!(feature = "embree"), "Embree 3"),
+            (cfg!(feature = "embree4"), "Embree 4"),
+            (cfg!(feature = "oiio"), "OpenImageIO"),
+        ]
+        .into_iter()
+        .filter_map(|(on, name)| on.then_some(name))
+        .collect();
         let since_epoch = SystemTime::now().duration_since(UNIX_EPOCH).map_or(0, |d| d.as_secs());
         Self {
             cpu,

@@ -241,7 +241,7 @@ fn intersect_all_agrees_with_brute_force_on_both_backends() {
         icosphere(Vec3::new(0.5, 0.2, 0.1), 0.7, 1),
         axis_box(Vec3::splat(-1.2), Vec3::splat(1.2)),
     ];
-    let kinds = [AccelKind::Obvhs].into_iter().chain(cfg!(feature = "embree").then_some(AccelKind::Embree));
+    let kinds = [AccelKind::Obvhs].into_iter().chain(cfg!(embree).then_some(AccelKind::Embree));
     let mut rng = Rng::new(11, 0);
     let rays: Vec<Ray> = (0..300)
         .map(|_| {

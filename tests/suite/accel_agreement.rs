@@ -17,7 +17,7 @@
 //! No flag, build quality, geometry type or ISA of Embree 3 changes the test (the AVX, SSE4.2
 //! and SSE2 kernels leak on other rays); a user geometry with our own test does
 //! (`EmbreeAccel::watertight`, src/accel/embree/user_triangles.rs).
-#![cfg(feature = "embree")]
+#![cfg(embree)]
 
 use glam::{Mat4, Vec3};
 use prism::accel::{embree::EmbreeAccel, obvhs::ObvhsAccel, Accel};

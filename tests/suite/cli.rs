@@ -250,7 +250,7 @@ fn accel_choices_are_listed_and_embree_watertight_renders() {
     let (png, json) = (png.to_str().unwrap(), json.to_str().unwrap());
     assert_clean_error(&["render", "--accel", "optix", "-o", png], "valid: embree, embree-watertight, obvhs");
     let args = ["render", "--accel", "embree-watertight", "--spp", "1", "--resolution", "8x8", "-o", png];
-    if cfg!(feature = "embree") {
+    if cfg!(embree) {
         let o = run(&[&args[..], &["--stats-json", json]].concat());
         assert!(o.status.success(), "{}", stderr(&o));
         let stats: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(json).unwrap()).unwrap();
@@ -264,7 +264,7 @@ fn accel_choices_are_listed_and_embree_watertight_renders() {
 fn bench_writes_every_output_and_reuses_its_cached_reference() {
     let d = tmpdir("bench");
     let out = d.join("out");
-    let accels = if cfg!(feature = "embree") { "embree,obvhs" } else { "obvhs" };
+    let accels = if cfg!(embree) { "embree,obvhs" } else { "obvhs" };
     let args = [
         "bench",
         "--accel",
@@ -324,7 +324,7 @@ fn bench_writes_every_output_and_reuses_its_cached_reference() {
         // noise of a 384-pixel RMSE and of the 64-spp reference.
         let (e1, e16) = (rmse("obvhs", sampler, 1), rmse("obvhs", sampler, 16));
         assert!(e16 > 0.0 && e1 > 2.0 * e16, "{sampler}: RMSE {e1} at 1 spp, {e16} at 16");
-        if cfg!(feature = "embree") {
+        if cfg!(embree) {
             // The backends trace the same paths, so their images (and errors) are the same.
             let e = rmse("embree", sampler, 16);
             assert!((e - e16).abs() <= 1e-3 * e16, "{sampler}: embree {e} vs obvhs {e16}");

@@ -23,7 +23,7 @@ const T_REL_TOL: f32 = 1e-4;
 
 fn accels() -> Vec<AccelKind> {
     let mut v = vec![AccelKind::Obvhs];
-    if cfg!(feature = "embree") {
+    if cfg!(embree) {
         v.push(AccelKind::Embree);
     }
     v
@@ -32,7 +32,7 @@ fn accels() -> Vec<AccelKind> {
 /// The backends whose hits are tested: [`accels`] and Embree with the watertight triangle test.
 fn ray_accels() -> Vec<AccelKind> {
     let mut v = accels();
-    if cfg!(feature = "embree") {
+    if cfg!(embree) {
         v.push(AccelKind::EmbreeWatertight);
     }
     v

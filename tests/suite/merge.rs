@@ -87,7 +87,7 @@ fn merge_refuses_parts_of_renders_that_differ_in_any_input() {
         (&["--cropwindow", "0,0.5,0,1"], &["--cropwindow", "0.5,1,0,1"], "film"),
     ];
     for (both, extra, field) in settings {
-        if extra.contains(&"embree-watertight") && !cfg!(feature = "embree") {
+        if extra.contains(&"embree-watertight") && !cfg!(embree) {
             continue;
         }
         let first = if both.is_empty() { first.clone() } else { part("first-other.film", 1, both) };

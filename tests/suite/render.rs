@@ -28,7 +28,7 @@ fn settings(res: u32, spp: u64, max_depth: u32) -> RenderSettings {
 
 fn accels() -> Vec<AccelKind> {
     let mut v = vec![AccelKind::Obvhs];
-    if cfg!(feature = "embree") {
+    if cfg!(embree) {
         v.push(AccelKind::Embree);
     }
     v
@@ -127,7 +127,7 @@ fn cornell_box_has_red_left_green_right_and_no_nans() {
 
 #[test]
 fn embree_and_obvhs_render_the_same_image_within_noise() {
-    if !cfg!(feature = "embree") {
+    if !cfg!(embree) {
         return;
     }
     let s = settings(16, 64, 5);

@@ -90,7 +90,7 @@ fn a_film_that_does_not_fit_in_memory_is_a_one_line_error() {
     assert!(!out.exists());
 }
 
-#[cfg(feature = "embree")]
+#[cfg(embree)]
 mod embree {
     use super::*;
     use prism::accel::embree::{error_name, Device};

@@ -38,7 +38,7 @@ fn render_cornell(m: Mat4, accel: AccelKind, seed: u64) -> Film {
 
 #[test]
 fn cornell_box_is_the_same_at_every_scale_and_far_from_the_origin() {
-    for accel in [AccelKind::Obvhs].into_iter().chain(cfg!(feature = "embree").then_some(AccelKind::Embree)) {
+    for accel in [AccelKind::Obvhs].into_iter().chain(cfg!(embree).then_some(AccelKind::Embree)) {
         // The box is 556 mm wide: bring it to unit size first.
         let unit = Mat4::from_scale(Vec3::splat(1.0 / 556.0));
         let reference = render_cornell(unit, accel, 5);
@@ -106,7 +106,7 @@ fn degenerate_geometry_is_skipped_with_one_warning_and_no_nans() {
     assert_eq!(b.warnings.len(), 1, "{:?}", b.warnings);
     assert!(b.warnings[0].contains("skipped 4 degenerate"), "{:?}", b.warnings);
     assert!(with_meshes(false).warnings.is_empty());
-    for accel in [AccelKind::Obvhs].into_iter().chain(cfg!(feature = "embree").then_some(AccelKind::Embree)) {
+    for accel in [AccelKind::Obvhs].into_iter().chain(cfg!(embree).then_some(AccelKind::Embree)) {
         let scene = with_meshes(true).build(accel).unwrap();
         let (film, stats) = render(&scene, &settings(), |_| {}).unwrap();
         assert_eq!(stats.nonfinite, 0, "{accel:?}");

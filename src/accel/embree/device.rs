@@ -15,6 +15,10 @@ pub enum EmbreeError {
     /// A later call reported an error through the device.
     #[error("Embree error: {0}")]
     Call(String),
+    /// The loaded library is not the version, or does not write the hit layout, that this
+    /// build's declarations describe (`library_check`).
+    #[error("Embree library mismatch: {0}")]
+    Library(String),
 }
 
 /// Owns an `RTCDevice`. The boxed `last_error` and `bytes` are callback user pointers, so they
@@ -59,7 +63,8 @@ unsafe extern "C" fn on_memory(user: *mut c_void, bytes: isize, _post: bool) -> 
 /// `rtcNewDevice` syntax, e.g. `threads=2,verbose=1`); empty or unset means the defaults.
 pub const CONFIG_ENV: &str = "PRISM_EMBREE_CONFIG";
 
-/// Embree 3's `RTCError` codes by name (rtcore_device.h), so an error says what went wrong.
+/// Embree's `RTCError` codes by name (rtcore_device.h; 7 exists in Embree ≥ 4.3 only), so an
+/// error says what went wrong.
 pub fn error_name(code: u32) -> &'static str {
     match code {
         0 => "no error",
@@ -69,6 +74,7 @@ pub fn error_name(code: u32) -> &'static str {
         4 => "out of memory",
         5 => "unsupported CPU",
         6 => "cancelled",
+        7 => "GPU ray tracing support missing",
         _ => "unrecognised error code",
     }
 }
@@ -80,7 +86,9 @@ impl Device {
     }
 
     /// Creates a device from an Embree configuration string. A failure (an unknown option, an
-    /// unsupported CPU, no memory) is an error carrying Embree's code and message.
+    /// unsupported CPU, no memory) is an error carrying Embree's code and message; so is a
+    /// library other than the one this build's declarations describe (checked once per process
+    /// by `library_check`).
     pub fn with_config(config: &str) -> Result<Self, EmbreeError> {
         let c = std::ffi::CString::new(config)
             .map_err(|_| EmbreeError::Device(format!("configuration {config:?} contains a NUL byte")))?;
@@ -89,7 +97,7 @@ impl Device {
         if raw.is_null() {
             // SAFETY: querying the error of a null device reports device-creation errors.
             let code = unsafe { ffi::rtcGetDeviceError(std::ptr::null_mut()) };
-            // Embree 3 reports a malformed configuration (e.g. `threads=abc`) as an unknown error.
+            // Embree reports a malformed configuration (e.g. `threads=abc`) as an unknown error.
             let hint = match code {
                 1 | 2 if !config.is_empty() => format!(" (check the configuration {config:?} in {CONFIG_ENV})"),
                 4 => " (not enough memory)".into(),
@@ -109,7 +117,9 @@ impl Device {
         let counter = &*bytes as *const AtomicI64 as *mut c_void;
         // SAFETY: as above; the counter outlives the device.
         unsafe { ffi::rtcSetDeviceMemoryMonitorFunction(raw, Some(on_memory), counter) };
-        Ok(Self { raw, last_error, bytes })
+        let device = Self { raw, last_error, bytes };
+        super::library_check::check_once(&device)?;
+        Ok(device)
     }
 
     /// The raw handle, for the scene module.

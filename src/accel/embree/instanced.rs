@@ -1,6 +1,6 @@
 //! Two-level Embree scene: one committed `RTCScene` per prototype, instanced into a top-level
-//! scene by `RTC_GEOMETRY_TYPE_INSTANCE` geometries (Embree 3 API: `rtcSetGeometryInstancedScene`,
-//! `rtcSetGeometryTransform`). World meshes sit in the top scene beside the instances.
+//! scene by `RTC_GEOMETRY_TYPE_INSTANCE` geometries (`rtcSetGeometryInstancedScene`,
+//! `rtcSetGeometryTransform`, the same in Embree 3 and 4). World meshes sit in the top scene beside the instances.
 //!
 //! Top-level geometry ids: world meshes take 0..W, instance `i` takes W + i. A hit reports the
 //! instance in `instID[0]` and the triangle geometry's id within its prototype scene in `geomID`,
@@ -130,7 +130,7 @@ impl InstancedScene {
             hit: ffi::RTCHit { geomID: ffi::RTC_INVALID_GEOMETRY_ID, ..Default::default() },
         };
         // SAFETY: committed scene; ctx and rh are valid, properly aligned locals.
-        unsafe { ffi::rtcIntersect1(self.top.raw, ctx.as_mut_ptr(), &mut rh) };
+        unsafe { ffi::intersect1(self.top.raw, ctx.as_mut_ptr(), &mut rh) };
         if rh.hit.geomID == ffi::RTC_INVALID_GEOMETRY_ID {
             return None;
         }
@@ -147,6 +147,14 @@ impl InstancedScene {
         Some(Hit { t: rh.ray.tfar, geom_id, prim_id: rh.hit.primID, u: rh.hit.u, v: rh.hit.v, ng, inst_id })
     }
 
+    /// Raw closest-hit call of the top scene on a prepared RTCRayHit (the hit-record tests).
+    #[cfg(test)]
+    pub(super) fn raw_intersect(&self, rh: &mut ffi::RTCRayHit) {
+        let mut ctx = Scene::context();
+        // SAFETY: committed scene; the caller's ray-hit is a valid, aligned struct.
+        unsafe { ffi::intersect1(self.top.raw, ctx.as_mut_ptr(), rh) };
+    }
+
     /// Any hit before `ray.t_max`.
     #[inline]
     pub fn occluded(&self, ray: &Ray) -> bool {
@@ -156,7 +164,7 @@ impl InstancedScene {
         let mut ctx = Scene::context();
         let mut r = Scene::rtc_ray(ray);
         // SAFETY: committed scene; ctx and r are valid, properly aligned locals.
-        unsafe { ffi::rtcOccluded1(self.top.raw, ctx.as_mut_ptr(), &mut r) };
+        unsafe { ffi::occluded1(self.top.raw, ctx.as_mut_ptr(), &mut r) };
         r.tfar == f32::NEG_INFINITY
     }
 }

@@ -1,5 +1,7 @@
-//! Intel Embree 3 backend (feature `embree`). Embree types never leave this module; everything
-//! specific to Embree 3 (vs 4) is in ffi.rs, device.rs, scene.rs and user_triangles.rs.
+//! Intel Embree backend: Embree 3 (feature `embree`, Debian's libembree-dev) or Embree 4
+//! (feature `embree4`). Embree types never leave this module; everything that differs between
+//! the two versions is in `ffi/` (the declarations and a few shims), and the device checks at
+//! start-up that the library matches them (`library_check`).
 //!
 //! Two triangle tests ([`TriangleTest`]): Embree's own kernel (fast; lets about 1 in 4000 rays
 //! aimed exactly at a vertex through a closed mesh), or prism's watertight test run from Embree
@@ -8,7 +10,10 @@
 
 mod device;
 mod ffi;
+#[cfg(test)]
+mod hit_record_tests;
 mod instanced;
+mod library_check;
 mod scene;
 mod user_triangles;
 

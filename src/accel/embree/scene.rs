@@ -127,12 +127,12 @@ impl Drop for SceneHandle {
     }
 }
 
-/// The intersect context of every query: Embree's, extended with per-ray data for the
-/// user-geometry callbacks (Embree 3 passes the caller's context pointer through to them, so it
-/// may start a larger struct; rtcore_common.h, `RTCIntersectContext`).
+/// The context of every query: Embree's, extended with per-ray data for the user-geometry
+/// callbacks (Embree passes the caller's context pointer through to them, so it may start a
+/// larger struct; `RTCIntersectContext` in Embree 3, `RTCRayQueryContext` in Embree 4).
 #[repr(C)]
 pub(super) struct RayContext {
-    rtc: ffi::RTCIntersectContext,
+    pub(super) rtc: ffi::QueryContext,
     /// The watertight test's per-ray constants, computed by the first triangle test of a ray.
     pub(super) shear: ShearCache,
 }
@@ -141,7 +141,7 @@ impl RayContext {
     /// The pointer to hand to `rtcIntersect1`/`rtcOccluded1` (to the whole struct, so the
     /// callbacks may read `shear` through it).
     #[inline]
-    pub(super) fn as_mut_ptr(&mut self) -> *mut ffi::RTCIntersectContext {
+    pub(super) fn as_mut_ptr(&mut self) -> *mut ffi::QueryContext {
         (self as *mut Self).cast()
     }
 }
@@ -196,19 +196,11 @@ impl Scene {
     /// callbacks rely on it).
     #[inline]
     pub(super) fn context() -> RayContext {
-        // rtcInitIntersectContext is force-inlined in the header, so bindgen does not emit it.
-        RayContext {
-            rtc: ffi::RTCIntersectContext {
-                flags: ffi::RTCIntersectContextFlags_RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT,
-                filter: None,
-                instID: [ffi::RTC_INVALID_GEOMETRY_ID; ffi::RTC_MAX_INSTANCE_LEVEL_COUNT as usize],
-            },
-            shear: ShearCache::default(),
-        }
+        RayContext { rtc: ffi::query_context(), shear: ShearCache::default() }
     }
 
     /// True when Embree accepts the ray: |origin|, |direction| ≤ 1.844·10¹⁸ (Embree's
-    /// `FLT_LARGE`) and t_max not NaN (`RayK::valid` in Embree 3). Debian's Embree is built with
+    /// `FLT_LARGE`) and t_max not NaN (`RayK::valid` in Embree 3 and 4). Debian's Embree is built with
     /// assertions, so any other ray would abort the process; such rays hit nothing.
     #[inline]
     pub(super) fn accepts(ray: &Ray) -> bool {
@@ -233,6 +225,8 @@ impl Scene {
             dir_z: ray.d.z,
             time: 0.0,
             tfar: ray.t_max,
+            // Every bit set: hits geometries of any mask (Embree 3's default geometry mask is
+            // 0xFFFFFFFF, Embree 4's is 0x1).
             mask: u32::MAX,
             id: 0,
             flags: 0,
@@ -251,7 +245,7 @@ impl Scene {
             hit: ffi::RTCHit { geomID: ffi::RTC_INVALID_GEOMETRY_ID, ..Default::default() },
         };
         // SAFETY: committed scene; ctx and rh are valid, properly aligned locals.
-        unsafe { ffi::rtcIntersect1(self.raw.raw, ctx.as_mut_ptr(), &mut rh) };
+        unsafe { ffi::intersect1(self.raw.raw, ctx.as_mut_ptr(), &mut rh) };
         if rh.hit.geomID == ffi::RTC_INVALID_GEOMETRY_ID {
             return None;
         }
@@ -275,7 +269,7 @@ impl Scene {
         let mut ctx = Self::context();
         let mut r = Self::rtc_ray(ray);
         // SAFETY: committed scene; ctx and r are valid, properly aligned locals.
-        unsafe { ffi::rtcOccluded1(self.raw.raw, ctx.as_mut_ptr(), &mut r) };
+        unsafe { ffi::occluded1(self.raw.raw, ctx.as_mut_ptr(), &mut r) };
         // Embree sets tfar to -inf when an occluder was found.
         r.tfar == f32::NEG_INFINITY
     }
@@ -285,6 +279,6 @@ impl Scene {
     pub fn raw_intersect(&self, rh: &mut ffi::RTCRayHit) {
         let mut ctx = Self::context();
         // SAFETY: committed scene; the caller's ray-hit is a valid, aligned struct.
-        unsafe { ffi::rtcIntersect1(self.raw.raw, ctx.as_mut_ptr(), rh) };
+        unsafe { ffi::intersect1(self.raw.raw, ctx.as_mut_ptr(), rh) };
     }
 }

@@ -4,14 +4,19 @@
 //!
 //! Why: Embree 3.13's robust triangle kernel (`BVH8Triangle4vIntersector1Pluecker`) lets rays
 //! aimed exactly at a vertex through a closed mesh (docs/benchmarks.md, "Why Embree leaks at
-//! vertices"); no flag or kernel choice of Embree 3 fixes it. Embree still builds and traverses
-//! the BVH (over our per-triangle boxes); only the leaf test is ours.
+//! vertices"); no flag or kernel choice of Embree 3 fixes it, and Embree 4.4's
+//! `RTC_SCENE_FLAG_ROBUST` behaves the same. Embree still builds and traverses the BVH (over our
+//! per-triangle boxes); only the leaf test is ours.
 //!
 //! Conventions, those of the triangle path (scene.rs) and of obvhs:
 //! - A closest hit is accepted for tnear ≤ t ≤ tfar; the hit record is t (in tfar), u, v (the
 //!   weights of p1 and p2), Ng = (p1−p0)×(p2−p0) in the geometry's space (object space under an
 //!   instance, as Embree reports for triangles), primID = the mesh's triangle index, geomID, and
-//!   instID copied from the intersect context (Embree leaves that to user geometry).
+//!   the instance stacks copied from the query context (Embree leaves that to user geometry):
+//!   `instID`, and in Embree 4 also `instPrimID` ([`ffi::hit_instance_ids`]).
+//! - Each callback leaves `valid[i] = -1` for a ray it hit and sets `valid[i] = 0` for one it
+//!   missed: Embree 4 reads the mask back as the callback's answer (an occluded callback that
+//!   leaves −1 stops the ray as occluded); Embree 3 ignores it.
 //! - Equally distant hits are resolved by the smallest (instID, geomID, primID), as the obvhs
 //!   backend does, so results do not depend on Embree's traversal order.
 //! - An occlusion counts for tnear ≤ t < tfar (the `Accel::occluded` range (0, t_max)).
@@ -159,7 +164,7 @@ impl ShearCache {
     }
 }
 
-/// Float indices of `RTCRayHitN` fields, in units of N (rtcore_ray.h).
+/// Float indices of `RTCRayHitN` fields, in units of N (rtcore_ray.h, the same in Embree 3 and 4).
 mod field {
     pub const ORG: usize = 0;
     pub const TNEAR: usize = 3;
@@ -170,6 +175,7 @@ mod field {
     pub const V: usize = 16;
     pub const PRIM_ID: usize = 17;
     pub const GEOM_ID: usize = 18;
+    /// `instID[0]`; the further instance words of [`super::ffi::hit_instance_ids`] follow.
     pub const INST_ID: usize = 19;
 }
 
@@ -209,33 +215,34 @@ impl Lane {
 
 unsafe extern "C" fn intersect(args: *const ffi::RTCIntersectFunctionNArguments) {
     // SAFETY: Embree passes valid arguments for the duration of the call: `valid` has N entries,
-    // `rayhit` is an RTCRayHitN of width N (all fields up to instID[L−1]), `context` is the
-    // caller's context, which every query in this module makes a RayContext (Scene::context),
-    // and the user pointer is the geometry's UserMesh with primID < its count.
+    // `rayhit` is an RTCRayHitN of width N (all fields up to the last instance word),
+    // `context` is the caller's context, which every query in this module makes a RayContext
+    // (Scene::context), and the user pointer is the geometry's UserMesh with primID < its count.
     unsafe {
         let args = &*args;
         let mesh = &*(args.geometryUserPtr as *const UserMesh);
         let tri = &mesh.triangles[args.primID as usize];
         let ctx = &*(args.context as *const RayContext);
-        let inst = (*args.context).instID;
+        let inst = ffi::hit_instance_ids(&ctx.rtc);
         let n = args.N as usize;
         for i in 0..n {
-            if *args.valid.add(i) == 0 {
+            let valid = args.valid.add(i);
+            if *valid == 0 {
                 continue;
             }
             let lane = Lane { base: args.rayhit as *mut f32, n, i };
             let (o, d, tnear, tfar) = lane.ray();
-            let Some(h) = ctx.shear.get(o, d).and_then(|r| r.intersect_any_axis(&tri.lanes, tfar)) else {
+            let hit = ctx.shear.get(o, d).and_then(|r| r.intersect_any_axis(&tri.lanes, tfar));
+            let Some(h) = hit.filter(|h| h.t >= tnear) else {
+                *valid = 0;
                 continue;
             };
-            if h.t < tnear {
-                continue;
-            }
             if h.t == tfar {
                 // A tie with the current hit: keep the smaller (instID, geomID, primID).
                 let old_geom = lane.get(field::GEOM_ID).to_bits();
                 let old = (lane.get(field::INST_ID).to_bits(), old_geom, lane.get(field::PRIM_ID).to_bits());
                 if old_geom != ffi::RTC_INVALID_GEOMETRY_ID && (inst[0], args.geomID, tri.prim_id) >= old {
+                    *valid = 0;
                     continue;
                 }
             }
@@ -265,7 +272,8 @@ unsafe extern "C" fn occluded(args: *const ffi::RTCOccludedFunctionNArguments) {
         let ctx = &*(args.context as *const RayContext);
         let n = args.N as usize;
         for i in 0..n {
-            if *args.valid.add(i) == 0 {
+            let valid = args.valid.add(i);
+            if *valid == 0 {
                 continue;
             }
             let lane = Lane { base: args.ray as *mut f32, n, i };
@@ -274,6 +282,8 @@ unsafe extern "C" fn occluded(args: *const ffi::RTCOccludedFunctionNArguments) {
             if hit.is_some_and(|h| h.t >= tnear && h.t < tfar) {
                 // Embree's convention for "occluded": tfar = −∞.
                 lane.set(field::TFAR, f32::NEG_INFINITY);
+            } else {
+                *valid = 0;
             }
         }
     }
