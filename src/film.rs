@@ -1,7 +1,9 @@
 //! The film: per-pixel sums of filter-weighted XYZ estimates, turned into the output colour
 //! space once at the end. Sums are f64 so long renders and merged parts lose nothing.
 
+use crate::image::Image;
 use crate::sensor::Sensor;
+use crate::spectrum::ColorSpace;
 use glam::{DVec3, Vec3};
 
 /// The pixels of the full image that are rendered: [x0, x1) × [y0, y1) (pbrt-v4's pixel bounds).
@@ -153,6 +155,20 @@ impl Film {
     /// Total samples taken over all pixels.
     pub fn total_samples(&self) -> u64 {
         self.pixels.iter().map(|p| p.samples).sum()
+    }
+
+    /// The film as a linear RGB image in `space` (3 channels, row-major), or an error naming
+    /// its size when the image does not fit in memory.
+    pub fn to_image(&self, space: &ColorSpace) -> Result<Image, FilmAllocError> {
+        let n = self.pixels.len() * 3;
+        let mut data = Vec::new();
+        data.try_reserve_exact(n).map_err(|_| Self::alloc_error(self.width, self.height, n * 4))?;
+        for y in 0..self.height {
+            for x in 0..self.width {
+                data.extend_from_slice(&space.xyz_to_rgb(self.xyz(x, y)).to_array());
+            }
+        }
+        Ok(Image { width: self.width, height: self.height, channels: 3, data })
     }
 }
 

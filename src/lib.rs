@@ -6,13 +6,10 @@
 //! let scene = SceneBuilder::cornell_box().build(AccelKind::Obvhs).unwrap();
 //! let settings = RenderSettings {
 //!     resolution: (64, 64),
-//!     film: Default::default(),
 //!     spp: 4,
-//!     seed: 0,
 //!     sampler: SamplerKind::Sobol,
 //!     filter: prism::filter::Filter::by_name("box").unwrap(),
-//!     integrator: Default::default(),
-//!     time_limit: None,
+//!     ..Default::default()
 //! };
 //! let (film, stats) = render(&scene, &settings, |_| {}).unwrap();
 //! assert_eq!(stats.samples, 64 * 64 * 4);
@@ -38,8 +35,10 @@ pub mod material;
 pub mod math;
 pub mod measure;
 pub mod media;
+pub mod progress;
 pub mod render;
 pub mod sampling;
 pub mod scene;
 pub mod sensor;
+pub mod settings;
 pub mod spectrum;

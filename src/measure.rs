@@ -6,11 +6,9 @@ use crate::geometry::Ray;
 use crate::integrator::{PathIntegrator, Stats};
 use crate::sampling::Sampler;
 use crate::scene::Scene;
+pub use crate::spectrum::K_M;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths, CIE_Y_INTEGRAL};
 use glam::Vec3;
-
-/// Luminous efficacy of radiation at 555 nm [lm/W] (SI definition of the candela).
-pub const K_M: f64 = 683.0;
 
 /// A measured quantity: mean and standard error of the mean.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]

@@ -32,6 +32,14 @@ pub enum SamplerKind {
 }
 
 impl SamplerKind {
+    /// The name [`crate::settings::parse_sampler`] reads.
+    pub fn name(self) -> &'static str {
+        match self {
+            SamplerKind::Independent => "independent",
+            SamplerKind::Sobol => "sobol",
+        }
+    }
+
     fn make(self) -> Sampler {
         match self {
             SamplerKind::Independent => Sampler::independent(),
@@ -59,6 +67,24 @@ pub struct RenderSettings {
     pub integrator: PathIntegrator,
     /// Stop after the pass during which this much time has passed.
     pub time_limit: Option<Duration>,
+}
+
+impl Default for RenderSettings {
+    /// prism's defaults, which a scene file and then the command line override: 256×256 pixels,
+    /// 16 samples per pixel, seed 0, Sobol, Gaussian filter, the path tracer's defaults (depth
+    /// 8, diffusion subsurface), the whole image, the default sensor, no time limit.
+    fn default() -> Self {
+        Self {
+            resolution: (256, 256),
+            film: FilmSettings::default(),
+            spp: 16,
+            seed: 0,
+            sampler: SamplerKind::Sobol,
+            filter: Filter::by_name("gaussian").expect("built in"),
+            integrator: PathIntegrator::default(),
+            time_limit: None,
+        }
+    }
 }
 
 impl RenderSettings {

@@ -13,10 +13,8 @@ pub use terrain::{terrain_scene, TERRAIN_TRIANGLES};
 pub use time_to_error::{default_target, time_to, times_to_rmse, Reading, TimeToRmse};
 
 use crate::accel::AccelKind;
-use crate::cli::render::film_to_image;
 use crate::filter::Filter;
 use crate::image::{metrics, Image};
-use crate::integrator::PathIntegrator;
 use crate::render::{render_range, RenderSettings, SamplerKind};
 use crate::scene::pbrt::InputStamp;
 use crate::scene::{Scene, SceneBuilder};
@@ -85,10 +83,9 @@ pub struct BenchConfig {
     pub reference_spp: u64,
     /// Output directory.
     pub out: PathBuf,
-    /// Image size.
-    pub resolution: (u32, u32),
-    /// Maximum path depth.
-    pub max_depth: u32,
+    /// What every render of the bench uses (image size, path depth, filter, ...), except the
+    /// samples per pixel, sampler and seed each point sets.
+    pub settings: RenderSettings,
     /// RMSEs to report each curve's time to (empty: [`default_target`]).
     pub target_rmse: Vec<f64>,
 }
@@ -116,25 +113,31 @@ pub fn reset_peak_rss() -> bool {
 /// Names of the built-in scenes `prism bench` accepts instead of a file.
 pub const BUILTIN_SCENES: [&str; 2] = ["builtin:cornell", "builtin:terrain"];
 
+impl BenchConfig {
+    /// The bench's render settings: prism's defaults with a box filter, so that each pixel's
+    /// error is its own samples' (a wider filter would correlate neighbours).
+    pub fn base_settings() -> RenderSettings {
+        RenderSettings { filter: Filter::by_name("box").expect("built in"), ..Default::default() }
+    }
+}
+
 fn load(cfg: &BenchConfig) -> Result<SceneBuilder> {
-    Ok(match cfg.scene.as_ref().and_then(|p| p.to_str()) {
+    Ok(match cfg.scene.as_deref().and_then(|p| p.to_str()) {
         None | Some("builtin:cornell") => SceneBuilder::cornell_box(),
         Some("builtin:terrain") => terrain_scene(),
-        Some(_) => crate::cli::render::load_scene_file(cfg.scene.as_ref().expect("matched Some"), false)?.builder,
+        Some(_) => {
+            let path = cfg.scene.as_deref().expect("matched Some");
+            let loaded = crate::scene::pbrt::load_file(path, &Default::default())?;
+            for w in &loaded.warnings {
+                log::warn!("{w}");
+            }
+            loaded.builder
+        }
     })
 }
 
 fn settings(cfg: &BenchConfig, spp: u64, sampler: SamplerKind, seed: u64) -> RenderSettings {
-    RenderSettings {
-        resolution: cfg.resolution,
-        film: Default::default(),
-        spp,
-        seed,
-        sampler,
-        filter: Filter::by_name("box").expect("built in"),
-        integrator: PathIntegrator { max_depth: cfg.max_depth, ..Default::default() },
-        time_limit: None,
-    }
+    RenderSettings { spp, seed, sampler, ..cfg.settings.clone() }
 }
 
 /// Renders `s` and returns the image, its render time [s] and the statistics, calling
@@ -151,7 +154,7 @@ fn render_image(
         progress(done);
         true
     });
-    Ok((film_to_image(&film, ColorSpace::srgb())?, t0.elapsed().as_secs_f64(), stats))
+    Ok((film.to_image(ColorSpace::srgb())?, t0.elapsed().as_secs_f64(), stats))
 }
 
 /// The stamps (size, hash of the contents) of every file the scene reads (none for a built-in
@@ -168,7 +171,7 @@ fn reference(cfg: &BenchConfig) -> Result<Image> {
     if let Some(p) = &cfg.reference {
         let img = crate::image::read(p).with_context(|| format!("reading the reference {}", p.display()))?;
         // Checked before rendering anything: every point is compared with it pixel by pixel.
-        let (w, h) = cfg.resolution;
+        let (w, h) = cfg.settings.resolution;
         if (img.width, img.height) != (w, h) {
             anyhow::bail!(
                 "the reference {} is {}x{}, but the bench renders {w}x{h} (--resolution)",
@@ -181,17 +184,14 @@ fn reference(cfg: &BenchConfig) -> Result<Image> {
     }
     let path = cfg.out.join("reference.exr");
     let meta_path = cfg.out.join("reference.json");
-    let meta = serde_json::json!({
-        "scene": cfg.scene.as_ref().map(|p| p.display().to_string()).unwrap_or_else(|| "cornell-box".into()),
-        "inputs": input_stamps(cfg)?,
-        "spp": cfg.reference_spp,
-        "resolution": [cfg.resolution.0, cfg.resolution.1],
-        "max_depth": cfg.max_depth,
-        "sampler": "sobol",
-        "seed": 0xfeed,
-        "filter": "box",
-        "exr_samples": "f32",
-    });
+    // The reference is reused while its render's fingerprint (every input file's contents and
+    // every setting that changes the image) is the same.
+    let reference_settings = settings(cfg, cfg.reference_spp, SamplerKind::Sobol, 0xfeed);
+    let accel = AccelKind::default_available();
+    let scene_name = cfg.scene.as_ref().map_or("builtin:cornell".into(), |p| p.display().to_string());
+    let fingerprint =
+        crate::fingerprint::fingerprint(&scene_name, &input_stamps(cfg)?, &reference_settings, "srgb", accel.name());
+    let meta = serde_json::json!({ "fingerprint": fingerprint, "exr_samples": "f32" });
     if let (Ok(old), Ok(img)) = (std::fs::read_to_string(&meta_path), crate::image::read(&path)) {
         if serde_json::from_str::<serde_json::Value>(&old).ok().as_ref() == Some(&meta) {
             eprintln!("bench: using the cached reference {}", path.display());
@@ -199,11 +199,9 @@ fn reference(cfg: &BenchConfig) -> Result<Image> {
         }
     }
     eprintln!("bench: rendering a reference at {} spp (cached in {})", cfg.reference_spp, path.display());
-    let scene = load(cfg)?.build(AccelKind::default_available())?;
-    let bar = crate::cli::spp_progress_bar(cfg.reference_spp);
-    let (img, _, _) = render_image(&scene, &settings(cfg, cfg.reference_spp, SamplerKind::Sobol, 0xfeed), |done| {
-        bar.set_position(done)
-    })?;
+    let scene = load(cfg)?.build(accel)?;
+    let bar = crate::progress::spp_progress_bar(cfg.reference_spp);
+    let (img, _, _) = render_image(&scene, &reference_settings, |done| bar.set_position(done))?;
     bar.finish_and_clear();
     // 32-bit samples: the cached reference is then exactly the one just measured against, so a
     // later run that reuses it measures the same errors.
@@ -245,7 +243,7 @@ pub fn run(cfg: &BenchConfig) -> Result<Vec<BenchPoint>> {
                 let m = metrics::compare(&img, &reference)?;
                 let p = BenchPoint {
                     accel: accel.name().into(),
-                    sampler: format!("{sampler:?}").to_lowercase(),
+                    sampler: sampler.name().into(),
                     spp,
                     time_s,
                     samples_per_s: stats.samples as f64 / time_s,

@@ -61,8 +61,11 @@ impl RunInfo {
             },
             started_utc: iso8601_utc(since_epoch),
             scene: cfg.scene.as_ref().map_or("builtin:cornell".into(), |p| p.display().to_string()),
-            resolution: cfg.resolution,
-            max_depth: if cfg.max_depth == UNBOUNDED_DEPTH { -1 } else { cfg.max_depth as i64 },
+            resolution: cfg.settings.resolution,
+            max_depth: match cfg.settings.integrator.max_depth {
+                UNBOUNDED_DEPTH => -1,
+                d => d as i64,
+            },
             reference: match &cfg.reference {
                 Some(p) => p.display().to_string(),
                 None => format!("rendered at {} spp (Sobol)", cfg.reference_spp),

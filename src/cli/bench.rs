@@ -1,9 +1,10 @@
 //! `prism bench` and `prism compare`.
 
-use super::positive;
 use crate::accel::AccelKind;
 use crate::bench::{self, BenchConfig};
-use crate::render::SamplerKind;
+use crate::integrator::PathIntegrator;
+use crate::render::RenderSettings;
+use crate::settings::{self, parse_list};
 use anyhow::{bail, Context, Result};
 use std::path::PathBuf;
 
@@ -31,12 +32,12 @@ pub struct BenchArgs {
     /// Output directory for CSV, JSON and plots.
     #[arg(long, default_value = "bench-out")]
     pub out: PathBuf,
-    /// Image size as WxH.
-    #[arg(long, default_value = "256x256")]
-    pub resolution: String,
-    /// Maximum path depth, or -1 for no limit.
-    #[arg(long, default_value_t = 8, allow_negative_numbers = true)]
-    pub max_depth: i64,
+    /// Image size as WxH [default: prism render's, 256x256].
+    #[arg(long)]
+    pub resolution: Option<String>,
+    /// Maximum path depth, or -1 for no limit [default: prism render's, 8].
+    #[arg(long, allow_negative_numbers = true)]
+    pub max_depth: Option<i64>,
     /// Target RMSEs, comma separated: bench.md and time_to_rmse.json give each curve's time to
     /// each [default: the lowest RMSE every curve reaches].
     #[arg(long)]
@@ -46,40 +47,28 @@ pub struct BenchArgs {
     pub threads: Option<usize>,
 }
 
-fn list<T>(s: &str, what: &str, parse: impl Fn(&str) -> Result<T>) -> Result<Vec<T>> {
-    let v: Vec<T> = s.split(',').map(|x| parse(x.trim())).collect::<Result<_>>()?;
-    if v.is_empty() {
-        bail!("{what} is empty");
-    }
-    Ok(v)
-}
-
 /// Runs `prism bench`.
 pub fn run(a: &BenchArgs) -> Result<()> {
-    let accels = list(&a.accel, "--accel", |s| AccelKind::parse(s).map_err(anyhow::Error::msg))?;
-    let samplers = list(&a.sampler, "--sampler", |s| match s {
-        "independent" => Ok(SamplerKind::Independent),
-        "sobol" => Ok(SamplerKind::Sobol),
-        o => bail!("unknown sampler '{o}' (valid: independent, sobol)"),
-    })?;
-    let ladder = list(&a.spp_ladder, "--spp-ladder", |s| {
-        positive(s.parse::<u64>().with_context(|| format!("--spp-ladder: '{s}' is not a count"))?, "--spp-ladder")
-    })?;
-    positive(a.reference_spp, "--reference-spp")?;
+    let accels = parse_list(&a.accel, "--accel", |s| AccelKind::parse(s).map_err(anyhow::Error::msg))?;
+    let samplers = parse_list(&a.sampler, "--sampler", settings::parse_sampler)?;
+    let ladder = parse_list(&a.spp_ladder, "--spp-ladder", |s| settings::parse_count(s, "--spp-ladder"))?;
+    settings::count(a.reference_spp.min(i64::MAX as u64) as i64, "--reference-spp")?;
     let target_rmse = match &a.target_rmse {
         None => Vec::new(),
-        Some(t) => list(t, "--target-rmse", |s| match s.parse::<f64>() {
+        Some(t) => parse_list(t, "--target-rmse", |s| match s.parse::<f64>() {
             Ok(x) if x > 0.0 && x.is_finite() => Ok(x),
             _ => bail!("--target-rmse: '{s}' is not a positive number"),
         })?,
     };
     let pool = super::worker_pool(a.threads)?;
-    let (w, h) = a
-        .resolution
-        .split_once('x')
-        .and_then(|(w, h)| Some((w.parse::<u32>().ok()?, h.parse::<u32>().ok()?)))
-        .filter(|&(w, h)| w > 0 && h > 0)
-        .with_context(|| format!("--resolution '{}' is not WxH", a.resolution))?;
+    let base = BenchConfig::base_settings();
+    let resolution = a.resolution.as_deref().map(settings::parse_resolution).transpose()?;
+    let max_depth = a.max_depth.map(|d| settings::max_depth(d, "--max-depth")).transpose()?;
+    let settings = RenderSettings {
+        resolution: resolution.unwrap_or(base.resolution),
+        integrator: PathIntegrator { max_depth: max_depth.unwrap_or(base.integrator.max_depth), ..base.integrator },
+        ..base
+    };
     let cfg = BenchConfig {
         scene: a.scene.clone(),
         accels,
@@ -88,8 +77,7 @@ pub fn run(a: &BenchArgs) -> Result<()> {
         reference: a.reference.clone(),
         reference_spp: a.reference_spp,
         out: a.out.clone(),
-        resolution: (w, h),
-        max_depth: super::max_depth(a.max_depth)?,
+        settings,
         target_rmse,
     };
     pool.install(|| bench::run(&cfg))?;

@@ -2,7 +2,9 @@
 
 use crate::accel::AccelKind;
 use crate::integrator::PathIntegrator;
+use crate::render::RenderSettings;
 use crate::scene::SceneBuilder;
+use crate::settings;
 use anyhow::{bail, Context, Result};
 use glam::Vec3;
 use std::path::PathBuf;
@@ -39,12 +41,12 @@ pub struct Instrument {
     /// Number of independent estimates.
     #[arg(long, default_value_t = 100_000)]
     pub samples: u64,
-    /// Seed.
-    #[arg(long, default_value_t = 0)]
-    pub seed: u64,
-    /// Maximum path depth, or -1 for no limit.
-    #[arg(long, default_value_t = 8, allow_negative_numbers = true)]
-    pub max_depth: i64,
+    /// Seed [default: prism render's, 0].
+    #[arg(long)]
+    pub seed: Option<u64>,
+    /// Maximum path depth, or -1 for no limit [default: prism render's, 8].
+    #[arg(long, allow_negative_numbers = true)]
+    pub max_depth: Option<i64>,
     /// Print JSON instead of text.
     #[arg(long)]
     pub json: bool,
@@ -69,29 +71,31 @@ pub fn run(cmd: &MeasureCommand) -> Result<()> {
         MeasureCommand::Radiance { at, dir } => (at, (dir, "--dir")),
     };
     let p = parse_vec3(&a.at, "--at")?;
-    let d = parse_vec3(dir, dir_name)?;
-    if d.length() == 0.0 {
+    let dir = parse_vec3(dir, dir_name)?;
+    if dir.length() == 0.0 {
         bail!("{dir_name} must not be zero");
     }
     if a.samples < 2 {
         bail!("--samples must be at least 2 (a standard error needs two)");
     }
-    let max_depth = super::max_depth(a.max_depth)?;
+    let d = RenderSettings::default();
+    let max_depth = a.max_depth.map(|m| settings::max_depth(m, "--max-depth")).transpose()?;
+    let integrator = PathIntegrator { max_depth: max_depth.unwrap_or(d.integrator.max_depth), ..d.integrator };
+    let seed = a.seed.unwrap_or(d.seed);
     let builder = match &a.scene {
         None => SceneBuilder::cornell_box(),
         Some(path) => super::render::load_scene_file(path, false)?.builder,
     };
     let scene = builder.build(AccelKind::default_available()).context("building the scene")?;
-    let integrator = PathIntegrator { max_depth, ..Default::default() };
     // (radiometric name, estimate, unit), (photometric ...), samples, JSON.
     let ((rn, re, ru), (pn, pe, pu), samples, json) = match cmd {
         MeasureCommand::Radiance { .. } => {
-            let m = crate::measure::radiance(&scene, &integrator, p, d, a.samples, a.seed);
+            let m = crate::measure::radiance(&scene, &integrator, p, dir, a.samples, seed);
             let json = serde_json::to_string_pretty(&m)?;
             (("radiance  L", m.radiance, "W/(sr·m²)"), ("luminance Lv", m.luminance, "cd/m²"), m.samples, json)
         }
         MeasureCommand::Irradiance { .. } => {
-            let m = crate::measure::irradiance(&scene, &integrator, p, d, a.samples, a.seed);
+            let m = crate::measure::irradiance(&scene, &integrator, p, dir, a.samples, seed);
             let json = serde_json::to_string_pretty(&m)?;
             (("irradiance  E", m.irradiance, "W/m²"), ("illuminance Ev", m.illuminance, "lx"), m.samples, json)
         }

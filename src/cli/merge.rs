@@ -40,7 +40,7 @@ pub fn run(args: &MergeArgs) -> Result<()> {
     if args.output.extension().is_some_and(|e| e == "film") {
         checkpoint::save(&args.output, &film, &header)?;
     } else {
-        let image = super::render::film_to_image(&film, space)?;
+        let image = film.to_image(space)?;
         // A cropped render keeps its place in the full image, as `prism render` writes it.
         let opts = WriteOptions { window: header.window, ..Default::default() };
         crate::image::write_with(&args.output, &image, &opts)

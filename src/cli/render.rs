@@ -1,19 +1,18 @@
 //! `prism render`: load a scene (or the built-in Cornell box), render it, write the image.
 
 use crate::accel::AccelKind;
-use crate::film::{Crop, Film, FilmAllocError, FilmSettings};
-use crate::filter::Filter;
-use crate::image::Image;
+use crate::film::{Crop, Film, FilmSettings};
 use crate::image::{CropWindow, WriteOptions};
 use crate::integrator::{PathIntegrator, Stats, SubsurfaceMethod};
-use crate::render::{RenderSettings, SamplerKind};
+use crate::render::RenderSettings;
 use crate::scene::pbrt::{input_stamps, FileSettings, InputStamp, LoadedScene};
 use crate::scene::{Scene, SceneBuilder};
 use crate::sensor::Sensor;
+use crate::settings;
 use crate::spectrum::ColorSpace;
 use anyhow::{bail, Context, Result};
 use std::path::{Path, PathBuf};
-use std::time::{Duration, Instant};
+use std::time::Instant;
 
 /// Arguments of `prism render`.
 #[derive(clap::Args, Debug)]
@@ -59,9 +58,10 @@ pub struct RenderArgs {
     /// file's, else 8].
     #[arg(long, allow_negative_numbers = true)]
     pub max_depth: Option<i64>,
-    /// Subsurface scattering: diffusion (PBD BSSRDF) or randomwalk (volumetric reference).
-    #[arg(long, default_value = "diffusion")]
-    pub sss: String,
+    /// Subsurface scattering: diffusion (PBD BSSRDF) or randomwalk (volumetric reference)
+    /// [default: diffusion].
+    #[arg(long)]
+    pub sss: Option<String>,
     /// Output colour space: srgb, rec2020, acescg, aces2065-1, display-p3 [default: srgb].
     #[arg(long)]
     pub color_space: Option<String>,
@@ -110,53 +110,10 @@ pub struct RenderStats {
     pub sss: String,
 }
 
-fn parse_resolution(s: &str) -> Result<(u32, u32)> {
-    let (w, h) = s.split_once(['x', 'X']).with_context(|| format!("resolution '{s}' is not WxH"))?;
-    let w: i64 = w.trim().parse().with_context(|| format!("resolution '{s}' is not WxH"))?;
-    let h: i64 = h.trim().parse().with_context(|| format!("resolution '{s}' is not WxH"))?;
-    if w <= 0 || h <= 0 {
-        bail!("resolution must be positive, got {w}x{h}");
-    }
-    if w > 32768 || h > 32768 {
-        bail!("resolution {w}x{h} is larger than 32768 on a side");
-    }
-    Ok((w as u32, h as u32))
-}
-
 /// Parses four comma-separated numbers.
 fn parse_four<T: std::str::FromStr>(flag: &str, s: &str) -> Result<[T; 4]> {
     let v: Vec<T> = s.split(',').map(|x| x.trim().parse()).collect::<Result<_, _>>().ok().unwrap_or_default();
     v.try_into().map_err(|_| anyhow::anyhow!("--{flag} '{s}' is not x0,x1,y0,y1"))
-}
-
-/// Parses "30", "30s", "2m", "1h" into a duration.
-pub fn parse_duration(s: &str) -> Result<Duration> {
-    let s = s.trim();
-    let (num, mult) = match s.chars().last() {
-        Some('s') => (&s[..s.len() - 1], 1.0),
-        Some('m') => (&s[..s.len() - 1], 60.0),
-        Some('h') => (&s[..s.len() - 1], 3600.0),
-        _ => (s, 1.0),
-    };
-    let v: f64 = num.parse().with_context(|| format!("'{s}' is not a duration (e.g. 30s, 2m)"))?;
-    if !(v.is_finite() && v > 0.0) {
-        bail!("duration '{s}' must be positive");
-    }
-    Ok(Duration::from_secs_f64(v * mult))
-}
-
-/// Converts the film's XYZ to linear RGB in `space`.
-pub fn film_to_image(film: &Film, space: &ColorSpace) -> Result<Image, FilmAllocError> {
-    let n = film.pixels.len() * 3;
-    let mut data = Vec::new();
-    data.try_reserve_exact(n).map_err(|_| Film::alloc_error(film.width, film.height, n * 4))?;
-    for y in 0..film.height {
-        for x in 0..film.width {
-            let rgb = space.xyz_to_rgb(film.xyz(x, y));
-            data.extend_from_slice(&rgb.to_array());
-        }
-    }
-    Ok(Image { width: film.width, height: film.height, channels: 3, data })
 }
 
 /// Validated settings and I/O choices for one render.
@@ -178,24 +135,22 @@ pub struct Job {
 }
 
 /// Checks every argument and loads the scene, before any rendering starts. Command-line values
-/// override the scene file's, which override prism's defaults.
+/// override the scene file's, which override prism's defaults ([`RenderSettings::default`]).
 pub fn prepare(args: &RenderArgs) -> Result<Job> {
-    if let Some(n) = args.spp {
-        if n <= 0 {
-            bail!("--spp must be a positive number of samples, got {n}");
-        }
-    }
+    let spp = args.spp.map(|n| settings::count(n, "--spp")).transpose()?;
     let accel = match &args.accel {
         Some(a) => AccelKind::parse(a).map_err(anyhow::Error::msg)?,
         None => AccelKind::default_available(),
     };
-    let resolution = args.resolution.as_deref().map(parse_resolution).transpose()?;
+    let resolution = args.resolution.as_deref().map(settings::parse_resolution).transpose()?;
     let crop_arg = match (&args.cropwindow, &args.pixelbounds) {
         (Some(c), _) => Some(Crop::Window(parse_four("cropwindow", c)?)),
         (_, Some(p)) => Some(Crop::Pixels(parse_four("pixelbounds", p)?)),
         _ => None,
     };
-    let time_limit = args.time_limit.as_deref().map(parse_duration).transpose()?;
+    let time_limit = args.time_limit.as_deref().map(settings::parse_duration).transpose()?;
+    let max_depth = args.max_depth.map(|d| settings::max_depth(d, "--max-depth")).transpose()?;
+    let sss = args.sss.as_deref().map(SubsurfaceMethod::parse).transpose().map_err(anyhow::Error::msg)?;
 
     let (builder, file, scene_name, inputs) = match &args.scene {
         None => (SceneBuilder::cornell_box(), FileSettings::default(), "builtin:cornell".to_string(), Vec::new()),
@@ -206,14 +161,9 @@ pub fn prepare(args: &RenderArgs) -> Result<Job> {
             (loaded.builder, loaded.settings, name, input_stamps(&loaded.inputs, base))
         }
     };
-    let sampler = match args.sampler.as_deref().or(file.sampler.as_deref()).unwrap_or("sobol") {
-        "independent" => SamplerKind::Independent,
-        "sobol" | "zsobol" | "paddedsobol" => SamplerKind::Sobol,
-        other => bail!("unknown sampler '{other}' (valid: independent, sobol)"),
-    };
-    let filter_name = args.filter.as_deref().or(file.filter.as_deref()).unwrap_or("gaussian");
-    let filter = Filter::by_name(filter_name)
-        .with_context(|| format!("unknown filter '{filter_name}' (valid: box, gaussian, mitchell)"))?;
+    let d = RenderSettings::default();
+    let sampler = args.sampler.as_deref().or(file.sampler.as_deref()).map(settings::parse_sampler).transpose()?;
+    let filter = args.filter.as_deref().or(file.filter.as_deref()).map(settings::parse_filter).transpose()?;
     let space_name = args.color_space.as_deref().or(file.color_space.as_deref()).unwrap_or("srgb");
     let space = ColorSpace::by_name(space_name).with_context(|| {
         format!("unknown colour space '{space_name}' (valid: srgb, rec2020, acescg, aces2065-1, display-p3)")
@@ -233,10 +183,12 @@ pub fn prepare(args: &RenderArgs) -> Result<Job> {
     let t0 = Instant::now();
     let scene = builder.build(accel).context("building the scene")?;
     let build_s = t0.elapsed().as_secs_f64();
-    let max_depth = args.max_depth.map(super::max_depth).transpose()?.or(file.max_depth).unwrap_or(8);
-    let sss = SubsurfaceMethod::parse(&args.sss).map_err(anyhow::Error::msg)?;
-    let integrator = PathIntegrator { max_depth, sss, ..Default::default() };
-    let resolution = resolution.or(file.resolution).unwrap_or((256, 256));
+    let integrator = PathIntegrator {
+        max_depth: max_depth.or(file.max_depth).unwrap_or(d.integrator.max_depth),
+        sss: sss.unwrap_or(d.integrator.sss),
+        ..d.integrator
+    };
+    let resolution = resolution.or(file.resolution).unwrap_or(d.resolution);
     let crop = crop_arg.or(file.crop).map(|c| c.bounds(resolution)).transpose().map_err(anyhow::Error::msg)?;
     let sensor = Sensor::new(
         file.iso.unwrap_or(100.0),
@@ -247,10 +199,10 @@ pub fn prepare(args: &RenderArgs) -> Result<Job> {
     let settings = RenderSettings {
         resolution,
         film: FilmSettings { crop, sensor },
-        spp: args.spp.map(|n| n as u64).or(file.spp).unwrap_or(16),
-        seed: args.seed.or(file.seed).unwrap_or(0),
-        sampler,
-        filter,
+        spp: spp.or(file.spp).unwrap_or(d.spp),
+        seed: args.seed.or(file.seed).unwrap_or(d.seed),
+        sampler: sampler.unwrap_or(d.sampler),
+        filter: filter.unwrap_or(d.filter),
         integrator,
         time_limit,
     };
@@ -325,7 +277,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         job.scene.accel().name(),
     );
     let ckpt_path = PathBuf::from(format!("{}.ckpt", job.output.display()));
-    let ckpt_every = args.checkpoint_every.as_deref().map(parse_duration).transpose()?;
+    let ckpt_every = args.checkpoint_every.as_deref().map(settings::parse_duration).transpose()?;
     let (w, h) = job.settings.film_size();
     // A crop keeps its place in the full image (OpenEXR data and display windows).
     let (full_width, full_height) = job.settings.resolution;
@@ -356,7 +308,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         eprintln!("prism: resuming at sample {start} of {}", range.end);
     }
 
-    let bar = super::spp_progress_bar(range.end - range.start);
+    let bar = crate::progress::spp_progress_bar(range.end - range.start);
     bar.set_position(start - range.start);
     let t0 = Instant::now();
     let mut last_ckpt = Instant::now();
@@ -386,7 +338,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     if film_output {
         crate::checkpoint::save(&job.output, &film, &header(range.start..done))?;
     } else {
-        let image = film_to_image(&film, job.space)?;
+        let image = film.to_image(job.space)?;
         let opts = WriteOptions { window, ..Default::default() };
         crate::image::write_with(&job.output, &image, &opts)
             .with_context(|| format!("writing {}", job.output.display()))?;
@@ -436,21 +388,5 @@ fn summarize(job: &Job, stats: &Stats, elapsed: f64) -> RenderStats {
         nonfinite_samples: stats.nonfinite,
         build_s: job.build_s,
         sss: job.settings.integrator.sss.name().to_string(),
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn resolution_and_duration_parsing() {
-        assert_eq!(parse_resolution("640x480").unwrap(), (640, 480));
-        assert!(parse_resolution("0x10").is_err());
-        assert!(parse_resolution("-5x10").is_err());
-        assert!(parse_resolution("abc").is_err());
-        assert_eq!(parse_duration("30s").unwrap(), Duration::from_secs(30));
-        assert_eq!(parse_duration("2m").unwrap(), Duration::from_secs(120));
-        assert!(parse_duration("-1").is_err());
     }
 }

@@ -4,17 +4,16 @@
 //! docs/subsurface.md (between marker comments), CSV/JSON, an error-vs-time plot per scene, and
 //! PNGs of the references and of the diffusion renders.
 
-use super::positive;
 use super::sss_scenes::{build, MEDIA, SHAPES};
 use crate::accel::AccelKind;
 use crate::bench::{plot_error_vs_time, BenchPoint};
 use crate::checkpoint::{self, FilmHeader};
-use crate::cli::render::film_to_image;
 use crate::film::Film;
 use crate::filter::Filter;
 use crate::image::{metrics, Image};
 use crate::integrator::{PathIntegrator, SubsurfaceMethod};
 use crate::render::{render, render_range, RenderSettings, SamplerKind};
+use crate::settings::{self, parse_list};
 use crate::spectrum::ColorSpace;
 use anyhow::{bail, Context, Result};
 use std::path::{Path, PathBuf};
@@ -70,27 +69,28 @@ pub struct SssRow {
     pub walk_wins_after_s: Option<f64>,
 }
 
+/// The report's renders: prism's defaults with a `size`² image, a box filter (each pixel's error
+/// its own samples') and depth 16 (subsurface paths bounce more than the default allows).
 fn settings(size: u32, spp: u64, seed: u64, sss: SubsurfaceMethod) -> RenderSettings {
+    let d = RenderSettings::default();
     RenderSettings {
         resolution: (size, size),
-        film: Default::default(),
         spp,
         seed,
         sampler: SamplerKind::Sobol,
         filter: Filter::by_name("box").expect("box filter"),
-        integrator: PathIntegrator { max_depth: 16, sss, ..Default::default() },
-        time_limit: None,
+        integrator: PathIntegrator { max_depth: 16, sss, ..d.integrator },
+        ..d
     }
 }
 
 /// Runs the report.
 pub fn run(a: &SssReportArgs) -> Result<()> {
-    let ladder: Vec<u64> =
-        a.ladder.split(',').map(|s| s.trim().parse::<u64>()).collect::<Result<_, _>>().context("--ladder")?;
-    positive(ladder[0], "--ladder")?;
-    positive(a.size, "--size")?;
-    positive(a.reference_spp, "--reference-spp")?;
-    positive(a.convergence_spp, "--convergence-spp")?;
+    let ladder = parse_list(&a.ladder, "--ladder", |s| settings::parse_count(s, "--ladder"))?;
+    settings::count(a.size.into(), "--size")?;
+    for (n, what) in [(a.reference_spp, "--reference-spp"), (a.convergence_spp, "--convergence-spp")] {
+        settings::count(n.min(i64::MAX as u64) as i64, what)?;
+    }
     if ladder.len() < 2 || ladder.windows(2).any(|w| w[0] >= w[1]) {
         bail!("--ladder needs at least two increasing sample counts");
     }
@@ -111,7 +111,7 @@ pub fn run(a: &SssReportArgs) -> Result<()> {
                 a.size
             );
             let (film, reference_s) = reference(&scene, a, &name, &fingerprint)?;
-            let reference = film_to_image(&film, space)?;
+            let reference = film.to_image(space)?;
             save_png(&fig.join(format!("{name}-reference.png")), &reference)?;
             let mut diffusion_noise2 = 0.0;
             for method in [SubsurfaceMethod::Diffusion, SubsurfaceMethod::RandomWalk] {
@@ -122,7 +122,7 @@ pub fn run(a: &SssReportArgs) -> Result<()> {
                     let t0 = Instant::now();
                     let (film, _) = render(&scene, &settings(a.size, spp, 1, method), |_| {})?;
                     let time_s = t0.elapsed().as_secs_f64();
-                    let img = film_to_image(&film, space)?;
+                    let img = film.to_image(space)?;
                     let m = metrics::compare(&img, &reference)?;
                     rungs.push((spp, time_s, m.rmse));
                     let p = BenchPoint {
@@ -149,7 +149,7 @@ pub fn run(a: &SssReportArgs) -> Result<()> {
                         let spp = a.convergence_spp.min(a.reference_spp);
                         let render_seed = |seed| {
                             let (film, _) = render(&scene, &settings(a.size, spp, seed, method), |_| {})?;
-                            film_to_image(&film, space)
+                            film.to_image(space)
                         };
                         let (d, d2) = (render_seed(2)?, render_seed(3)?);
                         diffusion_noise2 = metrics::compare(&d, &d2)?.rmse.powi(2) / 2.0;

@@ -11,8 +11,8 @@
 pub(crate) use super::point::spectral_integral;
 use crate::spectrum::{Spectrum, CIE_Y_INTEGRAL};
 
-/// Maximum luminous efficacy K_m [lm/W].
-pub const K_M: f32 = crate::measure::K_M as f32;
+/// Maximum luminous efficacy K_m [lm/W] ([`crate::spectrum::K_M`]).
+pub const K_M: f32 = crate::spectrum::K_M as f32;
 
 /// Lumens per watt of a spectrum with luminance Y = 1 in the ∫ȳ normalisation (see `spectrum::cie`)
 /// (∫ s ȳ dλ = ∫ ȳ dλ): K_m ∫ ȳ dλ ≈ 72 983 [lm/W·nm].

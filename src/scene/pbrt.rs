@@ -24,7 +24,6 @@ use super::{CameraDesc, Emission, SceneBuilder};
 use crate::bsdf::{ior, metals};
 use crate::film::Crop;
 use crate::geometry::Mesh;
-use crate::integrator::UNBOUNDED_DEPTH;
 use crate::material::{FloatTexture, ImageTexture, Ior, Material, ReflectanceImage, Roughness, SpectrumTexture};
 use crate::spectrum::{ColorSpace, RgbKind, Spectrum};
 use glam::Vec2;
@@ -107,14 +106,10 @@ impl Ctx<'_> {
     /// loop never reaches a negative depth either).
     fn max_depth(&self) -> Result<Option<u32>, SceneError> {
         let (params, loc) = (&self.desc.integrator.params, &self.desc.integrator.loc);
-        match params.int("maxdepth") {
-            Some(-1) => Ok(Some(UNBOUNDED_DEPTH)),
-            Some(n) if n < 0 => {
-                let message = format!("\"maxdepth\" must be at least 0, or -1 for no limit, got {n}");
-                Err(param_error(params, "maxdepth", loc, message))
-            }
-            n => Ok(n.map(|n| n as u32)),
-        }
+        let Some(n) = params.int("maxdepth") else { return Ok(None) };
+        crate::settings::max_depth(n.into(), "\"maxdepth\"")
+            .map(Some)
+            .map_err(|e| param_error(params, "maxdepth", loc, e.to_string()))
     }
 
     fn camera(&mut self) -> Result<(), SceneError> {

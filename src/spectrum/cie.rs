@@ -1,5 +1,6 @@
 //! CIE 1931 2° colour matching functions x̄, ȳ, z̄ (360–830 nm at 1 nm) and the exact
-//! integrals that turn a spectrum into XYZ (CIE 015:2004, *Colorimetry*).
+//! integrals that turn a spectrum into XYZ (CIE 015:2004, *Colorimetry*), and the luminous
+//! efficacy K_m.
 //!
 //! The table is taken to mean the piecewise-linear function through its samples, zero
 //! outside 360–830 nm. Integrals against it are computed exactly for piecewise-linear
@@ -23,6 +24,10 @@ pub const CIE_SAMPLES: usize = 471;
 pub const CIE_Y_INTEGRAL: f32 = 106.856_91;
 /// [`CIE_Y_INTEGRAL`] in double precision.
 pub const CIE_Y_INTEGRAL_F64: f64 = 106.856_914_916_767;
+
+/// Maximum luminous efficacy of radiation K_m [lm/W]: 683 lm/W at 555 nm, where ȳ = 1 (the SI
+/// definition of the candela). Photometric quantities are K_m ∫ X_e(λ) ȳ(λ) dλ.
+pub const K_M: f64 = 683.0;
 
 /// The tabulated (x̄, ȳ, z̄) at `360 + i` nm, exactly as published.
 pub fn xyz_bar_sample(i: usize) -> Option<[f64; 3]> {

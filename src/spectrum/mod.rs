@@ -18,7 +18,7 @@ mod spd_file;
 mod transfer;
 
 pub use blackbody::{blackbody_peak_radiance, blackbody_radiance};
-pub use cie::{xyz_bar, CIE_Y_INTEGRAL};
+pub use cie::{xyz_bar, CIE_Y_INTEGRAL, K_M};
 pub use color_space::{rgb_to_xyz_from_chromaticities, ColorSpace};
 pub use illuminant::{daylight, normalise_luminance, NAMED_ILLUMINANTS};
 pub use jakob_hanika::{fit_albedo, Fit, RgbToSpectrumTable, SigmoidPolynomial};

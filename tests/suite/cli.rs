@@ -28,8 +28,8 @@ fn bad_input_gets_one_clear_line() {
     assert_clean_error(&["render", "/no/such/scene.pbrt", "-o", out], "does not exist");
     assert_clean_error(&["render", "-o", "/no/such/dir/out.png"], "cannot write");
     assert_clean_error(&["render", "-o", d.join("out.bmpx").to_str().unwrap()], "unsupported output format 'bmpx'");
-    assert_clean_error(&["render", "--spp", "0", "-o", out], "--spp must be a positive");
-    assert_clean_error(&["render", "--spp", "-3", "-o", out], "--spp must be a positive");
+    assert_clean_error(&["render", "--spp", "0", "-o", out], "--spp must be positive");
+    assert_clean_error(&["render", "--spp", "-3", "-o", out], "--spp must be positive");
     assert_clean_error(&["render", "--resolution", "0x64", "-o", out], "resolution must be positive");
     assert_clean_error(&["render", "--resolution", "-4x64", "-o", out], "resolution must be positive");
     assert_clean_error(&["render", "--threads", "0", "-o", out], "--threads must be at least 1");

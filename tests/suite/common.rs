@@ -1,8 +1,26 @@
 //! Helpers shared by the end-to-end tests.
 
 use prism::film::Film;
+use prism::filter::Filter;
+use prism::integrator::PathIntegrator;
+use prism::render::{RenderSettings, SamplerKind};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
+
+/// The settings most end-to-end renders use: `resolution` pixels, `spp` independent samples
+/// per pixel from `seed`, a box filter (each pixel its own samples' estimate), paths of at most
+/// `max_depth` bounces, prism's defaults otherwise.
+pub fn test_settings(resolution: (u32, u32), spp: u64, seed: u64, max_depth: u32) -> RenderSettings {
+    RenderSettings {
+        resolution,
+        spp,
+        seed,
+        sampler: SamplerKind::Independent,
+        filter: Filter::by_name("box").unwrap(),
+        integrator: PathIntegrator { max_depth, ..Default::default() },
+        ..Default::default()
+    }
+}
 
 /// The `prism` binary.
 pub fn prism() -> Command {

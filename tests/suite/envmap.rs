@@ -2,6 +2,7 @@
 //! spot), E = πL from a constant map under every direct-lighting strategy, pbrt's "illuminance"
 //! on an upward patch, and the example scene `scenes/envmap.pbrt` with its committed map.
 
+use crate::common::test_settings;
 use glam::{Mat3, Vec3};
 use prism::accel::AccelKind;
 use prism::image::Image;
@@ -171,16 +172,7 @@ fn envmap_scene_renders_without_nans_and_shows_the_sky() {
     let (b, _) = prism::scene::pbrt::build(&desc, &mut warnings).unwrap();
     assert!(warnings.is_empty(), "{warnings:?}");
     let scene = b.build(AccelKind::Obvhs).unwrap();
-    let s = prism::render::RenderSettings {
-        resolution: (48, 32),
-        film: Default::default(),
-        spp: 8,
-        seed: 1,
-        sampler: prism::render::SamplerKind::Independent,
-        filter: prism::filter::Filter::by_name("box").unwrap(),
-        integrator: PathIntegrator { max_depth: 3, ..Default::default() },
-        time_limit: None,
-    };
+    let s = test_settings((48, 32), 8, 1, 3);
     let (film, stats) = prism::render::render(&scene, &s, |_| {}).unwrap();
     assert_eq!(stats.nonfinite, 0);
     // The top row sees the sky (bluish: Z > Y... in XYZ a blue sky has z/y > 1), the bottom row

@@ -3,16 +3,14 @@
 //! from inside transformed closed meshes never escape; and many instances of a big mesh cost far
 //! less memory than their flattened copies.
 
-use crate::common::{film_difference, pixels_far_off};
+use crate::common::{film_difference, pixels_far_off, test_settings};
 use glam::{Mat4, Quat, Vec3};
 use prism::accel::{self, AccelKind};
 use prism::camera::Camera;
-use prism::filter::Filter;
 use prism::geometry::shapes::{axis_box, icosphere, quad, terrain};
 use prism::geometry::{Hit, Instance, InstanceSet, Mesh, Prototype, Ray};
-use prism::integrator::PathIntegrator;
 use prism::material::Material;
-use prism::render::{render, RenderSettings, SamplerKind};
+use prism::render::render;
 use prism::sampling::Rng;
 use prism::scene::{Emission, SceneBuilder};
 use prism::spectrum::Spectrum;
@@ -207,16 +205,7 @@ fn many_instances_of_a_big_mesh_use_far_less_memory_than_flattened() {
 /// The same image, within noise, from the instanced scene and its flattened copy (same seed).
 #[test]
 fn instanced_and_flattened_scenes_render_the_same_image() {
-    let settings = RenderSettings {
-        resolution: (48, 32),
-        film: Default::default(),
-        spp: 8,
-        seed: 4,
-        sampler: SamplerKind::Independent,
-        filter: Filter::by_name("box").unwrap(),
-        integrator: PathIntegrator { max_depth: 4, ..Default::default() },
-        time_limit: None,
-    };
+    let settings = test_settings((48, 32), 8, 4, 4);
     for kind in accels() {
         let inst = instanced_builder().build(kind).unwrap();
         let mut flat_b = instanced_builder();
@@ -246,16 +235,7 @@ fn pbrt_object_instances_are_real_instances() {
         prism::scene::pbrt::build(&desc, &mut warnings).unwrap().0
     };
     assert_eq!(load().instance_count(), 13);
-    let settings = RenderSettings {
-        resolution: (64, 36),
-        film: Default::default(),
-        spp: 8,
-        seed: 2,
-        sampler: SamplerKind::Independent,
-        filter: Filter::by_name("box").unwrap(),
-        integrator: PathIntegrator { max_depth: 3, ..Default::default() },
-        time_limit: None,
-    };
+    let settings = test_settings((64, 36), 8, 2, 3);
     for kind in accels() {
         let inst = load().build(kind).unwrap();
         assert_eq!(inst.instances().len(), 13);
@@ -281,16 +261,7 @@ fn render_cornell(m: Mat4, kind: AccelKind, instanced: bool, seed: u64) -> prism
     b.transform(m);
     let scene = b.build(kind).unwrap();
     assert_eq!(scene.instances().len(), instanced as usize);
-    let settings = RenderSettings {
-        resolution: (24, 24),
-        film: Default::default(),
-        spp: 32,
-        seed,
-        sampler: SamplerKind::Independent,
-        filter: Filter::by_name("box").unwrap(),
-        integrator: PathIntegrator { max_depth: 4, ..Default::default() },
-        time_limit: None,
-    };
+    let settings = test_settings((24, 24), 32, seed, 4);
     let (film, stats) = render(&scene, &settings, |_| {}).unwrap();
     assert_eq!(stats.nonfinite, 0);
     film

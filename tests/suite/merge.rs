@@ -40,7 +40,7 @@ fn write_scene(d: &Path) -> PathBuf {
         .unwrap();
     std::fs::write(d.join("lamp.spd"), "400 10\n700 10\n").unwrap();
     std::fs::write(d.join("tri.obj"), "v -2 -2 -1\nv 2 -2 -1\nv 0 2 -1\nf 1 2 3\n").unwrap();
-    let tex = prism::image::Image { width: 2, height: 2, channels: 3, data: vec![0.2, 0.4, 0.6].repeat(4) };
+    let tex = prism::image::Image { width: 2, height: 2, channels: 3, data: [0.2, 0.4, 0.6].repeat(4) };
     prism::image::write(&d.join("tex.png"), &tex).unwrap();
     scene
 }

@@ -3,6 +3,7 @@
 //! errors; estimators with zero variance (flat spectra, one delta light) get a 1e-4 relative
 //! allowance for f32 rounding instead.
 
+use crate::common::test_settings;
 use glam::{Mat4, Vec3};
 use prism::accel::AccelKind;
 use prism::camera::Camera;
@@ -210,16 +211,7 @@ fn lambertian_reflector_radiance_is_rho_e_over_pi() {
     b.add_light(Light::Distant(DistantLight { to_light, spectrum: Arc::new(Spectrum::constant(1.0)), scale: e0 }));
     b.set_camera(Camera::look_at(Vec3::new(0.0, 2.0, -2.0), Vec3::ZERO, Vec3::Y), 20.0);
     let scene = build(b);
-    let s = prism::render::RenderSettings {
-        resolution: (16, 16),
-        film: Default::default(),
-        spp: 4,
-        seed: 0,
-        sampler: prism::render::SamplerKind::Independent,
-        filter: prism::filter::Filter::by_name("box").unwrap(),
-        integrator: PathIntegrator { max_depth: 1, ..Default::default() },
-        time_limit: None,
-    };
+    let s = test_settings((16, 16), 4, 0, 1);
     let (film, stats) = prism::render::render(&scene, &s, |_| {}).unwrap();
     assert_eq!(stats.nonfinite, 0);
     let expected = (rho * e0 * theta.cos() / PI) as f64;

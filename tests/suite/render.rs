@@ -1,29 +1,19 @@
 //! End-to-end renders of small scenes: analytic answers, determinism, no non-finite samples.
 
-use crate::common::film_difference;
+use crate::common::{film_difference, test_settings};
 use glam::Vec3;
 use prism::accel::AccelKind;
 use prism::camera::Camera;
 use prism::film::Film;
-use prism::filter::Filter;
 use prism::geometry::shapes::icosphere;
-use prism::integrator::{PathIntegrator, Stats};
+use prism::integrator::Stats;
 use prism::material::Material;
 use prism::render::{render, RenderSettings, SamplerKind};
 use prism::scene::{Emission, Scene, SceneBuilder};
 use prism::spectrum::Spectrum;
 
 fn settings(res: u32, spp: u64, max_depth: u32) -> RenderSettings {
-    RenderSettings {
-        resolution: (res, res),
-        film: Default::default(),
-        spp,
-        seed: 1,
-        sampler: SamplerKind::Independent,
-        filter: Filter::by_name("box").unwrap(),
-        integrator: PathIntegrator { max_depth, ..Default::default() },
-        time_limit: None,
-    }
+    test_settings((res, res), spp, 1, max_depth)
 }
 
 fn accels() -> Vec<AccelKind> {

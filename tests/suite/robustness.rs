@@ -2,29 +2,18 @@
 //! (spawned rays are offset by a bound on the hit point's rounding error, not a global epsilon),
 //! and degenerate geometry never produces NaN pixels.
 
-use crate::common::{film_difference as diff, pixels_far_off};
+use crate::common::{film_difference as diff, pixels_far_off, test_settings};
 use glam::{Mat4, Vec3};
 use prism::accel::AccelKind;
 use prism::film::Film;
-use prism::filter::Filter;
 use prism::geometry::Mesh;
-use prism::integrator::PathIntegrator;
 use prism::material::Material;
-use prism::render::{render, RenderSettings, SamplerKind};
+use prism::render::{render, RenderSettings};
 use prism::scene::SceneBuilder;
 use prism::spectrum::Spectrum;
 
 fn settings() -> RenderSettings {
-    RenderSettings {
-        resolution: (24, 24),
-        film: Default::default(),
-        spp: 32,
-        seed: 5,
-        sampler: SamplerKind::Independent,
-        filter: Filter::by_name("box").unwrap(),
-        integrator: PathIntegrator { max_depth: 4, ..Default::default() },
-        time_limit: None,
-    }
+    test_settings((24, 24), 32, 5, 4)
 }
 
 fn render_cornell(m: Mat4, accel: AccelKind, seed: u64) -> Film {

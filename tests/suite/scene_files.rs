@@ -2,6 +2,7 @@
 //! `PRISM_REGEN_MESHES=1` to rewrite them) and must match the committed bytes, and every scene
 //! must parse without warnings into the expected entities.
 
+use crate::common::test_settings;
 use std::path::{Path, PathBuf};
 
 use glam::{Vec2, Vec3};
@@ -178,9 +179,7 @@ fn material_row_parses() {
 #[test]
 fn every_example_scene_builds_without_warnings_and_renders_finite_non_black() {
     use prism::accel::AccelKind;
-    use prism::filter::Filter;
-    use prism::integrator::PathIntegrator;
-    use prism::render::{render, RenderSettings, SamplerKind};
+    use prism::render::render;
     let mut names: Vec<PathBuf> = std::fs::read_dir(scenes())
         .unwrap()
         .map(|e| e.unwrap().path())
@@ -195,16 +194,7 @@ fn every_example_scene_builds_without_warnings_and_renders_finite_non_black() {
         let (builder, _) = pbrt::build(&desc, &mut warnings).unwrap_or_else(|e| panic!("{name}: {e}"));
         assert!(warnings.is_empty(), "{name}: {warnings:?}");
         let scene = builder.build(AccelKind::Obvhs).unwrap();
-        let s = RenderSettings {
-            resolution: (24, 16),
-            film: Default::default(),
-            spp: 2,
-            seed: 3,
-            sampler: SamplerKind::Independent,
-            filter: Filter::by_name("box").unwrap(),
-            integrator: PathIntegrator { max_depth: 4, ..Default::default() },
-            time_limit: None,
-        };
+        let s = test_settings((24, 16), 2, 3, 4);
         let (film, stats) = render(&scene, &s, |_| {}).unwrap();
         assert_eq!(stats.nonfinite, 0, "{name}: {:?}", stats.nonfinite_at);
         let y: f64 = film.pixels.iter().map(|p| p.xyz_sum.y / p.weight_sum).sum();

@@ -3,16 +3,16 @@
 //! Delta lights cannot be reached by BSDF sampling, so for them MIS is checked against NEE only.
 
 use crate::common::film_difference as diff;
+use crate::common::test_settings;
 use glam::Vec3;
 use prism::accel::AccelKind;
 use prism::camera::Camera;
 use prism::film::Film;
-use prism::filter::Filter;
 use prism::geometry::shapes::quad;
 use prism::integrator::{DirectStrategy, PathIntegrator};
 use prism::light::{Light, PointLight, SpotFalloff, SpotLight, UniformInfiniteLight};
 use prism::material::{Ior, Material, Roughness, SpectrumTexture};
-use prism::render::{render, RenderSettings, SamplerKind};
+use prism::render::{render, RenderSettings};
 use prism::scene::{Emission, SceneBuilder};
 use prism::spectrum::Spectrum;
 use std::sync::Arc;
@@ -77,16 +77,8 @@ fn render_with(material: &Material, light: LightKind, strategy: DirectStrategy, 
     }
     b.set_camera(Camera::look_at(Vec3::new(0.0, 1.0, -2.5), Vec3::ZERO, Vec3::Y), 50.0);
     let scene = b.build(AccelKind::Obvhs).unwrap();
-    let s = RenderSettings {
-        resolution: (16, 16),
-        film: Default::default(),
-        spp: 64,
-        seed,
-        sampler: SamplerKind::Independent,
-        filter: Filter::by_name("box").unwrap(),
-        integrator: PathIntegrator { max_depth: 3, strategy, ..Default::default() },
-        time_limit: None,
-    };
+    let base = test_settings((16, 16), 64, seed, 3);
+    let s = RenderSettings { integrator: PathIntegrator { strategy, ..base.integrator }, ..base };
     let (film, stats) = render(&scene, &s, |_| {}).unwrap();
     assert_eq!(stats.nonfinite, 0);
     film

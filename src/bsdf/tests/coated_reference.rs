@@ -55,8 +55,11 @@ fn smooth_coat_matches_the_layered_random_walk() {
     }
 }
 
-/// The rough-coat table of docs/bsdf.md: (ρ, α, [(model, walk) at θo = 0°, 45°, 80°]).
-fn quoted_rough_coat_albedos() -> Vec<(f32, f32, Vec<(f64, f64)>)> {
+/// One row of the rough-coat table: ρ, α, and (model, walk) albedos at θo = 0°, 45°, 80°.
+type QuotedRow = (f32, f32, Vec<(f64, f64)>);
+
+/// The rough-coat table of docs/bsdf.md.
+fn quoted_rough_coat_albedos() -> Vec<QuotedRow> {
     let doc = include_str!("../../../docs/bsdf.md");
     let table = doc.split("| ρ | α | θo = 0° | 45° | 80° |").nth(1).expect("docs/bsdf.md has the coated table");
     table
