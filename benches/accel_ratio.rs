@@ -89,10 +89,8 @@ fn main() {
     let passes: usize = std::env::var("PRISM_BENCH_PASSES").ok().and_then(|s| s.parse().ok()).unwrap_or(8);
     let meshes = scene();
     let tris: usize = meshes.iter().map(Mesh::len).sum();
-    let kinds = [AccelKind::Embree, AccelKind::EmbreeWatertight]
-        .into_iter()
-        .filter(|_| cfg!(embree))
-        .chain([AccelKind::Obvhs]);
+    let kinds =
+        [AccelKind::Embree, AccelKind::EmbreeWatertight].into_iter().filter(|_| cfg!(embree)).chain([AccelKind::Obvhs]);
     let backends: Vec<(&str, Box<dyn Accel>)> = kinds
         .map(|kind| {
             let t0 = Instant::now();

@@ -10,8 +10,8 @@ use super::instanced::InstancedScene;
 use super::library_check::GuardedRayHit;
 use super::scene::Scene;
 use super::TriangleTest;
+use crate::geometry::{Instance, InstanceSet, Prototype};
 use crate::geometry::{Mesh, Ray};
-use crate::scene::instances::{Instance, InstanceSet, Prototype};
 
 /// A unit quad in z = 0 (two triangles), so the probe ray at (0.25, 0.5) hits triangle 0.
 fn quad() -> Mesh {
