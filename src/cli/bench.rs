@@ -115,9 +115,12 @@ pub fn compare(a: &CompareArgs) -> Result<()> {
         .with_context(|| format!("comparing {} with {}", a.a.display(), a.b.display()))?;
     if a.json {
         let j = serde_json::json!({"rmse": m.rmse, "rel_mse": m.rel_mse, "mae": m.mae, "max_abs": m.max_abs});
-        println!("{}", serde_json::to_string_pretty(&j)?);
+        super::print_stdout(&format!("{}\n", serde_json::to_string_pretty(&j)?))?;
     } else {
-        println!("RMSE    {:.6e}\nrelMSE  {:.6e}\nMAE     {:.6e}\nmax|Δ|  {:.6e}", m.rmse, m.rel_mse, m.mae, m.max_abs);
+        super::print_stdout(&format!(
+            "RMSE    {:.6e}\nrelMSE  {:.6e}\nMAE     {:.6e}\nmax|Δ|  {:.6e}\n",
+            m.rmse, m.rel_mse, m.mae, m.max_abs
+        ))?;
     }
     if let Some(d) = &a.diff {
         let img = crate::image::metrics::false_colour_difference(&ia, &ib)?;

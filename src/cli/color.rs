@@ -100,8 +100,7 @@ pub fn run(cmd: ColorCommand) -> Result<()> {
         ColorCommand::Project { basis, fit, bins, spd } => project_text(basis, fit, bins, &spd)?,
         ColorCommand::Report => super::color_report::report_markdown(),
     };
-    print!("{text}");
-    Ok(())
+    super::print_stdout(&text)
 }
 
 fn load_spd(path: &Path) -> Result<Spectrum> {

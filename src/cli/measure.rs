@@ -104,6 +104,5 @@ pub fn run(cmd: &MeasureCommand) -> Result<()> {
         "{rn} = {:.6e} ± {:.2e} {ru}  (360–830 nm, {samples} samples)\n{pn} = {:.6e} ± {:.2e} {pu}",
         re.mean, re.std_err, pe.mean, pe.std_err
     );
-    println!("{}", if a.json { json } else { text });
-    Ok(())
+    super::print_stdout(&format!("{}\n", if a.json { json } else { text }))
 }

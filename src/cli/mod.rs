@@ -67,3 +67,14 @@ fn worker_pool(threads: Option<usize>) -> anyhow::Result<rayon::ThreadPool> {
         .build()
         .map_err(|e| anyhow::anyhow!("starting worker threads: {e}"))
 }
+
+/// Writes a command's result to standard output. A reader that closed the pipe early (`prism
+/// compare … | head -1`) has what it wanted: that is not an error, and never a panic.
+pub(crate) fn print_stdout(text: &str) -> anyhow::Result<()> {
+    use std::io::Write;
+    let mut out = std::io::stdout().lock();
+    match out.write_all(text.as_bytes()).and_then(|()| out.flush()) {
+        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => Err(anyhow::Error::new(e).context("writing to stdout")),
+        _ => Ok(()),
+    }
+}

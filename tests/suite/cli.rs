@@ -431,3 +431,18 @@ fn compare_prints_the_metrics_and_writes_the_difference_image() {
     assert!(!o.status.success() && o.stdout.is_empty(), "{}", String::from_utf8_lossy(&o.stdout));
     assert!(stderr(&o).starts_with("prism: error: cannot write /no/such/dir/d.png"), "{}", stderr(&o));
 }
+
+#[test]
+fn a_reader_that_closes_the_pipe_early_is_no_error() {
+    // `prism compare a b | head -c0`: head exits before prism writes, so prism's write fails
+    // with EPIPE; it must exit 0 without a panic, as `cat` would.
+    let d = tmpdir("pipe");
+    let path = d.join("a.exr");
+    let img = prism::image::Image { width: 4, height: 4, channels: 3, data: vec![0.5; 48] };
+    prism::image::write(&path, &img).unwrap();
+    let a = path.to_str().unwrap();
+    let script = format!("'{}' compare '{a}' '{a}' | head -c0; exit ${{PIPESTATUS[0]}}", env!("CARGO_BIN_EXE_prism"));
+    let o = std::process::Command::new("bash").args(["-c", &script]).env("RUST_BACKTRACE", "0").output().unwrap();
+    assert!(o.status.success(), "exit {:?}: {}", o.status, stderr(&o));
+    assert!(!stderr(&o).contains("panicked"), "{}", stderr(&o));
+}
