@@ -10,7 +10,9 @@
 //! 2-thread rayon pool and timed by the wall clock.
 //!
 //! `cargo bench --bench accel_ratio` (release profile). `PRISM_BENCH_PASSES` (default 8),
-//! `PRISM_BENCH_SCALE` as in `accel.rs`.
+//! `PRISM_BENCH_SCALE` as in `accel.rs`. With `PRISM_BENCH_RAW=1` every pass's throughput is
+//! also printed as a tab-separated line `pass, index, query, threads, backend, M rays/s`, for
+//! comparing two builds run in turn (scripts/bench-embree4.sh: Embree 4 against Embree 3).
 
 use std::time::Instant;
 
@@ -117,6 +119,7 @@ fn main() {
         ("closest hit, primary", &primary, Query::Closest),
     ];
     let names: Vec<&str> = backends.iter().map(|b| b.0).collect();
+    let raw = std::env::var_os("PRISM_BENCH_RAW").is_some_and(|v| v == "1");
     println!("\n{RAYS} rays per set, {passes} passes, ratios of throughput (median, range over passes)\n");
     print!("| query | threads |");
     for n in &names {
@@ -136,6 +139,13 @@ fn main() {
         for threads in [1, 2] {
             let p = (threads == 2).then_some(&pool);
             let runs: Vec<Vec<(f64, usize)>> = (0..passes).map(|_| pass(&backends, rays, q, p)).collect();
+            if raw {
+                for (k, run) in runs.iter().enumerate() {
+                    for (name, (mrays, _)) in names.iter().zip(run) {
+                        println!("pass\t{k}\t{label}\t{threads}\t{name}\t{mrays:.4}");
+                    }
+                }
+            }
             let hits: Vec<usize> = runs[0].iter().map(|r| r.1).collect();
             print!("| {label} | {threads} |");
             for b in 0..names.len() {

@@ -8,6 +8,7 @@
 #   3. prism bench on the built-in 1M-triangle terrain and on scenes/instanced_orchard.pbrt:
 #      build time, rays/s and memory per triangle per backend.
 # The peer comparison with Mitsuba 3 is a separate command: bash benches/peers/mitsuba.sh
+# Embree 4 against Embree 3 (two builds, interleaved): bash scripts/bench-embree4.sh
 # Outputs go to bench-out/; copy the tables and plots you want into docs/.
 set -euo pipefail
 mkdir -p bench-out

@@ -30,8 +30,15 @@ fi
 
 die() { echo "install-embree4: $*" >&2; exit 1; }
 [ "$(uname -m)" = x86_64 ] || die "the embreex4 wheel holds x86-64 libraries only; install a system Embree 4 instead"
-command -v python3 >/dev/null || die "python3 not found (apt-get install python3)"
-python3 -m pip --version >/dev/null 2>&1 || die "pip not found (apt-get install python3-pip)"
+if ! python3 -m pip --version >/dev/null 2>&1; then
+  # Debian's pip (python3-pip) downloads wheels; only installing into the system is refused.
+  command -v apt-get >/dev/null || die "python3 with pip is needed to download the wheel"
+  echo "install-embree4: installing python3-pip"
+  sudo=""
+  if [ "$(id -u)" -ne 0 ]; then sudo="sudo"; fi
+  $sudo apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq python3-pip
+fi
 
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
