@@ -119,7 +119,11 @@ fn same_scene(a: &Scene, b: &Scene) -> Result<(), String> {
         let (ra, rb) = (reflectance(a, i)?, reflectance(b, i)?);
         for &l in &CHECK_LAMBDAS {
             if (ra.eval(l) - rb.eval(l)).abs() > 1e-6 {
-                return Err(format!("{what}: reflectance at {l} nm is {} read back, {} built in", rb.eval(l), ra.eval(l)));
+                return Err(format!(
+                    "{what}: reflectance at {l} nm is {} read back, {} built in",
+                    rb.eval(l),
+                    ra.eval(l)
+                ));
             }
         }
     }

@@ -105,9 +105,11 @@ def ladder_of(a, sampler):
     return ladder
 
 
-def point(renderer, scene, spp, times, imgs, a):
-    return {"scene": scene, "renderer": renderer, "spp": spp, "times_s": times,
-            "noise": noise.noise(imgs[0], imgs[1]), "samples_per_s": a.size * a.size * spp / statistics.median(times)}
+def point(renderer, scene, spp, times, imgs, a, spp_rendered=None):
+    """`spp_rendered`: what the sampler really took (Mitsuba's multijitter rounds 32 up to 35)."""
+    n = spp_rendered or spp
+    return {"scene": scene, "renderer": renderer, "spp": spp, "spp_rendered": n, "times_s": times,
+            "noise": noise.noise(imgs[0], imgs[1]), "samples_per_s": a.size * a.size * n / statistics.median(times)}
 
 
 def prism_round(a, name, out):
@@ -136,7 +138,10 @@ def mitsuba_round(a, name, variant, out):
             res = [mitsuba_render(mi, scene, spp, s) for s in (1, 2)]
             imgs = [r[1] for r in res]
             mi.Bitmap(imgs[0]).write(os.path.join(out, "%s_%s_%s_%d_seed1.exr" % (name, variant, sampler, spp)))
-            pts.append(point("mitsuba %s %s" % (variant, sampler), name, spp, [t for t, _ in res], imgs, a))
+            sampler_copy = scene.sensors()[0].sampler().clone()
+            sampler_copy.set_sample_count(spp)
+            pts.append(point("mitsuba %s %s" % (variant, sampler), name, spp, [t for t, _ in res], imgs, a,
+                             sampler_copy.sample_count()))
             print("%s %s %s %d spp: %.3f / %.3f s, noise %.5f" % (
                 name, variant, sampler, spp, res[0][0], res[1][0], pts[-1]["noise"]), file=sys.stderr, flush=True)
     return pts
@@ -152,10 +157,11 @@ def merge_rounds(rounds, a):
     for (scene, renderer, spp), ps in by_key.items():
         times = [t for p in ps for t in p["times_s"]]
         t = statistics.median(times)
-        out.append({"scene": scene, "renderer": renderer, "spp": spp, "time_s": t, "time_min_s": min(times),
+        out.append({"scene": scene, "renderer": renderer, "spp": spp, "spp_rendered": ps[0]["spp_rendered"],
+                    "time_s": t, "time_min_s": min(times),
                     "time_max_s": max(times), "noise": ps[0]["noise"],
                     "noise_spread": max(p["noise"] for p in ps) - min(p["noise"] for p in ps),
-                    "samples_per_s": a.size * a.size * spp / t})
+                    "samples_per_s": a.size * a.size * ps[0]["spp_rendered"] / t})
     return out
 
 
@@ -263,7 +269,8 @@ def main():
     p.add_argument("--threads", type=int, default=2)
     p.add_argument("--size", type=int, default=256)
     p.add_argument("--max-depth", type=int, default=8, help="pbrt's convention: scattering events")
-    p.add_argument("--ladder", default="64,256", help="spp of every configuration, seeds 1 and 2 each")
+    p.add_argument("--ladder", default="64,256",
+                   help="spp of every configuration, seeds 1 and 2 each (powers of 4 suit Mitsuba's samplers)")
     p.add_argument("--prism-samplers", default="independent,sobol")
     p.add_argument("--variants", default="llvm_ad_spectral,scalar_spectral")
     p.add_argument("--llvm-samplers", default="independent,multijitter,ldsampler",
@@ -276,6 +283,10 @@ def main():
                    help="also compare converged images at this spp (0: skip)")
     p.add_argument("--converged-variant", default="llvm_ad_spectral")
     a = p.parse_args()
+    for n in (int(x) for x in a.ladder.split(",")):
+        if n & (n - 1) or n.bit_length() % 2 == 0:
+            # Mitsuba's ldsampler takes only powers of four and its multijitter rounds others up.
+            print("mitsuba_peer.py: %d spp is not a power of 4: ldsampler skips it" % n, file=sys.stderr)
     os.makedirs(a.out, exist_ok=True)
     scenes = [s for s in a.scenes.split(",") if s]
     for s in scenes:
