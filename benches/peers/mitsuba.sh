@@ -1,9 +1,11 @@
 #!/usr/bin/env bash
-# Peer benchmark: prism vs Mitsuba 3 (scalar_spectral, llvm_ad_spectral) on prism's Cornell box.
+# Peer benchmark: prism vs Mitsuba 3 (llvm_ad_spectral, scalar_spectral), time to equal noise on
+# the Cornell box, a textured many-material scene and the 1M-triangle terrain.
 # One command, from the repository root:  bash benches/peers/mitsuba.sh [driver options]
-# (see `--help` of benches/peers/mitsuba_peer.py). It builds prism (release), makes a Python
-# virtual environment in target/peers/venv with mitsuba from PyPI, and writes
-# target/peers/out/peer.{md,json} plus the images. A benchmark, not a test: CI does not run it.
+# (see `--help` of benches/peers/mitsuba_peer.py). It builds prism (release) and the terrain
+# exporter, makes a Python virtual environment in target/peers/venv with mitsuba from PyPI, and
+# writes target/peers/out/{run.json,peer.md} plus the images. A benchmark, not a test: CI does
+# not run it.
 #
 # llvm_ad_spectral needs LLVM ≥ 16 at run time (Debian 12's LLVM 15 aborts): Debian 12 ships
 # libllvm19 (bookworm/main, 1:19.1.7-3~deb12u1); this script installs it with apt-get when run as
@@ -31,5 +33,8 @@ else
 fi
 
 cargo build --release --quiet
+cargo build --release --quiet --example terrain_ply
 echo "== machine: $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | xargs), $(date -u +%F)" >&2
-exec "$PEERS/venv/bin/python" benches/peers/mitsuba_peer.py "$@"
+echo "== before: $(uptime)" >&2
+"$PEERS/venv/bin/python" benches/peers/mitsuba_peer.py "$@"
+echo "== after: $(uptime)" >&2

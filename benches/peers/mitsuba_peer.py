@@ -1,23 +1,38 @@
-"""Peer benchmark: prism against Mitsuba 3 on prism's built-in Cornell box.
+"""Peer benchmark: prism against Mitsuba 3 on three scenes, time to equal noise.
 
-Run through benches/peers/mitsuba.sh, which makes the virtual environment. In one run, on the
-same machine and thread count, it
-  1. renders (or reuses) prism's converged reference (Sobol, high spp);
-  2. runs `prism bench` (Embree; independent and Sobol samplers) against that reference;
-  3. renders the same scene with Mitsuba's scalar_spectral and llvm_ad_spectral variants and
-     several of its samplers at each spp of a ladder, in one pass each, and measures the RMSE
-     of every image against prism's reference with `prism compare`;
-  4. renders Mitsuba's converged image and compares it with the reference (and prism's own
-     image at the same spp, to separate noise from disagreement);
-  5. reports the time each renderer needs to reach a target RMSE, as ratios to Mitsuba's.
-Steps 2 and 3 run --rounds times, the renderers taking turns; each point's time is the median.
-Outputs: OUT/peer.json (every point), OUT/peer.md (tables), OUT/*.exr.
+Run through benches/peers/mitsuba.sh, which makes the virtual environment. The scenes:
+  cornell   prism's built-in Cornell box (cornell_scene.py reads it from src/scene/cornell.rs);
+  textured  scenes/peer_textured.pbrt: textures and five BSDF kinds (pbrt_scene.py translates it);
+  terrain   prism's built-in 1M-triangle terrain, exported once as PLY meshes and a pbrt file
+            (examples/terrain_ply.rs, into --cache) that both renderers read.
+Both renderers use a box pixel filter (each sample counts in its own pixel only), the same
+resolution, depth and Russian roulette start, and the same thread count.
+
+In each of --rounds rounds, for each scene, prism renders every (sampler, spp) of the ladder
+with seeds 1 and 2, then Mitsuba does the same for every (variant, sampler): the renderers take
+turns (A B A B), so a busy spell on the shared machine hits both. A configuration's noise is
+RMS(T(seed 1) − T(seed 2))/√2 on T(x) = x/(1+x)-mapped RGB (noise.py), the same for both
+renderers; its time is the render alone (prism's --stats-json elapsed_s; Mitsuba's mi.render to
+the end of evaluation), the median over rounds and seeds. Mitsuba's LLVM kernels are compiled in
+an untimed warm-up render of each spp after each scene load.
+
+Time to equal noise: the target is the noise Mitsuba's best configuration reaches at the top of
+the ladder; every configuration's time to it is read off its ladder (noise.time_to_noise), and
+the ratio published is prism's best sampler ÷ Mitsuba's best sampler, per variant.
+
+With --converged-spp, each scene is also rendered at that spp by prism (Sobol) and Mitsuba
+(--converged-variant, multijitter), two seeds each, and noise.agreement says how far the two
+converged images are apart beyond their noise.
+
+Outputs in --out: run.json (machine, ISA, versions, date, load, every point, the ratios),
+peer.md (tables), and the images.
 """
 
 import argparse
+import datetime
 import json
-import math
 import os
+import platform
 import statistics
 import subprocess
 import sys
@@ -26,7 +41,11 @@ import time
 HERE = os.path.dirname(os.path.abspath(__file__))
 REPO = os.path.dirname(os.path.dirname(HERE))
 sys.path.insert(0, HERE)
-from cornell_scene import scene_dict  # noqa: E402
+import cornell_scene  # noqa: E402
+import noise  # noqa: E402
+import pbrt_scene  # noqa: E402
+
+SCENES = ["cornell", "textured", "terrain"]
 
 
 def run(cmd):
@@ -34,237 +53,267 @@ def run(cmd):
     return subprocess.run(cmd, check=True, capture_output=True, text=True).stdout
 
 
-def compare(prism, a, b):
-    return json.loads(run([prism, "compare", "--json", a, b]))
-
-
-def prism_reference(a, out):
-    """prism's converged image: Sobol, box filter, cached with its settings."""
-    path = os.path.join(out, "prism_reference.exr")
-    meta = {"spp": a.reference_spp, "size": a.size, "max_depth": a.max_depth, "seed": 65261, "sampler": "sobol"}
-    meta_path = path + ".json"
-    if os.path.exists(path) and os.path.exists(meta_path) and json.load(open(meta_path)) == meta:
-        print("reference: reusing %s" % path, file=sys.stderr)
-        return path
-    t0 = time.time()
-    run([a.prism, "render", "--spp", str(a.reference_spp), "--sampler", "sobol", "--filter", "box",
-         "--max-depth", str(a.max_depth), "--resolution", "%dx%d" % (a.size, a.size), "--seed", "65261",
-         "--threads", str(a.threads), "--accel", "embree", "-o", path])
-    print("reference: %d spp in %.0f s" % (a.reference_spp, time.time() - t0), file=sys.stderr)
-    json.dump(meta, open(meta_path, "w"))
+def scene_file(a, name):
+    """The pbrt file prism renders (None: prism's built-in Cornell box)."""
+    if name == "cornell":
+        return None
+    if name == "textured":
+        return os.path.join(REPO, "scenes", "peer_textured.pbrt")
+    path = os.path.join(a.cache, "terrain", "terrain.pbrt")
+    if not os.path.exists(path):
+        run(["cargo", "run", "--release", "--quiet", "--example", "terrain_ply", "--", os.path.dirname(path)])
     return path
 
 
-def prism_ladder(a, ref, out):
-    d = os.path.join(out, "prism")
-    run([a.prism, "bench", "--accel", "embree", "--sampler", "independent,sobol", "--spp-ladder", a.prism_ladder,
-         "--reference", ref, "--resolution", "%dx%d" % (a.size, a.size), "--max-depth", str(a.max_depth),
-         "--threads", str(a.threads), "--out", d])
-    pts = json.load(open(os.path.join(d, "bench.json")))
-    return [{"renderer": "prism " + p["accel"] + " " + p["sampler"], "spp": p["spp"], "time_s": p["time_s"],
-             "rmse": p["rmse"], "samples_per_s": p["samples_per_s"]} for p in pts]
+def mitsuba_scene(mi, a, name, sampler, workdir):
+    size = (a.size, a.size)
+    if name == "cornell":
+        return mi.load_dict(cornell_scene.scene_dict(mi, REPO, workdir, size, 1, a.max_depth, sampler))
+    return mi.load_dict(pbrt_scene.scene_dict(mi, scene_file(a, name), workdir, size, 1, a.max_depth, sampler))
 
 
-def mitsuba_render(mi, scene, spp, pass_spp, seed0):
-    """`spp` samples per pixel in passes of at most `pass_spp` (0: one pass); the box-filtered
-    passes are averaged with equal weights. One pass is Mitsuba at its best: its ldsampler
-    stratifies over all the pixel's samples only within a pass, and the LLVM variant's memory
-    stays small (144 MB peak at 256 spp, 256², in one pass)."""
-    import drjit as dr
-    pass_spp = pass_spp or spp
-    acc, done, k = None, 0, 0
-    while done < spp:
-        n = min(pass_spp, spp - done)
-        img = mi.render(scene, spp=n, seed=seed0 + k)
-        img = img * (n / spp)
-        acc = img if acc is None else acc + img
-        done += n
-        k += 1
-    dr.eval(acc)
-    dr.sync_thread()
-    return acc
-
-
-# (variant, sampler, spp) whose LLVM kernels this process has compiled.
-WARMED = set()
-
-
-def pass_spp_of(a, variant):
-    """The scalar variant always renders in one pass; the LLVM one as --llvm-pass-spp says."""
-    return 0 if variant.startswith("scalar") else a.llvm_pass_spp
-
-
-def mitsuba_ladder(a, variant, sampler, ref, out):
+def load_image(path):
     import mitsuba as mi
+    import numpy as np
+    return np.array(mi.Bitmap(path))
+
+
+def prism_render(a, name, sampler, spp, seed, out):
+    path = os.path.join(out, "%s_prism_%s_%d_seed%d.exr" % (name, sampler, spp, seed))
+    stats = path + ".json"
+    cmd = [a.prism, "render"] + ([scene_file(a, name)] if scene_file(a, name) else [])
+    run(cmd + ["--spp", str(spp), "--sampler", sampler, "--filter", "box", "--max-depth", str(a.max_depth),
+               "--resolution", "%dx%d" % (a.size, a.size), "--seed", str(seed), "--threads", str(a.threads),
+               "--accel", "embree", "-o", path, "--stats-json", stats])
+    return json.load(open(stats))["elapsed_s"], load_image(path)
+
+
+def mitsuba_render(mi, scene, spp, seed):
     import drjit as dr
-    mi.set_variant(variant)
-    dr.set_thread_count(a.threads)
-    d = scene_dict(mi, REPO, os.path.join(out, "scene"), (a.size, a.size), 1, a.max_depth, sampler)
-    scene = mi.load_dict(d)
-    pass_spp = pass_spp_of(a, variant)
-    ladder = [int(s) for s in (a.llvm_ladder if variant.startswith("llvm") else a.scalar_ladder).split(",")]
+    t0 = time.perf_counter()
+    img = mi.render(scene, spp=spp, seed=seed)
+    dr.eval(img)
+    dr.sync_thread()
+    return time.perf_counter() - t0, img
+
+
+def ladder_of(a, sampler):
+    ladder = [int(s) for s in a.ladder.split(",")]
     if sampler == "ldsampler":
-        # Mitsuba rounds ldsampler's sample count up to a square power of two (4^k).
+        # Mitsuba rounds ldsampler's sample count up to a power of four.
         ladder = [n for n in ladder if n & (n - 1) == 0 and n.bit_length() % 2 == 1]
-    # Warm-up, in the first round only: the LLVM variant compiles a kernel per pass size on
-    # first use (then caches it); compilation is a start-up cost, like prism's scene build, and
-    # is not timed.
-    t0 = time.time()
-    for n in sorted({min(spp, pass_spp or spp) for spp in ladder}) if variant.startswith("llvm") else []:
-        if (variant, sampler, n) not in WARMED:
-            mitsuba_render(mi, scene, n, pass_spp, 999)
-            WARMED.add((variant, sampler, n))
-    print("%s: warm-up %.2f s" % (variant, time.time() - t0), file=sys.stderr)
+    return ladder
+
+
+def point(renderer, scene, spp, times, imgs, a, spp_rendered=None):
+    """`spp_rendered`: what the sampler really took (Mitsuba's multijitter rounds 32 up to 35)."""
+    n = spp_rendered or spp
+    return {"scene": scene, "renderer": renderer, "spp": spp, "spp_rendered": n, "times_s": times,
+            "noise": noise.noise(imgs[0], imgs[1]), "samples_per_s": a.size * a.size * n / statistics.median(times)}
+
+
+def prism_round(a, name, out):
     pts = []
-    for spp in ladder:
-        t0 = time.perf_counter()
-        img = mitsuba_render(mi, scene, spp, pass_spp, 1000 * spp)
-        t = time.perf_counter() - t0
-        path = os.path.join(out, "%s_%s_%d.exr" % (variant, sampler, spp))
-        mi.Bitmap(img).write(path)
-        m = compare(a.prism, path, ref)
-        pts.append({"renderer": "mitsuba %s %s" % (variant, sampler), "spp": spp, "time_s": t, "rmse": m["rmse"],
-                    "samples_per_s": a.size * a.size * spp / t})
-        print("%s %s %5d spp %8.3f s %6.3f M samples/s RMSE %.4e" % (
-            variant, sampler, spp, t, pts[-1]["samples_per_s"] / 1e6, m["rmse"]), file=sys.stderr, flush=True)
+    for sampler in a.prism_samplers.split(","):
+        for spp in ladder_of(a, sampler):
+            res = [prism_render(a, name, sampler, spp, s, out) for s in (1, 2)]
+            pts.append(point("prism " + sampler, name, spp, [t for t, _ in res], [i for _, i in res], a))
+            print("%s prism %s %d spp: %.3f / %.3f s, noise %.5f" % (
+                name, sampler, spp, res[0][0], res[1][0], pts[-1]["noise"]), file=sys.stderr, flush=True)
     return pts
 
 
-def time_to_target(points, target):
-    """Time at which RMSE = target: log-log interpolation between the ladder points around it,
-    or, outside the ladder, the 1/√t law from the nearest point (MC error ∝ t^-1/2)."""
-    pts = sorted(points, key=lambda p: p["time_s"])
-    for p, q in zip(pts, pts[1:]):
-        if p["rmse"] >= target >= q["rmse"]:
-            s = math.log(q["rmse"] / p["rmse"]) / math.log(q["time_s"] / p["time_s"])
-            return p["time_s"] * (target / p["rmse"]) ** (1.0 / s), "interpolated"
-    near = min(pts, key=lambda p: abs(math.log(p["rmse"] / target)))
-    return near["time_s"] * (near["rmse"] / target) ** 2, "extrapolated"
+def mitsuba_round(a, name, variant, out):
+    import mitsuba as mi
+    import drjit as dr
+    mi.set_variant(variant)
+    dr.set_thread_count(a.threads)
+    samplers = a.llvm_samplers if variant.startswith("llvm") else a.scalar_samplers
+    pts = []
+    for sampler in samplers.split(","):
+        scene = mitsuba_scene(mi, a, name, sampler, os.path.join(out, "mitsuba_scene_" + name))
+        for spp in ladder_of(a, sampler):
+            if variant.startswith("llvm"):
+                mitsuba_render(mi, scene, spp, 999)  # compiles this spp's kernel: not timed
+            res = [mitsuba_render(mi, scene, spp, s) for s in (1, 2)]
+            imgs = [r[1] for r in res]
+            mi.Bitmap(imgs[0]).write(os.path.join(out, "%s_%s_%s_%d_seed1.exr" % (name, variant, sampler, spp)))
+            sampler_copy = scene.sensors()[0].sampler().clone()
+            sampler_copy.set_sample_count(spp)
+            pts.append(point("mitsuba %s %s" % (variant, sampler), name, spp, [t for t, _ in res], imgs, a,
+                             sampler_copy.sample_count()))
+            print("%s %s %s %d spp: %.3f / %.3f s, noise %.5f" % (
+                name, variant, sampler, spp, res[0][0], res[1][0], pts[-1]["noise"]), file=sys.stderr, flush=True)
+    return pts
 
 
-def median_points(rounds, pixels):
-    """One point per (renderer, spp): the median time over the rounds, with its range. On a
-    shared machine one renderer's run can be slowed by 20% or more while another's is not;
-    taking turns and the median keeps that out of the ratios. The images are the same in every
-    round (fixed seeds), so the RMSE is."""
+def merge_rounds(rounds, a):
+    """One point per (scene, renderer, spp): every round's times, the median as its time. The
+    images are the same in every round (fixed seeds), so the noise is too."""
     by_key = {}
-    for pts in rounds:
-        for p in pts:
-            by_key.setdefault((p["renderer"], p["spp"]), []).append(p)
+    for p in (p for r in rounds for p in r):
+        by_key.setdefault((p["scene"], p["renderer"], p["spp"]), []).append(p)
     out = []
-    for (renderer, spp), ps in by_key.items():
-        times = sorted(p["time_s"] for p in ps)
+    for (scene, renderer, spp), ps in by_key.items():
+        times = [t for p in ps for t in p["times_s"]]
         t = statistics.median(times)
-        out.append({"renderer": renderer, "spp": spp, "time_s": t, "time_min_s": times[0], "time_max_s": times[-1],
-                    "rmse": ps[0]["rmse"], "rmse_spread": max(p["rmse"] for p in ps) - min(p["rmse"] for p in ps),
-                    "samples_per_s": pixels * spp / t})
+        out.append({"scene": scene, "renderer": renderer, "spp": spp, "spp_rendered": ps[0]["spp_rendered"],
+                    "time_s": t, "time_min_s": min(times),
+                    "time_max_s": max(times), "noise": ps[0]["noise"],
+                    "noise_spread": max(p["noise"] for p in ps) - min(p["noise"] for p in ps),
+                    "samples_per_s": a.size * a.size * ps[0]["spp_rendered"] / t})
     return out
 
 
-def converged(a, ref, out):
-    """Mitsuba's converged image against prism's reference, beside prism's own image at the same
-    spp and a different seed: if Mitsuba agrees, both RMSEs are the same noise floor."""
+def ratios(points, scene, variants, top_spp):
+    """Time to equal noise per configuration and prism's best ÷ each Mitsuba variant's best.
+    The target is the lowest noise any Mitsuba configuration reaches at `top_spp`."""
+    pts = [p for p in points if p["scene"] == scene]
+    mits = [p for p in pts if p["renderer"].startswith("mitsuba") and p["spp"] == top_spp]
+    if not mits:
+        return None
+    target = min(p["noise"] for p in mits)
+    renderers = list(dict.fromkeys(p["renderer"] for p in pts))
+    times = {r: noise.time_to_noise([p for p in pts if p["renderer"] == r], target) for r in renderers}
+    prism_best = min((t, r) for r, (t, _) in times.items() if r.startswith("prism"))
+    out = {"target_noise": target, "time_to_target": {r: {"time_s": t, "how": h} for r, (t, h) in times.items()},
+           "prism_best": prism_best[1], "ratio": {}}
+    for v in variants:
+        ms = [(t, r) for r, (t, _) in times.items() if r.startswith("mitsuba %s " % v)]
+        if ms:
+            best = min(ms)
+            out["ratio"][v] = {"mitsuba_best": best[1], "prism_over_mitsuba": prism_best[0] / best[0]}
+    return out
+
+
+def converged(a, name, out):
     import mitsuba as mi
     import drjit as dr
-    variant = a.converged_variant
-    mi.set_variant(variant)
+    n = a.converged_spp
+    p = [prism_render(a, name, "sobol", n, s, out)[1] for s in (11, 12)]
+    mi.set_variant(a.converged_variant)
     dr.set_thread_count(a.threads)
-    scene = mi.load_dict(scene_dict(mi, REPO, os.path.join(out, "scene"), (a.size, a.size), 1, a.max_depth))
-    img = mitsuba_render(mi, scene, a.converged_spp, pass_spp_of(a, variant), 77)
-    mpath = os.path.join(out, "mitsuba_converged.exr")
-    mi.Bitmap(img).write(mpath)
-    ppath = os.path.join(out, "prism_converged.exr")
-    run([a.prism, "render", "--spp", str(a.converged_spp), "--sampler", "independent", "--filter", "box",
-         "--max-depth", str(a.max_depth), "--resolution", "%dx%d" % (a.size, a.size), "--seed", "4242",
-         "--threads", str(a.threads), "--accel", "embree", "-o", ppath])
-    run([a.prism, "compare", mpath, ref, "--diff", os.path.join(out, "mitsuba_vs_prism_diff.png")])
-    # Mean colour over the image: a systematic difference shows here, noise averages out.
-    import numpy as np
-    means = {}
-    for name, p in [("mitsuba", mpath), ("prism", ppath), ("reference", ref)]:
-        means[name] = [float(x) for x in np.array(mi.Bitmap(p)).reshape(-1, 3).mean(axis=0)]
-    return {"spp": a.converged_spp, "variant": variant, "mitsuba_vs_ref": compare(a.prism, mpath, ref),
-            "prism_vs_ref": compare(a.prism, ppath, ref), "mitsuba_vs_prism": compare(a.prism, mpath, ppath),
-            "mean_rgb": means}
+    scene = mitsuba_scene(mi, a, name, "multijitter", os.path.join(out, "mitsuba_scene_" + name))
+    m = [mitsuba_render(mi, scene, n, s)[1] for s in (11, 12)]
+    mi.Bitmap(m[0]).write(os.path.join(out, "%s_mitsuba_converged.exr" % name))
+    res = noise.agreement(p[0], p[1], m[0], m[1])
+    res.update({"spp": n, "variant": a.converged_variant})
+    return res
 
 
-def markdown(points, conv, times_by_target):
-    lines = ["| renderer | spp | time [s], median | range over rounds [s] | M samples/s | RMSE |",
-             "|---|---|---|---|---|---|"]
-    for p in points:
-        lines.append("| %s | %d | %.3f | %.3f–%.3f | %.3f | %.3e |" % (
-            p["renderer"], p["spp"], p["time_s"], p["time_min_s"], p["time_max_s"], p["samples_per_s"] / 1e6,
-            p["rmse"]))
-    for target, times in times_by_target.items():
-        lines += ["", "Time to RMSE %.3g (linear sRGB, against prism's reference):" % target, "",
-                  "| renderer | time [s] | how | time / best Mitsuba scalar_spectral | "
-                  "time / best Mitsuba llvm_ad_spectral |", "|---|---|---|---|---|"]
-        # Each Mitsuba variant at its best sampler.
-        base = {}
-        for v in ["scalar_spectral", "llvm_ad_spectral"]:
-            ts = [t for r, (t, _) in times.items() if r.startswith("mitsuba " + v + " ")]
-            base[v] = min(ts) if ts else None
-        for r, (t, how) in times.items():
-            ratio = ["%.2f" % (t / base[v]) if base[v] else "–" for v in ["scalar_spectral", "llvm_ad_spectral"]]
-            lines.append("| %s | %.3f | %s | %s | %s |" % (r, t, how, ratio[0], ratio[1]))
-    if conv:
-        lines += ["", "Converged images at %d spp (Mitsuba %s; prism independent):" % (conv["spp"], conv["variant"]),
-                  "", "| pair | RMSE | relMSE | MAE |", "|---|---|---|---|"]
-        for k in ["mitsuba_vs_ref", "prism_vs_ref", "mitsuba_vs_prism"]:
-            m = conv[k]
-            lines.append("| %s | %.3e | %.3e | %.3e |" % (k.replace("_", " "), m["rmse"], m["rel_mse"], m["mae"]))
-        lines += ["", "Mean linear sRGB over the image: " +
-                  ", ".join("%s (%.5f, %.5f, %.5f)" % (k, *v) for k, v in conv["mean_rgb"].items())]
+def loadavg():
+    return open("/proc/loadavg").read().split()[:3]
+
+
+def machine(a):
+    """CPU model and ISA from /proc/cpuinfo, threads, versions: the figures mean little without."""
+    import mitsuba as mi
+    import drjit as dr
+    info = open("/proc/cpuinfo").read()
+    model = next((line.split(":", 1)[1].strip() for line in info.splitlines() if line.startswith("model name")), "?")
+    flags = next((line.split(":", 1)[1].split() for line in info.splitlines() if line.startswith("flags")), [])
+    isa = {f: f in flags for f in ["sse4_2", "avx", "avx2", "fma", "avx512f", "avx512bw", "avx512vl"]}
+    prism_version = run([a.prism, "--version"]).strip()
+    return {"cpu": model, "isa": isa, "logical_cpus": os.cpu_count(), "threads": a.threads,
+            "os": "%s %s" % (platform.system(), platform.release()), "python": platform.python_version(),
+            "prism": prism_version, "mitsuba": mi.__version__, "drjit": dr.__version__,
+            "drjit_libllvm": os.environ.get("DRJIT_LIBLLVM_PATH", "")}
+
+
+def fmt_range(p):
+    return "%.3f (%.3f–%.3f)" % (p["time_s"], p["time_min_s"], p["time_max_s"])
+
+
+def markdown(run_info, points, ratio_by_scene, conv):
+    m = run_info["machine"]
+    isa = ", ".join(k for k, v in m["isa"].items() if v)
+    lines = ["- machine: %s, %d logical CPUs, %d threads; ISA %s" % (m["cpu"], m["logical_cpus"], m["threads"], isa),
+             "- %s; Mitsuba %s, Dr.Jit %s; %s" % (m["prism"], m["mitsuba"], m["drjit"], m["os"]),
+             "- %s – %s UTC; load average before %s, after %s" % (
+                 run_info["started_utc"], run_info["finished_utc"], " ".join(run_info["load_before"]),
+                 " ".join(run_info["load_after"])), ""]
+    for scene, r in ratio_by_scene.items():
+        lines += ["### %s" % scene, "", "| renderer | spp | time [s], median (range) | M samples/s | noise |",
+                  "|---|---|---|---|---|"]
+        for p in (p for p in points if p["scene"] == scene):
+            lines.append("| %s | %d | %s | %.3f | %.5f |" % (
+                p["renderer"], p["spp"], fmt_range(p), p["samples_per_s"] / 1e6, p["noise"]))
+        if r:
+            lines += ["", "Time to noise %.5f:" % r["target_noise"], "", "| renderer | time [s] | how |",
+                      "|---|---|---|"]
+            for name, t in r["time_to_target"].items():
+                lines.append("| %s | %.3f | %s |" % (name, t["time_s"], t["how"]))
+            for v, q in r["ratio"].items():
+                lines += ["", "**%s ÷ %s: %.2f×**" % (r["prism_best"], q["mitsuba_best"], q["prism_over_mitsuba"])]
+        if scene in conv:
+            c = conv[scene]
+            lines += ["", "Converged, %d spp × 2 seeds (prism Sobol, Mitsuba %s multijitter), linear sRGB: RMSE "
+                      "%.3e between the renderers' means, %.3e expected from their noise, excess %.3e; mean RGB "
+                      "Mitsuba ÷ prism %s" % (c["spp"], c["variant"], c["rmse"], c["noise_rmse"], c["excess_rmse"],
+                                             " / ".join("%.4f" % x for x in c["mean_ratio_b_over_a"]))]
+        lines.append("")
     return "\n".join(lines) + "\n"
+
+
+def utc_now():
+    return datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ")
 
 
 def main():
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--prism", default=os.path.join(REPO, "target", "release", "prism"))
     p.add_argument("--out", default=os.path.join(REPO, "target", "peers", "out"))
+    p.add_argument("--cache", default=os.path.join(REPO, "target", "peers", "cache"),
+                   help="where the terrain's PLY meshes are written once")
+    p.add_argument("--scenes", default=",".join(SCENES))
     p.add_argument("--threads", type=int, default=2)
     p.add_argument("--size", type=int, default=256)
     p.add_argument("--max-depth", type=int, default=8, help="pbrt's convention: scattering events")
-    p.add_argument("--reference-spp", type=int, default=2048)
-    ladder = "4,8,16,32,64,128,256"
-    p.add_argument("--prism-ladder", default=ladder)
-    p.add_argument("--scalar-ladder", default=ladder)
-    p.add_argument("--llvm-ladder", default=ladder)
-    p.add_argument("--llvm-pass-spp", type=int, default=0,
-                   help="render the LLVM variant in passes of at most this many spp (0: one pass)")
-    p.add_argument("--variants", default="scalar_spectral,llvm_ad_spectral")
-    p.add_argument("--mitsuba-samplers", default="independent,ldsampler,multijitter",
-                   help="Mitsuba samplers (ldsampler: its low-discrepancy (0,2)-sequence sampler, at 4^k spp "
-                        "only; multijitter: correlated multi-jittered sampling)")
-    p.add_argument("--rounds", type=int, default=3,
-                   help="the renderers take turns this many times; each point's time is the median")
-    p.add_argument("--converged-spp", type=int, default=512)
+    p.add_argument("--ladder", default="64,256",
+                   help="spp of every configuration, seeds 1 and 2 each (powers of 4 suit Mitsuba's samplers)")
+    p.add_argument("--prism-samplers", default="independent,sobol")
+    p.add_argument("--variants", default="llvm_ad_spectral,scalar_spectral")
+    p.add_argument("--llvm-samplers", default="independent,multijitter,ldsampler",
+                   help="ldsampler: Mitsuba's (0,2)-sequence sampler, at 4^k spp only; multijitter: "
+                        "correlated multi-jittered sampling")
+    p.add_argument("--scalar-samplers", default="multijitter",
+                   help="scalar_spectral is the slowest; by default only the sampler best for it before")
+    p.add_argument("--rounds", type=int, default=2, help="the renderers take turns this many times per scene")
+    p.add_argument("--converged-spp", type=int, default=0,
+                   help="also compare converged images at this spp (0: skip)")
     p.add_argument("--converged-variant", default="llvm_ad_spectral")
-    p.add_argument("--target-rmse", default="0.05,0.02,0.01",
-                   help="comma-separated RMSE targets (linear sRGB); each gets its own table")
     a = p.parse_args()
+    for n in (int(x) for x in a.ladder.split(",")):
+        if n & (n - 1) or n.bit_length() % 2 == 0:
+            # Mitsuba's ldsampler takes only powers of four and its multijitter rounds others up.
+            print("mitsuba_peer.py: %d spp is not a power of 4: ldsampler skips it" % n, file=sys.stderr)
     os.makedirs(a.out, exist_ok=True)
-    ref = prism_reference(a, a.out)
+    scenes = [s for s in a.scenes.split(",") if s]
+    for s in scenes:
+        if s not in SCENES:
+            sys.exit("mitsuba_peer.py: unknown scene %r (known: %s)" % (s, ", ".join(SCENES)))
+    variants = [v for v in a.variants.split(",") if v]
+    import mitsuba as mi
+    mi.set_variant(variants[0] if variants else "scalar_spectral")
+    info = {"machine": machine(a), "args": vars(a), "started_utc": utc_now(), "load_before": loadavg()}
+    for s in scenes:
+        scene_file(a, s)  # writes the terrain's files before any timing
     rounds = []
     for r in range(a.rounds):
-        print("== round %d of %d" % (r + 1, a.rounds), file=sys.stderr, flush=True)
-        pts = prism_ladder(a, ref, a.out)
-        for v in [v for v in a.variants.split(",") if v]:
-            for sampler in a.mitsuba_samplers.split(","):
-                pts += mitsuba_ladder(a, v, sampler, ref, a.out)
-        rounds.append(pts)
-    points = median_points(rounds, a.size * a.size)
-    conv = converged(a, ref, a.out) if a.converged_spp > 0 else None
-    renderers = list(dict.fromkeys(p["renderer"] for p in points))
-    times_by_target = {}
-    for target in [float(t) for t in a.target_rmse.split(",")]:
-        times_by_target[target] = {r: time_to_target([p for p in points if p["renderer"] == r], target)
-                                   for r in renderers}
-    json.dump({"args": vars(a), "points": points, "converged": conv,
-               "time_to_target": {str(t): {r: {"time_s": s, "how": h} for r, (s, h) in times.items()}
-                                  for t, times in times_by_target.items()}},
-              open(os.path.join(a.out, "peer.json"), "w"), indent=2)
-    md = markdown(points, conv, times_by_target)
+        for s in scenes:
+            print("== round %d of %d, %s" % (r + 1, a.rounds, s), file=sys.stderr, flush=True)
+            pts = prism_round(a, s, a.out)
+            for v in variants:
+                pts += mitsuba_round(a, s, v, a.out)
+            rounds.append(pts)
+    points = merge_rounds(rounds, a)
+    top = max(int(x) for x in a.ladder.split(","))
+    ratio_by_scene = {s: ratios(points, s, variants, top) for s in scenes}
+    conv = {s: converged(a, s, a.out) for s in scenes} if a.converged_spp > 0 else {}
+    info.update({"finished_utc": utc_now(), "load_after": loadavg(), "points": points,
+                 "time_to_equal_noise": ratio_by_scene, "converged": conv})
+    json.dump(info, open(os.path.join(a.out, "run.json"), "w"), indent=2)
+    md = markdown(info, points, ratio_by_scene, conv)
     open(os.path.join(a.out, "peer.md"), "w").write(md)
     print(md)
 

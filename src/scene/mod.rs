@@ -393,6 +393,12 @@ impl Scene {
         &self.materials
     }
 
+    /// Every light (area lights one per emissive triangle), in the order the light sampler
+    /// indexes them.
+    pub fn lights(&self) -> &[Light] {
+        &self.lights
+    }
+
     /// Number of distinct triangles (instanced ones counted once).
     pub fn triangle_count(&self) -> u64 {
         self.primitives.iter().map(|p| p.mesh.len() as u64).sum()
