@@ -20,6 +20,10 @@ pub use sampler::LightSampler;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 use glam::{Vec2, Vec3};
 
+/// The pbrt-v4 `LightSource` types prism renders (area lights, `AreaLightSource "diffuse"`,
+/// are attached to shapes instead).
+pub const PBRT_NAMES: &[&str] = &["point", "spot", "distant", "infinite"];
+
 /// A sample of incident light at a reference point, produced by [`Light::sample_li`].
 #[derive(Clone, Copy, Debug)]
 pub struct LightSample {

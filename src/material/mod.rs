@@ -13,6 +13,10 @@ use crate::bsdf::{
 use crate::spectrum::{SampledSpectrum, SampledWavelengths, Spectrum};
 use glam::{Vec2, Vec3};
 
+/// The pbrt-v4 `Material` types prism renders.
+pub const PBRT_NAMES: &[&str] =
+    &["diffuse", "conductor", "dielectric", "coateddiffuse", "diffusetransmission", "thindielectric", "subsurface"];
+
 /// Index of refraction: constant, or a spectrum η(λ) (dispersive when it varies).
 #[derive(Clone, Debug)]
 pub enum Ior {

@@ -295,7 +295,13 @@ impl SceneBuilder {
                 }
                 first
             });
-            primitives.push(Primitive { mesh, material, area_lights, medium_interface: MediumInterface::default() });
+            primitives.push(Primitive {
+                mesh,
+                material,
+                area_lights,
+                medium_interface: MediumInterface::default(),
+                alpha: None,
+            });
         }
         let bounds = accel.bounds();
         let radius = if bounds.is_empty() { 1.0 } else { bounds.radius().max(1e-6) };

@@ -1,7 +1,8 @@
 //! The type names prism renders, and pbrt-v4's other names with what prism substitutes.
 //!
-//! One place to extend as materials and lights land: move a name from a
-//! `PBRT_ONLY_*` table into the matching `PRISM_*` list.
+//! One place to extend as shapes, cameras and the rest land: move a name from a `PBRT_ONLY_*`
+//! table into the matching `PRISM_*` list. Material and light names live beside their enums
+//! (`material::PBRT_NAMES`, `light::PBRT_NAMES`), so a new one is added where it is implemented.
 
 /// Shapes prism renders. "objmesh" is prism's extension (docs/scene-format.md).
 pub const PRISM_SHAPES: &[&str] = &["trianglemesh", "plymesh", "objmesh", "sphere", "bilinearmesh", "loopsubdiv"];
@@ -12,9 +13,8 @@ pub const PBRT_ONLY_SHAPES: &[(&str, &str)] = &[
     ("curve", "skips the shape (hair/curves are not rendered)"),
 ];
 
-/// Materials prism renders.
-pub const PRISM_MATERIALS: &[&str] =
-    &["diffuse", "conductor", "dielectric", "coateddiffuse", "diffusetransmission", "thindielectric", "subsurface"];
+/// Materials prism renders (listed beside the `Material` enum they become).
+pub const PRISM_MATERIALS: &[&str] = crate::material::PBRT_NAMES;
 /// pbrt-v4 materials prism replaces, with the replacement type (used with default parameters).
 pub const PBRT_ONLY_MATERIALS: &[(&str, &str)] = &[
     ("coatedconductor", "conductor"),
@@ -25,8 +25,8 @@ pub const PBRT_ONLY_MATERIALS: &[(&str, &str)] = &[
     ("interface", "dielectric"),
 ];
 
-/// Non-area lights prism renders.
-pub const PRISM_LIGHTS: &[&str] = &["point", "spot", "distant", "infinite"];
+/// Non-area lights prism renders (listed beside the `Light` enum they become).
+pub const PRISM_LIGHTS: &[&str] = crate::light::PBRT_NAMES;
 /// pbrt-v4 lights prism skips.
 pub const PBRT_ONLY_LIGHTS: &[(&str, &str)] = &[("goniometric", "skips the light"), ("projection", "skips the light")];
 /// Area lights prism renders.

@@ -1,9 +1,10 @@
 //! Primitives: a shape's geometry bound to what a ray hit on it needs — its material, its area
-//! light and the media on either side — as pbrt-v4's `GeometricPrimitive` (Pharr, Jakob &
+//! light, the media on either side and its alpha mask — as pbrt-v4's `GeometricPrimitive` (Pharr, Jakob &
 //! Humphreys, *Physically Based Rendering*, 4th ed., §7.1.1) and Mitsuba 3's `Shape` do. The
 //! integrator asks the hit ([`super::SurfaceInteraction`]) for these, never the scene's lists.
 
 use crate::geometry::Mesh;
+use crate::material::FloatTexture;
 
 /// The participating media on the two sides of a surface (pbrt-v4 `MediumInterface`): indices
 /// into the scene's media, `None` for vacuum. `inside` is the side the geometric normal points
@@ -16,7 +17,7 @@ pub struct MediumInterface {
     pub outside: Option<u32>,
 }
 
-/// A triangle mesh with its material, area emission and medium interface. A hit's `geom_id`
+/// A triangle mesh with its material, area emission, medium interface and alpha. A hit's `geom_id`
 /// names its primitive; primitives of object instances are in object space.
 #[derive(Clone, Debug, Default)]
 pub struct Primitive {
@@ -30,6 +31,9 @@ pub struct Primitive {
     pub area_lights: Option<u32>,
     /// The media inside and outside the surface.
     pub medium_interface: MediumInterface,
+    /// Cut-out mask (pbrt-v4's `alpha`): where it is 0 a ray passes through the surface. `None`
+    /// is opaque; the accelerator's any-hit test is where a mask takes effect.
+    pub alpha: Option<FloatTexture>,
 }
 
 impl Primitive {
