@@ -50,7 +50,10 @@ SCENES = ["cornell", "textured", "terrain"]
 
 def run(cmd):
     print("+ " + " ".join(cmd), file=sys.stderr, flush=True)
-    return subprocess.run(cmd, check=True, capture_output=True, text=True).stdout
+    done = subprocess.run(cmd, capture_output=True, text=True)
+    if done.returncode != 0:
+        sys.exit("mitsuba_peer.py: %s failed (exit %d): %s" % (cmd[0], done.returncode, done.stderr.strip()))
+    return done.stdout
 
 
 def scene_file(a, name):
@@ -244,7 +247,9 @@ def markdown(run_info, points, ratio_by_scene, conv):
             for name, t in r["time_to_target"].items():
                 lines.append("| %s | %.3f | %s |" % (name, t["time_s"], t["how"]))
             for v, q in r["ratio"].items():
-                lines += ["", "**%s ÷ %s: %.2f×**" % (r["prism_best"], q["mitsuba_best"], q["prism_over_mitsuba"])]
+                rng = q.get("per_round", [])
+                lines += ["", "**%s ÷ %s: %.2f×** (rounds alone: %s)" % (
+                    r["prism_best"], q["mitsuba_best"], q["prism_over_mitsuba"], ", ".join("%.2f" % x for x in rng))]
         if scene in conv:
             c = conv[scene]
             lines += ["", "Converged, %d spp × 2 seeds (prism Sobol, Mitsuba %s multijitter), linear sRGB: RMSE "
@@ -300,15 +305,21 @@ def main():
         scene_file(a, s)  # writes the terrain's files before any timing
     rounds = []
     for r in range(a.rounds):
+        pts = []
         for s in scenes:
             print("== round %d of %d, %s" % (r + 1, a.rounds, s), file=sys.stderr, flush=True)
-            pts = prism_round(a, s, a.out)
+            pts += prism_round(a, s, a.out)
             for v in variants:
                 pts += mitsuba_round(a, s, v, a.out)
-            rounds.append(pts)
+        rounds.append(pts)
     points = merge_rounds(rounds, a)
     top = max(int(x) for x in a.ladder.split(","))
     ratio_by_scene = {s: ratios(points, s, variants, top) for s in scenes}
+    for s, r in ratio_by_scene.items():
+        # The same ratio from each round's own times: its spread shows how much the machine moved.
+        per_round = [ratios(merge_rounds([pts], a), s, variants, top) for pts in rounds]
+        for v in (r or {}).get("ratio", {}):
+            r["ratio"][v]["per_round"] = [q["ratio"][v]["prism_over_mitsuba"] for q in per_round]
     conv = {s: converged(a, s, a.out) for s in scenes} if a.converged_spp > 0 else {}
     info.update({"finished_utc": utc_now(), "load_after": loadavg(), "points": points,
                  "time_to_equal_noise": ratio_by_scene, "converged": conv})
