@@ -41,4 +41,5 @@ pub mod sampling;
 pub mod scene;
 pub mod sensor;
 pub mod settings;
+pub mod simd;
 pub mod spectrum;

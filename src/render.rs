@@ -5,10 +5,11 @@
 
 use crate::film::{Film, FilmAllocError, FilmSettings};
 use crate::filter::Filter;
+use crate::integrator::lanes::{self, LaneTrace, LaneTracer};
 use crate::integrator::{PathIntegrator, Stats};
 use crate::sampling::Sampler;
 use crate::scene::Scene;
-use crate::spectrum::SampledWavelengths;
+use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 use glam::Vec2;
 use rayon::prelude::*;
 use std::ops::Range;
@@ -67,6 +68,10 @@ pub struct RenderSettings {
     pub integrator: PathIntegrator,
     /// Stop after the pass during which this much time has passed.
     pub time_limit: Option<Duration>,
+    /// Advance [`lanes::LANES`] paths together ([`LaneTracer`], a prototype for Lambertian
+    /// scenes with area lights; others render one path at a time), tracing their rays as this
+    /// says; `None`: one path at a time.
+    pub lanes: Option<LaneTrace>,
 }
 
 impl Default for RenderSettings {
@@ -83,6 +88,7 @@ impl Default for RenderSettings {
             filter: Filter::by_name("gaussian").expect("built in"),
             integrator: PathIntegrator::default(),
             time_limit: None,
+            lanes: None,
         }
     }
 }
@@ -111,37 +117,74 @@ pub fn render_pass(scene: &Scene, settings: &RenderSettings, film: &mut Film, ra
     }
     let (x0, y0) = settings.film_origin();
     let sensor = settings.film.sensor;
+    let tracer = settings.lanes.and_then(|t| LaneTracer::new(settings.integrator, scene, t).ok());
     film.pixels
         .par_chunks_mut(width * BAND_ROWS)
         .enumerate()
         .map(|(band, pixels)| {
             let mut stats = Stats::default();
+            // Pixels are named by their place in the full image, so a crop renders exactly
+            // the samples of the same pixels of the full render.
+            let pixel_at = |i: usize| (x0 + (i % width) as u32, y0 + (band * BAND_ROWS + i / width) as u32);
+            // A camera sample of pixel `(x, y)`: its wavelengths, filter weight and ray.
+            let start = |sampler: &mut Sampler, (x, y): (u32, u32), s: u64| {
+                sampler.start_pixel_sample((x, y), s, settings.seed);
+                let u = sampler.get_pixel_3d();
+                let lambdas = SampledWavelengths::sample_visible(u.z);
+                let (offset, weight) = settings.filter.sample(u.truncate());
+                let p_film = Vec2::new(x as f32 + 0.5, y as f32 + 0.5) + offset;
+                (lambdas, weight, camera.generate_ray(p_film, sampler.get_2d()))
+            };
+            let add = |px: &mut crate::film::Pixel,
+                       stats: &mut Stats,
+                       (x, y),
+                       s,
+                       l: SampledSpectrum,
+                       lambdas,
+                       weight: f32| {
+                stats.samples += 1;
+                let xyz = sensor.apply(l.to_xyz(&lambdas));
+                if !xyz.is_finite() {
+                    stats.nonfinite += 1;
+                    if stats.nonfinite_at.len() < 16 {
+                        stats.nonfinite_at.push((x, y, s, stats.last_depth));
+                    }
+                    return;
+                }
+                px.xyz_sum += xyz.as_dvec3() * weight as f64;
+                px.weight_sum += weight as f64;
+                px.samples += 1;
+            };
+            if let Some(tracer) = &tracer {
+                let mut samplers: [Sampler; lanes::LANES] = std::array::from_fn(|_| settings.sampler.make());
+                for (group, pxs) in pixels.chunks_mut(lanes::LANES).enumerate() {
+                    let n = pxs.len();
+                    let at: [(u32, u32); lanes::LANES] =
+                        std::array::from_fn(|k| pixel_at(group * lanes::LANES + k.min(n - 1)));
+                    for s in range.clone() {
+                        let mut w = [SampledWavelengths::sample_uniform(0.0); lanes::LANES];
+                        let mut weights = [0.0; lanes::LANES];
+                        let rays = std::array::from_fn(|k| {
+                            let (lambdas, weight, ray) = start(&mut samplers[k], at[k], s);
+                            (w[k], weights[k]) = (lambdas, weight);
+                            ray
+                        });
+                        let active = crate::simd::LanesMask(std::array::from_fn(|k| k < n));
+                        let l = tracer.li(rays, &mut w, &mut samplers, active, &mut stats);
+                        for (k, px) in pxs.iter_mut().enumerate() {
+                            add(px, &mut stats, at[k], s, l[k], w[k], weights[k]);
+                        }
+                    }
+                }
+                return stats;
+            }
             let mut sampler = settings.sampler.make();
             for (i, px) in pixels.iter_mut().enumerate() {
-                // Pixels are named by their place in the full image, so a crop renders exactly
-                // the samples of the same pixels of the full render.
-                let x = x0 + (i % width) as u32;
-                let y = y0 + (band * BAND_ROWS + i / width) as u32;
+                let (x, y) = pixel_at(i);
                 for s in range.clone() {
-                    sampler.start_pixel_sample((x, y), s, settings.seed);
-                    let u = sampler.get_pixel_3d();
-                    let mut lambdas = SampledWavelengths::sample_visible(u.z);
-                    let (offset, weight) = settings.filter.sample(u.truncate());
-                    let p_film = Vec2::new(x as f32 + 0.5, y as f32 + 0.5) + offset;
-                    let ray = camera.generate_ray(p_film, sampler.get_2d());
+                    let (mut lambdas, weight, ray) = start(&mut sampler, (x, y), s);
                     let l = settings.integrator.li(scene, ray, &mut lambdas, &mut sampler, &mut stats);
-                    stats.samples += 1;
-                    let xyz = sensor.apply(l.to_xyz(&lambdas));
-                    if !xyz.is_finite() {
-                        stats.nonfinite += 1;
-                        if stats.nonfinite_at.len() < 16 {
-                            stats.nonfinite_at.push((x, y, s, stats.last_depth));
-                        }
-                        continue;
-                    }
-                    px.xyz_sum += xyz.as_dvec3() * weight as f64;
-                    px.weight_sum += weight as f64;
-                    px.samples += 1;
+                    add(px, &mut stats, (x, y), s, l, lambdas, weight);
                 }
             }
             stats

@@ -1,8 +1,10 @@
 //! The world-space BSDF at a hit: shading frame + geometric normal + a [`Bxdf`]
 //! (pbrt-v4 `bsdf.h`).
 
-use super::{BsdfSample, Bxdf, BxdfFlags, TransportMode};
+use super::{BsdfSample, Bxdf, BxdfFlags, DiffuseLanes, LaneSample, TransportMode};
+use crate::math::FrameLanes;
 use crate::math::{Frame, Vec2, Vec3};
+use crate::simd::{Real, S4, V3};
 use crate::spectrum::SampledSpectrum;
 
 /// A [`Bxdf`] placed in the world. Rejects `wo` in the shading tangent plane, zero pdfs and
@@ -88,5 +90,43 @@ impl Bsdf {
         } else {
             0.0
         }
+    }
+}
+
+/// A [`Bsdf`] per lane, for the path loop that advances several paths together. Its model is
+/// Lambertian: the lane loop is a prototype that renders scenes of diffuse surfaces only.
+#[derive(Clone, Copy, Debug)]
+pub struct BsdfLanes<R> {
+    /// Shading frame per lane.
+    pub frame: FrameLanes<R>,
+    /// The model per lane.
+    pub bxdf: DiffuseLanes<R>,
+}
+
+impl<R: Real> BsdfLanes<R> {
+    /// [`Bsdf::f`] for every lane.
+    #[inline(always)]
+    pub fn f(&self, wo: V3<R>, wi: V3<R>) -> S4<R> {
+        let (wo, wi) = (self.frame.to_local(wo), self.frame.to_local(wi));
+        let ok = !wo.z.eq(R::splat(0.0));
+        S4::select(ok, self.bxdf.f(wo, wi), S4::splat(0.0))
+    }
+
+    /// [`Bsdf::pdf`] for every lane.
+    #[inline(always)]
+    pub fn pdf(&self, wo: V3<R>, wi: V3<R>) -> R {
+        let (wo, wi) = (self.frame.to_local(wo), self.frame.to_local(wi));
+        R::select(wo.z.eq(R::splat(0.0)), R::splat(0.0), self.bxdf.pdf(wo, wi))
+    }
+
+    /// [`Bsdf::sample_f`] for every lane: `valid` is false where it would return `None`.
+    #[inline(always)]
+    pub fn sample_f(&self, wo: V3<R>, ux: R, uy: R) -> LaneSample<R> {
+        let wo_l = self.frame.to_local(wo);
+        let mut s = self.bxdf.sample_f(wo_l, ux, uy);
+        let zero = R::splat(0.0);
+        s.valid = s.valid & !wo_l.z.eq(zero) & !s.f.is_black() & zero.lt(s.pdf) & s.pdf.is_finite() & !s.wi.z.eq(zero);
+        s.wi = self.frame.to_world(s.wi);
+        s
     }
 }

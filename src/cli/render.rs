@@ -62,6 +62,10 @@ pub struct RenderArgs {
     /// [default: diffusion].
     #[arg(long)]
     pub sss: Option<String>,
+    /// Prototype: advance 8 paths together in SIMD lanes, tracing their rays as Embree packets
+    /// (`packet`) or one by one (`single`). Lambertian materials and area lights only.
+    #[arg(long)]
+    pub lanes: Option<String>,
     /// Output colour space: srgb, rec2020, acescg, aces2065-1, display-p3 [default: srgb].
     #[arg(long)]
     pub color_space: Option<String>,
@@ -149,6 +153,12 @@ pub fn prepare(args: &RenderArgs) -> Result<Job> {
         _ => None,
     };
     let time_limit = args.time_limit.as_deref().map(settings::parse_duration).transpose()?;
+    let lanes = match args.lanes.as_deref() {
+        None => None,
+        Some("packet") => Some(crate::integrator::lanes::LaneTrace::Packet),
+        Some("single") => Some(crate::integrator::lanes::LaneTrace::Single),
+        Some(other) => bail!("unknown --lanes '{other}' (valid: packet, single)"),
+    };
     let max_depth = args.max_depth.map(|d| settings::max_depth(d, "--max-depth")).transpose()?;
     let sss = args.sss.as_deref().map(SubsurfaceMethod::parse).transpose().map_err(anyhow::Error::msg)?;
 
@@ -205,7 +215,11 @@ pub fn prepare(args: &RenderArgs) -> Result<Job> {
         filter: filter.unwrap_or(d.filter),
         integrator,
         time_limit,
+        lanes,
     };
+    if let Some(trace) = lanes {
+        crate::integrator::lanes::LaneTracer::new(settings.integrator, &scene, trace)?;
+    }
     Ok(Job { scene, settings, output, space, build_s, scene_name, inputs })
 }
 

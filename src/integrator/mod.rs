@@ -1,5 +1,6 @@
 //! Integrators: estimators of the radiance arriving at the camera.
 
+pub mod lanes;
 mod path;
 pub mod subsurface;
 

@@ -4,7 +4,8 @@
 use super::point::spectral_integral;
 use super::LightSample;
 use crate::math::PI;
-use crate::sampling::warp::sample_uniform_triangle;
+use crate::sampling::warp::uniform_triangle;
+use crate::simd::{Mask, Real, V3};
 use crate::spectrum::{SampledSpectrum, SampledWavelengths, Spectrum};
 use glam::{Vec2, Vec3};
 use std::sync::Arc;
@@ -39,26 +40,18 @@ impl AreaLight {
     }
 
     pub(super) fn sample_li(&self, p: Vec3, u: Vec2, w: &SampledWavelengths) -> Option<LightSample> {
-        // Uniform area sampling, converted to solid angle: pdf_ω = r² / (|cos θ_l| A).
-        let b = sample_uniform_triangle(u);
-        let p_light = self.p[0] * b[0] + self.p[1] * b[1] + self.p[2] * b[2];
-        let d = p_light - p;
-        let r2 = d.length_squared();
-        if r2 == 0.0 {
+        let s = TriangleLightLanes::<f32>::splat(self).sample(p.into(), u.x, u.y);
+        if !s.valid {
             return None;
         }
-        let dist = r2.sqrt();
-        let wi = d / dist;
-        let cos_l = self.n.dot(-wi).abs();
-        if cos_l == 0.0 {
-            return None;
-        }
-        let pdf = r2 / (cos_l * self.area);
-        let li = self.radiance(-wi, w);
-        if li.is_black() || !pdf.is_finite() {
-            return None;
-        }
-        Some(LightSample { li, wi, pdf, p_light, dist })
+        let li = self.spectrum.sample(w) * self.scale;
+        (!li.is_black()).then(|| LightSample {
+            li,
+            wi: s.wi.into(),
+            pdf: s.pdf,
+            p_light: s.p_light.into(),
+            dist: s.dist,
+        })
     }
 
     /// Solid-angle density with which `sample_li` at `p` picks the direction `wi` (unit):
@@ -151,5 +144,63 @@ mod tests {
         // Directions that miss the triangle have density 0.
         assert_eq!(light.pdf_li(Vec3::ZERO, -Vec3::Y), 0.0);
         assert_eq!(light.pdf_li(Vec3::ZERO, Vec3::new(5.0, 1.0, 0.0).normalize()), 0.0);
+    }
+}
+
+/// An emitting triangle per lane (each lane's path may have picked a different one).
+#[derive(Clone, Copy, Debug)]
+pub struct TriangleLightLanes<R: Real> {
+    /// Vertices.
+    pub p: [V3<R>; 3],
+    /// Unit normal of the front side.
+    pub n: V3<R>,
+    /// Area.
+    pub area: R,
+    /// Emits from both sides.
+    pub two_sided: R::Mask,
+}
+
+/// A point sampled on each lane's triangle as seen from a reference point.
+#[derive(Clone, Copy, Debug)]
+pub struct TriangleLightSample<R: Real> {
+    /// The point on the light.
+    pub p_light: V3<R>,
+    /// Unit direction from the reference point to it.
+    pub wi: V3<R>,
+    /// Solid-angle density [1/sr].
+    pub pdf: R,
+    /// Distance to it.
+    pub dist: R,
+    /// Lanes whose sample exists and whose side of the light emits toward the reference point.
+    pub valid: R::Mask,
+}
+
+impl<R: Real> TriangleLightLanes<R> {
+    /// `light` in every lane.
+    pub fn splat(light: &AreaLight) -> Self {
+        Self {
+            p: light.p.map(V3::splat),
+            n: V3::splat(light.n),
+            area: R::splat(light.area),
+            two_sided: R::Mask::splat(light.two_sided),
+        }
+    }
+
+    /// Uniform area sampling, converted to solid angle: pdf_ω = r² / (|cos θ_l| A).
+    #[inline(always)]
+    pub fn sample(&self, p: V3<R>, ux: R, uy: R) -> TriangleLightSample<R> {
+        let b = uniform_triangle(ux, uy);
+        let p_light = self.p[0] * b[0] + self.p[1] * b[1] + self.p[2] * b[2];
+        let d = p_light - p;
+        let r2 = d.length_squared();
+        let dist = r2.sqrt();
+        let wi = d * (R::splat(1.0) / dist);
+        let cos_front = -self.n.dot(wi);
+        let cos_l = cos_front.abs();
+        let pdf = r2 / (cos_l * self.area);
+        let zero = R::splat(0.0);
+        let emits = self.two_sided | zero.lt(cos_front);
+        let valid = zero.lt(r2) & zero.lt(cos_l) & pdf.is_finite() & emits;
+        TriangleLightSample { p_light, wi, pdf, dist, valid }
     }
 }

@@ -10,7 +10,7 @@ pub mod photometry;
 mod point;
 mod sampler;
 
-pub use area::AreaLight;
+pub use area::{AreaLight, TriangleLightLanes};
 pub use distant::DistantLight;
 pub use envmap::EnvMapLight;
 pub use infinite::UniformInfiniteLight;

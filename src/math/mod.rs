@@ -3,7 +3,7 @@
 mod frame;
 pub mod offset;
 
-pub use frame::Frame;
+pub use frame::{Frame, FrameLanes};
 pub use glam::{DVec3, Mat3, Mat4, Vec2, Vec3, Vec4};
 pub use offset::{offset_ray_origin, triangle_point};
 

@@ -3,6 +3,7 @@
 //! instead of a global epsilon, so rays neither re-hit their own surface nor skip thin geometry at
 //! any scene scale.
 
+use crate::simd::{Real, V3};
 use glam::Vec3;
 
 /// γ(n) = nε/(1−nε), the bound on accumulated relative rounding error after n operations
@@ -32,21 +33,25 @@ pub fn triangle_point(p: [Vec3; 3], b: [f32; 3]) -> (Vec3, Vec3) {
 /// hit exactly on a representable vertex) still moves the point by one ulp.
 #[inline]
 pub fn offset_ray_origin(p: Vec3, p_err: Vec3, n: Vec3, w: Vec3) -> Vec3 {
+    offset_ray_origin_lanes(p.into(), p_err.into(), n.into(), w.into()).into()
+}
+
+/// [`offset_ray_origin`] for every lane.
+#[inline(always)]
+pub fn offset_ray_origin_lanes<R: Real>(p: V3<R>, p_err: V3<R>, n: V3<R>, w: V3<R>) -> V3<R> {
     // The floor keeps every offset component with n[i] ≠ 0 nonzero (and normal, not denormal).
-    let d = (n.abs().element_sum() * p_err.max_element()).max(1e-30);
-    let mut offset = n * d;
-    if w.dot(n) < 0.0 {
-        offset = -offset;
-    }
-    let mut po = p + offset;
-    for i in 0..3 {
-        if offset[i] > 0.0 {
-            po[i] = next_float_up(po[i]);
-        } else if offset[i] < 0.0 {
-            po[i] = next_float_down(po[i]);
-        }
-    }
-    po
+    let d = (n.abs_sum() * p_err.max_element()).max(R::splat(1e-30));
+    let offset = n * d;
+    let offset = V3::select(w.dot(n).lt(R::splat(0.0)), -offset, offset);
+    let po = p + offset;
+    V3::new(step_away(po.x, offset.x), step_away(po.y, offset.y), step_away(po.z, offset.z))
+}
+
+/// `v` one ulp further in the direction of the sign of `o` (unchanged where `o` is 0).
+#[inline(always)]
+fn step_away<R: Real>(v: R, o: R) -> R {
+    let zero = R::splat(0.0);
+    R::select(zero.lt(o), v.next_up(), R::select(o.lt(zero), v.next_down(), v))
 }
 
 /// The next representable f32 above `v`. From ±0 it steps to the smallest *normal* float, since

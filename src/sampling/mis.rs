@@ -1,6 +1,8 @@
 //! Multiple importance sampling weights (Veach & Guibas 1995, "Optimally Combining Sampling
 //! Techniques for Monte Carlo Rendering"; Veach's thesis §9.2).
 
+use crate::simd::Real;
+
 /// Balance heuristic w_f = n_f p_f / (n_f p_f + n_g p_g), for `nf` samples from density `f_pdf`
 /// and `ng` from `g_pdf`. Returns 0 when both densities vanish.
 #[inline]
@@ -22,18 +24,16 @@ pub fn balance_heuristic(nf: u32, f_pdf: f32, ng: u32, g_pdf: f32) -> f32 {
 /// density (a delta lobe) gets weight 1.
 #[inline]
 pub fn power_heuristic(nf: u32, f_pdf: f32, ng: u32, g_pdf: f32) -> f32 {
-    let f = nf as f32 * f_pdf;
-    let g = ng as f32 * g_pdf;
+    power_heuristic_lanes(nf as f32 * f_pdf, ng as f32 * g_pdf)
+}
+
+/// [`power_heuristic`] for every lane, of the weighted densities f = n_f p_f and g = n_g p_g.
+#[inline(always)]
+pub fn power_heuristic_lanes<R: Real>(f: R, g: R) -> R {
     let (f2, g2) = (f * f, g * g);
-    if f2.is_infinite() {
-        return 1.0;
-    }
     let sum = f2 + g2;
-    if sum > 0.0 {
-        f2 / sum
-    } else {
-        0.0
-    }
+    let w = R::select(R::splat(0.0).lt(sum), f2 / sum, R::splat(0.0));
+    R::select(f2.eq(R::splat(f32::INFINITY)), R::splat(1.0), w)
 }
 
 #[cfg(test)]

@@ -2,6 +2,7 @@
 //! its probability density (pbrt-v4 `sampling.h`; Shirley & Chiu 1997 for the concentric disk).
 
 use crate::math::{Vec2, Vec3, INV_PI, PI};
+use crate::simd::{Real, V3};
 
 /// 1/(2π).
 const INV_2PI: f32 = 0.5 * INV_PI;
@@ -11,13 +12,26 @@ const INV_4PI: f32 = 0.25 * INV_PI;
 /// Uniform point on the unit disk by Shirley & Chiu's concentric map ("A Low Distortion Map
 /// Between Disk and Square", 1997): squares map to rings, so strata stay compact.
 pub fn sample_uniform_disk_concentric(u: Vec2) -> Vec2 {
-    let o = 2.0 * u - Vec2::ONE;
-    if o.x == 0.0 && o.y == 0.0 {
-        return Vec2::ZERO;
-    }
-    let (r, theta) =
-        if o.x.abs() > o.y.abs() { (o.x, 0.25 * PI * (o.y / o.x)) } else { (o.y, 0.5 * PI - 0.25 * PI * (o.x / o.y)) };
-    r * Vec2::new(theta.cos(), theta.sin())
+    let (x, y) = disk_concentric(u.x, u.y);
+    Vec2::new(x, y)
+}
+
+/// [`sample_uniform_disk_concentric`] for every lane: (x, y) on the disk. The angle
+/// θ = (π/4)(v/u), or π/2 − (π/4)(u/v) when |v| ≥ |u|, needs sin and cos only on [−π/4, π/4]
+/// (the second case swaps them).
+#[inline(always)]
+pub fn disk_concentric<R: Real>(ux: R, uy: R) -> (R, R) {
+    let (one, two) = (R::splat(1.0), R::splat(2.0));
+    let (ox, oy) = (two * ux - one, two * uy - one);
+    let x_major = oy.abs().lt(ox.abs());
+    let r = R::select(x_major, ox, oy);
+    let ratio = R::select(x_major, oy, ox) / r;
+    let (s, c) = (R::splat(0.25 * PI) * ratio).sin_cos_quarter_pi();
+    let (cos_t, sin_t) = (R::select(x_major, c, s), R::select(x_major, s, c));
+    // Both coordinates 0 only at the centre, where the ratio is 0/0.
+    let centre = ox.eq(R::splat(0.0)) & oy.eq(R::splat(0.0));
+    let zero = R::splat(0.0);
+    (R::select(centre, zero, r * cos_t), R::select(centre, zero, r * sin_t))
 }
 
 /// Uniform point on the unit disk by the polar map r = √u₀, φ = 2πu₁.
@@ -36,9 +50,15 @@ pub fn uniform_disk_pdf() -> f32 {
 /// Cosine-weighted direction on the +z hemisphere (Malley's method: project a uniform disk
 /// point up). Density cos θ / π [1/sr].
 pub fn sample_cosine_hemisphere(u: Vec2) -> Vec3 {
-    let d = sample_uniform_disk_concentric(u);
-    let z = (1.0 - d.length_squared()).max(0.0).sqrt();
-    Vec3::new(d.x, d.y, z)
+    cosine_hemisphere(u.x, u.y).into()
+}
+
+/// [`sample_cosine_hemisphere`] for every lane.
+#[inline(always)]
+pub fn cosine_hemisphere<R: Real>(ux: R, uy: R) -> V3<R> {
+    let (x, y) = disk_concentric(ux, uy);
+    let z = (R::splat(1.0) - x * x - y * y).max(R::splat(0.0)).sqrt();
+    V3::new(x, y, z)
 }
 
 /// Density of [`sample_cosine_hemisphere`] [1/sr]: cos θ / π (0 below the horizon).
@@ -93,10 +113,16 @@ pub fn uniform_cone_pdf(cos_theta_max: f32) -> f32 {
 /// Uniform barycentric coordinates (b0, b1, b2) on a triangle; density 1/area on the triangle.
 /// Square-root map: b0 = 1 − √u₀, b1 = u₁ √u₀ (Osada et al. 2002, "Shape distributions").
 pub fn sample_uniform_triangle(u: Vec2) -> [f32; 3] {
-    let su0 = u.x.sqrt();
-    let b0 = 1.0 - su0;
-    let b1 = u.y * su0;
-    [b0, b1, (1.0 - b0 - b1).max(0.0)]
+    uniform_triangle(u.x, u.y)
+}
+
+/// [`sample_uniform_triangle`] for every lane.
+#[inline(always)]
+pub fn uniform_triangle<R: Real>(ux: R, uy: R) -> [R; 3] {
+    let su0 = ux.sqrt();
+    let b0 = R::splat(1.0) - su0;
+    let b1 = uy * su0;
+    [b0, b1, (R::splat(1.0) - b0 - b1).max(R::splat(0.0))]
 }
 
 #[cfg(test)]
