@@ -61,7 +61,8 @@ fn estimate(scene: &Scene, ray: Ray, sss: SubsurfaceMethod, n: u64, seed: u64) -
         max = max.max(l);
     }
     let mean = s / n as f64;
-    (mean, ((s2 / n as f64 - mean * mean) / n as f64).sqrt(), max, stats)
+    // max(0): with every sample equal, rounding can make the variance slightly negative.
+    (mean, ((s2 / n as f64 - mean * mean).max(0.0) / n as f64).sqrt(), max, stats)
 }
 
 /// A slab 1000 mean free paths wide and deep, its top face at z = 0, seen straight down.
