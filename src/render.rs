@@ -17,8 +17,9 @@ use std::time::{Duration, Instant};
 
 /// Version of the sample stream: what a (pixel, sample index, seed) renders. Saved films that
 /// are to be extended must come from the same version. 2: wavelengths stratified with the
-/// sampler and drawn with the film position (`Sampler::get_pixel_3d`).
-pub const SAMPLE_STREAM_VERSION: u32 = 2;
+/// sampler and drawn with the film position (`Sampler::get_pixel_3d`). 3: one 2D draw chooses
+/// the light and the point on it (`Scene::sample_light`).
+pub const SAMPLE_STREAM_VERSION: u32 = 3;
 
 /// Rows per parallel work item.
 const BAND_ROWS: usize = 4;

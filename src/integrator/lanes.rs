@@ -170,10 +170,8 @@ impl<'s> LaneTracer<'s> {
                 if !active.0[i] {
                     continue;
                 }
-                let ul = samplers[i].get_1d();
-                let u = samplers[i].get_2d();
+                let Some((_, Light::Area(a), lpmf, u)) = scene.sample_light(samplers[i].get_2d()) else { continue };
                 (ux.0[i], uy.0[i]) = (u.x, u.y);
-                let Some((_, Light::Area(a), lpmf)) = scene.sample_light(ul) else { continue };
                 pmf.0[i] = lpmf;
                 for k in 0..3 {
                     light.p[k].set_lane(i, a.p[k]);

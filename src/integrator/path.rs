@@ -260,9 +260,7 @@ impl PathIntegrator {
         sampler: &mut Sampler,
         stats: &mut Stats,
     ) -> SampledSpectrum {
-        let ul = sampler.get_1d();
-        let u = sampler.get_2d();
-        let Some((_, light, pmf)) = scene.sample_light(ul) else { return SampledSpectrum::zero() };
+        let Some((_, light, pmf, u)) = scene.sample_light(sampler.get_2d()) else { return SampledSpectrum::zero() };
         let Some(ls) = light.sample_li(si.p, u, w) else { return SampledSpectrum::zero() };
         if ls.pdf <= 0.0 || ls.li.is_black() {
             return SampledSpectrum::zero();

@@ -33,7 +33,7 @@ use crate::geometry::{Hit, Instance, InstanceSet, Mesh, Prototype, Ray};
 use crate::light::{AreaLight, Light, LightSampler};
 use crate::material::Material;
 use crate::spectrum::Spectrum;
-use glam::{Mat4, Vec3};
+use glam::{Mat4, Vec2, Vec3};
 use std::sync::Arc;
 
 /// Emission of an area light attached to a mesh: radiance `scale · spectrum(λ)`.
@@ -410,11 +410,14 @@ impl Scene {
         self.primitives.iter().map(|p| p.mesh.len() as u64).sum()
     }
 
-    /// Chooses a light for next-event estimation with `u` in [0, 1): the light and the
-    /// probability of choosing it.
+    /// Chooses a light for next-event estimation with the 2D uniform `u`: the light, the
+    /// probability of choosing it, and the 2D uniform for sampling a point on it (`u.x` remapped
+    /// within the chosen light's share, `u.y` as it was). One stratified 2D point thus spreads
+    /// evenly over an emitter made of many triangles, where an independent choice of triangle
+    /// would leave each triangle a random subset of the strata.
     #[inline]
-    pub fn sample_light(&self, u: f32) -> Option<(LightId, &Light, f32)> {
-        self.light_sampler.sample(u).map(|(i, pmf)| (i as LightId, &self.lights[i], pmf))
+    pub fn sample_light(&self, u: Vec2) -> Option<(LightId, &Light, f32, Vec2)> {
+        self.light_sampler.sample(u.x).map(|(i, pmf, ux)| (i as LightId, &self.lights[i], pmf, Vec2::new(ux, u.y)))
     }
 
     /// Probability with which [`Scene::sample_light`] chooses `light`, times the light's own
