@@ -19,7 +19,7 @@ use super::path::PathIntegrator;
 use super::{DirectStrategy, Stats};
 use crate::bsdf::{BsdfLanes, Bxdf, DiffuseLanes};
 use crate::geometry::Ray;
-use crate::light::{Light, TriangleLightLanes};
+use crate::light::{AreaLight, Light, TriangleLightLanes};
 use crate::material::Material;
 use crate::math::offset::offset_ray_origin_lanes;
 use crate::math::FrameLanes;
@@ -49,6 +49,8 @@ pub struct LaneTracer<'s> {
     integrator: PathIntegrator,
     scene: &'s Scene,
     trace: LaneTrace,
+    /// A light of the scene, to fill the lanes that take no light sample.
+    filler: &'s AreaLight,
 }
 
 /// Why a scene cannot be rendered in lanes.
@@ -68,10 +70,10 @@ impl<'s> LaneTracer<'s> {
         if integrator.strategy != DirectStrategy::Mis {
             return Err(Unsupported("another direct-light strategy was chosen".into()));
         }
-        if scene.lights().is_empty() {
+        let Some(Light::Area(filler)) = scene.lights().first() else {
             return Err(Unsupported("this scene has no light".into()));
-        }
-        Ok(Self { integrator, scene, trace })
+        };
+        Ok(Self { integrator, scene, trace, filler })
     }
 
     fn intersect(&self, rays: &[Ray; LANES], active: M) -> [Option<crate::geometry::Hit>; LANES] {
@@ -162,7 +164,7 @@ impl<'s> LaneTracer<'s> {
             active = active & !rho.is_black();
 
             // Next-event estimation: each lane picks a light and a point on it.
-            let mut light = TriangleLightLanes::<L>::splat(scene_first_area_light(scene));
+            let mut light = TriangleLightLanes::<L>::splat(self.filler);
             let mut pmf = zero;
             let mut le = S4::<L>::splat(0.0);
             let (mut ux, mut uy) = (zero, zero);
@@ -232,15 +234,6 @@ impl<'s> LaneTracer<'s> {
         }
         std::array::from_fn(|i| l.lane(i))
     }
-}
-
-/// Any area light of the scene, to fill the lanes that pick none.
-fn scene_first_area_light(scene: &Scene) -> &crate::light::AreaLight {
-    scene
-        .lights()
-        .iter()
-        .find_map(|l| if let Light::Area(a) = l { Some(a) } else { None })
-        .expect("LaneTracer::new requires an area light")
 }
 
 #[cfg(test)]
