@@ -232,6 +232,7 @@ impl<'s> LaneTracer<'s> {
                 beta = beta.scale(L::splat(1.0) / (L::splat(1.0) - q));
             }
         }
+        stats.last_depth = depth;
         std::array::from_fn(|i| l.lane(i))
     }
 }
