@@ -128,7 +128,6 @@ fn next_toward(v: f32, up: bool) -> f32 {
 
 impl<const N: usize> Real for Lanes<N> {
     type Mask = LanesMask<N>;
-    const LANES: usize = N;
     #[inline(always)]
     fn splat(v: f32) -> Self {
         Lanes([v; N])
@@ -160,10 +159,6 @@ impl<const N: usize> Real for Lanes<N> {
     #[inline(always)]
     fn lt(self, o: Self) -> LanesMask<N> {
         cmp(self, o, |a, b| a < b)
-    }
-    #[inline(always)]
-    fn le(self, o: Self) -> LanesMask<N> {
-        cmp(self, o, |a, b| a <= b)
     }
     #[inline(always)]
     fn eq(self, o: Self) -> LanesMask<N> {

@@ -29,8 +29,6 @@ pub trait Real:
 {
     /// The per-lane boolean.
     type Mask: Mask;
-    /// Number of lanes.
-    const LANES: usize;
     /// Every lane `v`.
     fn splat(v: f32) -> Self;
     /// Lane `i`.
@@ -47,8 +45,6 @@ pub trait Real:
     fn max(self, o: Self) -> Self;
     /// x < o.
     fn lt(self, o: Self) -> Self::Mask;
-    /// x ≤ o.
-    fn le(self, o: Self) -> Self::Mask;
     /// x == o.
     fn eq(self, o: Self) -> Self::Mask;
     /// Finite (neither infinite nor NaN).
@@ -62,17 +58,6 @@ pub trait Real:
     fn next_down(self) -> Self;
     /// |self| with the sign of `sign`.
     fn copysign(self, sign: Self) -> Self;
-
-    /// x > o.
-    #[inline(always)]
-    fn gt(self, o: Self) -> Self::Mask {
-        o.lt(self)
-    }
-    /// x ≥ o.
-    #[inline(always)]
-    fn ge(self, o: Self) -> Self::Mask {
-        o.le(self)
-    }
 
     /// (sin x, cos x) for |x| ≤ π/4: odd degree-7 and even degree-8 minimax polynomials with the
     /// coefficients of Cephes' `sinf`/`cosf` (Moshier 1989, "Methods and Programs for
@@ -114,7 +99,6 @@ impl Mask for bool {
 
 impl Real for f32 {
     type Mask = bool;
-    const LANES: usize = 1;
     #[inline(always)]
     fn splat(v: f32) -> Self {
         v
@@ -146,10 +130,6 @@ impl Real for f32 {
     #[inline(always)]
     fn lt(self, o: Self) -> bool {
         self < o
-    }
-    #[inline(always)]
-    fn le(self, o: Self) -> bool {
-        self <= o
     }
     #[inline(always)]
     fn eq(self, o: Self) -> bool {

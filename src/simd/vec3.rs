@@ -53,16 +53,6 @@ impl<R: Real> V3<R> {
     pub fn length_squared(self) -> R {
         self.dot(self)
     }
-    /// v/|v|.
-    #[inline(always)]
-    pub fn normalize(self) -> Self {
-        self * (R::splat(1.0) / self.length_squared().sqrt())
-    }
-    /// Lane-wise |v|.
-    #[inline(always)]
-    pub fn abs(self) -> Self {
-        Self::new(self.x.abs(), self.y.abs(), self.z.abs())
-    }
     /// |x| + |y| + |z|.
     #[inline(always)]
     pub fn abs_sum(self) -> R {
