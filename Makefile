@@ -3,11 +3,12 @@
 #   make test     runs the whole test suite (both feature sets)
 #   make lint     rustfmt and clippy (-D warnings) on both feature sets; CI runs it before make test
 #   make test-embree4  installs Embree 4 and runs the whole suite against it (not part of make test)
+#   make compat   renders the pbrt-v4 compatibility scenes beside the repository, writes docs/compatibility.md
 
 CARGO ?= cargo
 SPP ?= 64
 
-.PHONY: deps render test test-default test-pure test-embree4 lint bench docs
+.PHONY: deps render test test-default test-pure test-embree4 lint bench docs compat
 
 deps:
 	bash scripts/install-deps.sh
@@ -32,6 +33,10 @@ test-pure:
 test-embree4: deps
 	bash scripts/install-embree4.sh
 	$(CARGO) test --no-default-features --features embree4,oiio
+
+compat:
+	$(CARGO) build --release
+	./target/release/prism compat --doc docs/compatibility.md
 
 lint: deps
 	$(CARGO) fmt --check

@@ -4,6 +4,8 @@
 pub mod bench;
 pub mod color;
 mod color_report;
+pub mod compat;
+mod compat_report;
 pub mod measure;
 pub mod merge;
 pub mod render;
@@ -38,6 +40,8 @@ pub enum Command {
     Compare(bench::CompareArgs),
     /// Subsurface report: diffusion vs random walk, time and RMSE (docs/subsurface.md).
     SssReport(sss_report::SssReportArgs),
+    /// Render every scene that has a pbrt-v4 reference and compare (docs/compatibility.md).
+    Compat(compat::CompatArgs),
 }
 
 impl Cli {
@@ -51,6 +55,7 @@ impl Cli {
             Command::Bench(a) => bench::run(&a),
             Command::Compare(a) => bench::compare(&a),
             Command::SssReport(a) => sss_report::run(&a),
+            Command::Compat(a) => compat::run(&a),
         }
     }
 }

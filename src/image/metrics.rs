@@ -110,6 +110,55 @@ pub fn compare(a: &Image, b: &Image) -> Result<Metrics, ImageError> {
     })
 }
 
+/// x/(1+x) of a non-negative sample (negative and NaN samples map to 0, +∞ to 1): a tone map
+/// that keeps emitters and fireflies from dominating an error over the whole image.
+fn compress(x: f32) -> f64 {
+    let x = f64::from(x.max(0.0));
+    if x.is_infinite() {
+        1.0
+    } else {
+        x / (1.0 + x)
+    }
+}
+
+/// RMSE between `a` and the reference `b` over their first three channels after mapping each
+/// sample through x/(1+x) (so the error is bounded by 1 per sample whatever the dynamic range).
+/// Both images must have equal size and at least three channels.
+pub fn compressed_rgb_rmse(a: &Image, b: &Image) -> Result<f64, ImageError> {
+    check_same_size(a, b)?;
+    let c = a.channels as usize;
+    if c < 3 {
+        return Err(ImageError::InvalidImage(format!("{c} channels; RGB needs 3")));
+    }
+    let mut se = 0.0;
+    for (pa, pb) in a.data.chunks_exact(c).zip(b.data.chunks_exact(c)) {
+        for k in 0..3 {
+            let d = compress(pa[k]) - compress(pb[k]);
+            se += d * d;
+        }
+    }
+    Ok((se / (3 * a.data.len() / c).max(1) as f64).sqrt())
+}
+
+/// Mean of each of the first three channels over the finite samples (NaN for a channel with
+/// none, or for an image with fewer channels).
+pub fn channel_means(img: &Image) -> [f64; 3] {
+    let c = img.channels as usize;
+    let mut sum = [0.0f64; 3];
+    let mut n = [0usize; 3];
+    if c >= 3 {
+        for p in img.data.chunks_exact(c) {
+            for k in 0..3 {
+                if p[k].is_finite() {
+                    sum[k] += f64::from(p[k]);
+                    n[k] += 1;
+                }
+            }
+        }
+    }
+    [0, 1, 2].map(|k| if n[k] > 0 { sum[k] / n[k] as f64 } else { f64::NAN })
+}
+
 /// Mean |a−b| over each pixel's channels; NaN where any sample is non-finite.
 fn per_pixel_error(a: &Image, b: &Image) -> Vec<f32> {
     let c = a.channels as usize;
@@ -192,6 +241,20 @@ mod tests {
         let table = m.to_string();
         assert!(table.contains("MSE        1.500000e0"), "{table}");
         assert!(table.contains("samples    4 (0 non-finite skipped)"), "{table}");
+    }
+
+    #[test]
+    fn compressed_rmse_and_channel_means_by_hand() {
+        // One pixel: x/(1+x) of (1, 3, 0) is (1/2, 3/4, 0), of (0, 1, ∞) is (0, 1/2, 1).
+        let a = image(1, 1, 3, vec![1.0, 3.0, 0.0]);
+        let b = image(1, 1, 3, vec![0.0, 1.0, f32::INFINITY]);
+        let e = compressed_rgb_rmse(&a, &b).unwrap();
+        let want = ((0.25f64 + 0.0625 + 1.0) / 3.0).sqrt();
+        assert!((e - want).abs() < 1e-12, "{e} vs {want}");
+        assert_eq!(compressed_rgb_rmse(&a, &a).unwrap(), 0.0);
+        assert!(compressed_rgb_rmse(&image(1, 1, 1, vec![0.0]), &image(1, 1, 1, vec![0.0])).is_err());
+        let m = channel_means(&image(2, 1, 4, vec![1.0, 2.0, f32::NAN, 9.0, 3.0, 4.0, 5.0, 9.0]));
+        assert_eq!(m, [2.0, 3.0, 5.0]);
     }
 
     #[test]

@@ -10,6 +10,7 @@
 //! only once complete.
 
 mod colormap;
+pub mod compose;
 mod error;
 mod format;
 pub mod metrics;
