@@ -2,7 +2,9 @@
 //! response is the CIE 1931 matching functions themselves, scaled by the imaging ratio
 //! exposure time × ISO / 100 (1 by default, so scenes not written for a physical camera render
 //! unchanged), with an optional von Kries white balance that maps the white of a daylight
-//! illuminant of the given temperature to the output colour space's white.
+//! illuminant of the given temperature to the output colour space's white. pbrt-v4's film
+//! `maxcomponentvalue` clamps each sample here, after the imaging ratio and before the white
+//! balance.
 
 use crate::spectrum::{ColorSpace, Spectrum};
 use glam::{DMat3, DVec3, Mat3, Vec3};
@@ -14,11 +16,15 @@ pub struct Sensor {
     pub imaging_ratio: f32,
     /// Chromatic adaptation in XYZ, when white balancing.
     pub white_balance: Option<Mat3>,
+    /// Largest component a sample's sensor response may have; a larger one scales the whole
+    /// sample down to it (pbrt-v4's `maxcomponentvalue`, +∞ by default). A biased but bounded
+    /// estimator that removes fireflies.
+    pub max_component: f32,
 }
 
 impl Default for Sensor {
     fn default() -> Self {
-        Self { imaging_ratio: 1.0, white_balance: None }
+        Self { imaging_ratio: 1.0, white_balance: None, max_component: f32::INFINITY }
     }
 }
 
@@ -28,13 +34,22 @@ impl Sensor {
     pub fn new(iso: f32, exposure_time: f32, white_balance_kelvin: f32, space: &ColorSpace) -> Self {
         let white_balance = (white_balance_kelvin > 0.0)
             .then(|| von_kries(daylight_white(white_balance_kelvin as f64), space.white).as_mat3());
-        Self { imaging_ratio: exposure_time * iso / 100.0, white_balance }
+        Self { imaging_ratio: exposure_time * iso / 100.0, white_balance, max_component: f32::INFINITY }
+    }
+
+    /// This sensor with each sample's largest component clamped to `max_component`.
+    pub fn with_max_component(self, max_component: f32) -> Self {
+        Self { max_component, ..self }
     }
 
     /// The sensor's response to `xyz`.
     #[inline]
     pub fn apply(&self, xyz: Vec3) -> Vec3 {
-        let xyz = xyz * self.imaging_ratio;
+        let mut xyz = xyz * self.imaging_ratio;
+        let m = xyz.max_element();
+        if m > self.max_component {
+            xyz *= self.max_component / m;
+        }
         match self.white_balance {
             Some(m) => m * xyz,
             None => xyz,
@@ -109,6 +124,15 @@ mod tests {
         // White balancing to the space's own white is the identity.
         let same = von_kries(srgb.white, srgb.white);
         assert!((same - DMat3::IDENTITY).to_cols_array().iter().all(|v| v.abs() < 1e-12));
+    }
+
+    #[test]
+    fn max_component_scales_the_sample_after_the_imaging_ratio() {
+        let s = Sensor::new(200.0, 1.0, 0.0, ColorSpace::srgb()).with_max_component(4.0);
+        // Ratio 2: (1, 3, 0.5) → (2, 6, 1), whose largest component 6 becomes 4.
+        let got = s.apply(Vec3::new(1.0, 3.0, 0.5));
+        assert!((got - Vec3::new(4.0 / 3.0, 4.0, 2.0 / 3.0)).abs().max_element() < 1e-6, "{got}");
+        assert_eq!(s.apply(Vec3::new(1.0, 1.5, 0.0)), Vec3::new(2.0, 3.0, 0.0));
     }
 
     #[test]

@@ -2,7 +2,7 @@
 
 use crate::accel::AccelKind;
 use crate::film::{Crop, Film, FilmSettings};
-use crate::image::{CropWindow, WriteOptions};
+use crate::image::{CropWindow, ExrSample, WriteOptions};
 use crate::integrator::{PathIntegrator, Stats, SubsurfaceMethod};
 use crate::render::RenderSettings;
 use crate::scene::pbrt::{input_stamps, FileSettings, InputStamp, LoadedScene};
@@ -55,7 +55,7 @@ pub struct RenderArgs {
     #[arg(long)]
     pub filter: Option<String>,
     /// Maximum path depth, or -1 for no limit (Russian roulette ends every path) [default: the
-    /// file's, else 8].
+    /// file's, else pbrt-v4's 5 for a scene file and 8 for the built-in Cornell box].
     #[arg(long, allow_negative_numbers = true)]
     pub max_depth: Option<i64>,
     /// Subsurface scattering: diffusion (PBD BSSRDF) or randomwalk (volumetric reference)
@@ -136,6 +136,8 @@ pub struct Job {
     pub scene_name: String,
     /// The files the scene reads, identified by their contents (none for the built-in scene).
     pub inputs: Vec<InputStamp>,
+    /// OpenEXR sample type: half unless the file's Film "savefp16" is false (as pbrt-v4).
+    pub exr_sample: ExrSample,
 }
 
 /// Checks every argument and loads the scene, before any rendering starts. Command-line values
@@ -205,7 +207,8 @@ pub fn prepare(args: &RenderArgs) -> Result<Job> {
         file.exposure_time.unwrap_or(1.0),
         file.white_balance.unwrap_or(0.0),
         space,
-    );
+    )
+    .with_max_component(file.max_component.filter(|m| *m > 0.0).unwrap_or(f32::INFINITY));
     let settings = RenderSettings {
         resolution,
         film: FilmSettings { crop, sensor },
@@ -220,7 +223,8 @@ pub fn prepare(args: &RenderArgs) -> Result<Job> {
     if let Some(trace) = lanes {
         crate::integrator::lanes::LaneTracer::new(settings.integrator, &scene, trace)?;
     }
-    Ok(Job { scene, settings, output, space, build_s, scene_name, inputs })
+    let exr_sample = if file.save_fp16 == Some(false) { ExrSample::Float } else { ExrSample::Half };
+    Ok(Job { scene, settings, output, space, build_s, scene_name, inputs, exr_sample })
 }
 
 /// Parses a pbrt-v4 file and maps it onto a builder, printing its warnings (in strict mode an
@@ -353,7 +357,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         crate::checkpoint::save(&job.output, &film, &header(range.start..done))?;
     } else {
         let image = film.to_image(job.space)?;
-        let opts = WriteOptions { window, ..Default::default() };
+        let opts = WriteOptions { window, exr_sample: job.exr_sample, ..Default::default() };
         crate::image::write_with(&job.output, &image, &opts)
             .with_context(|| format!("writing {}", job.output.display()))?;
     }

@@ -10,7 +10,7 @@ use crate::material::Material;
 use crate::math::PI;
 use crate::sampling::mis::power_heuristic;
 use crate::sampling::Sampler;
-use crate::scene::{Scene, SurfaceInteraction};
+use crate::scene::{Scene, SurfaceInteraction, MAX_INTERFACE_CROSSINGS};
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 use glam::Vec3;
 
@@ -140,6 +140,7 @@ impl PathIntegrator {
     ) -> SampledSpectrum {
         let mut state = PathState::new(ray.o);
         let use_nee = self.strategy != DirectStrategy::BsdfOnly;
+        let mut crossings = 0;
         loop {
             // The next vertex, and the emission the ray finds there.
             let (si, given_bsdf) = match pending.take() {
@@ -160,6 +161,16 @@ impl PathIntegrator {
                             let weight = self.emission_weight(&state, scene.light_pdf(id, state.prev_p, -si.wo));
                             state.l += state.beta * le * weight;
                         }
+                    }
+                    if si.is_passthrough() {
+                        // No surface: the same ray goes on, and the previous vertex stays the
+                        // one MIS weights refer to.
+                        crossings += 1;
+                        if crossings > MAX_INTERFACE_CROSSINGS {
+                            break;
+                        }
+                        ray = si.spawn_ray(ray.d);
+                        continue;
                     }
                     (si, None)
                 }

@@ -14,8 +14,16 @@ use crate::spectrum::{SampledSpectrum, SampledWavelengths, Spectrum};
 use glam::{Vec2, Vec3};
 
 /// The pbrt-v4 `Material` types prism renders.
-pub const PBRT_NAMES: &[&str] =
-    &["diffuse", "conductor", "dielectric", "coateddiffuse", "diffusetransmission", "thindielectric", "subsurface"];
+pub const PBRT_NAMES: &[&str] = &[
+    "diffuse",
+    "conductor",
+    "dielectric",
+    "coateddiffuse",
+    "diffusetransmission",
+    "thindielectric",
+    "subsurface",
+    "interface",
+];
 
 /// Index of refraction: constant, or a spectrum η(λ) (dispersive when it varies).
 #[derive(Clone, Debug)]
@@ -114,6 +122,9 @@ pub enum Material {
     /// "subsurface": a dielectric boundary over a scattering medium; the integrator continues
     /// paths that refract into it (`integrator::subsurface`).
     Subsurface(Box<SubsurfaceMaterial>),
+    /// "interface" (and pbrt-v4's deprecated `""`/`"none"`): no surface at all, only the
+    /// boundary between two media. Rays and shadow rays pass through it unchanged.
+    Interface,
 }
 
 /// The local geometry a material needs at a hit.
@@ -150,9 +161,16 @@ impl Material {
         matches!(self, Material::Dielectric { eta, .. } if eta.is_dispersive())
     }
 
-    /// The BSDF at a hit for the path's wavelengths. A dispersive dielectric terminates the
-    /// secondary wavelengths (η is evaluated at the hero wavelength only).
-    pub fn bsdf(&self, sp: &ShadingPoint, w: &mut SampledWavelengths) -> Bsdf {
+    /// True for an interface: no surface, so light passes through unscattered.
+    #[inline]
+    pub fn is_interface(&self) -> bool {
+        matches!(self, Material::Interface)
+    }
+
+    /// The BSDF at a hit for the path's wavelengths (`None` for an interface). A dispersive
+    /// dielectric terminates the secondary wavelengths (η is evaluated at the hero wavelength
+    /// only).
+    pub fn bsdf(&self, sp: &ShadingPoint, w: &mut SampledWavelengths) -> Option<Bsdf> {
         let bxdf: Bxdf = match self {
             Material::Diffuse { reflectance } => Diffuse::new(clamp01(reflectance.eval(sp.uv, w))).into(),
             Material::DiffuseTransmission { reflectance, transmittance, scale } => DiffuseTransmission::new(
@@ -179,9 +197,10 @@ impl Material {
             Material::CoatedDiffuse { reflectance, roughness, eta } => {
                 CoatedDiffuse::new(clamp01(reflectance.eval(sp.uv, w)), *eta, roughness.distribution(sp.uv)).into()
             }
-            Material::Subsurface(m) => return m.boundary_bsdf(sp),
+            Material::Subsurface(m) => return Some(m.boundary_bsdf(sp)),
+            Material::Interface => return None,
         };
-        Bsdf::new(sp.ns, sp.dpdu, sp.ng, bxdf)
+        Some(Bsdf::new(sp.ns, sp.dpdu, sp.ng, bxdf))
     }
 }
 

@@ -134,10 +134,17 @@ impl<'s> SurfaceInteraction<'s> {
     }
 
     /// The BSDF at this point at the wavelengths `w`, which a dispersive material reduces to
-    /// the hero wavelength (`None` for a virtual sensor).
+    /// the hero wavelength (`None` for a virtual sensor or an interface).
     #[inline]
     pub fn bsdf(&self, w: &mut SampledWavelengths) -> Option<Bsdf> {
-        self.material().map(|m| m.bsdf(&self.shading, w))
+        self.material().and_then(|m| m.bsdf(&self.shading, w))
+    }
+
+    /// True when the surface is only a boundary between media (an interface material): a ray
+    /// continues through it unchanged.
+    #[inline]
+    pub fn is_passthrough(&self) -> bool {
+        self.material().is_some_and(Material::is_interface)
     }
 
     /// The area light of the triangle hit, if it emits: its index (for the light sampler's pmf,
@@ -180,5 +187,13 @@ impl<'s> SurfaceInteraction<'s> {
         let o = offset_ray_origin(self.p, self.p_err, self.shading.ng, target - self.p);
         // pbrt-v4's ShadowEpsilon: stop at 1 − 1e-4 of the way to avoid hitting the light itself.
         Ray::segment(o, target - o, 1.0 - 1e-4)
+    }
+
+    /// The rest of a shadow ray whose end point `end` is already short of the light: from this
+    /// point to exactly `end`.
+    #[inline]
+    pub fn spawn_ray_to_point(&self, end: Vec3) -> Ray {
+        let o = offset_ray_origin(self.p, self.p_err, self.shading.ng, end - self.p);
+        Ray::segment(o, end - o, 1.0)
     }
 }

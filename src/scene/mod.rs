@@ -5,6 +5,7 @@
 mod cornell;
 pub mod desc;
 pub mod error;
+pub mod input;
 mod interaction;
 pub mod mesh_io;
 pub mod names;
@@ -308,7 +309,9 @@ impl SceneBuilder {
         let light_sampler = LightSampler::new(&lights, radius);
         let infinite_lights =
             lights.iter().enumerate().filter(|(_, l)| l.is_infinite()).map(|(i, _)| i as u32).collect();
+        let has_interfaces = self.materials.iter().any(Material::is_interface);
         Ok(Scene {
+            has_interfaces,
             accel,
             primitives,
             instances: self.instances,
@@ -345,7 +348,13 @@ pub struct Scene {
     pub scene_center: Vec3,
     /// Radius of the scene's bounding sphere.
     pub scene_radius: f32,
+    /// Some material is an interface, so shadow rays must look past the surfaces they hit.
+    has_interfaces: bool,
 }
+
+/// Most interfaces a ray passes through before it is taken as blocked (a guard against
+/// degenerate geometry that would trap a ray; real scenes nest a handful).
+pub const MAX_INTERFACE_CROSSINGS: u32 = 256;
 
 impl Scene {
     /// The closest surface along `ray` (t in (0, ray.t_max]), with its shading geometry,
@@ -373,10 +382,30 @@ impl Scene {
         SurfaceInteraction::new(self, ray, hit)
     }
 
-    /// True when something blocks `ray` with t in (0, ray.t_max) (shadow rays).
+    /// True when a surface blocks `ray` with t in (0, ray.t_max) (shadow rays). Interfaces
+    /// block nothing: with any in the scene, the ray is traced from surface to surface past
+    /// them (pbrt-v4's transmittance rays do the same); without, one occlusion query answers.
     #[inline]
     pub fn occluded(&self, ray: &Ray) -> bool {
-        self.accel.occluded(ray)
+        if !self.has_interfaces {
+            return self.accel.occluded(ray);
+        }
+        self.occluded_past_interfaces(*ray)
+    }
+
+    fn occluded_past_interfaces(&self, mut ray: Ray) -> bool {
+        let end = if ray.t_max.is_finite() { Some(ray.at(ray.t_max)) } else { None };
+        for _ in 0..MAX_INTERFACE_CROSSINGS {
+            let Some(si) = self.intersect(&ray) else { return false };
+            if !si.is_passthrough() {
+                return true;
+            }
+            ray = match end {
+                Some(end) => si.spawn_ray_to_point(end),
+                None => si.spawn_ray(ray.d),
+            };
+        }
+        true
     }
 
     /// The accelerator (its name and memory figures).

@@ -16,14 +16,8 @@ pub const PBRT_ONLY_SHAPES: &[(&str, &str)] = &[
 /// Materials prism renders (listed beside the `Material` enum they become).
 pub const PRISM_MATERIALS: &[&str] = crate::material::PBRT_NAMES;
 /// pbrt-v4 materials prism replaces, with the replacement type (used with default parameters).
-pub const PBRT_ONLY_MATERIALS: &[(&str, &str)] = &[
-    ("coatedconductor", "conductor"),
-    ("hair", "diffuse"),
-    ("measured", "diffuse"),
-    ("mix", "diffuse"),
-    // An index-matched dielectric is invisible, which is what "interface" means.
-    ("interface", "dielectric"),
-];
+pub const PBRT_ONLY_MATERIALS: &[(&str, &str)] =
+    &[("coatedconductor", "conductor"), ("hair", "diffuse"), ("measured", "diffuse"), ("mix", "diffuse")];
 
 /// Non-area lights prism renders (listed beside the `Light` enum they become).
 pub const PRISM_LIGHTS: &[&str] = crate::light::PBRT_NAMES;
@@ -44,7 +38,8 @@ pub const PRISM_FILMS: &[&str] = &["rgb", "spectral"];
 pub const PBRT_ONLY_FILMS: &[(&str, &str)] = &[("gbuffer", "rgb")];
 
 /// Integrators prism runs.
-pub const PRISM_INTEGRATORS: &[&str] = &["path"];
+/// "volpath" without media is "path" (its media are reported where they are declared).
+pub const PRISM_INTEGRATORS: &[&str] = &["path", "volpath"];
 /// pbrt-v4 integrators prism replaces with its path tracer.
 pub const PBRT_ONLY_INTEGRATORS: &[(&str, &str)] = &[
     ("ambientocclusion", "path"),
@@ -55,7 +50,6 @@ pub const PBRT_ONLY_INTEGRATORS: &[(&str, &str)] = &[
     ("simplepath", "path"),
     ("simplevolpath", "path"),
     ("sppm", "path"),
-    ("volpath", "path"),
 ];
 
 /// Samplers (all pbrt-v4 names are accepted; the renderer picks its own sequence).

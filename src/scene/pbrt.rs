@@ -39,7 +39,7 @@ pub struct FileSettings {
     pub filename: Option<std::path::PathBuf>,
     /// Sampler "pixelsamples".
     pub spp: Option<u64>,
-    /// Integrator "maxdepth".
+    /// Integrator "maxdepth" ([`PBRT_DEFAULT_MAX_DEPTH`] when the file gives none).
     pub max_depth: Option<u32>,
     /// PixelFilter type (one prism has: [`crate::filter::Filter::by_name`] knows it).
     pub filter: Option<String>,
@@ -57,7 +57,15 @@ pub struct FileSettings {
     pub exposure_time: Option<f32>,
     /// Film "whitebalance" [K] (0: none; pbrt-v4's default for the cie1931 sensor).
     pub white_balance: Option<f32>,
+    /// Film "maxcomponentvalue": the largest sensor component of one sample (pbrt-v4's default
+    /// +∞).
+    pub max_component: Option<f32>,
+    /// Film "savefp16": OpenEXR output in half floats (pbrt-v4's default) or 32-bit floats.
+    pub save_fp16: Option<bool>,
 }
+
+/// pbrt-v4's Integrator "maxdepth" when a scene gives none.
+pub const PBRT_DEFAULT_MAX_DEPTH: u32 = 5;
 
 /// Turns a desc into a builder; warnings go to `warnings`.
 pub fn build(desc: &SceneDesc, warnings: &mut Vec<Warning>) -> Result<(SceneBuilder, FileSettings), SceneError> {
@@ -186,7 +194,8 @@ impl Ctx<'_> {
             resolution,
             filename: film.string("filename").map(Into::into),
             spp: count(&d.sampler.params, "pixelsamples", &d.sampler.loc, 1)?.map(|n| n as u64),
-            max_depth: self.max_depth()?,
+            // pbrt-v4's default when the file gives none.
+            max_depth: Some(self.max_depth()?.unwrap_or(PBRT_DEFAULT_MAX_DEPTH)),
             filter: Some(filter),
             sampler: Some(sampler.to_string()),
             seed: d.sampler.params.int("seed").or_else(|| d.options.int("seed")).map(|s| s as u64),
@@ -195,6 +204,8 @@ impl Ctx<'_> {
             iso: film.float("iso"),
             exposure_time,
             white_balance,
+            max_component: film.float("maxcomponentvalue"),
+            save_fp16: film.bool("savefp16"),
         })
     }
 
@@ -379,6 +390,7 @@ impl Ctx<'_> {
                 eta: p.float_or("eta", 1.5),
             },
             "subsurface" => self.subsurface(m)?,
+            "interface" => Material::Interface,
             other => {
                 self.unsupported(loc, format!("material \"{other}\""), "uses diffuse 0.5");
                 Material::diffuse(Spectrum::constant(0.5))

@@ -51,7 +51,7 @@ pub fn load(
                 warnings.push(Warning::unsupported(loc, "displacement mapping", "ignores it"));
                 let _ = ps.float("edgelength");
             }
-            let bytes = std::fs::read(&path).map_err(|e| SceneError::Io {
+            let bytes = super::input::read(&path).map_err(|e| SceneError::Io {
                 loc: loc.clone(),
                 path: path.clone(),
                 reason: e.to_string(),

@@ -4,9 +4,11 @@
 mod accel_agreement;
 mod cli;
 mod common;
+mod compat;
 mod envmap;
 mod film;
 mod instancing;
+mod interface;
 mod merge;
 mod naive_fails;
 mod radiometry;

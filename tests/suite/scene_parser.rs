@@ -371,8 +371,12 @@ fn unsupported_features_warn_or_fail_under_strict() {
         strict_err("WorldBegin\nMaterial \"measured\" \"string filename\" \"x.bsdf\""),
         "<string>:2:10: unsupported feature: material \"measured\" (strict mode; without --strict prism uses \"diffuse\" instead)"
     );
-    let (d, _) = parse("Integrator \"volpath\" \"integer maxdepth\" 3\nWorldBegin");
+    let (d, _) = parse("Integrator \"bdpt\" \"integer maxdepth\" 3\nWorldBegin");
     assert_eq!((d.integrator.kind.as_str(), d.integrator.params.int("maxdepth")), ("path", Some(3)));
+    // Without media, volpath is path: no substitution, no warning.
+    let (d, w) = parse("Integrator \"volpath\" \"integer maxdepth\" 3\nWorldBegin");
+    assert!(w.is_empty(), "{w:?}");
+    assert_eq!((d.integrator.kind.as_str(), d.integrator.params.int("maxdepth")), ("volpath", Some(3)));
 }
 
 #[test]

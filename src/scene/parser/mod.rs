@@ -68,7 +68,7 @@ fn canonical(path: &Path) -> PathBuf {
 }
 
 fn read_text(path: &Path, loc: &Location) -> Result<String, SceneError> {
-    std::fs::read_to_string(path).map_err(|e| SceneError::Io {
+    crate::scene::input::read_text(path).map_err(|e| SceneError::Io {
         loc: loc.clone(),
         path: path.to_path_buf(),
         reason: e.to_string(),

@@ -226,18 +226,17 @@ impl Parser<'_> {
     }
 
     pub(super) fn material(&mut self, ty: &Token, mut params: ParamSet) -> Result<MaterialDesc, SceneError> {
+        if ty.text.is_empty() || ty.text == "none" {
+            // pbrt-v4 reads both as "interface", with a deprecation warning.
+            self.warn(&ty.loc, format!("material \"{}\" is deprecated; read as \"interface\"", ty.text));
+            return Ok(MaterialDesc { kind: "interface".into(), params, loc: ty.loc.clone() });
+        }
         let kind = self
             .resolve_type(ty, "material", names::PRISM_MATERIALS, names::PBRT_ONLY_MATERIALS, false)?
             .unwrap_or_default();
         if kind != ty.text {
             // The replacement's parameters mean something else: start from its defaults.
-            let mut fresh = ParamSet::new(&params.color_space);
-            if ty.text == "interface" {
-                let decl = Token { kind: TokenKind::Str, text: "float eta".into(), loc: ty.loc.clone() };
-                let one = Token { kind: TokenKind::Word, text: "1".into(), loc: ty.loc.clone() };
-                fresh.push(Param::parse(&decl, &[one])?)?;
-            }
-            params = fresh;
+            params = ParamSet::new(&params.color_space);
         } else if let Some(d) = self.gs.defaults.get("material") {
             params.merge_defaults(d);
         }

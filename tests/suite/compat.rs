@@ -1,0 +1,93 @@
+//! The cheap form of `prism compat`'s rule, for each family prism renders as pbrt-v4 does: the
+//! scene (tests/data/compat/) rendered at its own resolution with few samples has pbrt-v4's
+//! channel means (REFERENCES*.json, measured on pbrt-v4's 1024-spp images) within the rule's 2%
+//! plus four standard errors, with no unsupported-feature warning.
+
+use crate::common::{prism, stderr, tmpdir};
+use std::path::{Path, PathBuf};
+
+fn dir() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/compat")
+}
+
+/// pbrt-v4's channel means and spp of its reference image of `scene` (e.g. "envmap.pbrt").
+fn pbrt_v4_means(scene: &str) -> ([f64; 3], f64) {
+    let read = |f: &str| -> serde_json::Value {
+        serde_json::from_str(&std::fs::read_to_string(dir().join(f)).unwrap()).unwrap()
+    };
+    let (a, b) = (read("REFERENCES.json"), read("REFERENCES-geometry.json"));
+    let r = a["scenes"][scene]["references"]
+        .as_array()
+        .and_then(|refs| refs.iter().find(|r| r["seed"] == 1).cloned())
+        .or_else(|| b["scenes"].as_array()?.iter().find(|s| s["scene"] == scene).map(|s| s["reference"].clone()))
+        .unwrap_or_else(|| panic!("no pbrt-v4 reference for {scene}"));
+    let m = r["mean_rgb"].as_array().unwrap();
+    ([0, 1, 2].map(|k| m[k].as_f64().unwrap()), r["spp"].as_f64().unwrap())
+}
+
+/// Renders `scene` twice (seeds 1 and 2, `spp` independent samples each) and returns the
+/// channel means of the two together, their standard errors (from the pixel-by-pixel
+/// differences of the seeds: pixels are independent estimates), and the log of the first.
+fn render_means(scene: &str, spp: u32) -> ([f64; 3], [f64; 3], String) {
+    let d = tmpdir(&format!("compat-{scene}"));
+    let mut images = Vec::new();
+    let mut log = String::new();
+    for seed in [1, 2] {
+        let out = d.join(format!("{seed}.exr"));
+        let o = prism()
+            .arg("render")
+            .arg(dir().join(scene))
+            .args(["--spp", &spp.to_string(), "--sampler", "independent", "--seed", &seed.to_string(), "-o"])
+            .arg(&out)
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{scene}: {}", stderr(&o));
+        if seed == 1 {
+            log = stderr(&o);
+        }
+        images.push(prism::image::read(&out).unwrap());
+    }
+    let (a, b) = (&images[0], &images[1]);
+    let c = a.channels as usize;
+    let n = (a.data.len() / c) as f64;
+    let (mut sum, mut d2) = ([0.0f64; 3], [0.0f64; 3]);
+    for (pa, pb) in a.data.chunks_exact(c).zip(b.data.chunks_exact(c)) {
+        for k in 0..3 {
+            let (x, y) = (f64::from(pa[k]), f64::from(pb[k]));
+            sum[k] += x + y;
+            d2[k] += (x - y) * (x - y);
+        }
+    }
+    // Var(pixel) ≈ (x − y)²/2, so the mean of 2N pixel estimates has variance Σ(x − y)²/(4N²).
+    let means = sum.map(|s| s / (2.0 * n));
+    let se = d2.map(|s| s.sqrt() / (2.0 * n));
+    std::fs::remove_dir_all(&d).ok();
+    (means, se, log)
+}
+
+/// The check: no unsupported feature, and each channel mean within 2% of pbrt-v4's plus 4σ
+/// (prism's standard error with that of pbrt-v4's own mean at its spp added).
+fn assert_matches_pbrt_v4(scene: &str, spp: u32) {
+    let (want, ref_spp) = pbrt_v4_means(scene);
+    let (got, se, log) = render_means(scene, spp);
+    let unsupported: Vec<&str> =
+        log.lines().filter(|l| l.contains("unsupported feature") || l.contains("was not used")).collect();
+    assert!(unsupported.is_empty(), "{scene}: {unsupported:#?}");
+    for k in 0..3 {
+        assert!(got[k] > 0.01 * want[k].max(1e-3), "{scene}: channel {k} is black ({got:?})");
+        let se_ref = se[k] * (2.0 * f64::from(spp) / ref_spp).sqrt();
+        let tol = 0.02 * want[k] + 4.0 * (se[k] * se[k] + se_ref * se_ref).sqrt();
+        assert!(
+            (got[k] - want[k]).abs() <= tol,
+            "{scene}: channel {k} mean {:.5} ± {:.5} vs pbrt-v4's {:.5} (tolerance {tol:.5}); all {got:?} vs {want:?}",
+            got[k],
+            se[k],
+            want[k]
+        );
+    }
+}
+
+#[test]
+fn perspective_depth_of_field_has_pbrt_v4s_means() {
+    assert_matches_pbrt_v4("cameras-dof.pbrt", 16);
+}
