@@ -51,7 +51,7 @@ pub enum SettingsError {
     #[error("unknown sampler '{0}' (valid: independent, sobol)")]
     UnknownSampler(String),
     /// A pixel filter name prism does not have.
-    #[error("unknown filter '{0}' (valid: box, gaussian, mitchell)")]
+    #[error("unknown filter '{0}' (valid: box, gaussian, mitchell, sinc, triangle)")]
     UnknownFilter(String),
     /// Text that is not a duration.
     #[error("'{0}' is not a duration (e.g. 30s, 2m)")]
@@ -168,7 +168,7 @@ mod tests {
         assert_eq!(parse_sampler("zsobol"), Ok(SamplerKind::Sobol));
         assert_eq!(parse_sampler("independent"), Ok(SamplerKind::Independent));
         assert!(parse_sampler("halton").is_err());
-        assert!(parse_filter("mitchell").is_ok() && parse_filter("sinc").is_err());
+        assert!(parse_filter("mitchell").is_ok() && parse_filter("sinc").is_ok() && parse_filter("cubic").is_err());
         assert_eq!(parse_duration("30s"), Ok(Duration::from_secs(30)));
         assert_eq!(parse_duration("2m"), Ok(Duration::from_secs(120)));
         assert_eq!(parse_duration("1.5"), Ok(Duration::from_millis(1500)));

@@ -166,7 +166,11 @@ pub fn run(a: &CompatArgs) -> Result<()> {
     }
     if let Some(doc) = &a.doc {
         let command = compat_command(a);
-        let text = compat_report::markdown(&reports, &command);
+        // The per-feature status (what is exact, what differs and why) is written by people,
+        // beside the report, and spliced in.
+        let notes_path = doc.with_file_name("compatibility-notes.md");
+        let notes = std::fs::read_to_string(&notes_path).ok();
+        let text = compat_report::markdown(&reports, &command, notes.as_deref());
         crate::io::write_atomic(doc, text.as_bytes()).with_context(|| format!("writing {}", doc.display()))?;
         eprintln!("compat: wrote {}", doc.display());
     }

@@ -150,7 +150,8 @@ pub fn one_line(r: &SceneReport) -> String {
 
 /// The report: the rule, the table, per-scene images and warnings, and which unsupported
 /// features affect which scenes.
-pub fn markdown(reports: &[SceneReport], command: &str) -> String {
+/// `notes` (the per-feature status, kept in `compatibility-notes.md`) follow the table.
+pub fn markdown(reports: &[SceneReport], command: &str, notes: Option<&str>) -> String {
     let mut s = String::new();
     let matched = reports.iter().filter(|r| r.matches()).count();
     let _ = writeln!(s, "# Compatibility with pbrt-v4\n");
@@ -193,6 +194,9 @@ pub fn markdown(reports: &[SceneReport], command: &str) -> String {
             fmt_opt(r.pbrt_wall_s, 2),
             fmt_opt(time_ratio, 2),
         );
+    }
+    if let Some(notes) = notes {
+        let _ = writeln!(s, "\n## Per-feature status\n\n(from `docs/compatibility-notes.md`)\n\n{}", notes.trim());
     }
     let _ = writeln!(s, "\n## Unsupported features, by scene\n");
     let mut by_feature: BTreeMap<&str, Vec<&str>> = BTreeMap::new();
@@ -282,6 +286,7 @@ mod tests {
         let r = SceneReport::new(&case, 16, Some(1), "prism: error: x.pbrt:3:1: bad\n\n", 0.1);
         assert_eq!(r.error.as_deref(), Some("prism: error: x.pbrt:3:1: bad"));
         assert_eq!(r.status(), "fails");
-        assert!(markdown(&[r], "prism compat").contains("prism fails (exit code 1)"));
+        let md = markdown(&[r], "prism compat", Some("- notes here"));
+        assert!(md.contains("prism fails (exit code 1)") && md.contains("- notes here"), "{md}");
     }
 }

@@ -51,7 +51,8 @@ pub struct RenderArgs {
     /// Sampler: independent or sobol [default: the file's, else sobol].
     #[arg(long)]
     pub sampler: Option<String>,
-    /// Pixel filter: box, gaussian or mitchell [default: the file's, else gaussian].
+    /// Pixel filter with pbrt-v4's default parameters: box, gaussian, mitchell, sinc or
+    /// triangle [default: the file's, else gaussian].
     #[arg(long)]
     pub filter: Option<String>,
     /// Maximum path depth, or -1 for no limit (Russian roulette ends every path) [default: the
@@ -175,7 +176,10 @@ pub fn prepare(args: &RenderArgs) -> Result<Job> {
     };
     let d = RenderSettings::default();
     let sampler = args.sampler.as_deref().or(file.sampler.as_deref()).map(settings::parse_sampler).transpose()?;
-    let filter = args.filter.as_deref().or(file.filter.as_deref()).map(settings::parse_filter).transpose()?;
+    let filter = match args.filter.as_deref() {
+        Some(name) => Some(settings::parse_filter(name)?),
+        None => file.filter.clone(),
+    };
     let space_name = args.color_space.as_deref().or(file.color_space.as_deref()).unwrap_or("srgb");
     let space = ColorSpace::by_name(space_name).with_context(|| {
         format!("unknown colour space '{space_name}' (valid: srgb, rec2020, acescg, aces2065-1, display-p3)")

@@ -41,8 +41,8 @@ pub struct FileSettings {
     pub spp: Option<u64>,
     /// Integrator "maxdepth" ([`PBRT_DEFAULT_MAX_DEPTH`] when the file gives none).
     pub max_depth: Option<u32>,
-    /// PixelFilter type (one prism has: [`crate::filter::Filter::by_name`] knows it).
-    pub filter: Option<String>,
+    /// PixelFilter with its parameters.
+    pub filter: Option<crate::filter::Filter>,
     /// Sampler type mapped to prism's ("independent" or "sobol").
     pub sampler: Option<String>,
     /// Sampler/Option "seed".
@@ -62,6 +62,21 @@ pub struct FileSettings {
     pub max_component: Option<f32>,
     /// Film "savefp16": OpenEXR output in half floats (pbrt-v4's default) or 32-bit floats.
     pub save_fp16: Option<bool>,
+}
+
+/// pbrt-v4's `PixelFilter` `kind` with its parameters (`xradius`, `yradius`; Gaussian `sigma`;
+/// Mitchell `B`, `C`; sinc `tau`), defaults as pbrt-v4's. Every name the parser accepts is one
+/// of these.
+fn pixel_filter(kind: &str, p: &ParamSet) -> crate::filter::Filter {
+    use crate::filter::{Filter, FilterKind};
+    let family = match Filter::kind_by_name(kind).unwrap_or(FilterKind::Gaussian { sigma: 0.5 }) {
+        FilterKind::Gaussian { sigma } => FilterKind::Gaussian { sigma: p.float_or("sigma", sigma) },
+        FilterKind::Mitchell { b, c } => FilterKind::Mitchell { b: p.float_or("B", b), c: p.float_or("C", c) },
+        FilterKind::LanczosSinc { tau } => FilterKind::LanczosSinc { tau: p.float_or("tau", tau) },
+        k => k,
+    };
+    let r = family.default_radius();
+    Filter::with_radii(family, glam::Vec2::new(p.float_or("xradius", r), p.float_or("yradius", r)))
 }
 
 /// pbrt-v4's Integrator "maxdepth" when a scene gives none.
@@ -179,13 +194,7 @@ impl Ctx<'_> {
             (None, None) => None,
             (open, close) => Some(close.unwrap_or(1.0) - open.unwrap_or(0.0)),
         };
-        let filter = match crate::filter::Filter::by_name(&d.filter.kind) {
-            Some(_) => d.filter.kind.clone(),
-            None => {
-                self.unsupported(&d.filter.loc, format!("pixel filter \"{}\"", d.filter.kind), "uses \"gaussian\"");
-                "gaussian".to_string()
-            }
-        };
+        let filter = pixel_filter(&d.filter.kind, &d.filter.params);
         let sampler = match d.sampler.kind.as_str() {
             "independent" => "independent",
             _ => "sobol",

@@ -1,10 +1,11 @@
 //! pbrt-v4 scene defaults and surfaces that are no surface: an `interface` material (and the
 //! deprecated `""`/`"none"`) lets camera rays and shadow rays through, `volpath` without media
-//! is `path`, a file without `maxdepth` gets pbrt-v4's 5, and the Film's `maxcomponentvalue`
-//! and `savefp16` are read.
+//! is `path`, a file without `maxdepth` gets pbrt-v4's 5, the Film's `maxcomponentvalue`
+//! and `savefp16` and every pixel filter's parameters are read.
 
 use crate::common::{film_difference, test_settings};
 use prism::accel::AccelKind;
+use prism::filter::FilterKind;
 use prism::render::render;
 use prism::scene::pbrt::{build, FileSettings};
 use prism::scene::{parse_str, Warning};
@@ -60,13 +61,32 @@ fn an_interface_around_a_light_changes_nothing_for_camera_or_shadow_rays() {
 
 #[test]
 fn pbrt_v4_defaults_volpath_depth_and_film_parameters() {
-    let film = r#"Film "rgb" "float maxcomponentvalue" [ 4 ] "bool savefp16" [ false ]"#;
+    let film = r#"Film "rgb" "float maxcomponentvalue" [ 4 ] "bool savefp16" [ false ]
+PixelFilter "gaussian" "float xradius" [ 2.5 ] "float sigma" [ 0.8 ]"#;
     let (_, settings, warnings) = load(&format!("{film}\n{HEADER}"));
     assert!(warnings.is_empty(), "{warnings:?}");
+    let filter = settings.filter.unwrap();
+    assert_eq!(filter.kind(), FilterKind::Gaussian { sigma: 0.8 });
+    assert_eq!(filter.radius(), glam::Vec2::new(2.5, 1.5));
     assert_eq!(settings.max_depth, Some(5));
     assert_eq!(settings.max_component, Some(4.0));
     assert_eq!(settings.save_fp16, Some(false));
     let deep = HEADER.replace(r#"Integrator "volpath""#, r#"Integrator "path" "integer maxdepth" [ 11 ]"#);
     let (_, settings, _) = load(&deep);
     assert_eq!(settings.max_depth, Some(11));
+    for (text, kind, radius) in [
+        (
+            r#"PixelFilter "mitchell" "float B" [ 0.5 ] "float C" [ 0.25 ]"#,
+            FilterKind::Mitchell { b: 0.5, c: 0.25 },
+            2.0,
+        ),
+        (r#"PixelFilter "sinc" "float tau" [ 2 ] "float yradius" [ 3 ]"#, FilterKind::LanczosSinc { tau: 2.0 }, 4.0),
+        (r#"PixelFilter "triangle""#, FilterKind::Triangle, 2.0),
+        (r#"PixelFilter "box""#, FilterKind::Box, 0.5),
+    ] {
+        let (_, settings, warnings) = load(&format!("{text}\n{HEADER}"));
+        assert!(warnings.is_empty(), "{text}: {warnings:?}");
+        let f = settings.filter.unwrap();
+        assert_eq!((f.kind(), f.radius().x), (kind, radius), "{text}");
+    }
 }
