@@ -277,6 +277,8 @@ pub enum FloatOrTexture<'a> {
 #[derive(Clone, Debug, Default)]
 pub struct ParamSet {
     params: Vec<Param>,
+    /// Notes about the parameters as written (repeated names), reported with the unused ones.
+    notes: Vec<Warning>,
     /// Colour space of "rgb" values (the ColorSpace in effect; "srgb" unless changed).
     pub color_space: String,
 }
@@ -301,17 +303,21 @@ macro_rules! getters {
 impl ParamSet {
     /// An empty set in colour space `color_space`.
     pub fn new(color_space: &str) -> Self {
-        Self { params: Vec::new(), color_space: color_space.to_string() }
+        Self { params: Vec::new(), notes: Vec::new(), color_space: color_space.to_string() }
     }
 
-    /// Adds a parameter; a second parameter with the same name is an error (pbrt-v4 does the same).
+    /// Adds a parameter. A second one of the same name and kind replaces the first with a note,
+    /// as in pbrt-v4 (whose lookups find the last one written); one of another kind ("float
+    /// eta" beside "spectrum eta") is kept beside it, and each getter finds its own.
     pub fn push(&mut self, p: Param) -> Result<(), SceneError> {
-        if let Some(old) = self.params.iter().find(|q| q.name == p.name) {
-            return Err(SceneError::syntax(
-                &p.loc,
-                &format!("{} {}", p.type_name, p.name),
-                format!("parameter \"{}\" redefined (first defined at {})", p.name, old.loc),
-            ));
+        let same = |q: &Param| q.name == p.name && std::mem::discriminant(&q.value) == std::mem::discriminant(&p.value);
+        if let Some(i) = self.params.iter().position(same) {
+            let old = self.params.remove(i);
+            let message = format!(
+                "parameter \"{} {}\" given again (first at {}); the last value is used, as in pbrt-v4",
+                p.type_name, p.name, old.loc
+            );
+            self.notes.push(Warning::note(&p.loc, message));
         }
         self.params.push(p);
         Ok(())
@@ -354,8 +360,7 @@ impl ParamSet {
     }
 
     fn find<'a, T: ?Sized>(&'a self, name: &str, f: impl Fn(&'a ParamValue) -> Option<&'a T>) -> Option<&'a T> {
-        let p = self.params.iter().find(|p| p.name == name)?;
-        let v = f(&p.value)?;
+        let (p, v) = self.params.iter().filter(|p| p.name == name).find_map(|p| Some((p, f(&p.value)?)))?;
         p.mark();
         Some(v)
     }
@@ -486,7 +491,7 @@ impl ParamSet {
             }
             _ => None,
         });
-        unused.chain(extra).chain(negative).collect()
+        self.notes.iter().cloned().chain(unused).chain(extra).chain(negative).collect()
     }
 }
 
@@ -579,7 +584,12 @@ mod tests {
                 "dir/p.pbrt:1:1: warning: parameter \"integer n\" of Shape \"sphere\" was not used",
             ]
         );
-        assert!(ps.push(param("float radius", "1").unwrap()).unwrap_err().to_string().contains("redefined"));
+        // Given again: the last value wins, with a note; another kind of the same name stays.
+        ps.push(param("float radius", "5").unwrap()).unwrap();
+        ps.push(param("string radius", "\"r\"").unwrap()).unwrap();
+        assert_eq!(ps.float("radius"), Some(5.0));
+        assert_eq!(ps.string("radius"), Some("r"));
+        assert!(ps.report_unused("Shape \"sphere\"").iter().any(|w| w.message.contains("given again")));
     }
 
     #[test]
