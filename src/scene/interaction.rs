@@ -8,6 +8,7 @@ use crate::geometry::{Hit, Ray};
 use crate::light::{AreaLight, Light};
 use crate::material::{Material, ShadingPoint};
 use crate::math::{offset_ray_origin, triangle_point};
+use crate::sampling::rng::hash64;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 use glam::{Vec2, Vec3};
 
@@ -138,6 +139,24 @@ impl<'s> SurfaceInteraction<'s> {
     #[inline]
     pub fn bsdf(&self, w: &mut SampledWavelengths) -> Option<Bsdf> {
         self.material().and_then(|m| m.bsdf(&self.shading, w))
+    }
+
+    /// True when the primitive's alpha mask lets `ray` through here. Alpha a ≥ 1 keeps every
+    /// hit, a ≤ 0 none; a fractional a keeps a hit with probability a, decided by a hash of the
+    /// ray so that the decision is the same every time the same ray is traced (pbrt-v4's
+    /// stochastic alpha).
+    pub fn is_cut_out(&self, ray: &Ray) -> bool {
+        let Some(alpha) = self.bound.and_then(|b| b.primitive.alpha.as_ref()) else { return false };
+        let a = alpha.eval(self.shading.uv);
+        if a >= 1.0 {
+            return false;
+        }
+        if a <= 0.0 {
+            return true;
+        }
+        let bits = [ray.o.x, ray.o.y, ray.o.z, ray.d.x, ray.d.y, ray.d.z].map(|v| u64::from(v.to_bits()));
+        let u = (hash64(&bits) >> 40) as f32 * (1.0 / (1u64 << 24) as f32);
+        u > a
     }
 
     /// True when the surface is only a boundary between media (an interface material): a ray

@@ -32,7 +32,7 @@ use crate::accel::{self, Accel, AccelKind};
 use crate::camera::Camera;
 use crate::geometry::{Hit, Instance, InstanceSet, Mesh, Prototype, Ray};
 use crate::light::{AreaLight, Light, LightSampler};
-use crate::material::Material;
+use crate::material::{FloatTexture, Material};
 use crate::spectrum::Spectrum;
 use glam::{Mat4, Vec2, Vec3};
 use std::sync::Arc;
@@ -94,6 +94,8 @@ struct PendingPrimitive {
     mesh: Mesh,
     material: u32,
     emission: Option<Emission>,
+    /// Cut-out mask (`None`: opaque).
+    alpha: Option<FloatTexture>,
     /// Its prototype (`None`: placed in the world as it is).
     prototype: Option<u32>,
 }
@@ -139,8 +141,25 @@ impl SceneBuilder {
             self.warnings
                 .push(format!("mesh {id}: skipped {dropped} degenerate triangle(s) (zero area or NaN/Inf vertices)"));
         }
-        self.primitives.push(PendingPrimitive { mesh, material, emission, prototype: None });
+        self.primitives.push(PendingPrimitive { mesh, material, emission, alpha: None, prototype: None });
         id
+    }
+
+    /// Gives primitive `id` a cut-out mask (pbrt-v4's shape `alpha`): where it evaluates to a < 1
+    /// a ray passes through with probability 1 − a. A constant 1 (or more) is opaque and stores
+    /// nothing.
+    pub fn set_alpha(&mut self, id: u32, alpha: FloatTexture) {
+        if matches!(alpha, FloatTexture::Constant(a) if a >= 1.0) {
+            return;
+        }
+        if let Some(p) = self.primitives.get_mut(id as usize) {
+            p.alpha = Some(alpha);
+        }
+    }
+
+    /// The primitive ids of prototype `proto`'s meshes, in the order they were given.
+    pub fn prototype_meshes(&self, proto: u32) -> &[u32] {
+        self.prototypes.get(proto as usize).map_or(&[], |p| p.meshes.as_slice())
     }
 
     /// Adds a prototype: meshes in object space, each with its material (no emission: pbrt-v4
@@ -267,8 +286,9 @@ impl SceneBuilder {
         // The accelerator reads the meshes as one slice; they then move into their primitives.
         let world_meshes =
             (0..self.primitives.len() as u32).filter(|&m| self.primitives[m as usize].prototype.is_none()).collect();
-        let (meshes, parts): (Vec<Mesh>, Vec<(u32, Option<Emission>)>) =
-            self.primitives.into_iter().map(|p| (p.mesh, (p.material, p.emission))).unzip();
+        type Parts = (u32, Option<Emission>, Option<FloatTexture>);
+        let (meshes, parts): (Vec<Mesh>, Vec<Parts>) =
+            self.primitives.into_iter().map(|p| (p.mesh, (p.material, p.emission, p.alpha))).unzip();
         let accel = if self.prototypes.is_empty() {
             accel::build(accel_kind, &meshes)
         } else {
@@ -278,7 +298,7 @@ impl SceneBuilder {
         .map_err(BuildError::Accel)?;
         let mut lights = self.lights;
         let mut primitives = Vec::with_capacity(meshes.len());
-        for (mesh, (material, emission)) in meshes.into_iter().zip(parts) {
+        for (mesh, (material, emission, alpha)) in meshes.into_iter().zip(parts) {
             let area_lights = emission.map(|em| {
                 let first = lights.len() as u32;
                 let spectrum = Arc::new(em.spectrum);
@@ -301,9 +321,10 @@ impl SceneBuilder {
                 material,
                 area_lights,
                 medium_interface: MediumInterface::default(),
-                alpha: None,
+                alpha,
             });
         }
+        let has_alpha = primitives.iter().any(|p| p.alpha.is_some());
         let bounds = accel.bounds();
         let radius = if bounds.is_empty() { 1.0 } else { bounds.radius().max(1e-6) };
         let light_sampler = LightSampler::new(&lights, radius);
@@ -312,6 +333,7 @@ impl SceneBuilder {
         let has_interfaces = self.materials.iter().any(Material::is_interface);
         Ok(Scene {
             has_interfaces,
+            has_alpha,
             accel,
             primitives,
             instances: self.instances,
@@ -350,6 +372,8 @@ pub struct Scene {
     pub scene_radius: f32,
     /// Some material is an interface, so shadow rays must look past the surfaces they hit.
     has_interfaces: bool,
+    /// Some primitive has an alpha mask, so every hit must be tested against it.
+    has_alpha: bool,
 }
 
 /// Most interfaces a ray passes through before it is taken as blocked (a guard against
@@ -361,7 +385,27 @@ impl Scene {
     /// material and emission.
     #[inline]
     pub fn intersect(&self, ray: &Ray) -> Option<SurfaceInteraction<'_>> {
+        if self.has_alpha {
+            return self.intersect_past_cut_outs(*ray);
+        }
         self.accel.intersect(ray).map(|hit| SurfaceInteraction::new(self, ray, &hit))
+    }
+
+    /// The closest hit that its primitive's alpha mask keeps. Rejected hits lie at increasing
+    /// distances, so continuing the ray past each finds the closest kept one; a ray the masks
+    /// keep crossing is taken to escape after [`MAX_INTERFACE_CROSSINGS`] of them.
+    fn intersect_past_cut_outs(&self, mut ray: Ray) -> Option<SurfaceInteraction<'_>> {
+        for _ in 0..MAX_INTERFACE_CROSSINGS {
+            let hit = self.accel.intersect(&ray)?;
+            let si = SurfaceInteraction::new(self, &ray, &hit);
+            if !si.is_cut_out(&ray) {
+                return Some(si);
+            }
+            let t_left = ray.t_max - hit.t;
+            ray = si.spawn_ray(ray.d);
+            ray.t_max = t_left;
+        }
+        None
     }
 
     /// The closest hit record along `ray`, for callers that decide from its distance alone
@@ -382,12 +426,13 @@ impl Scene {
         SurfaceInteraction::new(self, ray, hit)
     }
 
-    /// True when a surface blocks `ray` with t in (0, ray.t_max) (shadow rays). Interfaces
-    /// block nothing: with any in the scene, the ray is traced from surface to surface past
-    /// them (pbrt-v4's transmittance rays do the same); without, one occlusion query answers.
+    /// True when a surface blocks `ray` with t in (0, ray.t_max) (shadow rays). Interfaces and
+    /// cut-outs block nothing: with any in the scene, the ray is traced from surface to surface
+    /// past them (pbrt-v4's transmittance rays do the same); without, one occlusion query
+    /// answers.
     #[inline]
     pub fn occluded(&self, ray: &Ray) -> bool {
-        if !self.has_interfaces {
+        if !(self.has_interfaces || self.has_alpha) {
             return self.accel.occluded(ray);
         }
         self.occluded_past_interfaces(*ray)

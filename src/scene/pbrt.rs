@@ -439,10 +439,17 @@ impl Ctx<'_> {
                 None => {
                     let obj = &desc.objects[inst.object_index];
                     let mut meshes = Vec::with_capacity(obj.shapes.len());
+                    let mut alphas = Vec::with_capacity(obj.shapes.len());
                     for s in &obj.shapes {
                         meshes.push((shape_mesh(s), self.material(desc.material(&s.material))?));
+                        alphas.push(self.float_texture(&s.params, "alpha", 1.0)?);
                     }
                     let p = (!meshes.is_empty()).then(|| self.b.add_prototype(meshes));
+                    if let Some(p) = p {
+                        for (id, alpha) in self.b.prototype_meshes(p).to_vec().into_iter().zip(alphas) {
+                            self.b.set_alpha(id, alpha);
+                        }
+                    }
                     prototype.insert(inst.object_index, p);
                     p
                 }
@@ -472,7 +479,9 @@ impl Ctx<'_> {
                 Some(Emission { spectrum, scale, two_sided })
             }
         };
-        self.b.add_mesh(mesh, material, emission);
+        let id = self.b.add_mesh(mesh, material, emission);
+        let alpha = self.float_texture(&s.params, "alpha", 1.0)?;
+        self.b.set_alpha(id, alpha);
         Ok(())
     }
 }

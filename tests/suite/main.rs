@@ -2,6 +2,7 @@
 //! keeps CI's compile time down (one test binary per file would link it a dozen times).
 
 mod accel_agreement;
+mod alpha;
 mod cli;
 mod common;
 mod compat;
