@@ -64,7 +64,6 @@ fn every_unsupported_feature_warns_and_is_an_error_in_strict_mode() {
             "participating medium",
         ),
         (true, "Film \"rgb\" \"string sensor\" \"canon_eos_100d\"".into(), "Film", "sensor \"canon_eos_100d\""),
-        (true, "PixelFilter \"sinc\"".into(), "PixelFilter", "pixel filter \"sinc\""),
         (
             false,
             "LightSource \"point\" \"spectrum I\" \"stdillum-F7\"".into(),
