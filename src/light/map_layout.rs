@@ -89,19 +89,17 @@ impl MapLayout {
 
     /// ∫ max(cos θ, 0) dω over texel (x, y) [sr]: the weight of its radiance in the irradiance
     /// of a patch facing +z. Exact for a latitude–longitude row, (2π/w)·½(sin²θ₁ − sin²θ₀)
-    /// clipped at the horizon; for an equal-area texel the midpoint rule, 4π/(w h) · cos θ of
-    /// its centre when that is above the horizon.
+    /// clipped at the horizon. On an equal-area map cos θ = 1 − (|u'| + |v'|)² inside the
+    /// horizon diamond (u' = 2u − 1, v' = 2v − 1): [`diamond_cosine_integral`].
     pub fn texel_cosine_weight(self, x: usize, y: usize, width: usize, height: usize) -> f64 {
         use std::f64::consts::{FRAC_PI_2, PI};
         match self {
             MapLayout::EqualArea => {
-                let centre = Vec2::new((x as f32 + 0.5) / width as f32, (y as f32 + 0.5) / height as f32);
-                let z = equal_area::square_to_sphere(centre).z as f64;
-                if z > 0.0 {
-                    self.texel_solid_angle(y, width, height) * z
-                } else {
-                    0.0
-                }
+                let (n_u, n_v) = (width as f64, height as f64);
+                let u = (2.0 * x as f64 / n_u - 1.0, 2.0 * (x + 1) as f64 / n_u - 1.0);
+                let v = (2.0 * y as f64 / n_v - 1.0, 2.0 * (y + 1) as f64 / n_v - 1.0);
+                let area = (u.1 - u.0) * (v.1 - v.0);
+                self.texel_solid_angle(y, width, height) * diamond_cosine_integral(u, v, 8) / area
             }
             MapLayout::LatLong => {
                 let t0 = PI * y as f64 / height as f64;
@@ -112,6 +110,54 @@ impl MapLayout {
                 0.5 * (t1.sin().powi(2) - t0.sin().powi(2)) * 2.0 * PI / width as f64
             }
         }
+    }
+
+    /// pbrt-v4's weight of texel (x, y) in its "illuminance" sum (`Light::Create`): on an
+    /// equal-area map 2π/(w h) · cos θ of the texel's centre when that is above the horizon,
+    /// where the texel subtends 4π/(w h), so the sum is half the irradiance integral.
+    /// Latitude–longitude maps are prism's: the true weight.
+    pub fn pbrt_v4_cosine_weight(self, x: usize, y: usize, width: usize, height: usize) -> f64 {
+        match self {
+            MapLayout::EqualArea => {
+                let centre = Vec2::new((x as f32 + 0.5) / width as f32, (y as f32 + 0.5) / height as f32);
+                let z = equal_area::square_to_sphere(centre).z as f64;
+                if z > 0.0 {
+                    0.5 * self.texel_solid_angle(y, width, height) * z
+                } else {
+                    0.0
+                }
+            }
+            MapLayout::LatLong => self.texel_cosine_weight(x, y, width, height),
+        }
+    }
+}
+
+/// ∫∫ max(1 − (|u'| + |v'|)², 0) du' dv' over the rectangle `u` × `v`: 2 × 2 Gauss–Legendre
+/// points, exact for the quadratic, on rectangles inside the diamond and one quadrant; those the
+/// horizon |u'| + |v'| = 1 or an axis crosses are split in four, `depth` times, then take their
+/// midpoint.
+fn diamond_cosine_integral(u: (f64, f64), v: (f64, f64), depth: u32) -> f64 {
+    let nearest = |a: f64, b: f64| if a * b <= 0.0 { 0.0 } else { a.abs().min(b.abs()) };
+    let near = nearest(u.0, u.1) + nearest(v.0, v.1);
+    let far = u.0.abs().max(u.1.abs()) + v.0.abs().max(v.1.abs());
+    let area = (u.1 - u.0) * (v.1 - v.0);
+    let cosine = |a: f64, b: f64| (1.0 - (a.abs() + b.abs()).powi(2)).max(0.0);
+    let mid = |(a, b): (f64, f64)| 0.5 * (a + b);
+    if near >= 1.0 {
+        0.0
+    } else if far <= 1.0 && u.0 * u.1 >= 0.0 && v.0 * v.1 >= 0.0 {
+        let g = 0.5 / 3f64.sqrt();
+        let at = |t: f64, (a, b): (f64, f64)| 0.5 * (a + b) + t * (b - a);
+        let sum: f64 = [(-g, -g), (-g, g), (g, -g), (g, g)].iter().map(|&(s, t)| cosine(at(s, u), at(t, v))).sum();
+        area * sum / 4.0
+    } else if depth == 0 {
+        area * cosine(mid(u), mid(v))
+    } else {
+        let (um, vm) = (mid(u), mid(v));
+        [((u.0, um), (v.0, vm)), ((um, u.1), (v.0, vm)), ((u.0, um), (vm, v.1)), ((um, u.1), (vm, v.1))]
+            .iter()
+            .map(|&(a, b)| diamond_cosine_integral(a, b, depth - 1))
+            .sum()
     }
 }
 
@@ -127,17 +173,34 @@ mod tests {
         }
     }
 
+    fn weight_sum(
+        layout: MapLayout,
+        w: usize,
+        h: usize,
+        weight: fn(MapLayout, usize, usize, usize, usize) -> f64,
+    ) -> f64 {
+        (0..h).flat_map(|y| (0..w).map(move |x| weight(layout, x, y, w, h))).sum()
+    }
+
     #[test]
     fn cosine_weights_sum_to_pi_over_the_upper_hemisphere() {
-        // ∫_{H²} cos θ dω = π; the equal-area midpoint rule converges to it with resolution.
-        let sum = |layout: MapLayout, w: usize, h: usize| -> f64 {
-            (0..h).flat_map(|y| (0..w).map(move |x| layout.texel_cosine_weight(x, y, w, h))).sum()
-        };
+        // ∫_{H²} cos θ dω = π, for even and odd sizes (an odd one has texels on the axes).
         let pi = std::f64::consts::PI;
-        assert!((sum(MapLayout::LatLong, 20, 10) - pi).abs() < 1e-12);
-        let coarse = (sum(MapLayout::EqualArea, 16, 16) - pi).abs();
-        let fine = (sum(MapLayout::EqualArea, 256, 256) - pi).abs();
-        assert!(fine < 2e-3 * pi && fine < coarse, "16²: {coarse}, 256²: {fine}");
+        assert!((weight_sum(MapLayout::LatLong, 20, 10, MapLayout::texel_cosine_weight) - pi).abs() < 1e-12);
+        for n in [1, 5, 16, 33] {
+            let sum = weight_sum(MapLayout::EqualArea, n, n, MapLayout::texel_cosine_weight);
+            assert!((sum - pi).abs() < 1e-4 * pi, "{n}²: {sum}");
+        }
+    }
+
+    #[test]
+    fn pbrt_v4_weights_are_half_the_midpoint_rule() {
+        // pbrt-v4's sum at 16²: (2π/256) Σ (1 − r²) over the centres inside the diamond,
+        // 1.54625 (π/2 less the midpoint rule's error), against π for the true integral.
+        let pbrt = weight_sum(MapLayout::EqualArea, 16, 16, MapLayout::pbrt_v4_cosine_weight);
+        assert!((pbrt - 1.546_253).abs() < 1e-5, "{pbrt}");
+        let latlong = weight_sum(MapLayout::LatLong, 16, 8, MapLayout::pbrt_v4_cosine_weight);
+        assert!((latlong - std::f64::consts::PI).abs() < 1e-12);
     }
 
     #[test]

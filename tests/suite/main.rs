@@ -5,6 +5,7 @@ mod accel_agreement;
 mod cli;
 mod common;
 mod envmap;
+mod equal_area_envmap;
 mod film;
 mod instancing;
 mod merge;
