@@ -6,14 +6,17 @@ mod area;
 mod distant;
 mod envmap;
 mod infinite;
+mod map_layout;
 pub mod photometry;
 mod point;
 mod sampler;
+mod texel_spectrum;
 
 pub use area::{AreaLight, TriangleLightLanes};
 pub use distant::DistantLight;
 pub use envmap::EnvMapLight;
 pub use infinite::UniformInfiniteLight;
+pub use map_layout::MapLayout;
 pub use point::{PointLight, SpotFalloff, SpotLight};
 pub use sampler::LightSampler;
 
@@ -53,7 +56,7 @@ pub enum Light {
     Distant(DistantLight),
     /// Constant radiance from every direction.
     UniformInfinite(UniformInfiniteLight),
-    /// Radiance from an equirectangular environment image.
+    /// Radiance from an environment image (equal-area or latitude–longitude).
     EnvMap(EnvMapLight),
 }
 

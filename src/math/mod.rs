@@ -1,5 +1,7 @@
-//! Math: glam re-exports, orthonormal frames, robust ray-origin offsets.
+//! Math: glam re-exports, orthonormal frames, robust ray-origin offsets, the equal-area
+//! square–sphere mapping.
 
+pub mod equal_area;
 mod frame;
 pub mod offset;
 

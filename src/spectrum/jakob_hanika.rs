@@ -77,6 +77,10 @@ pub(crate) struct SigmoidFitter {
     /// The same, on a 10 nm grid (for building the table quickly).
     coarse_x: Vec<f64>,
     coarse_w: Vec<DVec3>,
+    /// σ sampled every [`SigmoidFitter::HAT_STEP_NM`] and interpolated linearly, integrated
+    /// exactly against the fine weights (for refining many colours quickly).
+    hat_x: Vec<f64>,
+    hat_w: Vec<DVec3>,
 }
 
 /// Max abs component of `rgb − target`; infinite if anything is NaN (glam's `max_element`
@@ -88,6 +92,23 @@ fn residual(rgb: DVec3, target: DVec3) -> f64 {
     } else {
         f64::INFINITY
     }
+}
+
+/// The product rule for `intervals` equal intervals of x ∈ [0, 1]: node j's weight is
+/// Σₖ wₖ hatⱼ(xₖ) over the fine nodes, hatⱼ the piecewise-linear basis function of node j, so
+/// Σⱼ σ(xⱼ) Wⱼ is the fine rule applied to σ's linear interpolant.
+fn hat_rule(x: &[f64], w: &[DVec3], intervals: usize) -> (Vec<f64>, Vec<DVec3>) {
+    let n = intervals.max(1);
+    let nodes = (0..=n).map(|j| j as f64 / n as f64).collect();
+    let mut weights = vec![DVec3::ZERO; n + 1];
+    for (&xk, &wk) in x.iter().zip(w) {
+        let s = (xk * n as f64).clamp(0.0, n as f64);
+        let j = (s as usize).min(n - 1);
+        let f = s - j as f64;
+        weights[j] += wk * (1.0 - f);
+        weights[j + 1] += wk * f;
+    }
+    (nodes, weights)
 }
 
 /// Result of one fit.
@@ -128,7 +149,8 @@ impl SigmoidFitter {
         let (x, w) = build(1.0);
         // 10 nm intervals: the coarse rule only feeds the table, refinement uses the fine one.
         let (coarse_x, coarse_w) = build(10.0);
-        Self { x, w, coarse_x, coarse_w }
+        let (hat_x, hat_w) = hat_rule(&x, &w, (X_SPAN / Self::HAT_STEP_NM).round() as usize);
+        Self { x, w, coarse_x, coarse_w, hat_x, hat_w }
     }
 
     /// RGB of σ(poly) and its Jacobian with respect to the coefficients.
@@ -218,6 +240,16 @@ impl SigmoidFitter {
         } else {
             first
         }
+    }
+
+    /// Node spacing of the product rule of [`SigmoidFitter::fit_fast`] [nm].
+    pub const HAT_STEP_NM: f64 = 5.0;
+
+    /// Newton from `init` on the product rule (95 nodes instead of the fine rule's ~1400): the
+    /// rule replaces σ by its piecewise-linear interpolant, an error of h²/8 · max |σ''| in
+    /// each channel, far below the table's for the smooth sigmoids of moderate colours.
+    pub fn fit_fast(&self, target: DVec3, init: SigmoidPolynomial) -> Fit {
+        Self::newton(&self.hat_x, &self.hat_w, target, init.c, 20, 1e-6)
     }
 
     fn fit_coarse(&self, target: DVec3, init: [f64; 3]) -> [f64; 3] {
@@ -349,9 +381,53 @@ pub fn fit_albedo(rgb: [f64; 3], cs: &ColorSpace) -> Fit {
     cs.fitter().fit(DVec3::from_array(rgb), init)
 }
 
+/// [`fit_albedo`] for many colours (each texel of an image): the table's start refined by
+/// Newton on the fitter's 5 nm product rule. Many times faster than [`fit_albedo`]; on a 9³ grid
+/// of the sRGB cube its round trip is within 7.6e-4 (the steep sigmoids of saturated colours)
+/// where the table alone is off by up to 1.3e-2 (`fast_fit_round_trip_is_close_to_the_full_fit`).
+pub fn fit_albedo_fast(rgb: [f64; 3], cs: &ColorSpace) -> SigmoidPolynomial {
+    let rgb = rgb.map(|v| if v.is_finite() { v.clamp(0.0, 1.0) } else { 0.0 });
+    let init = cs.rgb_to_spectrum_table().lookup(rgb);
+    if rgb[0] == rgb[1] && rgb[1] == rgb[2] {
+        return init;
+    }
+    let fit = cs.fitter().fit_fast(DVec3::from_array(rgb), init);
+    if fit.poly.c.iter().all(|c| c.is_finite()) {
+        fit.poly
+    } else {
+        init
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Linear RGB of σ(poly) under the space's white, by the fine rule.
+    fn round_trip(poly: SigmoidPolynomial, cs: &ColorSpace) -> DVec3 {
+        SigmoidFitter::eval(&cs.fitter().x, &cs.fitter().w, poly.c).0
+    }
+
+    #[test]
+    fn fast_fit_round_trip_is_close_to_the_full_fit() {
+        let cs = ColorSpace::srgb();
+        let (mut worst_fast, mut worst_table) = (0.0f64, 0.0f64);
+        let n = 9;
+        for i in 0..n {
+            for j in 0..n {
+                for k in 0..n {
+                    let rgb = [i, j, k].map(|v| (v as f64 + 0.5) / n as f64);
+                    let target = DVec3::from_array(rgb);
+                    let fast = round_trip(fit_albedo_fast(rgb, cs), cs);
+                    let table = round_trip(cs.rgb_to_spectrum_table().lookup(rgb), cs);
+                    worst_fast = worst_fast.max((fast - target).abs().max_element());
+                    worst_table = worst_table.max((table - target).abs().max_element());
+                }
+            }
+        }
+        assert!(worst_fast < 1e-3, "fast fit off by {worst_fast} (table {worst_table})");
+        assert!(worst_fast < 0.1 * worst_table, "fast {worst_fast} vs table {worst_table}");
+    }
 
     #[test]
     #[ignore = "timing probe: cargo test --no-default-features --lib table_build_time -- --ignored --nocapture"]

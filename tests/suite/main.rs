@@ -7,6 +7,7 @@ mod cli;
 mod common;
 mod compat;
 mod envmap;
+mod equal_area_envmap;
 mod film;
 mod instancing;
 mod merge;

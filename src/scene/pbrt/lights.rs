@@ -43,9 +43,12 @@ impl Ctx<'_> {
         }
     }
 
-    /// pbrt "infinite" with "filename": an equirectangular map (+z up, u = φ/2π, v = θ/π; the
-    /// pbrt-v3 layout) whose RGB is an illuminant of the file's colour space, times `scale`, or
-    /// scaled so an upward-facing (+z) patch receives `illuminance` [lux].
+    /// pbrt "infinite" with "filename": a square image is pbrt-v4's equal-area octahedral map,
+    /// any other shape prism's latitude–longitude map (+z up, u = φ/2π, v = θ/π; pbrt-v3's
+    /// layout), its RGB an illuminant of the scene's colour space (pbrt-v4 reads the file's; prism
+    /// does not read colour-space metadata from files), times `scale`. "illuminance" E scales
+    /// the map as pbrt-v4 does, which on an equal-area map gives an upward-facing (+z) patch 2E
+    /// ([`EnvMapLight::pbrt_v4_upper_hemisphere_y`]); prism's "lux" E gives it E.
     pub(super) fn env_map(&mut self, l: &LightDesc) -> Result<EnvMapLight, SceneError> {
         let p = &l.params;
         if p.has("L") {
@@ -56,15 +59,12 @@ impl Ctx<'_> {
             ));
         }
         let image = self.image(p, &l.loc)?;
-        if image.width == image.height {
-            let feature = "equal-area octahedral environment map (pbrt-v4 stores them square)".to_string();
-            self.unsupported(&l.loc, feature, "reads the square map as equirectangular");
-        }
         let space = space_of(p);
         let rotation = orthonormal(glam::Mat3::from_mat4(l.world_from_light));
         let mut light = EnvMapLight::new(&image, rotation, p.float_or("scale", 1.0), space);
-        let k_e = light.upper_hemisphere_y() as f32;
-        light.scale *= brightness_factor(p, ILLUMINANCE, k_e, None, &l.loc)?;
+        let pbrt_target = p.float(ILLUMINANCE.pbrt).is_some_and(|v| v > 0.0);
+        let k_e = if pbrt_target { light.pbrt_v4_upper_hemisphere_y() } else { light.upper_hemisphere_y() };
+        light.scale *= brightness_factor(p, ILLUMINANCE, k_e as f32, None, &l.loc)?;
         Ok(light)
     }
 
