@@ -137,8 +137,9 @@ fn load(text: &str) -> Scene {
 
 #[test]
 fn illuminance_and_lux_set_the_upward_patch_as_pbrt_v4_and_si_say() {
-    // pbrt-v4: an image infinite light with "illuminance" q is scaled so that a patch facing +z
-    // (the map's zenith) reads Y = q on its film, whatever the map holds (K_m ∫ȳ dλ · q lux);
+    // On an equirectangular map (prism's layout; pbrt-v4's square maps get twice, see
+    // equal_area_envmap.rs) "illuminance" q scales the light so that a patch facing +z (the
+    // map's zenith) reads Y = q on its film, whatever the map holds (K_m ∫ȳ dλ · q lux);
     // prism's "lux" q gives it q lux.
     for (param, lux) in [("illuminance", 1500.0 * lumens_per_unit_y() as f64), ("lux", 1500.0)] {
         let scene = load(&format!(
