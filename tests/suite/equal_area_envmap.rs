@@ -213,7 +213,7 @@ fn channel_means(img: &Image) -> [f64; 3] {
 
 #[test]
 fn compat_envmap_scene_has_pbrt_v4s_channel_means() {
-    // pbrt-v4's mean of envmap.pbrt (160², 1024 spp, ref/REFERENCES.json). The image mean does
+    // pbrt-v4's own mean of the compat scene envmap.pbrt (160², 1024 spp, seed 1). The image mean does
     // not depend on the resolution (prism at 40² and 160², 2048 spp: equal to 1e-4), so two
     // cheap 40² renders of 32 spp with different seeds give the mean and, from their
     // per-pixel differences, its standard error: Var(pixel) ≈ (a − b)²/2, so the mean of
