@@ -103,22 +103,25 @@ fn builder_with(light: Light) -> Scene {
 #[test]
 fn constant_map_gives_e_equal_pi_l_with_every_strategy() {
     // RGB (0.5, 0.5, 0.5) is the space's white at luminance Y = 0.5, so the illuminance on any
-    // unoccluded patch is E_v = π · 0.5 · K_m ∫ȳ dλ [lux].
-    let grey = image(16, 8, |_, _| [0.5; 3]);
-    let light = EnvMapLight::new(&grey, Mat3::from_rotation_y(0.4), 1.0, ColorSpace::srgb());
-    let scene = builder_with(Light::EnvMap(light));
+    // unoccluded patch is E_v = π · 0.5 · K_m ∫ȳ dλ [lux], in either layout: equirectangular
+    // (16 × 8) and equal-area (16 × 16).
     let expected = (PI * 0.5 * lumens_per_unit_y()) as f64;
-    for strategy in [DirectStrategy::Mis, DirectStrategy::LightOnly, DirectStrategy::BsdfOnly] {
-        let integ = PathIntegrator { max_depth: 1, strategy, ..Default::default() };
-        for n in [Vec3::Z, Vec3::new(0.3, -0.8, 0.2)] {
-            let m = irradiance(&scene, &integ, Vec3::ZERO, n, 20_000, 11);
-            let e = m.illuminance;
-            assert!(
-                (e.mean - expected).abs() <= 3.0 * e.std_err + 1e-4 * expected,
-                "{strategy:?} n={n}: {} ± {} lux vs πL = {expected}",
-                e.mean,
-                e.std_err
-            );
+    for grey in [image(16, 8, |_, _| [0.5; 3]), crate::equal_area_envmap::equal_area_map(16, |_, _, _| [0.5; 3])] {
+        let light = EnvMapLight::new(&grey, Mat3::from_rotation_y(0.4), 1.0, ColorSpace::srgb());
+        let layout = light.layout();
+        let scene = builder_with(Light::EnvMap(light));
+        for strategy in [DirectStrategy::Mis, DirectStrategy::LightOnly, DirectStrategy::BsdfOnly] {
+            let integ = PathIntegrator { max_depth: 1, strategy, ..Default::default() };
+            for n in [Vec3::Z, Vec3::new(0.3, -0.8, 0.2)] {
+                let m = irradiance(&scene, &integ, Vec3::ZERO, n, 20_000, 11);
+                let e = m.illuminance;
+                assert!(
+                    (e.mean - expected).abs() <= 3.0 * e.std_err + 1e-4 * expected,
+                    "{layout:?} {strategy:?} n={n}: {} ± {} lux vs πL = {expected}",
+                    e.mean,
+                    e.std_err
+                );
+            }
         }
     }
 }
@@ -137,8 +140,9 @@ fn load(text: &str) -> Scene {
 
 #[test]
 fn illuminance_and_lux_set_the_upward_patch_as_pbrt_v4_and_si_say() {
-    // pbrt-v4: an image infinite light with "illuminance" q is scaled so that a patch facing +z
-    // (the map's zenith) reads Y = q on its film, whatever the map holds (K_m ∫ȳ dλ · q lux);
+    // On an equirectangular map (prism's layout; pbrt-v4's square maps get twice, see
+    // equal_area_envmap.rs) "illuminance" q scales the light so that a patch facing +z (the
+    // map's zenith) reads Y = q on its film, whatever the map holds (K_m ∫ȳ dλ · q lux);
     // prism's "lux" q gives it q lux.
     for (param, lux) in [("illuminance", 1500.0 * lumens_per_unit_y() as f64), ("lux", 1500.0)] {
         let scene = load(&format!(

@@ -1,27 +1,27 @@
 //! pbrt-v4's square equal-area environment maps: χ² of their importance sampling on the sphere
-//! and over the square, the sampled pdf against `pdf_li` and its normalisation, E = πL from a
-//! constant map with every direct-lighting strategy, pbrt-v4's "illuminance" (twice the
-//! requested irradiance, the figure pbrt-v4 renders) next to the uniform sky's, and the compat
-//! scene `envmap.pbrt` against pbrt-v4's own render.
+//! and over the square, the sampled pdf against `pdf_li` and its normalisation, pbrt-v4's
+//! "illuminance" (twice the requested irradiance, the figure pbrt-v4 renders) next to the
+//! uniform sky's, and the compat scene `envmap.pbrt` against pbrt-v4's own render. (E = πL from
+//! a constant map, both layouts: `envmap.rs`.)
 
 use crate::common::{prism, tmpdir};
 use glam::{Mat3, Vec2, Vec3};
 use prism::accel::AccelKind;
 use prism::image::Image;
-use prism::integrator::{DirectStrategy, PathIntegrator};
+use prism::integrator::PathIntegrator;
 use prism::light::photometry::lumens_per_unit_y;
-use prism::light::{EnvMapLight, Light, MapLayout};
+use prism::light::{EnvMapLight, MapLayout};
 use prism::math::equal_area::{sphere_to_square, square_to_sphere};
 use prism::math::PI;
 use prism::measure::irradiance;
 use prism::sampling::chi2::{Chi2Test, Domain};
 use prism::sampling::Rng;
-use prism::scene::{parse_str, Scene, SceneBuilder};
+use prism::scene::parse_str;
 use prism::spectrum::ColorSpace;
 use std::path::{Path, PathBuf};
 
 /// An n × n equal-area map whose texel (x, y) holds `f` of the direction of its centre.
-fn equal_area_map(n: u32, f: impl Fn(u32, u32, Vec3) -> [f32; 3]) -> Image {
+pub fn equal_area_map(n: u32, f: impl Fn(u32, u32, Vec3) -> [f32; 3]) -> Image {
     let mut img = Image::new(n, n, 3);
     for y in 0..n {
         for x in 0..n {
@@ -147,33 +147,6 @@ fn sampled_pdf_is_pdf_li_and_integrates_to_one() {
     assert!((mean - 1.0).abs() < 4.0 * se, "∫ pdf dω = {mean} ± {se}");
 }
 
-fn scene_with(light: Light) -> Scene {
-    let mut b = SceneBuilder::new();
-    b.set_camera(prism::camera::Camera::look_at(Vec3::new(0.0, 0.0, -5.0), Vec3::ZERO, Vec3::Y), 45.0);
-    b.add_light(light);
-    b.build(AccelKind::Obvhs).unwrap()
-}
-
-#[test]
-fn constant_equal_area_map_gives_e_equal_pi_l_with_every_strategy() {
-    // RGB 0.5 is the space's white at Y = 0.5: E_v = π · 0.5 · K_m ∫ȳ dλ on any unoccluded patch.
-    let grey = equal_area_map(16, |_, _, _| [0.5; 3]);
-    let scene = scene_with(Light::EnvMap(light(&grey, Mat3::from_rotation_y(0.4))));
-    let expected = (PI * 0.5 * lumens_per_unit_y()) as f64;
-    for strategy in [DirectStrategy::Mis, DirectStrategy::LightOnly, DirectStrategy::BsdfOnly] {
-        let integ = PathIntegrator { max_depth: 1, strategy, ..Default::default() };
-        for n in [Vec3::Z, Vec3::new(0.3, -0.8, 0.2)] {
-            let e = irradiance(&scene, &integ, Vec3::ZERO, n, 20_000, 5).illuminance;
-            assert!(
-                (e.mean - expected).abs() <= 3.0 * e.std_err + 1e-4 * expected,
-                "{strategy:?} n={n}: {} ± {} lux vs πL = {expected}",
-                e.mean,
-                e.std_err
-            );
-        }
-    }
-}
-
 /// Irradiance, in film units Y, of a patch facing +z under the lights of `world` (files
 /// relative to `dir`), with its standard error.
 fn upward_y(world: &str, dir: &Path) -> (f64, f64) {
@@ -240,7 +213,7 @@ fn channel_means(img: &Image) -> [f64; 3] {
 
 #[test]
 fn compat_envmap_scene_has_pbrt_v4s_channel_means() {
-    // pbrt-v4's mean of envmap.pbrt (160², 1024 spp, ref/REFERENCES.json). The image mean does
+    // pbrt-v4's own mean of the compat scene envmap.pbrt (160², 1024 spp, seed 1). The image mean does
     // not depend on the resolution (prism at 40² and 160², 2048 spp: equal to 1e-4), so two
     // cheap 40² renders of 32 spp with different seeds give the mean and, from their
     // per-pixel differences, its standard error: Var(pixel) ≈ (a − b)²/2, so the mean of

@@ -85,9 +85,12 @@ fn every_unsupported_feature_warns_and_is_an_error_in_strict_mode() {
         ),
         (
             false,
-            format!("LightSource \"infinite\" \"string filename\" \"{}\"", square.display()),
-            "LightSource \"infinite\"",
-            "equal-area octahedral environment map",
+            format!(
+                "LightSource \"infinite\" \"string filename\" \"{}\" \"point3 portal\" [0 0 1  1 0 1  1 1 1  0 1 1]",
+                square.display()
+            ),
+            "\"point3 portal\"",
+            "infinite light \"portal\"",
         ),
         (false, "Material \"hair\"\nShape \"sphere\"".into(), "\"hair\"", "material \"hair\""),
     ];

@@ -59,6 +59,15 @@ impl Ctx<'_> {
             ));
         }
         let image = self.image(p, &l.loc)?;
+        if let Some(portal) = p.get("portal") {
+            let at = portal.loc.clone();
+            self.unsupported(
+                &at,
+                "infinite light \"portal\" (pbrt-v4's PortalImageInfiniteLight)".to_string(),
+                "ignores the portal and lights from the whole map: the same image where the portal is the \
+                 only opening to the sky, with more noise, and the sky seen elsewhere where it is not",
+            );
+        }
         let space = space_of(p);
         let rotation = orthonormal(glam::Mat3::from_mat4(l.world_from_light));
         let mut light = EnvMapLight::new(&image, rotation, p.float_or("scale", 1.0), space);
