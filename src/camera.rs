@@ -1,9 +1,28 @@
-//! Perspective camera (pbrt-v4 conventions): `fov` spans the shorter image axis, an optional thin
-//! lens gives depth of field, and the camera looks down +z in its own space.
+//! Cameras (pbrt-v4 conventions; the camera looks down +z in its own space, +y up): perspective
+//! (`fov` spans the shorter image axis) and orthographic (the screen window in scene units),
+//! both with an optional thin lens for depth of field; spherical (every direction, through an
+//! equal-area or equirectangular image).
 
 use crate::geometry::Ray;
+use crate::math::equal_area;
 use crate::sampling::warp::sample_uniform_disk_concentric;
 use glam::{Mat4, Vec2, Vec3};
+
+/// How film positions become rays in camera space.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Projection {
+    /// Rays from the eye (or the lens) through the screen window at unit distance.
+    #[default]
+    Perspective,
+    /// Parallel rays along +z from the screen window on the z = 0 plane.
+    Orthographic,
+    /// Every direction: the image is Clarberg's equal-area square (pbrt-v4's default
+    /// "equalarea"; `math::equal_area`) with y and z swapped, as pbrt-v4 does, so the square's
+    /// centre looks along camera +y.
+    SphericalEqualArea,
+    /// Every direction: latitude-longitude, θ = π v from +y down, φ = 2π u.
+    SphericalEquirect,
+}
 
 /// A pinhole or thin-lens perspective camera.
 #[derive(Clone, Debug)]
@@ -18,6 +37,8 @@ pub struct Camera {
     pub lens_radius: f32,
     /// Distance to the plane in focus [scene units].
     pub focal_distance: f32,
+    /// The projection.
+    pub projection: Projection,
 }
 
 impl Camera {
@@ -44,7 +65,27 @@ impl Camera {
             screen: [sw[0] * t, sw[1] * t, sw[2] * t, sw[3] * t],
             lens_radius,
             focal_distance,
+            projection: Projection::Perspective,
         }
+    }
+
+    /// An orthographic camera whose screen window [x0, x1, y0, y1] is in scene units (default
+    /// ±aspect by ±1 on the longer axis, as pbrt-v4), with an optional thin lens.
+    pub fn orthographic(
+        camera_to_world: Mat4,
+        resolution: (u32, u32),
+        lens_radius: f32,
+        focal_distance: f32,
+        screen_window: Option<[f32; 4]>,
+    ) -> Self {
+        let c = Self::perspective(camera_to_world, resolution, 90.0, lens_radius, focal_distance, screen_window);
+        Self { projection: Projection::Orthographic, ..c }
+    }
+
+    /// A spherical camera (`projection` one of the two spherical ones).
+    pub fn spherical(camera_to_world: Mat4, resolution: (u32, u32), projection: Projection) -> Self {
+        let c = Self::perspective(camera_to_world, resolution, 90.0, 0.0, 1.0, None);
+        Self { projection, ..c }
     }
 
     /// A camera-to-world matrix looking from `eye` at `target` with `up` (left-handed camera
@@ -63,13 +104,27 @@ impl Camera {
         let [x0, x1, y0, y1] = self.screen;
         let sx = x0 + (x1 - x0) * (p_film.x / w);
         let sy = y1 - (y1 - y0) * (p_film.y / h);
-        let mut o = Vec3::ZERO;
-        let mut d = Vec3::new(sx, sy, 1.0).normalize();
-        if self.lens_radius > 0.0 {
+        let uv = Vec2::new(p_film.x / w, p_film.y / h);
+        let (mut o, mut d) = match self.projection {
+            Projection::Perspective => (Vec3::ZERO, Vec3::new(sx, sy, 1.0).normalize()),
+            Projection::Orthographic => (Vec3::new(sx, sy, 0.0), Vec3::Z),
+            Projection::SphericalEqualArea => {
+                let d = equal_area::square_to_sphere(uv.clamp(Vec2::ZERO, Vec2::ONE));
+                (Vec3::ZERO, Vec3::new(d.x, d.z, d.y))
+            }
+            Projection::SphericalEquirect => {
+                let (theta, phi) = (std::f32::consts::PI * uv.y, std::f32::consts::TAU * uv.x);
+                let (st, ct) = theta.sin_cos();
+                let (sp, cp) = phi.sin_cos();
+                (Vec3::ZERO, Vec3::new(st * cp, ct, st * sp))
+            }
+        };
+        let has_lens = matches!(self.projection, Projection::Perspective | Projection::Orthographic);
+        if has_lens && self.lens_radius > 0.0 {
             let lens = self.lens_radius * sample_uniform_disk_concentric(u_lens);
             let ft = self.focal_distance / d.z;
-            let focus = d * ft;
-            o = Vec3::new(lens.x, lens.y, 0.0);
+            let focus = o + d * ft;
+            o = Vec3::new(o.x + lens.x, o.y + lens.y, 0.0);
             d = (focus - o).normalize();
         }
         let o = self.camera_to_world.transform_point3(o);
@@ -95,6 +150,44 @@ mod tests {
         // Right edge is wider by the aspect ratio; +x in camera space is image right.
         let right = cam.generate_ray(Vec2::new(200.0, 50.0), Vec2::ZERO);
         assert!((right.d.x / right.d.z - 2.0).abs() < 1e-4, "{:?}", right.d);
+    }
+
+    #[test]
+    fn orthographic_rays_are_parallel_from_the_screen_window() {
+        let m = Camera::look_at(Vec3::new(0.0, 0.0, -3.0), Vec3::ZERO, Vec3::Y);
+        let cam = Camera::orthographic(m, (200, 100), 0.0, 1.0, None);
+        // Default window ±2 × ±1 (aspect 2): the top-left corner is (−2, 1) in camera space,
+        // whose axes are the world's here (looking down +z with +y up).
+        let r = cam.generate_ray(Vec2::ZERO, Vec2::ZERO);
+        assert!((r.d - Vec3::Z).length() < 1e-6 && (r.o - Vec3::new(-2.0, 1.0, -3.0)).length() < 1e-5, "{r:?}");
+        let c = cam.generate_ray(Vec2::new(100.0, 50.0), Vec2::ZERO);
+        assert!((c.o - Vec3::new(0.0, 0.0, -3.0)).length() < 1e-5 && (c.d - Vec3::Z).length() < 1e-6);
+        // With a lens, rays through one film point meet on the focal plane at the pinhole ray.
+        let lens = Camera::orthographic(m, (200, 100), 0.3, 2.0, Some([-1.0, 1.0, -1.0, 1.0]));
+        let pin = Camera::orthographic(m, (200, 100), 0.0, 2.0, Some([-1.0, 1.0, -1.0, 1.0]));
+        let p = Vec2::new(30.0, 70.0);
+        let target = pin.generate_ray(p, Vec2::ZERO).at(2.0);
+        for u in [Vec2::new(0.1, 0.9), Vec2::new(0.8, 0.3)] {
+            let r = lens.generate_ray(p, u);
+            assert!((r.at((target.z - r.o.z) / r.d.z) - target).length() < 1e-4);
+        }
+    }
+
+    #[test]
+    fn spherical_rays_cover_the_sphere_as_pbrt_v4_lays_it_out() {
+        let m = Camera::look_at(Vec3::ZERO, Vec3::Z, Vec3::Y);
+        let dir = |p: Projection, x: f32, y: f32| {
+            Camera::spherical(m, (64, 32), p).generate_ray(Vec2::new(x, y), Vec2::ZERO).d
+        };
+        // Equirectangular: the top row looks up (+y), the middle row along the horizon, φ = 2πu
+        // from camera +x towards +z.
+        assert!((dir(Projection::SphericalEquirect, 10.0, 0.0) - Vec3::Y).length() < 1e-5);
+        assert!((dir(Projection::SphericalEquirect, 0.0, 16.0) - Vec3::X).length() < 1e-5);
+        assert!((dir(Projection::SphericalEquirect, 16.0, 16.0) - Vec3::Z).length() < 1e-5);
+        // Equal area: the centre looks along camera +y (the square's +z pole, y and z swapped),
+        // the corners along −y.
+        assert!((dir(Projection::SphericalEqualArea, 32.0, 16.0) - Vec3::Y).length() < 1e-5);
+        assert!((dir(Projection::SphericalEqualArea, 0.0, 0.0) + Vec3::Y).length() < 1e-5);
     }
 
     #[test]

@@ -29,7 +29,7 @@ pub use parser::{look_at, parse_file, parse_str, ParseOptions};
 pub use primitive::{MediumInterface, Primitive};
 
 use crate::accel::{self, Accel, AccelKind};
-use crate::camera::Camera;
+use crate::camera::{Camera, Projection};
 use crate::geometry::{Hit, Instance, InstanceSet, Mesh, Prototype, Ray};
 use crate::light::{AreaLight, Light, LightSampler};
 use crate::material::{FloatTexture, Material};
@@ -61,19 +61,20 @@ pub struct CameraDesc {
     pub focal_distance: f32,
     /// Optional screen window.
     pub screen_window: Option<[f32; 4]>,
+    /// Perspective, orthographic or spherical.
+    pub projection: Projection,
 }
 
 impl CameraDesc {
     /// The camera for an image of `resolution`.
     pub fn camera(&self, resolution: (u32, u32)) -> Camera {
-        Camera::perspective(
-            self.camera_to_world,
-            resolution,
-            self.fov_deg,
-            self.lens_radius,
-            self.focal_distance,
-            self.screen_window,
-        )
+        let (m, lens, focus, window) =
+            (self.camera_to_world, self.lens_radius, self.focal_distance, self.screen_window);
+        match self.projection {
+            Projection::Perspective => Camera::perspective(m, resolution, self.fov_deg, lens, focus, window),
+            Projection::Orthographic => Camera::orthographic(m, resolution, lens, focus, window),
+            spherical => Camera::spherical(m, resolution, spherical),
+        }
     }
 }
 
@@ -251,8 +252,14 @@ impl SceneBuilder {
 
     /// Sets a pinhole camera.
     pub fn set_camera(&mut self, camera_to_world: Mat4, fov_deg: f32) {
-        self.camera =
-            Some(CameraDesc { camera_to_world, fov_deg, lens_radius: 0.0, focal_distance: 1e6, screen_window: None });
+        self.camera = Some(CameraDesc {
+            camera_to_world,
+            fov_deg,
+            lens_radius: 0.0,
+            focal_distance: 1e6,
+            screen_window: None,
+            projection: Projection::Perspective,
+        });
     }
 
     /// Sets a full camera description.

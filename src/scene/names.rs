@@ -27,10 +27,9 @@ pub const PBRT_ONLY_LIGHTS: &[(&str, &str)] = &[("goniometric", "skips the light
 pub const PRISM_AREA_LIGHTS: &[&str] = &["diffuse"];
 
 /// Cameras prism renders.
-pub const PRISM_CAMERAS: &[&str] = &["perspective"];
+pub const PRISM_CAMERAS: &[&str] = &["perspective", "orthographic", "spherical"];
 /// pbrt-v4 cameras prism replaces.
-pub const PBRT_ONLY_CAMERAS: &[(&str, &str)] =
-    &[("orthographic", "perspective"), ("realistic", "perspective"), ("spherical", "perspective")];
+pub const PBRT_ONLY_CAMERAS: &[(&str, &str)] = &[("realistic", "perspective")];
 
 /// Films prism writes.
 pub const PRISM_FILMS: &[&str] = &["rgb", "spectral"];

@@ -22,6 +22,7 @@ use super::error::{Location, SceneError, Warning};
 use super::params::{FloatOrTexture, ParamSet, SpectrumOrTexture, SpectrumParam};
 use super::{CameraDesc, Emission, SceneBuilder};
 use crate::bsdf::{ior, metals};
+use crate::camera::Projection;
 use crate::film::Crop;
 use crate::geometry::Mesh;
 use crate::material::{FloatTexture, ImageTexture, Ior, Material, ReflectanceImage, Roughness, SpectrumTexture};
@@ -138,18 +139,35 @@ impl Ctx<'_> {
     fn camera(&mut self) -> Result<(), SceneError> {
         let c = &self.desc.camera;
         let p = &c.directive.params;
-        let fov = p.float_or("fov", 90.0);
+        let projection = match c.directive.kind.as_str() {
+            "orthographic" => Projection::Orthographic,
+            "spherical" => match p.string("mapping").unwrap_or("equalarea") {
+                "equalarea" => Projection::SphericalEqualArea,
+                "equirectangular" => Projection::SphericalEquirect,
+                other => {
+                    let message =
+                        format!("unknown spherical \"mapping\" \"{other}\" (valid: equalarea, equirectangular)");
+                    return Err(param_error(p, "mapping", &c.directive.loc, message));
+                }
+            },
+            _ => Projection::Perspective,
+        };
+        let spherical = matches!(projection, Projection::SphericalEqualArea | Projection::SphericalEquirect);
+        let fov = if projection == Projection::Perspective { p.float_or("fov", 90.0) } else { 90.0 };
         if !(fov > 0.0 && fov < 180.0) {
             let message = format!("\"fov\" must be between 0 and 180 degrees, got {fov}");
             return Err(param_error(p, "fov", &c.directive.loc, message));
         }
         let screen_window = p.floats("screenwindow").filter(|s| s.len() == 4).map(|s| [s[0], s[1], s[2], s[3]]);
+        let (lens_radius, focal_distance) =
+            if spherical { (0.0, 1e6) } else { (p.float_or("lensradius", 0.0), p.float_or("focaldistance", 1e6)) };
         self.b.set_camera_desc(CameraDesc {
             camera_to_world: c.camera_from_world.inverse(),
             fov_deg: fov,
-            lens_radius: p.float_or("lensradius", 0.0),
-            focal_distance: p.float_or("focaldistance", 1e6),
+            lens_radius,
+            focal_distance,
             screen_window,
+            projection,
         });
         Ok(())
     }

@@ -91,3 +91,10 @@ fn assert_matches_pbrt_v4(scene: &str, spp: u32) {
 fn perspective_depth_of_field_has_pbrt_v4s_means() {
     assert_matches_pbrt_v4("cameras-dof.pbrt", 16);
 }
+
+#[test]
+fn orthographic_and_spherical_cameras_have_pbrt_v4s_means() {
+    for scene in ["cameras-ortho.pbrt", "cameras-spherical.pbrt", "cameras-equirect.pbrt"] {
+        assert_matches_pbrt_v4(scene, 16);
+    }
+}
