@@ -98,3 +98,8 @@ fn orthographic_and_spherical_cameras_have_pbrt_v4s_means() {
         assert_matches_pbrt_v4(scene, 16);
     }
 }
+
+#[test]
+fn equal_area_environment_map_has_pbrt_v4s_means() {
+    assert_matches_pbrt_v4("envmap.pbrt", 16);
+}
