@@ -17,10 +17,8 @@ pub const PBRT_ONLY_SHAPES: &[(&str, &str)] = &[
 pub const PRISM_MATERIALS: &[&str] = crate::material::PBRT_NAMES;
 /// pbrt-v4 materials prism replaces, with the replacement type (used with default parameters).
 pub const PBRT_ONLY_MATERIALS: &[(&str, &str)] = &[
-    ("coatedconductor", "conductor"),
     ("hair", "diffuse"),
     ("measured", "diffuse"),
-    ("mix", "diffuse"),
     // An index-matched dielectric is invisible, which is what "interface" means.
     ("interface", "dielectric"),
 ];
