@@ -79,6 +79,39 @@ impl Slab {
     }
 }
 
+/// Where a walk goes from one height to the next.
+enum Step {
+    /// Reaches the interface at this height, with this transmittance on the way.
+    Interface(f32, f32),
+    /// Scatters in the slab at this height.
+    Scatter(f32),
+    /// Went nowhere (a zero distance in f32): the event is void.
+    Stuck,
+}
+
+impl Slab {
+    /// Advances a walk at height `z` (0 at the bottom, `thickness` at the top) along `w`: an
+    /// absorbing slab is crossed to the other interface with its transmittance; a scattering
+    /// one samples a free-flight distance, e^{−s} in optical depth along `w`, and either
+    /// scatters inside or stops at the interface it reaches (transmittance 1: the flight's
+    /// probability already accounts for it).
+    fn step(&self, z: f32, w: Vec3, rng: &mut WalkRng) -> Step {
+        let d = self.thickness;
+        if self.albedo.is_black() {
+            return Step::Interface(if z == d { 0.0 } else { d }, Slab::tr(d, w));
+        }
+        let dz = -(1.0 - rng.next()).ln() * w.z.abs();
+        let zp = if w.z > 0.0 { z + dz } else { z - dz };
+        if zp == z {
+            Step::Stuck
+        } else if 0.0 < zp && zp < d {
+            Step::Scatter(zp)
+        } else {
+            Step::Interface(zp.clamp(0.0, d), 1.0)
+        }
+    }
+}
+
 /// A layered BxDF with interfaces `top` (entrance) and `bottom`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Layered<T, B> {
@@ -238,16 +271,13 @@ impl<T: LayerInterface, B: LayerInterface> Layered<T, B> {
                 }
                 beta /= 1.0 - q;
             }
-            if albedo.is_black() {
-                z = if z == d { 0.0 } else { d };
-                beta *= Slab::tr(d, w);
-            } else {
-                let dz = -(1.0 - rng.next()).ln() * w.z.abs();
-                let zp = if w.z > 0.0 { z + dz } else { z - dz };
-                if zp == z {
-                    continue;
+            match self.slab.step(z, w, rng) {
+                Step::Stuck => continue,
+                Step::Interface(next_z, tr) => {
+                    z = next_z;
+                    beta *= tr;
                 }
-                if 0.0 < zp && zp < d {
+                Step::Scatter(zp) => {
                     // Scattering in the slab: connect to ωi through the exit along wis.
                     let toward_exit = -wis.wi;
                     let p_exit = phase.p(w, toward_exit);
@@ -272,7 +302,6 @@ impl<T: LayerInterface, B: LayerInterface> Layered<T, B> {
                     }
                     continue;
                 }
-                z = zp.clamp(0.0, d);
             }
             if z == exit_z {
                 // Reflection back into the slab at the exit interface.
@@ -357,16 +386,13 @@ impl<T: LayerInterface, B: LayerInterface> Layered<T, B> {
             if w.z == 0.0 {
                 return None;
             }
-            if albedo.is_black() {
-                z = if z == d { 0.0 } else { d };
-                f *= Slab::tr(d, w);
-            } else {
-                let dz = -(1.0 - rng.next()).ln() * w.z.abs();
-                let zp = if w.z > 0.0 { z + dz } else { z - dz };
-                if zp == z {
-                    return None;
+            match self.slab.step(z, w, &mut rng) {
+                Step::Stuck => return None,
+                Step::Interface(next_z, tr) => {
+                    z = next_z;
+                    f *= tr;
                 }
-                if 0.0 < zp && zp < d {
+                Step::Scatter(zp) => {
                     let next = phase.sample(w, rng.next2());
                     if next.z == 0.0 {
                         return None;
@@ -379,7 +405,6 @@ impl<T: LayerInterface, B: LayerInterface> Layered<T, B> {
                     z = zp;
                     continue;
                 }
-                z = zp.clamp(0.0, d);
             }
             let side = if z == 0.0 { Side::Bottom } else { Side::Top };
             let bs = self.side_sample(side, -w, &mut rng, mode, Lobes::All)?;

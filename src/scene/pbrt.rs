@@ -360,7 +360,7 @@ impl Ctx<'_> {
             }
             "coateddiffuse" => self.coated_diffuse(p, loc)?,
             "coatedconductor" => self.coated_conductor(p, loc)?,
-            "mix" => self.mix(m, 0)?,
+            "mix" => self.mix(m)?,
             "subsurface" => self.subsurface(m)?,
             other => {
                 self.unsupported(loc, format!("material \"{other}\""), "uses diffuse 0.5");

@@ -9,6 +9,7 @@ mod film;
 mod instancing;
 mod merge;
 mod naive_fails;
+mod pbrt_materials;
 mod radiometry;
 mod readme;
 mod render;

@@ -13,6 +13,8 @@ use crate::spectrum::RgbKind;
 
 /// How deep mixes may nest: deeper means a mix names itself through others.
 const MAX_MIX_NESTING: usize = 32;
+/// Materials one mix tree may hold.
+const MAX_MIX_NODES: usize = 4096;
 
 impl Ctx<'_> {
     /// "conductor": `eta`/`k` (default copper) or `reflectance`, and roughness.
@@ -107,8 +109,16 @@ impl Ctx<'_> {
     }
 
     /// "mix": two named materials (`"string materials"`) and `amount`, the probability of the
-    /// second. `nesting` counts the mixes above this one.
-    pub(super) fn mix(&mut self, m: &MaterialDesc, nesting: usize) -> Result<Material, SceneError> {
+    /// second.
+    pub(super) fn mix(&mut self, m: &MaterialDesc) -> Result<Material, SceneError> {
+        let mut nodes = 0;
+        self.mix_tree(m, 0, &mut nodes)
+    }
+
+    /// A mix `nesting` mixes down; `nodes` counts the materials built for the whole tree (each
+    /// use of a named material is a copy, so a chain of mixes naming the previous one twice
+    /// doubles per link).
+    fn mix_tree(&mut self, m: &MaterialDesc, nesting: usize, nodes: &mut usize) -> Result<Material, SceneError> {
         let (p, loc) = (&m.params, &m.loc);
         if nesting >= MAX_MIX_NESTING {
             let message = format!("mix materials nest more than {MAX_MIX_NESTING} deep (does a mix name itself?)");
@@ -124,8 +134,13 @@ impl Ctx<'_> {
             let Some(d) = desc.named_material(name) else {
                 return Err(param_error(p, "materials", loc, format!("no named material \"{name}\"")));
             };
+            *nodes += 1;
+            if *nodes > MAX_MIX_NODES {
+                let message = format!("a mix tree of more than {MAX_MIX_NODES} materials");
+                return Err(param_error(p, "materials", loc, message));
+            }
             if d.kind == "mix" {
-                self.mix(d, nesting + 1)
+                self.mix_tree(d, nesting + 1, nodes)
             } else {
                 self.make_material(d)
             }
