@@ -1,8 +1,8 @@
 //! The closed set of BxDF models, an enum, dispatched by `match`.
 
 use super::{
-    BsdfSample, BxdfFlags, CoatedDiffuse, Conductor, Dielectric, Diffuse, DiffuseTransmission, NormalizedFresnel,
-    ThinDielectric, TransportMode,
+    BsdfSample, BxdfFlags, CoatedDiffuse, Conductor, Dielectric, Diffuse, DiffuseTransmission, LayeredConductor,
+    LayeredDiffuse, NormalizedFresnel, ThinDielectric, TransportMode,
 };
 use crate::math::{Vec2, Vec3};
 use crate::spectrum::SampledSpectrum;
@@ -21,8 +21,12 @@ pub enum Bxdf {
     Dielectric(Dielectric),
     /// Thin smooth dielectric slab.
     ThinDielectric(ThinDielectric),
-    /// Dielectric coat over a Lambertian base.
+    /// Dielectric coat over a Lambertian base, analytic (Kelemen/Weidlich–Wilkie).
     CoatedDiffuse(CoatedDiffuse),
+    /// Dielectric coat over a Lambertian base, stochastic layered (pbrt-v4 `coateddiffuse`).
+    LayeredDiffuse(LayeredDiffuse),
+    /// Dielectric coat over a metal, stochastic layered (pbrt-v4 `coatedconductor`).
+    LayeredConductor(LayeredConductor),
     /// The entry-point lobe S_ω of a diffusion BSSRDF.
     NormalizedFresnel(NormalizedFresnel),
 }
@@ -36,6 +40,8 @@ macro_rules! dispatch {
             Bxdf::Dielectric($b) => $e,
             Bxdf::ThinDielectric($b) => $e,
             Bxdf::CoatedDiffuse($b) => $e,
+            Bxdf::LayeredDiffuse($b) => $e,
+            Bxdf::LayeredConductor($b) => $e,
             Bxdf::NormalizedFresnel($b) => $e,
         }
     };
@@ -100,5 +106,15 @@ impl From<CoatedDiffuse> for Bxdf {
 impl From<NormalizedFresnel> for Bxdf {
     fn from(b: NormalizedFresnel) -> Self {
         Bxdf::NormalizedFresnel(b)
+    }
+}
+impl From<LayeredDiffuse> for Bxdf {
+    fn from(b: LayeredDiffuse) -> Self {
+        Bxdf::LayeredDiffuse(b)
+    }
+}
+impl From<LayeredConductor> for Bxdf {
+    fn from(b: LayeredConductor) -> Self {
+        Bxdf::LayeredConductor(b)
     }
 }

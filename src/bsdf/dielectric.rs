@@ -9,7 +9,7 @@
 
 use super::fresnel::fr_dielectric;
 use super::local::{abs_cos_theta, cos_theta, face_forward, reflect, refract, same_hemisphere};
-use super::{BsdfSample, BxdfFlags, TransportMode, TrowbridgeReitz};
+use super::{BsdfSample, BxdfFlags, Lobes, TransportMode, TrowbridgeReitz};
 use crate::math::{Vec2, Vec3};
 use crate::spectrum::SampledSpectrum;
 
@@ -82,12 +82,17 @@ impl Dielectric {
 
     /// Chooses reflection with probability F, refraction with 1 − F.
     pub fn sample_f(&self, wo: Vec3, uc: f32, u: Vec2, mode: TransportMode) -> Option<BsdfSample> {
+        self.sample_lobes(wo, uc, u, mode, Lobes::All)
+    }
+
+    /// [`Self::sample_f`] restricted to `lobes`: the excluded lobe's probability is 0 and the
+    /// chosen one's pdf is relative to what remains (pbrt-v4 `BxDFReflTransFlags`).
+    pub fn sample_lobes(&self, wo: Vec3, uc: f32, u: Vec2, mode: TransportMode, lobes: Lobes) -> Option<BsdfSample> {
         if wo.z == 0.0 {
             return None;
         }
         if self.is_smooth() {
-            let r = fr_dielectric(cos_theta(wo), self.eta);
-            let t = 1.0 - r;
+            let (r, t) = lobes.weights(fr_dielectric(cos_theta(wo), self.eta))?;
             if uc < r / (r + t) {
                 let wi = Vec3::new(-wo.x, -wo.y, wo.z);
                 let f = SampledSpectrum::splat(r / abs_cos_theta(wi));
@@ -103,8 +108,7 @@ impl Dielectric {
             return Some(s);
         }
         let wm = self.distrib.sample_wm(wo, u);
-        let r = fr_dielectric(wo.dot(wm), self.eta);
-        let t = 1.0 - r;
+        let (r, t) = lobes.weights(fr_dielectric(wo.dot(wm), self.eta))?;
         if uc < r / (r + t) {
             let wi = reflect(wo, wm);
             if !same_hemisphere(wo, wi) {
@@ -141,15 +145,21 @@ impl Dielectric {
 
     /// Density of [`Self::sample_f`]; refraction uses the Jacobian
     /// dωm/dωi = |ωi·ωm| / (ωi·ωm + ωo·ωm/η′)² (Walter et al. 2007 eq. 17).
-    pub fn pdf(&self, wo: Vec3, wi: Vec3, _mode: TransportMode) -> f32 {
+    pub fn pdf(&self, wo: Vec3, wi: Vec3, mode: TransportMode) -> f32 {
+        self.pdf_lobes(wo, wi, mode, Lobes::All)
+    }
+
+    /// Density of [`Self::sample_lobes`] with the same `lobes`.
+    pub fn pdf_lobes(&self, wo: Vec3, wi: Vec3, _mode: TransportMode, lobes: Lobes) -> f32 {
         if self.is_smooth() {
             return 0.0;
         }
         let Some((wm, etap, is_reflect)) = self.half_vector(wo, wi) else {
             return 0.0;
         };
-        let r = fr_dielectric(wo.dot(wm), self.eta);
-        let t = 1.0 - r;
+        let Some((r, t)) = lobes.weights(fr_dielectric(wo.dot(wm), self.eta)) else {
+            return 0.0;
+        };
         if is_reflect {
             self.distrib.pdf(wo, wm) / (4.0 * wo.dot(wm).abs()) * r / (r + t)
         } else {

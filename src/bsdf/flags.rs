@@ -12,6 +12,50 @@ pub enum TransportMode {
     Importance,
 }
 
+impl TransportMode {
+    /// The other quantity: a path traced from the other end carries it (pbrt-v4 `!mode`).
+    #[inline]
+    pub fn adjoint(self) -> Self {
+        match self {
+            TransportMode::Radiance => TransportMode::Importance,
+            TransportMode::Importance => TransportMode::Radiance,
+        }
+    }
+}
+
+/// Which lobes a sampler may choose from (pbrt-v4 `BxDFReflTransFlags`): layered BSDFs ask
+/// an interface only for its reflection or only for its transmission.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Lobes {
+    /// Reflection and transmission.
+    All,
+    /// Reflection only.
+    Reflection,
+    /// Transmission only.
+    Transmission,
+}
+
+impl Lobes {
+    /// The choice weights (reflection, transmission) of an interface that reflects the
+    /// fraction `r` and transmits 1 − `r`, with the excluded lobe's weight 0; `None` when
+    /// nothing is left to choose.
+    #[inline]
+    pub fn weights(self, r: f32) -> Option<(f32, f32)> {
+        let (pr, pt) = match self {
+            Lobes::All => (r, 1.0 - r),
+            Lobes::Reflection => (r, 0.0),
+            Lobes::Transmission => (0.0, 1.0 - r),
+        };
+        (pr + pt > 0.0).then_some((pr, pt))
+    }
+
+    /// True when reflection may be chosen.
+    #[inline]
+    pub fn reflection(self) -> bool {
+        self != Lobes::Transmission
+    }
+}
+
 /// Set of lobe kinds of a BxDF or of one sampled direction (pbrt-v4 `BxDFFlags`).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub struct BxdfFlags(u8);

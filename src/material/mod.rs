@@ -1,15 +1,19 @@
 //! Materials: what a surface is made of, turned into a BSDF at each hit by evaluating textures and
 //! spectra at the path's wavelengths. Materials hold spectra, never RGB triplets.
 
+mod conductor;
+mod layered;
+mod mix;
 mod subsurface;
 mod texture;
 
+pub use conductor::ConductorIor;
+pub use layered::{CoatedConductorMaterial, CoatedDiffuseMaterial, LayerSpec};
+pub use mix::{hit_key, MixMaterial};
 pub use subsurface::{ScatteringSpec, SubsurfaceMaterial};
 pub use texture::{FloatTexture, ImageTexture, ReflectanceImage, SpectrumTexture};
 
-use crate::bsdf::{
-    Bsdf, Bxdf, CoatedDiffuse, Conductor, Dielectric, Diffuse, DiffuseTransmission, ThinDielectric, TrowbridgeReitz,
-};
+use crate::bsdf::{Bsdf, Bxdf, Conductor, Dielectric, Diffuse, DiffuseTransmission, ThinDielectric, TrowbridgeReitz};
 use crate::spectrum::{SampledSpectrum, SampledWavelengths, Spectrum};
 use glam::{Vec2, Vec3};
 
@@ -19,9 +23,11 @@ pub const PBRT_NAMES: &[&str] = &[
     "conductor",
     "dielectric",
     "coateddiffuse",
+    "coatedconductor",
     "diffusetransmission",
     "thindielectric",
     "subsurface",
+    "mix",
     "interface",
 ];
 
@@ -40,6 +46,20 @@ impl Ior {
         match self {
             Ior::Constant(_) => false,
             Ior::Spectral(s) => (s.eval(400.0) - s.eval(700.0)).abs() > 1e-6,
+        }
+    }
+
+    /// η at the hero wavelength; a dispersive index terminates the secondary wavelengths
+    /// (they would refract elsewhere).
+    pub fn hero(&self, w: &mut SampledWavelengths) -> f32 {
+        match self {
+            Ior::Constant(e) => *e,
+            Ior::Spectral(s) => {
+                if self.is_dispersive() {
+                    w.terminate_secondary();
+                }
+                s.eval(w.lambda[0])
+            }
         }
     }
 }
@@ -91,10 +111,8 @@ pub enum Material {
     },
     /// "conductor": Fresnel from complex η + ik over a Trowbridge–Reitz microfacet distribution.
     Conductor {
-        /// Real part of the index.
-        eta: Spectrum,
-        /// Imaginary part (absorption).
-        k: Spectrum,
+        /// The complex index (measured, or from a reflectance).
+        ior: ConductorIor,
         /// Roughness.
         roughness: Roughness,
     },
@@ -111,14 +129,11 @@ pub enum Material {
         eta: f32,
     },
     /// "coateddiffuse": a rough dielectric coat over a Lambertian base.
-    CoatedDiffuse {
-        /// Base reflectance.
-        reflectance: SpectrumTexture,
-        /// Coat roughness.
-        roughness: Roughness,
-        /// Coat index of refraction.
-        eta: f32,
-    },
+    CoatedDiffuse(Box<CoatedDiffuseMaterial>),
+    /// "coatedconductor": a rough dielectric coat over a rough metal.
+    CoatedConductor(Box<CoatedConductorMaterial>),
+    /// "mix": one of two materials per hit, chosen at random ([`Material::resolve`]).
+    Mix(Box<MixMaterial>),
     /// "subsurface": a dielectric boundary over a scattering medium; the integrator continues
     /// paths that refract into it (`integrator::subsurface`).
     Subsurface(Box<SubsurfaceMaterial>),
@@ -158,7 +173,13 @@ impl Material {
     /// True when any lobe of this material can change a path's wavelengths' directions
     /// differently (so secondary wavelengths must be terminated at it).
     pub fn is_dispersive(&self) -> bool {
-        matches!(self, Material::Dielectric { eta, .. } if eta.is_dispersive())
+        match self {
+            Material::Dielectric { eta, .. } => eta.is_dispersive(),
+            Material::CoatedDiffuse(m) => m.eta.is_dispersive(),
+            Material::CoatedConductor(m) => m.interface_eta.is_dispersive(),
+            Material::Mix(m) => m.materials.iter().any(Material::is_dispersive),
+            _ => false,
+        }
     }
 
     /// True for an interface: no surface, so light passes through unscattered.
@@ -169,7 +190,8 @@ impl Material {
 
     /// The BSDF at a hit for the path's wavelengths (`None` for an interface). A dispersive
     /// dielectric terminates the secondary wavelengths (η is evaluated at the hero wavelength
-    /// only).
+    /// only). A mix should be [`Material::resolve`]d with its hit first; unresolved, it chooses
+    /// by the shading point.
     pub fn bsdf(&self, sp: &ShadingPoint, w: &mut SampledWavelengths) -> Option<Bsdf> {
         let bxdf: Bxdf = match self {
             Material::Diffuse { reflectance } => Diffuse::new(clamp01(reflectance.eval(sp.uv, w))).into(),
@@ -178,24 +200,19 @@ impl Material {
                 clamp01(transmittance.eval(sp.uv, w) * *scale),
             )
             .into(),
-            Material::Conductor { eta, k, roughness } => {
-                Conductor::new(roughness.distribution(sp.uv), eta.sample(w), k.sample(w)).into()
+            Material::Conductor { ior, roughness } => {
+                let (eta, k) = ior.eval(sp.uv, w);
+                Conductor::new(roughness.distribution(sp.uv), eta, k).into()
             }
             Material::Dielectric { eta, roughness } => {
-                let e = match eta {
-                    Ior::Constant(e) => *e,
-                    Ior::Spectral(s) => {
-                        if eta.is_dispersive() {
-                            w.terminate_secondary();
-                        }
-                        s.eval(w.lambda[0])
-                    }
-                };
-                Dielectric::new(e, roughness.distribution(sp.uv)).into()
+                Dielectric::new(eta.hero(w), roughness.distribution(sp.uv)).into()
             }
             Material::ThinDielectric { eta } => ThinDielectric::new(*eta).into(),
-            Material::CoatedDiffuse { reflectance, roughness, eta } => {
-                CoatedDiffuse::new(clamp01(reflectance.eval(sp.uv, w)), *eta, roughness.distribution(sp.uv)).into()
+            Material::CoatedDiffuse(m) => m.bxdf(sp.uv, w),
+            Material::CoatedConductor(m) => m.bxdf(sp.uv, w),
+            Material::Mix(_) => {
+                let key = hit_key(sp.ns, sp.uv.extend(0.0));
+                return self.resolve(key, sp.uv).bsdf(sp, w);
             }
             Material::Subsurface(m) => return Some(m.boundary_bsdf(sp)),
             Material::Interface => return None,

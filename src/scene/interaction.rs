@@ -6,7 +6,7 @@ use super::{LightId, MediumInterface, Primitive, Scene};
 use crate::bsdf::Bsdf;
 use crate::geometry::{Hit, Ray};
 use crate::light::{AreaLight, Light};
-use crate::material::{Material, ShadingPoint};
+use crate::material::{hit_key, Material, ShadingPoint};
 use crate::math::{offset_ray_origin, triangle_point};
 use crate::sampling::rng::hash64;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
@@ -128,10 +128,14 @@ impl<'s> SurfaceInteraction<'s> {
         }
     }
 
-    /// The material of the surface (`None` for a virtual sensor).
+    /// The material of the surface (`None` for a virtual sensor); a mix is resolved to the
+    /// material it chooses for this point and direction.
     #[inline]
     pub fn material(&self) -> Option<&'s Material> {
-        self.bound.map(|b| b.material)
+        self.bound.map(|b| match b.material {
+            Material::Mix(_) => b.material.resolve(hit_key(self.p, self.wo), self.shading.uv),
+            m => m,
+        })
     }
 
     /// The BSDF at this point at the wavelengths `w`, which a dispersive material reduces to

@@ -10,6 +10,7 @@
 mod inputs;
 mod lights;
 mod load;
+mod materials;
 mod subsurface;
 
 pub use inputs::{input_stamps, InputStamp};
@@ -355,10 +356,7 @@ impl Ctx<'_> {
     }
 
     fn roughness(&mut self, p: &ParamSet) -> Result<Roughness, SceneError> {
-        let base = self.float_texture(p, "roughness", 0.0)?;
-        let u = if p.has("uroughness") { self.float_texture(p, "uroughness", 0.0)? } else { base.clone() };
-        let v = if p.has("vroughness") { self.float_texture(p, "vroughness", 0.0)? } else { base };
-        Ok(Roughness { u, v, remap: p.bool_or("remaproughness", true) })
+        self.prefixed_roughness(p, "")
     }
 
     fn material(&mut self, m: Option<&MaterialDesc>) -> Result<u32, SceneError> {
@@ -385,22 +383,9 @@ impl Ctx<'_> {
                 transmittance: self.spectrum_texture(p, "transmittance", 0.25, loc)?,
                 scale: p.float_or("scale", 1.0),
             },
-            "conductor" => {
-                let eta = self.unbounded(p, "eta", "metal-Cu-eta", loc)?;
-                let k = self.unbounded(p, "k", "metal-Cu-k", loc)?;
-                Material::Conductor { eta, k, roughness: self.roughness(p)? }
-            }
+            "conductor" => self.conductor(p, loc)?,
             "dielectric" | "thindielectric" => {
-                let eta = match (p.float("eta"), p.spectrum("eta")) {
-                    (Some(e), _) => Ior::Constant(e),
-                    (None, Some(s)) => {
-                        let s = s.clone();
-                        Ior::Spectral(
-                            self.spectrum(&s, RgbKind::Unbounded, p).map_err(|e| SceneError::syntax(loc, "eta", e))?,
-                        )
-                    }
-                    (None, None) => Ior::Constant(1.5),
-                };
+                let eta = self.ior(p, "eta", 1.5, loc)?;
                 if m.kind == "thindielectric" {
                     let e = match &eta {
                         Ior::Constant(e) => *e,
@@ -411,11 +396,9 @@ impl Ctx<'_> {
                     Material::Dielectric { eta, roughness: self.roughness(p)? }
                 }
             }
-            "coateddiffuse" => Material::CoatedDiffuse {
-                reflectance: self.spectrum_texture(p, "reflectance", 0.5, loc)?,
-                roughness: self.roughness(p)?,
-                eta: p.float_or("eta", 1.5),
-            },
+            "coateddiffuse" => self.coated_diffuse(p, loc)?,
+            "coatedconductor" => self.coated_conductor(p, loc)?,
+            "mix" => self.mix(m)?,
             "subsurface" => self.subsurface(m)?,
             "interface" => Material::Interface,
             other => {

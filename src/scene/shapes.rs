@@ -154,7 +154,8 @@ pub fn tessellate_sphere(radius: f32, z_min: f32, z_max: f32, phi_max: f32) -> M
 }
 
 /// A triangle mesh approximating pbrt's sphere with `n_theta` × `n_phi` quads; outward
-/// normals, uv = (φ/φmax, (θ−θmin)/(θmax−θmin)), zero-area pole triangles left out.
+/// normals, zero-area pole triangles left out. Texture coordinates as pbrt-v4's sphere:
+/// u = φ/φmax, v = (θ − θ(z_min))/(θ(z_max) − θ(z_min)), so v runs from 0 at z_min to 1 at z_max.
 pub fn tessellate_sphere_n(radius: f32, z_min: f32, z_max: f32, phi_max: f32, n_theta: u32, n_phi: u32) -> Mesh {
     let (n_theta, n_phi) = (n_theta.max(2), n_phi.max(3));
     let theta_lo = (z_max / radius).clamp(-1.0, 1.0).acos();
@@ -176,7 +177,8 @@ pub fn tessellate_sphere_n(radius: f32, z_min: f32, z_max: f32, phi_max: f32, n_
             let d = Vec3::new(s * phi.cos(), s * phi.sin(), z);
             pos.push(radius * d);
             nrm.push(d);
-            uvs.push(Vec2::new(u, v));
+            // `v` runs down from z_max here; pbrt's v runs up from z_min.
+            uvs.push(Vec2::new(u, 1.0 - v));
         }
     }
     let row = n_phi + 1;
@@ -218,6 +220,30 @@ mod tests {
             let [a, b, c] = m.triangle(i);
             let ng = (b - a).cross(c - a);
             assert!(ng.dot(a + b + c) > 0.0, "triangle {i} faces inward");
+        }
+    }
+
+    #[test]
+    fn sphere_uv_follows_pbrt() {
+        // pbrt-v4: u = φ/φmax with φ = atan2(y, x) ∈ [0, 2π), v = 0 at z_min and 1 at z_max,
+        // linear in θ = acos(z/r).
+        let (r, z_min, z_max) = (2.0f32, -1.0f32, 1.5f32);
+        let m = tessellate_sphere(r, z_min, z_max, 270.0);
+        let uvs = m.uvs.as_ref().unwrap();
+        let (t_min, t_max) = ((z_min / r).acos(), (z_max / r).acos());
+        for (p, uv) in m.positions.iter().zip(uvs) {
+            let theta = (p.z / r).clamp(-1.0, 1.0).acos();
+            let v = (theta - t_min) / (t_max - t_min);
+            assert!((uv.y - v).abs() < 1e-4, "{p}: v {} vs {v}", uv.y);
+            let mut phi = p.y.atan2(p.x);
+            if phi < -1e-4 {
+                phi += 2.0 * std::f32::consts::PI;
+            }
+            // The seam vertex at φ = 0 carries u = 0 (and its twin at φmax u = 1).
+            let u = phi / 270f32.to_radians();
+            if p.x * p.x + p.y * p.y > 1e-6 && uv.x < 0.999 {
+                assert!((uv.x - u).abs() < 1e-4, "{p}: u {} vs {u}", uv.x);
+            }
         }
     }
 }

@@ -13,6 +13,7 @@ mod instancing;
 mod merge;
 mod naive_fails;
 mod pbrt_defaults;
+mod pbrt_materials;
 mod radiometry;
 mod readme;
 mod render;

@@ -11,7 +11,10 @@ use prism::film::Film;
 use prism::geometry::shapes::quad;
 use prism::integrator::{DirectStrategy, PathIntegrator};
 use prism::light::{Light, PointLight, SpotFalloff, SpotLight, UniformInfiniteLight};
-use prism::material::{Ior, Material, Roughness, SpectrumTexture};
+use prism::material::{
+    CoatedConductorMaterial, CoatedDiffuseMaterial, ConductorIor, FloatTexture, Ior, LayerSpec, Material, Roughness,
+    SpectrumTexture,
+};
 use prism::render::{render, RenderSettings};
 use prism::scene::{Emission, SceneBuilder};
 use prism::spectrum::Spectrum;
@@ -19,6 +22,10 @@ use std::sync::Arc;
 
 fn materials() -> Vec<(&'static str, Material)> {
     let c = |v: f32| SpectrumTexture::Constant(Spectrum::constant(v));
+    let coated = |analytic: bool| CoatedDiffuseMaterial {
+        analytic,
+        ..CoatedDiffuseMaterial::new(c(0.6), Roughness::alpha(0.2), 1.5)
+    };
     vec![
         ("diffuse", Material::diffuse(Spectrum::constant(0.7))),
         (
@@ -28,13 +35,23 @@ fn materials() -> Vec<(&'static str, Material)> {
         (
             "rough conductor",
             Material::Conductor {
-                eta: Spectrum::constant(0.2),
-                k: Spectrum::constant(3.0),
+                ior: ConductorIor::EtaK { eta: Spectrum::constant(0.2), k: Spectrum::constant(3.0) },
                 roughness: Roughness::alpha(0.3),
             },
         ),
         ("rough dielectric", Material::Dielectric { eta: Ior::Constant(1.5), roughness: Roughness::alpha(0.3) }),
-        ("coated diffuse", Material::CoatedDiffuse { reflectance: c(0.6), roughness: Roughness::alpha(0.2), eta: 1.5 }),
+        ("coated diffuse", Material::CoatedDiffuse(Box::new(coated(false)))),
+        ("analytic coated diffuse", Material::CoatedDiffuse(Box::new(coated(true)))),
+        (
+            "coated conductor",
+            Material::CoatedConductor(Box::new(CoatedConductorMaterial {
+                interface_roughness: Roughness::alpha(0.2),
+                interface_eta: Ior::Constant(1.5),
+                conductor: ConductorIor::Reflectance(c(0.8)),
+                conductor_roughness: Roughness::alpha(0.3),
+                layer: LayerSpec { albedo: c(0.5), thickness: FloatTexture::Constant(0.2), ..LayerSpec::default() },
+            })),
+        ),
     ]
 }
 

@@ -7,16 +7,22 @@
 use super::energy::albedo;
 use super::*;
 use crate::math::Vec2;
-use crate::sampling::warp::sample_cosine_hemisphere;
 use crate::sampling::Rng;
 
 /// Albedo of the layered reference for light from `wo` (above): mean and standard error.
 fn reference_albedo(rho: f32, eta: f32, alpha: f32, wo: Vec3, n: usize) -> (f64, f64) {
     let coat = Bxdf::from(Dielectric::new(eta, ggx(alpha)));
+    layer_walk_albedo(coat, Diffuse::new(SampledSpectrum::splat(rho)).into(), wo, n)
+}
+
+/// Albedo of a `coat` over a `base` for light from `wo` (above), by following light through
+/// the layer with the two BSDFs' own samplers until it escapes: mean and standard error. The
+/// layer between them is empty (no absorption, no scattering).
+pub(super) fn layer_walk_albedo(coat: Bxdf, base: Bxdf, wo: Vec3, n: usize) -> (f64, f64) {
     let mut rng = Rng::new(1234, 77);
     let (mut s, mut s2) = (0.0f64, 0.0f64);
     for _ in 0..n {
-        let mut weight = 1.0f32;
+        let mut weight = SampledSpectrum::one();
         let mut incoming = wo; // points back to where the light came from
         let mut escaped = false;
         for _bounce in 0..256 {
@@ -24,17 +30,20 @@ fn reference_albedo(rho: f32, eta: f32, alpha: f32, wo: Vec3, n: usize) -> (f64,
             let Some(b) = coat.sample_f(incoming, rng.uniform(), u, TransportMode::Importance) else {
                 break;
             };
-            weight *= b.f.average() * b.wi.z.abs() / b.pdf;
+            weight *= b.f * (b.wi.z.abs() / b.pdf);
             if b.wi.z > 0.0 {
                 escaped = true; // left the layer upwards (reflected outside or transmitted out)
                 break;
             }
-            // Travelling down to the base: Lambertian, albedo ρ, back up.
-            weight *= rho;
-            let up = sample_cosine_hemisphere(Vec2::new(rng.uniform(), rng.uniform()));
-            incoming = -up;
+            // Travelling down to the base, which reflects it back up.
+            let u = Vec2::new(rng.uniform(), rng.uniform());
+            let Some(r) = base.sample_f(-b.wi, rng.uniform(), u, TransportMode::Importance) else {
+                break;
+            };
+            weight *= r.f * (r.wi.z.abs() / r.pdf);
+            incoming = -r.wi;
         }
-        let w = if escaped { weight as f64 } else { 0.0 };
+        let w = if escaped { weight.average() as f64 } else { 0.0 };
         s += w;
         s2 += w * w;
     }

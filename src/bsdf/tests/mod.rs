@@ -5,6 +5,7 @@ mod chi2;
 mod coated_reference;
 mod delta;
 mod energy;
+mod layered;
 mod robustness;
 
 use super::*;

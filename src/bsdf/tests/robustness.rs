@@ -10,6 +10,31 @@ fn values_stay_finite_at_grazing_angles_and_vanishing_roughness() {
     models.push(("thin".into(), ThinDielectric::new(1.5).into()));
     models.push(("bad eta".into(), Dielectric::new(f32::NAN, ggx(0.3)).into()));
     models.push(("bad alpha".into(), Conductor::new(ggx(f32::NAN), gold().0, gold().1).into()));
+    for a in [0.0f32, 1e-4, 0.3] {
+        let slab = Slab::new(0.2, SampledSpectrum::splat(0.7), 0.5, 10, 1);
+        let lambert = Diffuse::new(spectrum(0.2, 0.5, 0.7, 0.9));
+        models.push((
+            format!("layered diffuse α={a}"),
+            LayeredDiffuse::new(Dielectric::new(1.5, ggx(a)), lambert, slab).into(),
+        ));
+        let metal = Conductor::new(ggx(a), gold().0, gold().1);
+        models.push((
+            format!("layered gold α={a}"),
+            LayeredConductor::new(Dielectric::new(1.5, ggx(a)), metal, slab).into(),
+        ));
+    }
+    // Degenerate slabs: nothing thick, infinitely thick, bad numbers.
+    for slab in [
+        Slab::new(0.0, SampledSpectrum::one(), 0.99, 10, 1),
+        Slab::new(f32::INFINITY, SampledSpectrum::one(), -1.0, 10, 1),
+        Slab::new(f32::NAN, SampledSpectrum::splat(f32::NAN), f32::NAN, 0, 0),
+    ] {
+        let lambert = Diffuse::new(SampledSpectrum::one());
+        models.push((
+            format!("layered {slab:?}"),
+            LayeredDiffuse::new(Dielectric::new(1.5, ggx(0.2)), lambert, slab).into(),
+        ));
+    }
     let zs = [1.0f32, 0.5, 1e-2, 1e-4, 1e-6, 1e-8, 0.0, -1e-8, -1e-4, -0.5];
     let dirs: Vec<Vec3> = zs
         .iter()

@@ -1,0 +1,152 @@
+//! pbrt-v4's metals, coated materials and mixes → [`Material`], with the parameters and
+//! defaults of pbrt-v4's `ConductorMaterial`, `CoatedDiffuseMaterial`,
+//! `CoatedConductorMaterial` and `MixMaterial::Create`.
+
+use super::{param_error, Ctx};
+use crate::material::{
+    CoatedConductorMaterial, CoatedDiffuseMaterial, ConductorIor, Ior, LayerSpec, Material, MixMaterial, Roughness,
+};
+use crate::scene::desc::MaterialDesc;
+use crate::scene::error::{Location, SceneError};
+use crate::scene::params::ParamSet;
+use crate::spectrum::RgbKind;
+
+/// How deep mixes may nest: deeper means a mix names itself through others.
+const MAX_MIX_NESTING: usize = 32;
+/// Materials one mix tree may hold.
+const MAX_MIX_NODES: usize = 4096;
+
+impl Ctx<'_> {
+    /// "conductor": `eta`/`k` (default copper) or `reflectance`, and roughness.
+    pub(super) fn conductor(&mut self, p: &ParamSet, loc: &Location) -> Result<Material, SceneError> {
+        let ior = self.conductor_ior(p, ["eta", "k", "reflectance"], loc)?;
+        Ok(Material::Conductor { ior, roughness: self.prefixed_roughness(p, "")? })
+    }
+
+    /// A metal's index from `names` = [η, k, reflectance]; giving both forms is an error, as in
+    /// pbrt-v4.
+    fn conductor_ior(&mut self, p: &ParamSet, names: [&str; 3], loc: &Location) -> Result<ConductorIor, SceneError> {
+        let [eta, k, reflectance] = names;
+        if p.has(reflectance) {
+            if p.has(eta) || p.has(k) {
+                let message = format!("give either \"{reflectance}\" or \"{eta}\" and \"{k}\", not both");
+                return Err(param_error(p, reflectance, loc, message));
+            }
+            return Ok(ConductorIor::Reflectance(self.spectrum_texture(p, reflectance, 0.0, loc)?));
+        }
+        Ok(ConductorIor::EtaK {
+            eta: self.unbounded(p, eta, "metal-Cu-eta", loc)?,
+            k: self.unbounded(p, k, "metal-Cu-k", loc)?,
+        })
+    }
+
+    /// An index of refraction given as a float or a spectrum (default `default`).
+    pub(super) fn ior(&mut self, p: &ParamSet, name: &str, default: f32, loc: &Location) -> Result<Ior, SceneError> {
+        Ok(match (p.float(name), p.spectrum(name)) {
+            (Some(e), _) => Ior::Constant(e),
+            (None, Some(s)) => {
+                let s = s.clone();
+                Ior::Spectral(self.spectrum(&s, RgbKind::Unbounded, p).map_err(|e| SceneError::syntax(loc, name, e))?)
+            }
+            (None, None) => Ior::Constant(default),
+        })
+    }
+
+    /// Roughness from `{prefix}roughness` and its u/v forms, remapped unless
+    /// "remaproughness" is false.
+    pub(super) fn prefixed_roughness(&mut self, p: &ParamSet, prefix: &str) -> Result<Roughness, SceneError> {
+        let (iso, u, v) = (format!("{prefix}roughness"), format!("{prefix}uroughness"), format!("{prefix}vroughness"));
+        let base = self.float_texture(p, &iso, 0.0)?;
+        let u = if p.has(&u) { self.float_texture(p, &u, 0.0)? } else { base.clone() };
+        let v = if p.has(&v) { self.float_texture(p, &v, 0.0)? } else { base };
+        Ok(Roughness { u, v, remap: p.bool_or("remaproughness", true) })
+    }
+
+    /// The slab of a coated material: thickness, albedo, g, maxdepth, nsamples.
+    fn layer(&mut self, p: &ParamSet, loc: &Location) -> Result<LayerSpec, SceneError> {
+        let count = |name: &str, default: i32, min: i32| match p.int(name) {
+            Some(n) if n < min => Err(param_error(p, name, loc, format!("\"{name}\" must be at least {min}, got {n}"))),
+            n => Ok(n.unwrap_or(default) as u32),
+        };
+        Ok(LayerSpec {
+            thickness: self.float_texture(p, "thickness", 0.01)?,
+            albedo: self.spectrum_texture(p, "albedo", 0.0, loc)?,
+            g: self.float_texture(p, "g", 0.0)?,
+            max_depth: count("maxdepth", 10, 0)?,
+            n_samples: count("nsamples", 1, 1)?,
+        })
+    }
+
+    /// "coateddiffuse"; prism's `"string model" "analytic"` selects the closed-form coat.
+    pub(super) fn coated_diffuse(&mut self, p: &ParamSet, loc: &Location) -> Result<Material, SceneError> {
+        let analytic = match p.string("model") {
+            None | Some("layered") => false,
+            Some("analytic") => true,
+            Some(other) => {
+                let message = format!("unknown coateddiffuse model \"{other}\"; valid models: analytic, layered");
+                return Err(param_error(p, "model", loc, message));
+            }
+        };
+        Ok(Material::CoatedDiffuse(Box::new(CoatedDiffuseMaterial {
+            reflectance: self.spectrum_texture(p, "reflectance", 0.5, loc)?,
+            roughness: self.prefixed_roughness(p, "")?,
+            eta: self.ior(p, "eta", 1.5, loc)?,
+            layer: self.layer(p, loc)?,
+            analytic,
+        })))
+    }
+
+    /// "coatedconductor": `interface.*` for the coat, `conductor.*` (or `reflectance`) for the
+    /// metal.
+    pub(super) fn coated_conductor(&mut self, p: &ParamSet, loc: &Location) -> Result<Material, SceneError> {
+        Ok(Material::CoatedConductor(Box::new(CoatedConductorMaterial {
+            interface_roughness: self.prefixed_roughness(p, "interface.")?,
+            interface_eta: self.ior(p, "interface.eta", 1.5, loc)?,
+            conductor: self.conductor_ior(p, ["conductor.eta", "conductor.k", "reflectance"], loc)?,
+            conductor_roughness: self.prefixed_roughness(p, "conductor.")?,
+            layer: self.layer(p, loc)?,
+        })))
+    }
+
+    /// "mix": two named materials (`"string materials"`) and `amount`, the probability of the
+    /// second.
+    pub(super) fn mix(&mut self, m: &MaterialDesc) -> Result<Material, SceneError> {
+        let mut nodes = 0;
+        self.mix_tree(m, 0, &mut nodes)
+    }
+
+    /// A mix `nesting` mixes down; `nodes` counts the materials built for the whole tree (each
+    /// use of a named material is a copy, so a chain of mixes naming the previous one twice
+    /// doubles per link).
+    fn mix_tree(&mut self, m: &MaterialDesc, nesting: usize, nodes: &mut usize) -> Result<Material, SceneError> {
+        let (p, loc) = (&m.params, &m.loc);
+        if nesting >= MAX_MIX_NESTING {
+            let message = format!("mix materials nest more than {MAX_MIX_NESTING} deep (does a mix name itself?)");
+            return Err(SceneError::syntax(loc, "materials", message));
+        }
+        let names = p.strings("materials").unwrap_or(&[]);
+        let [a, b] = names else {
+            let message = format!("a mix needs two \"string materials\", got {}", names.len());
+            return Err(param_error(p, "materials", loc, message));
+        };
+        let desc = self.desc;
+        let mut pick = |name: &str| -> Result<Material, SceneError> {
+            let Some(d) = desc.named_material(name) else {
+                return Err(param_error(p, "materials", loc, format!("no named material \"{name}\"")));
+            };
+            *nodes += 1;
+            if *nodes > MAX_MIX_NODES {
+                let message = format!("a mix tree of more than {MAX_MIX_NODES} materials");
+                return Err(param_error(p, "materials", loc, message));
+            }
+            if d.kind == "mix" {
+                self.mix_tree(d, nesting + 1, nodes)
+            } else {
+                self.make_material(d)
+            }
+        };
+        let materials = [pick(a)?, pick(b)?];
+        let amount = self.float_texture(p, "amount", 0.5)?;
+        Ok(Material::Mix(Box::new(MixMaterial { amount, materials })))
+    }
+}
