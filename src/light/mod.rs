@@ -5,19 +5,23 @@
 mod area;
 mod distant;
 mod envmap;
+mod goniometric;
 mod infinite;
 mod map_layout;
 pub mod photometry;
 mod point;
+mod projection;
 mod sampler;
 mod texel_spectrum;
 
 pub use area::{AreaLight, TriangleLightLanes};
 pub use distant::DistantLight;
 pub use envmap::EnvMapLight;
+pub use goniometric::GoniometricLight;
 pub use infinite::UniformInfiniteLight;
 pub use map_layout::MapLayout;
 pub use point::{PointLight, SpotFalloff, SpotLight};
+pub use projection::ProjectionLight;
 pub use sampler::LightSampler;
 
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
@@ -25,7 +29,7 @@ use glam::{Vec2, Vec3};
 
 /// The pbrt-v4 `LightSource` types prism renders (area lights, `AreaLightSource "diffuse"`,
 /// are attached to shapes instead).
-pub const PBRT_NAMES: &[&str] = &["point", "spot", "distant", "infinite"];
+pub const PBRT_NAMES: &[&str] = &["point", "spot", "goniometric", "projection", "distant", "infinite"];
 
 /// A sample of incident light at a reference point, produced by [`Light::sample_li`].
 #[derive(Clone, Copy, Debug)]
@@ -50,6 +54,10 @@ pub enum Light {
     Point(PointLight),
     /// Spotlight (Warn's cos^s model or pbrt-v4's smoothstep cone).
     Spot(SpotLight),
+    /// Point light with an equal-area intensity image.
+    Goniometric(Box<GoniometricLight>),
+    /// Point light projecting an image.
+    Projection(Box<ProjectionLight>),
     /// One emissive triangle of a diffuse area light.
     Area(AreaLight),
     /// Directional light at infinity.
@@ -63,7 +71,10 @@ pub enum Light {
 impl Light {
     /// True for lights described by a delta distribution (no MIS with BSDF sampling).
     pub fn is_delta(&self) -> bool {
-        matches!(self, Light::Point(_) | Light::Spot(_) | Light::Distant(_))
+        matches!(
+            self,
+            Light::Point(_) | Light::Spot(_) | Light::Goniometric(_) | Light::Projection(_) | Light::Distant(_)
+        )
     }
 
     /// Samples incident light at `p` (with `u` in [0,1)²).
@@ -71,6 +82,8 @@ impl Light {
         match self {
             Light::Point(l) => l.sample_li(p, w),
             Light::Spot(l) => l.sample_li(p, w),
+            Light::Goniometric(l) => l.sample_li(p, w),
+            Light::Projection(l) => l.sample_li(p, w),
             Light::Area(l) => l.sample_li(p, u, w),
             Light::Distant(l) => l.sample_li(w),
             Light::UniformInfinite(l) => l.sample_li(u, w),
@@ -94,6 +107,8 @@ impl Light {
         match self {
             Light::Point(l) => l.power(),
             Light::Spot(l) => l.power(),
+            Light::Goniometric(l) => l.power(),
+            Light::Projection(l) => l.power(),
             Light::Area(l) => l.power(),
             Light::Distant(l) => l.power(scene_radius),
             Light::UniformInfinite(l) => l.power(scene_radius),

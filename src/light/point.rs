@@ -140,7 +140,7 @@ impl SpotLight {
 
 /// The sample of a point-like light at `position` seen from `p`: direction, distance and the
 /// inverse-square law applied to the intensity toward `p` (E = I / r² along `wi`).
-fn delta_sample(position: Vec3, p: Vec3, intensity: SampledSpectrum) -> Option<LightSample> {
+pub(super) fn delta_sample(position: Vec3, p: Vec3, intensity: SampledSpectrum) -> Option<LightSample> {
     let d = position - p;
     let r2 = d.length_squared();
     if r2 == 0.0 {

@@ -21,7 +21,7 @@ pub const PBRT_ONLY_MATERIALS: &[(&str, &str)] = &[("hair", "diffuse"), ("measur
 /// Non-area lights prism renders (listed beside the `Light` enum they become).
 pub const PRISM_LIGHTS: &[&str] = crate::light::PBRT_NAMES;
 /// pbrt-v4 lights prism skips.
-pub const PBRT_ONLY_LIGHTS: &[(&str, &str)] = &[("goniometric", "skips the light"), ("projection", "skips the light")];
+pub const PBRT_ONLY_LIGHTS: &[(&str, &str)] = &[];
 /// Area lights prism renders.
 pub const PRISM_AREA_LIGHTS: &[&str] = &["diffuse"];
 

@@ -226,7 +226,8 @@ LightSource "point" "rgb I" [1 2 3] "float scale" 5
 LightSource "infinite" "blackbody L" 5500
 LightSource "goniometric""#,
     );
-    assert_eq!(d.lights.len(), 2);
+    assert_eq!(d.lights.len(), 3);
+    assert_eq!(d.lights[2].kind, "goniometric");
     assert_eq!(d.lights[0].params.float("scale"), Some(5.0));
     assert_eq!(d.lights[1].params.float("scale"), Some(2.0));
     assert_eq!(d.lights[1].params.spectrum("L"), Some(&SpectrumParam::Blackbody(5500.)));

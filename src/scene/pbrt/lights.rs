@@ -4,7 +4,10 @@
 
 use super::{param_error, space_of, Ctx};
 use crate::light::photometry::{lumens_per_unit_y, spectral_integral};
-use crate::light::{DistantLight, EnvMapLight, Light, PointLight, SpotFalloff, SpotLight, UniformInfiniteLight};
+use crate::light::{
+    DistantLight, EnvMapLight, GoniometricLight, Light, PointLight, ProjectionLight, SpotFalloff, SpotLight,
+    UniformInfiniteLight,
+};
 use crate::scene::desc::LightDesc;
 use crate::scene::error::{Location, SceneError};
 use crate::scene::params::{ParamSet, SpectrumParam};
@@ -137,6 +140,42 @@ impl Ctx<'_> {
                 let sc = scale * norm * brightness_factor(p, FLUX, k_e, Some((&s, norm)), &l.loc)?;
                 let light = SpotLight::new(from, to - from, Arc::new(s), sc, falloff);
                 self.b.add_light(Light::Spot(light));
+            }
+            "goniometric" if p.filename("filename").is_none() => {
+                // pbrt-v4 warns and the light emits nothing.
+                self.warn(&l.loc, "goniometric light without a \"filename\" emits nothing; skipped".into());
+            }
+            "goniometric" => {
+                let (s, norm) = self.light_spectrum(p, "I", &l.loc)?;
+                let image = self.image(p, &l.loc)?;
+                if image.width != image.height {
+                    let message = format!(
+                        "a goniometric image must be square (equal-area), got {}x{}",
+                        image.width, image.height
+                    );
+                    return Err(param_error(p, "filename", &l.loc, message));
+                }
+                let pos = m.transform_point3(Vec3::ZERO);
+                let frame = orthonormal(glam::Mat3::from_mat4(m));
+                let mut light = GoniometricLight::new(pos, frame, &image, Arc::new(s.clone()), scale * norm);
+                let k_e = 4.0 * crate::math::PI * light.mean_value();
+                light.scale *= brightness_factor(p, FLUX, k_e, Some((&s, norm)), &l.loc)?;
+                self.b.add_light(Light::Goniometric(Box::new(light)));
+            }
+            "projection" => {
+                // The image's RGB is an illuminant of the colour space, normalised by its white.
+                let (_, norm) = self.light_spectrum(p, "", &l.loc)?;
+                let image = self.image(p, &l.loc)?;
+                let pos = m.transform_point3(Vec3::ZERO);
+                let frame = orthonormal(glam::Mat3::from_mat4(m));
+                let fov = p.float_or("fov", 90.0);
+                if !(fov > 0.0 && fov < 180.0) {
+                    let message = format!("\"fov\" must be between 0 and 180 degrees, got {fov}");
+                    return Err(param_error(p, "fov", &l.loc, message));
+                }
+                let mut light = ProjectionLight::new(pos, frame, fov, &image, space_of(p), scale * norm);
+                light.scale *= brightness_factor(p, FLUX, light.k_e(), None, &l.loc)?;
+                self.b.add_light(Light::Projection(Box::new(light)));
             }
             "distant" => {
                 let (s, norm) = self.light_spectrum(p, "L", &l.loc)?;
