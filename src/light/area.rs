@@ -92,8 +92,14 @@ impl AreaLight {
 
     /// Φ = π L A per emitting side [W] (with L integrated over 360–830 nm).
     pub fn power(&self) -> f32 {
+        self.power_given(spectral_integral(&self.spectrum))
+    }
+
+    /// [`AreaLight::power`] given ∫ s dλ of its spectrum (shared by every triangle of a mesh,
+    /// so the light sampler integrates it once per spectrum).
+    pub fn power_given(&self, spectral_integral: f32) -> f32 {
         let sides = if self.two_sided { 2.0 } else { 1.0 };
-        PI * self.area * sides * self.scale * spectral_integral(&self.spectrum)
+        PI * self.area * sides * self.scale * spectral_integral
     }
 
     /// The radiance scale that makes a set of triangles of total area `area` emit `flux` [W]

@@ -20,9 +20,17 @@ impl LightSampler {
         if lights.is_empty() {
             return Self { table: None };
         }
+        // An emissive mesh is one light per triangle sharing one spectrum: integrate it once.
+        let mut integrals: std::collections::HashMap<*const crate::spectrum::Spectrum, f32> = Default::default();
         let powers: Vec<f32> = lights
             .iter()
-            .map(|l| l.power(scene_radius))
+            .map(|l| match l {
+                Light::Area(a) => {
+                    let key = std::sync::Arc::as_ptr(&a.spectrum);
+                    a.power_given(*integrals.entry(key).or_insert_with(|| super::point::spectral_integral(&a.spectrum)))
+                }
+                l => l.power(scene_radius),
+            })
             .map(|p| if p.is_finite() { p.max(0.0) } else { 0.0 })
             .collect();
         Self { table: Some(Distribution1D::new(&powers)) }
