@@ -59,8 +59,8 @@ impl Material {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use glam::Vec2;
     use crate::spectrum::Spectrum;
+    use glam::Vec2;
 
     fn grey(v: f32) -> Material {
         Material::diffuse(Spectrum::constant(v))
@@ -107,10 +107,22 @@ mod tests {
         // Amounts at or beyond the ends pick one material whatever the hash.
         for i in 0..100 {
             let key = hit_key(Vec3::splat(i as f32), wo);
-            assert_eq!(reflectance(mix(0.0, grey(0.1), grey(0.2)).resolve(key, &TextureEvalContext::uv(Vec2::ZERO))), 0.1);
-            assert_eq!(reflectance(mix(1.0, grey(0.1), grey(0.2)).resolve(key, &TextureEvalContext::uv(Vec2::ZERO))), 0.2);
-            assert_eq!(reflectance(mix(-3.0, grey(0.1), grey(0.2)).resolve(key, &TextureEvalContext::uv(Vec2::ZERO))), 0.1);
-            assert_eq!(reflectance(mix(f32::NAN, grey(0.1), grey(0.2)).resolve(key, &TextureEvalContext::uv(Vec2::ZERO))), 0.1);
+            assert_eq!(
+                reflectance(mix(0.0, grey(0.1), grey(0.2)).resolve(key, &TextureEvalContext::uv(Vec2::ZERO))),
+                0.1
+            );
+            assert_eq!(
+                reflectance(mix(1.0, grey(0.1), grey(0.2)).resolve(key, &TextureEvalContext::uv(Vec2::ZERO))),
+                0.2
+            );
+            assert_eq!(
+                reflectance(mix(-3.0, grey(0.1), grey(0.2)).resolve(key, &TextureEvalContext::uv(Vec2::ZERO))),
+                0.1
+            );
+            assert_eq!(
+                reflectance(mix(f32::NAN, grey(0.1), grey(0.2)).resolve(key, &TextureEvalContext::uv(Vec2::ZERO))),
+                0.1
+            );
         }
     }
 }

@@ -6,10 +6,10 @@ mod layered;
 mod mix;
 mod subsurface;
 
+pub use crate::texture::{FloatTexture, SpectrumTexture, TextureEvalContext};
 pub use conductor::ConductorIor;
 pub use layered::{CoatedConductorMaterial, CoatedDiffuseMaterial, LayerSpec};
 pub use mix::{hit_key, MixMaterial};
-pub use crate::texture::{FloatTexture, SpectrumTexture, TextureEvalContext};
 pub use subsurface::{ScatteringSpec, SubsurfaceMaterial};
 
 use crate::bsdf::{Bsdf, Bxdf, Conductor, Dielectric, Diffuse, DiffuseTransmission, ThinDielectric, TrowbridgeReitz};

@@ -103,3 +103,8 @@ fn orthographic_and_spherical_cameras_have_pbrt_v4s_means() {
 fn equal_area_environment_map_has_pbrt_v4s_means() {
     assert_matches_pbrt_v4("envmap.pbrt", 16);
 }
+
+#[test]
+fn every_texture_type_and_mapping_has_pbrt_v4s_means() {
+    assert_matches_pbrt_v4("textures.pbrt", 16);
+}
