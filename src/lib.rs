@@ -43,3 +43,4 @@ pub mod sensor;
 pub mod settings;
 pub mod simd;
 pub mod spectrum;
+pub mod texture;

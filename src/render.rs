@@ -10,6 +10,7 @@ use crate::integrator::{PathIntegrator, Stats};
 use crate::sampling::Sampler;
 use crate::scene::Scene;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
+use crate::texture::TextureFootprint;
 use glam::Vec2;
 use rayon::prelude::*;
 use std::ops::Range;
@@ -112,13 +113,15 @@ impl RenderSettings {
 /// One pass's worth of work: samples `range` of every pixel.
 pub fn render_pass(scene: &Scene, settings: &RenderSettings, film: &mut Film, range: Range<u64>) -> Stats {
     let camera = scene.camera.camera(settings.resolution);
+    let integrator =
+        PathIntegrator { footprint: Some(TextureFootprint::new(&camera, settings.spp)), ..settings.integrator };
     let width = film.width as usize;
     if width == 0 {
         return Stats::default(); // an empty film: nothing to render (and no chunk size of 0)
     }
     let (x0, y0) = settings.film_origin();
     let sensor = settings.film.sensor;
-    let tracer = settings.lanes.and_then(|t| LaneTracer::new(settings.integrator, scene, t).ok());
+    let tracer = settings.lanes.and_then(|t| LaneTracer::new(integrator, scene, t).ok());
     film.pixels
         .par_chunks_mut(width * BAND_ROWS)
         .enumerate()
@@ -184,7 +187,7 @@ pub fn render_pass(scene: &Scene, settings: &RenderSettings, film: &mut Film, ra
                 let (x, y) = pixel_at(i);
                 for s in range.clone() {
                     let (mut lambdas, weight, ray) = start(&mut sampler, (x, y), s);
-                    let l = settings.integrator.li(scene, ray, &mut lambdas, &mut sampler, &mut stats);
+                    let l = integrator.li(scene, ray, &mut lambdas, &mut sampler, &mut stats);
                     add(px, &mut stats, (x, y), s, l, lambdas, weight);
                 }
             }

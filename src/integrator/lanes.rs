@@ -131,6 +131,10 @@ impl<'s> LaneTracer<'s> {
                     continue;
                 };
                 let si = scene.interaction(&rays[i], &hit);
+                let si = match &self.integrator.footprint {
+                    Some(f) => si.with_texture_footprint(f),
+                    None => si,
+                };
                 if let Some((id, _)) = si.area_light() {
                     let le = si.emitted(&w[i]);
                     if !le.is_black() {

@@ -12,6 +12,7 @@ use crate::sampling::mis::power_heuristic;
 use crate::sampling::Sampler;
 use crate::scene::{Scene, SurfaceInteraction, MAX_INTERFACE_CROSSINGS};
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
+use crate::texture::TextureFootprint;
 use glam::Vec3;
 
 /// Which estimators of direct light to use (for validating MIS: all three must agree).
@@ -39,11 +40,20 @@ pub struct PathIntegrator {
     pub strategy: DirectStrategy,
     /// How paths entering subsurface materials continue.
     pub sss: SubsurfaceMethod,
+    /// The camera's pixel footprint, for filtered texture lookups (`None`: unfiltered, the
+    /// finest texture detail everywhere).
+    pub footprint: Option<TextureFootprint>,
 }
 
 impl Default for PathIntegrator {
     fn default() -> Self {
-        Self { max_depth: 8, rr_depth: 3, strategy: DirectStrategy::Mis, sss: SubsurfaceMethod::default() }
+        Self {
+            max_depth: 8,
+            rr_depth: 3,
+            strategy: DirectStrategy::Mis,
+            sss: SubsurfaceMethod::default(),
+            footprint: None,
+        }
     }
 }
 
@@ -180,6 +190,10 @@ impl PathIntegrator {
                 break;
             }
             state.depth += 1;
+            let si = match &self.footprint {
+                Some(f) if given_bsdf.is_none() => si.with_texture_footprint(f),
+                _ => si,
+            };
             let Some(bsdf) = given_bsdf.or_else(|| si.bsdf(w)) else { break };
             let flags = bsdf.flags();
             if flags.is_empty() {

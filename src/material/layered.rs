@@ -2,10 +2,9 @@
 //! over a metal (`coatedconductor`), with a homogeneous slab between them, rendered by the
 //! stochastic layered BSDF ([`crate::bsdf::Layered`]).
 
-use super::{clamp01, ConductorIor, FloatTexture, Ior, Roughness, SpectrumTexture};
+use super::{clamp01, ConductorIor, FloatTexture, Ior, Roughness, SpectrumTexture, TextureEvalContext};
 use crate::bsdf::{Bxdf, CoatedDiffuse, Conductor, Dielectric, Diffuse, Layered, Slab};
 use crate::spectrum::SampledWavelengths;
-use glam::Vec2;
 
 /// The slab between a coat and its base, and the random walk's limits.
 #[derive(Clone, Debug)]
@@ -35,9 +34,9 @@ impl Default for LayerSpec {
 }
 
 impl LayerSpec {
-    fn slab(&self, uv: Vec2, w: &SampledWavelengths) -> Slab {
-        let albedo = clamp01(self.albedo.eval(uv, w));
-        Slab::new(self.thickness.eval(uv), albedo, self.g.eval(uv), self.max_depth, self.n_samples)
+    fn slab(&self, ctx: &TextureEvalContext, w: &SampledWavelengths) -> Slab {
+        let albedo = clamp01(self.albedo.eval(ctx, w));
+        Slab::new(self.thickness.eval(ctx), albedo, self.g.eval(ctx), self.max_depth, self.n_samples)
     }
 }
 
@@ -73,14 +72,14 @@ impl CoatedDiffuseMaterial {
         Self { reflectance, roughness, eta: Ior::Constant(eta), layer: LayerSpec::default(), analytic: false }
     }
 
-    pub(super) fn bxdf(&self, uv: Vec2, w: &mut SampledWavelengths) -> Bxdf {
-        let r = clamp01(self.reflectance.eval(uv, w));
-        let distrib = self.roughness.distribution(uv);
+    pub(super) fn bxdf(&self, ctx: &TextureEvalContext, w: &mut SampledWavelengths) -> Bxdf {
+        let r = clamp01(self.reflectance.eval(ctx, w));
+        let distrib = self.roughness.distribution(ctx);
         let eta = coat_eta(&self.eta, w);
         if self.analytic {
             return CoatedDiffuse::new(r, eta, distrib).into();
         }
-        Layered::new(Dielectric::new(eta, distrib), Diffuse::new(r), self.layer.slab(uv, w)).into()
+        Layered::new(Dielectric::new(eta, distrib), Diffuse::new(r), self.layer.slab(ctx, w)).into()
     }
 }
 
@@ -101,12 +100,12 @@ pub struct CoatedConductorMaterial {
 }
 
 impl CoatedConductorMaterial {
-    pub(super) fn bxdf(&self, uv: Vec2, w: &mut SampledWavelengths) -> Bxdf {
+    pub(super) fn bxdf(&self, ctx: &TextureEvalContext, w: &mut SampledWavelengths) -> Bxdf {
         let eta = coat_eta(&self.interface_eta, w);
-        let (ce, ck) = self.conductor.eval(uv, w);
+        let (ce, ck) = self.conductor.eval(ctx, w);
         // Under the coat the metal borders the coat's medium: its index relative to that.
-        let metal = Conductor::new(self.conductor_roughness.distribution(uv), ce / eta, ck / eta);
-        let coat = Dielectric::new(eta, self.interface_roughness.distribution(uv));
-        Layered::new(coat, metal, self.layer.slab(uv, w)).into()
+        let metal = Conductor::new(self.conductor_roughness.distribution(ctx), ce / eta, ck / eta);
+        let coat = Dielectric::new(eta, self.interface_roughness.distribution(ctx));
+        Layered::new(coat, metal, self.layer.slab(ctx, w)).into()
     }
 }

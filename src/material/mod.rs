@@ -5,17 +5,16 @@ mod conductor;
 mod layered;
 mod mix;
 mod subsurface;
-mod texture;
 
+pub use crate::texture::{FloatTexture, SpectrumTexture, TextureEvalContext};
 pub use conductor::ConductorIor;
 pub use layered::{CoatedConductorMaterial, CoatedDiffuseMaterial, LayerSpec};
 pub use mix::{hit_key, MixMaterial};
 pub use subsurface::{ScatteringSpec, SubsurfaceMaterial};
-pub use texture::{FloatTexture, ImageTexture, ReflectanceImage, SpectrumTexture};
 
 use crate::bsdf::{Bsdf, Bxdf, Conductor, Dielectric, Diffuse, DiffuseTransmission, ThinDielectric, TrowbridgeReitz};
 use crate::spectrum::{SampledSpectrum, SampledWavelengths, Spectrum};
-use glam::{Vec2, Vec3};
+use glam::Vec3;
 
 /// The pbrt-v4 `Material` types prism renders.
 pub const PBRT_NAMES: &[&str] = &[
@@ -82,8 +81,8 @@ impl Roughness {
         Self { u: FloatTexture::Constant(a), v: FloatTexture::Constant(a), remap: false }
     }
 
-    fn distribution(&self, uv: Vec2) -> TrowbridgeReitz {
-        let (mut au, mut av) = (self.u.eval(uv), self.v.eval(uv));
+    fn distribution(&self, ctx: &TextureEvalContext) -> TrowbridgeReitz {
+        let (mut au, mut av) = (self.u.eval(ctx), self.v.eval(ctx));
         if self.remap {
             au = TrowbridgeReitz::roughness_to_alpha(au);
             av = TrowbridgeReitz::roughness_to_alpha(av);
@@ -151,8 +150,8 @@ pub struct ShadingPoint {
     pub ng: Vec3,
     /// ∂p/∂u, for anisotropic frames (may be zero).
     pub dpdu: Vec3,
-    /// Texture coordinates.
-    pub uv: Vec2,
+    /// What textures are evaluated at: point, normal, (u, v) and the pixel footprint.
+    pub tex: TextureEvalContext,
 }
 
 impl Material {
@@ -194,25 +193,25 @@ impl Material {
     /// by the shading point.
     pub fn bsdf(&self, sp: &ShadingPoint, w: &mut SampledWavelengths) -> Option<Bsdf> {
         let bxdf: Bxdf = match self {
-            Material::Diffuse { reflectance } => Diffuse::new(clamp01(reflectance.eval(sp.uv, w))).into(),
+            Material::Diffuse { reflectance } => Diffuse::new(clamp01(reflectance.eval(&sp.tex, w))).into(),
             Material::DiffuseTransmission { reflectance, transmittance, scale } => DiffuseTransmission::new(
-                clamp01(reflectance.eval(sp.uv, w) * *scale),
-                clamp01(transmittance.eval(sp.uv, w) * *scale),
+                clamp01(reflectance.eval(&sp.tex, w) * *scale),
+                clamp01(transmittance.eval(&sp.tex, w) * *scale),
             )
             .into(),
             Material::Conductor { ior, roughness } => {
-                let (eta, k) = ior.eval(sp.uv, w);
-                Conductor::new(roughness.distribution(sp.uv), eta, k).into()
+                let (eta, k) = ior.eval(&sp.tex, w);
+                Conductor::new(roughness.distribution(&sp.tex), eta, k).into()
             }
             Material::Dielectric { eta, roughness } => {
-                Dielectric::new(eta.hero(w), roughness.distribution(sp.uv)).into()
+                Dielectric::new(eta.hero(w), roughness.distribution(&sp.tex)).into()
             }
             Material::ThinDielectric { eta } => ThinDielectric::new(*eta).into(),
-            Material::CoatedDiffuse(m) => m.bxdf(sp.uv, w),
-            Material::CoatedConductor(m) => m.bxdf(sp.uv, w),
+            Material::CoatedDiffuse(m) => m.bxdf(&sp.tex, w),
+            Material::CoatedConductor(m) => m.bxdf(&sp.tex, w),
             Material::Mix(_) => {
-                let key = hit_key(sp.ns, sp.uv.extend(0.0));
-                return self.resolve(key, sp.uv).bsdf(sp, w);
+                let key = hit_key(sp.ns, sp.tex.uv.extend(0.0));
+                return self.resolve(key, &sp.tex).bsdf(sp, w);
             }
             Material::Subsurface(m) => return Some(m.boundary_bsdf(sp)),
             Material::Interface => return None,
@@ -231,7 +230,7 @@ mod tests {
     use crate::scene::pbrt::named_spectrum;
 
     fn point() -> ShadingPoint {
-        ShadingPoint { ns: Vec3::Z, ng: Vec3::Z, dpdu: Vec3::X, uv: Vec2::ZERO }
+        ShadingPoint { ns: Vec3::Z, ng: Vec3::Z, dpdu: Vec3::X, tex: TextureEvalContext::uv(glam::Vec2::ZERO) }
     }
 
     #[test]

@@ -84,7 +84,7 @@ impl SubsurfaceMaterial {
 
     /// The boundary BSDF at a hit (the dielectric; inside is −n).
     pub fn boundary_bsdf(&self, sp: &ShadingPoint) -> Bsdf {
-        Bsdf::new(sp.ns, sp.dpdu, sp.ng, Dielectric::new(self.eta, self.roughness.distribution(sp.uv)).into())
+        Bsdf::new(sp.ns, sp.dpdu, sp.ng, Dielectric::new(self.eta, self.roughness.distribution(&sp.tex)).into())
     }
 
     /// The entry-point lobe S_ω at a hit (diffusion method).
@@ -105,7 +105,7 @@ impl SubsurfaceMaterial {
                 HomogeneousMedium::new(sigma_a.sample(w) * *scale, sigma_s.sample(w) * *scale)
             }
             ScatteringSpec::Reflectance { reflectance, mfp, scale } => {
-                let r = clamp01(reflectance.eval(sp.uv, w));
+                let r = clamp01(reflectance.eval(&sp.tex, w));
                 let mfp = mfp.sample(w) * *scale;
                 let table = self.table();
                 let mut sigma_a = SampledSpectrum::zero();

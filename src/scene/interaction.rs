@@ -10,6 +10,7 @@ use crate::material::{hit_key, Material, ShadingPoint};
 use crate::math::{offset_ray_origin, triangle_point};
 use crate::sampling::rng::hash64;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
+use crate::texture::{TextureEvalContext, TextureFootprint};
 use glam::{Vec2, Vec3};
 
 /// A point on a surface where a ray hit, with the primitive it belongs to.
@@ -21,6 +22,8 @@ pub struct SurfaceInteraction<'s> {
     pub p_err: Vec3,
     /// Shading data for the material.
     pub shading: ShadingPoint,
+    /// ∂p/∂v, with `shading.dpdu` the parameterisation that (u, v) footprints are found in.
+    dpdv: Vec3,
     /// Unit direction back along the incoming ray.
     pub wo: Vec3,
     /// The primitive hit, with the scene's materials and lights (`None`: a virtual sensor).
@@ -56,32 +59,30 @@ impl<'s> SurfaceInteraction<'s> {
         let b = [1.0 - hit.u - hit.v, hit.u, hit.v];
         let (point, p_err) = triangle_point(p, b);
         let ng = (p[1] - p[0]).cross(p[2] - p[0]).normalize_or_zero();
-        let uv = match &mesh.uvs {
-            Some(uvs) => uvs[tri[0] as usize] * b[0] + uvs[tri[1] as usize] * b[1] + uvs[tri[2] as usize] * b[2],
-            None => Vec2::new(b[1] + b[2], b[2]),
+        // pbrt-v4's default (u, v) of a triangle's corners: (0, 0), (1, 0), (1, 1).
+        let corner_uv = |k: usize| match &mesh.uvs {
+            Some(uvs) => uvs[tri[k] as usize],
+            None => [Vec2::ZERO, Vec2::X, Vec2::ONE][k],
         };
+        let uv = corner_uv(0) * b[0] + corner_uv(1) * b[1] + corner_uv(2) * b[2];
         let interpolated = mesh.normals.as_ref().and_then(|normals| {
             let n = normals[tri[0] as usize] * b[0] + normals[tri[1] as usize] * b[1] + normals[tri[2] as usize] * b[2];
             (n.length_squared() > 0.0 && n.is_finite()).then_some(n)
         });
-        let dpdu = match &mesh.uvs {
-            Some(uvs) => {
-                let (duv02, duv12) =
-                    (uvs[tri[0] as usize] - uvs[tri[2] as usize], uvs[tri[1] as usize] - uvs[tri[2] as usize]);
-                let (dp02, dp12) = (p[0] - p[2], p[1] - p[2]);
-                let det = duv02.x * duv12.y - duv02.y * duv12.x;
-                if det.abs() > 1e-12 {
-                    (dp02 * duv12.y - dp12 * duv02.y) / det
-                } else {
-                    p[1] - p[0]
-                }
-            }
-            None => p[1] - p[0],
+        // ∂p/∂u and ∂p/∂v from the corners' positions and (u, v) (pbrt-v4 §6.5.3); a degenerate
+        // (u, v) layout falls back to edges of the triangle.
+        let (duv02, duv12) = (corner_uv(0) - corner_uv(2), corner_uv(1) - corner_uv(2));
+        let (dp02, dp12) = (p[0] - p[2], p[1] - p[2]);
+        let det = duv02.x * duv12.y - duv02.y * duv12.x;
+        let (dpdu, dpdv) = if det.abs() > 1e-12 {
+            ((dp02 * duv12.y - dp12 * duv02.y) / det, (dp12 * duv02.x - dp02 * duv12.x) / det)
+        } else {
+            (p[1] - p[0], ng.cross(p[1] - p[0]))
         };
         // An instance hit was computed in object space: carry the point with its error bound,
         // the normals and the tangent to world space (pbrt-v4 transforms interactions the same way).
-        let (point, p_err, ng, interpolated, dpdu) = match scene.instances.get(hit.inst_id as usize) {
-            None => (point, p_err, ng, interpolated, dpdu),
+        let (point, p_err, ng, interpolated, dpdu, dpdv) = match scene.instances.get(hit.inst_id as usize) {
+            None => (point, p_err, ng, interpolated, dpdu, dpdv),
             Some(inst) => {
                 let (wp, werr) = inst.point_to_world(point, p_err);
                 (
@@ -90,6 +91,7 @@ impl<'s> SurfaceInteraction<'s> {
                     inst.normal_to_world(ng),
                     interpolated.map(|n| inst.normal_to_world(n)),
                     inst.vector_to_world(dpdu),
+                    inst.vector_to_world(dpdv),
                 )
             }
         };
@@ -105,7 +107,8 @@ impl<'s> SurfaceInteraction<'s> {
         Self {
             p: point,
             p_err,
-            shading: ShadingPoint { ns, ng: ng_oriented, dpdu, uv },
+            shading: ShadingPoint { ns, ng: ng_oriented, dpdu, tex: TextureEvalContext::at(point, ns, uv) },
+            dpdv,
             wo: -ray.d.normalize(),
             bound: Some(bound),
             mesh: hit.geom_id,
@@ -119,7 +122,8 @@ impl<'s> SurfaceInteraction<'s> {
         Self {
             p,
             p_err: p.abs() * crate::math::offset::gamma(4),
-            shading: ShadingPoint { ns: n, ng: n, dpdu: Vec3::ZERO, uv: Vec2::ZERO },
+            shading: ShadingPoint { ns: n, ng: n, dpdu: Vec3::ZERO, tex: TextureEvalContext::at(p, n, Vec2::ZERO) },
+            dpdv: Vec3::ZERO,
             wo: n,
             bound: None,
             mesh: u32::MAX,
@@ -128,12 +132,20 @@ impl<'s> SurfaceInteraction<'s> {
         }
     }
 
+    /// The same point with the pixel footprint `footprint` estimates there, for filtered
+    /// texture lookups (pbrt-v4 `SurfaceInteraction::ComputeDifferentials`).
+    pub fn with_texture_footprint(mut self, footprint: &TextureFootprint) -> Self {
+        let (dpdx, dpdy) = footprint.dp_dxy(self.p, self.shading.ns);
+        self.shading.tex = self.shading.tex.with_footprint(dpdx, dpdy, self.shading.dpdu, self.dpdv);
+        self
+    }
+
     /// The material of the surface (`None` for a virtual sensor); a mix is resolved to the
     /// material it chooses for this point and direction.
     #[inline]
     pub fn material(&self) -> Option<&'s Material> {
         self.bound.map(|b| match b.material {
-            Material::Mix(_) => b.material.resolve(hit_key(self.p, self.wo), self.shading.uv),
+            Material::Mix(_) => b.material.resolve(hit_key(self.p, self.wo), &self.shading.tex),
             m => m,
         })
     }
@@ -151,7 +163,7 @@ impl<'s> SurfaceInteraction<'s> {
     /// stochastic alpha).
     pub fn is_cut_out(&self, ray: &Ray) -> bool {
         let Some(alpha) = self.bound.and_then(|b| b.primitive.alpha.as_ref()) else { return false };
-        let a = alpha.eval(self.shading.uv);
+        let a = alpha.eval(&self.shading.tex);
         if a >= 1.0 {
             return false;
         }

@@ -12,23 +12,23 @@ mod lights;
 mod load;
 mod materials;
 mod subsurface;
+mod textures;
 
 pub use inputs::{input_stamps, InputStamp};
 pub use load::{load_file, LoadedScene};
 
 use lights::{brightness_factor, FLUX};
 
-use super::desc::{MaterialDesc, SceneDesc, ShapeDesc, ShapeGeometry, TextureClass};
+use super::desc::{MaterialDesc, SceneDesc, ShapeDesc, ShapeGeometry};
 use super::error::{Location, SceneError, Warning};
-use super::params::{FloatOrTexture, ParamSet, SpectrumOrTexture, SpectrumParam};
+use super::params::{ParamSet, SpectrumParam};
 use super::{CameraDesc, Emission, SceneBuilder};
 use crate::bsdf::{ior, metals};
 use crate::camera::Projection;
 use crate::film::Crop;
 use crate::geometry::Mesh;
-use crate::material::{FloatTexture, ImageTexture, Ior, Material, ReflectanceImage, Roughness, SpectrumTexture};
+use crate::material::{Ior, Material, Roughness};
 use crate::spectrum::{ColorSpace, RgbKind, Spectrum};
-use glam::Vec2;
 use std::collections::HashMap;
 use std::sync::Arc;
 
@@ -86,9 +86,11 @@ pub const PBRT_DEFAULT_MAX_DEPTH: u32 = 5;
 
 /// Turns a desc into a builder; warnings go to `warnings`.
 pub fn build(desc: &SceneDesc, warnings: &mut Vec<Warning>) -> Result<(SceneBuilder, FileSettings), SceneError> {
-    let mut ctx = Ctx { desc, b: SceneBuilder::new(), warnings, materials: HashMap::new() };
+    let mut ctx =
+        Ctx { desc, b: SceneBuilder::new(), warnings, materials: HashMap::new(), textures: Default::default() };
     ctx.camera()?;
     let settings = ctx.settings()?;
+    ctx.all_textures()?;
     for shape in &desc.shapes {
         ctx.shape(shape)?;
     }
@@ -106,6 +108,8 @@ struct Ctx<'a> {
     warnings: &'a mut Vec<Warning>,
     /// Material id per (kind of reference) key, so shared materials are built once.
     materials: HashMap<String, u32>,
+    /// Textures and image pyramids built so far.
+    textures: textures::Built,
 }
 
 /// An error at parameter `name` of `params` (at `directive` where the parameter is not written).
@@ -266,93 +270,11 @@ impl Ctx<'_> {
         })
     }
 
-    fn spectrum_texture(
-        &mut self,
-        params: &ParamSet,
-        name: &str,
-        default: f32,
-        loc: &super::error::Location,
-    ) -> Result<SpectrumTexture, SceneError> {
-        match params.spectrum_or_texture(name) {
-            None => Ok(SpectrumTexture::Constant(Spectrum::constant(default))),
-            Some(SpectrumOrTexture::Spectrum(s)) => {
-                let s = s.clone();
-                self.spectrum(&s, RgbKind::Albedo, params)
-                    .map(SpectrumTexture::Constant)
-                    .map_err(|m| SceneError::syntax(loc, name, m))
-            }
-            Some(SpectrumOrTexture::Texture(t)) => self.named_spectrum_texture(t, loc),
-        }
-    }
-
-    fn named_spectrum_texture(
-        &mut self,
-        name: &str,
-        loc: &super::error::Location,
-    ) -> Result<SpectrumTexture, SceneError> {
-        let Some(t) = self.desc.texture(name, TextureClass::Spectrum) else {
-            return Err(SceneError::syntax(loc, name, format!("no spectrum texture named \"{name}\"")));
-        };
-        let p = &t.params;
-        match t.kind.as_str() {
-            "constant" => self.spectrum_texture(p, "value", 1.0, &t.loc),
-            "checkerboard" => {
-                let even = self.spectrum_texture(p, "tex1", 1.0, &t.loc)?;
-                let odd = self.spectrum_texture(p, "tex2", 0.0, &t.loc)?;
-                let scale = Vec2::new(p.float_or("uscale", 1.0), p.float_or("vscale", 1.0));
-                Ok(SpectrumTexture::Checkerboard { even: Box::new(even), odd: Box::new(odd), scale })
-            }
-            "imagemap" => {
-                let img = self.image(p, &t.loc)?;
-                let texture = ImageTexture { image: img, scale: p.float_or("scale", 1.0) };
-                Ok(SpectrumTexture::Image(ReflectanceImage::new(texture)))
-            }
-            other => {
-                self.unsupported(&t.loc, format!("texture type \"{other}\""), "uses a constant 0.5");
-                Ok(SpectrumTexture::Constant(Spectrum::constant(0.5)))
-            }
-        }
-    }
-
     fn image(&mut self, p: &ParamSet, loc: &super::error::Location) -> Result<Arc<crate::image::Image>, SceneError> {
         let file = p.filename("filename").ok_or_else(|| SceneError::syntax(loc, "imagemap", "missing \"filename\""))?;
         crate::image::read(&file)
             .map(Arc::new)
             .map_err(|e| SceneError::syntax(loc, &file.display().to_string(), format!("cannot read the image: {e}")))
-    }
-
-    fn float_texture(&mut self, p: &ParamSet, name: &str, default: f32) -> Result<FloatTexture, SceneError> {
-        Ok(match p.float_or_texture(name) {
-            None => FloatTexture::Constant(default),
-            Some(FloatOrTexture::Float(v)) => FloatTexture::Constant(v),
-            Some(FloatOrTexture::Texture(t)) => {
-                let t = t.to_string();
-                let Some(td) = self.desc.texture(&t, TextureClass::Float) else {
-                    return Ok(FloatTexture::Constant(default));
-                };
-                let q = &td.params;
-                match td.kind.as_str() {
-                    "constant" => FloatTexture::Constant(q.float_or("value", default)),
-                    "checkerboard" => FloatTexture::Checkerboard {
-                        even: q.float_or("tex1", 1.0),
-                        odd: q.float_or("tex2", 0.0),
-                        scale: Vec2::new(q.float_or("uscale", 1.0), q.float_or("vscale", 1.0)),
-                    },
-                    "imagemap" => {
-                        let loc = td.loc.clone();
-                        FloatTexture::Image(ImageTexture {
-                            image: self.image(q, &loc)?,
-                            scale: q.float_or("scale", 1.0),
-                        })
-                    }
-                    other => {
-                        let loc = td.loc.clone();
-                        self.unsupported(&loc, format!("float texture type \"{other}\""), &format!("uses {default}"));
-                        FloatTexture::Constant(default)
-                    }
-                }
-            }
-        })
     }
 
     fn roughness(&mut self, p: &ParamSet) -> Result<Roughness, SceneError> {

@@ -108,3 +108,8 @@ fn equal_area_environment_map_has_pbrt_v4s_means() {
 fn point_spot_goniometric_projection_and_distant_lights_have_pbrt_v4s_means() {
     assert_matches_pbrt_v4("lights.pbrt", 16);
 }
+
+#[test]
+fn every_texture_type_and_mapping_has_pbrt_v4s_means() {
+    assert_matches_pbrt_v4("textures.pbrt", 16);
+}

@@ -72,10 +72,11 @@ fn every_unsupported_feature_warns_and_is_an_error_in_strict_mode() {
         ),
         (
             false,
-            "Texture \"t\" \"spectrum\" \"fbm\"\nMaterial \"diffuse\" \"texture reflectance\" \"t\"\nShape \"sphere\""
+            "Texture \"t\" \"spectrum\" \"ptex\" \"string filename\" \"t.ptx\"\n\
+             Material \"diffuse\" \"texture reflectance\" \"t\"\nShape \"sphere\""
                 .into(),
             "Texture \"t\"",
-            "texture type \"fbm\"",
+            "ptex textures",
         ),
         (
             false,

@@ -1,0 +1,506 @@
+//! pbrt-v4 Texture directives → [`Texture`]s, with pbrt-v4's parameters and defaults
+//! (`textures.cpp`). A texture parameter is a value or the name of a texture of the same class
+//! defined before it; a material parameter may name any texture of the file. Every texture is
+//! built once, whether a material uses it or not (as pbrt-v4 does, so bad parameters are found
+//! and every parameter is read).
+
+use super::{param_error, Ctx};
+use crate::scene::desc::{TextureClass, TextureDesc};
+use crate::scene::error::{Location, SceneError};
+use crate::scene::params::{FloatOrTexture, ParamSet, SpectrumOrTexture};
+use crate::spectrum::{ColorSpace, RgbKind, Spectrum};
+use crate::texture::{
+    rgb_texels, Checkerboard, ColorEncoding, FilterFunction, FloatImage, FloatSource, FloatTexture, Mapping2D,
+    Mapping3D, Marble, MipMap, MipOptions, SpectrumImage, SpectrumSource, SpectrumTexture, Texture, TextureValue,
+    WrapMode,
+};
+use glam::{Mat4, Vec2, Vec3};
+use std::collections::HashMap;
+use std::sync::Arc;
+
+/// The textures built so far, by index into the scene's texture list, and the image pyramids
+/// by what they were made from.
+#[derive(Default)]
+pub(super) struct Built {
+    float: HashMap<usize, FloatTexture>,
+    spectrum: HashMap<usize, SpectrumTexture>,
+    pyramids: HashMap<String, Arc<MipMap<[f32; 3]>>>,
+}
+
+/// A texture parameter's value: given in place, or the name of a texture.
+enum Arg<'p, V> {
+    Value(V),
+    Named(&'p str),
+}
+
+/// What building differs in between float and spectrum textures.
+trait Kind: TextureValue + Sized {
+    /// The texture class.
+    const CLASS: TextureClass;
+    /// The parameter `name` of `p`, if given.
+    fn arg<'p>(ctx: &mut Ctx, p: &'p ParamSet, name: &str, loc: &Location)
+        -> Result<Option<Arg<'p, Self>>, SceneError>;
+    /// The constant `v`.
+    fn constant(v: f32) -> Self;
+    /// The built textures of this class.
+    fn built<'c>(ctx: &'c mut Ctx) -> &'c mut HashMap<usize, Texture<Self>>;
+    /// The types only this class has, or `None` for a type it does not have.
+    fn own_type(ctx: &mut Ctx, t: &TextureDesc) -> Result<Option<Self::Source>, SceneError>;
+}
+
+impl Kind for f32 {
+    const CLASS: TextureClass = TextureClass::Float;
+
+    fn arg<'p>(_: &mut Ctx, p: &'p ParamSet, name: &str, _: &Location) -> Result<Option<Arg<'p, f32>>, SceneError> {
+        Ok(p.float_or_texture(name).map(|a| match a {
+            FloatOrTexture::Float(v) => Arg::Value(v),
+            FloatOrTexture::Texture(t) => Arg::Named(t),
+        }))
+    }
+
+    fn constant(v: f32) -> f32 {
+        v
+    }
+
+    fn built<'c>(ctx: &'c mut Ctx) -> &'c mut HashMap<usize, FloatTexture> {
+        &mut ctx.textures.float
+    }
+
+    fn own_type(ctx: &mut Ctx, t: &TextureDesc) -> Result<Option<FloatSource>, SceneError> {
+        let p = &t.params;
+        let octaves = |p: &ParamSet| p.int_or("octaves", 8).clamp(0, 64) as u32;
+        Ok(Some(match t.kind.as_str() {
+            "fbm" => {
+                FloatSource::Fbm { mapping: mapping_3d(t)?, omega: p.float_or("roughness", 0.5), octaves: octaves(p) }
+            }
+            "wrinkled" => FloatSource::Wrinkled {
+                mapping: mapping_3d(t)?,
+                omega: p.float_or("roughness", 0.5),
+                octaves: octaves(p),
+            },
+            "windy" => FloatSource::Windy { mapping: mapping_3d(t)? },
+            "imagemap" => {
+                let image = ctx.image_map(t)?;
+                FloatSource::Image(FloatImage::new(image.mapping, &image.pyramid, image.scale, image.invert))
+            }
+            _ => return Ok(None),
+        }))
+    }
+}
+
+impl Kind for Spectrum {
+    const CLASS: TextureClass = TextureClass::Spectrum;
+
+    fn arg<'p>(
+        ctx: &mut Ctx,
+        p: &'p ParamSet,
+        name: &str,
+        loc: &Location,
+    ) -> Result<Option<Arg<'p, Spectrum>>, SceneError> {
+        Ok(match p.spectrum_or_texture(name) {
+            None => None,
+            Some(SpectrumOrTexture::Texture(t)) => Some(Arg::Named(t)),
+            Some(SpectrumOrTexture::Spectrum(s)) => {
+                let s = s.clone();
+                let v = ctx.spectrum(&s, RgbKind::Albedo, p).map_err(|m| SceneError::syntax(loc, name, m))?;
+                Some(Arg::Value(v))
+            }
+        })
+    }
+
+    fn constant(v: f32) -> Spectrum {
+        Spectrum::constant(v)
+    }
+
+    fn built<'c>(ctx: &'c mut Ctx) -> &'c mut HashMap<usize, SpectrumTexture> {
+        &mut ctx.textures.spectrum
+    }
+
+    fn own_type(ctx: &mut Ctx, t: &TextureDesc) -> Result<Option<SpectrumSource>, SceneError> {
+        let p = &t.params;
+        Ok(Some(match t.kind.as_str() {
+            "marble" => SpectrumSource::Marble(Marble::new(
+                mapping_3d(t)?,
+                p.int_or("octaves", 8).clamp(0, 64) as u32,
+                p.float_or("roughness", 0.5),
+                p.float_or("scale", 1.0),
+                p.float_or("variation", 0.2),
+            )),
+            "imagemap" => {
+                let image = ctx.image_map(t)?;
+                let space = ColorSpace::by_name(&p.color_space).unwrap_or_else(ColorSpace::srgb);
+                SpectrumSource::Image(SpectrumImage::new(
+                    image.mapping,
+                    &image.pyramid,
+                    image.scale,
+                    image.invert,
+                    space,
+                ))
+            }
+            _ => return Ok(None),
+        }))
+    }
+}
+
+/// Texture space from world space for a texture directive (the inverse of the transform in
+/// effect at it).
+fn texture_from_world(t: &TextureDesc) -> Result<Mat4, SceneError> {
+    let m = t.world_from_texture;
+    if m.determinant() == 0.0 || !m.is_finite() {
+        return Err(SceneError::syntax(&t.loc, &t.name, "the transform at this texture is singular"));
+    }
+    Ok(m.inverse())
+}
+
+/// The 3D mapping of a solid texture.
+fn mapping_3d(t: &TextureDesc) -> Result<Mapping3D, SceneError> {
+    Ok(Mapping3D { texture_from_world: texture_from_world(t)? })
+}
+
+/// An imagemap's parameters and its pyramid.
+struct ImageMap {
+    mapping: Mapping2D,
+    pyramid: Arc<MipMap<[f32; 3]>>,
+    scale: f32,
+    invert: bool,
+}
+
+impl Ctx<'_> {
+    /// Builds every texture of the scene.
+    pub(super) fn all_textures(&mut self) -> Result<(), SceneError> {
+        for (i, t) in self.desc.textures.iter().enumerate() {
+            match t.class {
+                TextureClass::Float => drop(self.texture_at::<f32>(i)?),
+                TextureClass::Spectrum => drop(self.texture_at::<Spectrum>(i)?),
+            }
+        }
+        Ok(())
+    }
+
+    /// A material's spectrum parameter `name` (albedo: RGB clamped to [0, 1]), `default` when
+    /// not given.
+    pub(super) fn spectrum_texture(
+        &mut self,
+        params: &ParamSet,
+        name: &str,
+        default: f32,
+        loc: &Location,
+    ) -> Result<SpectrumTexture, SceneError> {
+        let all = self.desc.textures.len();
+        self.argument::<Spectrum>(params, name, default, loc, all).map(Arc::unwrap_or_clone)
+    }
+
+    /// A material's float parameter `name`, `default` when not given.
+    pub(super) fn float_texture(&mut self, p: &ParamSet, name: &str, default: f32) -> Result<FloatTexture, SceneError> {
+        let (all, loc) = (self.desc.textures.len(), p.get(name).map(|q| q.loc.clone()));
+        let loc = loc.unwrap_or_else(|| self.desc.camera.directive.loc.clone());
+        self.argument::<f32>(p, name, default, &loc, all).map(Arc::unwrap_or_clone)
+    }
+
+    /// Parameter `name` of `p` as a texture: the value given, the texture it names (among the
+    /// first `visible` textures of the file; the last so named wins), or `default`.
+    fn argument<V: Kind>(
+        &mut self,
+        p: &ParamSet,
+        name: &str,
+        default: f32,
+        loc: &Location,
+        visible: usize,
+    ) -> Result<Arc<Texture<V>>, SceneError> {
+        Ok(Arc::new(match V::arg(self, p, name, loc)? {
+            None => Texture::Constant(V::constant(default)),
+            Some(Arg::Value(v)) => Texture::Constant(v),
+            Some(Arg::Named(t)) => {
+                let desc = self.desc;
+                let Some(i) = desc.textures[..visible].iter().rposition(|d| d.name == t && d.class == V::CLASS) else {
+                    let class = if V::CLASS == TextureClass::Float { "float" } else { "spectrum" };
+                    let message = format!("no {class} texture named \"{t}\" is defined before this");
+                    return Err(param_error(p, name, loc, message));
+                };
+                self.texture_at::<V>(i)?
+            }
+        }))
+    }
+
+    /// The texture of directive `index` (built on first use).
+    fn texture_at<V: Kind>(&mut self, index: usize) -> Result<Texture<V>, SceneError> {
+        if let Some(t) = V::built(self).get(&index) {
+            return Ok(t.clone());
+        }
+        let t = self.build_texture::<V>(index)?;
+        V::built(self).insert(index, t.clone());
+        Ok(t)
+    }
+
+    fn build_texture<V: Kind>(&mut self, index: usize) -> Result<Texture<V>, SceneError> {
+        let desc = self.desc;
+        let t = &desc.textures[index];
+        let (p, loc) = (&t.params, &t.loc);
+        let arg = |ctx: &mut Self, name: &str, default: f32| ctx.argument::<V>(p, name, default, loc, index);
+        Ok(match t.kind.as_str() {
+            "constant" => Arc::unwrap_or_clone(arg(self, "value", 1.0)?),
+            "bilerp" => {
+                let mut corner = |name: &str, default: f32| -> Result<V, SceneError> {
+                    match V::arg(self, p, name, loc)? {
+                        None => Ok(V::constant(default)),
+                        Some(Arg::Value(v)) => Ok(v),
+                        Some(Arg::Named(_)) => {
+                            Err(param_error(p, name, loc, "bilerp corners are values, not textures".into()))
+                        }
+                    }
+                };
+                let corners = [corner("v00", 0.0)?, corner("v10", 0.0)?, corner("v01", 1.0)?, corner("v11", 1.0)?];
+                Texture::Bilerp { mapping: self.mapping_2d(t)?, corners: Box::new(corners) }
+            }
+            "checkerboard" => {
+                let tex = [arg(self, "tex1", 1.0)?, arg(self, "tex2", 0.0)?];
+                let pattern = match p.int_or("dimension", 2) {
+                    2 => Checkerboard::Planar(self.mapping_2d(t)?),
+                    3 => Checkerboard::Solid(mapping_3d(t)?),
+                    d => {
+                        let message = format!("a checkerboard has dimension 2 or 3, not {d}");
+                        return Err(param_error(p, "dimension", loc, message));
+                    }
+                };
+                Texture::Checkerboard { pattern, tex }
+            }
+            "dots" => {
+                let (inside, outside) = (arg(self, "inside", 1.0)?, arg(self, "outside", 0.0)?);
+                // pbrt-v4 (at 5f7a606) hands "inside" and "outside" to the texture in the
+                // order opposite to its constructor's, so "outside" paints the dots and
+                // "inside" the background; its images show it, and prism matches them.
+                Texture::Dots { mapping: self.mapping_2d(t)?, dots: outside, background: inside }
+            }
+            "mix" => {
+                let tex = [arg(self, "tex1", 0.0)?, arg(self, "tex2", 1.0)?];
+                Texture::Mix { tex, amount: self.argument::<f32>(p, "amount", 0.5, loc, index)? }
+            }
+            "directionmix" => {
+                let tex = [arg(self, "tex1", 0.0)?, arg(self, "tex2", 1.0)?];
+                let dir = t.world_from_texture.transform_vector3(p.vector3("dir").unwrap_or(Vec3::Y));
+                if !(dir.length_squared() > 0.0 && dir.is_finite()) {
+                    return Err(param_error(p, "dir", loc, "directionmix needs a nonzero \"dir\"".into()));
+                }
+                Texture::DirectionMix { tex, dir: dir.normalize() }
+            }
+            "scale" => {
+                let tex = arg(self, "tex", 1.0)?;
+                Texture::Scale { tex, scale: self.argument::<f32>(p, "scale", 1.0, loc, index)? }
+            }
+            "ptex" => {
+                let _ = (p.string("filename"), p.string("encoding"), p.float("scale"));
+                let feature = "ptex textures (Debian ships no Ptex library to read them)".to_string();
+                self.unsupported(loc, feature, "uses a constant 0.5");
+                Texture::Constant(V::constant(0.5))
+            }
+            kind => match V::own_type(self, t)? {
+                Some(s) => Texture::Source(s),
+                None => {
+                    let class = if V::CLASS == TextureClass::Float { "float" } else { "spectrum" };
+                    let message = format!("pbrt-v4 has no {class} texture of type \"{kind}\"");
+                    return Err(SceneError::syntax(loc, &t.name, message));
+                }
+            },
+        })
+    }
+
+    /// The 2D mapping of a texture directive ("mapping": "uv" by default).
+    fn mapping_2d(&mut self, t: &TextureDesc) -> Result<Mapping2D, SceneError> {
+        let p = &t.params;
+        let delta = || Vec2::new(p.float_or("udelta", 0.0), p.float_or("vdelta", 0.0));
+        Ok(match p.string("mapping").unwrap_or("uv") {
+            "spherical" => Mapping2D::Spherical { texture_from_world: texture_from_world(t)? },
+            "cylindrical" => Mapping2D::Cylindrical { texture_from_world: texture_from_world(t)? },
+            "planar" => Mapping2D::Planar {
+                texture_from_world: texture_from_world(t)?,
+                vs: p.vector3("v1").unwrap_or(Vec3::X),
+                vt: p.vector3("v2").unwrap_or(Vec3::Y),
+                delta: delta(),
+            },
+            other => {
+                if other != "uv" {
+                    let loc = p.get("mapping").map_or(t.loc.clone(), |q| q.loc.clone());
+                    self.warn(&loc, format!("texture mapping \"{other}\" is unknown; \"uv\" is used"));
+                }
+                Mapping2D::Uv { scale: Vec2::new(p.float_or("uscale", 1.0), p.float_or("vscale", 1.0)), delta: delta() }
+            }
+        })
+    }
+
+    /// An imagemap's mapping, options and pyramid (each file, encoding and lookup built once).
+    fn image_map(&mut self, t: &TextureDesc) -> Result<ImageMap, SceneError> {
+        let (p, loc) = (&t.params, &t.loc);
+        let mapping = self.mapping_2d(t)?;
+        let file = p.filename("filename").ok_or_else(|| SceneError::syntax(loc, "imagemap", "missing \"filename\""))?;
+        let mut options = MipOptions { max_anisotropy: p.float_or("maxanisotropy", 8.0), ..Default::default() };
+        if let Some(f) = p.string("filter") {
+            match FilterFunction::parse(f) {
+                Some(f) => options.filter = f,
+                None => self.warn(
+                    &p.get("filter").map_or(loc.clone(), |q| q.loc.clone()),
+                    format!("imagemap filter \"{f}\" is unknown (point, bilinear, trilinear, ewa); bilinear is used"),
+                ),
+            }
+        }
+        let wrap = p.string("wrap").unwrap_or("repeat");
+        options.wrap = WrapMode::parse(wrap).ok_or_else(|| {
+            let message = format!("wrap mode \"{wrap}\" is unknown (repeat, black, clamp, octahedralsphere)");
+            param_error(p, "wrap", loc, message)
+        })?;
+        let png = file.extension().is_some_and(|e| e.eq_ignore_ascii_case("png"));
+        let encoding = match p.string("encoding") {
+            None => {
+                if png {
+                    ColorEncoding::Srgb
+                } else {
+                    ColorEncoding::Linear
+                }
+            }
+            Some(e) => ColorEncoding::parse(e).ok_or_else(|| {
+                param_error(p, "encoding", loc, format!("encoding \"{e}\" is unknown (linear, sRGB, \"gamma G\")"))
+            })?,
+        };
+        let (scale, invert) = (p.float_or("scale", 1.0), p.bool_or("invert", false));
+        let key = format!("{}|{encoding}|{options:?}", file.display());
+        let pyramid = match self.textures.pyramids.get(&key) {
+            Some(m) => m.clone(),
+            None => {
+                let img = self.image(p, loc)?;
+                // prism's reader decodes integer formats with the sRGB curve and leaves float
+                // formats (whose "encoding" pbrt-v4 also ignores) as stored.
+                let integer = crate::image::FileFormat::from_path(&file).is_ok_and(|f| !f.is_linear());
+                let texels = rgb_texels(&img, integer.then_some(encoding));
+                let m = Arc::new(MipMap::build(img.width as usize, img.height as usize, texels, options));
+                self.textures.pyramids.insert(key, m.clone());
+                m
+            }
+        };
+        Ok(ImageMap { mapping, pyramid, scale, invert })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::material::Material;
+    use crate::scene::{parse_file, parse_str, ParseOptions};
+    use crate::spectrum::SampledWavelengths;
+    use crate::texture::{inside_polka_dot, SpectrumTexture, TextureEvalContext};
+    use glam::{Vec2, Vec3};
+
+    /// The materials a scene builds and its warnings, or the error.
+    fn build(text: &str) -> Result<(Vec<Material>, Vec<String>), String> {
+        let (desc, mut w) = parse_str(text, &ParseOptions::default()).map_err(|e| e.to_string())?;
+        let (b, _) = super::super::build(&desc, &mut w).map_err(|e| e.to_string())?;
+        w.extend(desc.report_unused());
+        let scene = b.build(crate::accel::AccelKind::Obvhs).map_err(|e| e.to_string())?;
+        Ok((scene.materials, w.iter().map(|w| w.to_string()).collect()))
+    }
+
+    /// The diffuse reflectance of a scene's one textured quad.
+    fn reflectance(textures: &str) -> SpectrumTexture {
+        let text = format!(
+            "Camera \"perspective\"\nWorldBegin\n{textures}\nMaterial \"diffuse\" \"texture reflectance\" \"t\"\n\
+             Shape \"trianglemesh\" \"point3 P\" [0 0 0 1 0 0 1 1 0] \"integer indices\" [0 1 2]\n"
+        );
+        let (m, w) = build(&text).unwrap();
+        assert!(w.is_empty(), "{w:?}");
+        match m.into_iter().next() {
+            Some(Material::Diffuse { reflectance }) => reflectance,
+            other => panic!("{other:?}"),
+        }
+    }
+
+    fn grey(t: &SpectrumTexture, ctx: &TextureEvalContext) -> f32 {
+        let w = SampledWavelengths::sample_uniform(0.3);
+        t.eval(ctx, &w).average()
+    }
+
+    #[test]
+    fn dots_paint_outside_in_the_dots_as_pbrt_v4_does() {
+        let t = reflectance("Texture \"t\" \"spectrum\" \"dots\" \"rgb inside\" [0.2 0.2 0.2] \"rgb outside\" [0.8 0.8 0.8] \"float uscale\" [1] \"float vscale\" [1]");
+        let (mut dots, mut background) = (0, 0);
+        for i in 0..400 {
+            let uv = Vec2::new((i % 20) as f32 * 0.31, (i / 20) as f32 * 0.27);
+            let v = grey(&t, &TextureEvalContext::uv(uv));
+            if inside_polka_dot(uv) {
+                assert!((v - 0.8).abs() < 1e-4, "{v}");
+                dots += 1;
+            } else {
+                assert!((v - 0.2).abs() < 1e-4, "{v}");
+                background += 1;
+            }
+        }
+        assert!(dots > 20 && background > 20);
+    }
+
+    #[test]
+    fn textures_nest_and_are_read_in_full() {
+        // mix(amount = scale(bilerp, 0.5)) of a constant and a checkerboard: every parameter is
+        // read (no warnings), and the value follows from the parts.
+        let t = reflectance(
+            "Texture \"b\" \"float\" \"bilerp\" \"float v00\" [0] \"float v10\" [1] \"float v01\" [0] \"float v11\" [1]\n\
+             Texture \"half\" \"float\" \"scale\" \"texture tex\" \"b\" \"float scale\" [0.5]\n\
+             Texture \"c\" \"spectrum\" \"checkerboard\" \"float uscale\" [2] \"float vscale\" [2] \"rgb tex1\" [1 1 1] \"rgb tex2\" [0 0 0]\n\
+             Texture \"t\" \"spectrum\" \"mix\" \"rgb tex1\" [0.5 0.5 0.5] \"texture tex2\" \"c\" \"texture amount\" \"half\"",
+        );
+        // At (u, v) = (0.8, 0.2): amount = 0.5 · 0.8 = 0.4; the check (1, 0) is odd: 0.
+        let v = grey(&t, &TextureEvalContext::uv(Vec2::new(0.8, 0.2)));
+        assert!((v - 0.6 * 0.5).abs() < 1e-4, "{v}");
+        // At (0.2, 0.2): amount 0.1, even check: 1 → 0.9 · 0.5 + 0.1.
+        let v = grey(&t, &TextureEvalContext::uv(Vec2::new(0.2, 0.2)));
+        assert!((v - 0.55).abs() < 1e-4, "{v}");
+    }
+
+    #[test]
+    fn texture_space_follows_the_transform_at_the_directive() {
+        // A 3D checkerboard of unit cubes defined under Scale 0.5: cubes of 0.5 in world space.
+        let t = reflectance(
+            "AttributeBegin\nScale 0.5 0.5 0.5\nTexture \"t\" \"spectrum\" \"checkerboard\" \"integer dimension\" [3] \"rgb tex1\" [1 1 1] \"rgb tex2\" [0 0 0]\nAttributeEnd",
+        );
+        let at = |p: Vec3| grey(&t, &TextureEvalContext::at(p, Vec3::Z, Vec2::ZERO));
+        assert!((at(Vec3::new(0.2, 0.2, 0.2)) - 1.0).abs() < 1e-4);
+        assert!(at(Vec3::new(0.7, 0.2, 0.2)).abs() < 1e-4);
+        assert!((at(Vec3::new(0.7, 0.7, 0.2)) - 1.0).abs() < 1e-4);
+    }
+
+    #[test]
+    fn bad_textures_are_errors_and_unsupported_ones_warn() {
+        let scene = |tex: &str| {
+            format!(
+                "Camera \"perspective\"\nWorldBegin\n{tex}\nMaterial \"diffuse\" \"texture reflectance\" \"t\"\n\
+                 Shape \"sphere\"\n"
+            )
+        };
+        for bad in [
+            // A float type as a spectrum texture.
+            "Texture \"t\" \"spectrum\" \"fbm\"",
+            // A reference to a texture defined later.
+            "Texture \"t\" \"spectrum\" \"scale\" \"texture tex\" \"u\"\nTexture \"u\" \"spectrum\" \"constant\"",
+            // A texture naming itself.
+            "Texture \"t\" \"spectrum\" \"mix\" \"texture tex1\" \"t\"",
+            "Texture \"t\" \"spectrum\" \"checkerboard\" \"integer dimension\" [4]",
+            "Texture \"t\" \"spectrum\" \"imagemap\" \"string filename\" \"x.png\" \"string wrap\" \"mirror\"",
+            "Texture \"t\" \"spectrum\" \"directionmix\" \"vector3 dir\" [0 0 0]",
+        ] {
+            let e = build(&scene(bad)).unwrap_err();
+            assert!(e.contains("<string>:"), "{bad}: {e}");
+        }
+        let (_, w) = build(&scene("Texture \"t\" \"spectrum\" \"ptex\" \"string filename\" \"x.ptx\"")).unwrap();
+        assert!(w.len() == 1 && w[0].contains("ptex"), "{w:?}");
+        let (_, w) = build(&scene("Texture \"t\" \"spectrum\" \"constant\" \"string mapping\" \"uv\"")).unwrap();
+        assert!(w.len() == 1 && w[0].contains("mapping"), "constant has no mapping: {w:?}");
+    }
+
+    #[test]
+    fn the_compatibility_scene_reads_every_texture_parameter() {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/scenes/compat/textures.pbrt");
+        if !path.exists() {
+            return; // the shared scenes are not part of every checkout
+        }
+        let (desc, mut w) = parse_file(&path, &ParseOptions::default()).unwrap();
+        super::super::build(&desc, &mut w).unwrap();
+        w.extend(desc.report_unused());
+        let texture_warnings: Vec<_> = w.iter().map(|w| w.to_string()).filter(|w| w.contains("Texture")).collect();
+        assert!(texture_warnings.is_empty(), "{texture_warnings:?}");
+    }
+}

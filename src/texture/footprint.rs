@@ -1,0 +1,167 @@
+//! The footprint of a pixel at a shading point, ∂p/∂x and ∂p/∂y, estimated from the camera
+//! alone as pbrt-v4's `CameraBase::Approximate_dp_dxy` does (§10.1.1): the smallest change of
+//! camera ray direction (and origin) per pixel step over the film is found once; at a point p
+//! with normal n, rays from the camera origin along the direction to p offset by that change
+//! are intersected with p's tangent plane. The offsets are scaled by max(1/8, 1/√spp), since
+//! many samples per pixel already average a pixel's area.
+
+use crate::camera::Camera;
+use glam::{Mat3, Mat4, Vec2, Vec3};
+
+/// Film step of the finite differences that give a camera ray's change per pixel [pixels].
+const FILM_STEP: f32 = 0.05;
+
+/// Film points sampled, along the diagonal, when searching for the smallest differentials.
+const SEARCH_POINTS: usize = 512;
+
+/// What a shading point needs to know of the camera to estimate its pixel footprint.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TextureFootprint {
+    world_from_camera: Mat4,
+    camera_from_world: Mat4,
+    /// Smallest change of a camera ray's origin per pixel along x, y [camera space].
+    min_pos: [Vec3; 2],
+    /// Smallest change of a camera ray's unit direction per pixel along x, y, in the frame of
+    /// the ray it was measured on (z along the ray).
+    min_dir: [Vec3; 2],
+    /// max(1/8, 1/√spp).
+    spp_scale: f32,
+}
+
+/// The rotation taking unit vector `from` to unit vector `to`: the product of the reflections
+/// taking `from` to an axis r and r to `to` (r chosen far from both, so neither reflection is
+/// degenerate).
+fn rotate_from_to(from: Vec3, to: Vec3) -> Mat3 {
+    let r = if from.x.abs() < 0.72 && to.x.abs() < 0.72 {
+        Vec3::X
+    } else if from.y.abs() < 0.72 && to.y.abs() < 0.72 {
+        Vec3::Y
+    } else {
+        Vec3::Z
+    };
+    let reflect = |u: Vec3| {
+        let k = 2.0 / u.dot(u);
+        Mat3::from_cols(Vec3::X - k * u.x * u, Vec3::Y - k * u.y * u, Vec3::Z - k * u.z * u)
+    };
+    reflect(r - to) * reflect(r - from)
+}
+
+/// Components of `v` in the orthonormal frame whose z axis is the unit vector `z` (Duff et al.
+/// 2017's branchless basis, as pbrt-v4's `Frame::FromZ`).
+fn to_local(z: Vec3, v: Vec3) -> Vec3 {
+    let (x, y) = z.any_orthonormal_pair();
+    Vec3::new(v.dot(x), v.dot(y), v.dot(z))
+}
+
+impl TextureFootprint {
+    /// The footprint estimator for `camera` rendering `spp` samples per pixel.
+    pub fn new(camera: &Camera, spp: u64) -> Self {
+        let camera_from_world = camera.camera_to_world.inverse();
+        let (w, h) = (camera.resolution.0 as f32, camera.resolution.1 as f32);
+        let lens = Vec2::splat(0.5);
+        let mut min_pos = [Vec3::splat(f32::INFINITY); 2];
+        let mut min_dir = [Vec3::splat(f32::INFINITY); 2];
+        for i in 0..SEARCH_POINTS {
+            let film = Vec2::new(w, h) * (i as f32 / (SEARCH_POINTS - 1) as f32);
+            let ray = camera.generate_ray(film, lens);
+            let d = ray.d.normalize();
+            for (k, step) in [Vec2::new(FILM_STEP, 0.0), Vec2::new(0.0, FILM_STEP)].into_iter().enumerate() {
+                let shifted = camera.generate_ray(film + step, lens);
+                // Per pixel: the finite difference over FILM_STEP, scaled up.
+                let o_diff = (shifted.o - ray.o) / FILM_STEP;
+                let d_diff = (d + (shifted.d.normalize() - d) / FILM_STEP).normalize();
+                let dpos = camera_from_world.transform_vector3(o_diff);
+                if dpos.length() < min_pos[k].length() {
+                    min_pos[k] = dpos;
+                }
+                let ddir = to_local(d, d_diff).normalize() - to_local(d, d);
+                if ddir.length() < min_dir[k].length() {
+                    min_dir[k] = ddir;
+                }
+            }
+        }
+        let spp_scale = (1.0 / (spp.max(1) as f32).sqrt()).max(0.125);
+        Self { world_from_camera: camera.camera_to_world, camera_from_world, min_pos, min_dir, spp_scale }
+    }
+
+    /// ∂p/∂x and ∂p/∂y at `p` on a surface with unit normal `n` [world space]; zero where the
+    /// estimate fails (a plane seen edge-on).
+    pub fn dp_dxy(&self, p: Vec3, n: Vec3) -> (Vec3, Vec3) {
+        let pc = self.camera_from_world.transform_point3(p);
+        let nc = self.camera_from_world.transform_vector3(n);
+        // A frame where p lies straight ahead (+z) of the camera.
+        let down_z = rotate_from_to(pc.normalize_or_zero(), Vec3::Z);
+        let (p_dz, n_dz) = (down_z * pc, down_z * nc);
+        let plane = n_dz.dot(p_dz);
+        let step = |k: usize| {
+            let (o, d) = (self.min_pos[k], Vec3::Z + self.min_dir[k]);
+            let t = (plane - n_dz.dot(o)) / n_dz.dot(d);
+            let offset = o + t * d - p_dz;
+            let v = self.spp_scale * self.world_from_camera.transform_vector3(down_z.transpose() * offset);
+            if v.is_finite() {
+                v
+            } else {
+                Vec3::ZERO
+            }
+        };
+        (step(0), step(1))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn camera(res: (u32, u32), fov: f32) -> Camera {
+        let m = Camera::look_at(Vec3::new(0.0, -9.0, 2.2), Vec3::new(0.0, 0.0, 2.2), Vec3::Z);
+        Camera::perspective(m, res, fov, 0.0, 1e6, None)
+    }
+
+    #[test]
+    fn rotate_from_to_rotates() {
+        for (a, b) in [(Vec3::X, Vec3::Z), (Vec3::new(0.3, -0.5, 0.81).normalize(), Vec3::Z), (Vec3::Y, Vec3::Y)] {
+            let r = rotate_from_to(a, b);
+            assert!((r * a - b).length() < 1e-6, "{a} → {}", r * a);
+            assert!((r.determinant() - 1.0).abs() < 1e-5);
+            assert!((r * r.transpose()).abs_diff_eq(Mat3::IDENTITY, 1e-6));
+        }
+    }
+
+    #[test]
+    fn a_fronto_parallel_plane_gets_one_pixel_per_step() {
+        // 200 pixels over a 28° field of view, t = tan 14°: the film point (s_x, s_y, 1) moves
+        // by 2t/200 per pixel, and the unit direction f/|f| by that times √(1 − d_x²)/|f|,
+        // least at a corner (s_x = s_y = t): √(1 + t²)/(1 + 2t²).
+        let cam = camera((200, 200), 28.0);
+        let f = TextureFootprint::new(&cam, 1);
+        // The wall y = 0 is 9 away, facing the camera.
+        let (dx, dy) = f.dp_dxy(Vec3::new(0.0, 0.0, 2.2), -Vec3::Y);
+        let t = 14f32.to_radians().tan();
+        let expect = 9.0 * 2.0 * t / 200.0 * (1.0 + t * t).sqrt() / (1.0 + 2.0 * t * t);
+        assert!((dx.length() / expect - 1.0).abs() < 0.02, "{} vs {expect}", dx.length());
+        assert!((dy.length() / expect - 1.0).abs() < 0.02, "{} vs {expect}", dy.length());
+        // Both lie in the wall, nearly perpendicular (at the corner where they were measured the
+        // x and y changes of direction meet at cos = −t²/(1 + t²) ≈ −0.06).
+        assert!(dx.y.abs() < 1e-6 && dy.y.abs() < 1e-6);
+        assert!(dx.normalize().dot(dy.normalize()).abs() < 0.08);
+        // Many samples per pixel shrink the footprint, by 1/√spp down to 1/8.
+        let f16 = TextureFootprint::new(&cam, 16);
+        assert!((f16.dp_dxy(Vec3::new(0.0, 0.0, 2.2), -Vec3::Y).0.length() / dx.length() - 0.25).abs() < 1e-4);
+        let f1024 = TextureFootprint::new(&cam, 1024);
+        assert!((f1024.dp_dxy(Vec3::new(0.0, 0.0, 2.2), -Vec3::Y).0.length() / dx.length() - 0.125).abs() < 1e-4);
+    }
+
+    #[test]
+    fn footprints_grow_with_distance_and_obliquity() {
+        let f = TextureFootprint::new(&camera((100, 100), 40.0), 1);
+        let near = f.dp_dxy(Vec3::new(0.0, -4.0, 2.2), -Vec3::Y).0.length();
+        let far = f.dp_dxy(Vec3::new(0.0, 5.0, 2.2), -Vec3::Y).0.length();
+        assert!((far / near - 14.0 / 5.0).abs() < 1e-3, "{far} / {near}");
+        // The floor seen at a grazing angle: the footprint along the view is stretched.
+        let (a, b) = f.dp_dxy(Vec3::new(0.0, 5.0, 0.0), Vec3::Z);
+        assert!(a.length().max(b.length()) > 3.0 * far, "{a} {b}");
+        // Edge-on: no estimate.
+        let (a, b) = f.dp_dxy(Vec3::new(0.0, 5.0, 2.2), Vec3::X);
+        assert!(a.is_finite() && b.is_finite());
+    }
+}
