@@ -90,6 +90,11 @@ impl SceneReport {
         }
     }
 
+    /// Unsupported-feature warnings, counting repeats.
+    pub fn unsupported_count(&self) -> usize {
+        self.unsupported.iter().map(|w| w.1).sum()
+    }
+
     /// prism's channel means over pbrt-v4's.
     pub fn mean_ratios(&self) -> Option<[f64; 3]> {
         self.prism_means.map(|m| [0, 1, 2].map(|k| m[k] / self.ref_means[k]))
@@ -140,7 +145,7 @@ pub fn one_line(r: &SceneReport) -> String {
         "{:<22} {:<8} warnings {:>3}  means {ratios}  error {} vs pbrt-v4 {} ({}×)  {:.1} s",
         r.name,
         r.status(),
-        r.unsupported.iter().map(|w| w.1).sum::<usize>(),
+        r.unsupported_count(),
         fmt_opt(r.prism_error, 5),
         fmt_opt(r.pbrt_error.map(|e| e.0), 5),
         fmt_opt(r.error_ratio(), 2),
@@ -185,7 +190,7 @@ pub fn markdown(reports: &[SceneReport], command: &str, notes: Option<&str>) -> 
             r.name,
             r.name,
             r.status(),
-            r.unsupported.iter().map(|w| w.1).sum::<usize>(),
+            r.unsupported_count(),
             fmt_opt(r.prism_error, 5),
             fmt_opt(r.pbrt_error.map(|e| e.0), 5),
             fmt_opt(r.error_ratio(), 2),
