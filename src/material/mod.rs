@@ -181,6 +181,23 @@ impl Material {
         }
     }
 
+    /// True when the BSDF may depend on where and at what footprint its textures are
+    /// evaluated, so a hit on it needs its pixel footprint: any material with a texture that is
+    /// not a constant (the layered, mix and subsurface materials are assumed to have one).
+    pub fn is_textured(&self) -> bool {
+        let rough = |r: &Roughness| r.u.varies() || r.v.varies();
+        match self {
+            Material::Diffuse { reflectance } => reflectance.varies(),
+            Material::DiffuseTransmission { reflectance, transmittance, .. } => {
+                reflectance.varies() || transmittance.varies()
+            }
+            Material::Conductor { ior: ConductorIor::EtaK { .. }, roughness } => rough(roughness),
+            Material::Dielectric { roughness, .. } => rough(roughness),
+            Material::ThinDielectric { .. } | Material::Interface => false,
+            _ => true,
+        }
+    }
+
     /// True for an interface: no surface, so light passes through unscattered.
     #[inline]
     pub fn is_interface(&self) -> bool {
@@ -231,6 +248,26 @@ mod tests {
 
     fn point() -> ShadingPoint {
         ShadingPoint { ns: Vec3::Z, ng: Vec3::Z, dpdu: Vec3::X, tex: TextureEvalContext::uv(glam::Vec2::ZERO) }
+    }
+
+    #[test]
+    fn only_materials_with_varying_textures_ask_for_a_footprint() {
+        use crate::texture::{Checkerboard, Mapping2D, Texture};
+        use std::sync::Arc;
+        let board = || -> SpectrumTexture {
+            let c = |v: f32| Arc::new(Texture::Constant(Spectrum::constant(v)));
+            Texture::Checkerboard { pattern: Checkerboard::Planar(Mapping2D::UV), tex: [c(0.2), c(0.8)] }
+        };
+        assert!(!Material::diffuse(Spectrum::constant(0.5)).is_textured());
+        assert!(Material::Diffuse { reflectance: board() }.is_textured());
+        let rough = |u: FloatTexture| Roughness { v: u.clone(), u, remap: true };
+        let smooth = Material::Dielectric { eta: Ior::Constant(1.5), roughness: rough(FloatTexture::Constant(0.1)) };
+        assert!(!smooth.is_textured());
+        let fbm = FloatTexture::Source(crate::texture::FloatSource::Windy {
+            mapping: crate::texture::Mapping3D { texture_from_world: glam::Mat4::IDENTITY },
+        });
+        assert!(Material::Dielectric { eta: Ior::Constant(1.5), roughness: rough(fbm) }.is_textured());
+        assert!(!Material::ThinDielectric { eta: 1.5 }.is_textured());
     }
 
     #[test]

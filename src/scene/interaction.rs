@@ -133,8 +133,12 @@ impl<'s> SurfaceInteraction<'s> {
     }
 
     /// The same point with the pixel footprint `footprint` estimates there, for filtered
-    /// texture lookups (pbrt-v4 `SurfaceInteraction::ComputeDifferentials`).
+    /// texture lookups (pbrt-v4 `SurfaceInteraction::ComputeDifferentials`); materials whose
+    /// textures are all constants skip the estimate.
     pub fn with_texture_footprint(mut self, footprint: &TextureFootprint) -> Self {
+        if !self.bound.is_some_and(|b| b.material.is_textured()) {
+            return self;
+        }
         let (dpdx, dpdy) = footprint.dp_dxy(self.p, self.shading.ns);
         self.shading.tex = self.shading.tex.with_footprint(dpdx, dpdy, self.shading.dpdu, self.dpdv);
         self

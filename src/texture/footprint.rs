@@ -6,7 +6,7 @@
 //! many samples per pixel already average a pixel's area.
 
 use crate::camera::Camera;
-use glam::{Mat3, Mat4, Vec2, Vec3};
+use glam::{Mat4, Vec2, Vec3};
 
 /// Film step of the finite differences that give a camera ray's change per pixel [pixels].
 const FILM_STEP: f32 = 0.05;
@@ -28,22 +28,23 @@ pub struct TextureFootprint {
     spp_scale: f32,
 }
 
-/// The rotation taking unit vector `from` to unit vector `to`: the product of the reflections
-/// taking `from` to an axis r and r to `to` (r chosen far from both, so neither reflection is
-/// degenerate).
-fn rotate_from_to(from: Vec3, to: Vec3) -> Mat3 {
-    let r = if from.x.abs() < 0.72 && to.x.abs() < 0.72 {
-        Vec3::X
-    } else if from.y.abs() < 0.72 && to.y.abs() < 0.72 {
-        Vec3::Y
-    } else {
-        Vec3::Z
-    };
-    let reflect = |u: Vec3| {
-        let k = 2.0 / u.dot(u);
-        Mat3::from_cols(Vec3::X - k * u.x * u, Vec3::Y - k * u.y * u, Vec3::Z - k * u.z * u)
-    };
-    reflect(r - to) * reflect(r - from)
+/// The reflection through the plane normal to `u`: x − 2 (u·x)/(u·u) u.
+fn reflect(u: Vec3, x: Vec3) -> Vec3 {
+    x - (2.0 * u.dot(x) / u.dot(u)) * u
+}
+
+/// The rotation taking unit vector `from` to +z, as the product of the reflections taking
+/// `from` to an axis r and r to +z (r chosen away from `from`, so neither reflection is
+/// degenerate; pbrt-v4's `RotateFromTo`): the two reflection normals.
+fn down_z_reflections(from: Vec3) -> (Vec3, Vec3) {
+    let r = if from.x.abs() < 0.72 { Vec3::X } else { Vec3::Y };
+    (r - from, r - Vec3::Z)
+}
+
+/// The inverse of that rotation applied to `x` (each reflection is its own inverse, so the
+/// inverse applies them in the opposite order).
+fn from_down_z((u, v): (Vec3, Vec3), x: Vec3) -> Vec3 {
+    reflect(u, reflect(v, x))
 }
 
 /// Components of `v` in the orthonormal frame whose z axis is the unit vector `z` (Duff et al.
@@ -87,17 +88,15 @@ impl TextureFootprint {
     /// ∂p/∂x and ∂p/∂y at `p` on a surface with unit normal `n` [world space]; zero where the
     /// estimate fails (a plane seen edge-on).
     pub fn dp_dxy(&self, p: Vec3, n: Vec3) -> (Vec3, Vec3) {
-        let pc = self.camera_from_world.transform_point3(p);
-        let nc = self.camera_from_world.transform_vector3(n);
-        // A frame where p lies straight ahead (+z) of the camera.
-        let down_z = rotate_from_to(pc.normalize_or_zero(), Vec3::Z);
-        let (p_dz, n_dz) = (down_z * pc, down_z * nc);
-        let plane = n_dz.dot(p_dz);
+        // The differential rays are given in a frame where p lies straight ahead (+z) of the
+        // camera; carried back to world space they are intersected with p's tangent plane.
+        let to_p = self.camera_from_world.transform_point3(p).normalize_or_zero();
+        let frame = down_z_reflections(to_p);
         let step = |k: usize| {
-            let (o, d) = (self.min_pos[k], Vec3::Z + self.min_dir[k]);
-            let t = (plane - n_dz.dot(o)) / n_dz.dot(d);
-            let offset = o + t * d - p_dz;
-            let v = self.spp_scale * self.world_from_camera.transform_vector3(down_z.transpose() * offset);
+            let o = self.world_from_camera.transform_point3(from_down_z(frame, self.min_pos[k]));
+            let d = self.world_from_camera.transform_vector3(to_p + from_down_z(frame, self.min_dir[k]));
+            let t = n.dot(p - o) / n.dot(d);
+            let v = self.spp_scale * (o + t * d - p);
             if v.is_finite() {
                 v
             } else {
@@ -111,6 +110,7 @@ impl TextureFootprint {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use glam::Mat3;
 
     fn camera(res: (u32, u32), fov: f32) -> Camera {
         let m = Camera::look_at(Vec3::new(0.0, -9.0, 2.2), Vec3::new(0.0, 0.0, 2.2), Vec3::Z);
@@ -118,12 +118,17 @@ mod tests {
     }
 
     #[test]
-    fn rotate_from_to_rotates() {
-        for (a, b) in [(Vec3::X, Vec3::Z), (Vec3::new(0.3, -0.5, 0.81).normalize(), Vec3::Z), (Vec3::Y, Vec3::Y)] {
-            let r = rotate_from_to(a, b);
-            assert!((r * a - b).length() < 1e-6, "{a} → {}", r * a);
-            assert!((r.determinant() - 1.0).abs() < 1e-5);
-            assert!((r * r.transpose()).abs_diff_eq(Mat3::IDENTITY, 1e-6));
+    fn the_down_z_frame_is_a_rotation_taking_the_direction_to_z() {
+        for from in [Vec3::X, Vec3::Y, Vec3::new(0.3, -0.5, 0.81).normalize(), Vec3::new(-0.8, 0.1, 0.59).normalize()] {
+            let f = down_z_reflections(from);
+            let rotate = |x: Vec3| reflect(f.1, reflect(f.0, x));
+            assert!((rotate(from) - Vec3::Z).length() < 1e-6, "{from} → {}", rotate(from));
+            // Orthonormal, right-handed, and undone by `from_down_z`.
+            let (a, b, c) = (rotate(Vec3::X), rotate(Vec3::Y), rotate(Vec3::Z));
+            assert!((Mat3::from_cols(a, b, c).determinant() - 1.0).abs() < 1e-5);
+            assert!((a.dot(b)).abs() < 1e-6 && a.length() - 1.0 < 1e-6);
+            let x = Vec3::new(0.2, -1.3, 0.7);
+            assert!((from_down_z(f, rotate(x)) - x).length() < 1e-5);
         }
     }
 

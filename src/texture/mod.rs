@@ -176,9 +176,10 @@ impl<V: TextureValue> Texture<V> {
         }
     }
 
-    /// True for a constant (the value does not depend on the point).
-    pub fn is_constant(&self) -> bool {
-        matches!(self, Texture::Constant(_))
+    /// True unless the texture is a constant: its value then depends on the point and the
+    /// footprint it is evaluated at.
+    pub fn varies(&self) -> bool {
+        !matches!(self, Texture::Constant(_))
     }
 }
 
