@@ -138,17 +138,20 @@ fn fmt_opt(x: Option<f64>, digits: usize) -> String {
     x.map_or("–".into(), |v| format!("{v:.digits$}"))
 }
 
+/// The mean ratios joined by `sep`, prism's error, pbrt-v4's, and their ratio, as text.
+fn measured_cells(r: &SceneReport, sep: &str) -> [String; 4] {
+    let ratios = r.mean_ratios().map_or("–".into(), |m| format!("{:.3}{sep}{:.3}{sep}{:.3}", m[0], m[1], m[2]));
+    [ratios, fmt_opt(r.prism_error, 5), fmt_opt(r.pbrt_error.map(|e| e.0), 5), fmt_opt(r.error_ratio(), 2)]
+}
+
 /// One line for the terminal.
 pub fn one_line(r: &SceneReport) -> String {
-    let ratios = r.mean_ratios().map_or("–".into(), |m| format!("{:.3}/{:.3}/{:.3}", m[0], m[1], m[2]));
+    let [ratios, error, pbrt, ratio] = measured_cells(r, "/");
     format!(
-        "{:<22} {:<8} warnings {:>3}  means {ratios}  error {} vs pbrt-v4 {} ({}×)  {:.1} s",
+        "{:<22} {:<8} warnings {:>3}  means {ratios}  error {error} vs pbrt-v4 {pbrt} ({ratio}×)  {:.1} s",
         r.name,
         r.status(),
         r.unsupported_count(),
-        fmt_opt(r.prism_error, 5),
-        fmt_opt(r.pbrt_error.map(|e| e.0), 5),
-        fmt_opt(r.error_ratio(), 2),
         r.wall_s
     )
 }
@@ -181,19 +184,16 @@ pub fn markdown(reports: &[SceneReport], command: &str, notes: Option<&str>) -> 
     );
     let _ = writeln!(s, "|---|---|---|---|---|---|---|---|---|---|---|");
     for r in reports {
-        let ratios = r.mean_ratios().map_or("–".into(), |m| format!("{:.3} / {:.3} / {:.3}", m[0], m[1], m[2]));
+        let [ratios, error, pbrt, ratio] = measured_cells(r, " / ");
         let t = r.time_to_pbrt_error();
         let time_ratio = t.zip(r.pbrt_wall_s).map(|(t, p)| t / p);
         let _ = writeln!(
             s,
-            "| [{}](#{}) | {} | {} | {ratios} | {} | {} | {} | {:.2} | {} | {} | {} |",
+            "| [{}](#{}) | {} | {} | {ratios} | {error} | {pbrt} | {ratio} | {:.2} | {} | {} | {} |",
             r.name,
             r.name,
             r.status(),
             r.unsupported_count(),
-            fmt_opt(r.prism_error, 5),
-            fmt_opt(r.pbrt_error.map(|e| e.0), 5),
-            fmt_opt(r.error_ratio(), 2),
             r.wall_s,
             fmt_opt(t, 2),
             fmt_opt(r.pbrt_wall_s, 2),
