@@ -7,9 +7,11 @@ use super::{
 use crate::math::{Vec2, Vec3};
 use crate::spectrum::SampledSpectrum;
 
-/// A BxDF built per hit from values at the path's four wavelengths: `Copy`, on the stack.
-/// All directions are in the local shading frame (z = shading normal).
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// A BxDF built per hit from values at the path's four wavelengths, on the stack; the large
+/// layered models live on the heap so that every BSDF stays small enough (with its frame, at
+/// most 128 bytes) to be moved without a `memcpy` call. All directions are in the local
+/// shading frame (z = shading normal).
+#[derive(Clone, Debug, PartialEq)]
 pub enum Bxdf {
     /// Lambertian reflection.
     Diffuse(Diffuse),
@@ -24,9 +26,9 @@ pub enum Bxdf {
     /// Dielectric coat over a Lambertian base, analytic (Kelemen/Weidlich–Wilkie).
     CoatedDiffuse(CoatedDiffuse),
     /// Dielectric coat over a Lambertian base, stochastic layered (pbrt-v4 `coateddiffuse`).
-    LayeredDiffuse(LayeredDiffuse),
+    LayeredDiffuse(Box<LayeredDiffuse>),
     /// Dielectric coat over a metal, stochastic layered (pbrt-v4 `coatedconductor`).
-    LayeredConductor(LayeredConductor),
+    LayeredConductor(Box<LayeredConductor>),
     /// The entry-point lobe S_ω of a diffusion BSSRDF.
     NormalizedFresnel(NormalizedFresnel),
 }
@@ -110,11 +112,11 @@ impl From<NormalizedFresnel> for Bxdf {
 }
 impl From<LayeredDiffuse> for Bxdf {
     fn from(b: LayeredDiffuse) -> Self {
-        Bxdf::LayeredDiffuse(b)
+        Bxdf::LayeredDiffuse(Box::new(b))
     }
 }
 impl From<LayeredConductor> for Bxdf {
     fn from(b: LayeredConductor) -> Self {
-        Bxdf::LayeredConductor(b)
+        Bxdf::LayeredConductor(Box::new(b))
     }
 }

@@ -9,7 +9,7 @@ use crate::spectrum::SampledSpectrum;
 
 /// A [`Bxdf`] placed in the world. Rejects `wo` in the shading tangent plane, zero pdfs and
 /// non-finite values, so the integrator never sees a NaN from here.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct Bsdf {
     /// Shading frame (n = shading normal).
     pub frame: Frame,
@@ -24,6 +24,14 @@ impl Bsdf {
     /// the geometric normal `ng` and the model.
     pub fn new(ns: Vec3, dpdu: Vec3, ng: Vec3, bxdf: Bxdf) -> Self {
         Self { frame: Frame::from_normal_tangent(ns, dpdu), ng, bxdf }
+    }
+
+    /// The shading normal: the frame's z axis, which bump and normal maps may have turned away
+    /// from the surface's interpolated normal. Cosine factors of the reflection equation are
+    /// taken against it.
+    #[inline]
+    pub fn ns(&self) -> Vec3 {
+        self.frame.n
     }
 
     /// World → local shading frame.

@@ -131,10 +131,6 @@ impl<'s> LaneTracer<'s> {
                     continue;
                 };
                 let si = scene.interaction(&rays[i], &hit);
-                let si = match &self.integrator.footprint {
-                    Some(f) => si.with_texture_footprint(f),
-                    None => si,
-                };
                 if let Some((id, _)) = si.area_light() {
                     let le = si.emitted(&w[i]);
                     if !le.is_black() {
@@ -148,7 +144,8 @@ impl<'s> LaneTracer<'s> {
                         l.set_lane(i, li);
                     }
                 }
-                let Some(Bxdf::Diffuse(d)) = si.bsdf(&mut w[i]).map(|b| b.bxdf) else {
+                let Some(Bxdf::Diffuse(d)) = si.bsdf(&mut w[i], self.integrator.footprint.as_ref()).map(|b| b.bxdf)
+                else {
                     unreachable!("LaneTracer::new admits Lambertian materials only")
                 };
                 rho.set_lane(i, d.r);
@@ -156,7 +153,7 @@ impl<'s> LaneTracer<'s> {
                 p_err.set_lane(i, si.p_err);
                 ng.set_lane(i, si.shading.ng);
                 ns.set_lane(i, si.shading.ns);
-                dpdu.set_lane(i, si.shading.dpdu);
+                dpdu.set_lane(i, si.dpdu);
                 wo.set_lane(i, si.wo);
             }
             // Every vertex counts toward the depth limit (the same for every lane in step).

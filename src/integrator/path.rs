@@ -190,11 +190,19 @@ impl PathIntegrator {
                 break;
             }
             state.depth += 1;
-            let si = match &self.footprint {
-                Some(f) if given_bsdf.is_none() => si.with_texture_footprint(f),
-                _ => si,
+            // The BSDF is borrowed where it was built, not moved (it is larger than the
+            // compiler copies without a `memcpy` call).
+            let computed;
+            let bsdf = match &given_bsdf {
+                Some(b) => b,
+                None => {
+                    computed = si.bsdf(w, self.footprint.as_ref());
+                    match &computed {
+                        Some(b) => b,
+                        None => break,
+                    }
+                }
             };
-            let Some(bsdf) = given_bsdf.or_else(|| si.bsdf(w)) else { break };
             let flags = bsdf.flags();
             if flags.is_empty() {
                 break;
@@ -202,14 +210,14 @@ impl PathIntegrator {
 
             // Next-event estimation (not for purely specular BSDFs, whose f is zero off the delta).
             if use_nee && flags.is_non_specular() {
-                state.l += state.beta * self.sample_light(scene, &si, &bsdf, w, sampler, stats);
+                state.l += state.beta * self.sample_light(scene, &si, bsdf, w, sampler, stats);
             }
 
             // Continue the path by sampling the BSDF.
             let uc = sampler.get_1d();
             let u = sampler.get_2d();
             let Some(bs) = bsdf.sample_f(si.wo, uc, u, TransportMode::Radiance) else { break };
-            let cos = bs.wi.dot(si.shading.ns).abs();
+            let cos = bs.wi.dot(bsdf.ns()).abs();
             state.beta *= bs.f * (cos / bs.pdf);
             state.prev_pdf =
                 if bs.pdf_is_proportional { bsdf.pdf(si.wo, bs.wi, TransportMode::Radiance) } else { bs.pdf };
@@ -219,7 +227,7 @@ impl PathIntegrator {
             if bs.is_transmission() {
                 // Refraction into a subsurface medium: continue where light leaves it. Entering and
                 // leaving scale radiance by 1/η² and η², so eta_scale is left alone.
-                let entered = si.material().and_then(Material::subsurface).filter(|_| bs.wi.dot(si.shading.ns) < 0.0);
+                let entered = si.material().and_then(Material::subsurface).filter(|_| bs.wi.dot(bsdf.ns()) < 0.0);
                 if let Some(m) = entered {
                     match subsurface::enter(
                         self,
@@ -290,7 +298,7 @@ impl PathIntegrator {
         if ls.pdf <= 0.0 || ls.li.is_black() {
             return SampledSpectrum::zero();
         }
-        let f = bsdf.f(si.wo, ls.wi, TransportMode::Radiance) * ls.wi.dot(si.shading.ns).abs();
+        let f = bsdf.f(si.wo, ls.wi, TransportMode::Radiance) * ls.wi.dot(bsdf.ns()).abs();
         if f.is_black() {
             return SampledSpectrum::zero();
         }

@@ -92,7 +92,7 @@ pub(super) fn enter<'s>(
     sampler: &mut Sampler,
     stats: &mut Stats,
 ) -> Option<Exit<'s>> {
-    let medium = material.medium(&si.shading, w);
+    let medium = material.medium(&si.shading_point(None), w);
     // Diffusion assumes an optically thick object; where the longest mean free path exceeds the
     // object's bounding radius, the medium is nearly clear, PBD would lose most of the light,
     // and a walk needs only a few events: take the walk.
@@ -118,7 +118,7 @@ fn diffusion<'s>(
     sampler: &mut Sampler,
     stats: &mut Stats,
 ) -> Option<Exit<'s>> {
-    let frame = Frame::from_normal_tangent(si.shading.ns, si.shading.dpdu);
+    let frame = Frame::from_normal_tangent(si.shading.ns, si.dpdu);
     let bssrdf = TabulatedBssrdf::new(material.table(), si.p, frame, medium.sigma_t(), medium.albedo());
     let u1 = sampler.get_1d();
     let u2 = sampler.get_2d();
@@ -146,7 +146,7 @@ fn diffusion<'s>(
     }
     // S_ω ignores ωo except for its side: pbrt sets it to the normal.
     pi.wo = pi.shading.ns;
-    let bsdf = material.entry_bsdf(&pi.shading);
+    let bsdf = material.entry_bsdf(&pi.shading_point(None));
     Some(Exit::Vertex(pi, bsdf))
 }
 
@@ -192,7 +192,7 @@ impl Walk<'_> {
                     *beta *= weight;
                     let h = hit?;
                     let b = scene.interaction(&ray, &h);
-                    let bsdf = self.material.boundary_bsdf(&b.shading);
+                    let bsdf = self.material.boundary_bsdf(&b.shading_point(None));
                     if nee && bsdf.flags().is_non_specular() {
                         *l += *beta * self.integ.sample_light(scene, &b, &bsdf, self.w, sampler, stats);
                     }

@@ -1,12 +1,14 @@
 //! Materials: what a surface is made of, turned into a BSDF at each hit by evaluating textures and
 //! spectra at the path's wavelengths. Materials hold spectra, never RGB triplets.
 
+mod bump;
 mod conductor;
 mod layered;
 mod mix;
 mod subsurface;
 
 pub use crate::texture::{FloatTexture, SpectrumTexture, TextureEvalContext};
+pub use bump::{BumpedMaterial, NormalMap, NormalPerturbation, ShadingDerivatives};
 pub use conductor::ConductorIor;
 pub use layered::{CoatedConductorMaterial, CoatedDiffuseMaterial, LayerSpec};
 pub use mix::{hit_key, MixMaterial};
@@ -136,6 +138,9 @@ pub enum Material {
     /// "subsurface": a dielectric boundary over a scattering medium; the integrator continues
     /// paths that refract into it (`integrator::subsurface`).
     Subsurface(Box<SubsurfaceMaterial>),
+    /// Any other material with its shading normal perturbed by a displacement texture or a
+    /// normal map ("float displacement", "string normalmap").
+    Bumped(Box<BumpedMaterial>),
     /// "interface" (and pbrt-v4's deprecated `""`/`"none"`): no surface at all, only the
     /// boundary between two media. Rays and shadow rays pass through it unchanged.
     Interface,
@@ -165,6 +170,7 @@ impl Material {
     pub fn subsurface(&self) -> Option<&SubsurfaceMaterial> {
         match self {
             Material::Subsurface(m) => Some(m),
+            Material::Bumped(b) => b.base.subsurface(),
             _ => None,
         }
     }
@@ -177,13 +183,15 @@ impl Material {
             Material::CoatedDiffuse(m) => m.eta.is_dispersive(),
             Material::CoatedConductor(m) => m.interface_eta.is_dispersive(),
             Material::Mix(m) => m.materials.iter().any(Material::is_dispersive),
+            Material::Bumped(b) => b.base.is_dispersive(),
             _ => false,
         }
     }
 
     /// True when the BSDF may depend on where and at what footprint its textures are
     /// evaluated, so a hit on it needs its pixel footprint: any material with a texture that is
-    /// not a constant (the layered, mix and subsurface materials are assumed to have one).
+    /// not a constant (the layered, mix, subsurface and bumped materials are assumed to have
+    /// one).
     pub fn is_textured(&self) -> bool {
         let rough = |r: &Roughness| r.u.varies() || r.v.varies();
         match self {
@@ -202,6 +210,16 @@ impl Material {
     #[inline]
     pub fn is_interface(&self) -> bool {
         matches!(self, Material::Interface)
+    }
+
+    /// True when a hit on this material may find no surface: an interface, or a mix that may
+    /// choose one.
+    pub fn may_be_interface(&self) -> bool {
+        match self {
+            Material::Interface => true,
+            Material::Mix(m) => m.materials.iter().any(Material::may_be_interface),
+            _ => false,
+        }
     }
 
     /// The BSDF at a hit for the path's wavelengths (`None` for an interface). A dispersive
@@ -226,14 +244,22 @@ impl Material {
             Material::ThinDielectric { eta } => ThinDielectric::new(*eta).into(),
             Material::CoatedDiffuse(m) => m.bxdf(&sp.tex, w),
             Material::CoatedConductor(m) => m.bxdf(&sp.tex, w),
-            Material::Mix(_) => {
-                let key = hit_key(sp.ns, sp.tex.uv.extend(0.0));
-                return self.resolve(key, &sp.tex).bsdf(sp, w);
-            }
+            Material::Mix(_) => return self.bsdf_of_unresolved_mix(sp, w),
             Material::Subsurface(m) => return Some(m.boundary_bsdf(sp)),
+            // The perturbation needs the surface's derivatives, which
+            // `SurfaceInteraction::bsdf` supplies; here the base material is used as it is.
+            Material::Bumped(b) => return b.base.bsdf(sp, w),
             Material::Interface => return None,
         };
         Some(Bsdf::new(sp.ns, sp.dpdu, sp.ng, bxdf))
+    }
+
+    /// The BSDF of a mix not resolved with its hit: the choice keys on the shading point. Out
+    /// of line, so that the key's hash is not computed speculatively for every other material.
+    #[inline(never)]
+    fn bsdf_of_unresolved_mix(&self, sp: &ShadingPoint, w: &mut SampledWavelengths) -> Option<Bsdf> {
+        let key = hit_key(sp.ns, sp.tex.uv.extend(0.0));
+        self.resolve(key, &sp.tex).bsdf(sp, w)
     }
 }
 

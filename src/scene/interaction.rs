@@ -6,7 +6,7 @@ use super::{LightId, MediumInterface, Primitive, Scene};
 use crate::bsdf::Bsdf;
 use crate::geometry::{Hit, Ray};
 use crate::light::{AreaLight, Light};
-use crate::material::{hit_key, Material, ShadingPoint};
+use crate::material::{hit_key, Material, ShadingDerivatives, ShadingPoint};
 use crate::math::{offset_ray_origin, triangle_point};
 use crate::sampling::rng::hash64;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
@@ -14,16 +14,25 @@ use crate::texture::{TextureEvalContext, TextureFootprint};
 use glam::{Vec2, Vec3};
 
 /// A point on a surface where a ray hit, with the primitive it belongs to.
+///
+/// The path loop moves one of these per vertex, so it is kept small (at most 128 bytes, which
+/// the compiler copies with a few vector moves rather than a `memcpy` call): what textures
+/// need is assembled only when a BSDF is asked for ([`Self::shading_point`]).
 #[derive(Clone, Copy, Debug)]
 pub struct SurfaceInteraction<'s> {
     /// Hit point.
     pub p: Vec3,
     /// Per-axis bound on the absolute error of `p`.
     pub p_err: Vec3,
-    /// Shading data for the material.
-    pub shading: ShadingPoint,
-    /// ∂p/∂v, with `shading.dpdu` the parameterisation that (u, v) footprints are found in.
+    /// The shading and geometric normals.
+    pub shading: SurfaceNormals,
+    /// ∂p/∂u: the tangent of anisotropic frames, and with `dpdv` the parameterisation that
+    /// (u, v) footprints are found in.
+    pub dpdu: Vec3,
+    /// ∂p/∂v.
     dpdv: Vec3,
+    /// Surface texture coordinates (u, v).
+    pub uv: Vec2,
     /// Unit direction back along the incoming ray.
     pub wo: Vec3,
     /// The primitive hit, with the scene's materials and lights (`None`: a virtual sensor).
@@ -36,23 +45,40 @@ pub struct SurfaceInteraction<'s> {
     pub inst: u32,
 }
 
-/// What a hit on a primitive can ask of the scene.
+/// The two normals at a surface point (unit vectors).
 #[derive(Clone, Copy, Debug)]
+pub struct SurfaceNormals {
+    /// Shading normal: interpolated, or the geometric one.
+    pub ns: Vec3,
+    /// Geometric normal, on the side of `ns`.
+    pub ng: Vec3,
+}
+
+/// What a hit on a primitive can ask of the scene.
+#[derive(Clone, Copy)]
 struct Bound<'s> {
+    scene: &'s Scene,
     primitive: &'s Primitive,
-    material: &'s Material,
-    area_light: Option<(LightId, &'s AreaLight)>,
+}
+
+impl std::fmt::Debug for Bound<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Bound").field("material", &self.primitive.material).finish_non_exhaustive()
+    }
+}
+
+impl<'s> Bound<'s> {
+    #[inline]
+    fn material(&self) -> &'s Material {
+        &self.scene.materials[self.primitive.material as usize]
+    }
 }
 
 impl<'s> SurfaceInteraction<'s> {
     /// Builds the interaction for `hit` of `ray` in `scene`.
     pub(super) fn new(scene: &'s Scene, ray: &Ray, hit: &Hit) -> Self {
         let primitive = &scene.primitives[hit.geom_id as usize];
-        let area_light = primitive.area_light(hit.prim_id).map(|id| match &scene.lights[id as usize] {
-            Light::Area(a) => (id, a),
-            _ => unreachable!("a primitive's area lights are Light::Area"),
-        });
-        let bound = Bound { primitive, material: &scene.materials[primitive.material as usize], area_light };
+        let bound = Bound { scene, primitive };
         let mesh = &primitive.mesh;
         let tri = mesh.indices[hit.prim_id as usize];
         let p = mesh.triangle(hit.prim_id as usize);
@@ -107,8 +133,10 @@ impl<'s> SurfaceInteraction<'s> {
         Self {
             p: point,
             p_err,
-            shading: ShadingPoint { ns, ng: ng_oriented, dpdu, tex: TextureEvalContext::at(point, ns, uv) },
+            shading: SurfaceNormals { ns, ng: ng_oriented },
+            dpdu,
             dpdv,
+            uv,
             wo: -ray.d.normalize(),
             bound: Some(bound),
             mesh: hit.geom_id,
@@ -122,8 +150,10 @@ impl<'s> SurfaceInteraction<'s> {
         Self {
             p,
             p_err: p.abs() * crate::math::offset::gamma(4),
-            shading: ShadingPoint { ns: n, ng: n, dpdu: Vec3::ZERO, tex: TextureEvalContext::at(p, n, Vec2::ZERO) },
+            shading: SurfaceNormals { ns: n, ng: n },
+            dpdu: Vec3::ZERO,
             dpdv: Vec3::ZERO,
+            uv: Vec2::ZERO,
             wo: n,
             bound: None,
             mesh: u32::MAX,
@@ -132,33 +162,101 @@ impl<'s> SurfaceInteraction<'s> {
         }
     }
 
-    /// The same point with the pixel footprint `footprint` estimates there, for filtered
-    /// texture lookups (pbrt-v4 `SurfaceInteraction::ComputeDifferentials`); materials whose
-    /// textures are all constants skip the estimate.
-    pub fn with_texture_footprint(mut self, footprint: &TextureFootprint) -> Self {
-        if !self.bound.is_some_and(|b| b.material.is_textured()) {
-            return self;
+    /// What the material sees at this point: the normals, ∂p/∂u and the texture context,
+    /// with the pixel footprint `footprint` estimates here for filtered texture lookups
+    /// (pbrt-v4 `SurfaceInteraction::ComputeDifferentials`) when the material has textures
+    /// that vary; `None` gives the finest texture detail.
+    pub fn shading_point(&self, footprint: Option<&TextureFootprint>) -> ShadingPoint {
+        self.shading_point_for(self.bound.map(|b| b.material()), footprint)
+    }
+
+    fn shading_point_for(&self, material: Option<&Material>, footprint: Option<&TextureFootprint>) -> ShadingPoint {
+        let mut tex = self.texture_point();
+        if let Some(f) = footprint.filter(|_| material.is_some_and(Material::is_textured)) {
+            let (dpdx, dpdy) = f.dp_dxy(self.p, self.shading.ns);
+            tex = tex.with_footprint(dpdx, dpdy, self.dpdu, self.dpdv);
         }
-        let (dpdx, dpdy) = footprint.dp_dxy(self.p, self.shading.ns);
-        self.shading.tex = self.shading.tex.with_footprint(dpdx, dpdy, self.shading.dpdu, self.dpdv);
-        self
+        ShadingPoint { ns: self.shading.ns, ng: self.shading.ng, dpdu: self.dpdu, tex }
+    }
+
+    /// The shading frame's derivatives as pbrt-v4's triangles set them (§6.5.3): without
+    /// vertex normals, ∂p/∂u, ∂p/∂v and a constant normal; with them, ∂p/∂u made
+    /// perpendicular to the shading normal n, ∂p/∂v = n × ∂p/∂u, and ∂n/∂u, ∂n/∂v from the
+    /// corners' normals and (u, v) as ∂p/∂u and ∂p/∂v are found from their positions.
+    fn shading_derivatives(&self, b: Bound<'s>) -> ShadingDerivatives {
+        let mesh = &b.primitive.mesh;
+        let Some(normals) = &mesh.normals else {
+            return ShadingDerivatives { dpdu: self.dpdu, dpdv: self.dpdv, ..Default::default() };
+        };
+        let ns = self.shading.ns;
+        let ts = ns.cross(self.dpdu);
+        let (ss, ts) = if ts.length_squared() > 0.0 { (ts.cross(ns), ts) } else { ns.any_orthonormal_pair() };
+        let tri = mesh.indices[self.prim as usize];
+        let instance = b.scene.instances.get(self.inst as usize);
+        let n = |k: usize| {
+            let n = normals[tri[k] as usize];
+            instance.map_or(n, |inst| inst.normal_to_world(n))
+        };
+        let uv = |k: usize| match &mesh.uvs {
+            Some(uvs) => uvs[tri[k] as usize],
+            None => [Vec2::ZERO, Vec2::X, Vec2::ONE][k],
+        };
+        let (duv02, duv12) = (uv(0) - uv(2), uv(1) - uv(2));
+        let (dn02, dn12) = (n(0) - n(2), n(1) - n(2));
+        let det = duv02.x * duv12.y - duv02.y * duv12.x;
+        let (dndu, dndv) = if det.abs() > 1e-12 {
+            ((dn02 * duv12.y - dn12 * duv02.y) / det, (dn12 * duv02.x - dn02 * duv12.x) / det)
+        } else {
+            (Vec3::ZERO, Vec3::ZERO)
+        };
+        ShadingDerivatives { dpdu: ss, dpdv: ts, dndu, dndv }
+    }
+
+    /// Where textures are evaluated here, without a footprint.
+    #[inline]
+    fn texture_point(&self) -> TextureEvalContext {
+        TextureEvalContext::at(self.p, self.shading.ns, self.uv)
     }
 
     /// The material of the surface (`None` for a virtual sensor); a mix is resolved to the
     /// material it chooses for this point and direction.
     #[inline]
     pub fn material(&self) -> Option<&'s Material> {
-        self.bound.map(|b| match b.material {
-            Material::Mix(_) => b.material.resolve(hit_key(self.p, self.wo), &self.shading.tex),
+        self.bound.map(|b| self.resolve(b.material(), &self.texture_point()))
+    }
+
+    /// `material` itself, or for a mix the material it chooses at `tex` for this point and
+    /// direction.
+    #[inline]
+    fn resolve(&self, material: &'s Material, tex: &TextureEvalContext) -> &'s Material {
+        match material {
+            Material::Mix(_) => self.resolve_mix(material, tex),
             m => m,
-        })
+        }
+    }
+
+    /// [`Self::resolve`] for a mix, kept out of line so that the hash of the hit is not
+    /// computed speculatively for every other material.
+    #[inline(never)]
+    fn resolve_mix(&self, mix: &'s Material, tex: &TextureEvalContext) -> &'s Material {
+        mix.resolve(hit_key(self.p, self.wo), tex)
     }
 
     /// The BSDF at this point at the wavelengths `w`, which a dispersive material reduces to
-    /// the hero wavelength (`None` for a virtual sensor or an interface).
+    /// the hero wavelength (`None` for a virtual sensor or an interface); textures are
+    /// filtered over `footprint`'s estimate of the pixel footprint.
     #[inline]
-    pub fn bsdf(&self, w: &mut SampledWavelengths) -> Option<Bsdf> {
-        self.material().and_then(|m| m.bsdf(&self.shading, w))
+    pub fn bsdf(&self, w: &mut SampledWavelengths, footprint: Option<&TextureFootprint>) -> Option<Bsdf> {
+        let b = self.bound?;
+        let material = self.resolve(b.material(), &self.texture_point());
+        let sp = self.shading_point_for(Some(material), footprint);
+        match material {
+            Material::Bumped(bumped) => {
+                let sp = bumped.perturbation.apply(&sp, &self.shading_derivatives(b));
+                bumped.base.bsdf(&sp, w)
+            }
+            m => m.bsdf(&sp, w),
+        }
     }
 
     /// True when the primitive's alpha mask lets `ray` through here. Alpha a ≥ 1 keeps every
@@ -167,7 +265,7 @@ impl<'s> SurfaceInteraction<'s> {
     /// stochastic alpha).
     pub fn is_cut_out(&self, ray: &Ray) -> bool {
         let Some(alpha) = self.bound.and_then(|b| b.primitive.alpha.as_ref()) else { return false };
-        let a = alpha.eval(&self.shading.tex);
+        let a = alpha.eval(&self.texture_point());
         if a >= 1.0 {
             return false;
         }
@@ -183,14 +281,23 @@ impl<'s> SurfaceInteraction<'s> {
     /// continues through it unchanged.
     #[inline]
     pub fn is_passthrough(&self) -> bool {
-        self.material().is_some_and(Material::is_interface)
+        match self.bound.map(|b| b.material()) {
+            Some(Material::Interface) => true,
+            Some(m @ Material::Mix(_)) if m.may_be_interface() => self.material().is_some_and(Material::is_interface),
+            _ => false,
+        }
     }
 
     /// The area light of the triangle hit, if it emits: its index (for the light sampler's pmf,
     /// [`Scene::light_pdf`]) and the light.
     #[inline]
     pub fn area_light(&self) -> Option<(LightId, &'s AreaLight)> {
-        self.bound.and_then(|b| b.area_light)
+        let b = self.bound?;
+        let id = b.primitive.area_light(self.prim)?;
+        match &b.scene.lights[id as usize] {
+            Light::Area(a) => Some((id, a)),
+            _ => unreachable!("a primitive's area lights are Light::Area"),
+        }
     }
 
     /// Radiance L_e [W/(sr·m²·nm)] the surface emits toward `wo` (pbrt-v4 `SurfaceInteraction::Le`).

@@ -337,7 +337,7 @@ impl SceneBuilder {
         let light_sampler = LightSampler::new(&lights, radius);
         let infinite_lights =
             lights.iter().enumerate().filter(|(_, l)| l.is_infinite()).map(|(i, _)| i as u32).collect();
-        let has_interfaces = self.materials.iter().any(Material::is_interface);
+        let has_interfaces = self.materials.iter().any(Material::may_be_interface);
         Ok(Scene {
             has_interfaces,
             has_alpha,
@@ -401,6 +401,7 @@ impl Scene {
     /// The closest hit that its primitive's alpha mask keeps. Rejected hits lie at increasing
     /// distances, so continuing the ray past each finds the closest kept one; a ray the masks
     /// keep crossing is taken to escape after [`MAX_INTERFACE_CROSSINGS`] of them.
+    #[inline(never)]
     fn intersect_past_cut_outs(&self, mut ray: Ray) -> Option<SurfaceInteraction<'_>> {
         for _ in 0..MAX_INTERFACE_CROSSINGS {
             let hit = self.accel.intersect(&ray)?;
@@ -445,6 +446,7 @@ impl Scene {
         self.occluded_past_interfaces(*ray)
     }
 
+    #[inline(never)]
     fn occluded_past_interfaces(&self, mut ray: Ray) -> bool {
         let end = if ray.t_max.is_finite() { Some(ray.at(ray.t_max)) } else { None };
         for _ in 0..MAX_INTERFACE_CROSSINGS {

@@ -27,7 +27,7 @@ use crate::bsdf::{ior, metals};
 use crate::camera::Projection;
 use crate::film::Crop;
 use crate::geometry::Mesh;
-use crate::material::{Ior, Material, Roughness};
+use crate::material::{BumpedMaterial, Ior, Material, Roughness};
 use crate::spectrum::{ColorSpace, RgbKind, Spectrum};
 use std::collections::HashMap;
 use std::sync::Arc;
@@ -296,6 +296,17 @@ impl Ctx<'_> {
     }
 
     fn make_material(&mut self, m: &MaterialDesc) -> Result<Material, SceneError> {
+        let base = self.base_material(m)?;
+        if matches!(base, Material::Mix(_) | Material::Interface) {
+            return Ok(base);
+        }
+        Ok(match self.normal_perturbation(&m.params, &m.loc)? {
+            Some(perturbation) => Material::Bumped(Box::new(BumpedMaterial { base, perturbation })),
+            None => base,
+        })
+    }
+
+    fn base_material(&mut self, m: &MaterialDesc) -> Result<Material, SceneError> {
         let p = &m.params;
         let loc = &m.loc;
         Ok(match m.kind.as_str() {

@@ -113,3 +113,8 @@ fn point_spot_goniometric_projection_and_distant_lights_have_pbrt_v4s_means() {
 fn every_texture_type_and_mapping_has_pbrt_v4s_means() {
     assert_matches_pbrt_v4("textures.pbrt", 16);
 }
+
+#[test]
+fn bump_normal_map_and_alpha_shading_has_pbrt_v4s_means() {
+    assert_matches_pbrt_v4("shading.pbrt", 16);
+}

@@ -3,6 +3,7 @@
 
 mod accel_agreement;
 mod alpha;
+mod bump;
 mod cli;
 mod common;
 mod compat;

@@ -47,7 +47,7 @@ fn run_suite(
                     sample_count: SAMPLES,
                     ..Chi2Test::default()
                 };
-                let r = test.run(sample_dirs(*bxdf, wo), |wi| bxdf.pdf(wo, wi, TransportMode::Radiance));
+                let r = test.run(sample_dirs(bxdf.clone(), wo), |wi| bxdf.pdf(wo, wi, TransportMode::Radiance));
                 if !r.passed {
                     failures.push(format!("{name}, θo = {theta}°, below = {below}: {r}"));
                 }
@@ -90,7 +90,7 @@ fn chi2_near_specular_lobes_in_a_zoomed_cap() {
             };
             Domain::Cap { axis, theta_max: 40.0 * alpha }
         };
-        let mut f = run_suite(vec![(name, bxdf)], n, domain);
+        let mut f = run_suite(vec![(name, bxdf.clone())], n, domain);
         failures.append(&mut f);
     }
     assert!(failures.is_empty(), "{} of {n} failed:\n{}", failures.len(), failures.join("\n"));

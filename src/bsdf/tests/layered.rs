@@ -177,7 +177,7 @@ fn rough_layers_match_a_walk_through_the_interfaces() {
     for (name, layered, coat, base) in &cases {
         for t in [0.0f32, 50.0, 80.0] {
             let (m, sm) = albedo(layered, dir(t), 100_000, 31);
-            let (r, sr) = layer_walk_albedo(*coat, *base, dir(t), 100_000);
+            let (r, sr) = layer_walk_albedo(coat.clone(), base.clone(), dir(t), 100_000);
             report += &format!("{name:36} θ={t:4}°: layered {m:.4} ± {sm:.4}, walk {r:.4} ± {sr:.4}\n");
             assert!((m - r).abs() <= 4.0 * (sm * sm + sr * sr).sqrt() + 1e-4, "{name} θ={t}: {m} ± {sm} vs {r} ± {sr}");
         }

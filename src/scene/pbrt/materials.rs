@@ -4,12 +4,15 @@
 
 use super::{param_error, Ctx};
 use crate::material::{
-    CoatedConductorMaterial, CoatedDiffuseMaterial, ConductorIor, Ior, LayerSpec, Material, MixMaterial, Roughness,
+    CoatedConductorMaterial, CoatedDiffuseMaterial, ConductorIor, Ior, LayerSpec, Material, MixMaterial, NormalMap,
+    NormalPerturbation, Roughness,
 };
 use crate::scene::desc::MaterialDesc;
 use crate::scene::error::{Location, SceneError};
 use crate::scene::params::ParamSet;
 use crate::spectrum::RgbKind;
+use crate::texture::{rgb_texels, ColorEncoding};
+use std::sync::Arc;
 
 /// How deep mixes may nest: deeper means a mix names itself through others.
 const MAX_MIX_NESTING: usize = 32;
@@ -17,6 +20,41 @@ const MAX_MIX_NESTING: usize = 32;
 const MAX_MIX_NODES: usize = 4096;
 
 impl Ctx<'_> {
+    /// A material's "string normalmap" (an RGB image, read with linear encoding) or, without
+    /// one, its "float displacement" (pbrt-v4 reads both for every material but mix and
+    /// interface, and uses the normal map when both are given).
+    pub(super) fn normal_perturbation(
+        &mut self,
+        p: &ParamSet,
+        loc: &Location,
+    ) -> Result<Option<NormalPerturbation>, SceneError> {
+        let has_displacement = p.has("displacement");
+        if let Some(file) = p.filename("normalmap") {
+            if has_displacement {
+                let _ = p.get("displacement");
+            }
+            if let Some(map) = self.textures.normal_maps.get(&file) {
+                return Ok(Some(NormalPerturbation::NormalMap(map.clone())));
+            }
+            let bad = |reason: String| param_error(p, "normalmap", loc, format!("{}: {reason}", file.display()));
+            let img = crate::image::read(&file).map_err(|e| bad(format!("cannot read the image: {e}")))?;
+            if img.channels < 3 {
+                return Err(bad(format!("a normal map needs RGB channels, the image has {}", img.channels)));
+            }
+            let integer = crate::image::FileFormat::from_path(&file).is_ok_and(|f| !f.is_linear());
+            let texels = rgb_texels(&img, integer.then_some(ColorEncoding::Linear));
+            let map = NormalMap::new(img.width as usize, img.height as usize, texels)
+                .ok_or_else(|| bad("the image is empty".to_string()))?;
+            let map = Arc::new(map);
+            self.textures.normal_maps.insert(file, map.clone());
+            return Ok(Some(NormalPerturbation::NormalMap(map)));
+        }
+        if !has_displacement {
+            return Ok(None);
+        }
+        Ok(Some(NormalPerturbation::Displacement(self.float_texture(p, "displacement", 0.0)?)))
+    }
+
     /// "conductor": `eta`/`k` (default copper) or `reflectance`, and roughness.
     pub(super) fn conductor(&mut self, p: &ParamSet, loc: &Location) -> Result<Material, SceneError> {
         let ior = self.conductor_ior(p, ["eta", "k", "reflectance"], loc)?;

@@ -25,6 +25,8 @@ pub(super) struct Built {
     float: HashMap<usize, FloatTexture>,
     spectrum: HashMap<usize, SpectrumTexture>,
     pyramids: HashMap<String, Arc<MipMap<[f32; 3]>>>,
+    /// Normal maps by file.
+    pub(super) normal_maps: HashMap<std::path::PathBuf, Arc<crate::material::NormalMap>>,
 }
 
 /// A texture parameter's value: given in place, or the name of a texture.
