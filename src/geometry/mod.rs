@@ -1,10 +1,12 @@
-//! Geometry: rays, hits, triangle meshes, object instances, test shapes.
+//! Geometry: rays, hits, triangle meshes, quadrics, object instances, test shapes.
 
 pub mod instance;
 mod mesh;
+pub mod quadric;
 mod ray;
 pub mod shapes;
 
 pub use instance::{Instance, InstanceSet, Prototype};
 pub use mesh::{Bounds3, Mesh};
+pub use quadric::Quadric;
 pub use ray::{Hit, Ray};

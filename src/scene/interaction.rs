@@ -5,7 +5,7 @@
 use super::{LightId, MediumInterface, Primitive, Scene};
 use crate::bsdf::Bsdf;
 use crate::geometry::{Hit, Ray};
-use crate::light::{AreaLight, Light};
+use crate::light::Light;
 use crate::material::{hit_key, Material, ShadingPoint};
 use crate::math::{offset_ray_origin, triangle_point};
 use crate::sampling::rng::hash64;
@@ -41,17 +41,14 @@ pub struct SurfaceInteraction<'s> {
 struct Bound<'s> {
     primitive: &'s Primitive,
     material: &'s Material,
-    area_light: Option<(LightId, &'s AreaLight)>,
+    area_light: Option<(LightId, &'s Light)>,
 }
 
 impl<'s> SurfaceInteraction<'s> {
     /// Builds the interaction for `hit` of `ray` in `scene`.
     pub(super) fn new(scene: &'s Scene, ray: &Ray, hit: &Hit) -> Self {
         let primitive = &scene.primitives[hit.geom_id as usize];
-        let area_light = primitive.area_light(hit.prim_id).map(|id| match &scene.lights[id as usize] {
-            Light::Area(a) => (id, a),
-            _ => unreachable!("a primitive's area lights are Light::Area"),
-        });
+        let area_light = primitive.area_light(hit.prim_id).map(|id| (id, &scene.lights[id as usize]));
         let bound = Bound { primitive, material: &scene.materials[primitive.material as usize], area_light };
         let mesh = &primitive.mesh;
         let tri = mesh.indices[hit.prim_id as usize];
@@ -189,7 +186,7 @@ impl<'s> SurfaceInteraction<'s> {
     /// The area light of the triangle hit, if it emits: its index (for the light sampler's pmf,
     /// [`Scene::light_pdf`]) and the light.
     #[inline]
-    pub fn area_light(&self) -> Option<(LightId, &'s AreaLight)> {
+    pub fn area_light(&self) -> Option<(LightId, &'s Light)> {
         self.bound.and_then(|b| b.area_light)
     }
 
@@ -197,7 +194,7 @@ impl<'s> SurfaceInteraction<'s> {
     #[inline]
     pub fn emitted(&self, w: &SampledWavelengths) -> SampledSpectrum {
         match self.area_light() {
-            Some((_, light)) => light.radiance(self.wo, w),
+            Some((_, light)) => light.surface_radiance(self.shading.ng, self.wo, w),
             None => SampledSpectrum::zero(),
         }
     }
