@@ -1,5 +1,6 @@
-//! Geometry: rays, hits, triangle meshes, quadrics, object instances, test shapes.
+//! Geometry: rays, hits, triangle meshes, bilinear patches, quadrics, object instances, test shapes.
 
+pub mod bilinear;
 pub mod instance;
 mod mesh;
 pub mod quadric;

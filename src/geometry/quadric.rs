@@ -87,7 +87,8 @@ impl Quadric {
     /// θ(z_min)) with θ = acos(z/r) for the sphere, (z − z_min)/(z_max − z_min) for the cylinder,
     /// (r − ρ)/(r − rᵢ) for the disk (ρ the distance from the axis).
     pub fn point(&self, u: f32, v: f32) -> QuadricPoint {
-        let phi = |phi_max: f32| u * phi_max.to_radians();
+        // A full turn closes on the very vertices it started from (f32 sin 2π is not 0).
+        let phi = |phi_max: f32| if u >= 1.0 && phi_max >= 360.0 { 0.0 } else { u * phi_max.to_radians() };
         match *self {
             Quadric::Sphere { radius, z_min, z_max, phi_max } => {
                 let theta_min = (z_min / radius).clamp(-1.0, 1.0).acos();

@@ -8,7 +8,7 @@ use super::desc::ShapeGeometry;
 use super::error::{Location, SceneError, Warning};
 use super::mesh_io;
 use super::params::ParamSet;
-use crate::geometry::Mesh;
+use crate::geometry::{bilinear, Mesh};
 
 /// Loads the geometry of a Shape of type `kind` (a name from `names::PRISM_SHAPES`), marking
 /// the geometry parameters used.
@@ -56,8 +56,8 @@ pub fn load(
     }
 }
 
-/// `trianglemesh` (`corners` = 3) or `bilinearmesh` (`corners` = 4, split into two triangles:
-/// exact for planar patches) from "P", "indices", "N", "uv".
+/// `trianglemesh` (`corners` = 3) or `bilinearmesh` (`corners` = 4, triangulated on the patch's
+/// own (u, v) within a stated error: `geometry::bilinear`) from "P", "indices", "N", "uv".
 fn inline_mesh(ps: &ParamSet, loc: &Location, corners: usize) -> Result<Mesh, SceneError> {
     let decl = |name: &str, ty: &str| {
         let l = ps.iter().find(|p| p.name == name).map_or(loc.clone(), |p| p.loc.clone());
@@ -92,6 +92,7 @@ fn inline_mesh(ps: &ParamSet, loc: &Location, corners: usize) -> Result<Mesh, Sc
         ));
     }
     let mut tris = Vec::with_capacity(indices.len() / corners * (corners - 2));
+    let mut patches = Vec::new();
     let mut checked = Vec::with_capacity(corners);
     for prim in indices.chunks_exact(corners) {
         checked.clear();
@@ -105,8 +106,7 @@ fn inline_mesh(ps: &ParamSet, loc: &Location, corners: usize) -> Result<Mesh, Sc
             tris.push([checked[0], checked[1], checked[2]]);
         } else {
             // Bilinear patch vertex order is p00, p10, p01, p11.
-            tris.push([checked[0], checked[1], checked[3]]);
-            tris.push([checked[0], checked[3], checked[2]]);
+            patches.push([checked[0], checked[1], checked[2], checked[3]]);
         }
     }
     let mut mesh = Mesh::new(p.to_vec(), tris);
@@ -124,6 +124,9 @@ fn inline_mesh(ps: &ParamSet, loc: &Location, corners: usize) -> Result<Mesh, Sc
             return Err(err("uv", "point2", format!("has {} texture coordinates for {n} vertices", uv.len())));
         }
         mesh.uvs = Some(uv);
+    }
+    if corners == 4 {
+        mesh = bilinear::triangulate(&mesh.positions, &patches, mesh.normals.as_deref(), mesh.uvs.as_deref());
     }
     let _ = (ps.vector3s("S"), ps.ints("faceIndices"));
     Ok(mesh)

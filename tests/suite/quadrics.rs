@@ -1,0 +1,143 @@
+//! pbrt-v4's quadrics through the whole renderer: an emissive sphere read from a scene file
+//! lights a point with the closed-form irradiance E = π L sin²θmax (sin θmax = r/d, PBR 4th ed.
+//! §4.2) by light sampling, BSDF sampling and MIS on every backend; from inside a reversed one
+//! (a sky sphere) E = π L; and disks, cylinders and partial spheres render on every backend
+//! with the same image.
+
+use crate::common::test_settings;
+use glam::Vec3;
+use prism::accel::AccelKind;
+use prism::integrator::{DirectStrategy, PathIntegrator};
+use prism::light::Light;
+use prism::math::PI;
+use prism::measure::{irradiance, Estimate};
+use prism::render::render;
+use prism::scene::parse_str;
+use prism::scene::pbrt::build;
+
+fn scene(text: &str, accel: AccelKind) -> prism::scene::Scene {
+    let (desc, mut warnings) = parse_str(text, &Default::default()).unwrap();
+    let (builder, _) = build(&desc, &mut warnings).unwrap();
+    let unsupported: Vec<_> =
+        warnings.iter().filter(|w| w.strict_error().is_some() || w.message.contains("not used")).collect();
+    assert!(unsupported.is_empty(), "{unsupported:?}");
+    builder.build(accel).unwrap()
+}
+
+fn backends() -> Vec<AccelKind> {
+    let mut b = vec![AccelKind::Obvhs];
+    if AccelKind::default_available() != AccelKind::Obvhs {
+        b.push(AccelKind::default_available());
+    }
+    b
+}
+
+/// Within 3.5 standard errors plus the tessellation's share: BSDF-sampled directions see the
+/// inscribed mesh, whose solid angle is smaller than the sphere's by less than 2·1.1·10⁻³
+/// (twice its relative sag, geometry::quadric).
+fn assert_close(what: &str, e: Estimate, expected: f64) {
+    let tol = 3.5 * e.std_err + 2.2e-3 * expected;
+    assert!(e.mean > 0.0, "{what}: black");
+    assert!((e.mean - expected).abs() <= tol, "{what}: {} ± {} vs closed form {expected}", e.mean, e.std_err);
+}
+
+#[test]
+fn an_emissive_sphere_gives_pi_l_sin2_theta_max_by_every_strategy_and_backend() {
+    // L = 2 (a flat spectrum), r = 1 at distance 3 above the point: E = 2π/9.
+    let text = r#"
+LookAt 0 0 -5  0 0 0  0 1 0
+Camera "perspective"
+WorldBegin
+AttributeBegin
+  AreaLightSource "diffuse" "spectrum L" [ 300 2 900 2 ]
+  Translate 0 3 0
+  Rotate 30 1 1 0
+  Shape "sphere" "float radius" [ 1 ]
+AttributeEnd
+"#;
+    for accel in backends() {
+        let s = scene(text, accel);
+        let Light::Sphere(light) = &s.lights()[0] else { panic!("the sphere is one light sampled by solid angle") };
+        assert_eq!(s.lights().len(), 1);
+        // E = π L sin²θmax = Φ / (4π r²) · sin²θmax, with L (integrated over the measured
+        // wavelengths) from the light's flux Φ = π L · 4π r².
+        let expected = (light.power() / (4.0 * PI * light.radius * light.radius)) as f64 / 9.0;
+        assert!((light.radius - 1.0).abs() < 1e-6);
+        for strategy in [DirectStrategy::LightOnly, DirectStrategy::BsdfOnly, DirectStrategy::Mis] {
+            let integ = PathIntegrator { max_depth: 1, strategy, ..Default::default() };
+            let m = irradiance(&s, &integ, Vec3::ZERO, Vec3::Y, 40_000, 3);
+            assert_close(&format!("{accel:?} {strategy:?}"), m.irradiance, expected);
+        }
+    }
+}
+
+#[test]
+fn inside_a_reversed_emissive_sphere_the_irradiance_is_pi_l() {
+    // A point off the centre of a sphere emitting inward (ReverseOrientation) with L = 1 sees
+    // L in every direction of its hemisphere: E = π L, sampled by area from inside.
+    let text = r#"
+LookAt 0 0 -1  0 0 0  0 1 0
+Camera "perspective"
+WorldBegin
+AttributeBegin
+  ReverseOrientation
+  AreaLightSource "diffuse" "spectrum L" [ 300 1 900 1 ]
+  Shape "sphere" "float radius" [ 10 ]
+AttributeEnd
+"#;
+    for accel in backends() {
+        let s = scene(text, accel);
+        let Light::Sphere(light) = &s.lights()[0] else { panic!("the sphere is one light") };
+        // L from the flux Φ = π L · 4π r².
+        let l = (light.power() / (4.0 * PI * PI * light.radius * light.radius)) as f64;
+        for strategy in [DirectStrategy::LightOnly, DirectStrategy::Mis] {
+            let integ = PathIntegrator { max_depth: 1, strategy, ..Default::default() };
+            let m = irradiance(&s, &integ, Vec3::new(2.0, -3.0, 1.0), Vec3::new(0.3, 1.0, 0.2), 20_000, 5);
+            assert_close(&format!("{accel:?} {strategy:?}"), m.irradiance, std::f64::consts::PI * l);
+        }
+    }
+}
+
+#[test]
+fn disks_cylinders_and_partial_spheres_render_alike_on_every_backend() {
+    let text = r#"
+LookAt 0 4 -6  0 0.3 0  0 1 0
+Camera "perspective" "float fov" [ 45 ]
+WorldBegin
+LightSource "infinite" "rgb L" [ 0.5 0.5 0.5 ]
+AttributeBegin
+  AreaLightSource "diffuse" "spectrum L" [ 300 8 900 8 ]
+  Translate 0 3 0
+  Shape "disk" "float radius" [ 0.5 ] "float innerradius" [ 0.2 ] "float phimax" [ 300 ]
+AttributeEnd
+AttributeBegin
+  Rotate -90 1 0 0
+  Shape "disk" "float radius" [ 3 ]
+  Translate -1.5 0 0
+  Shape "cylinder" "float radius" [ 0.6 ] "float zmin" [ 0 ] "float zmax" [ 1.2 ] "float phimax" [ 250 ]
+  Translate 3 0 0.7
+  Shape "sphere" "float radius" [ 0.7 ] "float zmin" [ -0.4 ] "float zmax" [ 0.6 ] "float phimax" [ 280 ]
+AttributeEnd
+"#;
+    let settings = test_settings((48, 32), 32, 7, 4);
+    let films: Vec<_> = backends().into_iter().map(|a| render(&scene(text, a), &settings, |_| {}).unwrap().0).collect();
+    let y = |f: &prism::film::Film| -> Vec<f64> { f.pixels.iter().map(|p| p.xyz_sum.y / p.weight_sum).collect() };
+    let a = y(&films[0]);
+    let mean = a.iter().sum::<f64>() / a.len() as f64;
+    assert!(mean > 0.05, "image is black ({mean})");
+    // Not one flat value: the shapes are there (pixels differ from each other).
+    let spread = a.iter().fold(0.0f64, |m, &v| m.max((v - mean).abs()));
+    assert!(spread > 0.2 * mean, "the image is uniform: no shapes");
+    for f in &films[1..] {
+        let b = y(f);
+        // Same samples on the same triangles: most pixels are equal to rounding; a path that
+        // meets an edge on one backend and its neighbour on the other diverges, so the images'
+        // means agree within 4 standard errors of their pixel-by-pixel difference.
+        let differ = a.iter().zip(&b).filter(|(x, y)| (*x - *y).abs() > 1e-3 * x.abs().max(1e-3)).count();
+        assert!(differ * 20 < a.len(), "{differ} of {} pixels differ between backends", a.len());
+        let n = a.len() as f64;
+        let d: f64 = a.iter().zip(&b).map(|(x, y)| x - y).sum::<f64>() / n;
+        let se = (a.iter().zip(&b).map(|(x, y)| (x - y).powi(2)).sum::<f64>()).sqrt() / n;
+        assert!(d.abs() <= 4.0 * se + 1e-6 * mean, "image means differ by {d} ± {se}");
+    }
+}
