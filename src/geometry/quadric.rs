@@ -235,7 +235,7 @@ mod tests {
             let m = q.tessellate();
             assert!((q.area() - exact).abs() < 1e-5 * exact, "{q:?}: area() {} vs {exact}", q.area());
             let rel = (exact - m.area()) / exact;
-            assert!(rel >= 0.0 && rel < 1e-3, "{q:?}: relative deficit {rel}");
+            assert!((0.0..1e-3).contains(&rel), "{q:?}: relative deficit {rel}");
             for i in 0..m.len() {
                 let [a, b, c] = m.triangle(i);
                 let ng = (b - a).cross(c - a);

@@ -4,33 +4,13 @@
 //! (a sky sphere) E = π L; and disks, cylinders and partial spheres render on every backend
 //! with the same image.
 
-use crate::common::test_settings;
+use crate::common::{backends, pbrt_scene as scene, test_settings};
 use glam::Vec3;
-use prism::accel::AccelKind;
 use prism::integrator::{DirectStrategy, PathIntegrator};
-use prism::light::Light;
+use prism::light::{Light, SphereLight};
 use prism::math::PI;
 use prism::measure::{irradiance, Estimate};
 use prism::render::render;
-use prism::scene::parse_str;
-use prism::scene::pbrt::build;
-
-fn scene(text: &str, accel: AccelKind) -> prism::scene::Scene {
-    let (desc, mut warnings) = parse_str(text, &Default::default()).unwrap();
-    let (builder, _) = build(&desc, &mut warnings).unwrap();
-    let unsupported: Vec<_> =
-        warnings.iter().filter(|w| w.strict_error().is_some() || w.message.contains("not used")).collect();
-    assert!(unsupported.is_empty(), "{unsupported:?}");
-    builder.build(accel).unwrap()
-}
-
-fn backends() -> Vec<AccelKind> {
-    let mut b = vec![AccelKind::Obvhs];
-    if AccelKind::default_available() != AccelKind::Obvhs {
-        b.push(AccelKind::default_available());
-    }
-    b
-}
 
 /// Within 3.5 standard errors plus the tessellation's share: BSDF-sampled directions see the
 /// inscribed mesh, whose solid angle is smaller than the sphere's by less than 2·1.1·10⁻³
@@ -39,6 +19,28 @@ fn assert_close(what: &str, e: Estimate, expected: f64) {
     let tol = 3.5 * e.std_err + 2.2e-3 * expected;
     assert!(e.mean > 0.0, "{what}: black");
     assert!((e.mean - expected).abs() <= tol, "{what}: {} ± {} vs closed form {expected}", e.mean, e.std_err);
+}
+
+/// The scene `text` has one emissive sphere, which must become one sphere light; on every
+/// backend and by each of `strategies`, the irradiance at `at` = (point, normal) from `samples`
+/// estimates is `expected(light)`.
+fn assert_sphere_irradiance(
+    text: &str,
+    at: (Vec3, Vec3),
+    strategies: &[DirectStrategy],
+    samples: u64,
+    expected: impl Fn(&SphereLight) -> f64,
+) {
+    for accel in backends() {
+        let s = scene(text, accel);
+        let Light::Sphere(light) = &s.lights()[0] else { panic!("the sphere is one light sampled by solid angle") };
+        assert_eq!(s.lights().len(), 1);
+        for &strategy in strategies {
+            let integ = PathIntegrator { max_depth: 1, strategy, ..Default::default() };
+            let m = irradiance(&s, &integ, at.0, at.1, samples, 3);
+            assert_close(&format!("{accel:?} {strategy:?}"), m.irradiance, expected(light));
+        }
+    }
 }
 
 #[test]
@@ -55,20 +57,11 @@ AttributeBegin
   Shape "sphere" "float radius" [ 1 ]
 AttributeEnd
 "#;
-    for accel in backends() {
-        let s = scene(text, accel);
-        let Light::Sphere(light) = &s.lights()[0] else { panic!("the sphere is one light sampled by solid angle") };
-        assert_eq!(s.lights().len(), 1);
-        // E = π L sin²θmax = Φ / (4π r²) · sin²θmax, with L (integrated over the measured
-        // wavelengths) from the light's flux Φ = π L · 4π r².
-        let expected = (light.power() / (4.0 * PI * light.radius * light.radius)) as f64 / 9.0;
-        assert!((light.radius - 1.0).abs() < 1e-6);
-        for strategy in [DirectStrategy::LightOnly, DirectStrategy::BsdfOnly, DirectStrategy::Mis] {
-            let integ = PathIntegrator { max_depth: 1, strategy, ..Default::default() };
-            let m = irradiance(&s, &integ, Vec3::ZERO, Vec3::Y, 40_000, 3);
-            assert_close(&format!("{accel:?} {strategy:?}"), m.irradiance, expected);
-        }
-    }
+    // E = π L sin²θmax = Φ / (4π r²) · sin²θmax, with L (integrated over the measured
+    // wavelengths) from the light's flux Φ = π L · 4π r².
+    let expected = |l: &SphereLight| (l.power() / (4.0 * PI * l.radius * l.radius)) as f64 / 9.0;
+    let strategies = [DirectStrategy::LightOnly, DirectStrategy::BsdfOnly, DirectStrategy::Mis];
+    assert_sphere_irradiance(text, (Vec3::ZERO, Vec3::Y), &strategies, 40_000, expected);
 }
 
 #[test]
@@ -85,17 +78,10 @@ AttributeBegin
   Shape "sphere" "float radius" [ 10 ]
 AttributeEnd
 "#;
-    for accel in backends() {
-        let s = scene(text, accel);
-        let Light::Sphere(light) = &s.lights()[0] else { panic!("the sphere is one light") };
-        // L from the flux Φ = π L · 4π r².
-        let l = (light.power() / (4.0 * PI * PI * light.radius * light.radius)) as f64;
-        for strategy in [DirectStrategy::LightOnly, DirectStrategy::Mis] {
-            let integ = PathIntegrator { max_depth: 1, strategy, ..Default::default() };
-            let m = irradiance(&s, &integ, Vec3::new(2.0, -3.0, 1.0), Vec3::new(0.3, 1.0, 0.2), 20_000, 5);
-            assert_close(&format!("{accel:?} {strategy:?}"), m.irradiance, std::f64::consts::PI * l);
-        }
-    }
+    // E = π L = Φ / (4π r²), with L from the flux Φ = π L · 4π r².
+    let expected = |l: &SphereLight| (l.power() / (4.0 * PI * l.radius * l.radius)) as f64;
+    let at = (Vec3::new(2.0, -3.0, 1.0), Vec3::new(0.3, 1.0, 0.2));
+    assert_sphere_irradiance(text, at, &[DirectStrategy::LightOnly, DirectStrategy::Mis], 20_000, expected);
 }
 
 #[test]
