@@ -45,7 +45,8 @@ fn assert_sphere_irradiance(
 
 #[test]
 fn an_emissive_sphere_gives_pi_l_sin2_theta_max_by_every_strategy_and_backend() {
-    // L = 2 (a flat spectrum), r = 1 at distance 3 above the point: E = 2π/9.
+    // r = 1 at distance 3 above the point: sin²θmax = 1/9 (L, which pbrt-v4 normalises from the
+    // spectrum, is read back from the light).
     let text = r#"
 LookAt 0 0 -5  0 0 0  0 1 0
 Camera "perspective"
@@ -125,5 +126,63 @@ AttributeEnd
         let d: f64 = a.iter().zip(&b).map(|(x, y)| x - y).sum::<f64>() / n;
         let se = (a.iter().zip(&b).map(|(x, y)| (x - y).powi(2)).sum::<f64>()).sqrt() / n;
         assert!(d.abs() <= 4.0 * se + 1e-6 * mean, "image means differ by {d} ± {se}");
+    }
+}
+
+/// Rays spawned from hit points on a sphere and an annulus (offset by the points' error bounds)
+/// never meet their own surface at the point again. The tessellated sphere is a convex
+/// polyhedron and the annulus planar, so exactly: a ray leaving the sphere outward, or leaving
+/// the annulus, meets nothing of its own shape; a ray entering the sphere meets it once more, on
+/// another triangle.
+#[test]
+fn rays_spawned_from_quadric_surfaces_do_not_hit_them_again() {
+    let text = r#"
+LookAt 0 0 -10  0 0 0  0 1 0
+Camera "perspective"
+WorldBegin
+AttributeBegin
+  Translate 0.3 -0.2 0.1
+  Rotate 37 1 2 3
+  Shape "sphere" "float radius" [ 1.3 ]
+AttributeEnd
+AttributeBegin
+  Translate 40 0 0
+  Rotate 20 0 1 1
+  Shape "disk" "float radius" [ 2 ] "float innerradius" [ 0.3 ]
+AttributeEnd
+"#;
+    let mut rng = prism::sampling::Rng::new(17, 3);
+    let mut dir = || {
+        let z = 1.0 - 2.0 * rng.uniform();
+        let r = (1.0 - z * z).max(0.0).sqrt();
+        let phi = 2.0 * PI * rng.uniform();
+        Vec3::new(r * phi.cos(), r * phi.sin(), z)
+    };
+    for accel in backends() {
+        let s = scene(text, accel);
+        let (mut leaving, mut entering) = (0, 0);
+        for (centre, size) in [(Vec3::new(0.3, -0.2, 0.1), 1.2), (Vec3::new(40.0, 0.0, 0.0), 1.9)] {
+            for _ in 0..20_000 {
+                // From far away toward a random point of the shape's bounds.
+                let o = centre + dir() * 30.0;
+                let aim = centre + dir() * size;
+                let Some(si) = s.intersect(&prism::geometry::Ray::new(o, (aim - o).normalize())) else { continue };
+                let d = dir();
+                let ng = si.shading.ng;
+                let again = s.intersect(&si.spawn_ray(d)).filter(|h| h.mesh == si.mesh);
+                // (A ray aimed at the annulus may pass it and meet the sphere.)
+                let on_disk = si.p.x > 20.0;
+                let sphere_centre = Vec3::new(0.3, -0.2, 0.1);
+                if on_disk || d.dot(ng) * ng.dot(si.p - sphere_centre) > 0.0 {
+                    leaving += 1;
+                    assert!(again.is_none(), "{accel:?}: a ray leaving {} along {d} met its shape again", si.p);
+                } else {
+                    entering += 1;
+                    let far = again.unwrap_or_else(|| panic!("{accel:?}: a ray into the sphere at {} left it", si.p));
+                    assert_ne!(far.prim, si.prim, "{accel:?}: re-hit its own triangle at {} from {}", far.p, si.p);
+                }
+            }
+        }
+        assert!(leaving > 10_000 && entering > 5_000, "{leaving} leaving, {entering} entering rays");
     }
 }
