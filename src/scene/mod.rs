@@ -410,7 +410,7 @@ pub struct Scene {
     /// Object instances (`Hit::inst_id` indexes this); their primitives are in object space.
     instances: Vec<Instance>,
     materials: Vec<Material>,
-    /// All lights (area lights one per emissive triangle).
+    /// All lights (area lights one per emissive triangle, or one per emissive full sphere).
     lights: Vec<Light>,
     /// Lights seen by rays that escape the scene.
     infinite_lights: Vec<u32>,
@@ -525,7 +525,7 @@ impl Scene {
         &self.materials
     }
 
-    /// Every light (area lights one per emissive triangle), in the order the light sampler
+    /// Every light (area lights one per emissive triangle or full sphere), in the order the light sampler
     /// indexes them.
     pub fn lights(&self) -> &[Light] {
         &self.lights
