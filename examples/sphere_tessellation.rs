@@ -10,15 +10,19 @@
 //! bands, triangles, samples per second, the image mean relative to the reference's, the RMSE
 //! of pixels and of 8×8-pixel block means (noise shrinks 8× there, silhouettes stay), all
 //! relative to the reference's mean luminance.
+//!
+//! Then the cost of the intersection alone: a million rays at one sphere, through the exact
+//! test (`Quadric::intersect`) and through obvhs's BVH over the sphere's triangles.
 
 use glam::{Mat4, Vec3};
-use prism::accel::AccelKind;
+use prism::accel::{Accel, AccelKind, ObvhsAccel};
 use prism::camera::Camera;
 use prism::film::Film;
 use prism::geometry::shapes::quad;
-use prism::geometry::Quadric;
+use prism::geometry::{Quadric, Ray};
 use prism::material::Material;
 use prism::render::{render, RenderSettings, SamplerKind};
+use prism::sampling::Rng;
 use prism::scene::{Emission, SceneBuilder};
 use prism::spectrum::Spectrum;
 use std::time::Instant;
@@ -104,5 +108,39 @@ fn main() {
             rmse(&img, &reference) / mean,
             rmse(&blocks(&img), &blocks(&reference)) / mean
         );
+    }
+    intersection_cost();
+}
+
+/// Rays per second of the exact sphere test and of obvhs over the tessellation, and how often
+/// they disagree on hit or miss (rays through the sliver between mesh and sphere).
+fn intersection_cost() {
+    let mut rng = Rng::new(5, 5);
+    let mut u = || rng.uniform();
+    let rays: Vec<Ray> = (0..1_000_000)
+        .map(|_| {
+            let o = Vec3::new(u() - 0.5, u() - 0.5, u() - 0.5).normalize_or_zero() * 10.0;
+            let aim = Vec3::new(u() - 0.5, u() - 0.5, u() - 0.5) * 2.4;
+            Ray::new(o, (aim - o).normalize())
+        })
+        .collect();
+    println!("one sphere of radius 1, {} rays", rays.len());
+    println!("test                       Mrays/s   hits   disagreements");
+    let q = Quadric::Sphere { radius: 1.0, z_min: -1.0, z_max: 1.0, phi_max: 360.0 };
+    let t = Instant::now();
+    let exact: Vec<bool> = rays.iter().map(|r| q.intersect(r.o, r.d, r.t_max).is_some()).collect();
+    let secs = t.elapsed().as_secs_f64();
+    let hits = exact.iter().filter(|&&h| h).count();
+    println!("exact                      {:7.2}  {hits:6}  -", rays.len() as f64 / secs / 1e6);
+    for bands in [24, 48, 96] {
+        let mesh = q.tessellate_n(2 * bands, bands);
+        let tris = mesh.len();
+        let accel = ObvhsAccel::new(&[mesh]);
+        let t = Instant::now();
+        let tess: Vec<bool> = rays.iter().map(|r| accel.intersect(r).is_some()).collect();
+        let secs = t.elapsed().as_secs_f64();
+        let hits = tess.iter().filter(|&&h| h).count();
+        let differ = tess.iter().zip(&exact).filter(|(a, b)| a != b).count();
+        println!("obvhs, {bands:3} bands {tris:7} tris {:7.2}  {hits:6}  {differ}", rays.len() as f64 / secs / 1e6);
     }
 }

@@ -4,6 +4,7 @@ pub mod bilinear;
 pub mod instance;
 mod mesh;
 pub mod quadric;
+pub mod quadric_hit;
 mod ray;
 pub mod shapes;
 
