@@ -1,10 +1,14 @@
-//! Geometry: rays, hits, triangle meshes, object instances, test shapes.
+//! Geometry: rays, hits, triangle meshes, bilinear patches, quadrics, object instances, test shapes.
 
+pub mod bilinear;
 pub mod instance;
 mod mesh;
+pub mod quadric;
+pub mod quadric_hit;
 mod ray;
 pub mod shapes;
 
 pub use instance::{Instance, InstanceSet, Prototype};
 pub use mesh::{Bounds3, Mesh};
+pub use quadric::Quadric;
 pub use ray::{Hit, Ray};

@@ -12,6 +12,7 @@ pub mod photometry;
 mod point;
 mod projection;
 mod sampler;
+mod sphere;
 mod texel_spectrum;
 
 pub use area::{AreaLight, TriangleLightLanes};
@@ -23,6 +24,7 @@ pub use map_layout::MapLayout;
 pub use point::{PointLight, SpotFalloff, SpotLight};
 pub use projection::ProjectionLight;
 pub use sampler::LightSampler;
+pub use sphere::SphereLight;
 
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 use glam::{Vec2, Vec3};
@@ -60,6 +62,8 @@ pub enum Light {
     Projection(Box<ProjectionLight>),
     /// One emissive triangle of a diffuse area light.
     Area(AreaLight),
+    /// A diffuse area light on a full sphere, sampled by the cone it subtends.
+    Sphere(SphereLight),
     /// Directional light at infinity.
     Distant(DistantLight),
     /// Constant radiance from every direction.
@@ -85,6 +89,7 @@ impl Light {
             Light::Goniometric(l) => l.sample_li(p, w),
             Light::Projection(l) => l.sample_li(p, w),
             Light::Area(l) => l.sample_li(p, u, w),
+            Light::Sphere(l) => l.sample_li(p, u, w),
             Light::Distant(l) => l.sample_li(w),
             Light::UniformInfinite(l) => l.sample_li(u, w),
             Light::EnvMap(l) => l.sample_li(u, w),
@@ -96,6 +101,7 @@ impl Light {
     pub fn pdf_li(&self, p: Vec3, wi: Vec3) -> f32 {
         match self {
             Light::Area(l) => l.pdf_li(p, wi),
+            Light::Sphere(l) => l.pdf_li(p, wi),
             Light::UniformInfinite(_) => infinite::uniform_sphere_pdf(),
             Light::EnvMap(l) => l.pdf_li(wi),
             _ => 0.0,
@@ -110,9 +116,21 @@ impl Light {
             Light::Goniometric(l) => l.power(),
             Light::Projection(l) => l.power(),
             Light::Area(l) => l.power(),
+            Light::Sphere(l) => l.power(),
             Light::Distant(l) => l.power(scene_radius),
             Light::UniformInfinite(l) => l.power(scene_radius),
             Light::EnvMap(l) => l.power(scene_radius),
+        }
+    }
+
+    /// Radiance L_e an area light's surface with normal `n` (its emitting side) sends toward
+    /// `wo` (pbrt-v4 `DiffuseAreaLight::L`); 0 for lights without a surface.
+    #[inline]
+    pub fn surface_radiance(&self, n: Vec3, wo: Vec3, w: &SampledWavelengths) -> SampledSpectrum {
+        match self {
+            Light::Area(l) => l.radiance(wo, w),
+            Light::Sphere(l) => l.radiance(n, wo, w),
+            _ => SampledSpectrum::zero(),
         }
     }
 

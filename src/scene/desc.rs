@@ -11,7 +11,7 @@ use glam::Mat4;
 
 use super::error::{Location, Warning};
 use super::params::ParamSet;
-use crate::geometry::Mesh;
+use crate::geometry::{Mesh, Quadric};
 
 /// A directive that is just a type and parameters (Film, Sampler, Integrator, PixelFilter, ...).
 #[derive(Clone, Debug)]
@@ -95,18 +95,9 @@ pub struct TextureDesc {
 pub enum ShapeGeometry {
     /// A triangle mesh (trianglemesh, plymesh, objmesh, bilinearmesh, loopsubdiv control mesh).
     Mesh(Arc<Mesh>),
-    /// pbrt's analytic sphere about the object-space origin; `scene::shapes::tessellate_sphere`
-    /// turns it into a mesh for backends without analytic spheres.
-    Sphere {
-        /// Radius [scene units].
-        radius: f32,
-        /// Lower z clip [scene units].
-        z_min: f32,
-        /// Upper z clip [scene units].
-        z_max: f32,
-        /// Largest azimuth φ [degrees] (360 = full sphere).
-        phi_max: f32,
-    },
+    /// A pbrt-v4 quadric (sphere, disk, cylinder) about the object-space origin, tessellated
+    /// where the scene is built (`geometry::Quadric::tessellate`).
+    Quadric(Quadric),
 }
 
 /// An AreaLightSource in effect for a shape.

@@ -5,7 +5,7 @@
 use super::{LightId, MediumInterface, Primitive, Scene};
 use crate::bsdf::Bsdf;
 use crate::geometry::{Hit, Ray};
-use crate::light::{AreaLight, Light};
+use crate::light::Light;
 use crate::material::{hit_key, Material, ShadingDerivatives, ShadingPoint};
 use crate::math::{offset_ray_origin, triangle_point};
 use crate::sampling::rng::hash64;
@@ -291,20 +291,17 @@ impl<'s> SurfaceInteraction<'s> {
     /// The area light of the triangle hit, if it emits: its index (for the light sampler's pmf,
     /// [`Scene::light_pdf`]) and the light.
     #[inline]
-    pub fn area_light(&self) -> Option<(LightId, &'s AreaLight)> {
+    pub fn area_light(&self) -> Option<(LightId, &'s Light)> {
         let b = self.bound?;
         let id = b.primitive.area_light(self.prim)?;
-        match &b.scene.lights[id as usize] {
-            Light::Area(a) => Some((id, a)),
-            _ => unreachable!("a primitive's area lights are Light::Area"),
-        }
+        Some((id, &b.scene.lights[id as usize]))
     }
 
     /// Radiance L_e [W/(sr·m²·nm)] the surface emits toward `wo` (pbrt-v4 `SurfaceInteraction::Le`).
     #[inline]
     pub fn emitted(&self, w: &SampledWavelengths) -> SampledSpectrum {
         match self.area_light() {
-            Some((_, light)) => light.radiance(self.wo, w),
+            Some((_, light)) => light.surface_radiance(self.shading.ng, self.wo, w),
             None => SampledSpectrum::zero(),
         }
     }

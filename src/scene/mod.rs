@@ -13,6 +13,7 @@ pub mod params;
 pub mod parser;
 pub mod pbrt;
 mod primitive;
+mod quadric_params;
 pub mod shapes;
 mod source;
 pub mod tokenizer;
@@ -31,7 +32,7 @@ pub use primitive::{MediumInterface, Primitive};
 use crate::accel::{self, Accel, AccelKind};
 use crate::camera::{Camera, Projection};
 use crate::geometry::{Hit, Instance, InstanceSet, Mesh, Prototype, Ray};
-use crate::light::{AreaLight, Light, LightSampler};
+use crate::light::{AreaLight, Light, LightSampler, SphereLight};
 use crate::material::{FloatTexture, Material};
 use crate::spectrum::Spectrum;
 use glam::{Mat4, Vec2, Vec3};
@@ -99,6 +100,9 @@ struct PendingPrimitive {
     alpha: Option<FloatTexture>,
     /// Its prototype (`None`: placed in the world as it is).
     prototype: Option<u32>,
+    /// Centre and radius of the full sphere the mesh is inscribed in, when it emits as one
+    /// sphere light.
+    sphere: Option<(Vec3, f32)>,
 }
 
 /// Collects a scene's parts before the accelerator is built.
@@ -142,7 +146,7 @@ impl SceneBuilder {
             self.warnings
                 .push(format!("mesh {id}: skipped {dropped} degenerate triangle(s) (zero area or NaN/Inf vertices)"));
         }
-        self.primitives.push(PendingPrimitive { mesh, material, emission, alpha: None, prototype: None });
+        self.primitives.push(PendingPrimitive { mesh, material, emission, alpha: None, prototype: None, sphere: None });
         id
     }
 
@@ -155,6 +159,15 @@ impl SceneBuilder {
         }
         if let Some(p) = self.primitives.get_mut(id as usize) {
             p.alpha = Some(alpha);
+        }
+    }
+
+    /// Makes emissive primitive `id`, a mesh inscribed in the sphere of `radius` about `center`
+    /// (world space) with its vertices on it, one sphere light sampled by solid angle
+    /// ([`SphereLight`]) instead of one light per triangle.
+    pub fn set_sphere_light(&mut self, id: u32, center: Vec3, radius: f32) {
+        if let Some(p) = self.primitives.get_mut(id as usize) {
+            p.sphere = Some((center, radius));
         }
     }
 
@@ -270,8 +283,10 @@ impl SceneBuilder {
     /// Applies `m` (a similarity: rotation, uniform scale, translation) to all geometry, lights
     /// and the camera. Used to test that nothing depends on the scene's scale or position.
     pub fn transform(&mut self, m: Mat4) {
+        let scale = m.transform_vector3(Vec3::X).length();
         for p in self.primitives.iter_mut().filter(|p| p.prototype.is_none()) {
             p.mesh = p.mesh.transformed(&m);
+            p.sphere = p.sphere.map(|(c, r)| (m.transform_point3(c), r * scale));
         }
         for inst in self.instances.iter_mut() {
             *inst =
@@ -279,7 +294,6 @@ impl SceneBuilder {
         }
         if let Some(c) = self.camera.as_mut() {
             // Keep the camera frame orthonormal: move the origin, rotate the axes, do not scale.
-            let scale = m.transform_vector3(Vec3::X).length();
             c.camera_to_world = m * c.camera_to_world * Mat4::from_scale(Vec3::splat(1.0 / scale));
             c.focal_distance *= scale;
             c.lens_radius *= scale;
@@ -293,9 +307,9 @@ impl SceneBuilder {
         // The accelerator reads the meshes as one slice; they then move into their primitives.
         let world_meshes =
             (0..self.primitives.len() as u32).filter(|&m| self.primitives[m as usize].prototype.is_none()).collect();
-        type Parts = (u32, Option<Emission>, Option<FloatTexture>);
+        type Parts = (u32, Option<Emission>, Option<FloatTexture>, Option<(Vec3, f32)>);
         let (meshes, parts): (Vec<Mesh>, Vec<Parts>) =
-            self.primitives.into_iter().map(|p| (p.mesh, (p.material, p.emission, p.alpha))).unzip();
+            self.primitives.into_iter().map(|p| (p.mesh, (p.material, p.emission, p.alpha, p.sphere))).unzip();
         let accel = if self.prototypes.is_empty() {
             accel::build(accel_kind, &meshes)
         } else {
@@ -305,10 +319,15 @@ impl SceneBuilder {
         .map_err(BuildError::Accel)?;
         let mut lights = self.lights;
         let mut primitives = Vec::with_capacity(meshes.len());
-        for (mesh, (material, emission, alpha)) in meshes.into_iter().zip(parts) {
+        for (mesh, (material, emission, alpha, sphere)) in meshes.into_iter().zip(parts) {
+            let one_light = emission.is_some() && sphere.is_some() && !mesh.is_empty();
             let area_lights = emission.map(|em| {
                 let first = lights.len() as u32;
                 let spectrum = Arc::new(em.spectrum);
+                if let (true, Some((center, radius))) = (one_light, sphere) {
+                    lights.push(Light::Sphere(sphere_light(&mesh, (center, radius), spectrum, em.scale, em.two_sided)));
+                    return first;
+                }
                 for prim in 0..mesh.len() {
                     let p = mesh.triangle(prim);
                     let n = (p[1] - p[0]).cross(p[2] - p[0]);
@@ -327,6 +346,7 @@ impl SceneBuilder {
                 mesh,
                 material,
                 area_lights,
+                one_light,
                 medium_interface: MediumInterface::default(),
                 alpha,
             });
@@ -355,6 +375,31 @@ impl SceneBuilder {
     }
 }
 
+/// The sphere light of radiance `scale · spectrum` on an emissive `mesh` inscribed in the sphere
+/// of `radius` about `center`;
+/// it emits inward when the mesh's normals face the centre.
+fn sphere_light(
+    mesh: &Mesh,
+    (center, radius): (Vec3, f32),
+    spectrum: Arc<Spectrum>,
+    scale: f32,
+    two_sided: bool,
+) -> SphereLight {
+    let inward = match (&mesh.normals, mesh.positions.first()) {
+        (Some(n), Some(&p)) => n[0].dot(p - center) < 0.0,
+        _ => false,
+    };
+    SphereLight {
+        center,
+        radius,
+        inner_radius: crate::geometry::quadric::inscribed_inner_radius(mesh, center, radius),
+        spectrum,
+        scale,
+        two_sided,
+        inward,
+    }
+}
+
 /// A scene ready to render: the integrator traces rays through it ([`Scene::intersect`],
 /// [`Scene::occluded`]) and asks the returned [`SurfaceInteraction`] for the material and
 /// emission at the hit; lights are reached through the light sampler.
@@ -365,7 +410,7 @@ pub struct Scene {
     /// Object instances (`Hit::inst_id` indexes this); their primitives are in object space.
     instances: Vec<Instance>,
     materials: Vec<Material>,
-    /// All lights (area lights one per emissive triangle).
+    /// All lights (area lights one per emissive triangle, or one per emissive full sphere).
     lights: Vec<Light>,
     /// Lights seen by rays that escape the scene.
     infinite_lights: Vec<u32>,
@@ -482,7 +527,7 @@ impl Scene {
         &self.materials
     }
 
-    /// Every light (area lights one per emissive triangle), in the order the light sampler
+    /// Every light (area lights one per emissive triangle or full sphere), in the order the light sampler
     /// indexes them.
     pub fn lights(&self) -> &[Light] {
         &self.lights

@@ -5,13 +5,10 @@
 //! (`material::PBRT_NAMES`, `light::PBRT_NAMES`), so a new one is added where it is implemented.
 
 /// Shapes prism renders. "objmesh" is prism's extension (docs/scene-format.md).
-pub const PRISM_SHAPES: &[&str] = &["trianglemesh", "plymesh", "objmesh", "sphere", "bilinearmesh", "loopsubdiv"];
+pub const PRISM_SHAPES: &[&str] =
+    &["trianglemesh", "plymesh", "objmesh", "sphere", "disk", "cylinder", "bilinearmesh", "loopsubdiv"];
 /// pbrt-v4 shapes prism skips (with a warning), and what the warning says prism does.
-pub const PBRT_ONLY_SHAPES: &[(&str, &str)] = &[
-    ("cylinder", "skips the shape"),
-    ("disk", "skips the shape"),
-    ("curve", "skips the shape (hair/curves are not rendered)"),
-];
+pub const PBRT_ONLY_SHAPES: &[(&str, &str)] = &[("curve", "skips the shape (hair/curves are not rendered)")];
 
 /// Materials prism renders (listed beside the `Material` enum they become).
 pub const PRISM_MATERIALS: &[&str] = crate::material::PBRT_NAMES;

@@ -26,9 +26,11 @@ use super::{CameraDesc, Emission, SceneBuilder};
 use crate::bsdf::{ior, metals};
 use crate::camera::Projection;
 use crate::film::Crop;
-use crate::geometry::Mesh;
+use crate::geometry::quadric::similarity_scale;
+use crate::geometry::{Mesh, Quadric};
 use crate::material::{BumpedMaterial, Ior, Material, Roughness};
 use crate::spectrum::{ColorSpace, RgbKind, Spectrum};
+use glam::Vec3;
 use std::collections::HashMap;
 use std::sync::Arc;
 
@@ -398,6 +400,19 @@ impl Ctx<'_> {
 
     fn shape(&mut self, s: &ShapeDesc) -> Result<(), SceneError> {
         let mesh = shape_mesh(s);
+        // A quadric under a similarity keeps its analytic area, and a full sphere stays a
+        // sphere that can be sampled by solid angle.
+        let similar = match &s.geometry {
+            ShapeGeometry::Quadric(q) => similarity_scale(&s.world_from_object).map(|k| (q, k)),
+            ShapeGeometry::Mesh(_) => None,
+        };
+        let area = similar.map_or_else(|| mesh.area(), |(q, k)| q.area() * k * k);
+        let sphere = similar.and_then(|(q, k)| match *q {
+            Quadric::Sphere { radius, .. } if q.is_full_sphere() => {
+                Some((s.world_from_object.transform_point3(Vec3::ZERO), radius * k))
+            }
+            _ => None,
+        });
         let material = self.material(self.desc.material(&s.material))?;
         let emission = match &s.area_light {
             None => None,
@@ -407,13 +422,17 @@ impl Ctx<'_> {
                 let two_sided = p.bool_or("twosided", false);
                 // pbrt-v4 DiffuseAreaLight: k_e = π A per emitting side (world-space area, so any
                 // transform works).
-                let k_e = crate::math::PI * mesh.area() * if two_sided { 2.0 } else { 1.0 };
+                let k_e = crate::math::PI * area * if two_sided { 2.0 } else { 1.0 };
                 let scale =
                     p.float_or("scale", 1.0) * norm * brightness_factor(p, FLUX, k_e, Some((&spectrum, norm)), &a.loc)?;
                 Some(Emission { spectrum, scale, two_sided })
             }
         };
+        let emits = emission.is_some();
         let id = self.b.add_mesh(mesh, material, emission);
+        if let (true, Some((center, radius))) = (emits, sphere) {
+            self.b.set_sphere_light(id, center, radius);
+        }
         let alpha = self.float_texture(&s.params, "alpha", 1.0)?;
         self.b.set_alpha(id, alpha);
         Ok(())
@@ -426,8 +445,15 @@ fn shape_mesh(s: &ShapeDesc) -> Mesh {
     let m = &s.world_from_object;
     let mesh = match &s.geometry {
         ShapeGeometry::Mesh(mesh) => mesh.transformed(m),
-        ShapeGeometry::Sphere { radius, z_min, z_max, phi_max } => {
-            super::shapes::tessellate_sphere(*radius, *z_min, *z_max, *phi_max).transformed(m)
+        ShapeGeometry::Quadric(q) => {
+            let mut mesh = q.tessellate();
+            // pbrt-v4 takes a quadric's normal as ∂p/∂u × ∂p/∂v in object space, flipped when
+            // ReverseOrientation is set or the transform swaps handedness, then carries it to
+            // world space by the inverse transpose.
+            if s.reverse_orientation ^ (glam::Mat3::from_mat4(*m).determinant() < 0.0) {
+                mesh.normals.iter_mut().flatten().for_each(|n| *n = -*n);
+            }
+            mesh.transformed(m)
         }
     };
     orient(mesh, s.reverse_orientation)

@@ -29,6 +29,9 @@ pub struct Primitive {
     /// (triangle `i` is light `first + i`: one light per triangle, so the light sampler can pick
     /// triangles in proportion to their power).
     pub area_lights: Option<u32>,
+    /// The whole primitive is the one light `area_lights` (a sphere sampled by solid angle)
+    /// rather than one light per triangle.
+    pub one_light: bool,
     /// The media inside and outside the surface.
     pub medium_interface: MediumInterface,
     /// Cut-out mask (pbrt-v4's `alpha`): where it is 0 a ray passes through the surface. `None`
@@ -40,6 +43,6 @@ impl Primitive {
     /// The light index of triangle `prim`'s area light, if the primitive emits.
     #[inline]
     pub fn area_light(&self, prim: u32) -> Option<u32> {
-        self.area_lights.map(|first| first + prim)
+        self.area_lights.map(|first| if self.one_light { first } else { first + prim })
     }
 }

@@ -2,33 +2,13 @@
 //! squares of a textured mask, and a fractional alpha lets through, in expectation, its
 //! complement of the light that shadow rays carry.
 
-use crate::common::test_settings;
-use prism::accel::AccelKind;
+use crate::common::{backends, pbrt_scene as scene, test_settings};
 use prism::film::Film;
 use prism::render::render;
-use prism::scene::parse_str;
-use prism::scene::pbrt::build;
-
-fn scene(text: &str, accel: AccelKind) -> prism::scene::Scene {
-    let (desc, mut warnings) = parse_str(text, &Default::default()).unwrap();
-    let (builder, _) = build(&desc, &mut warnings).unwrap();
-    let unsupported: Vec<_> =
-        warnings.iter().filter(|w| w.strict_error().is_some() || w.message.contains("not used")).collect();
-    assert!(unsupported.is_empty(), "{unsupported:?}");
-    builder.build(accel).unwrap()
-}
 
 fn y(film: &Film, x: u32, yy: u32) -> f64 {
     let p = &film.pixels[(yy * film.width + x) as usize];
     p.xyz_sum.y / p.weight_sum
-}
-
-fn backends() -> Vec<AccelKind> {
-    let mut b = vec![AccelKind::Obvhs];
-    if AccelKind::default_available() != AccelKind::Obvhs {
-        b.push(AccelKind::default_available());
-    }
-    b
 }
 
 /// A 2 × 2 checkerboard mask on a quad that fills the view, under a uniform sky of radiance 1:

@@ -62,3 +62,24 @@ pub fn pixels_far_off(a: &Film, b: &Film) -> usize {
     let y = |p: &prism::film::Pixel| p.xyz_sum.y / p.weight_sum;
     a.pixels.iter().zip(&b.pixels).filter(|(p, q)| (y(p) - y(q)).abs() > 0.5 * y(q).abs().max(0.05)).count()
 }
+
+/// The scene of the pbrt-v4 file `text` on `accel`, which must read without an unsupported
+/// feature or an unused parameter.
+pub fn pbrt_scene(text: &str, accel: prism::accel::AccelKind) -> prism::scene::Scene {
+    let (desc, mut warnings) = prism::scene::parse_str(text, &Default::default()).unwrap();
+    let (builder, _) = prism::scene::pbrt::build(&desc, &mut warnings).unwrap();
+    let unsupported: Vec<_> =
+        warnings.iter().filter(|w| w.strict_error().is_some() || w.message.contains("not used")).collect();
+    assert!(unsupported.is_empty(), "{unsupported:?}");
+    builder.build(accel).unwrap()
+}
+
+/// obvhs, and the default backend when that is another.
+pub fn backends() -> Vec<prism::accel::AccelKind> {
+    use prism::accel::AccelKind;
+    let mut b = vec![AccelKind::Obvhs];
+    if AccelKind::default_available() != AccelKind::Obvhs {
+        b.push(AccelKind::default_available());
+    }
+    b
+}

@@ -15,6 +15,7 @@ mod merge;
 mod naive_fails;
 mod pbrt_defaults;
 mod pbrt_materials;
+mod quadrics;
 mod radiometry;
 mod readme;
 mod render;

@@ -6,7 +6,7 @@ use crate::common::test_settings;
 use std::path::{Path, PathBuf};
 
 use glam::{Vec2, Vec3};
-use prism::geometry::Mesh;
+use prism::geometry::{Mesh, Quadric};
 use prism::scene::mesh_io::ply;
 use prism::scene::*;
 
@@ -113,7 +113,7 @@ fn load(name: &str) -> SceneDesc {
 fn mesh_triangles(s: &ShapeDesc) -> usize {
     match &s.geometry {
         ShapeGeometry::Mesh(m) => m.len(),
-        ShapeGeometry::Sphere { .. } => 0,
+        ShapeGeometry::Quadric(_) => 0,
     }
 }
 
@@ -172,7 +172,7 @@ fn material_row_parses() {
     // The copper hemisphere sits at the "row" coordinate system + 1.1 x.
     assert_eq!(d.shapes[3].world_from_object.w_axis.truncate(), Vec3::new(1.1, 0.45, 0.));
     assert_eq!(mesh_triangles(&d.shapes[0]), 8 * 8 * 2);
-    let ShapeGeometry::Sphere { z_max, .. } = d.shapes[3].geometry else { panic!() };
+    let ShapeGeometry::Quadric(Quadric::Sphere { z_max, .. }) = d.shapes[3].geometry else { panic!() };
     assert_eq!(z_max, 0.2);
 }
 

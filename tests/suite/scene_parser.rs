@@ -3,6 +3,7 @@
 use std::path::{Path, PathBuf};
 
 use glam::{Mat4, Vec3};
+use prism::geometry::Quadric;
 use prism::scene::*;
 
 fn parse(s: &str) -> (SceneDesc, Vec<Warning>) {
@@ -238,7 +239,7 @@ LightSource "goniometric""#,
 fn spheres_meshes_and_index_errors() {
     let (d, _) = parse("WorldBegin\nShape \"sphere\" \"float radius\" 2 \"float zmax\" 1");
     match d.shapes[0].geometry {
-        ShapeGeometry::Sphere { radius, z_min, z_max, phi_max } => {
+        ShapeGeometry::Quadric(Quadric::Sphere { radius, z_min, z_max, phi_max }) => {
             assert_eq!((radius, z_min, z_max, phi_max), (2., -2., 1., 360.))
         }
         _ => panic!("not a sphere"),

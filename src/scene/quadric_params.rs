@@ -1,0 +1,49 @@
+//! The parameters of pbrt-v4's `sphere`, `disk` and `cylinder` shapes, with pbrt-v4's defaults
+//! and range rules (z limits ordered and, for the sphere, clamped to ±radius; φmax in degrees).
+
+use super::params::ParamSet;
+use crate::geometry::Quadric;
+
+/// Reads the quadric `kind` ("sphere", "disk" or "cylinder") from `ps`, marking its parameters
+/// used; an empty or non-finite shape is an error message.
+pub fn load(kind: &str, ps: &ParamSet) -> Result<Quadric, String> {
+    let radius = ps.float_or("radius", 1.0);
+    if !(radius > 0.0 && radius.is_finite()) {
+        return Err(format!("{kind} radius must be positive, got {radius}"));
+    }
+    let phi_max = ps.float_or("phimax", 360.0);
+    if !(phi_max > 0.0 && phi_max <= 360.0) {
+        return Err(format!("{kind} phimax must be in (0, 360] degrees, got {phi_max}"));
+    }
+    let z_range = |lo: f32, hi: f32| {
+        let (a, b) = (ps.float_or("zmin", lo), ps.float_or("zmax", hi));
+        let (z_min, z_max) = (a.min(b), a.max(b));
+        if !(z_min < z_max && z_min.is_finite() && z_max.is_finite()) {
+            return Err(format!("{kind} zmin ({a}) and zmax ({b}) leave an empty range"));
+        }
+        Ok((z_min, z_max))
+    };
+    match kind {
+        "sphere" => {
+            let (z_min, z_max) = z_range(-radius, radius)?;
+            let (z_min, z_max) = (z_min.clamp(-radius, radius), z_max.clamp(-radius, radius));
+            if z_min >= z_max {
+                return Err(format!("sphere zmin ({z_min}) must be below zmax ({z_max}) within ±radius"));
+            }
+            Ok(Quadric::Sphere { radius, z_min, z_max, phi_max })
+        }
+        "cylinder" => {
+            let (z_min, z_max) = z_range(-1.0, 1.0)?;
+            Ok(Quadric::Cylinder { radius, z_min, z_max, phi_max })
+        }
+        "disk" => {
+            let height = ps.float_or("height", 0.0);
+            let inner_radius = ps.float_or("innerradius", 0.0);
+            if !(0.0..radius).contains(&inner_radius) || !height.is_finite() {
+                return Err(format!("disk innerradius must be in [0, radius = {radius}), got {inner_radius}"));
+            }
+            Ok(Quadric::Disk { height, radius, inner_radius, phi_max })
+        }
+        _ => Err(format!("\"{kind}\" is not a quadric")),
+    }
+}
