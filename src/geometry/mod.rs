@@ -1,6 +1,7 @@
 //! Geometry: rays, hits, triangle meshes, object instances, test shapes.
 
 pub mod instance;
+pub mod loop_subdivision;
 mod mesh;
 mod ray;
 pub mod shapes;
