@@ -155,8 +155,13 @@ impl Level {
     /// s = Σ cos(2πj/n)·r_j, t = Σ sin(2πj/n)·r_j. Boundary with ring r_0 … r_m (r_0 and r_m on
     /// the boundary): s = r_0 − r_m along the boundary; t across it by Hoppe et al.'s masks.
     pub fn limit_tangents(&self, v: usize) -> (Vec3, Vec3) {
+        self.tangent_masks(&self.positions, v)
+    }
+
+    /// The tangent masks of [`Level::limit_tangents`] applied to `points` (one per vertex).
+    fn tangent_masks(&self, points: &[Vec3], v: usize) -> (Vec3, Vec3) {
         let ring = self.topology.ring(v);
-        let r = |j: usize| self.pos(ring[j]);
+        let r = |j: usize| points[ring[j] as usize];
         let n = ring.len();
         if n == 0 {
             return (Vec3::ZERO, Vec3::ZERO);
@@ -170,7 +175,7 @@ impl Level {
             }
             return (s, t);
         }
-        let p = self.positions[v];
+        let p = points[v];
         let s = r(0) - r(n - 1);
         let t = match n {
             2 => r(0) + r(1) - 2.0 * p,
@@ -196,12 +201,20 @@ impl Level {
         ring.iter().map(|&i| self.pos(i)).sum()
     }
 
-    /// The limit surface sampled at this level's vertices: limit positions, their normals as
-    /// shading normals, this level's triangles.
+    /// The limit surface sampled at this level's vertices: limit positions, this level's
+    /// triangles, and as shading normals the tangent masks applied to the limit points of each
+    /// ring, as pbrt-v4 does. (The exact [`Level::limit_normal`] applies them to the control
+    /// points; the two differ by 2.3° on average on pbrt-v4's killeroo at level 1, and by
+    /// about a quarter of that per further level.)
     pub fn limit_mesh(&self) -> Mesh {
         let n = self.positions.len();
-        let positions = (0..n).map(|v| self.limit_point(v)).collect();
-        let normals = (0..n).map(|v| self.limit_normal(v)).collect();
+        let positions: Vec<Vec3> = (0..n).map(|v| self.limit_point(v)).collect();
+        let normals = (0..n)
+            .map(|v| {
+                let (s, t) = self.tangent_masks(&positions, v);
+                s.cross(t).normalize_or_zero()
+            })
+            .collect();
         Mesh { positions, indices: self.triangles.clone(), normals: Some(normals), uvs: None }
     }
 }
