@@ -12,6 +12,9 @@
 //! there, which is not the limit of its own boundary rule). Limit tangents: the cos/sin masks
 //! of the ring for interior vertices, and for boundary vertices the boundary direction with
 //! the cross-boundary masks of Hoppe et al. (1994), "Piecewise smooth surface reconstruction".
+//! Applied to the control points they give the exact limit normal ([`Level::limit_normal`]);
+//! the mesh handed to rendering applies them to the limit points of the ring instead, as
+//! pbrt-v4 does ([`Level::limit_mesh`]), so its shading matches pbrt-v4's.
 
 mod topology;
 
