@@ -2,6 +2,7 @@
 
 pub mod bilinear;
 pub mod instance;
+pub mod loop_subdivision;
 mod mesh;
 pub mod quadric;
 pub mod quadric_hit;

@@ -93,7 +93,7 @@ pub struct TextureDesc {
 /// The geometry of a shape, loaded and checked by the parser, in object space.
 #[derive(Clone, Debug)]
 pub enum ShapeGeometry {
-    /// A triangle mesh (trianglemesh, plymesh, objmesh, bilinearmesh, loopsubdiv control mesh).
+    /// A triangle mesh (trianglemesh, plymesh, objmesh, bilinearmesh, loopsubdiv limit surface).
     Mesh(Arc<Mesh>),
     /// A pbrt-v4 quadric (sphere, disk, cylinder) about the object-space origin, tessellated
     /// where the scene is built (`geometry::Quadric::tessellate`).

@@ -142,7 +142,7 @@ pub enum WarningKind {
     Unsupported {
         /// What the file asked for.
         feature: String,
-        /// What prism does instead ("renders the control mesh").
+        /// What prism does instead ("ignores it").
         fallback: String,
     },
 }

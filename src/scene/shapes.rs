@@ -8,7 +8,7 @@ use super::desc::ShapeGeometry;
 use super::error::{Location, SceneError, Warning};
 use super::mesh_io;
 use super::params::ParamSet;
-use crate::geometry::{bilinear, Mesh};
+use crate::geometry::{bilinear, loop_subdivision, Mesh};
 
 /// Loads the geometry of a Shape of type `kind` (a name from `names::PRISM_SHAPES`), marking
 /// the geometry parameters used.
@@ -25,11 +25,7 @@ pub fn load(
         }
         "trianglemesh" => Ok(ShapeGeometry::Mesh(Arc::new(inline_mesh(ps, loc, 3)?))),
         "bilinearmesh" => Ok(ShapeGeometry::Mesh(Arc::new(inline_mesh(ps, loc, 4)?))),
-        "loopsubdiv" => {
-            let _ = ps.int("levels");
-            warnings.push(Warning::unsupported(loc, "loop subdivision", "renders the control mesh"));
-            Ok(ShapeGeometry::Mesh(Arc::new(inline_mesh(ps, loc, 3)?)))
-        }
+        "loopsubdiv" => Ok(ShapeGeometry::Mesh(Arc::new(loop_subdivision(ps, loc, warnings)?))),
         "plymesh" | "objmesh" => {
             let Some(path) = ps.filename("filename") else {
                 return Err(err(format!("{kind} needs a \"string filename\" parameter")));
@@ -130,4 +126,93 @@ fn inline_mesh(ps: &ParamSet, loc: &Location, corners: usize) -> Result<Mesh, Sc
     }
     let _ = (ps.vector3s("S"), ps.ints("faceIndices"));
     Ok(mesh)
+}
+
+/// pbrt-v4's `loopsubdiv`: the triangles "indices" over "P" (both required) refined "levels"
+/// times (default 3) and pushed to the limit surface, with limit normals. pbrt-v4 reads no other
+/// parameter ("scheme" is read and ignored), so others are reported unused.
+fn loop_subdivision(ps: &ParamSet, loc: &Location, warnings: &mut Vec<Warning>) -> Result<Mesh, SceneError> {
+    let at = |name: &str| ps.iter().find(|p| p.name == name).map_or(loc.clone(), |p| p.loc.clone());
+    let err = |m: String| SceneError::syntax(loc, "Shape \"loopsubdiv\"", m);
+    let levels = ps.int_or("levels", 3);
+    let _ = ps.string("scheme");
+    let Some(p) = ps.point3s("P") else { return Err(err("needs a \"point3 P\" parameter".into())) };
+    let Some(indices) = ps.ints("indices") else { return Err(err("needs an \"integer indices\" parameter".into())) };
+    let bad_indices = |m: String| SceneError::syntax(&at("indices"), "integer indices", m);
+    if indices.is_empty() || !indices.len().is_multiple_of(3) {
+        return Err(bad_indices(format!("has {} values; a positive multiple of 3 is required", indices.len())));
+    }
+    if let Some(i) = indices.iter().find(|&&i| i < 0 || i as usize >= p.len()) {
+        return Err(bad_indices(format!("index {i} is out of range: the mesh has {} vertices", p.len())));
+    }
+    if levels < 0 {
+        // pbrt-v4 refines while i < levels: not at all.
+        warnings.push(Warning::note(&at("levels"), format!("\"integer levels\" {levels} is negative; 0 is used")));
+    }
+    let triangles: Vec<[u32; 3]> = indices.chunks_exact(3).map(|t| [t[0] as u32, t[1] as u32, t[2] as u32]).collect();
+    let mut mesh = loop_subdivision::subdivide(p, &triangles, levels.max(0) as u32).map_err(|e| err(e.to_string()))?;
+    // pbrt-v4 takes S × T over rings it walks clockwise, so its normals face the side from
+    // which the control triangles wind clockwise.
+    for n in mesh.normals.iter_mut().flatten() {
+        *n = -*n;
+    }
+    Ok(mesh)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::{parse_str, ParseOptions};
+    use glam::Vec3;
+
+    /// The geometry and warnings of the one shape in `world`, or the error as text.
+    fn shape(world: &str) -> Result<(Mesh, Vec<String>), String> {
+        let (desc, mut w) =
+            parse_str(&format!("WorldBegin\n{world}\n"), &ParseOptions::default()).map_err(|e| e.to_string())?;
+        w.extend(desc.report_unused());
+        let ShapeGeometry::Mesh(m) = &desc.shapes[0].geometry else { panic!("not a mesh") };
+        Ok(((**m).clone(), w.iter().map(|w| w.to_string()).collect()))
+    }
+
+    const TETRAHEDRON: &str =
+        "\"point3 P\" [0 0 0  1 0 0  0 1 0  0 0 1] \"integer indices\" [0 2 1  0 1 3  0 3 2  1 2 3]";
+
+    #[test]
+    fn loopsubdiv_refines_to_the_limit_surface_with_pbrt_v4s_normals() {
+        let (m, w) = shape(&format!("Shape \"loopsubdiv\" \"integer levels\" 2 {TETRAHEDRON}")).unwrap();
+        assert!(w.is_empty(), "{w:?}");
+        assert_eq!(m.len(), 4 * 16);
+        // 4 control vertices, 6 + 24 inserted on the edges of levels 0 and 1.
+        assert_eq!(m.positions.len(), 34);
+        // Limit points of a convex control mesh lie strictly inside it.
+        assert!(m.positions.iter().all(|p| p.min_element() > 0.0 && p.x + p.y + p.z < 1.0));
+        // The tetrahedron is wound outward; pbrt-v4's limit normals point inward.
+        let c = m.positions.iter().sum::<Vec3>() / m.positions.len() as f32;
+        for (p, n) in m.positions.iter().zip(m.normals.as_ref().unwrap()) {
+            assert!(n.dot(*p - c) < 0.0 && (n.length() - 1.0).abs() < 1e-5, "normal {n} at {p}");
+        }
+        // Default 3 levels; levels 0 keeps the control triangles (at their limit positions).
+        assert_eq!(shape(&format!("Shape \"loopsubdiv\" {TETRAHEDRON}")).unwrap().0.len(), 4 * 64);
+        let (m0, _) = shape(&format!("Shape \"loopsubdiv\" \"integer levels\" 0 {TETRAHEDRON}")).unwrap();
+        assert_eq!((m0.len(), m0.positions[0]), (4, Vec3::splat(0.2)));
+    }
+
+    #[test]
+    fn loopsubdiv_reports_what_pbrt_v4_ignores_and_rejects_bad_meshes_at_their_line() {
+        let (_, w) = shape(&format!(
+            "Shape \"loopsubdiv\" \"integer levels\" -1\n\"point2 uv\" [0 0 1 0 0 1 1 1] {TETRAHEDRON}"
+        ))
+        .unwrap();
+        assert!(w.iter().any(|w| w.contains("\"point2 uv\"") && w.contains("not used")), "{w:?}");
+        assert!(w.iter().any(|w| w.contains("negative")), "{w:?}");
+        let three_on_an_edge = "Shape \"loopsubdiv\"\n \"point3 P\" [0 0 0  1 0 0  0 1 0  0 0 1  0 -1 0]\n \"integer indices\" [0 1 2  1 0 3  0 1 4]";
+        let e = shape(three_on_an_edge).unwrap_err();
+        assert!(e.starts_with("<string>:2:1:") && e.contains("non-manifold"), "{e}");
+        let e = shape("Shape \"loopsubdiv\" \"point3 P\" [0 0 0  1 0 0  0 1 0]\n  \"integer indices\" [0 1 3]")
+            .unwrap_err();
+        assert!(e.starts_with("<string>:3:3:") && e.contains("out of range"), "{e}");
+        assert!(shape("Shape \"loopsubdiv\" \"point3 P\" [0 0 0  1 0 0  0 1 0]").unwrap_err().contains("indices"));
+        let e = shape(&format!("Shape \"loopsubdiv\" \"integer levels\" 99 {TETRAHEDRON}")).unwrap_err();
+        assert!(e.contains("4^99"), "{e}");
+    }
 }

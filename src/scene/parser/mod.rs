@@ -28,7 +28,7 @@ use super::tokenizer::{Token, TokenKind};
 /// Parser settings.
 #[derive(Clone, Debug, Default)]
 pub struct ParseOptions {
-    /// Unsupported pbrt-v4 features (media, hair, measured BSDFs, loop subdivision, ...) are
+    /// Unsupported pbrt-v4 features (media, hair, measured BSDFs, ...) are
     /// errors, not warnings: [`parse_file`] and [`parse_str`] fail with the first.
     pub strict: bool,
     /// Directory that relative paths in [`parse_str`] text resolve against (default: the
