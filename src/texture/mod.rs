@@ -196,16 +196,25 @@ fn blend<V: TextureValue>(
 }
 
 impl FloatTexture {
-    /// The value at `ctx`.
+    /// The value at `ctx` (a constant without the call into the general evaluation).
+    #[inline]
     pub fn eval(&self, ctx: &TextureEvalContext) -> f32 {
-        self.evaluate(ctx, &())
+        match self {
+            Texture::Constant(v) => *v,
+            t => t.evaluate(ctx, &()),
+        }
     }
 }
 
 impl SpectrumTexture {
     /// The value at `ctx` for the path's wavelengths `w`.
+    /// A constant is sampled without the call into the general evaluation.
+    #[inline]
     pub fn eval(&self, ctx: &TextureEvalContext, w: &crate::spectrum::SampledWavelengths) -> SampledSpectrum {
-        self.evaluate(ctx, w)
+        match self {
+            Texture::Constant(s) => s.sample(w),
+            t => t.evaluate(ctx, w),
+        }
     }
 }
 
