@@ -340,3 +340,14 @@ impl<'s> SurfaceInteraction<'s> {
         Ray::segment(o, end - o, 1.0)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn the_per_hit_structures_stay_small_enough_to_move_without_memcpy() {
+        // The path loop moves one interaction and one BSDF per vertex; beyond 128 bytes the
+        // compiler calls `memcpy` for each move (measured: 5% of the Cornell box's time).
+        assert!(std::mem::size_of::<super::SurfaceInteraction>() <= 128);
+        assert!(std::mem::size_of::<crate::bsdf::Bsdf>() <= 128);
+    }
+}
