@@ -1,11 +1,13 @@
 //! Integrators: estimators of the radiance arriving at the camera.
 
 pub mod lanes;
+mod volpath;
 mod path;
 pub mod subsurface;
 
 pub use path::{DirectStrategy, PathIntegrator, UNBOUNDED_DEPTH};
 pub use subsurface::SubsurfaceMethod;
+pub use volpath::VolPathIntegrator;
 
 /// Counters gathered while rendering (summed over threads).
 #[derive(Clone, Debug, Default, PartialEq)]

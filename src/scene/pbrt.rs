@@ -11,6 +11,7 @@ mod inputs;
 mod lights;
 mod load;
 mod materials;
+mod media;
 mod subsurface;
 mod textures;
 
@@ -86,9 +87,16 @@ pub const PBRT_DEFAULT_MAX_DEPTH: u32 = 5;
 
 /// Turns a desc into a builder; warnings go to `warnings`.
 pub fn build(desc: &SceneDesc, warnings: &mut Vec<Warning>) -> Result<(SceneBuilder, FileSettings), SceneError> {
-    let mut ctx =
-        Ctx { desc, b: SceneBuilder::new(), warnings, materials: HashMap::new(), textures: Default::default() };
+    let mut ctx = Ctx {
+        desc,
+        b: SceneBuilder::new(),
+        warnings,
+        materials: HashMap::new(),
+        textures: Default::default(),
+        media: Default::default(),
+    };
     ctx.camera()?;
+    ctx.media = ctx.media()?;
     let settings = ctx.settings()?;
     ctx.all_textures()?;
     for shape in &desc.shapes {
@@ -110,6 +118,8 @@ struct Ctx<'a> {
     materials: HashMap<String, u32>,
     /// Textures and image pyramids built so far.
     textures: textures::Built,
+    /// Medium ids by name.
+    media: media::MediumIds,
 }
 
 /// An error at parameter `name` of `params` (at `directive` where the parameter is not written).
@@ -369,8 +379,10 @@ impl Ctx<'_> {
                     }
                     let p = (!meshes.is_empty()).then(|| self.b.add_prototype(meshes));
                     if let Some(p) = p {
-                        for (id, alpha) in self.b.prototype_meshes(p).to_vec().into_iter().zip(alphas) {
+                        let ids = self.b.prototype_meshes(p).to_vec();
+                        for ((id, alpha), s) in ids.into_iter().zip(alphas).zip(&obj.shapes) {
                             self.b.set_alpha(id, alpha);
+                            self.b.set_medium_interface(id, media::interface(&self.media, &s.media));
                         }
                     }
                     prototype.insert(inst.object_index, p);
@@ -405,6 +417,7 @@ impl Ctx<'_> {
         let id = self.b.add_mesh(mesh, material, emission);
         let alpha = self.float_texture(&s.params, "alpha", 1.0)?;
         self.b.set_alpha(id, alpha);
+        self.b.set_medium_interface(id, media::interface(&self.media, &s.media));
         Ok(())
     }
 }

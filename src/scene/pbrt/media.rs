@@ -1,0 +1,132 @@
+//! pbrt-v4's MakeNamedMedium → [`Medium`], with parameters and defaults as pbrt-v4's
+//! `media.cpp`: "homogeneous" (`sigma_a`, `sigma_s` (default 1 each), `scale`, `g`, `preset`,
+//! `Le`, `Lescale`) and "uniformgrid" (`density` with `nx`, `ny`, `nz`, bounds `p0`/`p1`, and
+//! the same coefficients). Emission `Le` is normalised to unit luminance like a light's, then
+//! multiplied by `Lescale`.
+
+use super::{param_error, space_of, Ctx};
+use crate::media::presets::{measured_media_names, measured_medium};
+use crate::media::{DensityGrid, GridMedium, Homogeneous, Medium};
+use crate::scene::desc::{MediumDesc, MediumNames};
+use crate::scene::error::SceneError;
+use crate::scene::params::ParamSet;
+use crate::scene::MediumInterface;
+use crate::spectrum::{RgbKind, Spectrum};
+use glam::{UVec3, Vec3};
+use std::collections::HashMap;
+
+/// Medium ids by name.
+pub(super) type MediumIds = HashMap<String, u32>;
+
+impl Ctx<'_> {
+    /// Builds every named medium the renderer supports (others were reported by the parser and
+    /// are vacuum) and sets the camera's medium.
+    pub(super) fn media(&mut self) -> Result<MediumIds, SceneError> {
+        let mut ids = MediumIds::new();
+        for m in &self.desc.media {
+            if let Some(medium) = self.medium(m)? {
+                ids.insert(m.name.clone(), self.b.add_medium(medium));
+            }
+        }
+        self.b.set_camera_medium(ids.get(&self.desc.camera.medium).copied());
+        Ok(ids)
+    }
+
+    fn medium(&mut self, m: &MediumDesc) -> Result<Option<Medium>, SceneError> {
+        let p = &m.params;
+        let (sigma_a, sigma_s) = self.coefficients(m)?;
+        let scale = p.float_or("scale", 1.0);
+        let g = p.float_or("g", 0.0);
+        if !(g.is_finite() && g.abs() < 1.0) {
+            return Err(param_error(p, "g", &m.loc, format!("g must lie in (-1, 1), got {g}")));
+        }
+        if !(scale.is_finite() && scale >= 0.0) {
+            return Err(param_error(p, "scale", &m.loc, format!("scale must be ≥ 0, got {scale}")));
+        }
+        Ok(match m.kind.as_str() {
+            "homogeneous" => {
+                let le = self.emission(p, &m.loc)?;
+                Some(Medium::Homogeneous(Homogeneous { sigma_a, sigma_s, scale, le, g }))
+            }
+            "uniformgrid" => {
+                for name in ["Le", "temperature"] {
+                    if p.has(name) {
+                        let feature = format!("uniformgrid \"{name}\" (emission of a grid medium)");
+                        self.unsupported(&m.loc, feature, "renders the grid without emission");
+                    }
+                }
+                let n = ["nx", "ny", "nz"].map(|k| p.int_or(k, 1));
+                let density = p.floats("density").map(<[f32]>::to_vec).unwrap_or_default();
+                let expect = n.iter().map(|&k| k.max(0) as u64).product::<u64>();
+                let grid = (n.iter().all(|&k| k > 0))
+                    .then(|| DensityGrid::new(UVec3::new(n[0] as u32, n[1] as u32, n[2] as u32), density.clone()))
+                    .flatten()
+                    .ok_or_else(|| {
+                        let message = format!(
+                            "uniformgrid \"density\" has {} values; nx·ny·nz = {expect}",
+                            density.len()
+                        );
+                        param_error(p, "density", &m.loc, message)
+                    })?;
+                let p0 = p.point3("p0").unwrap_or(Vec3::ZERO);
+                let p1 = p.point3("p1").unwrap_or(Vec3::ONE);
+                let medium =
+                    GridMedium::new(m.world_from_medium, p0, p1, grid, sigma_a, sigma_s, scale, Spectrum::constant(0.0), g)
+                        .ok_or_else(|| {
+                            param_error(p, "p0", &m.loc, "the grid's bounds are empty or its transform singular".into())
+                        })?;
+                Some(Medium::Grid(Box::new(medium)))
+            }
+            _ => None,
+        })
+    }
+
+    /// σ_a and σ_s: a named measured medium (`preset`), else `sigma_a`/`sigma_s` (default 1).
+    fn coefficients(&mut self, m: &MediumDesc) -> Result<(Spectrum, Spectrum), SceneError> {
+        let p = &m.params;
+        if let Some(name) = p.string("preset") {
+            match measured_medium(name) {
+                Some((s, a)) => {
+                    let space = space_of(p);
+                    return Ok((
+                        Spectrum::from_rgb(a, RgbKind::Unbounded, space),
+                        Spectrum::from_rgb(s, RgbKind::Unbounded, space),
+                    ));
+                }
+                None => {
+                    let message = format!(
+                        "unknown measured medium \"{name}\" (prism has Jensen et al. 2001's: {})",
+                        measured_media_names().join(", ")
+                    );
+                    return Err(param_error(p, "preset", &m.loc, message));
+                }
+            }
+        }
+        let sigma = |ctx: &mut Self, name: &str| -> Result<Spectrum, SceneError> {
+            if p.spectrum(name).is_some() || p.float(name).is_some() {
+                ctx.unbounded(p, name, "", &m.loc)
+            } else {
+                Ok(Spectrum::constant(1.0))
+            }
+        };
+        Ok((sigma(self, "sigma_a")?, sigma(self, "sigma_s")?))
+    }
+
+    /// `Le` normalised to unit luminance times `Lescale` (zero without `Le`).
+    fn emission(&mut self, p: &ParamSet, loc: &crate::scene::error::Location) -> Result<Spectrum, SceneError> {
+        let le_scale = p.float_or("Lescale", 1.0);
+        if !p.has("Le") {
+            return Ok(Spectrum::constant(0.0));
+        }
+        let (s, norm) = self.light_spectrum(p, "Le", loc)?;
+        if s.max_value() <= 0.0 {
+            return Ok(Spectrum::constant(0.0));
+        }
+        Ok(s.scaled((norm * le_scale) as f64))
+    }
+}
+
+/// The ids of the media a shape names ("" and media prism does not build: vacuum).
+pub(super) fn interface(ids: &MediumIds, names: &MediumNames) -> MediumInterface {
+    MediumInterface { inside: ids.get(&names.inside).copied(), outside: ids.get(&names.outside).copied() }
+}
