@@ -137,6 +137,10 @@ fn inline_mesh(ps: &ParamSet, loc: &Location, corners: usize) -> Result<Mesh, Sc
             return Err(err("uv", "point2", format!("has {} texture coordinates for {n} vertices", uv.len())));
         }
         mesh.uvs = Some(uv);
+    } else if corners == 4 && n == 4 {
+        // One patch: pbrt-v4's default (u, v) are the patch's own parameters, (0, 0) at p00 to
+        // (1, 1) at p11, which the two triangles reproduce exactly on a parallelogram.
+        mesh.uvs = Some(vec![Vec2::ZERO, Vec2::X, Vec2::Y, Vec2::ONE]);
     }
     let _ = (ps.vector3s("S"), ps.ints("faceIndices"));
     Ok(mesh)
