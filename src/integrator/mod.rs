@@ -2,6 +2,8 @@
 
 pub mod lanes;
 mod volpath;
+#[cfg(test)]
+mod volpath_tests;
 mod path;
 pub mod subsurface;
 
