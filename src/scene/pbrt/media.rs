@@ -130,3 +130,77 @@ impl Ctx<'_> {
 pub(super) fn interface(ids: &MediumIds, names: &MediumNames) -> MediumInterface {
     MediumInterface { inside: ids.get(&names.inside).copied(), outside: ids.get(&names.outside).copied() }
 }
+
+#[cfg(test)]
+mod tests {
+    use crate::media::Medium;
+    use crate::scene::{parse_str, MediumInterface, ParseOptions, Scene};
+
+    fn scene(text: &str) -> Result<(Scene, Vec<String>), String> {
+        let (desc, mut w) = parse_str(text, &ParseOptions::default()).map_err(|e| e.to_string())?;
+        let (b, _) = super::super::build(&desc, &mut w).map_err(|e| e.to_string())?;
+        w.extend(desc.report_unused());
+        let scene = b.build(crate::accel::AccelKind::Obvhs).map_err(|e| e.to_string())?;
+        Ok((scene, w.iter().map(|w| w.to_string()).collect()))
+    }
+
+    const MEDIA: &str = "MakeNamedMedium \"fog\" \"string type\" \"homogeneous\" \"rgb sigma_a\" [ 0.1 0.2 0.3 ] \
+        \"float scale\" [ 2 ] \"float g\" [ 0.5 ]\n\
+        MakeNamedMedium \"milk\" \"string type\" \"homogeneous\" \"string preset\" \"Wholemilk\"\n";
+
+    #[test]
+    fn medium_interfaces_bind_shapes_and_the_camera_to_media() {
+        let text = format!(
+            "{MEDIA}MediumInterface \"fog\"\nCamera \"perspective\"\nWorldBegin\n\
+             Shape \"sphere\"\n\
+             MediumInterface \"milk\" \"fog\"\nMaterial \"interface\"\nShape \"sphere\"\n\
+             MediumInterface \"\" \"\"\nShape \"sphere\""
+        );
+        let (s, warnings) = scene(&text).unwrap();
+        assert!(warnings.is_empty(), "{warnings:?}");
+        assert_eq!(s.media().len(), 2);
+        assert_eq!(s.camera_medium(), Some(0), "the outside medium at Camera");
+        let mi: Vec<MediumInterface> = s.primitives().iter().map(|p| p.medium_interface).collect();
+        assert_eq!(mi[0], MediumInterface { inside: Some(0), outside: Some(0) }, "one name is both sides");
+        assert_eq!(mi[1], MediumInterface { inside: Some(1), outside: Some(0) });
+        assert_eq!(mi[2], MediumInterface::default());
+        assert!(!mi[0].is_transition() && mi[1].is_transition());
+        let w = crate::spectrum::SampledWavelengths::sample_uniform(0.5);
+        let Medium::Homogeneous(fog) = &s.media()[0] else { panic!() };
+        let p = fog.point(&w);
+        assert_eq!(p.g, 0.5);
+        assert!((p.sigma_s[0] - 2.0).abs() < 1e-6, "sigma_s defaults to 1, times scale: {:?}", p.sigma_s);
+        let rgb = crate::spectrum::Spectrum::from_rgb(
+            [0.1, 0.2, 0.3],
+            crate::spectrum::RgbKind::Unbounded,
+            crate::spectrum::ColorSpace::srgb(),
+        );
+        assert_eq!(p.sigma_a, rgb.sample(&w) * 2.0, "RGB σ_a as an unbounded spectrum, times scale");
+    }
+
+    #[test]
+    fn instanced_shapes_keep_their_media() {
+        let text = format!(
+            "{MEDIA}Camera \"perspective\"\nWorldBegin\nObjectBegin \"o\"\nMaterial \"interface\"\n\
+             MediumInterface \"fog\" \"\"\nShape \"sphere\"\nObjectEnd\nObjectInstance \"o\"\n"
+        );
+        let (s, _) = scene(&text).unwrap();
+        assert_eq!(s.primitives()[0].medium_interface, MediumInterface { inside: Some(0), outside: None });
+    }
+
+    #[test]
+    fn bad_media_are_errors_at_their_place() {
+        let undefined = "Camera \"perspective\"\nWorldBegin\nMediumInterface \"smoke\"\nShape \"sphere\"";
+        let e = scene(undefined).err().unwrap();
+        assert!(e.contains("<string>:4:") && e.contains("medium \"smoke\" is not defined"), "{e}");
+        let preset = "MakeNamedMedium \"m\" \"string type\" \"homogeneous\" \"string preset\" \"Mud\"\nWorldBegin";
+        let e = scene(preset).err().unwrap();
+        assert!(e.contains("<string>:1:") && e.contains("Wholemilk"), "{e}");
+        let g = "MakeNamedMedium \"m\" \"string type\" \"homogeneous\" \"float g\" [ 1 ]\nWorldBegin";
+        assert!(scene(g).err().unwrap().contains("g must lie in (-1, 1)"));
+        let grid = "MakeNamedMedium \"m\" \"string type\" \"uniformgrid\" \"integer nx\" 2 \"float density\" [ 1 ]\nWorldBegin";
+        assert!(scene(grid).err().unwrap().contains("has 1 values; nx·ny·nz = 2"));
+        let untyped = "MakeNamedMedium \"m\" \"float g\" [ 0 ]\nWorldBegin";
+        assert!(scene(untyped).err().unwrap().contains("needs a \"string type\""));
+    }
+}
