@@ -121,16 +121,10 @@ impl GridMedium {
         le: Spectrum,
         g: f32,
     ) -> Option<Self> {
-        let (lo, hi) = (p0.min(p1), p0.max(p1));
-        let size = hi - lo;
-        let det = world_from_medium.determinant();
-        if size.cmple(Vec3::ZERO).any() || det == 0.0 || !det.is_finite() {
-            return None;
-        }
-        let grid_from_medium = Mat4::from_scale(1.0 / size) * Mat4::from_translation(-lo);
+        let grid_from_world = unit_cube_from_world(world_from_medium, p0, p1)?;
         let majorants = density.majorants(UVec3::splat(MAJORANT_RES));
         Some(Self {
-            grid_from_world: grid_from_medium * world_from_medium.inverse(),
+            grid_from_world,
             density,
             majorants,
             sigma_a,
@@ -166,28 +160,47 @@ impl GridMedium {
     /// The majorant grid's cells along `o + t d`, t in [0, t_max], clipped to the box.
     /// `sigma_t` is σ_t at unit density.
     pub fn majorant_segments(&self, o: Vec3, d: Vec3, t_max: f32, sigma_t: SampledSpectrum) -> MajorantSegments<'_> {
-        let go = self.grid_from_world.transform_point3(o);
-        let gd = self.grid_from_world.transform_vector3(d);
-        let (mut t0, mut t1) = (0.0f32, t_max);
-        for a in 0..3 {
-            let inv = 1.0 / gd[a];
-            let (mut near, mut far) = ((0.0 - go[a]) * inv, (1.0 - go[a]) * inv);
-            if near > far {
-                std::mem::swap(&mut near, &mut far);
-            }
-            // NaN (a direction parallel to a face, origin on it) leaves the bounds as they are.
-            if near > t0 {
-                t0 = near;
-            }
-            if far < t1 {
-                t1 = far;
-            }
-            if t0 > t1 {
-                return MajorantSegments::none();
-            }
+        let (go, gd) = (self.grid_from_world.transform_point3(o), self.grid_from_world.transform_vector3(d));
+        match clip_to_unit_cube(go, gd, t_max) {
+            Some((t0, t1)) => MajorantSegments::Dda(Dda::new(&self.majorants, go, gd, t0, t1, sigma_t)),
+            None => MajorantSegments::none(),
         }
-        MajorantSegments::Dda(Dda::new(&self.majorants, go, gd, t0, t1, sigma_t))
     }
+}
+
+/// Unit-cube space from world space for a box [p0, p1] of medium space placed by
+/// `world_from_medium`; `None` when the box is empty or the transform singular.
+pub fn unit_cube_from_world(world_from_medium: Mat4, p0: Vec3, p1: Vec3) -> Option<Mat4> {
+    let (lo, hi) = (p0.min(p1), p0.max(p1));
+    let size = hi - lo;
+    let det = world_from_medium.determinant();
+    if size.cmple(Vec3::ZERO).any() || det == 0.0 || !det.is_finite() {
+        return None;
+    }
+    Some(Mat4::from_scale(1.0 / size) * Mat4::from_translation(-lo) * world_from_medium.inverse())
+}
+
+/// The parameter range [t0, t1] ⊆ [0, t_max] of `o + t d` inside the unit cube (slab test).
+pub fn clip_to_unit_cube(o: Vec3, d: Vec3, t_max: f32) -> Option<(f32, f32)> {
+    let (mut t0, mut t1) = (0.0f32, t_max);
+    for a in 0..3 {
+        let inv = 1.0 / d[a];
+        let (mut near, mut far) = ((0.0 - o[a]) * inv, (1.0 - o[a]) * inv);
+        if near > far {
+            std::mem::swap(&mut near, &mut far);
+        }
+        // NaN (a direction parallel to a face, origin on it) leaves the bounds as they are.
+        if near > t0 {
+            t0 = near;
+        }
+        if far < t1 {
+            t1 = far;
+        }
+        if t0 > t1 {
+            return None;
+        }
+    }
+    Some((t0, t1))
 }
 
 #[cfg(test)]

@@ -4,7 +4,9 @@
 //! the emitted radiance L_e and the phase function's g), and the majorant σ_maj ≥ σ_t along a
 //! ray, piecewise constant over segments, that free-flight sampling draws distances from.
 
+use super::cloud::CloudMedium;
 use super::grid::GridMedium;
+use super::rgb_grid::RgbGridMedium;
 use super::majorant::MajorantSegments;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths, Spectrum};
 use glam::Vec3;
@@ -56,6 +58,10 @@ pub enum Medium {
     Homogeneous(Homogeneous),
     /// Coefficients scaled by a density grid over a box (pbrt-v4 `GridMedium`).
     Grid(Box<GridMedium>),
+    /// RGB coefficients on a grid over a box (pbrt-v4 `RGBGridMedium`).
+    RgbGrid(Box<RgbGridMedium>),
+    /// pbrt-v4's procedural cloud.
+    Cloud(Box<CloudMedium>),
 }
 
 impl Medium {
@@ -66,15 +72,24 @@ impl Medium {
         match self {
             Medium::Homogeneous(_) => *uniform,
             Medium::Grid(g) => g.point(p, w),
+            Medium::RgbGrid(g) => g.point(p, w),
+            Medium::Cloud(c) => c.point(p, uniform),
         }
     }
 
     /// The spatially constant part of the medium at `w`: all of a homogeneous medium, the
-    /// unscaled σ_a, σ_s and L_e of a grid.
+    /// coefficients at unit density of a density grid or a cloud (the RGB grid has none).
     pub fn uniform_point(&self, w: &SampledWavelengths) -> MediumPoint {
         match self {
             Medium::Homogeneous(h) => h.point(w),
             Medium::Grid(g) => g.unit_point(w),
+            Medium::RgbGrid(_) => MediumPoint {
+                sigma_a: SampledSpectrum::zero(),
+                sigma_s: SampledSpectrum::zero(),
+                le: SampledSpectrum::zero(),
+                g: 0.0,
+            },
+            Medium::Cloud(c) => c.coefficients.point(w),
         }
     }
 
@@ -84,6 +99,8 @@ impl Medium {
         match self {
             Medium::Homogeneous(_) => MajorantSegments::single(0.0, t_max, uniform.sigma_a + uniform.sigma_s),
             Medium::Grid(g) => g.majorant_segments(o, d, t_max, uniform.sigma_a + uniform.sigma_s),
+            Medium::RgbGrid(g) => g.majorant_segments(o, d, t_max),
+            Medium::Cloud(c) => c.majorant_segments(o, d, t_max, uniform.sigma_a + uniform.sigma_s),
         }
     }
 
@@ -92,6 +109,7 @@ impl Medium {
         let le = match self {
             Medium::Homogeneous(h) => &h.le,
             Medium::Grid(g) => &g.le,
+            Medium::RgbGrid(_) | Medium::Cloud(_) => return false,
         };
         le.max_value() > 0.0
     }

@@ -256,6 +256,7 @@ impl Ctx<'_> {
         Ok(match s {
             SpectrumParam::Rgb(rgb) => Spectrum::from_rgb(*rgb, kind, space_of(params)),
             SpectrumParam::Blackbody(t) => Spectrum::blackbody(*t),
+            SpectrumParam::RgbArray(v) => return Err(format!("one RGB colour is expected here, not {}", v.len())),
             SpectrumParam::Samples(v) => {
                 let (l, x): (Vec<f32>, Vec<f32>) = v.iter().copied().unzip();
                 Spectrum::piecewise_linear(&l, &x).ok_or("spectrum samples must have increasing wavelengths")?

@@ -6,10 +6,10 @@
 
 use super::{param_error, space_of, Ctx};
 use crate::media::presets::{measured_media_names, measured_medium};
-use crate::media::{DensityGrid, GridMedium, Homogeneous, Medium};
+use crate::media::{CloudMedium, CloudShape, DensityGrid, GridMedium, Homogeneous, Medium, RgbGridMedium, SpectrumGrid};
 use crate::scene::desc::{MediumDesc, MediumNames};
 use crate::scene::error::SceneError;
-use crate::scene::params::ParamSet;
+use crate::scene::params::{ParamSet, SpectrumParam};
 use crate::scene::MediumInterface;
 use crate::spectrum::{RgbKind, Spectrum};
 use glam::{UVec3, Vec3};
@@ -34,7 +34,11 @@ impl Ctx<'_> {
 
     fn medium(&mut self, m: &MediumDesc) -> Result<Option<Medium>, SceneError> {
         let p = &m.params;
-        let (sigma_a, sigma_s) = self.coefficients(m)?;
+        let (sigma_a, sigma_s) = if m.kind == "rgbgrid" {
+            (Spectrum::constant(0.0), Spectrum::constant(0.0))
+        } else {
+            self.coefficients(m)?
+        };
         let scale = p.float_or("scale", 1.0);
         let g = p.float_or("g", 0.0);
         if !(g.is_finite() && g.abs() < 1.0) {
@@ -77,8 +81,49 @@ impl Ctx<'_> {
                         })?;
                 Some(Medium::Grid(Box::new(medium)))
             }
+            "rgbgrid" => {
+                let n = ["nx", "ny", "nz"].map(|k| p.int_or(k, 1));
+                let (a, s) = (self.rgb_grid(m, "sigma_a", n)?, self.rgb_grid(m, "sigma_s", n)?);
+                let (p0, p1) = (p.point3("p0").unwrap_or(Vec3::ZERO), p.point3("p1").unwrap_or(Vec3::ONE));
+                let medium = RgbGridMedium::new(m.world_from_medium, p0, p1, a, s, scale, g).ok_or_else(|| {
+                    param_error(p, "p0", &m.loc, "rgbgrid needs sigma_a or sigma_s, non-empty bounds and an invertible transform".into())
+                })?;
+                Some(Medium::RgbGrid(Box::new(medium)))
+            }
+            "cloud" => {
+                let shape = CloudShape {
+                    density: p.float_or("density", 1.0),
+                    wispiness: p.float_or("wispiness", 1.0),
+                    frequency: p.float_or("frequency", 5.0),
+                };
+                let (p0, p1) = (p.point3("p0").unwrap_or(Vec3::ZERO), p.point3("p1").unwrap_or(Vec3::ONE));
+                let coefficients = Homogeneous { sigma_a, sigma_s, scale, le: Spectrum::constant(0.0), g };
+                let medium = CloudMedium::new(m.world_from_medium, p0, p1, shape, coefficients).ok_or_else(|| {
+                    param_error(p, "p0", &m.loc, "the cloud's bounds are empty or its transform singular".into())
+                })?;
+                Some(Medium::Cloud(Box::new(medium)))
+            }
             _ => None,
         })
+    }
+
+    /// An rgbgrid coefficient: nx·ny·nz RGB triples, each an unbounded spectrum (absent: zero).
+    fn rgb_grid(&mut self, m: &MediumDesc, name: &str, n: [i32; 3]) -> Result<Option<SpectrumGrid>, SceneError> {
+        let p = &m.params;
+        let rgbs: Vec<[f32; 3]> = match p.spectrum(name) {
+            None => return Ok(None),
+            Some(SpectrumParam::RgbArray(v)) => v.clone(),
+            Some(SpectrumParam::Rgb(c)) => vec![*c],
+            Some(_) => return Err(param_error(p, name, &m.loc, format!("rgbgrid \"{name}\" must be RGB triples"))),
+        };
+        let count = n.iter().map(|&k| k.max(0) as u64).product::<u64>();
+        if n.iter().any(|&k| k <= 0) || rgbs.len() as u64 != count {
+            let message = format!("rgbgrid \"{name}\" has {} RGB values; nx·ny·nz = {count}", rgbs.len());
+            return Err(param_error(p, name, &m.loc, message));
+        }
+        let space = space_of(p);
+        let values = rgbs.iter().map(|&c| Spectrum::from_rgb(c.map(|x| x.max(0.0)), RgbKind::Unbounded, space)).collect();
+        Ok(Some(SpectrumGrid { n: UVec3::new(n[0] as u32, n[1] as u32, n[2] as u32), values }))
     }
 
     /// σ_a and σ_s: a named measured medium (`preset`), else `sigma_a`/`sigma_s` (default 1).
