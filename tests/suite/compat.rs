@@ -113,3 +113,15 @@ fn point_spot_goniometric_projection_and_distant_lights_have_pbrt_v4s_means() {
 fn every_texture_type_and_mapping_has_pbrt_v4s_means() {
     assert_matches_pbrt_v4("textures.pbrt", 16);
 }
+
+#[test]
+fn homogeneous_media_in_spheres_and_filling_the_scene_have_pbrt_v4s_means() {
+    for scene in ["media.pbrt", "media-fog.pbrt"] {
+        assert_matches_pbrt_v4(scene, 16);
+    }
+}
+
+#[test]
+fn density_grid_rgb_grid_and_cloud_media_have_pbrt_v4s_means() {
+    assert_matches_pbrt_v4("media-grid.pbrt", 16);
+}
