@@ -146,7 +146,7 @@ impl VolPathIntegrator {
                     continue;
                 }
                 let t0 = t_maj[0];
-                if !(t0 > 0.0) {
+                if t0.is_nan() || t0 <= 0.0 {
                     break;
                 }
                 beta *= t_maj / t0;
@@ -354,7 +354,7 @@ pub(super) fn transmittance(
                 !t_ray.is_black()
             });
             let t0 = t_maj[0];
-            if !(t0 > 0.0) {
+            if t0.is_nan() || t0 <= 0.0 {
                 return None;
             }
             t_ray *= t_maj / t0;
