@@ -1,11 +1,12 @@
 //! Integrators: estimators of the radiance arriving at the camera.
 
 pub mod lanes;
+mod path;
+pub mod subsurface;
+mod transmittance;
 mod volpath;
 #[cfg(test)]
 mod volpath_tests;
-mod path;
-pub mod subsurface;
 
 pub use path::{DirectStrategy, PathIntegrator, UNBOUNDED_DEPTH};
 pub use subsurface::SubsurfaceMethod;

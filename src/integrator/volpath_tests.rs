@@ -3,7 +3,7 @@
 //! wavelength sampling does), so the spectral-MIS estimate of every wavelength is checked
 //! separately. Tolerances are 4 standard errors of the mean.
 
-use super::volpath::transmittance;
+use super::transmittance::transmittance;
 use super::{Stats, VolPathIntegrator};
 use crate::accel::AccelKind;
 use crate::geometry::shapes::{axis_box, uv_sphere};
@@ -63,7 +63,12 @@ fn assert_close(got: [(f64, f64); 4], expect: [f64; 4], what: &str) {
     for c in 0..4 {
         let (mean, se) = got[c];
         assert!(expect[c] > 1e-4, "{what}: the expected value must not be negligible");
-        assert!((mean - expect[c]).abs() <= 4.0 * se + 1e-6 * expect[c], "{what} λ = {} nm: {mean} ± {se}, expected {}", LAMBDAS[c], expect[c]);
+        assert!(
+            (mean - expect[c]).abs() <= 4.0 * se + 1e-6 * expect[c],
+            "{what} λ = {} nm: {mean} ± {se}, expected {}",
+            LAMBDAS[c],
+            expect[c]
+        );
     }
 }
 
@@ -110,9 +115,11 @@ fn ratio_tracking_through_a_scattering_slab_is_beer_lambert() {
         uniform_sky(1.0),
     );
     let (from, to) = (Vec3::new(0.0, 0.0, -1.0), Vec3::new(0.5, 0.0, 2.0));
-    let got = per_wavelength(40_000, 2, |w, s, st| match transmittance(&scene, Ray::segment(from, to - from, 1.0), None, w, s, st) {
-        Some((t, r_l, _)) => t / r_l.average(),
-        None => SampledSpectrum::zero(),
+    let got = per_wavelength(40_000, 2, |w, s, st| {
+        match transmittance(&scene, Ray::segment(from, to - from, 1.0), None, w, s, st) {
+            Some((t, r_l, _)) => t / r_l.average(),
+            None => SampledSpectrum::zero(),
+        }
     });
     // The segment from z = -1 to z = 2 spends d/3 of its parameter range in the slab.
     let inside = (to - from).length() as f64 * d as f64 / 3.0;
@@ -213,24 +220,18 @@ fn ratio_tracking_on_a_grid_matches_the_known_optical_depth() {
     let interior: f64 = (0..3).map(|i| 0.25 * 0.5 * (v[i] + v[i + 1])).sum();
     let depth = edges + interior;
     let (sigma_a, sigma_s) = ([0.1, 0.3, 0.05, 0.2], [0.3, 0.2, 0.6, 0.1]);
-    let grid = GridMedium::new(
-        Mat4::IDENTITY,
-        Vec3::ZERO,
-        Vec3::ONE,
-        profile_grid(profile),
-        chromatic(sigma_a),
-        chromatic(sigma_s),
-        1.0,
-        Spectrum::constant(0.0),
-        0.0,
-    )
-    .unwrap();
+    let Medium::Homogeneous(coefficients) = homogeneous(sigma_a, sigma_s, 0.0, Spectrum::constant(0.0)) else {
+        unreachable!()
+    };
+    let grid = GridMedium::new(Mat4::IDENTITY, Vec3::ZERO, Vec3::ONE, profile_grid(profile), coefficients).unwrap();
     let scene = bounded_medium(axis_box(Vec3::ZERO, Vec3::ONE), Medium::Grid(Box::new(grid)), uniform_sky(1.0));
     // Along x through the middle, where y and z sit between sample centres.
     let (from, to) = (Vec3::new(-1.0, 0.5, 0.45), Vec3::new(2.0, 0.5, 0.45));
-    let got = per_wavelength(40_000, 6, |w, s, st| match transmittance(&scene, Ray::segment(from, to - from, 1.0), None, w, s, st) {
-        Some((t, r_l, _)) => t / r_l.average(),
-        None => SampledSpectrum::zero(),
+    let got = per_wavelength(40_000, 6, |w, s, st| {
+        match transmittance(&scene, Ray::segment(from, to - from, 1.0), None, w, s, st) {
+            Some((t, r_l, _)) => t / r_l.average(),
+            None => SampledSpectrum::zero(),
+        }
     });
     assert_close(got, std::array::from_fn(|c| (-((sigma_a[c] + sigma_s[c]) as f64) * depth).exp()), "grid T");
 }

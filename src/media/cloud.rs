@@ -63,7 +63,13 @@ pub struct CloudMedium {
 
 impl CloudMedium {
     /// `None` when the box is empty or the transform singular.
-    pub fn new(world_from_medium: Mat4, p0: Vec3, p1: Vec3, shape: CloudShape, coefficients: Homogeneous) -> Option<Self> {
+    pub fn new(
+        world_from_medium: Mat4,
+        p0: Vec3,
+        p1: Vec3,
+        shape: CloudShape,
+        coefficients: Homogeneous,
+    ) -> Option<Self> {
         let unit_from_world = unit_cube_from_world(world_from_medium, p0, p1)?;
         Some(Self { medium_from_world: world_from_medium.inverse(), unit_from_world, shape, coefficients })
     }

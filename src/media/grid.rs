@@ -3,8 +3,8 @@
 //! interpolation of the samples, which sit at cell centres, and is 0 outside the box.
 
 use super::majorant::{Dda, MajorantGrid, MajorantSegments};
-use super::medium::MediumPoint;
-use crate::spectrum::{SampledSpectrum, SampledWavelengths, Spectrum};
+use super::medium::{Homogeneous, MediumPoint};
+use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 use glam::{IVec3, Mat4, UVec3, Vec3};
 
 /// Samples of a scalar field on the unit cube, x fastest (pbrt-v4 `SampledGrid`).
@@ -95,54 +95,29 @@ pub struct GridMedium {
     grid_from_world: Mat4,
     density: DensityGrid,
     majorants: MajorantGrid,
-    /// σ_a per unit density, times the scale [1/scene unit].
-    sigma_a: Spectrum,
-    /// σ_s per unit density, times the scale [1/scene unit].
-    sigma_s: Spectrum,
-    scale: f32,
-    /// Emitted radiance where the density is 1, scale included (emission σ_a·L_e follows the
-    /// density through σ_a).
-    pub le: Spectrum,
-    g: f32,
+    /// The coefficients at unit density (emission σ_a·L_e follows the density through σ_a).
+    pub coefficients: Homogeneous,
 }
 
 impl GridMedium {
-    /// The medium over the box [p0, p1] of medium space, placed by `world_from_medium`; `None`
-    /// when the box is empty or the transform is singular.
-    #[allow(clippy::too_many_arguments)]
+    /// The medium over the box [p0, p1] of medium space, placed by `world_from_medium`, with
+    /// `coefficients` where the density is 1; `None` when the box is empty or the transform is
+    /// singular.
     pub fn new(
         world_from_medium: Mat4,
         p0: Vec3,
         p1: Vec3,
         density: DensityGrid,
-        sigma_a: Spectrum,
-        sigma_s: Spectrum,
-        scale: f32,
-        le: Spectrum,
-        g: f32,
+        coefficients: Homogeneous,
     ) -> Option<Self> {
         let grid_from_world = unit_cube_from_world(world_from_medium, p0, p1)?;
         let majorants = density.majorants(UVec3::splat(MAJORANT_RES));
-        Some(Self {
-            grid_from_world,
-            density,
-            majorants,
-            sigma_a,
-            sigma_s,
-            scale,
-            le,
-            g,
-        })
+        Some(Self { grid_from_world, density, majorants, coefficients })
     }
 
     /// σ_a, σ_s (scale included) and L_e at unit density.
     pub fn unit_point(&self, w: &SampledWavelengths) -> MediumPoint {
-        MediumPoint {
-            sigma_a: self.sigma_a.sample(w) * self.scale,
-            sigma_s: self.sigma_s.sample(w) * self.scale,
-            le: self.le.sample(w),
-            g: self.g,
-        }
+        self.coefficients.point(w)
     }
 
     /// The coefficients at world-space `p`.
@@ -209,6 +184,7 @@ mod tests {
     use crate::media::{sample_t_maj, Medium};
     use crate::sampling::chi2::chi2_survival;
     use crate::sampling::Rng;
+    use crate::spectrum::Spectrum;
 
     /// A grid medium over the unit cube, rotated and moved, with a random density.
     fn random_grid(seed: u64, amplitude: f32) -> GridMedium {
@@ -219,8 +195,14 @@ mod tests {
             * Mat4::from_rotation_y(0.4)
             * Mat4::from_scale(Vec3::new(1.5, 1.0, 0.8));
         let density = DensityGrid::new(n, values).unwrap();
-        let (a, s, zero) = (Spectrum::constant(0.3), Spectrum::constant(0.9), Spectrum::constant(0.0));
-        GridMedium::new(world_from_medium, Vec3::splat(-0.5), Vec3::splat(0.5), density, a, s, 1.0, zero, 0.0).unwrap()
+        let coefficients = Homogeneous {
+            sigma_a: Spectrum::constant(0.3),
+            sigma_s: Spectrum::constant(0.9),
+            scale: 1.0,
+            le: Spectrum::constant(0.0),
+            g: 0.0,
+        };
+        GridMedium::new(world_from_medium, Vec3::splat(-0.5), Vec3::splat(0.5), density, coefficients).unwrap()
     }
 
     /// The majorant at world point `p`, by looking up the cell that contains it.
@@ -263,7 +245,13 @@ mod tests {
                     if seg.t_max - seg.t_min < 1e-4 {
                         continue;
                     }
-                    assert_eq!(seg.sigma_maj[0], majorant_at(&g, o + d * t), "t = {t} in [{}, {}]", seg.t_min, seg.t_max);
+                    assert_eq!(
+                        seg.sigma_maj[0],
+                        majorant_at(&g, o + d * t),
+                        "t = {t} in [{}, {}]",
+                        seg.t_min,
+                        seg.t_max
+                    );
                 }
             }
             // Brute force: the length of the ray inside the box.

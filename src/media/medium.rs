@@ -6,8 +6,8 @@
 
 use super::cloud::CloudMedium;
 use super::grid::GridMedium;
-use super::rgb_grid::RgbGridMedium;
 use super::majorant::MajorantSegments;
+use super::rgb_grid::RgbGridMedium;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths, Spectrum};
 use glam::Vec3;
 
@@ -108,7 +108,7 @@ impl Medium {
     pub fn is_emissive(&self) -> bool {
         let le = match self {
             Medium::Homogeneous(h) => &h.le,
-            Medium::Grid(g) => &g.le,
+            Medium::Grid(g) => &g.coefficients.le,
             Medium::RgbGrid(_) | Medium::Cloud(_) => return false,
         };
         le.max_value() > 0.0

@@ -16,8 +16,8 @@ mod rgb_grid;
 
 pub use cloud::{CloudMedium, CloudShape};
 pub use grid::{DensityGrid, GridMedium};
-pub use rgb_grid::{RgbGridMedium, SpectrumGrid};
 pub use homogeneous::{FreeFlight, HomogeneousMedium};
 pub use majorant::{sample_t_maj, Collision, MajorantSegment};
 pub use medium::{Homogeneous, Medium, MediumPoint};
 pub use phase::{hg_density, HenyeyGreenstein};
+pub use rgb_grid::{RgbGridMedium, SpectrumGrid};

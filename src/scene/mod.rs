@@ -19,9 +19,8 @@ pub mod tokenizer;
 
 pub use cornell::add_cornell_box;
 pub use desc::{
-    AreaLightDesc, Directive, InstanceDesc, LightDesc, MaterialDesc, MaterialRef, MediumDesc, MediumNames, NamedMaterial,
-    ObjectDesc, SceneDesc,
-    ShapeDesc, ShapeGeometry, TextureClass, TextureDesc,
+    AreaLightDesc, Directive, InstanceDesc, LightDesc, MaterialDesc, MaterialRef, MediumDesc, MediumNames,
+    NamedMaterial, ObjectDesc, SceneDesc, ShapeDesc, ShapeGeometry, TextureClass, TextureDesc,
 };
 pub use error::{Location, SceneError, Warning};
 pub use interaction::SurfaceInteraction;
@@ -148,7 +147,14 @@ impl SceneBuilder {
             self.warnings
                 .push(format!("mesh {id}: skipped {dropped} degenerate triangle(s) (zero area or NaN/Inf vertices)"));
         }
-        self.primitives.push(PendingPrimitive { mesh, material, emission, alpha: None, medium_interface: MediumInterface::default(), prototype: None });
+        self.primitives.push(PendingPrimitive {
+            mesh,
+            material,
+            emission,
+            alpha: None,
+            medium_interface: MediumInterface::default(),
+            prototype: None,
+        });
         id
     }
 
@@ -352,13 +358,7 @@ impl SceneBuilder {
                 }
                 first
             });
-            primitives.push(Primitive {
-                mesh,
-                material,
-                area_lights,
-                medium_interface,
-                alpha,
-            });
+            primitives.push(Primitive { mesh, material, area_lights, medium_interface, alpha });
         }
         let has_alpha = primitives.iter().any(|p| p.alpha.is_some());
         let bounds = accel.bounds();

@@ -177,7 +177,12 @@ impl Param {
             "vector2" => ("vector2", ParamValue::Vector2(vec2s(grouped(2)?))),
             "rgb" | "color" if values.len() > 3 => {
                 let v = grouped(3)?;
-                ("rgb", ParamValue::Spectrum(SpectrumParam::RgbArray(v.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect())))
+                (
+                    "rgb",
+                    ParamValue::Spectrum(SpectrumParam::RgbArray(
+                        v.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect(),
+                    )),
+                )
             }
             "rgb" | "color" => {
                 let v = exactly(3)?;

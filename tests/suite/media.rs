@@ -24,7 +24,10 @@ fn pbrt_v4_clouds_scene_renders_under_a_uniform_sky() {
     desc.lights.retain(|l| l.kind != "infinite");
     assert_eq!(before - desc.lights.len(), 1, "the file's sky");
     let (mut b, settings) = pbrt::build(&desc, &mut warnings).unwrap();
-    b.add_light(Light::UniformInfinite(UniformInfiniteLight { spectrum: Arc::new(Spectrum::constant(1.0)), scale: 1.0 }));
+    b.add_light(Light::UniformInfinite(UniformInfiniteLight {
+        spectrum: Arc::new(Spectrum::constant(1.0)),
+        scale: 1.0,
+    }));
     let scene = b.build(AccelKind::default_available()).unwrap();
     assert_eq!(scene.media().len(), 1, "the cloud");
     let max_depth = settings.max_depth.unwrap();

@@ -354,9 +354,8 @@ fn unknown_types_list_valid_names() {
 
 #[test]
 fn unsupported_features_warn_or_fail_under_strict() {
-    let (d, w) = parse(
-        "MakeNamedMedium \"fog\" \"string type\" \"nanovdb\"\nWorldBegin\nMaterial \"hair\"\nShape \"curve\"",
-    );
+    let (d, w) =
+        parse("MakeNamedMedium \"fog\" \"string type\" \"nanovdb\"\nWorldBegin\nMaterial \"hair\"\nShape \"curve\"");
     let w: Vec<String> = w.iter().map(|w| w.to_string()).collect();
     assert_eq!(
         w,

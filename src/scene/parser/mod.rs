@@ -389,9 +389,7 @@ impl<'o> Parser<'o> {
         let cs = self.color_space.clone();
         let dflt = |kind: &str| Directive { kind: kind.into(), params: ParamSet::new(&cs), loc: default_loc.clone() };
         let desc = SceneDesc {
-            camera: self
-                .camera
-                .unwrap_or_else(|| CameraDesc {
+            camera: self.camera.unwrap_or_else(|| CameraDesc {
                 directive: dflt("perspective"),
                 camera_from_world: Mat4::IDENTITY,
                 medium: String::new(),

@@ -98,7 +98,9 @@ impl Parser<'_> {
                 let params = src.params(cs)?;
                 let kind = match params.string("type") {
                     Some(k) => k.to_string(),
-                    None => return Err(SceneError::syntax(&tok.loc, &name.text, "MakeNamedMedium needs a \"string type\"")),
+                    None => {
+                        return Err(SceneError::syntax(&tok.loc, &name.text, "MakeNamedMedium needs a \"string type\""))
+                    }
                 };
                 if !names::MEDIA.contains(&kind.as_str()) {
                     let feature = format!("medium type \"{kind}\" of \"{}\"", name.text);

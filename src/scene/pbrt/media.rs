@@ -6,7 +6,9 @@
 
 use super::{param_error, space_of, Ctx};
 use crate::media::presets::{measured_media_names, measured_medium};
-use crate::media::{CloudMedium, CloudShape, DensityGrid, GridMedium, Homogeneous, Medium, RgbGridMedium, SpectrumGrid};
+use crate::media::{
+    CloudMedium, CloudShape, DensityGrid, GridMedium, Homogeneous, Medium, RgbGridMedium, SpectrumGrid,
+};
 use crate::scene::desc::{MediumDesc, MediumNames};
 use crate::scene::error::SceneError;
 use crate::scene::params::{ParamSet, SpectrumParam};
@@ -66,19 +68,16 @@ impl Ctx<'_> {
                     .then(|| DensityGrid::new(UVec3::new(n[0] as u32, n[1] as u32, n[2] as u32), density.clone()))
                     .flatten()
                     .ok_or_else(|| {
-                        let message = format!(
-                            "uniformgrid \"density\" has {} values; nx·ny·nz = {expect}",
-                            density.len()
-                        );
+                        let message =
+                            format!("uniformgrid \"density\" has {} values; nx·ny·nz = {expect}", density.len());
                         param_error(p, "density", &m.loc, message)
                     })?;
                 let p0 = p.point3("p0").unwrap_or(Vec3::ZERO);
                 let p1 = p.point3("p1").unwrap_or(Vec3::ONE);
-                let medium =
-                    GridMedium::new(m.world_from_medium, p0, p1, grid, sigma_a, sigma_s, scale, Spectrum::constant(0.0), g)
-                        .ok_or_else(|| {
-                            param_error(p, "p0", &m.loc, "the grid's bounds are empty or its transform singular".into())
-                        })?;
+                let coefficients = Homogeneous { sigma_a, sigma_s, scale, le: Spectrum::constant(0.0), g };
+                let medium = GridMedium::new(m.world_from_medium, p0, p1, grid, coefficients).ok_or_else(|| {
+                    param_error(p, "p0", &m.loc, "the grid's bounds are empty or its transform singular".into())
+                })?;
                 Some(Medium::Grid(Box::new(medium)))
             }
             "rgbgrid" => {
@@ -86,7 +85,12 @@ impl Ctx<'_> {
                 let (a, s) = (self.rgb_grid(m, "sigma_a", n)?, self.rgb_grid(m, "sigma_s", n)?);
                 let (p0, p1) = (p.point3("p0").unwrap_or(Vec3::ZERO), p.point3("p1").unwrap_or(Vec3::ONE));
                 let medium = RgbGridMedium::new(m.world_from_medium, p0, p1, a, s, scale, g).ok_or_else(|| {
-                    param_error(p, "p0", &m.loc, "rgbgrid needs sigma_a or sigma_s, non-empty bounds and an invertible transform".into())
+                    param_error(
+                        p,
+                        "p0",
+                        &m.loc,
+                        "rgbgrid needs sigma_a or sigma_s, non-empty bounds and an invertible transform".into(),
+                    )
                 })?;
                 Some(Medium::RgbGrid(Box::new(medium)))
             }
@@ -122,7 +126,8 @@ impl Ctx<'_> {
             return Err(param_error(p, name, &m.loc, message));
         }
         let space = space_of(p);
-        let values = rgbs.iter().map(|&c| Spectrum::from_rgb(c.map(|x| x.max(0.0)), RgbKind::Unbounded, space)).collect();
+        let values =
+            rgbs.iter().map(|&c| Spectrum::from_rgb(c.map(|x| x.max(0.0)), RgbKind::Unbounded, space)).collect();
         Ok(Some(SpectrumGrid { n: UVec3::new(n[0] as u32, n[1] as u32, n[2] as u32), values }))
     }
 
