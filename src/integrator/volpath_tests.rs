@@ -235,3 +235,47 @@ fn ratio_tracking_on_a_grid_matches_the_known_optical_depth() {
     });
     assert_close(got, std::array::from_fn(|c| (-((sigma_a[c] + sigma_s[c]) as f64) * depth).exp()), "grid T");
 }
+
+#[test]
+fn subsurface_random_walk_and_volpath_agree_on_the_same_medium() {
+    // A smooth dielectric sphere (η = 1.33) filled with a chromatic scattering medium, under a uniform sky:
+    // the subsurface material's random walk and the volumetric path tracer with the medium
+    // behind a dielectric boundary solve the same transport, so their means agree within noise.
+    use crate::geometry::shapes::icosphere;
+    use crate::integrator::{PathIntegrator, SubsurfaceMethod};
+    use crate::material::{Ior, Roughness, ScatteringSpec, SubsurfaceMaterial};
+    let (sigma_a, sigma_s, g, eta) = ([0.3, 0.1, 0.6, 0.2], [2.0, 1.0, 3.0, 0.5], 0.3f32, 1.33f32);
+    let sphere = || icosphere(Vec3::ZERO, 1.0, 4);
+    let build = |material: Material, medium: Option<Medium>| {
+        let mut b = SceneBuilder::new();
+        let id_m = b.add_material(material);
+        let id = b.add_mesh(sphere(), id_m, None);
+        if let Some(m) = medium {
+            let m = b.add_medium(m);
+            b.set_medium_interface(id, MediumInterface { inside: Some(m), outside: None });
+        }
+        b.add_light(uniform_sky(1.0));
+        b.set_camera(Mat4::IDENTITY, 40.0);
+        b.build(AccelKind::Obvhs).unwrap()
+    };
+    let medium = homogeneous(sigma_a, sigma_s, g, Spectrum::constant(0.0));
+    let vol_scene =
+        build(Material::Dielectric { eta: Ior::Constant(eta), roughness: Roughness::alpha(0.0) }, Some(medium));
+    let spec = ScatteringSpec::Coefficients { sigma_a: chromatic(sigma_a), sigma_s: chromatic(sigma_s), scale: 1.0 };
+    let sss = SubsurfaceMaterial::new(spec, eta, g, Roughness::alpha(0.0));
+    let walk_scene = build(Material::Subsurface(Box::new(sss)), None);
+    let volpath = VolPathIntegrator { max_depth: 10_000, footprint: None };
+    let walk = PathIntegrator { max_depth: 10_000, sss: SubsurfaceMethod::RandomWalk, ..Default::default() };
+    for (k, x) in [0.0f32, 0.5, 0.85].into_iter().enumerate() {
+        let ray = Ray::new(Vec3::new(x, 0.1, 3.0), -Vec3::Z);
+        let a = per_wavelength(40_000, 10 + k as u64, |w, s, st| volpath.li(&vol_scene, ray, w, s, st));
+        let b = per_wavelength(40_000, 20 + k as u64, |w, s, st| walk.li(&walk_scene, ray, w, s, st));
+        for c in 0..4 {
+            let ((ma, sa), (mb, sb)) = (a[c], b[c]);
+            eprintln!("x = {x}, λ = {} nm: volpath {ma:.4} ± {sa:.4}, random walk {mb:.4} ± {sb:.4}", LAMBDAS[c]);
+            assert!(ma > 0.05, "not black");
+            let tol = 4.0 * (sa * sa + sb * sb).sqrt();
+            assert!((ma - mb).abs() <= tol, "x = {x}: volpath {ma} ± {sa} vs walk {mb} ± {sb}");
+        }
+    }
+}
