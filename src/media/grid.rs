@@ -181,8 +181,8 @@ pub fn clip_to_unit_cube(o: Vec3, d: Vec3, t_max: f32) -> Option<(f32, f32)> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::media::{sample_t_maj, Medium};
-    use crate::sampling::chi2::chi2_survival;
+    use crate::media::majorant::first_collision_p_value;
+    use crate::media::Medium;
     use crate::sampling::Rng;
     use crate::spectrum::Spectrum;
 
@@ -292,28 +292,7 @@ mod tests {
         let escape = (-tau[steps]).exp();
         assert!(escape > 0.05 && escape < 0.9, "the test ray should both collide and escape often: {escape}");
         let medium = Medium::Grid(Box::new(g));
-        let w = SampledWavelengths::sample_uniform(0.5);
-        let uniform = medium.uniform_point(&w);
-        let bins = 40;
-        let mut counts = vec![0f64; bins + 1];
-        let n = 200_000;
-        let mut rng = Rng::new(6, 0);
-        for _ in 0..n {
-            let mut first = None;
-            let u = rng.uniform();
-            sample_t_maj(&medium, &uniform, o, d, t_max, u, &mut rng, &w, |c, _| {
-                first = Some((c.p - o).dot(d));
-                false
-            });
-            match first {
-                Some(t) => counts[((cdf(t) / (1.0 - escape) * bins as f64) as usize).min(bins - 1)] += 1.0,
-                None => counts[bins] += 1.0,
-            }
-        }
-        let expect: Vec<f64> =
-            (0..=bins).map(|b| if b < bins { (1.0 - escape) / bins as f64 } else { escape } * n as f64).collect();
-        let chi2: f64 = counts.iter().zip(&expect).map(|(o, e)| (o - e).powi(2) / e).sum();
-        let p = chi2_survival(chi2, bins as f64);
-        assert!(p > 0.01, "χ² = {chi2} over {bins} dof, p = {p}: {counts:?}");
+        let p = first_collision_p_value(&medium, (o, d, t_max), cdf, escape, 40, 200_000, 6);
+        assert!(p > 0.01, "p = {p}");
     }
 }

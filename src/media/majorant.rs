@@ -225,11 +225,45 @@ fn finite_length(dt: f32) -> f32 {
     }
 }
 
+/// The χ² p-value of `n` first tentative collisions of [`sample_t_maj`] along `o + t d`
+/// against their CDF `cdf` (which reaches 1 − `escape` at `t_max`), in `bins` bins of equal
+/// probability plus one for no collision.
+#[cfg(test)]
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn first_collision_p_value(
+    medium: &Medium,
+    (o, d, t_max): (Vec3, Vec3, f32),
+    cdf: impl Fn(f32) -> f64,
+    escape: f64,
+    bins: usize,
+    n: usize,
+    seed: u64,
+) -> f64 {
+    let w = SampledWavelengths::sample_uniform(0.37);
+    let uniform = medium.uniform_point(&w);
+    let mut counts = vec![0f64; bins + 1];
+    let mut rng = Rng::new(seed, 0);
+    for _ in 0..n {
+        let mut first = None;
+        let u = rng.uniform();
+        sample_t_maj(medium, &uniform, o, d, t_max, u, &mut rng, &w, |c, _| {
+            first = Some((c.p - o).dot(d));
+            false
+        });
+        match first {
+            Some(t) => counts[((cdf(t) / (1.0 - escape) * bins as f64) as usize).min(bins - 1)] += 1.0,
+            None => counts[bins] += 1.0,
+        }
+    }
+    let expect = |b: usize| if b < bins { (1.0 - escape) / bins as f64 } else { escape } * n as f64;
+    let chi2: f64 = counts.iter().enumerate().map(|(b, o)| (o - expect(b)).powi(2) / expect(b)).sum();
+    crate::sampling::chi2::chi2_survival(chi2, bins as f64)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::media::Homogeneous;
-    use crate::sampling::chi2::chi2_survival;
     use crate::spectrum::Spectrum;
 
     #[test]
@@ -244,39 +278,11 @@ mod tests {
             le: Spectrum::constant(0.0),
             g: 0.0,
         });
-        let w = SampledWavelengths::sample_uniform(0.37);
-        let uniform = medium.uniform_point(&w);
+        let uniform = medium.uniform_point(&SampledWavelengths::sample_uniform(0.37));
         let s0 = (uniform.sigma_a[0] + uniform.sigma_s[0]) as f64;
-        let (o, d, t_max) = (Vec3::new(0.3, -1.0, 2.0), Vec3::new(0.0, 0.6, 0.8), 1.5f32);
-        let escape = (-s0 * t_max as f64).exp();
-        let bins = 30;
-        let mut counts = vec![0f64; bins + 1];
-        let n = 150_000;
-        let mut rng = Rng::new(11, 0);
-        for _ in 0..n {
-            let mut first = None;
-            let u = rng.uniform();
-            let t_maj = sample_t_maj(&medium, &uniform, o, d, t_max, u, &mut rng, &w, |c, _| {
-                first = Some((c.p - o).dot(d));
-                false
-            });
-            match first {
-                Some(t) => {
-                    let f = 1.0 - (-s0 * t as f64).exp();
-                    counts[((f / (1.0 - escape) * bins as f64) as usize).min(bins - 1)] += 1.0;
-                }
-                None => {
-                    // Passing the whole segment returns its majorant transmittance.
-                    let expect = (uniform.sigma_a + uniform.sigma_s) * -t_max;
-                    assert!((t_maj[1] - expect[1].exp()).abs() < 1e-5, "{t_maj:?}");
-                    counts[bins] += 1.0;
-                }
-            }
-        }
-        let expect: Vec<f64> =
-            (0..=bins).map(|b| if b < bins { (1.0 - escape) / bins as f64 } else { escape } * n as f64).collect();
-        let chi2: f64 = counts.iter().zip(&expect).map(|(o, e)| (o - e).powi(2) / e).sum();
-        let p = chi2_survival(chi2, bins as f64);
-        assert!(p > 0.01, "χ² = {chi2} over {bins} dof, p = {p}: {counts:?}");
+        let ray = (Vec3::new(0.3, -1.0, 2.0), Vec3::new(0.0, 0.6, 0.8), 1.5f32);
+        let escape = (-s0 * ray.2 as f64).exp();
+        let p = first_collision_p_value(&medium, ray, |t| 1.0 - (-s0 * t as f64).exp(), escape, 30, 150_000, 11);
+        assert!(p > 0.01, "p = {p}");
     }
 }
