@@ -4,7 +4,7 @@
 
 use super::majorant::{Dda, MajorantGrid, MajorantSegments};
 use super::medium::{Homogeneous, MediumPoint};
-use crate::spectrum::{SampledSpectrum, SampledWavelengths};
+use crate::spectrum::{SampledSpectrum, SampledWavelengths, Spectrum};
 use glam::{IVec3, Mat4, UVec3, Vec3};
 
 /// Samples of a scalar field on the unit cube, x fastest (pbrt-v4 `SampledGrid`).
@@ -85,6 +85,54 @@ impl DensityGrid {
     }
 }
 
+/// What a density grid emits (pbrt-v4 `GridMedium::Le`): L_e(p) = s(p) · L(p), with s the
+/// `Lescale` grid (one sample unless given per voxel; the luminance normalisation of `Le` folded
+/// in) and L either the `Le` spectrum or a blackbody at the `temperature` grid's value.
+#[derive(Clone, Debug)]
+pub struct GridEmission {
+    /// The scale grid s.
+    pub scale: DensityGrid,
+    /// The emitted spectrum.
+    pub source: EmissionSource,
+}
+
+/// The spectrum a density grid emits.
+#[derive(Clone, Debug)]
+pub enum EmissionSource {
+    /// The same spectrum everywhere.
+    Spectrum(Spectrum),
+    /// A normalised blackbody at (T(p) − `offset`) · `scale` kelvin, where that exceeds 100 K.
+    Temperature {
+        /// Temperatures at the density grid's samples [K, before offset and scale].
+        grid: DensityGrid,
+        /// Subtracted from T.
+        offset: f32,
+        /// Multiplies T − offset.
+        scale: f32,
+    },
+}
+
+impl GridEmission {
+    /// L_e at unit-cube point `q`.
+    fn at(&self, q: Vec3, w: &SampledWavelengths) -> SampledSpectrum {
+        let s = self.scale.lookup(q);
+        if s <= 0.0 {
+            return SampledSpectrum::zero();
+        }
+        match &self.source {
+            EmissionSource::Spectrum(le) => le.sample(w) * s,
+            EmissionSource::Temperature { grid, offset, scale } => {
+                let t = (grid.lookup(q) - offset) * scale;
+                if t > 100.0 {
+                    Spectrum::blackbody(t).sample(w) * s
+                } else {
+                    SampledSpectrum::zero()
+                }
+            }
+        }
+    }
+}
+
 /// Cells per axis of the majorant grid (pbrt-v4's 16³).
 pub const MAJORANT_RES: u32 = 16;
 
@@ -97,6 +145,8 @@ pub struct GridMedium {
     majorants: MajorantGrid,
     /// The coefficients at unit density (emission σ_a·L_e follows the density through σ_a).
     pub coefficients: Homogeneous,
+    /// Emission, if any.
+    pub emission: Option<GridEmission>,
 }
 
 impl GridMedium {
@@ -112,7 +162,7 @@ impl GridMedium {
     ) -> Option<Self> {
         let grid_from_world = unit_cube_from_world(world_from_medium, p0, p1)?;
         let majorants = density.majorants(UVec3::splat(MAJORANT_RES));
-        Some(Self { grid_from_world, density, majorants, coefficients })
+        Some(Self { grid_from_world, density, majorants, coefficients, emission: None })
     }
 
     /// σ_a, σ_s (scale included) and L_e at unit density.
@@ -123,8 +173,10 @@ impl GridMedium {
     /// The coefficients at world-space `p`.
     pub fn point(&self, p: Vec3, w: &SampledWavelengths) -> MediumPoint {
         let unit = self.unit_point(w);
-        let d = self.density.lookup(self.grid_from_world.transform_point3(p));
-        MediumPoint { sigma_a: unit.sigma_a * d, sigma_s: unit.sigma_s * d, ..unit }
+        let q = self.grid_from_world.transform_point3(p);
+        let d = self.density.lookup(q);
+        let le = self.emission.as_ref().map_or(unit.le, |e| e.at(q, w));
+        MediumPoint { sigma_a: unit.sigma_a * d, sigma_s: unit.sigma_s * d, le, g: unit.g }
     }
 
     /// The density at world-space `p`.
@@ -213,6 +265,28 @@ mod tests {
         }
         let c = (q * g.majorants.res.as_vec3()).as_uvec3().min(g.majorants.res - UVec3::ONE);
         g.majorants.at(c)
+    }
+
+    #[test]
+    fn grid_emission_follows_the_scale_grid_and_the_temperature() {
+        // At the box centre a one-sample scale grid is exactly its sample; toward a face it
+        // falls off linearly to half (the sample's trilinear support), as pbrt-v4's grid does.
+        let mut g = random_grid(7, 1.0);
+        let one = |v: f32| DensityGrid::new(UVec3::ONE, vec![v]).unwrap();
+        let le = Spectrum::constant(3.0);
+        g.emission = Some(GridEmission { scale: one(0.5), source: EmissionSource::Spectrum(le) });
+        let w = SampledWavelengths::sample_uniform(0.2);
+        let world = |q: Vec3| g.grid_from_world.inverse().transform_point3(q);
+        assert!((g.point(world(Vec3::splat(0.5)), &w).le[0] - 1.5).abs() < 1e-5);
+        assert!((g.point(world(Vec3::new(0.25, 0.5, 0.5)), &w).le[0] - 1.5 * 0.75).abs() < 1e-5);
+        let source = EmissionSource::Temperature { grid: one(2100.0), offset: 100.0, scale: 1.5 };
+        g.emission = Some(GridEmission { scale: one(2.0), source });
+        let expect = Spectrum::blackbody(3000.0).sample(&w) * 2.0;
+        let got = g.point(world(Vec3::splat(0.5)), &w).le;
+        assert!((got - expect).max_value().abs() < 1e-4 * expect.max_value(), "{got:?} vs {expect:?}");
+        let cold = EmissionSource::Temperature { grid: one(150.0), offset: 100.0, scale: 1.0 };
+        g.emission = Some(GridEmission { scale: one(2.0), source: cold });
+        assert!(g.point(world(Vec3::splat(0.5)), &w).le.is_black(), "50 K emits nothing");
     }
 
     #[test]

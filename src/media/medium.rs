@@ -103,14 +103,4 @@ impl Medium {
             Medium::Cloud(c) => c.majorant_segments(o, d, t_max, uniform.sigma_a + uniform.sigma_s),
         }
     }
-
-    /// True when the medium emits light.
-    pub fn is_emissive(&self) -> bool {
-        let le = match self {
-            Medium::Homogeneous(h) => &h.le,
-            Medium::Grid(g) => &g.coefficients.le,
-            Medium::RgbGrid(_) | Medium::Cloud(_) => return false,
-        };
-        le.max_value() > 0.0
-    }
 }

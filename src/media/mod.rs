@@ -15,7 +15,7 @@ pub mod presets;
 mod rgb_grid;
 
 pub use cloud::{CloudMedium, CloudShape};
-pub use grid::{DensityGrid, GridMedium};
+pub use grid::{DensityGrid, EmissionSource, GridEmission, GridMedium};
 pub use homogeneous::{FreeFlight, HomogeneousMedium};
 pub use majorant::{sample_t_maj, Collision, MajorantSegment};
 pub use medium::{Homogeneous, Medium, MediumPoint};

@@ -1,7 +1,8 @@
 //! A medium whose σ_a and σ_s are RGB colours sampled on a grid over a box (pbrt-v4
 //! `RGBGridMedium`, the scene format's "rgbgrid"): each voxel's RGB is an unbounded spectrum
 //! (Jakob & Hanika 2019), and the coefficients at a point are the trilinear interpolation of the
-//! eight neighbouring voxels' spectra at the path's wavelengths, times `scale`.
+//! eight neighbouring voxels' spectra at the path's wavelengths, times `scale`. A coefficient
+//! given no grid is 1 everywhere (times `scale`), as in pbrt-v4.
 
 use super::grid::{clip_to_unit_cube, unit_cube_from_world, DensityGrid, MAJORANT_RES};
 use super::majorant::{Dda, MajorantGrid, MajorantSegments};
@@ -66,7 +67,7 @@ pub struct RgbGridMedium {
 
 impl RgbGridMedium {
     /// The medium over [p0, p1] of medium space placed by `world_from_medium`; a missing grid
-    /// is zero. `None` when the box is empty, the transform singular or the grids' shapes differ.
+    /// is 1. `None` when the box is empty, the transform singular or both grids are missing.
     pub fn new(
         world_from_medium: Mat4,
         p0: Vec3,
@@ -78,20 +79,24 @@ impl RgbGridMedium {
     ) -> Option<Self> {
         let grid_from_world = unit_cube_from_world(world_from_medium, p0, p1)?;
         let res = UVec3::splat(MAJORANT_RES);
-        let a = sigma_a.as_ref().map(|s| s.maxima().majorants(res));
-        let s = sigma_s.as_ref().map(|s| s.maxima().majorants(res));
-        let majorants = match (a, s) {
-            (Some(a), Some(s)) => MajorantGrid { res, max: a.max.iter().zip(&s.max).map(|(x, y)| x + y).collect() },
-            (Some(m), None) | (None, Some(m)) => m,
-            (None, None) => return None,
-        };
+        if sigma_a.is_none() && sigma_s.is_none() {
+            return None;
+        }
+        let cells = (res.x * res.y * res.z) as usize;
+        let max = |g: &Option<SpectrumGrid>| g.as_ref().map_or(vec![1.0; cells], |g| g.maxima().majorants(res).max);
+        let majorants =
+            MajorantGrid { res, max: max(&sigma_a).iter().zip(max(&sigma_s)).map(|(a, s)| a + s).collect() };
         Some(Self { grid_from_world, sigma_a, sigma_s, scale, g, majorants })
     }
 
     /// The coefficients at world-space `p`.
     pub fn point(&self, p: Vec3, w: &SampledWavelengths) -> MediumPoint {
         let q = self.grid_from_world.transform_point3(p);
-        let at = |g: &Option<SpectrumGrid>| g.as_ref().map_or(SampledSpectrum::zero(), |g| g.lookup(q, w) * self.scale);
+        if q.cmplt(Vec3::ZERO).any() || q.cmpgt(Vec3::ONE).any() {
+            let zero = SampledSpectrum::zero();
+            return MediumPoint { sigma_a: zero, sigma_s: zero, le: zero, g: self.g };
+        }
+        let at = |g: &Option<SpectrumGrid>| g.as_ref().map_or(SampledSpectrum::one(), |g| g.lookup(q, w)) * self.scale;
         MediumPoint { sigma_a: at(&self.sigma_a), sigma_s: at(&self.sigma_s), le: SampledSpectrum::zero(), g: self.g }
     }
 

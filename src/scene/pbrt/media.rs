@@ -7,7 +7,8 @@
 use super::{param_error, space_of, Ctx};
 use crate::media::presets::{measured_media_names, measured_medium};
 use crate::media::{
-    CloudMedium, CloudShape, DensityGrid, GridMedium, Homogeneous, Medium, RgbGridMedium, SpectrumGrid,
+    CloudMedium, CloudShape, DensityGrid, EmissionSource, GridEmission, GridMedium, Homogeneous, Medium, RgbGridMedium,
+    SpectrumGrid,
 };
 use crate::scene::desc::{MediumDesc, MediumNames};
 use crate::scene::error::SceneError;
@@ -55,12 +56,6 @@ impl Ctx<'_> {
                 Some(Medium::Homogeneous(Homogeneous { sigma_a, sigma_s, scale, le, g }))
             }
             "uniformgrid" => {
-                for name in ["Le", "temperature"] {
-                    if p.has(name) {
-                        let feature = format!("uniformgrid \"{name}\" (emission of a grid medium)");
-                        self.unsupported(&m.loc, feature, "renders the grid without emission");
-                    }
-                }
                 let n = ["nx", "ny", "nz"].map(|k| p.int_or(k, 1));
                 let density = p.floats("density").map(<[f32]>::to_vec).unwrap_or_default();
                 let expect = n.iter().map(|&k| k.max(0) as u64).product::<u64>();
@@ -75,12 +70,19 @@ impl Ctx<'_> {
                 let p0 = p.point3("p0").unwrap_or(Vec3::ZERO);
                 let p1 = p.point3("p1").unwrap_or(Vec3::ONE);
                 let coefficients = Homogeneous { sigma_a, sigma_s, scale, le: Spectrum::constant(0.0), g };
-                let medium = GridMedium::new(m.world_from_medium, p0, p1, grid, coefficients).ok_or_else(|| {
+                let n = UVec3::new(n[0] as u32, n[1] as u32, n[2] as u32);
+                let emission = self.grid_emission(m, n)?;
+                let mut medium = GridMedium::new(m.world_from_medium, p0, p1, grid, coefficients).ok_or_else(|| {
                     param_error(p, "p0", &m.loc, "the grid's bounds are empty or its transform singular".into())
                 })?;
+                medium.emission = emission;
                 Some(Medium::Grid(Box::new(medium)))
             }
             "rgbgrid" => {
+                if p.has("Le") {
+                    let feature = "rgbgrid \"Le\" (emission of an RGB grid)".to_string();
+                    self.unsupported(&m.loc, feature, "renders the grid without emission");
+                }
                 let n = ["nx", "ny", "nz"].map(|k| p.int_or(k, 1));
                 let (a, s) = (self.rgb_grid(m, "sigma_a", n)?, self.rgb_grid(m, "sigma_s", n)?);
                 let (p0, p1) = (p.point3("p0").unwrap_or(Vec3::ZERO), p.point3("p1").unwrap_or(Vec3::ONE));
@@ -109,6 +111,50 @@ impl Ctx<'_> {
             }
             _ => None,
         })
+    }
+
+    /// A uniformgrid's emission (pbrt-v4 `GridMedium::Create`): `Le` (normalised to unit
+    /// luminance) or a `temperature` grid (`temperatureoffset` or `temperaturecutoff`,
+    /// `temperaturescale`), times the `Lescale` grid (one value per voxel; absent: 1).
+    fn grid_emission(&mut self, m: &MediumDesc, n: UVec3) -> Result<Option<GridEmission>, SceneError> {
+        let p = &m.params;
+        let count = (n.x * n.y * n.z) as usize;
+        let per_voxel = |name: &str| -> Result<Option<DensityGrid>, SceneError> {
+            match p.floats(name) {
+                None => Ok(None),
+                Some(v) => DensityGrid::new(n, v.to_vec()).map(Some).ok_or_else(|| {
+                    param_error(
+                        p,
+                        name,
+                        &m.loc,
+                        format!("uniformgrid \"{name}\" has {} values; nx·ny·nz = {count}", v.len()),
+                    )
+                }),
+            }
+        };
+        let temperature = per_voxel("temperature")?;
+        if temperature.is_some() && p.has("Le") {
+            return Err(param_error(p, "Le", &m.loc, "uniformgrid takes \"Le\" or \"temperature\", not both".into()));
+        }
+        let (source, norm) = match temperature {
+            Some(grid) => {
+                let offset = p.float("temperatureoffset").or_else(|| p.float("temperaturecutoff")).unwrap_or(0.0);
+                (EmissionSource::Temperature { grid, offset, scale: p.float_or("temperaturescale", 1.0) }, 1.0)
+            }
+            None if p.has("Le") => {
+                let (s, norm) = self.light_spectrum(p, "Le", &m.loc)?;
+                if s.max_value() <= 0.0 {
+                    return Ok(None);
+                }
+                (EmissionSource::Spectrum(s), norm)
+            }
+            None => return Ok(None),
+        };
+        let mut scale = per_voxel("Lescale")?.unwrap_or_else(|| DensityGrid::new(UVec3::ONE, vec![1.0]).expect("one"));
+        for v in scale.values.iter_mut() {
+            *v *= norm;
+        }
+        Ok(Some(GridEmission { scale, source }))
     }
 
     /// An rgbgrid coefficient: nx·ny·nz RGB triples, each an unbounded spectrum (absent: zero).
@@ -229,6 +275,21 @@ mod tests {
     }
 
     #[test]
+    fn a_grid_with_a_temperature_grid_emits() {
+        let text = "MakeNamedMedium \"m\" \"string type\" \"uniformgrid\" \"integer nx\" 2 \
+            \"float density\" [ 1 1 ] \"float temperature\" [ 1000 1200 ] \"float temperaturescale\" 2\n\
+            Camera \"perspective\"\nWorldBegin";
+        let (s, warnings) = scene(text).unwrap();
+        assert!(warnings.is_empty(), "{warnings:?}");
+        let Medium::Grid(g) = &s.media()[0] else { panic!() };
+        let w = crate::spectrum::SampledWavelengths::sample_uniform(0.5);
+        // Between the two samples (x = ½), T = 1100 · 2 K, and the one-sample Lescale grid is 1.
+        let le = g.point(glam::Vec3::new(0.5, 0.5, 0.5), &w).le;
+        let expect = crate::spectrum::Spectrum::blackbody(2200.0).sample(&w);
+        assert!((le - expect).max_value().abs() < 1e-4 * expect.max_value(), "{le:?} vs {expect:?}");
+    }
+
+    #[test]
     fn instanced_shapes_keep_their_media() {
         let text = format!(
             "{MEDIA}Camera \"perspective\"\nWorldBegin\nObjectBegin \"o\"\nMaterial \"interface\"\n\
@@ -250,6 +311,12 @@ mod tests {
         assert!(scene(g).err().unwrap().contains("g must lie in (-1, 1)"));
         let grid = "MakeNamedMedium \"m\" \"string type\" \"uniformgrid\" \"integer nx\" 2 \"float density\" [ 1 ]\nWorldBegin";
         assert!(scene(grid).err().unwrap().contains("has 1 values; nx·ny·nz = 2"));
+        let grid = "MakeNamedMedium \"m\" \"string type\" \"uniformgrid\" \"float density\" [ 1 ] \
+            \"float temperature\" [ 900 ] \"blackbody Le\" 2000\nWorldBegin";
+        assert!(scene(grid).err().unwrap().contains("not both"));
+        let grid = "MakeNamedMedium \"m\" \"string type\" \"uniformgrid\" \"float density\" [ 1 ] \
+            \"blackbody Le\" 2000 \"float Lescale\" [ 1 2 ]\nWorldBegin";
+        assert!(scene(grid).err().unwrap().contains("\"Lescale\" has 2 values"));
         let untyped = "MakeNamedMedium \"m\" \"float g\" [ 0 ]\nWorldBegin";
         assert!(scene(untyped).err().unwrap().contains("needs a \"string type\""));
     }
