@@ -6,7 +6,7 @@
 use crate::film::{Film, FilmAllocError, FilmSettings};
 use crate::filter::Filter;
 use crate::integrator::lanes::{self, LaneTrace, LaneTracer};
-use crate::integrator::{PathIntegrator, Stats};
+use crate::integrator::{PathIntegrator, Stats, VolPathIntegrator};
 use crate::sampling::Sampler;
 use crate::scene::Scene;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
@@ -121,7 +121,9 @@ pub fn render_pass(scene: &Scene, settings: &RenderSettings, film: &mut Film, ra
     }
     let (x0, y0) = settings.film_origin();
     let sensor = settings.film.sensor;
-    let tracer = settings.lanes.and_then(|t| LaneTracer::new(integrator, scene, t).ok());
+    // A scene with media is rendered by the volumetric path tracer; one without never reaches it.
+    let volpath = scene.has_media().then(|| VolPathIntegrator::from_path(&integrator));
+    let tracer = settings.lanes.filter(|_| volpath.is_none()).and_then(|t| LaneTracer::new(integrator, scene, t).ok());
     film.pixels
         .par_chunks_mut(width * BAND_ROWS)
         .enumerate()
@@ -187,7 +189,10 @@ pub fn render_pass(scene: &Scene, settings: &RenderSettings, film: &mut Film, ra
                 let (x, y) = pixel_at(i);
                 for s in range.clone() {
                     let (mut lambdas, weight, ray) = start(&mut sampler, (x, y), s);
-                    let l = integrator.li(scene, ray, &mut lambdas, &mut sampler, &mut stats);
+                    let l = match &volpath {
+                        Some(v) => v.li(scene, ray, &mut lambdas, &mut sampler, &mut stats),
+                        None => integrator.li(scene, ray, &mut lambdas, &mut sampler, &mut stats),
+                    };
                     add(px, &mut stats, (x, y), s, l, lambdas, weight);
                 }
             }

@@ -3,9 +3,14 @@
 pub mod lanes;
 mod path;
 pub mod subsurface;
+mod transmittance;
+mod volpath;
+#[cfg(test)]
+mod volpath_tests;
 
 pub use path::{DirectStrategy, PathIntegrator, UNBOUNDED_DEPTH};
 pub use subsurface::SubsurfaceMethod;
+pub use volpath::VolPathIntegrator;
 
 /// Counters gathered while rendering (summed over threads).
 #[derive(Clone, Debug, Default, PartialEq)]

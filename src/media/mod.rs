@@ -1,10 +1,23 @@
-//! Participating media: a homogeneous medium given by its absorption and scattering
-//! coefficients, free-flight distance sampling with spectral MIS over the path's four
-//! wavelengths, and the Henyey–Greenstein phase function. Used by the random-walk subsurface
-//! reference (`integrator::subsurface`).
+//! Participating media: homogeneous media, density and RGB grids and pbrt-v4's procedural
+//! cloud ([`Medium`]), majorants and
+//! free-flight sampling against them ([`sample_t_maj`]), the measured media table, and the
+//! Henyey–Greenstein phase function. The random-walk subsurface reference
+//! (`integrator::subsurface`) uses [`HomogeneousMedium`]'s spectral-MIS free flights; the
+//! volumetric path tracer (`integrator::volpath`) uses [`Medium`].
 
+mod cloud;
+pub mod grid;
 mod homogeneous;
+pub mod majorant;
+mod medium;
 mod phase;
+pub mod presets;
+mod rgb_grid;
 
+pub use cloud::{CloudMedium, CloudShape};
+pub use grid::{DensityGrid, EmissionSource, GridEmission, GridMedium};
 pub use homogeneous::{FreeFlight, HomogeneousMedium};
+pub use majorant::{sample_t_maj, Collision, MajorantSegment};
+pub use medium::{Homogeneous, Medium, MediumPoint};
 pub use phase::{hg_density, HenyeyGreenstein};
+pub use rgb_grid::{RgbGridMedium, SpectrumGrid};

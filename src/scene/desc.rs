@@ -31,6 +31,32 @@ pub struct CameraDesc {
     pub directive: Directive,
     /// The current transform at the Camera directive: camera space from world space.
     pub camera_from_world: Mat4,
+    /// The medium the camera sits in: the current outside medium at the directive ("": vacuum).
+    pub medium: String,
+}
+
+/// The media named by `MediumInterface` for the shapes that follow ("": vacuum).
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct MediumNames {
+    /// The medium behind the surface (opposite its normal).
+    pub inside: String,
+    /// The medium in front of it.
+    pub outside: String,
+}
+
+/// A MakeNamedMedium directive.
+#[derive(Clone, Debug)]
+pub struct MediumDesc {
+    /// Its name.
+    pub name: String,
+    /// "homogeneous", "uniformgrid", ...
+    pub kind: String,
+    /// Its parameters (without "type").
+    pub params: ParamSet,
+    /// World from medium space: the current transform at the directive.
+    pub world_from_medium: Mat4,
+    /// Where it was written.
+    pub loc: Location,
 }
 
 /// Which material a shape uses.
@@ -128,6 +154,8 @@ pub struct ShapeDesc {
     pub material: MaterialRef,
     /// The area light in effect, if any (never set inside object definitions).
     pub area_light: Option<AreaLightDesc>,
+    /// The media on either side.
+    pub media: MediumNames,
     /// Where it was written.
     pub loc: Location,
 }
@@ -203,6 +231,8 @@ pub struct SceneDesc {
     pub objects: Vec<ObjectDesc>,
     /// Object instances.
     pub instances: Vec<InstanceDesc>,
+    /// Named media in definition order (a later one with the same name replaces).
+    pub media: Vec<MediumDesc>,
     /// The scene files read: the one parsed, then every Include/Import (empty for parsed text).
     pub scene_files: Vec<PathBuf>,
 }
@@ -305,6 +335,9 @@ impl SceneDesc {
         }
         for t in &self.textures {
             d(&t.params, "Texture", &t.name);
+        }
+        for m in &self.media {
+            d(&m.params, "MakeNamedMedium", &m.name);
         }
         w
     }

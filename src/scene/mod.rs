@@ -20,8 +20,8 @@ pub mod tokenizer;
 
 pub use cornell::add_cornell_box;
 pub use desc::{
-    AreaLightDesc, Directive, InstanceDesc, LightDesc, MaterialDesc, MaterialRef, NamedMaterial, ObjectDesc, SceneDesc,
-    ShapeDesc, ShapeGeometry, TextureClass, TextureDesc,
+    AreaLightDesc, Directive, InstanceDesc, LightDesc, MaterialDesc, MaterialRef, MediumDesc, MediumNames,
+    NamedMaterial, ObjectDesc, SceneDesc, ShapeDesc, ShapeGeometry, TextureClass, TextureDesc,
 };
 pub use error::{Location, SceneError, Warning};
 pub use interaction::SurfaceInteraction;
@@ -34,6 +34,7 @@ use crate::camera::{Camera, Projection};
 use crate::geometry::{Hit, Instance, InstanceSet, Mesh, Prototype, Ray};
 use crate::light::{AreaLight, Light, LightSampler, SphereLight};
 use crate::material::{FloatTexture, Material};
+use crate::media::Medium;
 use crate::spectrum::Spectrum;
 use glam::{Mat4, Vec2, Vec3};
 use std::sync::Arc;
@@ -98,6 +99,8 @@ struct PendingPrimitive {
     emission: Option<Emission>,
     /// Cut-out mask (`None`: opaque).
     alpha: Option<FloatTexture>,
+    /// The media on either side.
+    medium_interface: MediumInterface,
     /// Its prototype (`None`: placed in the world as it is).
     prototype: Option<u32>,
     /// Centre and radius of the full sphere the mesh is inscribed in, when it emits as one
@@ -114,6 +117,8 @@ pub struct SceneBuilder {
     materials: Vec<Material>,
     lights: Vec<Light>,
     camera: Option<CameraDesc>,
+    media: Vec<Medium>,
+    camera_medium: Option<u32>,
     /// Warnings collected while building (degenerate geometry, …).
     pub warnings: Vec<String>,
 }
@@ -146,7 +151,15 @@ impl SceneBuilder {
             self.warnings
                 .push(format!("mesh {id}: skipped {dropped} degenerate triangle(s) (zero area or NaN/Inf vertices)"));
         }
-        self.primitives.push(PendingPrimitive { mesh, material, emission, alpha: None, prototype: None, sphere: None });
+        self.primitives.push(PendingPrimitive {
+            mesh,
+            material,
+            emission,
+            alpha: None,
+            medium_interface: MediumInterface::default(),
+            prototype: None,
+            sphere: None,
+        });
         id
     }
 
@@ -169,6 +182,24 @@ impl SceneBuilder {
         if let Some(p) = self.primitives.get_mut(id as usize) {
             p.sphere = Some((center, radius));
         }
+    }
+
+    /// Adds a participating medium, returning its id for [`MediumInterface`]s.
+    pub fn add_medium(&mut self, m: Medium) -> u32 {
+        self.media.push(m);
+        self.media.len() as u32 - 1
+    }
+
+    /// Sets the media inside and outside primitive `id`.
+    pub fn set_medium_interface(&mut self, id: u32, mi: MediumInterface) {
+        if let Some(p) = self.primitives.get_mut(id as usize) {
+            p.medium_interface = mi;
+        }
+    }
+
+    /// Sets the medium the camera sits in (`None`: vacuum).
+    pub fn set_camera_medium(&mut self, medium: Option<u32>) {
+        self.camera_medium = medium;
     }
 
     /// The primitive ids of prototype `proto`'s meshes, in the order they were given.
@@ -246,7 +277,9 @@ impl SceneBuilder {
             for &m in &self.prototypes[inst.prototype as usize].meshes.clone() {
                 let p = &self.primitives[m as usize];
                 let copy = p.mesh.transformed(&inst.world_from_object);
-                self.add_mesh(copy, p.material, None);
+                let mi = p.medium_interface;
+                let id = self.add_mesh(copy, p.material, None);
+                self.set_medium_interface(id, mi);
             }
         }
         for proto in std::mem::take(&mut self.prototypes) {
@@ -307,9 +340,12 @@ impl SceneBuilder {
         // The accelerator reads the meshes as one slice; they then move into their primitives.
         let world_meshes =
             (0..self.primitives.len() as u32).filter(|&m| self.primitives[m as usize].prototype.is_none()).collect();
-        type Parts = (u32, Option<Emission>, Option<FloatTexture>, Option<(Vec3, f32)>);
-        let (meshes, parts): (Vec<Mesh>, Vec<Parts>) =
-            self.primitives.into_iter().map(|p| (p.mesh, (p.material, p.emission, p.alpha, p.sphere))).unzip();
+        type Parts = (u32, Option<Emission>, Option<FloatTexture>, Option<(Vec3, f32)>, MediumInterface);
+        let (meshes, parts): (Vec<Mesh>, Vec<Parts>) = self
+            .primitives
+            .into_iter()
+            .map(|p| (p.mesh, (p.material, p.emission, p.alpha, p.sphere, p.medium_interface)))
+            .unzip();
         let accel = if self.prototypes.is_empty() {
             accel::build(accel_kind, &meshes)
         } else {
@@ -319,7 +355,7 @@ impl SceneBuilder {
         .map_err(BuildError::Accel)?;
         let mut lights = self.lights;
         let mut primitives = Vec::with_capacity(meshes.len());
-        for (mesh, (material, emission, alpha, sphere)) in meshes.into_iter().zip(parts) {
+        for (mesh, (material, emission, alpha, sphere, medium_interface)) in meshes.into_iter().zip(parts) {
             let one_light = emission.is_some() && sphere.is_some() && !mesh.is_empty();
             let area_lights = emission.map(|em| {
                 let first = lights.len() as u32;
@@ -342,14 +378,7 @@ impl SceneBuilder {
                 }
                 first
             });
-            primitives.push(Primitive {
-                mesh,
-                material,
-                area_lights,
-                one_light,
-                medium_interface: MediumInterface::default(),
-                alpha,
-            });
+            primitives.push(Primitive { mesh, material, area_lights, one_light, medium_interface, alpha });
         }
         let has_alpha = primitives.iter().any(|p| p.alpha.is_some());
         let bounds = accel.bounds();
@@ -371,6 +400,8 @@ impl SceneBuilder {
             camera,
             scene_center: if bounds.is_empty() { Vec3::ZERO } else { bounds.center() },
             scene_radius: radius,
+            media: self.media,
+            camera_medium: self.camera_medium,
         })
     }
 }
@@ -426,6 +457,10 @@ pub struct Scene {
     has_interfaces: bool,
     /// Some primitive has an alpha mask, so every hit must be tested against it.
     has_alpha: bool,
+    /// Participating media (a [`MediumInterface`] indexes them).
+    media: Vec<Medium>,
+    /// The medium the camera sits in.
+    camera_medium: Option<u32>,
 }
 
 /// Most interfaces a ray passes through before it is taken as blocked (a guard against
@@ -569,6 +604,21 @@ impl Scene {
             .filter(|b| !b.is_empty())
             .map(|b| b.radius())
             .fold(0.0, f32::max)
+    }
+
+    /// The participating media (a [`MediumInterface`] indexes them).
+    pub fn media(&self) -> &[Medium] {
+        &self.media
+    }
+
+    /// True when the scene has participating media (and needs the volumetric path tracer).
+    pub fn has_media(&self) -> bool {
+        !self.media.is_empty()
+    }
+
+    /// The medium the camera sits in (`None`: vacuum).
+    pub fn camera_medium(&self) -> Option<u32> {
+        self.camera_medium
     }
 
     /// True when some material disperses light (model only what the scene needs).

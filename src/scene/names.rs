@@ -32,8 +32,12 @@ pub const PRISM_FILMS: &[&str] = &["rgb", "spectral"];
 /// pbrt-v4 films prism replaces.
 pub const PBRT_ONLY_FILMS: &[(&str, &str)] = &[("gbuffer", "rgb")];
 
+/// Medium types prism renders (MakeNamedMedium "string type").
+pub const MEDIA: &[&str] = &["homogeneous", "uniformgrid", "rgbgrid", "cloud"];
+
 /// Integrators prism runs.
-/// "volpath" without media is "path" (its media are reported where they are declared).
+/// A scene with media is rendered by the volumetric path tracer whichever is named; without
+/// media "volpath" is "path".
 pub const PRISM_INTEGRATORS: &[&str] = &["path", "volpath"];
 /// pbrt-v4 integrators prism replaces with its path tracer.
 pub const PBRT_ONLY_INTEGRATORS: &[(&str, &str)] = &[

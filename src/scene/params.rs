@@ -17,6 +17,8 @@ use super::tokenizer::{Token, TokenKind};
 pub enum SpectrumParam {
     /// An RGB triple in the parameter set's colour space.
     Rgb([f32; 3]),
+    /// Several RGB triples (a grid medium's voxels), in the parameter set's colour space.
+    RgbArray(Vec<[f32; 3]>),
     /// A blackbody emitter at this temperature [K] (normalised to peak 1 by pbrt-v4).
     Blackbody(f32),
     /// Piecewise-linear samples (wavelength [nm], value), wavelengths increasing.
@@ -173,6 +175,15 @@ impl Param {
             "normal" | "normal3" => ("normal", ParamValue::Normal(vec3s(grouped(3)?))),
             "point2" => ("point2", ParamValue::Point2(vec2s(grouped(2)?))),
             "vector2" => ("vector2", ParamValue::Vector2(vec2s(grouped(2)?))),
+            "rgb" | "color" if values.len() > 3 => {
+                let v = grouped(3)?;
+                (
+                    "rgb",
+                    ParamValue::Spectrum(SpectrumParam::RgbArray(
+                        v.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect(),
+                    )),
+                )
+            }
             "rgb" | "color" => {
                 let v = exactly(3)?;
                 ("rgb", ParamValue::Spectrum(SpectrumParam::Rgb([v[0], v[1], v[2]])))

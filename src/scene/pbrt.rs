@@ -11,6 +11,7 @@ mod inputs;
 mod lights;
 mod load;
 mod materials;
+mod media;
 mod subsurface;
 mod textures;
 
@@ -88,9 +89,16 @@ pub const PBRT_DEFAULT_MAX_DEPTH: u32 = 5;
 
 /// Turns a desc into a builder; warnings go to `warnings`.
 pub fn build(desc: &SceneDesc, warnings: &mut Vec<Warning>) -> Result<(SceneBuilder, FileSettings), SceneError> {
-    let mut ctx =
-        Ctx { desc, b: SceneBuilder::new(), warnings, materials: HashMap::new(), textures: Default::default() };
+    let mut ctx = Ctx {
+        desc,
+        b: SceneBuilder::new(),
+        warnings,
+        materials: HashMap::new(),
+        textures: Default::default(),
+        media: Default::default(),
+    };
     ctx.camera()?;
+    ctx.media = ctx.media()?;
     let settings = ctx.settings()?;
     ctx.all_textures()?;
     for shape in &desc.shapes {
@@ -112,6 +120,8 @@ struct Ctx<'a> {
     materials: HashMap<String, u32>,
     /// Textures and image pyramids built so far.
     textures: textures::Built,
+    /// Medium ids by name.
+    media: media::MediumIds,
 }
 
 /// An error at parameter `name` of `params` (at `directive` where the parameter is not written).
@@ -248,6 +258,7 @@ impl Ctx<'_> {
         Ok(match s {
             SpectrumParam::Rgb(rgb) => Spectrum::from_rgb(*rgb, kind, space_of(params)),
             SpectrumParam::Blackbody(t) => Spectrum::blackbody(*t),
+            SpectrumParam::RgbArray(v) => return Err(format!("one RGB colour is expected here, not {}", v.len())),
             SpectrumParam::Samples(v) => {
                 let (l, x): (Vec<f32>, Vec<f32>) = v.iter().copied().unzip();
                 Spectrum::piecewise_linear(&l, &x).ok_or("spectrum samples must have increasing wavelengths")?
@@ -382,8 +393,10 @@ impl Ctx<'_> {
                     }
                     let p = (!meshes.is_empty()).then(|| self.b.add_prototype(meshes));
                     if let Some(p) = p {
-                        for (id, alpha) in self.b.prototype_meshes(p).to_vec().into_iter().zip(alphas) {
+                        let ids = self.b.prototype_meshes(p).to_vec();
+                        for ((id, alpha), s) in ids.into_iter().zip(alphas).zip(&obj.shapes) {
                             self.b.set_alpha(id, alpha);
+                            self.b.set_medium_interface(id, media::interface(&self.media, &s.media));
                         }
                     }
                     prototype.insert(inst.object_index, p);
@@ -435,6 +448,7 @@ impl Ctx<'_> {
         }
         let alpha = self.float_texture(&s.params, "alpha", 1.0)?;
         self.b.set_alpha(id, alpha);
+        self.b.set_medium_interface(id, media::interface(&self.media, &s.media));
         Ok(())
     }
 }

@@ -17,6 +17,29 @@ pub struct MediumInterface {
     pub outside: Option<u32>,
 }
 
+impl MediumInterface {
+    /// True when the media on the two sides differ, so a ray crossing the surface changes
+    /// medium; a surface that is no transition leaves a ray in the medium it was in (pbrt-v4
+    /// `MediumInterface::IsMediumTransition`).
+    #[inline]
+    pub fn is_transition(&self) -> bool {
+        self.inside != self.outside
+    }
+
+    /// The medium a ray leaving along `d` enters, for a surface with (oriented) geometric
+    /// normal `ng`, coming from `current`.
+    #[inline]
+    pub fn medium_toward(&self, d: glam::Vec3, ng: glam::Vec3, current: Option<u32>) -> Option<u32> {
+        if !self.is_transition() {
+            current
+        } else if d.dot(ng) > 0.0 {
+            self.outside
+        } else {
+            self.inside
+        }
+    }
+}
+
 /// A triangle mesh with its material, area emission, medium interface and alpha. A hit's `geom_id`
 /// names its primitive; primitives of object instances are in object space.
 #[derive(Clone, Debug, Default)]

@@ -177,3 +177,15 @@ fn killeroo_subdivision_surface_has_pbrt_v4s_highlight() {
     std::fs::remove_dir_all(&d).ok();
     assert!(error <= 3.0 * own, "error {error:.5} vs pbrt-v4's own {own:.5} ({:.2}×)", error / own);
 }
+
+#[test]
+fn homogeneous_media_in_spheres_and_filling_the_scene_have_pbrt_v4s_means() {
+    for scene in ["media.pbrt", "media-fog.pbrt"] {
+        assert_matches_pbrt_v4(scene, 16);
+    }
+}
+
+#[test]
+fn density_grid_rgb_grid_and_cloud_media_have_pbrt_v4s_means() {
+    assert_matches_pbrt_v4("media-grid.pbrt", 16);
+}

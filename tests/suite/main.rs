@@ -11,6 +11,7 @@ mod envmap;
 mod equal_area_envmap;
 mod film;
 mod instancing;
+mod media;
 mod merge;
 mod naive_fails;
 mod pbrt_defaults;

@@ -58,9 +58,9 @@ fn every_unsupported_feature_warns_and_is_an_error_in_strict_mode() {
         ),
         (
             true,
-            "MakeNamedMedium \"fog\" \"string type\" \"homogeneous\"".into(),
+            "MakeNamedMedium \"fog\" \"string type\" \"nanovdb\"".into(),
             "MakeNamedMedium",
-            "participating medium",
+            "medium type \"nanovdb\"",
         ),
         (true, "Film \"rgb\" \"string sensor\" \"canon_eos_100d\"".into(), "Film", "sensor \"canon_eos_100d\""),
         (

@@ -94,6 +94,8 @@ struct GraphicsState {
     color_space: String,
     /// `Attribute "shape" ...` etc.: defaults merged into later directives' parameters.
     defaults: HashMap<&'static str, ParamSet>,
+    /// The current MediumInterface.
+    media: MediumNames,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -127,6 +129,7 @@ struct Parser<'o> {
     objects: Vec<ObjectDesc>,
     current_object: Option<ObjectDesc>,
     instances: Vec<(String, Mat4, Location)>,
+    media: Vec<MediumDesc>,
     include_stack: Vec<PathBuf>,
     /// Every file read so far: the scene file, then each Include/Import in reading order.
     files_read: Vec<PathBuf>,
@@ -149,6 +152,7 @@ impl<'o> Parser<'o> {
                 area_light: None,
                 color_space: "srgb".into(),
                 defaults: HashMap::new(),
+                media: MediumNames::default(),
             },
             stack: Vec::new(),
             named_cs: HashMap::new(),
@@ -170,6 +174,7 @@ impl<'o> Parser<'o> {
             objects: Vec::new(),
             current_object: None,
             instances: Vec::new(),
+            media: Vec::new(),
             include_stack: Vec::new(),
             files_read: Vec::new(),
             stack_floor: 0,
@@ -372,13 +377,23 @@ impl<'o> Parser<'o> {
         for t in &self.textures {
             check_textures(&t.params)?;
         }
+        let shapes = self.shapes.iter().chain(self.objects.iter().flat_map(|o| o.shapes.iter()));
+        let used = shapes.flat_map(|s| [(&s.media.inside, &s.loc), (&s.media.outside, &s.loc)]);
+        let camera = self.camera.as_ref().map(|c| (&c.medium, &c.directive.loc));
+        for (name, loc) in used.chain(camera) {
+            if !name.is_empty() && !self.media.iter().any(|m| &m.name == name) {
+                return Err(SceneError::syntax(loc, name, format!("medium \"{name}\" is not defined")));
+            }
+        }
         let default_loc = self.in_world.clone().unwrap_or_else(|| end.clone());
         let cs = self.color_space.clone();
         let dflt = |kind: &str| Directive { kind: kind.into(), params: ParamSet::new(&cs), loc: default_loc.clone() };
         let desc = SceneDesc {
-            camera: self
-                .camera
-                .unwrap_or_else(|| CameraDesc { directive: dflt("perspective"), camera_from_world: Mat4::IDENTITY }),
+            camera: self.camera.unwrap_or_else(|| CameraDesc {
+                directive: dflt("perspective"),
+                camera_from_world: Mat4::IDENTITY,
+                medium: String::new(),
+            }),
             film: self.film.unwrap_or_else(|| dflt("rgb")),
             sampler: self.sampler.unwrap_or_else(|| dflt("zsobol")),
             integrator: self.integrator.unwrap_or_else(|| dflt("path")),
@@ -393,6 +408,7 @@ impl<'o> Parser<'o> {
             textures: self.textures,
             objects: self.objects,
             instances,
+            media: self.media,
             scene_files: self.files_read,
         };
         if self.opts.strict {

@@ -51,6 +51,7 @@ impl Parser<'_> {
                 self.camera = Some(CameraDesc {
                     directive: Directive { kind: kind.unwrap_or_default(), params, loc: tok.loc.clone() },
                     camera_from_world: ctm,
+                    medium: self.gs.media.outside.clone(),
                 });
             }
             "Film" => {
@@ -94,8 +95,25 @@ impl Parser<'_> {
             }
             "MakeNamedMedium" => {
                 let name = src.string(tok, "a medium name")?;
-                let _ = src.params(cs)?;
-                self.unsupported(&tok.loc, &format!("participating medium \"{}\"", name.text), "ignores the medium");
+                let params = src.params(cs)?;
+                let kind = match params.string("type") {
+                    Some(k) => k.to_string(),
+                    None => {
+                        return Err(SceneError::syntax(&tok.loc, &name.text, "MakeNamedMedium needs a \"string type\""))
+                    }
+                };
+                if !names::MEDIA.contains(&kind.as_str()) {
+                    let feature = format!("medium type \"{kind}\" of \"{}\"", name.text);
+                    self.unsupported(&tok.loc, &feature, "renders vacuum in its place");
+                }
+                self.media.retain(|m| m.name != name.text);
+                self.media.push(MediumDesc {
+                    name: name.text,
+                    kind,
+                    params,
+                    world_from_medium: self.gs.ctm,
+                    loc: tok.loc.clone(),
+                });
             }
             "MediumInterface" => {
                 let inside = src.string(tok, "a medium name")?;
@@ -104,10 +122,8 @@ impl Parser<'_> {
                     Some(t) if t.kind == TokenKind::Str && !t.text.contains(' ') => src.next()?.map(|t| t.text),
                     _ => None,
                 };
-                // `MediumInterface "" ""` (vacuum on both sides) is what prism renders anyway.
-                if !inside.text.is_empty() || outside.is_some_and(|o| !o.is_empty()) {
-                    self.unsupported(&tok.loc, "MediumInterface (inside/outside media)", "ignores the media names");
-                }
+                let outside = outside.unwrap_or_else(|| inside.text.clone());
+                self.gs.media = MediumNames { inside: inside.text, outside };
             }
             "WorldBegin" => {
                 self.require_options(tok)?;

@@ -264,6 +264,7 @@ impl Parser<'_> {
             reverse_orientation: self.gs.reverse_orientation,
             material: self.gs.material.clone(),
             area_light,
+            media: self.gs.media.clone(),
             loc: tok.loc.clone(),
         };
         match &mut self.current_object {

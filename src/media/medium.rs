@@ -1,0 +1,106 @@
+//! The participating media a scene declares (pbrt-v4 `Medium`, Pharr, Jakob & Humphreys,
+//! *Physically Based Rendering*, 4th ed., §11.4): homogeneous media and density grids. A medium
+//! answers two questions of the volumetric path tracer: the coefficients at a point (σ_a, σ_s,
+//! the emitted radiance L_e and the phase function's g), and the majorant σ_maj ≥ σ_t along a
+//! ray, piecewise constant over segments, that free-flight sampling draws distances from.
+
+use super::cloud::CloudMedium;
+use super::grid::GridMedium;
+use super::majorant::MajorantSegments;
+use super::rgb_grid::RgbGridMedium;
+use crate::spectrum::{SampledSpectrum, SampledWavelengths, Spectrum};
+use glam::Vec3;
+
+/// A medium's coefficients at one point, at the path's four wavelengths.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MediumPoint {
+    /// Absorption coefficient σ_a [1/scene unit].
+    pub sigma_a: SampledSpectrum,
+    /// Scattering coefficient σ_s [1/scene unit].
+    pub sigma_s: SampledSpectrum,
+    /// Emitted radiance L_e [W/(sr·m²·nm)]; the source term of the transport equation is σ_a L_e.
+    pub le: SampledSpectrum,
+    /// Henyey–Greenstein asymmetry.
+    pub g: f32,
+}
+
+/// A medium with the same coefficients everywhere (pbrt-v4 `HomogeneousMedium`).
+#[derive(Clone, Debug)]
+pub struct Homogeneous {
+    /// σ_a before `scale` [1/scene unit].
+    pub sigma_a: Spectrum,
+    /// σ_s before `scale` [1/scene unit].
+    pub sigma_s: Spectrum,
+    /// Multiplier of both coefficients.
+    pub scale: f32,
+    /// Emitted radiance, already multiplied by its scale (zero: no emission).
+    pub le: Spectrum,
+    /// Henyey–Greenstein asymmetry.
+    pub g: f32,
+}
+
+impl Homogeneous {
+    /// The coefficients at the wavelengths `w`.
+    pub fn point(&self, w: &SampledWavelengths) -> MediumPoint {
+        MediumPoint {
+            sigma_a: self.sigma_a.sample(w) * self.scale,
+            sigma_s: self.sigma_s.sample(w) * self.scale,
+            le: self.le.sample(w),
+            g: self.g,
+        }
+    }
+}
+
+/// A participating medium.
+#[derive(Clone, Debug)]
+pub enum Medium {
+    /// Constant coefficients.
+    Homogeneous(Homogeneous),
+    /// Coefficients scaled by a density grid over a box (pbrt-v4 `GridMedium`).
+    Grid(Box<GridMedium>),
+    /// RGB coefficients on a grid over a box (pbrt-v4 `RGBGridMedium`).
+    RgbGrid(Box<RgbGridMedium>),
+    /// pbrt-v4's procedural cloud.
+    Cloud(Box<CloudMedium>),
+}
+
+impl Medium {
+    /// The coefficients at world-space point `p`; `uniform` is the homogeneous medium's
+    /// (evaluated once per ray, since it does not vary).
+    #[inline]
+    pub fn point_at(&self, p: Vec3, uniform: &MediumPoint, w: &SampledWavelengths) -> MediumPoint {
+        match self {
+            Medium::Homogeneous(_) => *uniform,
+            Medium::Grid(g) => g.point(p, w),
+            Medium::RgbGrid(g) => g.point(p, w),
+            Medium::Cloud(c) => c.point(p, uniform),
+        }
+    }
+
+    /// The spatially constant part of the medium at `w`: all of a homogeneous medium, the
+    /// coefficients at unit density of a density grid or a cloud (the RGB grid has none).
+    pub fn uniform_point(&self, w: &SampledWavelengths) -> MediumPoint {
+        match self {
+            Medium::Homogeneous(h) => h.point(w),
+            Medium::Grid(g) => g.unit_point(w),
+            Medium::RgbGrid(_) => MediumPoint {
+                sigma_a: SampledSpectrum::zero(),
+                sigma_s: SampledSpectrum::zero(),
+                le: SampledSpectrum::zero(),
+                g: 0.0,
+            },
+            Medium::Cloud(c) => c.coefficients.point(w),
+        }
+    }
+
+    /// The majorant's segments along the ray `o + t d` (`d` unit, world space) for t in
+    /// [0, t_max].
+    pub fn majorant_segments(&self, o: Vec3, d: Vec3, t_max: f32, uniform: &MediumPoint) -> MajorantSegments<'_> {
+        match self {
+            Medium::Homogeneous(_) => MajorantSegments::single(0.0, t_max, uniform.sigma_a + uniform.sigma_s),
+            Medium::Grid(g) => g.majorant_segments(o, d, t_max, uniform.sigma_a + uniform.sigma_s),
+            Medium::RgbGrid(g) => g.majorant_segments(o, d, t_max),
+            Medium::Cloud(c) => c.majorant_segments(o, d, t_max, uniform.sigma_a + uniform.sigma_s),
+        }
+    }
+}

@@ -1,0 +1,323 @@
+//! pbrt-v4's MakeNamedMedium → [`Medium`], with parameters and defaults as pbrt-v4's
+//! `media.cpp`: "homogeneous" (`sigma_a`, `sigma_s` (default 1 each), `scale`, `g`, `preset`,
+//! `Le`, `Lescale`) and "uniformgrid" (`density` with `nx`, `ny`, `nz`, bounds `p0`/`p1`, and
+//! the same coefficients). Emission `Le` is normalised to unit luminance like a light's, then
+//! multiplied by `Lescale`.
+
+use super::{param_error, space_of, Ctx};
+use crate::media::presets::{measured_media_names, measured_medium};
+use crate::media::{
+    CloudMedium, CloudShape, DensityGrid, EmissionSource, GridEmission, GridMedium, Homogeneous, Medium, RgbGridMedium,
+    SpectrumGrid,
+};
+use crate::scene::desc::{MediumDesc, MediumNames};
+use crate::scene::error::SceneError;
+use crate::scene::params::{ParamSet, SpectrumParam};
+use crate::scene::MediumInterface;
+use crate::spectrum::{RgbKind, Spectrum};
+use glam::{UVec3, Vec3};
+use std::collections::HashMap;
+
+/// Medium ids by name.
+pub(super) type MediumIds = HashMap<String, u32>;
+
+impl Ctx<'_> {
+    /// Builds every named medium the renderer supports (others were reported by the parser and
+    /// are vacuum) and sets the camera's medium.
+    pub(super) fn media(&mut self) -> Result<MediumIds, SceneError> {
+        let mut ids = MediumIds::new();
+        for m in &self.desc.media {
+            if let Some(medium) = self.medium(m)? {
+                ids.insert(m.name.clone(), self.b.add_medium(medium));
+            }
+        }
+        self.b.set_camera_medium(ids.get(&self.desc.camera.medium).copied());
+        Ok(ids)
+    }
+
+    fn medium(&mut self, m: &MediumDesc) -> Result<Option<Medium>, SceneError> {
+        let p = &m.params;
+        let (sigma_a, sigma_s) = if m.kind == "rgbgrid" {
+            (Spectrum::constant(0.0), Spectrum::constant(0.0))
+        } else {
+            self.coefficients(m)?
+        };
+        let scale = p.float_or("scale", 1.0);
+        let g = p.float_or("g", 0.0);
+        if !(g.is_finite() && g.abs() < 1.0) {
+            return Err(param_error(p, "g", &m.loc, format!("g must lie in (-1, 1), got {g}")));
+        }
+        if !(scale.is_finite() && scale >= 0.0) {
+            return Err(param_error(p, "scale", &m.loc, format!("scale must be ≥ 0, got {scale}")));
+        }
+        Ok(match m.kind.as_str() {
+            "homogeneous" => {
+                let le = self.emission(p, &m.loc)?;
+                Some(Medium::Homogeneous(Homogeneous { sigma_a, sigma_s, scale, le, g }))
+            }
+            "uniformgrid" => {
+                let n = ["nx", "ny", "nz"].map(|k| p.int_or(k, 1));
+                let density = p.floats("density").map(<[f32]>::to_vec).unwrap_or_default();
+                let expect = n.iter().map(|&k| k.max(0) as u64).product::<u64>();
+                let grid = (n.iter().all(|&k| k > 0))
+                    .then(|| DensityGrid::new(UVec3::new(n[0] as u32, n[1] as u32, n[2] as u32), density.clone()))
+                    .flatten()
+                    .ok_or_else(|| {
+                        let message =
+                            format!("uniformgrid \"density\" has {} values; nx·ny·nz = {expect}", density.len());
+                        param_error(p, "density", &m.loc, message)
+                    })?;
+                let p0 = p.point3("p0").unwrap_or(Vec3::ZERO);
+                let p1 = p.point3("p1").unwrap_or(Vec3::ONE);
+                let coefficients = Homogeneous { sigma_a, sigma_s, scale, le: Spectrum::constant(0.0), g };
+                let n = UVec3::new(n[0] as u32, n[1] as u32, n[2] as u32);
+                let emission = self.grid_emission(m, n)?;
+                let mut medium = GridMedium::new(m.world_from_medium, p0, p1, grid, coefficients).ok_or_else(|| {
+                    param_error(p, "p0", &m.loc, "the grid's bounds are empty or its transform singular".into())
+                })?;
+                medium.emission = emission;
+                Some(Medium::Grid(Box::new(medium)))
+            }
+            "rgbgrid" => {
+                if p.has("Le") {
+                    let feature = "rgbgrid \"Le\" (emission of an RGB grid)".to_string();
+                    self.unsupported(&m.loc, feature, "renders the grid without emission");
+                }
+                let n = ["nx", "ny", "nz"].map(|k| p.int_or(k, 1));
+                let (a, s) = (self.rgb_grid(m, "sigma_a", n)?, self.rgb_grid(m, "sigma_s", n)?);
+                let (p0, p1) = (p.point3("p0").unwrap_or(Vec3::ZERO), p.point3("p1").unwrap_or(Vec3::ONE));
+                let medium = RgbGridMedium::new(m.world_from_medium, p0, p1, a, s, scale, g).ok_or_else(|| {
+                    param_error(
+                        p,
+                        "p0",
+                        &m.loc,
+                        "rgbgrid needs sigma_a or sigma_s, non-empty bounds and an invertible transform".into(),
+                    )
+                })?;
+                Some(Medium::RgbGrid(Box::new(medium)))
+            }
+            "cloud" => {
+                let shape = CloudShape {
+                    density: p.float_or("density", 1.0),
+                    wispiness: p.float_or("wispiness", 1.0),
+                    frequency: p.float_or("frequency", 5.0),
+                };
+                let (p0, p1) = (p.point3("p0").unwrap_or(Vec3::ZERO), p.point3("p1").unwrap_or(Vec3::ONE));
+                let coefficients = Homogeneous { sigma_a, sigma_s, scale, le: Spectrum::constant(0.0), g };
+                let medium = CloudMedium::new(m.world_from_medium, p0, p1, shape, coefficients).ok_or_else(|| {
+                    param_error(p, "p0", &m.loc, "the cloud's bounds are empty or its transform singular".into())
+                })?;
+                Some(Medium::Cloud(Box::new(medium)))
+            }
+            _ => None,
+        })
+    }
+
+    /// A uniformgrid's emission (pbrt-v4 `GridMedium::Create`): `Le` (normalised to unit
+    /// luminance) or a `temperature` grid (`temperatureoffset` or `temperaturecutoff`,
+    /// `temperaturescale`), times the `Lescale` grid (one value per voxel; absent: 1).
+    fn grid_emission(&mut self, m: &MediumDesc, n: UVec3) -> Result<Option<GridEmission>, SceneError> {
+        let p = &m.params;
+        let count = (n.x * n.y * n.z) as usize;
+        let per_voxel = |name: &str| -> Result<Option<DensityGrid>, SceneError> {
+            match p.floats(name) {
+                None => Ok(None),
+                Some(v) => DensityGrid::new(n, v.to_vec()).map(Some).ok_or_else(|| {
+                    param_error(
+                        p,
+                        name,
+                        &m.loc,
+                        format!("uniformgrid \"{name}\" has {} values; nx·ny·nz = {count}", v.len()),
+                    )
+                }),
+            }
+        };
+        let temperature = per_voxel("temperature")?;
+        if temperature.is_some() && p.has("Le") {
+            return Err(param_error(p, "Le", &m.loc, "uniformgrid takes \"Le\" or \"temperature\", not both".into()));
+        }
+        let (source, norm) = match temperature {
+            Some(grid) => {
+                let offset = p.float("temperatureoffset").or_else(|| p.float("temperaturecutoff")).unwrap_or(0.0);
+                (EmissionSource::Temperature { grid, offset, scale: p.float_or("temperaturescale", 1.0) }, 1.0)
+            }
+            None if p.has("Le") => {
+                let (s, norm) = self.light_spectrum(p, "Le", &m.loc)?;
+                if s.max_value() <= 0.0 {
+                    return Ok(None);
+                }
+                (EmissionSource::Spectrum(s), norm)
+            }
+            None => return Ok(None),
+        };
+        let mut scale = per_voxel("Lescale")?.unwrap_or_else(|| DensityGrid::new(UVec3::ONE, vec![1.0]).expect("one"));
+        for v in scale.values.iter_mut() {
+            *v *= norm;
+        }
+        Ok(Some(GridEmission { scale, source }))
+    }
+
+    /// An rgbgrid coefficient: nx·ny·nz RGB triples, each an unbounded spectrum (absent: zero).
+    fn rgb_grid(&mut self, m: &MediumDesc, name: &str, n: [i32; 3]) -> Result<Option<SpectrumGrid>, SceneError> {
+        let p = &m.params;
+        let rgbs: Vec<[f32; 3]> = match p.spectrum(name) {
+            None => return Ok(None),
+            Some(SpectrumParam::RgbArray(v)) => v.clone(),
+            Some(SpectrumParam::Rgb(c)) => vec![*c],
+            Some(_) => return Err(param_error(p, name, &m.loc, format!("rgbgrid \"{name}\" must be RGB triples"))),
+        };
+        let count = n.iter().map(|&k| k.max(0) as u64).product::<u64>();
+        if n.iter().any(|&k| k <= 0) || rgbs.len() as u64 != count {
+            let message = format!("rgbgrid \"{name}\" has {} RGB values; nx·ny·nz = {count}", rgbs.len());
+            return Err(param_error(p, name, &m.loc, message));
+        }
+        let space = space_of(p);
+        let values =
+            rgbs.iter().map(|&c| Spectrum::from_rgb(c.map(|x| x.max(0.0)), RgbKind::Unbounded, space)).collect();
+        Ok(Some(SpectrumGrid { n: UVec3::new(n[0] as u32, n[1] as u32, n[2] as u32), values }))
+    }
+
+    /// σ_a and σ_s: a named measured medium (`preset`), else `sigma_a`/`sigma_s` (default 1).
+    fn coefficients(&mut self, m: &MediumDesc) -> Result<(Spectrum, Spectrum), SceneError> {
+        let p = &m.params;
+        if let Some(name) = p.string("preset") {
+            match measured_medium(name) {
+                Some((s, a)) => {
+                    let space = space_of(p);
+                    return Ok((
+                        Spectrum::from_rgb(a, RgbKind::Unbounded, space),
+                        Spectrum::from_rgb(s, RgbKind::Unbounded, space),
+                    ));
+                }
+                None => {
+                    let message = format!(
+                        "unknown measured medium \"{name}\" (prism has Jensen et al. 2001's: {})",
+                        measured_media_names().join(", ")
+                    );
+                    return Err(param_error(p, "preset", &m.loc, message));
+                }
+            }
+        }
+        let sigma = |ctx: &mut Self, name: &str| -> Result<Spectrum, SceneError> {
+            if p.spectrum(name).is_some() || p.float(name).is_some() {
+                ctx.unbounded(p, name, "", &m.loc)
+            } else {
+                Ok(Spectrum::constant(1.0))
+            }
+        };
+        Ok((sigma(self, "sigma_a")?, sigma(self, "sigma_s")?))
+    }
+
+    /// `Le` normalised to unit luminance times `Lescale` (zero without `Le`).
+    fn emission(&mut self, p: &ParamSet, loc: &crate::scene::error::Location) -> Result<Spectrum, SceneError> {
+        let le_scale = p.float_or("Lescale", 1.0);
+        if !p.has("Le") {
+            return Ok(Spectrum::constant(0.0));
+        }
+        let (s, norm) = self.light_spectrum(p, "Le", loc)?;
+        if s.max_value() <= 0.0 {
+            return Ok(Spectrum::constant(0.0));
+        }
+        Ok(s.scaled((norm * le_scale) as f64))
+    }
+}
+
+/// The ids of the media a shape names ("" and media prism does not build: vacuum).
+pub(super) fn interface(ids: &MediumIds, names: &MediumNames) -> MediumInterface {
+    MediumInterface { inside: ids.get(&names.inside).copied(), outside: ids.get(&names.outside).copied() }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::media::Medium;
+    use crate::scene::{parse_str, MediumInterface, ParseOptions, Scene};
+
+    fn scene(text: &str) -> Result<(Scene, Vec<String>), String> {
+        let (desc, mut w) = parse_str(text, &ParseOptions::default()).map_err(|e| e.to_string())?;
+        let (b, _) = super::super::build(&desc, &mut w).map_err(|e| e.to_string())?;
+        w.extend(desc.report_unused());
+        let scene = b.build(crate::accel::AccelKind::Obvhs).map_err(|e| e.to_string())?;
+        Ok((scene, w.iter().map(|w| w.to_string()).collect()))
+    }
+
+    const MEDIA: &str = "MakeNamedMedium \"fog\" \"string type\" \"homogeneous\" \"rgb sigma_a\" [ 0.1 0.2 0.3 ] \
+        \"float scale\" [ 2 ] \"float g\" [ 0.5 ]\n\
+        MakeNamedMedium \"milk\" \"string type\" \"homogeneous\" \"string preset\" \"Wholemilk\"\n";
+
+    #[test]
+    fn medium_interfaces_bind_shapes_and_the_camera_to_media() {
+        let text = format!(
+            "{MEDIA}MediumInterface \"fog\"\nCamera \"perspective\"\nWorldBegin\n\
+             Shape \"sphere\"\n\
+             MediumInterface \"milk\" \"fog\"\nMaterial \"interface\"\nShape \"sphere\"\n\
+             MediumInterface \"\" \"\"\nShape \"sphere\""
+        );
+        let (s, warnings) = scene(&text).unwrap();
+        assert!(warnings.is_empty(), "{warnings:?}");
+        assert_eq!(s.media().len(), 2);
+        assert_eq!(s.camera_medium(), Some(0), "the outside medium at Camera");
+        let mi: Vec<MediumInterface> = s.primitives().iter().map(|p| p.medium_interface).collect();
+        assert_eq!(mi[0], MediumInterface { inside: Some(0), outside: Some(0) }, "one name is both sides");
+        assert_eq!(mi[1], MediumInterface { inside: Some(1), outside: Some(0) });
+        assert_eq!(mi[2], MediumInterface::default());
+        assert!(!mi[0].is_transition() && mi[1].is_transition());
+        let w = crate::spectrum::SampledWavelengths::sample_uniform(0.5);
+        let Medium::Homogeneous(fog) = &s.media()[0] else { panic!() };
+        let p = fog.point(&w);
+        assert_eq!(p.g, 0.5);
+        assert!((p.sigma_s[0] - 2.0).abs() < 1e-6, "sigma_s defaults to 1, times scale: {:?}", p.sigma_s);
+        let rgb = crate::spectrum::Spectrum::from_rgb(
+            [0.1, 0.2, 0.3],
+            crate::spectrum::RgbKind::Unbounded,
+            crate::spectrum::ColorSpace::srgb(),
+        );
+        assert_eq!(p.sigma_a, rgb.sample(&w) * 2.0, "RGB σ_a as an unbounded spectrum, times scale");
+    }
+
+    #[test]
+    fn a_grid_with_a_temperature_grid_emits() {
+        let text = "MakeNamedMedium \"m\" \"string type\" \"uniformgrid\" \"integer nx\" 2 \
+            \"float density\" [ 1 1 ] \"float temperature\" [ 1000 1200 ] \"float temperaturescale\" 2\n\
+            Camera \"perspective\"\nWorldBegin";
+        let (s, warnings) = scene(text).unwrap();
+        assert!(warnings.is_empty(), "{warnings:?}");
+        let Medium::Grid(g) = &s.media()[0] else { panic!() };
+        let w = crate::spectrum::SampledWavelengths::sample_uniform(0.5);
+        // Between the two samples (x = ½), T = 1100 · 2 K, and the one-sample Lescale grid is 1.
+        let le = g.point(glam::Vec3::new(0.5, 0.5, 0.5), &w).le;
+        let expect = crate::spectrum::Spectrum::blackbody(2200.0).sample(&w);
+        assert!((le - expect).max_value().abs() < 1e-4 * expect.max_value(), "{le:?} vs {expect:?}");
+    }
+
+    #[test]
+    fn instanced_shapes_keep_their_media() {
+        let text = format!(
+            "{MEDIA}Camera \"perspective\"\nWorldBegin\nObjectBegin \"o\"\nMaterial \"interface\"\n\
+             MediumInterface \"fog\" \"\"\nShape \"sphere\"\nObjectEnd\nObjectInstance \"o\"\n"
+        );
+        let (s, _) = scene(&text).unwrap();
+        assert_eq!(s.primitives()[0].medium_interface, MediumInterface { inside: Some(0), outside: None });
+    }
+
+    #[test]
+    fn bad_media_are_errors_at_their_place() {
+        let undefined = "Camera \"perspective\"\nWorldBegin\nMediumInterface \"smoke\"\nShape \"sphere\"";
+        let e = scene(undefined).err().unwrap();
+        assert!(e.contains("<string>:4:") && e.contains("medium \"smoke\" is not defined"), "{e}");
+        let preset = "MakeNamedMedium \"m\" \"string type\" \"homogeneous\" \"string preset\" \"Mud\"\nWorldBegin";
+        let e = scene(preset).err().unwrap();
+        assert!(e.contains("<string>:1:") && e.contains("Wholemilk"), "{e}");
+        let g = "MakeNamedMedium \"m\" \"string type\" \"homogeneous\" \"float g\" [ 1 ]\nWorldBegin";
+        assert!(scene(g).err().unwrap().contains("g must lie in (-1, 1)"));
+        let grid = "MakeNamedMedium \"m\" \"string type\" \"uniformgrid\" \"integer nx\" 2 \"float density\" [ 1 ]\nWorldBegin";
+        assert!(scene(grid).err().unwrap().contains("has 1 values; nx·ny·nz = 2"));
+        let grid = "MakeNamedMedium \"m\" \"string type\" \"uniformgrid\" \"float density\" [ 1 ] \
+            \"float temperature\" [ 900 ] \"blackbody Le\" 2000\nWorldBegin";
+        assert!(scene(grid).err().unwrap().contains("not both"));
+        let grid = "MakeNamedMedium \"m\" \"string type\" \"uniformgrid\" \"float density\" [ 1 ] \
+            \"blackbody Le\" 2000 \"float Lescale\" [ 1 2 ]\nWorldBegin";
+        assert!(scene(grid).err().unwrap().contains("\"Lescale\" has 2 values"));
+        let untyped = "MakeNamedMedium \"m\" \"float g\" [ 0 ]\nWorldBegin";
+        assert!(scene(untyped).err().unwrap().contains("needs a \"string type\""));
+    }
+}
