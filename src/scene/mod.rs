@@ -110,6 +110,8 @@ struct PendingPrimitive {
     sphere: Option<(Vec3, f32)>,
     /// The image its emission shows, if any.
     emission_image: Option<Arc<EmissionImage>>,
+    /// Its emission's scale is per unit area: each triangle's is divided by its area.
+    emission_per_area: bool,
 }
 
 /// Collects a scene's parts before the accelerator is built.
@@ -164,6 +166,7 @@ impl SceneBuilder {
             prototype: None,
             sphere: None,
             emission_image: None,
+            emission_per_area: false,
         });
         id
     }
@@ -194,6 +197,14 @@ impl SceneBuilder {
     pub fn set_emission_image(&mut self, id: u32, image: Arc<EmissionImage>) {
         if let Some(p) = self.primitives.get_mut(id as usize) {
             p.emission_image = Some(image);
+        }
+    }
+
+    /// Makes each triangle of emissive primitive `id` emit its emission's scale divided by the
+    /// triangle's area [scene units²] (pbrt-v4's `power` given to each triangle of a mesh).
+    pub fn set_emission_per_triangle_area(&mut self, id: u32) {
+        if let Some(p) = self.primitives.get_mut(id as usize) {
+            p.emission_per_area = true;
         }
     }
 
@@ -353,18 +364,14 @@ impl SceneBuilder {
         // The accelerator reads the meshes as one slice; they then move into their primitives.
         let world_meshes =
             (0..self.primitives.len() as u32).filter(|&m| self.primitives[m as usize].prototype.is_none()).collect();
-        type Parts = (
-            u32,
-            Option<(Emission, Option<Arc<EmissionImage>>)>,
-            Option<FloatTexture>,
-            Option<(Vec3, f32)>,
-            MediumInterface,
-        );
+        // An emission with its image and whether its scale is per unit area.
+        type Emitting = (Emission, Option<Arc<EmissionImage>>, bool);
+        type Parts = (u32, Option<Emitting>, Option<FloatTexture>, Option<(Vec3, f32)>, MediumInterface);
         let (meshes, parts): (Vec<Mesh>, Vec<Parts>) = self
             .primitives
             .into_iter()
             .map(|p| {
-                let emission = p.emission.map(|e| (e, p.emission_image));
+                let emission = p.emission.map(|e| (e, p.emission_image, p.emission_per_area));
                 (p.mesh, (p.material, emission, p.alpha, p.sphere, p.medium_interface))
             })
             .unzip();
@@ -380,7 +387,7 @@ impl SceneBuilder {
         for (mesh, (material, emission, alpha, sphere, medium_interface)) in meshes.into_iter().zip(parts) {
             // A sphere light has no (u, v): an image keeps the sphere's triangles.
             let one_light = emission.as_ref().is_some_and(|e| e.1.is_none()) && sphere.is_some() && !mesh.is_empty();
-            let area_lights = emission.map(|(em, em_image)| {
+            let area_lights = emission.map(|(em, em_image, per_area)| {
                 let first = lights.len() as u32;
                 let spectrum = Arc::new(em.spectrum);
                 if let (true, Some((center, radius))) = (one_light, sphere) {
@@ -399,12 +406,13 @@ impl SceneBuilder {
                         });
                         Box::new(ImageEmission { image: image.clone(), uv })
                     });
+                    let area = 0.5 * n.length();
                     lights.push(Light::Area(AreaLight {
                         p,
                         n: n.normalize_or_zero(),
-                        area: 0.5 * n.length(),
+                        area,
                         spectrum: spectrum.clone(),
-                        scale: em.scale,
+                        scale: if per_area { em.scale / area } else { em.scale },
                         two_sided: em.two_sided,
                         image,
                     }));

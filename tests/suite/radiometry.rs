@@ -400,3 +400,27 @@ fn a_light_given_two_brightness_targets_is_an_error() {
     assert!(err.contains("give one of \"power\" and \"lumens\", not both"), "{err}");
     assert!(err.contains("1:"), "no location: {err}");
 }
+
+/// pbrt-v4 makes one area light per shape it creates: a triangle mesh is one shape per triangle,
+/// so "power" is each triangle's flux whatever its area; a bilinear patch is one shape.
+#[test]
+fn pbrt_area_power_is_per_triangle_of_a_triangle_mesh_and_per_patch_of_a_bilinear_mesh() {
+    let powers = |shape: &str| -> Vec<f32> {
+        let text = format!(
+            "LookAt 0 0 -5  0 0 0  0 1 0\nCamera \"perspective\"\nWorldBegin\n\
+             AreaLightSource \"diffuse\" \"blackbody L\" 4000 \"float power\" 5\n{shape}\n"
+        );
+        let scene = crate::common::pbrt_scene(&text, AccelKind::Obvhs);
+        scene.lights().iter().map(|l| l.power(1.0)).collect()
+    };
+    let one = powers(r#"Shape "trianglemesh" "point3 P" [0 0 0  1 0 0  0 2 0] "integer indices" [0 1 2]"#);
+    // Two triangles of areas 1 and 4.5.
+    let two =
+        powers(r#"Shape "trianglemesh" "point3 P" [0 0 0  1 0 0  0 2 0  4 3 0] "integer indices" [0 1 2  1 3 2]"#);
+    let patch = powers(r#"Shape "bilinearmesh" "point3 P" [0 0 0  2 0 0  0 3 0  2 3 0]"#);
+    assert_eq!((one.len(), two.len(), patch.len()), (1, 2, 2));
+    assert!(one[0] > 0.0);
+    for (what, p) in [("first triangle", two[0]), ("second triangle", two[1]), ("patch", patch[0] + patch[1])] {
+        assert!((p - one[0]).abs() <= 1e-4 * one[0], "{what}: power {p} vs one triangle's {}", one[0]);
+    }
+}
