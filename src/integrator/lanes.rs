@@ -64,8 +64,8 @@ impl<'s> LaneTracer<'s> {
         if let Some(m) = scene.materials().iter().find(|m| !matches!(m, Material::Diffuse { .. })) {
             return Err(Unsupported(format!("this scene has a material that is not Lambertian ({m:.40?}…)")));
         }
-        if scene.lights().iter().any(|l| !matches!(l, Light::Area(_))) {
-            return Err(Unsupported("this scene has lights other than area lights".into()));
+        if scene.lights().iter().any(|l| !matches!(l, Light::Area(AreaLight { image: None, .. }))) {
+            return Err(Unsupported("this scene has lights other than untextured area lights".into()));
         }
         if integrator.strategy != DirectStrategy::Mis {
             return Err(Unsupported("another direct-light strategy was chosen".into()));

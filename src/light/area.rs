@@ -1,6 +1,8 @@
-//! Diffuse area light: one emissive triangle of constant radiance L [W/(sr·m²·nm)] on its front
-//! side (or both). Flux per side Φ = π L A (Φ = ∫_A ∫_{H²} L cos θ dω dA).
+//! Diffuse area light: one emissive triangle of radiance L [W/(sr·m²·nm)] on its front side (or
+//! both), constant or an image looked up at the point's (u, v). Flux per side Φ = π L̄ A
+//! (Φ = ∫_A ∫_{H²} L cos θ dω dA, L̄ the mean radiance over the triangle).
 
+use super::emission_image::ImageEmission;
 use super::point::spectral_integral;
 use super::LightSample;
 use crate::math::PI;
@@ -26,17 +28,23 @@ pub struct AreaLight {
     pub scale: f32,
     /// Emits from both sides.
     pub two_sided: bool,
+    /// The image whose texels replace `spectrum`, if any (`spectrum` is then the colour space's
+    /// white, for the power).
+    pub image: Option<Box<ImageEmission>>,
 }
 
 impl AreaLight {
-    /// Radiance leaving the light at a point with normal-side test against direction `w`
-    /// (pointing away from the light).
+    /// Radiance leaving the light at the surface point with texture coordinates `uv` toward the
+    /// direction `w` (pointing away from the light): 0 behind a one-sided light.
     #[inline]
-    pub fn radiance(&self, w: Vec3, lambdas: &SampledWavelengths) -> SampledSpectrum {
+    pub fn radiance(&self, w: Vec3, uv: Vec2, lambdas: &SampledWavelengths) -> SampledSpectrum {
         if !self.two_sided && self.n.dot(w) <= 0.0 {
             return SampledSpectrum::zero();
         }
-        self.spectrum.sample(lambdas) * self.scale
+        match &self.image {
+            None => self.spectrum.sample(lambdas) * self.scale,
+            Some(image) => image.image.radiance(uv, lambdas) * self.scale,
+        }
     }
 
     pub(super) fn sample_li(&self, p: Vec3, u: Vec2, w: &SampledWavelengths) -> Option<LightSample> {
@@ -44,7 +52,11 @@ impl AreaLight {
         if !s.valid {
             return None;
         }
-        let li = self.spectrum.sample(w) * self.scale;
+        let li = match &self.image {
+            None => self.spectrum.sample(w) * self.scale,
+            // The image at the point `sample` picked (the same barycentrics).
+            Some(image) => image.radiance_at(uniform_triangle(u.x, u.y), w) * self.scale,
+        };
         (!li.is_black()).then(|| LightSample {
             li,
             wi: s.wi.into(),
@@ -90,7 +102,9 @@ impl AreaLight {
         (t > 0.0).then_some(t)
     }
 
-    /// Φ = π L A per emitting side [W] (with L integrated over 360–830 nm).
+    /// Φ = π L A per emitting side [W] (with L integrated over 360–830 nm); for an image, L is
+    /// its mean luminance times the white (the whole image's mean, as pbrt-v4's `Phi`, though
+    /// the triangle may show only part of it).
     pub fn power(&self) -> f32 {
         self.power_given(spectral_integral(&self.spectrum))
     }
@@ -99,7 +113,8 @@ impl AreaLight {
     /// so the light sampler integrates it once per spectrum).
     pub fn power_given(&self, spectral_integral: f32) -> f32 {
         let sides = if self.two_sided { 2.0 } else { 1.0 };
-        PI * self.area * sides * self.scale * spectral_integral
+        let image = self.image.as_ref().map_or(1.0, |i| i.image.mean_luminance());
+        PI * self.area * sides * self.scale * spectral_integral * image
     }
 
     /// The radiance scale that makes a set of triangles of total area `area` emit `flux` [W]
@@ -131,6 +146,7 @@ mod tests {
             spectrum: Arc::new(Spectrum::constant(1.0)),
             scale: 1.0,
             two_sided: true,
+            image: None,
         }
     }
 

@@ -4,6 +4,7 @@
 
 mod area;
 mod distant;
+mod emission_image;
 mod envmap;
 mod goniometric;
 mod infinite;
@@ -17,6 +18,7 @@ mod texel_spectrum;
 
 pub use area::{AreaLight, TriangleLightLanes};
 pub use distant::DistantLight;
+pub use emission_image::{EmissionImage, ImageEmission};
 pub use envmap::EnvMapLight;
 pub use goniometric::GoniometricLight;
 pub use infinite::UniformInfiniteLight;
@@ -124,11 +126,12 @@ impl Light {
     }
 
     /// Radiance L_e an area light's surface with normal `n` (its emitting side) sends toward
-    /// `wo` (pbrt-v4 `DiffuseAreaLight::L`); 0 for lights without a surface.
+    /// `wo` from the point with texture coordinates `uv` (pbrt-v4 `DiffuseAreaLight::L`); 0 for
+    /// lights without a surface.
     #[inline]
-    pub fn surface_radiance(&self, n: Vec3, wo: Vec3, w: &SampledWavelengths) -> SampledSpectrum {
+    pub fn surface_radiance(&self, n: Vec3, wo: Vec3, uv: Vec2, w: &SampledWavelengths) -> SampledSpectrum {
         match self {
-            Light::Area(l) => l.radiance(wo, w),
+            Light::Area(l) => l.radiance(wo, uv, w),
             Light::Sphere(l) => l.radiance(n, wo, w),
             _ => SampledSpectrum::zero(),
         }

@@ -301,7 +301,7 @@ impl<'s> SurfaceInteraction<'s> {
     #[inline]
     pub fn emitted(&self, w: &SampledWavelengths) -> SampledSpectrum {
         match self.area_light() {
-            Some((_, light)) => light.surface_radiance(self.shading.ng, self.wo, w),
+            Some((_, light)) => light.surface_radiance(self.shading.ng, self.wo, self.uv, w),
             None => SampledSpectrum::zero(),
         }
     }

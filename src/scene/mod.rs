@@ -32,14 +32,16 @@ pub use primitive::{MediumInterface, Primitive};
 use crate::accel::{self, Accel, AccelKind};
 use crate::camera::{Camera, Projection};
 use crate::geometry::{Hit, Instance, InstanceSet, Mesh, Prototype, Ray};
-use crate::light::{AreaLight, Light, LightSampler, SphereLight};
+use crate::light::{AreaLight, EmissionImage, ImageEmission, Light, LightSampler, SphereLight};
 use crate::material::{FloatTexture, Material};
 use crate::media::Medium;
 use crate::spectrum::Spectrum;
 use glam::{Mat4, Vec2, Vec3};
 use std::sync::Arc;
 
-/// Emission of an area light attached to a mesh: radiance `scale · spectrum(λ)`.
+/// Emission of an area light attached to a mesh: radiance `scale · spectrum(λ)`, or `scale`
+/// times an image looked up at the surface's (u, v) when [`SceneBuilder::set_emission_image`]
+/// gives one (`spectrum` is then the colour space's white, for the power).
 #[derive(Clone, Debug)]
 pub struct Emission {
     /// Spectral shape.
@@ -106,6 +108,10 @@ struct PendingPrimitive {
     /// Centre and radius of the full sphere the mesh is inscribed in, when it emits as one
     /// sphere light.
     sphere: Option<(Vec3, f32)>,
+    /// The image its emission shows, if any.
+    emission_image: Option<Arc<EmissionImage>>,
+    /// Its emission's scale is per unit area: each triangle's is divided by its area.
+    emission_per_area: bool,
 }
 
 /// Collects a scene's parts before the accelerator is built.
@@ -159,6 +165,8 @@ impl SceneBuilder {
             medium_interface: MediumInterface::default(),
             prototype: None,
             sphere: None,
+            emission_image: None,
+            emission_per_area: false,
         });
         id
     }
@@ -181,6 +189,22 @@ impl SceneBuilder {
     pub fn set_sphere_light(&mut self, id: u32, center: Vec3, radius: f32) {
         if let Some(p) = self.primitives.get_mut(id as usize) {
             p.sphere = Some((center, radius));
+        }
+    }
+
+    /// Makes emissive primitive `id` show `image` at its surface's (u, v) in place of its
+    /// emission's spectrum (pbrt-v4 `DiffuseAreaLight` with "filename").
+    pub fn set_emission_image(&mut self, id: u32, image: Arc<EmissionImage>) {
+        if let Some(p) = self.primitives.get_mut(id as usize) {
+            p.emission_image = Some(image);
+        }
+    }
+
+    /// Makes each triangle of emissive primitive `id` emit its emission's scale divided by the
+    /// triangle's area [scene units²] (pbrt-v4's `power` given to each triangle of a mesh).
+    pub fn set_emission_per_triangle_area(&mut self, id: u32) {
+        if let Some(p) = self.primitives.get_mut(id as usize) {
+            p.emission_per_area = true;
         }
     }
 
@@ -340,11 +364,16 @@ impl SceneBuilder {
         // The accelerator reads the meshes as one slice; they then move into their primitives.
         let world_meshes =
             (0..self.primitives.len() as u32).filter(|&m| self.primitives[m as usize].prototype.is_none()).collect();
-        type Parts = (u32, Option<Emission>, Option<FloatTexture>, Option<(Vec3, f32)>, MediumInterface);
+        // An emission with its image and whether its scale is per unit area.
+        type Emitting = (Emission, Option<Arc<EmissionImage>>, bool);
+        type Parts = (u32, Option<Emitting>, Option<FloatTexture>, Option<(Vec3, f32)>, MediumInterface);
         let (meshes, parts): (Vec<Mesh>, Vec<Parts>) = self
             .primitives
             .into_iter()
-            .map(|p| (p.mesh, (p.material, p.emission, p.alpha, p.sphere, p.medium_interface)))
+            .map(|p| {
+                let emission = p.emission.map(|e| (e, p.emission_image, p.emission_per_area));
+                (p.mesh, (p.material, emission, p.alpha, p.sphere, p.medium_interface))
+            })
             .unzip();
         let accel = if self.prototypes.is_empty() {
             accel::build(accel_kind, &meshes)
@@ -356,8 +385,9 @@ impl SceneBuilder {
         let mut lights = self.lights;
         let mut primitives = Vec::with_capacity(meshes.len());
         for (mesh, (material, emission, alpha, sphere, medium_interface)) in meshes.into_iter().zip(parts) {
-            let one_light = emission.is_some() && sphere.is_some() && !mesh.is_empty();
-            let area_lights = emission.map(|em| {
+            // A sphere light has no (u, v): an image keeps the sphere's triangles.
+            let one_light = emission.as_ref().is_some_and(|e| e.1.is_none()) && sphere.is_some() && !mesh.is_empty();
+            let area_lights = emission.map(|(em, em_image, per_area)| {
                 let first = lights.len() as u32;
                 let spectrum = Arc::new(em.spectrum);
                 if let (true, Some((center, radius))) = (one_light, sphere) {
@@ -367,13 +397,24 @@ impl SceneBuilder {
                 for prim in 0..mesh.len() {
                     let p = mesh.triangle(prim);
                     let n = (p[1] - p[0]).cross(p[2] - p[0]);
+                    let image = em_image.as_ref().map(|image| {
+                        let tri = mesh.indices[prim];
+                        // pbrt-v4's default (u, v) of a triangle's corners, as the surface uses.
+                        let uv = std::array::from_fn(|k| match &mesh.uvs {
+                            Some(uvs) => uvs[tri[k] as usize],
+                            None => [Vec2::ZERO, Vec2::X, Vec2::ONE][k],
+                        });
+                        Box::new(ImageEmission { image: image.clone(), uv })
+                    });
+                    let area = 0.5 * n.length();
                     lights.push(Light::Area(AreaLight {
                         p,
                         n: n.normalize_or_zero(),
-                        area: 0.5 * n.length(),
+                        area,
                         spectrum: spectrum.clone(),
-                        scale: em.scale,
+                        scale: if per_area { em.scale / area } else { em.scale },
                         two_sided: em.two_sided,
+                        image,
                     }));
                 }
                 first

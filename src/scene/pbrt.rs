@@ -29,6 +29,7 @@ use crate::camera::Projection;
 use crate::film::Crop;
 use crate::geometry::quadric::similarity_scale;
 use crate::geometry::{Mesh, Quadric};
+use crate::light::EmissionImage;
 use crate::material::{BumpedMaterial, Ior, Material, Roughness};
 use crate::spectrum::{ColorSpace, RgbKind, Spectrum};
 use glam::Vec3;
@@ -290,6 +291,20 @@ impl Ctx<'_> {
             .map_err(|e| SceneError::syntax(loc, &file.display().to_string(), format!("cannot read the image: {e}")))
     }
 
+    /// An area light's "filename" image, its RGB an illuminant of the scene's colour space
+    /// (pbrt-v4 reads the file's colour space; prism does not read it from files). pbrt-v4
+    /// rejects "L" beside it.
+    fn emission_image(&mut self, p: &ParamSet, loc: &Location) -> Result<Option<Arc<EmissionImage>>, SceneError> {
+        if !p.has("filename") {
+            return Ok(None);
+        }
+        if p.has("L") {
+            return Err(SceneError::syntax(loc, "L", "give one of \"L\" and \"filename\", not both"));
+        }
+        let image = self.image(p, loc)?;
+        Ok(Some(Arc::new(EmissionImage::new(&image, space_of(p)))))
+    }
+
     fn roughness(&mut self, p: &ParamSet) -> Result<Roughness, SceneError> {
         self.prefixed_roughness(p, "")
     }
@@ -427,22 +442,37 @@ impl Ctx<'_> {
             _ => None,
         });
         let material = self.material(self.desc.material(&s.material))?;
+        let mut per_triangle = false;
         let emission = match &s.area_light {
             None => None,
             Some(a) => {
                 let p = &a.params;
+                let image = self.emission_image(p, &a.loc)?;
                 let (spectrum, norm) = self.light_spectrum(p, "L", &a.loc)?;
                 let two_sided = p.bool_or("twosided", false);
                 // pbrt-v4 DiffuseAreaLight: k_e = π A per emitting side (world-space area, so any
-                // transform works).
-                let k_e = crate::math::PI * area * if two_sided { 2.0 } else { 1.0 };
+                // transform works), times an image's mean luminance. pbrt-v4 makes one light per
+                // shape it creates, and a triangle mesh creates one shape per triangle: its
+                // `power` is each triangle's, so k_e is taken per unit area here and each
+                // triangle's scale divided by its area.
+                per_triangle = p.float("power").is_some_and(|v| v > 0.0) && TRIANGLE_SHAPES.contains(&s.kind.as_str());
+                let mean = image.as_ref().map_or(1.0, |i| i.mean_luminance());
+                let k_area = if per_triangle { 1.0 } else { area };
+                let k_e = crate::math::PI * k_area * if two_sided { 2.0 } else { 1.0 } * mean;
                 let scale =
                     p.float_or("scale", 1.0) * norm * brightness_factor(p, FLUX, k_e, Some((&spectrum, norm)), &a.loc)?;
-                Some(Emission { spectrum, scale, two_sided })
+                Some((Emission { spectrum, scale, two_sided }, image))
             }
         };
         let emits = emission.is_some();
+        let (emission, image) = emission.unzip();
         let id = self.b.add_mesh(mesh, material, emission);
+        if let Some(image) = image.flatten() {
+            self.b.set_emission_image(id, image);
+        }
+        if per_triangle {
+            self.b.set_emission_per_triangle_area(id);
+        }
         if let (true, Some((center, radius))) = (emits, sphere) {
             self.b.set_sphere_light(id, center, radius);
         }
@@ -452,6 +482,9 @@ impl Ctx<'_> {
         Ok(())
     }
 }
+
+/// The shapes pbrt-v4 creates as one `Triangle` shape per triangle.
+const TRIANGLE_SHAPES: &[&str] = &["trianglemesh", "loopsubdiv"];
 
 /// A shape's triangles in the space its transform leads to (world, or instance space inside an
 /// object definition), oriented.

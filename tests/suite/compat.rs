@@ -110,6 +110,11 @@ fn point_spot_goniometric_projection_and_distant_lights_have_pbrt_v4s_means() {
 }
 
 #[test]
+fn two_sided_powered_textured_and_a_hundred_small_area_lights_have_pbrt_v4s_means() {
+    assert_matches_pbrt_v4("lights-area.pbrt", 16);
+}
+
+#[test]
 fn every_texture_type_and_mapping_has_pbrt_v4s_means() {
     assert_matches_pbrt_v4("textures.pbrt", 16);
 }

@@ -346,7 +346,9 @@ fn area_light(param: &str) -> Scene {
 
 #[test]
 fn pbrt_spot_and_area_light_emit_their_power_and_lumens_through_a_sphere() {
-    for (param, to_lumens) in [("power", lumens_per_unit_y() as f64), ("lumens", 1.0)] {
+    // pbrt-v4's "power" is each triangle's (one light per shape it creates, and a triangle mesh
+    // is a shape per triangle); prism's "lumens" is the whole mesh's.
+    for (param, to_lumens, triangles) in [("power", lumens_per_unit_y() as f64, 2.0), ("lumens", 1.0, 1.0)] {
         let spot = load_pbrt(&format!(
             r#"WorldBegin LightSource "spot" "blackbody I" 4000 "float {param}" 500 "float coneangle" 30
                "float conedeltaangle" 10 "point3 from" [0 0 0] "point3 to" [1 1 0]"#
@@ -355,7 +357,7 @@ fn pbrt_spot_and_area_light_emit_their_power_and_lumens_through_a_sphere() {
         assert_close(&format!("spot {param} 500"), m, 500.0 * to_lumens);
         let area = area_light(param);
         let m = luminous_flux_through_sphere(&area, Vec3::new(0.2, 0.0, 0.1), 2.5, 40_000);
-        assert_close(&format!("area 2 × {param} 300"), m, 600.0 * to_lumens);
+        assert_close(&format!("area 2 × {param} 300 × {triangles}"), m, 600.0 * triangles * to_lumens);
     }
 }
 
@@ -399,4 +401,28 @@ fn a_light_given_two_brightness_targets_is_an_error() {
     let err = prism::scene::pbrt::build(&desc, &mut warnings).err().expect("must fail").to_string();
     assert!(err.contains("give one of \"power\" and \"lumens\", not both"), "{err}");
     assert!(err.contains("1:"), "no location: {err}");
+}
+
+/// pbrt-v4 makes one area light per shape it creates: a triangle mesh is one shape per triangle,
+/// so "power" is each triangle's flux whatever its area; a bilinear patch is one shape.
+#[test]
+fn pbrt_area_power_is_per_triangle_of_a_triangle_mesh_and_per_patch_of_a_bilinear_mesh() {
+    let powers = |shape: &str| -> Vec<f32> {
+        let text = format!(
+            "LookAt 0 0 -5  0 0 0  0 1 0\nCamera \"perspective\"\nWorldBegin\n\
+             AreaLightSource \"diffuse\" \"blackbody L\" 4000 \"float power\" 5\n{shape}\n"
+        );
+        let scene = crate::common::pbrt_scene(&text, AccelKind::Obvhs);
+        scene.lights().iter().map(|l| l.power(1.0)).collect()
+    };
+    let one = powers(r#"Shape "trianglemesh" "point3 P" [0 0 0  1 0 0  0 2 0] "integer indices" [0 1 2]"#);
+    // Two triangles of areas 1 and 4.5.
+    let two =
+        powers(r#"Shape "trianglemesh" "point3 P" [0 0 0  1 0 0  0 2 0  4 3 0] "integer indices" [0 1 2  1 3 2]"#);
+    let patch = powers(r#"Shape "bilinearmesh" "point3 P" [0 0 0  2 0 0  0 3 0  2 3 0]"#);
+    assert_eq!((one.len(), two.len(), patch.len()), (1, 2, 2));
+    assert!(one[0] > 0.0);
+    for (what, p) in [("first triangle", two[0]), ("second triangle", two[1]), ("patch", patch[0] + patch[1])] {
+        assert!((p - one[0]).abs() <= 1e-4 * one[0], "{what}: power {p} vs one triangle's {}", one[0]);
+    }
 }
