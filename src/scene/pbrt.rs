@@ -491,7 +491,15 @@ const TRIANGLE_SHAPES: &[&str] = &["trianglemesh", "loopsubdiv"];
 fn shape_mesh(s: &ShapeDesc) -> Mesh {
     let m = &s.world_from_object;
     let mesh = match &s.geometry {
-        ShapeGeometry::Mesh(mesh) => mesh.transformed(m),
+        ShapeGeometry::Mesh(mesh) => {
+            let mut mesh = mesh.transformed(m);
+            // pbrt-v4's `TriangleMesh` negates its per-vertex normals under ReverseOrientation,
+            // and the geometric normal then follows them.
+            if s.reverse_orientation {
+                mesh.normals.iter_mut().flatten().for_each(|n| *n = -*n);
+            }
+            mesh
+        }
         ShapeGeometry::Quadric(q) => {
             let mut mesh = q.tessellate();
             // pbrt-v4 takes a quadric's normal as ∂p/∂u × ∂p/∂v in object space, flipped when
@@ -506,8 +514,8 @@ fn shape_mesh(s: &ShapeDesc) -> Mesh {
     orient(mesh, s.reverse_orientation)
 }
 
-/// Orients triangles as pbrt-v4 does: with per-vertex normals the geometric normal faces them;
-/// otherwise ReverseOrientation flips it. (Mirroring transforms are already handled by
+/// Orients triangles as pbrt-v4 does: with per-vertex normals the geometric normal faces them
+/// (they are already flipped under ReverseOrientation); otherwise ReverseOrientation flips it. (Mirroring transforms are already handled by
 /// `Mesh::transformed`.)
 fn orient(mut mesh: Mesh, reverse: bool) -> Mesh {
     if let Some(normals) = &mesh.normals {

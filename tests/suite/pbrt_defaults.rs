@@ -90,3 +90,24 @@ PixelFilter "gaussian" "float xradius" [ 2.5 ] "float sigma" [ 0.8 ]"#;
         assert_eq!((f.kind(), f.radius().x), (kind, radius), "{text}");
     }
 }
+
+/// A one-sided emitter emits on the side its normal faces. With per-vertex normals that is the
+/// normals' side, and ReverseOrientation negates the normals (pbrt-v4's `TriangleMesh`), so the
+/// camera in front of the normals sees the quad's L = 1 without it and black with it.
+#[test]
+fn reverse_orientation_flips_a_mesh_with_normals() {
+    let quad = r#"AreaLightSource "diffuse" "rgb L" [ 1 1 1 ]
+Shape "trianglemesh" "point3 P" [ -1 -1 0  1 -1 0  1 1 0  -1 1 0 ] "integer indices" [ 0 1 2  0 2 3 ]
+  "normal N" [ 0 0 1  0 0 1  0 0 1  0 0 1 ]"#;
+    let seen = |reverse: &str| {
+        let text = format!(
+            "LookAt 0 0 5  0 0 0  0 1 0\nCamera \"orthographic\" \"float screenwindow\" [ -0.5 0.5 -0.5 0.5 ]\nWorldBegin\n{reverse}\n{quad}\n"
+        );
+        let (scene, _, _) = load(&text);
+        let (film, _) = render(&scene, &test_settings((4, 4), 4, 1, 1), |_| {}).unwrap();
+        film.pixels.iter().map(|p| p.xyz_sum.y / p.weight_sum).sum::<f64>() / film.pixels.len() as f64
+    };
+    let (front, reversed) = (seen(""), seen("ReverseOrientation"));
+    assert!(front > 0.5, "the emitting side is black: {front}");
+    assert_eq!(reversed, 0.0, "ReverseOrientation must turn the emitting side away");
+}
