@@ -3,11 +3,9 @@
 //! L ∝ n·l; a perturbed one L ∝ n′·l, so the ratio of the two images' means is n′·l / n·l,
 //! which is worked out here from the height field or the map's texel alone.
 
-use crate::common::{test_settings, tmpdir};
+use crate::common::{pbrt_scene, test_settings, tmpdir};
 use prism::accel::AccelKind;
 use prism::render::render;
-use prism::scene::parse_str;
-use prism::scene::pbrt::build;
 
 /// The mean luminance Y of the square seen by an orthographic camera that it fills, and its
 /// standard error over the pixels.
@@ -23,12 +21,7 @@ Shape "trianglemesh" "point3 P" [ -1 -1 0  1 -1 0  1 1 0  -1 1 0 ]
   "point2 uv" [ 0 0  1 0  1 1  0 1 ] "integer indices" [ 0 1 2  0 2 3 ]
 "#
     );
-    let (desc, mut warnings) = parse_str(&text, &Default::default()).unwrap();
-    let (builder, _) = build(&desc, &mut warnings).unwrap();
-    let unsupported: Vec<_> =
-        warnings.iter().filter(|w| w.strict_error().is_some() || w.message.contains("not used")).collect();
-    assert!(unsupported.is_empty(), "{unsupported:?}");
-    let scene = builder.build(AccelKind::Obvhs).unwrap();
+    let scene = pbrt_scene(&text, AccelKind::Obvhs);
     let (film, _) = render(&scene, &test_settings((16, 16), 16, 7, 1), |_| {}).unwrap();
     let ys: Vec<f64> = film.pixels.iter().map(|p| p.xyz_sum.y / p.weight_sum).collect();
     let n = ys.len() as f64;
