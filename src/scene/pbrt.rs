@@ -362,6 +362,7 @@ impl Ctx<'_> {
             "mix" => self.mix(m)?,
             "subsurface" => self.subsurface(m)?,
             "interface" => Material::Interface,
+            "hair" => self.hair(p, loc)?,
             other => {
                 self.unsupported(loc, format!("material \"{other}\""), "uses diffuse 0.5");
                 Material::diffuse(Spectrum::constant(0.5))
