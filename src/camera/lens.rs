@@ -134,8 +134,8 @@ mod tests {
         let e = parse_lens_file(text).unwrap();
         assert_eq!(e.len(), 2);
         let front = e[0];
-        assert!((front.curvature_radius - 0.029475).abs() < 1e-9 && (front.thickness - 0.00376).abs() < 1e-9);
-        assert!((front.eta - 1.67).abs() < 1e-7 && (front.aperture_radius - 0.0126).abs() < 1e-9);
+        assert!((front.curvature_radius - 0.029475).abs() < 1e-8 && (front.thickness - 0.00376).abs() < 1e-8);
+        assert!((front.eta - 1.67).abs() < 1e-7 && (front.aperture_radius - 0.0126).abs() < 1e-8);
         assert!(e[1].is_stop() && !front.is_stop());
     }
 

@@ -208,3 +208,77 @@ impl LensSystem {
         Ok(())
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A symmetric biconvex singlet: radii ±`r`, centre thickness `d`, index `n`, clear
+    /// aperture radius `a` [m], its rear vertex `back` in front of the film.
+    fn singlet(r: f32, d: f32, n: f32, a: f32, back: f32) -> LensSystem {
+        let face =
+            |curvature_radius, thickness, eta| LensInterface { curvature_radius, thickness, eta, aperture_radius: a };
+        LensSystem::new(vec![face(r, d, n), face(-r, back, 1.0)])
+    }
+
+    /// The thick-lens focal length and the principal planes' offsets from the front and rear
+    /// vertices along the light (Hecht, Optics §6.2): 1/f = (n−1)(1/R₁ − 1/R₂ + (n−1)d/(nR₁R₂)),
+    /// h₁ = −f(n−1)d/(nR₂), h₂ = −f(n−1)d/(nR₁).
+    fn lensmaker(r1: f64, r2: f64, d: f64, n: f64) -> (f64, f64, f64) {
+        let f = 1.0 / ((n - 1.0) * (1.0 / r1 - 1.0 / r2 + (n - 1.0) * d / (n * r1 * r2)));
+        (f, -f * (n - 1.0) * d / (n * r2), -f * (n - 1.0) * d / (n * r1))
+    }
+
+    #[test]
+    fn a_singlets_cardinal_points_are_the_lensmakers() {
+        let (r, d, n) = (0.05, 0.004, 1.5);
+        let lens = singlet(r as f32, d as f32, n as f32, 0.01, 0.045);
+        let (f, h1, h2) = lensmaker(r, -r, d, n);
+        let (pz, fz) = lens.cardinal_points(3.5e-5).unwrap();
+        // Lens space: the rear vertex at z = −0.045, the front at −0.049; light from the scene
+        // runs toward +z, so offsets along it add.
+        let (front, rear) = (-(0.045 + d), -0.045);
+        assert!((fz[0] - pz[0] - f).abs() < 1e-6 * f, "f {} vs {f}", fz[0] - pz[0]);
+        assert!((pz[0] - (rear + h2)).abs() < 1e-7, "film-side principal plane {} vs {}", pz[0], rear + h2);
+        assert!((pz[1] - (front + h1)).abs() < 1e-7, "scene-side principal plane {} vs {}", pz[1], front + h1);
+        assert!((fz[1] - pz[1] + f).abs() < 1e-6 * f, "the scene-side focal point lies f before its plane");
+    }
+
+    #[test]
+    fn a_focused_singlet_images_a_point_at_the_focus_distance_on_the_film() {
+        let (r, d, n, focus) = (0.05, 0.004, 1.5, 2.0);
+        let mut lens = singlet(r as f32, d as f32, n as f32, 0.002, 0.045);
+        lens.focus(focus as f32, 3.5e-5).unwrap();
+        // Gaussian imaging between the principal planes: object distance s from H, image
+        // distance s′ from H′ = the film, 1/s + 1/s′ = 1/f and s + s′ = D − d + h₁ − h₂.
+        let (f, h1, h2) = lensmaker(r, -r, d, n);
+        let l = focus - d + h1 - h2;
+        let image = 0.5 * (l - (l * l - 4.0 * f * l).sqrt());
+        let back = lens.rear_z();
+        assert!((back - (image + h2)).abs() < 1e-6, "film at {back} behind the lens, thick-lens {}", image + h2);
+        // Rays from the on-axis point at the focus distance, through the central 1 mm of the
+        // lens (spherical aberration grows as the cube of the height), cross the film near the
+        // axis; with the film 0.5 mm off focus they do not.
+        let point = DVec3::new(0.0, 0.0, focus);
+        let spread = |film_z: f64| {
+            (1..=8).fold(0.0f64, |m, k| {
+                let h = 0.001 * f64::from(k) / 8.0;
+                let to = DVec3::new(h * 0.6, h * 0.8, lens.front_z());
+                let out = lens.trace_from_scene(LensRay { o: point, d: to - point }).expect("passes the aperture");
+                m.max(out.at((film_z - out.o.z) / out.d.z).truncate().length())
+            })
+        };
+        // 2 µm: a hundredth of a pixel of a 35 mm film 128 pixels across.
+        assert!(spread(0.0) < 2e-6, "rays from the focused point spread {} m on the film", spread(0.0));
+        assert!(spread(5e-4) > 2e-6, "off focus {}", spread(5e-4));
+    }
+
+    #[test]
+    fn rays_are_blocked_outside_the_clear_apertures() {
+        let lens = singlet(0.05, 0.004, 1.5, 0.002, 0.045);
+        let film = DVec3::ZERO;
+        let through = |x: f64| lens.trace_from_film(LensRay { o: film, d: DVec3::new(x, 0.0, 0.045) });
+        assert!(through(0.0019).is_some() && through(0.0021).is_none());
+        assert!(through(0.0).is_some_and(|r| r.d.truncate().length() < 1e-12 && r.d.z > 0.0), "the axis ray");
+    }
+}

@@ -86,3 +86,68 @@ impl RealisticLens {
         Some((out.o.as_vec3(), out.d.normalize().as_vec3(), weight as f32))
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::camera::lens::parse_lens_file;
+    use crate::sampling::Rng;
+
+    /// The double-Gauss 50 mm lens at f/3.6, focused at 5 m, before a 35 mm film.
+    fn dgauss() -> RealisticLens {
+        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/compat/cameras-dgauss.50mm.dat");
+        let elements = parse_lens_file(&std::fs::read_to_string(path).unwrap()).unwrap();
+        let (lens, clamped) = RealisticLens::new(elements, 0.014, 5.0, 0.035, 1.0).unwrap();
+        assert!(clamped.is_none());
+        lens
+    }
+
+    #[test]
+    fn rays_from_the_film_centre_converge_on_the_axis_at_the_focus_distance() {
+        let lens = dgauss();
+        let mut rng = Rng::new(7, 1);
+        let mut passed = 0;
+        for _ in 0..2000 {
+            let u = Vec2::new(rng.uniform(), rng.uniform());
+            let Some((o, d, w)) = lens.generate_ray(Vec2::splat(64.0), (128, 128), u) else { continue };
+            passed += 1;
+            assert!(w > 0.0);
+            let (o, d) = (o.as_dvec3(), d.as_dvec3());
+            // Nearly parallel to the axis (within the 7 mm stop radius over 5 m, far less)
+            // and through the axis point 5 m from the film, up to the lens's aberration.
+            assert!(d.z > 0.999, "{d}");
+            let at_focus = o + (5.0 - o.z) / d.z * d;
+            assert!(
+                at_focus.truncate().length() < 2e-3,
+                "crosses the focus plane {} m off the axis",
+                at_focus.truncate().length()
+            );
+        }
+        assert!(passed > 1000, "only {passed} of 2000 pupil samples passed");
+    }
+
+    #[test]
+    fn the_exit_pupil_boxes_hold_every_ray_that_passes() {
+        let lens = dgauss();
+        let (system, pupil) = (&lens.system, &lens.pupil);
+        let rear = 1.5 * system.rear_radius();
+        let mut rng = Rng::new(3, 5);
+        let (mut passed, mut tried) = (0, 0);
+        for _ in 0..40 {
+            let r = rng.uniform_f64() * pupil.half_diagonal;
+            let ring = ((r / pupil.half_diagonal * super::super::exit_pupil::RINGS as f64) as usize)
+                .min(super::super::exit_pupil::RINGS - 1);
+            let b = pupil.boxes[ring];
+            for _ in 0..2000 {
+                let p = DVec2::new(2.0 * rng.uniform_f64() - 1.0, 2.0 * rng.uniform_f64() - 1.0) * rear;
+                let film = DVec3::new(r, 0.0, 0.0);
+                tried += 1;
+                if system.trace_from_film(LensRay { o: film, d: p.extend(system.rear_z()) - film }).is_some() {
+                    passed += 1;
+                    assert!(b.contains(p), "{p} passes from film radius {r} but lies outside {b:?}");
+                }
+            }
+        }
+        assert!(passed > tried / 20, "{passed} of {tried}");
+    }
+}
