@@ -55,3 +55,40 @@ impl Ctx<'_> {
         Ok(Arc::new(lens))
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use crate::scene::{parse_str, ParseOptions};
+    use std::path::PathBuf;
+
+    /// The error text of building a scene whose camera is `camera`, read from `dir`.
+    fn build_error(camera: &str, dir: PathBuf) -> String {
+        let text = format!("{camera}\nWorldBegin\nShape \"sphere\"\n");
+        let opts = ParseOptions { base_dir: Some(dir), ..ParseOptions::default() };
+        let (desc, mut w) = parse_str(&text, &opts).unwrap();
+        match super::super::build(&desc, &mut w) {
+            Ok(_) => String::new(),
+            Err(e) => e.to_string(),
+        }
+    }
+
+    #[test]
+    fn the_lens_file_is_found_beside_the_scene_and_its_errors_name_file_and_line() {
+        let data = PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/compat"));
+        let ok = "Camera \"realistic\" \"string lensfile\" \"cameras-dgauss.50mm.dat\" \"float aperturediameter\" 14";
+        assert_eq!(build_error(ok, data.clone()), "", "relative to the scene's directory");
+        let missing = build_error("Camera \"realistic\"", data.clone());
+        assert!(missing.contains("needs a \"string lensfile\""), "{missing}");
+        let absent = build_error("Camera \"realistic\" \"string lensfile\" \"no-such.dat\"", data.clone());
+        assert!(absent.contains("cannot read") && absent.contains("no-such.dat"), "{absent}");
+        let near = "Camera \"realistic\" \"string lensfile\" \"cameras-dgauss.50mm.dat\" \"float focusdistance\" 0.1";
+        assert!(build_error(near, data).contains("too short"), "a focus inside the lens's reach");
+
+        let dir = std::env::temp_dir().join(format!("prism-lens-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        std::fs::write(dir.join("bad.dat"), "# r t n a\n29.5 3.8 1.67 25\n12 5.7 one 18\n").unwrap();
+        let bad = build_error("Camera \"realistic\" \"string lensfile\" \"bad.dat\"", dir.clone());
+        std::fs::remove_dir_all(&dir).ok();
+        assert!(bad.contains("bad.dat:3:8:") && bad.contains("\"one\" is not a number"), "{bad}");
+    }
+}
