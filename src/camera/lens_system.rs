@@ -83,7 +83,8 @@ fn intersect_spherical(radius: f64, z_center: f64, ray: &LensRay) -> Option<(f64
         std::mem::swap(&mut t0, &mut t1);
     }
     let t = if (ray.d.z > 0.0) ^ (radius < 0.0) { t0 } else { t1 };
-    if !(t >= 0.0) {
+    // A NaN root (a degenerate ray) fails too.
+    if t.is_nan() || t < 0.0 {
         return None;
     }
     let n = (o + t * ray.d).normalize();
@@ -129,7 +130,7 @@ impl LensSystem {
             let (t, n) = intersect_spherical(r, z + r, ray)?;
             (t, Some(n))
         };
-        if !(t >= 0.0) {
+        if t.is_nan() || t < 0.0 {
             return None;
         }
         let p = ray.at(t);
@@ -199,7 +200,7 @@ impl LensSystem {
         let f = fz[0] - pz[0];
         let z = -f64::from(focus_distance);
         let c = (pz[1] - z - pz[0]) * (pz[1] - z - 4.0 * f - pz[0]);
-        if !(c > 0.0) {
+        if c.is_nan() || c <= 0.0 {
             return Err(LensError::FocusTooClose(focus_distance));
         }
         let delta = 0.5 * (pz[1] - z + pz[0] - c.sqrt());
