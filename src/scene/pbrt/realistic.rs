@@ -77,6 +77,9 @@ mod tests {
         let data = PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/compat"));
         let ok = "Camera \"realistic\" \"string lensfile\" \"cameras-dgauss.50mm.dat\" \"float aperturediameter\" 14";
         assert_eq!(build_error(ok, data.clone()), "", "relative to the scene's directory");
+        let opts = ParseOptions { base_dir: Some(data.clone()), ..ParseOptions::default() };
+        let (desc, _) = parse_str(&format!("{ok}\nWorldBegin\n"), &opts).unwrap();
+        assert!(desc.input_files().contains(&data.join("cameras-dgauss.50mm.dat")), "the lens file is an input");
         let missing = build_error("Camera \"realistic\"", data.clone());
         assert!(missing.contains("needs a \"string lensfile\""), "{missing}");
         let absent = build_error("Camera \"realistic\" \"string lensfile\" \"no-such.dat\"", data.clone());
