@@ -23,9 +23,9 @@ pub const PBRT_ONLY_LIGHTS: &[(&str, &str)] = &[];
 pub const PRISM_AREA_LIGHTS: &[&str] = &["diffuse"];
 
 /// Cameras prism renders.
-pub const PRISM_CAMERAS: &[&str] = &["perspective", "orthographic", "spherical"];
+pub const PRISM_CAMERAS: &[&str] = &["perspective", "orthographic", "spherical", "realistic"];
 /// pbrt-v4 cameras prism replaces.
-pub const PBRT_ONLY_CAMERAS: &[(&str, &str)] = &[("realistic", "perspective")];
+pub const PBRT_ONLY_CAMERAS: &[(&str, &str)] = &[];
 
 /// Films prism writes.
 pub const PRISM_FILMS: &[&str] = &["rgb", "spectral"];

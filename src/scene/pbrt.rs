@@ -12,6 +12,7 @@ mod lights;
 mod load;
 mod materials;
 mod media;
+mod realistic;
 mod subsurface;
 mod textures;
 
@@ -159,6 +160,7 @@ impl Ctx<'_> {
         let p = &c.directive.params;
         let projection = match c.directive.kind.as_str() {
             "orthographic" => Projection::Orthographic,
+            "realistic" => Projection::Realistic,
             "spherical" => match p.string("mapping").unwrap_or("equalarea") {
                 "equalarea" => Projection::SphericalEqualArea,
                 "equirectangular" => Projection::SphericalEquirect,
@@ -179,6 +181,7 @@ impl Ctx<'_> {
         let screen_window = p.floats("screenwindow").filter(|s| s.len() == 4).map(|s| [s[0], s[1], s[2], s[3]]);
         let (lens_radius, focal_distance) =
             if spherical { (0.0, 1e6) } else { (p.float_or("lensradius", 0.0), p.float_or("focaldistance", 1e6)) };
+        let lens = if projection == Projection::Realistic { Some(self.realistic_lens()?) } else { None };
         self.b.set_camera_desc(CameraDesc {
             camera_to_world: c.camera_from_world.inverse(),
             fov_deg: fov,
@@ -186,6 +189,7 @@ impl Ctx<'_> {
             focal_distance,
             screen_window,
             projection,
+            lens,
         });
         Ok(())
     }
