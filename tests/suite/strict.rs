@@ -85,7 +85,7 @@ fn every_unsupported_feature_warns_and_is_an_error_in_strict_mode() {
             "\"point3 portal\"",
             "infinite light \"portal\"",
         ),
-        (false, "Material \"hair\"\nShape \"sphere\"".into(), "\"hair\"", "material \"hair\""),
+        (false, "Material \"measured\"\nShape \"sphere\"".into(), "\"measured\"", "material \"measured\""),
     ];
     let strict = ParseOptions { strict: true, ..Default::default() };
     for (i, (in_options, directive, at, feature)) in cases.iter().enumerate() {
