@@ -129,8 +129,12 @@ impl Hair {
 
     /// f(ωo, ωi) [1/sr], divided by |cos θ_n| so that the integrator's cosine cancels.
     pub fn f(&self, wo: Vec3, wi: Vec3, _mode: TransportMode) -> SampledSpectrum {
-        let e = self.exit(wo);
-        let f = self.lobe_sum(&e, wi, SampledSpectrum::zero(), |p| e.ap[p]);
+        self.f_at(&self.exit(wo), wi)
+    }
+
+    /// [`Self::f`] for the exit geometry `e` of ωo.
+    fn f_at(&self, e: &Exit, wi: Vec3) -> SampledSpectrum {
+        let f = self.lobe_sum(e, wi, SampledSpectrum::zero(), |p| e.ap[p]);
         let cos_n = wi.z.abs();
         if cos_n > 0.0 {
             f * (1.0 / cos_n)
@@ -141,7 +145,7 @@ impl Hair {
 
     /// Chooses a lobe by its attenuation with `uc`, then θi from M_p (d'Eon et al. 2011's
     /// sampling of the lobe about −θo) with `u`, and φi from N_p with the remainder of `uc`.
-    pub fn sample_f(&self, wo: Vec3, uc: f32, u: Vec2, mode: TransportMode) -> Option<BsdfSample> {
+    pub fn sample_f(&self, wo: Vec3, uc: f32, u: Vec2, _mode: TransportMode) -> Option<BsdfSample> {
         let e = self.exit(wo);
         let pmf = Self::lobe_pmf(&e.ap);
         let (mut p, mut uc) = (P_MAX, uc.clamp(0.0, 1.0 - f32::EPSILON));
@@ -173,7 +177,7 @@ impl Hair {
         let phi_i = e.phi_o + dphi;
         let wi = Vec3::new(sin_i, cos_i * phi_i.cos(), cos_i * phi_i.sin());
         let pdf = self.lobe_sum(&e, wi, 0.0, |q| pmf[q]);
-        Some(BsdfSample::new(self.f(wo, wi, mode), wi, pdf, BxdfFlags::GLOSSY_REFLECTION))
+        Some(BsdfSample::new(self.f_at(&e, wi), wi, pdf, BxdfFlags::GLOSSY_REFLECTION))
     }
 
     /// Density of [`Self::sample_f`] [1/sr].

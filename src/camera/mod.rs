@@ -144,23 +144,9 @@ impl Camera {
         }
     }
 
-    /// The primary ray through film position `p_film` (pixels, origin at the top-left corner,
-    /// y down) using lens sample `u_lens` in [0,1)². The direction is unit length. For a
-    /// realistic camera this is [`Camera::sample_ray`]'s ray, and a ray of zero length along
-    /// the view direction where the lens blocks it.
-    pub fn generate_ray(&self, p_film: Vec2, u_lens: Vec2) -> Ray {
-        if self.lens.is_some() {
-            return self.sample_ray(p_film, u_lens).map_or_else(
-                || Ray {
-                    t_max: 0.0,
-                    ..Ray::new(
-                        self.camera_to_world.transform_point3(Vec3::ZERO),
-                        self.camera_to_world.z_axis.truncate(),
-                    )
-                },
-                |c| c.ray,
-            );
-        }
+    /// The ray of a camera without a lens system through film position `p_film` (as
+    /// [`Camera::sample_ray`]) with lens sample `u_lens`; the direction is unit length.
+    fn generate_ray(&self, p_film: Vec2, u_lens: Vec2) -> Ray {
         let (w, h) = (self.resolution.0 as f32, self.resolution.1 as f32);
         let [x0, x1, y0, y1] = self.screen;
         let sx = x0 + (x1 - x0) * (p_film.x / w);
