@@ -161,7 +161,7 @@ impl PathIntegrator {
                         let d = ray.d.normalize();
                         for (id, light) in scene.infinite_lights() {
                             let weight = self.emission_weight(&state, scene.light_pdf(id, state.prev_p, d));
-                            state.l += state.beta * light.escaped_radiance(d, w) * weight;
+                            state.l += state.beta * light.escaped_radiance(ray.o, d, w) * weight;
                         }
                         break;
                     };

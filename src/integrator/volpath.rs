@@ -143,7 +143,7 @@ impl VolPathIntegrator {
 
             let Some(si) = si else {
                 for (id, light) in scene.infinite_lights() {
-                    let le = light.escaped_radiance(ray.d, w);
+                    let le = light.escaped_radiance(ray.o, ray.d, w);
                     l += self.found_emission(scene, id, le, beta, r_u, r_l, specular_bounce, prev_p, ray.d);
                 }
                 break;

@@ -17,6 +17,7 @@ mod merge;
 mod naive_fails;
 mod pbrt_defaults;
 mod pbrt_materials;
+mod portal;
 mod quadrics;
 mod radiometry;
 mod readme;
