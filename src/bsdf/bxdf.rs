@@ -76,6 +76,27 @@ impl Bxdf {
     pub fn flags(&self) -> BxdfFlags {
         dispatch!(self, b => b.flags())
     }
+
+    /// Widens every microfacet lobe ([`super::TrowbridgeReitz::regularize`]); lobes without a
+    /// microfacet distribution (diffuse, thin dielectric, hair, the BSSRDF entry lobe) stay
+    /// as they are, as in pbrt-v4.
+    pub fn regularize(&mut self) {
+        match self {
+            Bxdf::Conductor(b) => b.distrib.regularize(),
+            Bxdf::Dielectric(b) => b.distrib.regularize(),
+            Bxdf::CoatedDiffuse(b) => b.distrib.regularize(),
+            Bxdf::LayeredDiffuse(b) => b.top.distrib.regularize(),
+            Bxdf::LayeredConductor(b) => {
+                b.top.distrib.regularize();
+                b.bottom.distrib.regularize();
+            }
+            Bxdf::Diffuse(_)
+            | Bxdf::DiffuseTransmission(_)
+            | Bxdf::ThinDielectric(_)
+            | Bxdf::NormalizedFresnel(_)
+            | Bxdf::Hair(_) => {}
+        }
+    }
 }
 
 impl From<Diffuse> for Bxdf {

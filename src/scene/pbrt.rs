@@ -48,6 +48,8 @@ pub struct FileSettings {
     pub spp: Option<u64>,
     /// Integrator "maxdepth" ([`PBRT_DEFAULT_MAX_DEPTH`] when the file gives none).
     pub max_depth: Option<u32>,
+    /// Integrator "regularize" (pbrt-v4's default false).
+    pub regularize: Option<bool>,
     /// PixelFilter with its parameters.
     pub filter: Option<crate::filter::Filter>,
     /// Sampler type mapped to prism's ("independent" or "sobol").
@@ -245,6 +247,7 @@ impl Ctx<'_> {
             spp: count(&d.sampler.params, "pixelsamples", &d.sampler.loc, 1)?.map(|n| n as u64),
             // pbrt-v4's default when the file gives none.
             max_depth: Some(self.max_depth()?.unwrap_or(PBRT_DEFAULT_MAX_DEPTH)),
+            regularize: d.integrator.params.bool("regularize"),
             filter: Some(filter),
             sampler: Some(sampler.to_string()),
             seed: d.sampler.params.int("seed").or_else(|| d.options.int("seed")).map(|s| s as u64),

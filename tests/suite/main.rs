@@ -21,6 +21,7 @@ mod portal;
 mod quadrics;
 mod radiometry;
 mod readme;
+mod regularize;
 mod render;
 mod resource_errors;
 mod robustness;
