@@ -241,8 +241,13 @@ impl PathIntegrator {
                 // leaving scale radiance by 1/η² and η², so eta_scale is left alone.
                 let entered = si.material().and_then(Material::subsurface).filter(|_| bs.wi.dot(bsdf.ns()) < 0.0);
                 if let Some(m) = entered {
+                    let w: &SampledWavelengths = w;
+                    let mut light = |b: &SurfaceInteraction, bsdf: &Bsdf, sampler: &mut Sampler, stats: &mut Stats| {
+                        self.sample_light(scene, b, bsdf, w, sampler, stats)
+                    };
                     match subsurface::enter(
-                        self,
+                        self.sss,
+                        use_nee.then_some(&mut light as subsurface::BoundaryNee),
                         scene,
                         m,
                         &si,

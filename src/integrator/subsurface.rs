@@ -18,7 +18,7 @@
 //! Both assume the subsurface object does not intersect other geometry: a hit inside the medium
 //! is treated as its boundary.
 
-use super::{DirectStrategy, PathIntegrator, Stats};
+use super::Stats;
 use crate::bsdf::{Bsdf, TransportMode};
 use crate::bssrdf::TabulatedBssrdf;
 use crate::geometry::{Hit, Ray};
@@ -78,11 +78,19 @@ pub(super) enum Exit<'s> {
     Ray(Ray, Vec3, Option<f32>),
 }
 
+/// Next-event estimation at a boundary vertex of a random walk: the light sampled from the
+/// vertex through its BSDF, MIS-weighted the way the calling integrator weights the emission
+/// its BSDF-sampled rays find (per unit throughput).
+pub(super) type BoundaryNee<'n> =
+    &'n mut dyn FnMut(&SurfaceInteraction, &Bsdf, &mut Sampler, &mut Stats) -> SampledSpectrum;
+
 /// Continues a path that refracted at `si` into the material along `wi`, multiplying `beta`
-/// by the transport inside. `None`: the path ends (absorbed, or no entry point found).
+/// by the transport inside, by `method`. `nee` (none: no light sampling) estimates direct light
+/// at the walk's boundary vertices. `None`: the path ends (absorbed, or no entry point found).
 #[allow(clippy::too_many_arguments)]
 pub(super) fn enter<'s>(
-    integ: &PathIntegrator,
+    method: SubsurfaceMethod,
+    nee: Option<BoundaryNee>,
     scene: &'s Scene,
     material: &SubsurfaceMaterial,
     si: &SurfaceInteraction<'s>,
@@ -100,11 +108,11 @@ pub(super) fn enter<'s>(
         let mfp = medium.sigma_t().min_value().recip();
         mfp > material.object_radius(|| si.material_radius(scene))
     };
-    match integ.sss {
+    match method {
         SubsurfaceMethod::Diffusion if !thin() => diffusion(scene, material, &medium, si, beta, sampler, stats),
         _ => {
-            let walk = Walk { integ, scene, material, medium: &medium, w };
-            walk.run(si, wi, (beta, l), sampler, stats)
+            let walk = Walk { scene, material, medium: &medium };
+            walk.run(si, wi, (beta, l), nee, sampler, stats)
         }
     }
 }
@@ -152,11 +160,9 @@ fn diffusion<'s>(
 
 /// What a random walk needs besides the path state.
 struct Walk<'a> {
-    integ: &'a PathIntegrator,
     scene: &'a Scene,
     material: &'a SubsurfaceMaterial,
     medium: &'a HomogeneousMedium,
-    w: &'a SampledWavelengths,
 }
 
 impl Walk<'_> {
@@ -168,12 +174,12 @@ impl Walk<'_> {
         si: &SurfaceInteraction<'_>,
         wi: Vec3,
         (beta, l): (&mut SampledSpectrum, &mut SampledSpectrum),
+        mut nee: Option<BoundaryNee>,
         sampler: &mut Sampler,
         stats: &mut Stats,
     ) -> Option<Exit<'s>> {
         let scene = self.scene;
         let phase = self.material.phase();
-        let nee = self.integ.strategy != DirectStrategy::BsdfOnly;
         let mut ray = si.spawn_ray(wi.normalize());
         let mut scatterings = 0u32;
         for _ in 0..MAX_WALK_EVENTS {
@@ -193,8 +199,8 @@ impl Walk<'_> {
                     let h = hit?;
                     let b = scene.interaction(&ray, &h);
                     let bsdf = self.material.boundary_bsdf(&b.shading_point(None));
-                    if nee && bsdf.flags().is_non_specular() {
-                        *l += *beta * self.integ.sample_light(scene, &b, &bsdf, self.w, sampler, stats);
+                    if let Some(nee) = nee.as_mut().filter(|_| bsdf.flags().is_non_specular()) {
+                        *l += *beta * nee(&b, &bsdf, sampler, stats);
                     }
                     let bs = bsdf.sample_f(b.wo, sampler.get_1d(), sampler.get_2d(), TransportMode::Radiance)?;
                     *beta *= bs.f * (bs.wi.dot(b.shading.ns).abs() / bs.pdf);

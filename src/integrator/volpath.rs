@@ -12,11 +12,14 @@
 //! between BSDF/phase sampling and next-event estimation. Shadow rays estimate transmittance by
 //! ratio tracking (Novák et al. 2014) with Russian roulette once it is small, through any number
 //! of media and interface surfaces. Media emit σ_a L_e, gathered at every tentative collision.
+//! Paths that refract into a subsurface material continue by [`super::subsurface::enter`].
 
+use super::subsurface::{self, Exit, SubsurfaceMethod};
 use super::transmittance::{distance, ray_rng, transmittance};
 use super::{PathIntegrator, Stats};
 use crate::bsdf::{Bsdf, TransportMode};
 use crate::geometry::Ray;
+use crate::material::Material;
 use crate::media::{sample_t_maj, HenyeyGreenstein};
 use crate::sampling::Sampler;
 use crate::scene::{Scene, SurfaceInteraction, MAX_INTERFACE_CROSSINGS};
@@ -33,13 +36,15 @@ pub struct VolPathIntegrator {
     pub footprint: Option<TextureFootprint>,
     /// Widen microfacet lobes after the first non-specular bounce (`PathIntegrator::regularize`).
     pub regularize: bool,
+    /// How paths entering subsurface materials continue.
+    pub sss: SubsurfaceMethod,
 }
 
 impl VolPathIntegrator {
     /// The settings of the surface path tracer that apply (depth limit, texture footprint,
-    /// regularisation).
+    /// regularisation, subsurface method).
     pub fn from_path(p: &PathIntegrator) -> Self {
-        Self { max_depth: p.max_depth, footprint: p.footprint, regularize: p.regularize }
+        Self { max_depth: p.max_depth, footprint: p.footprint, regularize: p.regularize, sss: p.sss }
     }
 }
 
@@ -72,111 +77,125 @@ impl VolPathIntegrator {
         let mut ray = Ray::new(ray.o, ray.d.normalize());
         let mut medium = scene.camera_medium();
         let mut crossings = 0;
+        // A vertex found without tracing a ray (a subsurface exit) with its BSDF.
+        let mut pending: Option<(SurfaceInteraction, Bsdf)> = None;
         loop {
-            stats.rays += 1;
-            let si = scene.intersect(&ray);
-            if let Some(m) = medium.and_then(|i| scene.media().get(i as usize)) {
-                let t_hit = si.as_ref().map_or(f32::INFINITY, |s| distance(&ray, s.p));
-                let uniform = m.uniform_point(w);
-                let mut rng = ray_rng(sampler);
-                let u = sampler.get_1d();
-                let (mut scattered, mut terminated) = (None, false);
-                let t_maj = sample_t_maj(m, &uniform, ray.o, ray.d, t_hit, u, &mut rng, w, |c, rng| {
-                    let s0 = c.sigma_maj[0];
-                    // Emission σ_a L_e, estimated at every tentative collision.
-                    if depth < self.max_depth && !c.mp.le.is_black() {
-                        let pdf = s0 * c.t_maj[0];
-                        let r_e = r_u * c.sigma_maj * c.t_maj / pdf;
-                        if !r_e.is_black() {
-                            l += beta * c.t_maj / pdf * c.mp.sigma_a * c.mp.le / r_e.average();
+            let (si, given_bsdf) = match pending.take() {
+                Some((si, bsdf)) => (si, Some(bsdf)),
+                None => {
+                    stats.rays += 1;
+                    let si = scene.intersect(&ray);
+                    if let Some(m) = medium.and_then(|i| scene.media().get(i as usize)) {
+                        let t_hit = si.as_ref().map_or(f32::INFINITY, |s| distance(&ray, s.p));
+                        let uniform = m.uniform_point(w);
+                        let mut rng = ray_rng(sampler);
+                        let u = sampler.get_1d();
+                        let (mut scattered, mut terminated) = (None, false);
+                        let t_maj = sample_t_maj(m, &uniform, ray.o, ray.d, t_hit, u, &mut rng, w, |c, rng| {
+                            let s0 = c.sigma_maj[0];
+                            // Emission σ_a L_e, estimated at every tentative collision.
+                            if depth < self.max_depth && !c.mp.le.is_black() {
+                                let pdf = s0 * c.t_maj[0];
+                                let r_e = r_u * c.sigma_maj * c.t_maj / pdf;
+                                if !r_e.is_black() {
+                                    l += beta * c.t_maj / pdf * c.mp.sigma_a * c.mp.le / r_e.average();
+                                }
+                            }
+                            let (p_absorb, p_scatter) = (c.mp.sigma_a[0] / s0, c.mp.sigma_s[0] / s0);
+                            let um = rng.uniform();
+                            if um < p_absorb {
+                                terminated = true;
+                                false
+                            } else if um < p_absorb + p_scatter {
+                                if depth >= self.max_depth {
+                                    terminated = true;
+                                    return false;
+                                }
+                                depth += 1;
+                                let pdf = c.t_maj[0] * c.mp.sigma_s[0];
+                                beta *= c.t_maj * c.mp.sigma_s / pdf;
+                                r_u *= c.t_maj * c.mp.sigma_s / pdf;
+                                scattered = Some((c.p, c.mp.g));
+                                false
+                            } else {
+                                let sigma_n = (c.sigma_maj - c.mp.sigma_a - c.mp.sigma_s).map(|x| x.max(0.0));
+                                let pdf = c.t_maj[0] * sigma_n[0];
+                                if pdf <= 0.0 {
+                                    beta = SampledSpectrum::zero();
+                                } else {
+                                    beta *= c.t_maj * sigma_n / pdf;
+                                    r_u *= c.t_maj * sigma_n / pdf;
+                                    r_l *= c.t_maj * c.sigma_maj / pdf;
+                                }
+                                !beta.is_black() && !r_u.is_black()
+                            }
+                        });
+                        if terminated || beta.is_black() || r_u.is_black() || !beta.is_finite() {
+                            break;
                         }
+                        if let Some((p, g)) = scattered {
+                            let phase = HenyeyGreenstein::new(g);
+                            let at = Scatterer::Medium { p, d: ray.d, phase };
+                            l += self.sample_ld(scene, &at, medium, beta, r_u, w, sampler, stats);
+                            let wi = phase.sample(ray.d, sampler.get_2d());
+                            let pdf = phase.p(ray.d, wi);
+                            // β ·= p/pdf = 1: HG is sampled exactly.
+                            r_l = r_u / pdf;
+                            prev_p = p;
+                            specular_bounce = false;
+                            any_non_specular = true;
+                            ray = Ray::new(p, wi);
+                            continue;
+                        }
+                        let t0 = t_maj[0];
+                        if t0.is_nan() || t0 <= 0.0 {
+                            break;
+                        }
+                        beta *= t_maj / t0;
+                        r_u *= t_maj / t0;
+                        r_l *= t_maj / t0;
                     }
-                    let (p_absorb, p_scatter) = (c.mp.sigma_a[0] / s0, c.mp.sigma_s[0] / s0);
-                    let um = rng.uniform();
-                    if um < p_absorb {
-                        terminated = true;
-                        false
-                    } else if um < p_absorb + p_scatter {
-                        if depth >= self.max_depth {
-                            terminated = true;
-                            return false;
-                        }
-                        depth += 1;
-                        let pdf = c.t_maj[0] * c.mp.sigma_s[0];
-                        beta *= c.t_maj * c.mp.sigma_s / pdf;
-                        r_u *= c.t_maj * c.mp.sigma_s / pdf;
-                        scattered = Some((c.p, c.mp.g));
-                        false
-                    } else {
-                        let sigma_n = (c.sigma_maj - c.mp.sigma_a - c.mp.sigma_s).map(|x| x.max(0.0));
-                        let pdf = c.t_maj[0] * sigma_n[0];
-                        if pdf <= 0.0 {
-                            beta = SampledSpectrum::zero();
-                        } else {
-                            beta *= c.t_maj * sigma_n / pdf;
-                            r_u *= c.t_maj * sigma_n / pdf;
-                            r_l *= c.t_maj * c.sigma_maj / pdf;
-                        }
-                        !beta.is_black() && !r_u.is_black()
-                    }
-                });
-                if terminated || beta.is_black() || r_u.is_black() || !beta.is_finite() {
-                    break;
-                }
-                if let Some((p, g)) = scattered {
-                    let phase = HenyeyGreenstein::new(g);
-                    let at = Scatterer::Medium { p, d: ray.d, phase };
-                    l += self.sample_ld(scene, &at, medium, beta, r_u, w, sampler, stats);
-                    let wi = phase.sample(ray.d, sampler.get_2d());
-                    let pdf = phase.p(ray.d, wi);
-                    // β ·= p/pdf = 1: HG is sampled exactly.
-                    r_l = r_u / pdf;
-                    prev_p = p;
-                    specular_bounce = false;
-                    any_non_specular = true;
-                    ray = Ray::new(p, wi);
-                    continue;
-                }
-                let t0 = t_maj[0];
-                if t0.is_nan() || t0 <= 0.0 {
-                    break;
-                }
-                beta *= t_maj / t0;
-                r_u *= t_maj / t0;
-                r_l *= t_maj / t0;
-            }
 
-            let Some(si) = si else {
-                for (id, light) in scene.infinite_lights() {
-                    let le = light.escaped_radiance(ray.o, ray.d, w);
-                    l += self.found_emission(scene, id, le, beta, r_u, r_l, specular_bounce, prev_p, ray.d);
+                    let Some(si) = si else {
+                        for (id, light) in scene.infinite_lights() {
+                            let le = light.escaped_radiance(ray.o, ray.d, w);
+                            l += self.found_emission(scene, id, le, beta, r_u, r_l, specular_bounce, prev_p, ray.d);
+                        }
+                        break;
+                    };
+                    if let Some((id, _)) = si.area_light() {
+                        let le = si.emitted(w);
+                        if !le.is_black() {
+                            l += self.found_emission(scene, id, le, beta, r_u, r_l, specular_bounce, prev_p, ray.d);
+                        }
+                    }
+                    if si.is_passthrough() {
+                        // A boundary between media only: the ray goes on in the medium behind it.
+                        crossings += 1;
+                        if crossings > MAX_INTERFACE_CROSSINGS {
+                            break;
+                        }
+                        medium = si.medium_interface().medium_toward(ray.d, si.shading.ng, medium);
+                        ray = si.spawn_ray(ray.d);
+                        continue;
+                    }
+                    (si, None)
                 }
-                break;
             };
-            if let Some((id, _)) = si.area_light() {
-                let le = si.emitted(w);
-                if !le.is_black() {
-                    l += self.found_emission(scene, id, le, beta, r_u, r_l, specular_bounce, prev_p, ray.d);
-                }
-            }
-            if si.is_passthrough() {
-                // A boundary between media only: the ray goes on in the medium behind it.
-                crossings += 1;
-                if crossings > MAX_INTERFACE_CROSSINGS {
-                    break;
-                }
-                medium = si.medium_interface().medium_toward(ray.d, si.shading.ng, medium);
-                ray = si.spawn_ray(ray.d);
-                continue;
-            }
             if depth >= self.max_depth {
                 break;
             }
             depth += 1;
-            let Some(mut bsdf) = si.bsdf(w, self.footprint.as_ref()) else { break };
-            if self.regularize && any_non_specular {
-                bsdf.bxdf.regularize();
-            }
+            let bsdf = match given_bsdf {
+                Some(b) => b,
+                None => {
+                    let Some(mut b) = si.bsdf(w, self.footprint.as_ref()) else { break };
+                    if self.regularize && any_non_specular {
+                        b.bxdf.regularize();
+                    }
+                    b
+                }
+            };
             let flags = bsdf.flags();
             if flags.is_empty() {
                 break;
@@ -192,12 +211,47 @@ impl VolPathIntegrator {
             r_l = r_u / pdf;
             specular_bounce = bs.is_specular();
             any_non_specular |= !bs.is_specular();
-            if bs.is_transmission() {
-                eta_scale *= bs.eta * bs.eta;
-            }
             let wi = bs.wi.normalize();
-            medium = si.medium_interface().medium_toward(wi, si.shading.ng, medium);
-            ray = si.spawn_ray(wi);
+            // Refraction into a subsurface material: the path goes on where light leaves it, in
+            // the medium it came from (entering and leaving scale radiance by 1/η² and η², so
+            // eta_scale is left alone).
+            let entered = si
+                .material()
+                .and_then(Material::subsurface)
+                .filter(|_| bs.is_transmission() && wi.dot(bsdf.ns()) < 0.0);
+            if let Some(m) = entered {
+                let outside = si.medium_interface().medium_toward(si.wo, si.shading.ng, medium);
+                let (w, r_p): (&SampledWavelengths, _) = (w, r_u);
+                let mut light = |b: &SurfaceInteraction, b_bsdf: &Bsdf, sampler: &mut Sampler, stats: &mut Stats| {
+                    let at = Scatterer::Surface(b, b_bsdf);
+                    self.sample_ld(scene, &at, outside, SampledSpectrum::one(), r_p, w, sampler, stats)
+                };
+                let nee = Some(&mut light as subsurface::BoundaryNee);
+                medium = outside;
+                match subsurface::enter(self.sss, nee, scene, m, &si, wi, (&mut beta, &mut l), w, sampler, stats) {
+                    None => break,
+                    Some(Exit::Vertex(vsi, vbsdf)) => {
+                        pending = Some((vsi, vbsdf));
+                        continue;
+                    }
+                    Some(Exit::Ray(exit, origin, pdf)) => {
+                        // The walk's last boundary vertex sampled light and chose the way out.
+                        if depth >= self.max_depth {
+                            break;
+                        }
+                        depth += 1;
+                        (ray, prev_p, specular_bounce) = (exit, origin, pdf.is_none());
+                        any_non_specular |= pdf.is_some();
+                        r_l = r_u / pdf.unwrap_or(1.0);
+                    }
+                }
+            } else {
+                if bs.is_transmission() {
+                    eta_scale *= bs.eta * bs.eta;
+                }
+                medium = si.medium_interface().medium_toward(wi, si.shading.ng, medium);
+                ray = si.spawn_ray(wi);
+            }
             if beta.is_black() {
                 break;
             }
