@@ -25,7 +25,7 @@ pub use infinite::UniformInfiniteLight;
 pub use map_layout::MapLayout;
 pub use point::{PointLight, SpotFalloff, SpotLight};
 pub use projection::ProjectionLight;
-pub use sampler::LightSampler;
+pub use sampler::{LightSampleContext, LightSampler, LightSamplerKind};
 pub use sphere::SphereLight;
 
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
