@@ -33,6 +33,9 @@ pub struct CompatArgs {
     /// Intersection backend passed to `prism render`.
     #[arg(long)]
     pub accel: Option<String>,
+    /// Light sampler passed to `prism render` (bvh, power, uniform).
+    #[arg(long)]
+    pub light_sampler: Option<String>,
     /// Directory for prism's renders and logs.
     #[arg(long, default_value = "target/compat")]
     pub out: PathBuf,
@@ -204,6 +207,9 @@ fn run_case(case: &CompatCase, a: &CompatArgs, image_dir: Option<&Path>) -> Resu
     cmd.args(["--resolution", &format!("{}x{}", reference.width, reference.height)]);
     if let Some(accel) = &a.accel {
         cmd.args(["--accel", accel]);
+    }
+    if let Some(kind) = &a.light_sampler {
+        cmd.args(["--light-sampler", kind]);
     }
     cmd.arg("-o").arg(&output).arg("--stats-json").arg(&stats);
     let t0 = Instant::now();

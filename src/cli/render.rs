@@ -4,6 +4,7 @@ use crate::accel::AccelKind;
 use crate::film::{Crop, Film, FilmSettings};
 use crate::image::{CropWindow, ExrSample, WriteOptions};
 use crate::integrator::{PathIntegrator, Stats, SubsurfaceMethod};
+use crate::light::LightSamplerKind;
 use crate::render::RenderSettings;
 use crate::scene::pbrt::{input_stamps, FileSettings, InputStamp, LoadedScene};
 use crate::scene::{Scene, SceneBuilder};
@@ -63,6 +64,10 @@ pub struct RenderArgs {
     /// [default: diffusion].
     #[arg(long)]
     pub sss: Option<String>,
+    /// Light sampler for next-event estimation: bvh (importance at the shading point), power or
+    /// uniform [default: the file's Integrator "lightsampler", else bvh].
+    #[arg(long)]
+    pub light_sampler: Option<String>,
     /// Prototype: advance 8 paths together in SIMD lanes, tracing their rays as Embree packets
     /// (`packet`) or one by one (`single`). Lambertian materials and area lights only.
     #[arg(long)]
@@ -164,8 +169,15 @@ pub fn prepare(args: &RenderArgs) -> Result<Job> {
     };
     let max_depth = args.max_depth.map(|d| settings::max_depth(d, "--max-depth")).transpose()?;
     let sss = args.sss.as_deref().map(SubsurfaceMethod::parse).transpose().map_err(anyhow::Error::msg)?;
+    let light_sampler = match args.light_sampler.as_deref() {
+        None => None,
+        Some(name) => Some(
+            LightSamplerKind::parse(name)
+                .with_context(|| format!("unknown --light-sampler '{name}' (valid: {})", LightSamplerKind::NAMES))?,
+        ),
+    };
 
-    let (builder, file, scene_name, inputs) = match &args.scene {
+    let (mut builder, file, scene_name, inputs) = match &args.scene {
         None => (SceneBuilder::cornell_box(), FileSettings::default(), "builtin:cornell".to_string(), Vec::new()),
         Some(path) => {
             let loaded = load_scene_file(path, args.strict)?;
@@ -195,6 +207,9 @@ pub fn prepare(args: &RenderArgs) -> Result<Job> {
 
     for w in &builder.warnings {
         log::warn!("{w}");
+    }
+    if let Some(kind) = light_sampler {
+        builder.set_light_sampler(kind);
     }
     let t0 = Instant::now();
     let scene = builder.build(accel).context("building the scene")?;

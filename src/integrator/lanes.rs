@@ -19,7 +19,7 @@ use super::path::PathIntegrator;
 use super::{DirectStrategy, Stats};
 use crate::bsdf::{BsdfLanes, Bxdf, DiffuseLanes};
 use crate::geometry::Ray;
-use crate::light::{AreaLight, Light, TriangleLightLanes};
+use crate::light::{AreaLight, Light, LightSampleContext, TriangleLightLanes};
 use crate::material::Material;
 use crate::math::offset::offset_ray_origin_lanes;
 use crate::math::FrameLanes;
@@ -107,6 +107,8 @@ impl<'s> LaneTracer<'s> {
         let mut l = S4::<L>::splat(0.0);
         let mut beta = S4::<L>::splat(1.0);
         let mut prev_p = V3::<L>::splat(glam::Vec3::ZERO);
+        // The previous vertex's shading normal (zero at the camera), for the light sampler's pmf.
+        let mut prev_n = V3::<L>::splat(glam::Vec3::ZERO);
         for (i, r) in camera.iter().enumerate() {
             prev_p.set_lane(i, r.o);
         }
@@ -137,7 +139,8 @@ impl<'s> LaneTracer<'s> {
                         let weight = if specular.0[i] {
                             1.0
                         } else {
-                            let light_pdf = scene.light_pdf(id, prev_p.lane(i), -si.wo);
+                            let prev = LightSampleContext::surface(prev_p.lane(i), prev_n.lane(i));
+                            let light_pdf = scene.light_pdf(id, &prev, -si.wo);
                             power_heuristic_lanes(prev_pdf.0[i], light_pdf)
                         };
                         let li = l.lane(i) + beta.lane(i) * le * weight;
@@ -173,7 +176,10 @@ impl<'s> LaneTracer<'s> {
                 if !active.0[i] {
                     continue;
                 }
-                let Some((_, Light::Area(a), lpmf, u)) = scene.sample_light(samplers[i].get_2d()) else { continue };
+                let ctx = LightSampleContext::surface(p.lane(i), ns.lane(i));
+                let Some((_, Light::Area(a), lpmf, u)) = scene.sample_light(&ctx, samplers[i].get_2d()) else {
+                    continue;
+                };
                 (ux.0[i], uy.0[i]) = (u.x, u.y);
                 pmf.0[i] = lpmf;
                 for k in 0..3 {
@@ -215,6 +221,7 @@ impl<'s> LaneTracer<'s> {
             let o = offset_ray_origin_lanes(p, p_err, ng, bs.wi);
             rays = std::array::from_fn(|i| Ray::new(o.lane(i), bs.wi.lane(i)));
             prev_p = p;
+            prev_n = ns;
             active = active & !beta.is_black();
 
             // Russian roulette, as the scalar path (no refraction here, so η scale is 1).

@@ -6,6 +6,7 @@ use super::subsurface::{self, Exit, SubsurfaceMethod};
 use super::Stats;
 use crate::bsdf::{Bsdf, Diffuse, TransportMode};
 use crate::geometry::Ray;
+use crate::light::LightSampleContext;
 use crate::material::Material;
 use crate::math::PI;
 use crate::sampling::mis::power_heuristic;
@@ -73,9 +74,9 @@ struct PathState {
     /// Product of η² over the refractions so far, undone for Russian roulette (pbrt-v4
     /// `etaScale`): radiance scaled by refraction is not a reason to end a path.
     eta_scale: f32,
-    /// The vertex the current ray left: the reference point of the light's pdf when the ray
-    /// finds emission, for MIS against next-event estimation.
-    prev_p: Vec3,
+    /// The vertex the current ray left (point and shading normal): the reference of the light's
+    /// pdf when the ray finds emission, for MIS against next-event estimation.
+    prev: LightSampleContext,
     /// Solid-angle pdf of the sample that made the current ray.
     prev_pdf: f32,
     /// The current ray came from a delta lobe (or is the camera ray): emission it finds was not
@@ -93,7 +94,7 @@ impl PathState {
             l: SampledSpectrum::zero(),
             beta: SampledSpectrum::one(),
             eta_scale: 1.0,
-            prev_p: origin,
+            prev: LightSampleContext::medium(origin),
             prev_pdf: 0.0,
             specular_bounce: true,
             depth: 0,
@@ -168,7 +169,7 @@ impl PathIntegrator {
                     let Some(si) = scene.intersect(&ray) else {
                         let d = ray.d.normalize();
                         for (id, light) in scene.infinite_lights() {
-                            let weight = self.emission_weight(&state, scene.light_pdf(id, state.prev_p, d));
+                            let weight = self.emission_weight(&state, scene.light_pdf(id, &state.prev, d));
                             state.l += state.beta * light.escaped_radiance(ray.o, d, w) * weight;
                         }
                         break;
@@ -176,7 +177,7 @@ impl PathIntegrator {
                     if let Some((id, _)) = si.area_light() {
                         let le = si.emitted(w);
                         if !le.is_black() {
-                            let weight = self.emission_weight(&state, scene.light_pdf(id, state.prev_p, -si.wo));
+                            let weight = self.emission_weight(&state, scene.light_pdf(id, &state.prev, -si.wo));
                             state.l += state.beta * le * weight;
                         }
                     }
@@ -235,7 +236,7 @@ impl PathIntegrator {
             state.specular_bounce = bs.is_specular();
             state.any_non_specular |= !bs.is_specular();
             ray = si.spawn_ray(bs.wi);
-            state.prev_p = si.p;
+            state.prev = LightSampleContext::surface(si.p, bsdf.ns());
             if bs.is_transmission() {
                 // Refraction into a subsurface medium: continue where light leaves it. Entering and
                 // leaving scale radiance by 1/η² and η², so eta_scale is left alone.
@@ -269,7 +270,7 @@ impl PathIntegrator {
                                 break;
                             }
                             state.depth += 1;
-                            (ray, state.prev_p, state.specular_bounce, state.prev_pdf) =
+                            (ray, state.prev, state.specular_bounce, state.prev_pdf) =
                                 (exit, origin, pdf.is_none(), pdf.unwrap_or(0.0));
                         }
                     }
@@ -310,7 +311,10 @@ impl PathIntegrator {
         sampler: &mut Sampler,
         stats: &mut Stats,
     ) -> SampledSpectrum {
-        let Some((_, light, pmf, u)) = scene.sample_light(sampler.get_2d()) else { return SampledSpectrum::zero() };
+        let ctx = LightSampleContext::surface(si.p, bsdf.ns());
+        let Some((_, light, pmf, u)) = scene.sample_light(&ctx, sampler.get_2d()) else {
+            return SampledSpectrum::zero();
+        };
         let Some(ls) = light.sample_li(si.p, u, w) else { return SampledSpectrum::zero() };
         if ls.pdf <= 0.0 || ls.li.is_black() {
             return SampledSpectrum::zero();

@@ -22,6 +22,7 @@ use super::Stats;
 use crate::bsdf::{Bsdf, TransportMode};
 use crate::bssrdf::TabulatedBssrdf;
 use crate::geometry::{Hit, Ray};
+use crate::light::LightSampleContext;
 use crate::material::SubsurfaceMaterial;
 use crate::math::Frame;
 use crate::media::{FreeFlight, HomogeneousMedium};
@@ -72,10 +73,10 @@ pub(super) enum Exit<'s> {
     /// A new vertex at p_i with its BSDF (diffusion): light sampling and BSDF sampling go on
     /// from there.
     Vertex(SurfaceInteraction<'s>, Bsdf),
-    /// A ray leaving the object from `origin` (random walk), sampled from the boundary's lobe
-    /// with this solid-angle density (`None`: a delta lobe), for MIS with the light sampling
-    /// done at the exit point.
-    Ray(Ray, Vec3, Option<f32>),
+    /// A ray leaving the object from the exit point (random walk; with its shading normal),
+    /// sampled from the boundary's lobe with this solid-angle density (`None`: a delta lobe), for
+    /// MIS with the light sampling done there.
+    Ray(Ray, LightSampleContext, Option<f32>),
 }
 
 /// Next-event estimation at a boundary vertex of a random walk: the light sampled from the
@@ -207,7 +208,11 @@ impl Walk<'_> {
                     let next = b.spawn_ray(bs.wi);
                     if bs.wi.dot(b.shading.ns) > 0.0 {
                         let pdf = if bs.is_specular() { None } else { Some(bs.pdf) };
-                        return (!beta.is_black()).then_some(Exit::Ray(next, b.p, pdf));
+                        return (!beta.is_black()).then_some(Exit::Ray(
+                            next,
+                            LightSampleContext::surface(b.p, bsdf.ns()),
+                            pdf,
+                        ));
                     }
                     ray = next;
                 }

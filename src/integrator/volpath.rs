@@ -19,6 +19,7 @@ use super::transmittance::{distance, ray_rng, transmittance};
 use super::{PathIntegrator, Stats};
 use crate::bsdf::{Bsdf, TransportMode};
 use crate::geometry::Ray;
+use crate::light::LightSampleContext;
 use crate::material::Material;
 use crate::media::{sample_t_maj, HenyeyGreenstein};
 use crate::sampling::Sampler;
@@ -73,7 +74,7 @@ impl VolPathIntegrator {
         let mut any_non_specular = false;
         let mut eta_scale = 1.0f32;
         let mut depth = 0u32;
-        let mut prev_p = ray.o;
+        let mut prev = LightSampleContext::medium(ray.o);
         let mut ray = Ray::new(ray.o, ray.d.normalize());
         let mut medium = scene.camera_medium();
         let mut crossings = 0;
@@ -141,7 +142,7 @@ impl VolPathIntegrator {
                             let pdf = phase.p(ray.d, wi);
                             // β ·= p/pdf = 1: HG is sampled exactly.
                             r_l = r_u / pdf;
-                            prev_p = p;
+                            prev = LightSampleContext::medium(p);
                             specular_bounce = false;
                             any_non_specular = true;
                             ray = Ray::new(p, wi);
@@ -159,14 +160,14 @@ impl VolPathIntegrator {
                     let Some(si) = si else {
                         for (id, light) in scene.infinite_lights() {
                             let le = light.escaped_radiance(ray.o, ray.d, w);
-                            l += self.found_emission(scene, id, le, beta, r_u, r_l, specular_bounce, prev_p, ray.d);
+                            l += self.found_emission(scene, id, le, beta, r_u, r_l, specular_bounce, &prev, ray.d);
                         }
                         break;
                     };
                     if let Some((id, _)) = si.area_light() {
                         let le = si.emitted(w);
                         if !le.is_black() {
-                            l += self.found_emission(scene, id, le, beta, r_u, r_l, specular_bounce, prev_p, ray.d);
+                            l += self.found_emission(scene, id, le, beta, r_u, r_l, specular_bounce, &prev, ray.d);
                         }
                     }
                     if si.is_passthrough() {
@@ -203,7 +204,7 @@ impl VolPathIntegrator {
             if flags.is_non_specular() {
                 l += self.sample_ld(scene, &Scatterer::Surface(&si, &bsdf), medium, beta, r_u, w, sampler, stats);
             }
-            prev_p = si.p;
+            prev = LightSampleContext::surface(si.p, bsdf.ns());
             let uc = sampler.get_1d();
             let Some(bs) = bsdf.sample_f(si.wo, uc, sampler.get_2d(), TransportMode::Radiance) else { break };
             beta *= bs.f * (bs.wi.dot(bsdf.ns()).abs() / bs.pdf);
@@ -240,7 +241,7 @@ impl VolPathIntegrator {
                             break;
                         }
                         depth += 1;
-                        (ray, prev_p, specular_bounce) = (exit, origin, pdf.is_none());
+                        (ray, prev, specular_bounce) = (exit, origin, pdf.is_none());
                         any_non_specular |= pdf.is_some();
                         r_l = r_u / pdf.unwrap_or(1.0);
                     }
@@ -284,13 +285,13 @@ impl VolPathIntegrator {
         r_u: SampledSpectrum,
         r_l: SampledSpectrum,
         specular_bounce: bool,
-        prev_p: Vec3,
+        prev: &LightSampleContext,
         d: Vec3,
     ) -> SampledSpectrum {
         if specular_bounce {
             return beta * le / r_u.average();
         }
-        let r_l = r_l * scene.light_pdf(id, prev_p, d);
+        let r_l = r_l * scene.light_pdf(id, prev, d);
         beta * le / (r_u + r_l).average()
     }
 
@@ -310,12 +311,12 @@ impl VolPathIntegrator {
         stats: &mut Stats,
     ) -> SampledSpectrum {
         let zero = SampledSpectrum::zero();
-        let Some((_, light, pmf, u)) = scene.sample_light(sampler.get_2d()) else { return zero };
-        let p_ref = match at {
-            Scatterer::Surface(si, _) => si.p,
-            Scatterer::Medium { p, .. } => *p,
+        let ctx = match at {
+            Scatterer::Surface(si, bsdf) => LightSampleContext::surface(si.p, bsdf.ns()),
+            Scatterer::Medium { p, .. } => LightSampleContext::medium(*p),
         };
-        let Some(ls) = light.sample_li(p_ref, u, w) else { return zero };
+        let Some((_, light, pmf, u)) = scene.sample_light(&ctx, sampler.get_2d()) else { return zero };
+        let Some(ls) = light.sample_li(ctx.p, u, w) else { return zero };
         if ls.pdf <= 0.0 || ls.li.is_black() {
             return zero;
         }

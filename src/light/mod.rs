@@ -27,7 +27,7 @@ pub use map_layout::MapLayout;
 pub use point::{PointLight, SpotFalloff, SpotLight};
 pub use portal::{is_rectangle, PortalLight};
 pub use projection::ProjectionLight;
-pub use sampler::LightSampler;
+pub use sampler::{LightSampleContext, LightSampler, LightSamplerKind};
 pub use sphere::SphereLight;
 
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};

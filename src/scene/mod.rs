@@ -32,7 +32,9 @@ pub use primitive::{MediumInterface, Primitive};
 use crate::accel::{self, Accel, AccelKind};
 use crate::camera::{Camera, Projection, RealisticLens};
 use crate::geometry::{Hit, Instance, InstanceSet, Mesh, Prototype, Ray};
-use crate::light::{AreaLight, EmissionImage, ImageEmission, Light, LightSampler, SphereLight};
+use crate::light::{
+    AreaLight, EmissionImage, ImageEmission, Light, LightSampleContext, LightSampler, LightSamplerKind, SphereLight,
+};
 use crate::material::{FloatTexture, Material};
 use crate::media::Medium;
 use crate::spectrum::Spectrum;
@@ -131,6 +133,7 @@ pub struct SceneBuilder {
     camera: Option<CameraDesc>,
     media: Vec<Medium>,
     camera_medium: Option<u32>,
+    light_sampler: LightSamplerKind,
     /// Warnings collected while building (degenerate geometry, …).
     pub warnings: Vec<String>,
 }
@@ -146,6 +149,11 @@ impl SceneBuilder {
         let mut b = Self::new();
         add_cornell_box(&mut b);
         b
+    }
+
+    /// Chooses the light sampler the scene builds (pbrt-v4's Integrator "lightsampler").
+    pub fn set_light_sampler(&mut self, kind: LightSamplerKind) {
+        self.light_sampler = kind;
     }
 
     /// Adds a material, returning its id.
@@ -431,7 +439,7 @@ impl SceneBuilder {
         let has_alpha = primitives.iter().any(|p| p.alpha.is_some());
         let bounds = accel.bounds();
         let radius = if bounds.is_empty() { 1.0 } else { bounds.radius().max(1e-6) };
-        let light_sampler = LightSampler::new(&lights, radius);
+        let light_sampler = LightSampler::new(self.light_sampler, &lights, radius);
         let infinite_lights =
             lights.iter().enumerate().filter(|(_, l)| l.is_infinite()).map(|(i, _)| i as u32).collect();
         let has_interfaces = self.materials.iter().any(Material::may_be_interface);
@@ -493,7 +501,7 @@ pub struct Scene {
     lights: Vec<Light>,
     /// Lights seen by rays that escape the scene.
     infinite_lights: Vec<u32>,
-    /// Power-proportional light choice.
+    /// Light choice for next-event estimation.
     light_sampler: LightSampler,
     /// The camera.
     pub camera: CameraDesc,
@@ -621,21 +629,26 @@ impl Scene {
         self.primitives.iter().map(|p| p.mesh.len() as u64).sum()
     }
 
-    /// Chooses a light for next-event estimation with the 2D uniform `u`: the light, the
-    /// probability of choosing it, and the 2D uniform for sampling a point on it (`u.x` remapped
-    /// within the chosen light's share, `u.y` as it was). One stratified 2D point thus spreads
-    /// evenly over an emitter made of many triangles, where an independent choice of triangle
-    /// would leave each triangle a random subset of the strata.
+    /// Chooses a light for next-event estimation at `ctx` with the 2D uniform `u`: the light,
+    /// the probability of choosing it, and the 2D uniform for sampling a point on it (`u.x`
+    /// remapped within the chosen light's share, `u.y` as it was). One stratified 2D point thus
+    /// spreads evenly over an emitter made of many triangles, where an independent choice of
+    /// triangle would leave each triangle a random subset of the strata.
     #[inline]
-    pub fn sample_light(&self, u: Vec2) -> Option<(LightId, &Light, f32, Vec2)> {
-        self.light_sampler.sample(u.x).map(|(i, pmf, ux)| (i as LightId, &self.lights[i], pmf, Vec2::new(ux, u.y)))
+    pub fn sample_light(&self, ctx: &LightSampleContext, u: Vec2) -> Option<(LightId, &Light, f32, Vec2)> {
+        self.light_sampler.sample(ctx, u.x).map(|(i, pmf, ux)| (i as LightId, &self.lights[i], pmf, Vec2::new(ux, u.y)))
     }
 
-    /// Probability with which [`Scene::sample_light`] chooses `light`, times the light's own
-    /// solid-angle density of sampling `wi` from `p` (pbrt-v4 `PMF(ctx, light) · PDF_Li(ctx, wi)`).
+    /// Probability with which [`Scene::sample_light`] chooses `light` at `ctx`, times the
+    /// light's own solid-angle density of sampling `wi` from `ctx.p` (pbrt-v4
+    /// `PMF(ctx, light) · PDF_Li(ctx, wi)`).
     #[inline]
-    pub fn light_pdf(&self, light: LightId, p: Vec3, wi: Vec3) -> f32 {
-        self.light_sampler.pmf(light as usize) * self.lights[light as usize].pdf_li(p, wi)
+    pub fn light_pdf(&self, light: LightId, ctx: &LightSampleContext, wi: Vec3) -> f32 {
+        let pmf = self.light_sampler.pmf(ctx, light as usize);
+        if pmf == 0.0 {
+            return 0.0;
+        }
+        pmf * self.lights[light as usize].pdf_li(ctx.p, wi)
     }
 
     /// The lights that rays escaping the scene see.

@@ -30,7 +30,7 @@ use crate::camera::Projection;
 use crate::film::Crop;
 use crate::geometry::quadric::similarity_scale;
 use crate::geometry::{Mesh, Quadric};
-use crate::light::EmissionImage;
+use crate::light::{EmissionImage, LightSamplerKind};
 use crate::material::{BumpedMaterial, Ior, Material, Roughness};
 use crate::spectrum::{ColorSpace, RgbKind, Spectrum};
 use glam::Vec3;
@@ -104,6 +104,8 @@ pub fn build(desc: &SceneDesc, warnings: &mut Vec<Warning>) -> Result<(SceneBuil
     ctx.camera()?;
     ctx.media = ctx.media()?;
     let settings = ctx.settings()?;
+    let light_sampler = ctx.light_sampler()?;
+    ctx.b.set_light_sampler(light_sampler);
     ctx.all_textures()?;
     for shape in &desc.shapes {
         ctx.shape(shape)?;
@@ -155,6 +157,16 @@ impl Ctx<'_> {
         crate::settings::max_depth(n.into(), "\"maxdepth\"")
             .map(Some)
             .map_err(|e| param_error(params, "maxdepth", loc, e.to_string()))
+    }
+
+    /// Integrator "lightsampler": "bvh" (pbrt-v4's default), "power" or "uniform".
+    fn light_sampler(&self) -> Result<LightSamplerKind, SceneError> {
+        let (params, loc) = (&self.desc.integrator.params, &self.desc.integrator.loc);
+        let Some(name) = params.string("lightsampler") else { return Ok(LightSamplerKind::default()) };
+        LightSamplerKind::parse(name).ok_or_else(|| {
+            let message = format!("unknown \"lightsampler\" \"{name}\" (valid: {})", LightSamplerKind::NAMES);
+            param_error(params, "lightsampler", loc, message)
+        })
     }
 
     fn camera(&mut self) -> Result<(), SceneError> {

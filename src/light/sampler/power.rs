@@ -1,0 +1,54 @@
+//! Choosing a light in proportion to its emitted power, uniform when all powers are 0 (pbrt-v4's
+//! `PowerLightSampler`). The choice inverts the cumulative distribution (O(log n)), which is
+//! monotone in `u`: the remainder of `u` within the chosen light's interval is a fresh uniform for
+//! sampling a point on the light ("sample reuse", as Mitsuba 3's
+//! `DiscreteDistribution::sample_reuse`). (An alias table is O(1) but not monotone, and would
+//! scatter the strata.)
+
+use crate::light::Light;
+use crate::sampling::Distribution1D;
+
+/// Each light's emitted flux [W] (any consistent unit), 0 where it is not finite and positive.
+pub(super) fn light_powers(lights: &[Light], scene_radius: f32) -> Vec<f32> {
+    // An emissive mesh is one light per triangle sharing one spectrum: integrate it once.
+    let mut integrals: std::collections::HashMap<*const crate::spectrum::Spectrum, f32> = Default::default();
+    lights
+        .iter()
+        .map(|l| match l {
+            Light::Area(a) => {
+                let key = std::sync::Arc::as_ptr(&a.spectrum);
+                a.power_given(
+                    *integrals.entry(key).or_insert_with(|| crate::light::point::spectral_integral(&a.spectrum)),
+                )
+            }
+            l => l.power(scene_radius),
+        })
+        .map(|p| if p.is_finite() { p.max(0.0) } else { 0.0 })
+        .collect()
+}
+
+/// Power-proportional light selection, independent of the shading point.
+#[derive(Clone, Debug)]
+pub struct PowerLightSampler {
+    table: Option<Distribution1D>,
+}
+
+impl PowerLightSampler {
+    /// The table over `powers`, one per light.
+    pub fn new(powers: &[f32]) -> Self {
+        Self { table: (!powers.is_empty()).then(|| Distribution1D::new(powers)) }
+    }
+
+    /// Picks a light index for `u` in [0, 1): the index, its probability and `u` remapped to a
+    /// fresh uniform in [0, 1).
+    #[inline]
+    pub fn sample(&self, u: f32) -> Option<(usize, f32, f32)> {
+        self.table.as_ref().map(|t| t.sample_discrete(u))
+    }
+
+    /// Probability of picking light `i`.
+    #[inline]
+    pub fn pmf(&self, i: usize) -> f32 {
+        self.table.as_ref().map_or(0.0, |t| t.discrete_pmf(i))
+    }
+}
