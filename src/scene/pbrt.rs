@@ -162,7 +162,7 @@ impl Ctx<'_> {
     /// Integrator "lightsampler": "bvh" (pbrt-v4's default), "power" or "uniform".
     fn light_sampler(&self) -> Result<LightSamplerKind, SceneError> {
         let (params, loc) = (&self.desc.integrator.params, &self.desc.integrator.loc);
-        let Some(name) = params.string("lightsampler") else { return Ok(LightSamplerKind::default()) };
+        let Some(name) = params.string("lightsampler") else { return Ok(LightSamplerKind::Bvh) };
         LightSamplerKind::parse(name).ok_or_else(|| {
             let message = format!("unknown \"lightsampler\" \"{name}\" (valid: {})", LightSamplerKind::NAMES);
             param_error(params, "lightsampler", loc, message)

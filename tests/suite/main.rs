@@ -12,6 +12,7 @@ mod envmap;
 mod equal_area_envmap;
 mod film;
 mod instancing;
+mod light_sampler;
 mod media;
 mod merge;
 mod naive_fails;

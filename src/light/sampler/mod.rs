@@ -39,15 +39,18 @@ impl LightSampleContext {
     }
 }
 
-/// Which light sampler to build (pbrt-v4's Integrator "lightsampler").
+/// Which light sampler to build (pbrt-v4's Integrator "lightsampler"). pbrt-v4 files get
+/// pbrt-v4's default, the BVH; scenes built in code (the built-in Cornell box, tests) get the
+/// power sampler, which costs a scene of one or two emitters nothing (the BVH costs the Cornell
+/// box 10% per sample: docs/benchmarks.md).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum LightSamplerKind {
     /// Every light with the same probability.
     Uniform,
     /// In proportion to emitted power.
+    #[default]
     Power,
     /// By importance at the shading point through a BVH over the lights (pbrt-v4's default).
-    #[default]
     Bvh,
 }
 
