@@ -148,7 +148,11 @@ pub fn render_pass(scene: &Scene, settings: &RenderSettings, film: &mut Film, ra
                     let u = sampler.get_1d();
                     open + (close - open) * u
                 });
-                (lambdas, weight, camera.sample_ray(p_film, sampler.get_2d()).map(|c| CameraRay { ray: c.ray.at_time(time), ..c }))
+                (
+                    lambdas,
+                    weight,
+                    camera.sample_ray(p_film, sampler.get_2d()).map(|c| CameraRay { ray: c.ray.at_time(time), ..c }),
+                )
             };
             let add = |px: &mut crate::film::Pixel,
                        stats: &mut Stats,

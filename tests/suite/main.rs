@@ -14,6 +14,7 @@ mod film;
 mod instancing;
 mod media;
 mod merge;
+mod motion;
 mod naive_fails;
 mod pbrt_defaults;
 mod pbrt_materials;
