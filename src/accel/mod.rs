@@ -42,7 +42,7 @@ pub trait Accel: Send + Sync {
     fn intersect_all(&self, ray: &Ray, hits: &mut Vec<Hit>) {
         let mut base = 0.0f32;
         for _ in 0..256 {
-            let rest = Ray::segment(ray.at(base), ray.d, ray.t_max - base);
+            let rest = Ray::segment(ray.at(base), ray.d, ray.t_max - base).at_time(ray.time);
             let Some(mut h) = self.intersect(&rest) else { return };
             h.t += base;
             if h.t.is_nan() || h.t >= ray.t_max {

@@ -8,6 +8,10 @@
 //! resolved by the smallest (instance, mesh, triangle) ids, so the result does not depend on
 //! traversal order. Watertightness carries over: the object-space ray is one ray, and the BLAS
 //! triangle test is watertight for any ray.
+//!
+//! A moving instance's TLAS box bounds it over its whole motion
+//! ([`crate::geometry::AnimatedTransform::motion_bounds`]); a ray reaching it is carried into
+//! object space by the inverse of the transform interpolated at the ray's time.
 
 use std::time::Duration;
 
@@ -38,7 +42,7 @@ fn obvhs_ray(ray: &Ray, t_max_scaled: f32) -> ::obvhs::ray::Ray {
     }
 }
 use super::Accel;
-use crate::geometry::InstanceSet;
+use crate::geometry::{AnimatedTransform, Instance, InstanceSet};
 use crate::geometry::{Bounds3, Hit, Mesh, Ray};
 
 /// One instance in TLAS primitive order.
@@ -50,6 +54,20 @@ struct Placed {
     object_from_world: Mat4,
     /// Maps object-space unnormalised normals to world space (see `Instance::normal_cofactor`).
     normal_cofactor: Mat3,
+    /// The motion of a moving instance (boxed: static instances stay small); the two matrices
+    /// above are then those of its start time.
+    motion: Option<Box<AnimatedTransform>>,
+}
+
+impl Placed {
+    /// The object-from-world matrix and normal cofactor at `time`.
+    #[inline]
+    fn at(&self, time: f32) -> (Mat4, Mat3) {
+        match self.motion.as_deref().and_then(|m| Instance::new(self.proto, m.interpolate(time))) {
+            None => (self.object_from_world, self.normal_cofactor),
+            Some(i) => (i.object_from_world, i.normal_cofactor),
+        }
+    }
 }
 
 /// World meshes and instanced prototypes traced through a two-level obvhs BVH.
@@ -102,6 +120,7 @@ impl ObvhsInstancedAccel {
                 proto: inst.prototype,
                 object_from_world: inst.object_from_world,
                 normal_cofactor: inst.normal_cofactor,
+                motion: inst.motion.map(Box::new),
             });
         }
         let mut tlas = CwBvh::default();
@@ -125,10 +144,11 @@ impl ObvhsInstancedAccel {
         }
     }
 
-    /// The ray in instance `p`'s object space (same t).
+    /// The ray in the object space of `object_from_world` (same t).
     #[inline]
-    fn local_ray(p: &Placed, ray: &Ray, t_max: f32) -> Ray {
-        Ray::segment(p.object_from_world.transform_point3(ray.o), p.object_from_world.transform_vector3(ray.d), t_max)
+    fn local_ray(object_from_world: &Mat4, ray: &Ray, t_max: f32) -> Ray {
+        Ray::segment(object_from_world.transform_point3(ray.o), object_from_world.transform_vector3(ray.d), t_max)
+            .at_time(ray.time)
     }
 
     /// Tests TLAS primitive `k`; replaces `best` when its hit is nearer, or equally near with
@@ -137,12 +157,13 @@ impl ObvhsInstancedAccel {
     fn visit(&self, k: usize, ray: &Ray, best: &mut Option<Hit>) -> bool {
         let p = &self.placed[k];
         let t_max = best.map_or(ray.t_max, |h| h.t);
-        let Some(h) = self.blas[p.proto as usize].intersect(&Self::local_ray(p, ray, t_max)) else {
+        let (object_from_world, normal_cofactor) = p.at(ray.time);
+        let Some(h) = self.blas[p.proto as usize].intersect(&Self::local_ray(&object_from_world, ray, t_max)) else {
             return false;
         };
         let hit = Hit {
             geom_id: self.proto_ids[p.proto as usize][h.geom_id as usize],
-            ng: p.normal_cofactor * h.ng,
+            ng: normal_cofactor * h.ng,
             inst_id: p.index,
             ..h
         };
@@ -197,7 +218,7 @@ impl Accel for ObvhsInstancedAccel {
         }
         let blocks = |k: usize| {
             let p = &self.placed[k];
-            self.blas[p.proto as usize].occluded(&Self::local_ray(p, ray, ray.t_max))
+            self.blas[p.proto as usize].occluded(&Self::local_ray(&p.at(ray.time).0, ray, ray.t_max))
         };
         if self.linear_fallback {
             return (0..self.placed.len()).any(blocks);

@@ -9,6 +9,7 @@
 
 use glam::{Mat3, Mat4, Vec3};
 
+use super::animated::{corner_box, AnimatedTransform};
 use super::{Bounds3, Mesh};
 use crate::math::offset::gamma;
 
@@ -33,6 +34,9 @@ pub struct Instance {
     pub normal_cofactor: Mat3,
     /// Sign of det(A): −1 when the transform mirrors (swaps handedness).
     pub handedness: f32,
+    /// The motion, for an instance that moves over the shutter interval; the matrices above are
+    /// then those of its start time (see [`Instance::at`]).
+    pub motion: Option<AnimatedTransform>,
 }
 
 impl Instance {
@@ -49,22 +53,41 @@ impl Instance {
             return None;
         }
         let normal_cofactor = a.inverse().transpose() * det;
-        Some(Self { prototype, world_from_object, object_from_world, normal_cofactor, handedness: det.signum() })
+        Some(Self {
+            prototype,
+            world_from_object,
+            object_from_world,
+            normal_cofactor,
+            handedness: det.signum(),
+            motion: None,
+        })
     }
 
-    /// World-space box around the object-space box `b` (its eight corners transformed).
-    pub fn world_bounds(&self, b: Bounds3) -> Bounds3 {
-        if b.is_empty() {
-            return b;
+    /// An instance of `prototype` moving by `motion`; static when the two matrices are equal.
+    /// `None` when either keyframe is singular or not finite.
+    pub fn animated(prototype: u32, motion: AnimatedTransform) -> Option<Self> {
+        let start = Self::new(prototype, motion.start)?;
+        Self::new(prototype, motion.end)?;
+        Some(Self { motion: motion.is_animated().then_some(motion), ..start })
+    }
+
+    /// The instance as it is placed at `time` (itself when it does not move; its start placement
+    /// should the interpolated matrix be singular, as a scale passing through zero is).
+    #[inline]
+    pub fn at(&self, time: f32) -> Self {
+        match &self.motion {
+            None => *self,
+            Some(m) => Self::new(self.prototype, m.interpolate(time)).unwrap_or(Self { motion: None, ..*self }),
         }
-        (0..8).fold(Bounds3::EMPTY, |acc, i| {
-            let c = Vec3::new(
-                if i & 1 == 0 { b.min.x } else { b.max.x },
-                if i & 2 == 0 { b.min.y } else { b.max.y },
-                if i & 4 == 0 { b.min.z } else { b.max.z },
-            );
-            acc.union_point(self.world_from_object.transform_point3(c))
-        })
+    }
+
+    /// World-space box around the object-space box `b` (its eight corners transformed), over
+    /// the whole motion for a moving instance ([`AnimatedTransform::motion_bounds`]).
+    pub fn world_bounds(&self, b: Bounds3) -> Bounds3 {
+        match &self.motion {
+            None => corner_box(&self.world_from_object, b),
+            Some(m) => m.motion_bounds(b),
+        }
     }
 
     /// Transforms an object-space point with per-axis absolute error bound `err` to world space,

@@ -1,5 +1,6 @@
 //! Geometry: rays, hits, triangle meshes, bilinear patches, quadrics, object instances, test shapes.
 
+pub mod animated;
 pub mod bilinear;
 pub mod instance;
 pub mod loop_subdivision;
@@ -9,6 +10,7 @@ pub mod quadric_hit;
 mod ray;
 pub mod shapes;
 
+pub use animated::AnimatedTransform;
 pub use instance::{Instance, InstanceSet, Prototype};
 pub use mesh::{Bounds3, Mesh};
 pub use quadric::Quadric;

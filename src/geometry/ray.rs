@@ -2,7 +2,8 @@
 
 use glam::Vec3;
 
-/// A ray `o + t d` for t in (0, t_max]. `d` need not be unit length; `t` is in units of |d|.
+/// A ray `o + t d` for t in (0, t_max] at one instant `time`. `d` need not be unit length; `t`
+/// is in units of |d|.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Ray {
     /// Origin [scene units].
@@ -11,16 +12,24 @@ pub struct Ray {
     pub d: Vec3,
     /// Largest parametric distance considered.
     pub t_max: f32,
+    /// The instant the ray samples, in the scene's time units (between the camera's shutter
+    /// open and close times): moving objects are intersected where they are at this time.
+    pub time: f32,
 }
 
 impl Ray {
-    /// An unbounded ray.
+    /// An unbounded ray at time 0.
     pub fn new(o: Vec3, d: Vec3) -> Self {
-        Self { o, d, t_max: f32::INFINITY }
+        Self { o, d, t_max: f32::INFINITY, time: 0.0 }
     }
-    /// A ray bounded at `t_max`.
+    /// A ray bounded at `t_max`, at time 0.
     pub fn segment(o: Vec3, d: Vec3, t_max: f32) -> Self {
-        Self { o, d, t_max }
+        Self { o, d, t_max, time: 0.0 }
+    }
+    /// The same ray at `time`.
+    #[inline]
+    pub fn at_time(self, time: f32) -> Self {
+        Self { time, ..self }
     }
     /// Point at parameter `t`.
     #[inline]

@@ -196,7 +196,9 @@ impl<'s> LaneTracer<'s> {
             let to_light = ls.p_light - p;
             let o = offset_ray_origin_lanes(p, p_err, ng, to_light);
             let d = ls.p_light - o;
-            let shadow: [Ray; LANES] = std::array::from_fn(|i| Ray::segment(o.lane(i), d.lane(i), 1.0 - 1e-4));
+            let time: [f32; LANES] = std::array::from_fn(|i| rays[i].time);
+            let shadow: [Ray; LANES] =
+                std::array::from_fn(|i| Ray::segment(o.lane(i), d.lane(i), 1.0 - 1e-4).at_time(time[i]));
             stats.rays += shadow_active.0.iter().filter(|&&a| a).count() as u64;
             let blocked = LanesMask(self.occluded(&shadow, shadow_active));
             let p_light = pmf * ls.pdf;
@@ -219,7 +221,7 @@ impl<'s> LaneTracer<'s> {
             prev_pdf = bs.pdf;
             specular = M::splat(false);
             let o = offset_ray_origin_lanes(p, p_err, ng, bs.wi);
-            rays = std::array::from_fn(|i| Ray::new(o.lane(i), bs.wi.lane(i)));
+            rays = std::array::from_fn(|i| Ray::new(o.lane(i), bs.wi.lane(i)).at_time(time[i]));
             prev_p = p;
             prev_n = ns;
             active = active & !beta.is_black();

@@ -133,7 +133,7 @@ fn diffusion<'s>(
     let u2 = sampler.get_2d();
     let uh = sampler.get_1d();
     let seg = bssrdf.sample(u1, u2)?;
-    let probe = Ray::segment(seg.p0, seg.p1 - seg.p0, 1.0);
+    let probe = Ray::segment(seg.p0, seg.p1 - seg.p0, 1.0).at_time(si.time);
     let mut hits: Vec<Hit> = Vec::with_capacity(8);
     stats.rays += 1;
     scene.all_hits(&probe, &mut hits);
@@ -193,7 +193,7 @@ impl Walk<'_> {
                     *beta *= weight;
                     scatterings += 1;
                     let p = ray.at(t);
-                    ray = Ray::new(p, phase.sample(ray.d, sampler.get_2d()));
+                    ray = Ray::new(p, phase.sample(ray.d, sampler.get_2d())).at_time(ray.time);
                 }
                 FreeFlight::Pass { weight } => {
                     *beta *= weight;

@@ -53,8 +53,9 @@ impl VolPathIntegrator {
 enum Scatterer<'a, 's> {
     /// A surface point with its BSDF.
     Surface(&'a SurfaceInteraction<'s>, &'a Bsdf),
-    /// A point in a medium: `d` is the propagation direction of the arriving ray.
-    Medium { p: Vec3, d: Vec3, phase: HenyeyGreenstein },
+    /// A point in a medium: `d` is the propagation direction of the arriving ray, `time` its
+    /// instant.
+    Medium { p: Vec3, d: Vec3, phase: HenyeyGreenstein, time: f32 },
 }
 
 impl VolPathIntegrator {
@@ -75,7 +76,7 @@ impl VolPathIntegrator {
         let mut eta_scale = 1.0f32;
         let mut depth = 0u32;
         let mut prev = LightSampleContext::medium(ray.o);
-        let mut ray = Ray::new(ray.o, ray.d.normalize());
+        let mut ray = Ray::new(ray.o, ray.d.normalize()).at_time(ray.time);
         let mut medium = scene.camera_medium();
         let mut crossings = 0;
         // A vertex found without tracing a ray (a subsurface exit) with its BSDF.
@@ -136,7 +137,7 @@ impl VolPathIntegrator {
                         }
                         if let Some((p, g)) = scattered {
                             let phase = HenyeyGreenstein::new(g);
-                            let at = Scatterer::Medium { p, d: ray.d, phase };
+                            let at = Scatterer::Medium { p, d: ray.d, phase, time: ray.time };
                             l += self.sample_ld(scene, &at, medium, beta, r_u, w, sampler, stats);
                             let wi = phase.sample(ray.d, sampler.get_2d());
                             let pdf = phase.p(ray.d, wi);
@@ -145,7 +146,7 @@ impl VolPathIntegrator {
                             prev = LightSampleContext::medium(p);
                             specular_bounce = false;
                             any_non_specular = true;
-                            ray = Ray::new(p, wi);
+                            ray = Ray::new(p, wi).at_time(ray.time);
                             continue;
                         }
                         let t0 = t_maj[0];
@@ -338,8 +339,9 @@ impl VolPathIntegrator {
                 if ls.dist.is_finite() { si.spawn_ray_to(ls.p_light) } else { si.spawn_ray(ls.wi) },
                 si.medium_interface().medium_toward(ls.wi, si.shading.ng, medium),
             ),
-            Scatterer::Medium { p, .. } => (
-                if ls.dist.is_finite() { Ray::segment(*p, ls.p_light - *p, 1.0 - 1e-4) } else { Ray::new(*p, ls.wi) },
+            Scatterer::Medium { p, time, .. } => (
+                if ls.dist.is_finite() { Ray::segment(*p, ls.p_light - *p, 1.0 - 1e-4) } else { Ray::new(*p, ls.wi) }
+                    .at_time(*time),
                 medium,
             ),
         };

@@ -11,7 +11,7 @@ use glam::Mat4;
 
 use super::error::{Location, Warning};
 use super::params::ParamSet;
-use crate::geometry::{Mesh, Quadric};
+use crate::geometry::{AnimatedTransform, Mesh, Quadric};
 
 /// A directive that is just a type and parameters (Film, Sampler, Integrator, PixelFilter, ...).
 #[derive(Clone, Debug)]
@@ -146,8 +146,11 @@ pub struct ShapeDesc {
     pub params: ParamSet,
     /// The loaded geometry in object space.
     pub geometry: ShapeGeometry,
-    /// World from object (inside ObjectBegin: instance space from object).
+    /// World from object (inside ObjectBegin: instance space from object); for a moving shape,
+    /// at the start time.
     pub world_from_object: Mat4,
+    /// The motion from `world_from_object` to the end transform, for a moving shape.
+    pub motion: Option<AnimatedTransform>,
     /// ReverseOrientation was in effect: flip the normals (pbrt-v4 semantics).
     pub reverse_orientation: bool,
     /// The material in effect.
@@ -194,6 +197,8 @@ pub struct InstanceDesc {
     /// World from instance space: a shape's world transform is
     /// `world_from_instance * shape.world_from_object`.
     pub world_from_instance: Mat4,
+    /// The motion from `world_from_instance` to the end transform, for a moving instance.
+    pub motion: Option<AnimatedTransform>,
     /// Where it was written.
     pub loc: Location,
 }

@@ -43,6 +43,8 @@ pub struct SurfaceInteraction<'s> {
     pub prim: u32,
     /// Instance index ([`Hit::NO_INSTANCE`] for world geometry).
     pub inst: u32,
+    /// The instant of the incoming ray, which every ray spawned here inherits.
+    pub time: f32,
 }
 
 /// The two normals at a surface point (unit vectors).
@@ -107,9 +109,11 @@ impl<'s> SurfaceInteraction<'s> {
         };
         // An instance hit was computed in object space: carry the point with its error bound,
         // the normals and the tangent to world space (pbrt-v4 transforms interactions the same way).
+        // A moving instance is placed where it is at the ray's time.
         let (point, p_err, ng, interpolated, dpdu, dpdv) = match scene.instances.get(hit.inst_id as usize) {
             None => (point, p_err, ng, interpolated, dpdu, dpdv),
             Some(inst) => {
+                let inst = inst.at(ray.time);
                 let (wp, werr) = inst.point_to_world(point, p_err);
                 (
                     wp,
@@ -142,6 +146,7 @@ impl<'s> SurfaceInteraction<'s> {
             mesh: hit.geom_id,
             prim: hit.prim_id,
             inst: hit.inst_id,
+            time: ray.time,
         }
     }
 
@@ -159,6 +164,7 @@ impl<'s> SurfaceInteraction<'s> {
             mesh: u32::MAX,
             prim: u32::MAX,
             inst: Hit::NO_INSTANCE,
+            time: 0.0,
         }
     }
 
@@ -321,7 +327,7 @@ impl<'s> SurfaceInteraction<'s> {
     /// A ray leaving the surface along `d`, its origin offset past the error bound of `p`.
     #[inline]
     pub fn spawn_ray(&self, d: Vec3) -> Ray {
-        Ray::new(offset_ray_origin(self.p, self.p_err, self.shading.ng, d), d)
+        Ray::new(offset_ray_origin(self.p, self.p_err, self.shading.ng, d), d).at_time(self.time)
     }
 
     /// A shadow ray from this point to `target` (a point on a light), stopping just short of it.
@@ -329,7 +335,7 @@ impl<'s> SurfaceInteraction<'s> {
     pub fn spawn_ray_to(&self, target: Vec3) -> Ray {
         let o = offset_ray_origin(self.p, self.p_err, self.shading.ng, target - self.p);
         // pbrt-v4's ShadowEpsilon: stop at 1 − 1e-4 of the way to avoid hitting the light itself.
-        Ray::segment(o, target - o, 1.0 - 1e-4)
+        Ray::segment(o, target - o, 1.0 - 1e-4).at_time(self.time)
     }
 
     /// The rest of a shadow ray whose end point `end` is already short of the light: from this
@@ -337,7 +343,7 @@ impl<'s> SurfaceInteraction<'s> {
     #[inline]
     pub fn spawn_ray_to_point(&self, end: Vec3) -> Ray {
         let o = offset_ray_origin(self.p, self.p_err, self.shading.ng, end - self.p);
-        Ray::segment(o, end - o, 1.0)
+        Ray::segment(o, end - o, 1.0).at_time(self.time)
     }
 }
 

@@ -31,7 +31,7 @@ pub use primitive::{MediumInterface, Primitive};
 
 use crate::accel::{self, Accel, AccelKind};
 use crate::camera::{Camera, Projection, RealisticLens};
-use crate::geometry::{Hit, Instance, InstanceSet, Mesh, Prototype, Ray};
+use crate::geometry::{AnimatedTransform, Hit, Instance, InstanceSet, Mesh, Prototype, Ray};
 use crate::light::{
     AreaLight, EmissionImage, ImageEmission, Light, LightSampleContext, LightSampler, LightSamplerKind, SphereLight,
 };
@@ -134,6 +134,8 @@ pub struct SceneBuilder {
     media: Vec<Medium>,
     camera_medium: Option<u32>,
     light_sampler: LightSamplerKind,
+    /// The camera's shutter open and close times (`None`: pbrt-v4's default 0 and 1).
+    shutter: Option<(f32, f32)>,
     /// Warnings collected while building (degenerate geometry, …).
     pub warnings: Vec<String>,
 }
@@ -262,11 +264,27 @@ impl SceneBuilder {
     /// Places prototype `prototype` at `world_from_object`. A singular or non-finite transform
     /// (or an unknown prototype) places nothing and returns false with a warning.
     pub fn add_instance(&mut self, prototype: u32, world_from_object: Mat4) -> bool {
+        self.place(prototype, Instance::new(prototype, world_from_object))
+    }
+
+    /// Places prototype `prototype` moving by `motion` (static when its two matrices are equal);
+    /// false with a warning as [`SceneBuilder::add_instance`].
+    pub fn add_moving_instance(&mut self, prototype: u32, motion: AnimatedTransform) -> bool {
+        self.place(prototype, Instance::animated(prototype, motion))
+    }
+
+    /// Sets the camera's shutter open and close times, in the time units of the instances'
+    /// motions (rays sample times uniformly between them).
+    pub fn set_shutter(&mut self, open: f32, close: f32) {
+        self.shutter = Some((open, close.max(open)));
+    }
+
+    fn place(&mut self, prototype: u32, instance: Option<Instance>) -> bool {
         if prototype as usize >= self.prototypes.len() {
             self.warnings.push(format!("instance of unknown prototype {prototype} skipped"));
             return false;
         }
-        match Instance::new(prototype, world_from_object) {
+        match instance {
             Some(i) => {
                 self.instances.push(i);
                 true
@@ -361,8 +379,11 @@ impl SceneBuilder {
             p.sphere = p.sphere.map(|(c, r)| (m.transform_point3(c), r * scale));
         }
         for inst in self.instances.iter_mut() {
-            *inst =
-                Instance::new(inst.prototype, m * inst.world_from_object).expect("a similarity keeps it invertible");
+            let motion = inst
+                .motion
+                .unwrap_or_else(|| AnimatedTransform::new(inst.world_from_object, 0.0, inst.world_from_object, 1.0));
+            let moved = AnimatedTransform::new(m * motion.start, motion.start_time, m * motion.end, motion.end_time);
+            *inst = Instance::animated(inst.prototype, moved).expect("a similarity keeps it invertible");
         }
         if let Some(c) = self.camera.as_mut() {
             // Keep the camera frame orthonormal: move the origin, rotate the axes, do not scale.
@@ -443,6 +464,8 @@ impl SceneBuilder {
         let infinite_lights =
             lights.iter().enumerate().filter(|(_, l)| l.is_infinite()).map(|(i, _)| i as u32).collect();
         let has_interfaces = self.materials.iter().any(Material::may_be_interface);
+        let moves = self.instances.iter().any(|i| i.motion.is_some());
+        let shutter = moves.then(|| self.shutter.unwrap_or((0.0, 1.0)));
         Ok(Scene {
             has_interfaces,
             has_alpha,
@@ -458,6 +481,7 @@ impl SceneBuilder {
             scene_radius: radius,
             media: self.media,
             camera_medium: self.camera_medium,
+            shutter,
         })
     }
 }
@@ -517,6 +541,9 @@ pub struct Scene {
     media: Vec<Medium>,
     /// The medium the camera sits in.
     camera_medium: Option<u32>,
+    /// The shutter open and close times when something in the scene moves (`None`: every ray
+    /// is at time 0 and the camera draws no time sample).
+    pub shutter: Option<(f32, f32)>,
 }
 
 /// Most interfaces a ray passes through before it is taken as blocked (a guard against

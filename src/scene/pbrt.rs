@@ -29,11 +29,11 @@ use crate::bsdf::{ior, metals};
 use crate::camera::Projection;
 use crate::film::Crop;
 use crate::geometry::quadric::similarity_scale;
-use crate::geometry::{Mesh, Quadric};
+use crate::geometry::{AnimatedTransform, Mesh, Quadric};
 use crate::light::{EmissionImage, LightSamplerKind};
 use crate::material::{BumpedMaterial, Ior, Material, Roughness};
 use crate::spectrum::{ColorSpace, RgbKind, Spectrum};
-use glam::Vec3;
+use glam::{Mat4, Vec3};
 use std::collections::HashMap;
 use std::sync::Arc;
 
@@ -192,6 +192,8 @@ impl Ctx<'_> {
             let message = format!("\"fov\" must be between 0 and 180 degrees, got {fov}");
             return Err(param_error(p, "fov", &c.directive.loc, message));
         }
+        // pbrt-v4's defaults: the shutter is open from time 0 to 1.
+        self.b.set_shutter(p.float_or("shutteropen", 0.0), p.float_or("shutterclose", 1.0));
         let screen_window = p.floats("screenwindow").filter(|s| s.len() == 4).map(|s| [s[0], s[1], s[2], s[3]]);
         let (lens_radius, focal_distance) =
             if spherical { (0.0, 1e6) } else { (p.float_or("lensradius", 0.0), p.float_or("focaldistance", 1e6)) };
@@ -423,7 +425,7 @@ impl Ctx<'_> {
                     let mut meshes = Vec::with_capacity(obj.shapes.len());
                     let mut alphas = Vec::with_capacity(obj.shapes.len());
                     for s in &obj.shapes {
-                        meshes.push((shape_mesh(s), self.material(desc.material(&s.material))?));
+                        meshes.push((shape_mesh(s, &s.world_from_object), self.material(desc.material(&s.material))?));
                         alphas.push(self.float_texture(&s.params, "alpha", 1.0)?);
                     }
                     let p = (!meshes.is_empty()).then(|| self.b.add_prototype(meshes));
@@ -439,15 +441,41 @@ impl Ctx<'_> {
                 }
             };
             let Some(proto) = proto else { continue };
-            if !self.b.add_instance(proto, inst.world_from_instance) {
+            let placed = match inst.motion {
+                Some(m) => self.b.add_moving_instance(proto, m),
+                None => self.b.add_instance(proto, inst.world_from_instance),
+            };
+            if !placed {
                 self.warnings.extend(self.b.warnings.pop().map(|message| Warning::note(&inst.loc, message)));
             }
         }
         Ok(())
     }
 
+    /// A moving shape: its mesh in object space becomes a prototype of its own, placed by one
+    /// instance that moves (pbrt-v4 wraps such a shape in an `AnimatedPrimitive`). pbrt-v4 lets
+    /// moving shapes emit; here they do not.
+    fn moving_shape(&mut self, s: &ShapeDesc, motion: AnimatedTransform) -> Result<(), SceneError> {
+        if s.area_light.is_some() {
+            self.unsupported(&s.loc, "a moving area light".into(), "makes the shape non-emissive");
+        }
+        let material = self.material(self.desc.material(&s.material))?;
+        let proto = self.b.add_prototype(vec![(shape_mesh(s, &Mat4::IDENTITY), material)]);
+        let id = self.b.prototype_meshes(proto)[0];
+        let alpha = self.float_texture(&s.params, "alpha", 1.0)?;
+        self.b.set_alpha(id, alpha);
+        self.b.set_medium_interface(id, media::interface(&self.media, &s.media));
+        if !self.b.add_moving_instance(proto, motion) {
+            self.warnings.extend(self.b.warnings.pop().map(|message| Warning::note(&s.loc, message)));
+        }
+        Ok(())
+    }
+
     fn shape(&mut self, s: &ShapeDesc) -> Result<(), SceneError> {
-        let mesh = shape_mesh(s);
+        if let Some(motion) = s.motion {
+            return self.moving_shape(s, motion);
+        }
+        let mesh = shape_mesh(s, &s.world_from_object);
         // A quadric under a similarity keeps its analytic area, and a full sphere stays a
         // sphere that can be sampled by solid angle.
         let similar = match &s.geometry {
@@ -506,10 +534,9 @@ impl Ctx<'_> {
 /// The shapes pbrt-v4 creates as one `Triangle` shape per triangle.
 const TRIANGLE_SHAPES: &[&str] = &["trianglemesh", "loopsubdiv"];
 
-/// A shape's triangles in the space its transform leads to (world, or instance space inside an
-/// object definition), oriented.
-fn shape_mesh(s: &ShapeDesc) -> Mesh {
-    let m = &s.world_from_object;
+/// A shape's triangles under `m` (its own transform into world space, or instance space inside
+/// an object definition; the identity keeps them in object space), oriented.
+fn shape_mesh(s: &ShapeDesc, m: &Mat4) -> Mesh {
     let mesh = match &s.geometry {
         ShapeGeometry::Mesh(mesh) => {
             let mut mesh = mesh.transformed(m);

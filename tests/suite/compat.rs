@@ -138,6 +138,13 @@ fn film_response_clamp_and_a_tiny_sphere_light_have_pbrt_v4s_means() {
     assert_matches_pbrt_v4("film.pbrt", 16);
 }
 
+#[test]
+fn translating_rotating_and_scaling_shapes_blur_with_pbrt_v4s_means() {
+    // A rotation interpolated by matrix blending would shrink the box halfway (a shear), and a
+    // shape left at its start transform moves its colour's share of the image.
+    assert_matches_pbrt_v4("motion.pbrt", 16);
+}
+
 /// pbrt-v4's own killeroo scene (where it is available beside the repository: its licence keeps
 /// it out of the project): in a crop of the glossy red killeroo at pbrt-v4's reference
 /// resolution and spp (350×350, 128), prism's x/(1+x) RMSE against pbrt-v4's 512-spp image is

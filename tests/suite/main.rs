@@ -15,6 +15,7 @@ mod instancing;
 mod light_sampler;
 mod media;
 mod merge;
+mod motion;
 mod naive_fails;
 mod pbrt_defaults;
 mod pbrt_materials;

@@ -49,9 +49,10 @@ fn every_unsupported_feature_warns_and_is_an_error_in_strict_mode() {
         ),
         (
             false,
-            "AttributeBegin\nActiveTransform EndTime\nTranslate 0 0 1\nActiveTransform All\nAttributeEnd".into(),
-            "Translate",
-            "motion blur",
+            "AttributeBegin\nActiveTransform EndTime\nTranslate 0 0 1\nActiveTransform All\nLightSource \"distant\"\nAttributeEnd"
+                .into(),
+            "LightSource \"distant\"",
+            "a moving light",
         ),
         (
             true,

@@ -5,14 +5,18 @@
 //! Top-level geometry ids: world meshes take 0..W, instance `i` takes W + i. A hit reports the
 //! instance in `instID[0]` and the triangle geometry's id within its prototype scene in `geomID`,
 //! both mapped back here to the scene's mesh ids.
+//!
+//! A moving instance has time steps (`motion`); rays carry their time mapped onto Embree's
+//! [0, 1].
 
 use glam::{Mat3, Vec3};
 
 use super::device::{Device, EmbreeError};
 use super::ffi;
+use super::motion;
 use super::scene::{Scene, SceneHandle};
 use super::TriangleTest;
-use crate::geometry::InstanceSet;
+use crate::geometry::{AnimatedTransform, Instance, InstanceSet};
 use crate::geometry::{Bounds3, Hit, Mesh, Ray};
 
 /// Prototype scenes, instances and world meshes in one top-level Embree scene.
@@ -25,8 +29,13 @@ pub struct InstancedScene {
     world_ids: Vec<u32>,
     /// Scene mesh id of local geometry `g` of prototype `p`: `proto_ids[p][g]`.
     proto_ids: Vec<Vec<u32>>,
-    /// Prototype and normal cofactor matrix of each instance.
+    /// Prototype and normal cofactor matrix of each instance (of its start placement when it
+    /// moves).
     instances: Vec<(u32, Mat3)>,
+    /// The moving instances by index: the cofactor at a hit's time comes from their motion.
+    motions: Vec<Option<Box<AnimatedTransform>>>,
+    /// The scene time that Embree's ray time 0 and 1 stand for (`None`: nothing moves).
+    time_span: Option<(f32, f32)>,
     bounds: Bounds3,
 }
 
@@ -69,6 +78,7 @@ impl InstancedScene {
             }
         }
         let first_instance = set.world_meshes.len() as u32;
+        let time_span = motion::time_span(set.instances.iter().filter_map(|i| i.motion.as_ref()));
         for (i, inst) in set.instances.iter().enumerate() {
             let b = proto_bounds[inst.prototype as usize];
             if b.is_empty() {
@@ -87,12 +97,21 @@ impl InstancedScene {
                     return Err(EmbreeError::Call(device.take_error().unwrap_or_default()));
                 }
                 ffi::rtcSetGeometryInstancedScene(geom, proto.raw);
-                ffi::rtcSetGeometryTransform(
-                    geom,
-                    0,
-                    ffi::RTCFormat_RTC_FORMAT_FLOAT3X4_COLUMN_MAJOR,
-                    xfm.as_ptr() as *const std::ffi::c_void,
-                );
+                match (&inst.motion, time_span) {
+                    (Some(m), Some(span)) => {
+                        let steps = motion::time_steps(m, span);
+                        ffi::rtcSetGeometryTimeStepCount(geom, steps.len() as u32);
+                        for (k, qd) in steps.iter().enumerate() {
+                            ffi::rtcSetGeometryTransformQuaternion(geom, k as u32, qd);
+                        }
+                    }
+                    _ => ffi::rtcSetGeometryTransform(
+                        geom,
+                        0,
+                        ffi::RTCFormat_RTC_FORMAT_FLOAT3X4_COLUMN_MAJOR,
+                        xfm.as_ptr() as *const std::ffi::c_void,
+                    ),
+                }
                 ffi::rtcCommitGeometry(geom);
                 ffi::rtcAttachGeometryByID(top.raw, geom, first_instance + i as u32);
                 ffi::rtcReleaseGeometry(geom);
@@ -103,7 +122,28 @@ impl InstancedScene {
         }
         top.commit(&device)?;
         let instances = set.instances.iter().map(|i| (i.prototype, i.normal_cofactor)).collect();
-        Ok(Self { top, prototypes, device, world_ids: set.world_meshes.clone(), proto_ids, instances, bounds })
+        let motions = set.instances.iter().map(|i| i.motion.map(Box::new)).collect();
+        Ok(Self {
+            top,
+            prototypes,
+            device,
+            world_ids: set.world_meshes.clone(),
+            proto_ids,
+            instances,
+            motions,
+            time_span,
+            bounds,
+        })
+    }
+
+    /// The Embree ray for `ray`, its time mapped onto Embree's [0, 1].
+    #[inline]
+    fn rtc_ray(&self, ray: &Ray) -> ffi::RTCRay {
+        let mut r = Scene::rtc_ray(ray);
+        if let Some(span) = self.time_span {
+            r.time = motion::embree_time(span, ray.time);
+        }
+        r
     }
 
     /// World bounds (instance boxes are the transformed corners of their prototypes' boxes).
@@ -126,7 +166,7 @@ impl InstancedScene {
         }
         let mut ctx = Scene::context();
         let mut rh = ffi::RTCRayHit {
-            ray: Scene::rtc_ray(ray),
+            ray: self.rtc_ray(ray),
             hit: ffi::RTCHit { geomID: ffi::RTC_INVALID_GEOMETRY_ID, ..Default::default() },
         };
         // SAFETY: committed scene; ctx and rh are valid, properly aligned locals.
@@ -140,7 +180,12 @@ impl InstancedScene {
             (self.world_ids[rh.hit.geomID as usize], Hit::NO_INSTANCE, ng)
         } else {
             let inst = top_id - self.world_ids.len() as u32;
-            let (proto, cofactor) = self.instances[inst as usize];
+            let (proto, mut cofactor) = self.instances[inst as usize];
+            if let Some(m) = &self.motions[inst as usize] {
+                if let Some(at) = Instance::new(proto, m.interpolate(ray.time)) {
+                    cofactor = at.normal_cofactor;
+                }
+            }
             // Embree reports Ng of instanced geometry in object space.
             (self.proto_ids[proto as usize][rh.hit.geomID as usize], inst, cofactor * ng)
         };
@@ -162,7 +207,7 @@ impl InstancedScene {
             return false;
         }
         let mut ctx = Scene::context();
-        let mut r = Scene::rtc_ray(ray);
+        let mut r = self.rtc_ray(ray);
         // SAFETY: committed scene; ctx and r are valid, properly aligned locals.
         unsafe { ffi::occluded1(self.top.raw, ctx.as_mut_ptr(), &mut r) };
         r.tfar == f32::NEG_INFINITY

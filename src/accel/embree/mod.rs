@@ -14,6 +14,7 @@ mod ffi;
 mod hit_record_tests;
 mod instanced;
 mod library_check;
+mod motion;
 mod scene;
 mod user_triangles;
 

@@ -18,6 +18,8 @@ pub use transforms::look_at;
 
 use glam::Mat4;
 
+use crate::geometry::AnimatedTransform;
+
 use super::desc::*;
 use super::error::{check_strict, Location, SceneError, Warning};
 use super::names::{self, Lookup};
@@ -86,7 +88,10 @@ enum Active {
 /// The graphics state that AttributeBegin saves.
 #[derive(Clone, Debug)]
 struct GraphicsState {
+    /// The CTM at the start time of `TransformTimes`.
     ctm: Mat4,
+    /// The CTM at its end time (equal to `ctm` unless the scene animates transforms).
+    ctm_end: Mat4,
     active: Active,
     reverse_orientation: bool,
     material: MaterialRef,
@@ -110,7 +115,10 @@ struct Parser<'o> {
     warnings: Vec<Warning>,
     gs: GraphicsState,
     stack: Vec<(GraphicsState, Pushed, Location)>,
-    named_cs: HashMap<String, Mat4>,
+    /// Named coordinate systems: their (start, end) CTMs.
+    named_cs: HashMap<String, [Mat4; 2]>,
+    /// `TransformTimes`: the times of the start and end CTMs (pbrt-v4's default 0 1).
+    transform_times: (f32, f32),
     in_world: Option<Location>,
     camera: Option<CameraDesc>,
     film: Option<Directive>,
@@ -128,7 +136,7 @@ struct Parser<'o> {
     textures: Vec<TextureDesc>,
     objects: Vec<ObjectDesc>,
     current_object: Option<ObjectDesc>,
-    instances: Vec<(String, Mat4, Location)>,
+    instances: Vec<(String, Mat4, Option<AnimatedTransform>, Location)>,
     media: Vec<MediumDesc>,
     include_stack: Vec<PathBuf>,
     /// Every file read so far: the scene file, then each Include/Import in reading order.
@@ -146,6 +154,7 @@ impl<'o> Parser<'o> {
             warnings: Vec::new(),
             gs: GraphicsState {
                 ctm: Mat4::IDENTITY,
+                ctm_end: Mat4::IDENTITY,
                 active: Active::All,
                 reverse_orientation: false,
                 material: MaterialRef::Default,
@@ -156,6 +165,7 @@ impl<'o> Parser<'o> {
             },
             stack: Vec::new(),
             named_cs: HashMap::new(),
+            transform_times: (0.0, 1.0),
             in_world: None,
             camera: None,
             film: None,
@@ -354,11 +364,11 @@ impl<'o> Parser<'o> {
             }
         }
         let mut instances = Vec::with_capacity(self.instances.len());
-        for (object, m, loc) in self.instances.drain(..) {
+        for (object, m, motion, loc) in self.instances.drain(..) {
             let Some(object_index) = self.objects.iter().position(|o| o.name == object) else {
                 return Err(SceneError::syntax(&loc, &object, format!("object \"{object}\" is not defined")));
             };
-            instances.push(InstanceDesc { object, object_index, world_from_instance: m, loc });
+            instances.push(InstanceDesc { object, object_index, world_from_instance: m, motion, loc });
         }
         let textures = &self.textures;
         let check_textures = |ps: &ParamSet| -> Result<(), SceneError> {

@@ -42,12 +42,12 @@ impl Parser<'_> {
                 let ty = src.string(tok, "a camera type")?;
                 let params = src.params(cs)?;
                 let kind = self.resolve_type(&ty, "camera", names::PRISM_CAMERAS, names::PBRT_ONLY_CAMERAS, false)?;
-                let ctm = self.gs.ctm;
+                let ctm = self.start_ctm(tok, "camera");
                 let det = ctm.determinant();
                 if det == 0.0 || !det.is_finite() {
                     return Err(SceneError::syntax(&tok.loc, &tok.text, "the camera transform is not invertible"));
                 }
-                self.named_cs.insert("camera".into(), ctm.inverse());
+                self.named_cs.insert("camera".into(), [ctm.inverse(); 2]);
                 self.camera = Some(CameraDesc {
                     directive: Directive { kind: kind.unwrap_or_default(), params, loc: tok.loc.clone() },
                     camera_from_world: ctm,
@@ -107,13 +107,8 @@ impl Parser<'_> {
                     self.unsupported(&tok.loc, &feature, "renders vacuum in its place");
                 }
                 self.media.retain(|m| m.name != name.text);
-                self.media.push(MediumDesc {
-                    name: name.text,
-                    kind,
-                    params,
-                    world_from_medium: self.gs.ctm,
-                    loc: tok.loc.clone(),
-                });
+                let world_from_medium = self.start_ctm(tok, "medium");
+                self.media.push(MediumDesc { name: name.text, kind, params, world_from_medium, loc: tok.loc.clone() });
             }
             "MediumInterface" => {
                 let inside = src.string(tok, "a medium name")?;
@@ -128,8 +123,8 @@ impl Parser<'_> {
             "WorldBegin" => {
                 self.require_options(tok)?;
                 self.in_world = Some(tok.loc.clone());
-                self.gs.ctm = Mat4::IDENTITY;
-                self.named_cs.insert("world".into(), Mat4::IDENTITY);
+                (self.gs.ctm, self.gs.ctm_end) = (Mat4::IDENTITY, Mat4::IDENTITY);
+                self.named_cs.insert("world".into(), [Mat4::IDENTITY; 2]);
             }
             "WorldEnd" => {
                 self.require_world(tok)?;

@@ -1,28 +1,56 @@
-//! Transform directives: the current transformation matrix (CTM), named coordinate systems,
-//! ActiveTransform and ReverseOrientation (pbrt-v4: transforms post-multiply the CTM).
+//! Transform directives: the current transformation matrices (CTMs), named coordinate systems,
+//! ActiveTransform, TransformTimes and ReverseOrientation. As in pbrt-v4, transforms
+//! post-multiply the CTM, and there are two of them, at the start and at the end time of
+//! `TransformTimes`: `ActiveTransform StartTime|EndTime|All` picks which ones the directives
+//! change, and a shape or instance placed while the two differ moves between them.
 
 use glam::{Mat4, Vec3, Vec4};
 
 use super::{Active, Parser};
+use crate::geometry::AnimatedTransform;
 use crate::scene::error::SceneError;
 use crate::scene::source::Source;
 use crate::scene::tokenizer::Token;
 
 impl Parser<'_> {
-    /// Applies `m` to the CTM (post-multiplied, as pbrt-v4 does) if the active transform allows.
-    pub(super) fn concat(&mut self, tok: &Token, m: Mat4) {
-        self.set_ctm(tok, self.gs.ctm * m);
+    /// Replaces each CTM the active transform selects by `f` of it.
+    fn update_ctm(&mut self, f: impl Fn(Mat4) -> Mat4) {
+        if self.gs.active != Active::End {
+            self.gs.ctm = f(self.gs.ctm);
+        }
+        if self.gs.active != Active::Start {
+            self.gs.ctm_end = f(self.gs.ctm_end);
+        }
     }
 
-    pub(super) fn set_ctm(&mut self, tok: &Token, m: Mat4) {
-        if self.gs.active == Active::End {
-            if !self.warned_motion {
-                self.warned_motion = true;
-                self.unsupported(&tok.loc, "motion blur (ActiveTransform EndTime)", "uses the start transform");
-            }
-            return;
+    /// Applies `m` to the active CTMs (post-multiplied, as pbrt-v4 does).
+    pub(super) fn concat(&mut self, m: Mat4) {
+        self.update_ctm(|c| c * m);
+    }
+
+    /// Sets the active CTMs to `m`.
+    pub(super) fn set_ctm(&mut self, m: Mat4) {
+        self.update_ctm(|_| m);
+    }
+
+    /// The motion between the two CTMs over `TransformTimes`, when they differ.
+    pub(super) fn motion(&self) -> Option<AnimatedTransform> {
+        let (t0, t1) = self.transform_times;
+        (self.gs.ctm != self.gs.ctm_end).then(|| AnimatedTransform::new(self.gs.ctm, t0, self.gs.ctm_end, t1))
+    }
+
+    /// The start CTM for something that cannot move (`what`: "camera", "light", ...); a
+    /// differing end CTM is reported once and ignored, as pbrt-v4 does for lights and media.
+    pub(super) fn start_ctm(&mut self, tok: &Token, what: &str) -> Mat4 {
+        if self.gs.ctm != self.gs.ctm_end && !self.warned_motion {
+            self.warned_motion = true;
+            self.unsupported(
+                &tok.loc,
+                &format!("a moving {what} (ActiveTransform EndTime)"),
+                "uses the start transform",
+            );
         }
-        self.gs.ctm = m;
+        self.gs.ctm
     }
 
     /// Identity, Translate, Scale, Rotate, LookAt, Transform, ConcatTransform, CoordinateSystem,
@@ -30,14 +58,14 @@ impl Parser<'_> {
     /// `tok` is not one of them.
     pub(super) fn transform_directive(&mut self, tok: &Token, src: &mut Source) -> Result<bool, SceneError> {
         match tok.text.as_str() {
-            "Identity" => self.set_ctm(tok, Mat4::IDENTITY),
+            "Identity" => self.set_ctm(Mat4::IDENTITY),
             "Translate" => {
                 let v = src.numbers(tok, 3)?;
-                self.concat(tok, Mat4::from_translation(Vec3::new(v[0], v[1], v[2])));
+                self.concat(Mat4::from_translation(Vec3::new(v[0], v[1], v[2])));
             }
             "Scale" => {
                 let v = src.numbers(tok, 3)?;
-                self.concat(tok, Mat4::from_scale(Vec3::new(v[0], v[1], v[2])));
+                self.concat(Mat4::from_scale(Vec3::new(v[0], v[1], v[2])));
             }
             "Rotate" => {
                 let v = src.numbers(tok, 4)?;
@@ -45,7 +73,7 @@ impl Parser<'_> {
                 if axis.length_squared() == 0.0 || !axis.length_squared().is_finite() {
                     return Err(SceneError::syntax(&tok.loc, &tok.text, "rotation axis has zero length"));
                 }
-                self.concat(tok, Mat4::from_axis_angle(axis.normalize(), v[0].to_radians()));
+                self.concat(Mat4::from_axis_angle(axis.normalize(), v[0].to_radians()));
             }
             "LookAt" => {
                 let v = src.numbers(tok, 9)?;
@@ -57,7 +85,7 @@ impl Parser<'_> {
                             "LookAt is degenerate: eye equals look, or up is parallel to the view direction",
                         )
                     })?;
-                self.concat(tok, m);
+                self.concat(m);
             }
             "Transform" | "ConcatTransform" => {
                 let v = src.numbers(tok, 16)?;
@@ -67,19 +95,19 @@ impl Parser<'_> {
                 // which is glam's column-major order.
                 let m = Mat4::from_cols_array(&a);
                 if tok.text == "Transform" {
-                    self.set_ctm(tok, m);
+                    self.set_ctm(m);
                 } else {
-                    self.concat(tok, m);
+                    self.concat(m);
                 }
             }
             "CoordinateSystem" => {
                 let name = src.string(tok, "a coordinate system name")?;
-                self.named_cs.insert(name.text, self.gs.ctm);
+                self.named_cs.insert(name.text, [self.gs.ctm, self.gs.ctm_end]);
             }
             "CoordSysTransform" => {
                 let name = src.string(tok, "a coordinate system name")?;
                 match self.named_cs.get(&name.text) {
-                    Some(&m) => self.set_ctm(tok, m),
+                    Some(&[start, end]) => (self.gs.ctm, self.gs.ctm_end) = (start, end),
                     None => self.warn(
                         &name.loc,
                         format!("unknown coordinate system \"{}\"; CoordSysTransform ignored", name.text),
@@ -106,6 +134,7 @@ impl Parser<'_> {
                 if v[1] < v[0] {
                     return Err(SceneError::syntax(&tok.loc, &tok.text, "TransformTimes end is before start"));
                 }
+                self.transform_times = (v[0], v[1]);
             }
             "ReverseOrientation" => self.gs.reverse_orientation = !self.gs.reverse_orientation,
             _ => return Ok(false),

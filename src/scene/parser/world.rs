@@ -75,7 +75,8 @@ impl Parser<'_> {
                 self.require_world(tok)?;
                 let name = src.string(tok, "an object name")?;
                 self.require_outside_object(tok)?;
-                self.instances.push((name.text, self.gs.ctm, tok.loc.clone()));
+                let motion = self.motion();
+                self.instances.push((name.text, self.gs.ctm, motion, tok.loc.clone()));
             }
             "Material" => {
                 self.require_world(tok)?;
@@ -149,12 +150,13 @@ impl Parser<'_> {
                 if self.textures.iter().any(|t| t.name == name.text && t.class == class) {
                     self.warn(&name.loc, format!("texture \"{}\" redefined; the later definition is used", name.text));
                 }
+                let world_from_texture = self.start_ctm(tok, "texture");
                 self.textures.push(TextureDesc {
                     name: name.text,
                     class,
                     kind: ty.text,
                     params,
-                    world_from_texture: self.gs.ctm,
+                    world_from_texture,
                     loc: tok.loc.clone(),
                 });
             }
@@ -171,7 +173,8 @@ impl Parser<'_> {
                     if self.current_object.is_some() {
                         self.warn(&tok.loc, "LightSource inside ObjectBegin is not instanced; it is added once");
                     }
-                    self.lights.push(LightDesc { kind, params, world_from_light: self.gs.ctm, loc: tok.loc.clone() });
+                    let world_from_light = self.start_ctm(tok, "light");
+                    self.lights.push(LightDesc { kind, params, world_from_light, loc: tok.loc.clone() });
                 }
             }
             "AreaLightSource" => {
@@ -212,7 +215,7 @@ impl Parser<'_> {
             Some(_) => {
                 let (gs, _, _) = self.stack.pop().expect("checked non-empty");
                 if want == Pushed::Transform {
-                    self.gs.ctm = gs.ctm;
+                    (self.gs.ctm, self.gs.ctm_end) = (gs.ctm, gs.ctm_end);
                 } else {
                     self.gs = gs;
                 }
@@ -256,11 +259,17 @@ impl Parser<'_> {
             self.unsupported(&tok.loc, "area light on a shape inside ObjectBegin", "makes the shape non-emissive");
             area_light = None;
         }
+        let mut motion = self.motion();
+        if motion.is_some() && self.current_object.is_some() {
+            self.unsupported(&tok.loc, "a moving shape inside ObjectBegin", "uses the start transform");
+            motion = None;
+        }
         let s = ShapeDesc {
             kind,
             params,
             geometry,
             world_from_object: self.gs.ctm,
+            motion,
             reverse_orientation: self.gs.reverse_orientation,
             material: self.gs.material.clone(),
             area_light,

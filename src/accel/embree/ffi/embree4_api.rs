@@ -74,6 +74,29 @@ pub const RTCFeatureFlags_RTC_FEATURE_FLAG_ALL: RTCFeatureFlags = 0xffff_ffff;
 
 // --- Structures ---
 
+/// An affine transform as T · R · U: translation, a rotation quaternion (r + i·x + j·y + k·z)
+/// and an upper-triangular scale/skew/shift matrix (rtcore_quaternion.h; the same in Embree 3).
+#[repr(C, align(16))]
+#[derive(Clone, Copy, Debug, Default)]
+pub struct RTCQuaternionDecomposition {
+    pub scale_x: f32,
+    pub scale_y: f32,
+    pub scale_z: f32,
+    pub skew_xy: f32,
+    pub skew_xz: f32,
+    pub skew_yz: f32,
+    pub shift_x: f32,
+    pub shift_y: f32,
+    pub shift_z: f32,
+    pub quaternion_r: f32,
+    pub quaternion_i: f32,
+    pub quaternion_j: f32,
+    pub quaternion_k: f32,
+    pub translation_x: f32,
+    pub translation_y: f32,
+    pub translation_z: f32,
+}
+
 /// One ray (rtcore_ray.h).
 #[repr(C, align(16))]
 #[derive(Clone, Copy, Debug, Default)]
@@ -268,4 +291,10 @@ extern "C" {
     pub fn rtcSetGeometryOccludedFunction(geometry: RTCGeometry, occluded: RTCOccludedFunctionN);
     pub fn rtcSetGeometryInstancedScene(geometry: RTCGeometry, scene: RTCScene);
     pub fn rtcSetGeometryTransform(geometry: RTCGeometry, timeStep: c_uint, format: RTCFormat, xfm: *const c_void);
+    pub fn rtcSetGeometryTimeStepCount(geometry: RTCGeometry, timeStepCount: c_uint);
+    pub fn rtcSetGeometryTransformQuaternion(
+        geometry: RTCGeometry,
+        timeStep: c_uint,
+        qd: *const RTCQuaternionDecomposition,
+    );
 }

@@ -1,0 +1,174 @@
+//! Motion blur: a moving instance hit at time t is the instance placed at its interpolated
+//! transform (pbrt-v4's `AnimatedTransform`, PBR 4th ed. §3.10.1) on every backend; a square
+//! translating by its own width over the shutter blurs into the tent-shaped coverage the
+//! shutter integral gives; a scene where nothing moves draws no time sample.
+
+use crate::common::{backends, pbrt_scene as scene, test_settings};
+use glam::{Mat4, Quat, Vec3};
+use prism::camera::Camera;
+use prism::geometry::shapes::{axis_box, icosphere};
+use prism::geometry::{AnimatedTransform, Hit, Ray};
+use prism::material::Material;
+use prism::render::render;
+use prism::sampling::Rng;
+use prism::scene::{Scene, SceneBuilder};
+use prism::spectrum::Spectrum;
+
+/// Relative tolerance on hit distances: object-space rays through two roundings of the same
+/// transform, a few ulps each.
+const T_REL_TOL: f32 = 1e-4;
+
+/// The motions under test: keyframes T·R·S with diagonal positive stretches, so the polar
+/// decomposition and Embree's quaternion decomposition coincide.
+fn motions() -> [AnimatedTransform; 2] {
+    let axis = Vec3::new(0.3, 1.0, -0.2).normalize();
+    let a = Mat4::from_translation(Vec3::new(-2.0, 1.0, 0.0)) * Mat4::from_scale(Vec3::new(1.0, 0.6, 1.2));
+    let b = Mat4::from_translation(Vec3::new(1.5, 1.8, 0.5))
+        * Mat4::from_quat(Quat::from_axis_angle(axis, 2.1))
+        * Mat4::from_scale(Vec3::new(1.4, 0.9, 0.7));
+    let c = Mat4::from_translation(Vec3::new(0.0, 0.5, 4.0));
+    let d = Mat4::from_translation(Vec3::new(0.0, 2.5, 4.0)) * Mat4::from_rotation_z(1.2);
+    [AnimatedTransform::new(a, 0.0, b, 1.0), AnimatedTransform::new(c, 0.0, d, 1.0)]
+}
+
+/// A sphere with a box below it, moved by `place` (the instance's motion, or its transform at
+/// one time).
+fn builder(place: impl Fn(&mut SceneBuilder, u32, &AnimatedTransform) -> bool) -> SceneBuilder {
+    let mut b = SceneBuilder::new();
+    let grey = b.add_material(Material::diffuse(Spectrum::constant(0.6)));
+    let p = b.add_prototype(vec![
+        (icosphere(Vec3::ZERO, 1.0, 3), grey),
+        (axis_box(Vec3::new(-0.4, -1.6, -0.4), Vec3::new(0.4, -1.0, 0.4)), grey),
+    ]);
+    for m in motions() {
+        assert!(place(&mut b, p, &m));
+    }
+    b.set_camera(Camera::look_at(Vec3::new(0.0, 2.0, -8.0), Vec3::new(0.0, 1.0, 2.0), Vec3::Y), 60.0);
+    b
+}
+
+/// The closest hit of `ray` in both scenes agree: the same surface, distance and normal.
+fn assert_same_hit(what: &str, a: Option<Hit>, b: Option<Hit>, ray: &Ray, scene: &Scene) -> bool {
+    match (a, b) {
+        (None, None) => false,
+        (Some(a), Some(b)) => {
+            let tol = T_REL_TOL * a.t.max(1.0);
+            assert!((a.t - b.t).abs() <= tol, "{what}: t {} vs {} for {ray:?}", a.t, b.t);
+            assert_eq!(a.inst_id, b.inst_id, "{what}: instance for {ray:?}");
+            assert_eq!(a.prim_id, b.prim_id, "{what}: triangle for {ray:?}");
+            assert_eq!(
+                scene.primitives()[a.geom_id as usize].material,
+                scene.primitives()[b.geom_id as usize].material
+            );
+            let (na, nb) = (a.ng.normalize(), b.ng.normalize());
+            assert!(na.dot(nb) > 0.999, "{what}: normals {na} vs {nb}");
+            true
+        }
+        (a, b) => panic!("{what}: moving {a:?} vs placed {b:?} for {ray:?}"),
+    }
+}
+
+#[test]
+fn a_moving_instance_at_time_t_is_hit_as_the_instance_placed_at_t_on_every_backend() {
+    for kind in backends() {
+        let moving = builder(|b, p, m| b.add_moving_instance(p, *m)).build(kind).unwrap();
+        assert_eq!(moving.shutter, Some((0.0, 1.0)));
+        let mut rng = Rng::new(23, 1);
+        let mut hits = 0;
+        for t in [0.0, 0.2, 0.5, 0.77, 1.0] {
+            let placed = builder(|b, p, m| b.add_instance(p, m.interpolate(t))).build(kind).unwrap();
+            assert_eq!(placed.shutter, None);
+            for _ in 0..4000 {
+                // Rays from a box around the motion towards a point near the paths.
+                let o = Vec3::new(rng.uniform() * 12.0 - 6.0, rng.uniform() * 6.0 - 1.0, -6.0);
+                let target = Vec3::new(rng.uniform() * 6.0 - 3.0, rng.uniform() * 4.0, rng.uniform() * 6.0);
+                let ray = Ray::new(o, (target - o).normalize()).at_time(t);
+                let what = format!("{kind:?} at t = {t}");
+                let (a, b) = (moving.closest_hit(&ray), placed.closest_hit(&Ray::new(ray.o, ray.d)));
+                assert_eq!(moving.occluded(&ray), a.is_some(), "{what}: occluded disagrees with intersect");
+                hits += assert_same_hit(&what, a, b, &ray, &moving) as usize;
+            }
+        }
+        assert!(hits > 4000, "{kind:?}: only {hits} of 20000 rays hit");
+    }
+}
+
+/// An orthographic view (4 × 4 world units on 64 × 64 pixels, world x = column) of a black
+/// square x ∈ [−1, 0] that translates by its own width during the shutter, in front of a
+/// uniformly emitting wall, and a square that does not move, y ∈ [−1.5, 1.5].
+const TRANSLATING_SQUARE: &str = r#"
+LookAt 0 0 -5  0 0 0  0 1 0
+Camera "orthographic" "float screenwindow" [ -2 2 -2 2 ] "float shutteropen" [ 0 ] "float shutterclose" [ 1 ]
+WorldBegin
+AttributeBegin
+  AreaLightSource "diffuse" "rgb L" [ 1 1 1 ] "bool twosided" true
+  Material "diffuse" "rgb reflectance" [ 0 0 0 ]
+  Shape "bilinearmesh" "point3 P" [ -3 -3 1  3 -3 1  -3 3 1  3 3 1 ]
+AttributeEnd
+AttributeBegin
+  Material "diffuse" "rgb reflectance" [ 0 0 0 ]
+  ActiveTransform StartTime
+  Translate 0 0 0
+  ActiveTransform EndTime
+  Translate 1 0 0
+  ActiveTransform All
+  Shape "bilinearmesh" "point3 P" [ -1 -1.5 0  0 -1.5 0  -1 1.5 0  0 1.5 0 ]
+AttributeEnd
+"#;
+
+/// The fraction of the shutter interval [0, 1] during which the square [−1 + t, t] covers
+/// world x: a tent rising over [−1, 0] and falling over [0, 1].
+fn coverage(x: f64) -> f64 {
+    (1.0 - x.abs()).max(0.0)
+}
+
+#[test]
+fn a_translating_square_blurs_into_its_shutter_coverage() {
+    const N: u32 = 64;
+    let settings = test_settings((N, N), 64, 5, 1);
+    for kind in backends() {
+        let s = scene(TRANSLATING_SQUARE, kind);
+        assert_eq!(s.shutter, Some((0.0, 1.0)));
+        let film = render(&s, &settings, |_| {}).unwrap().0;
+        let y = |col: u32, row: u32| {
+            let p = &film.pixels[(row * N + col) as usize];
+            p.xyz_sum.y / p.weight_sum
+        };
+        // The wall's radiance: the mean of the columns the square never reaches (|x| > 1.25).
+        let rows = 10..54; // |y| < 1.375: inside the square's height.
+        let wall: Vec<f64> =
+            rows.clone().flat_map(|r| (0..12).chain(52..N).map(move |c| (c, r))).map(|(c, r)| y(c, r)).collect();
+        let l = wall.iter().sum::<f64>() / wall.len() as f64;
+        assert!(l > 0.1, "{kind:?}: the wall is black ({l})");
+        // The box filter averages each pixel's area, and the tent is linear inside every pixel
+        // (its kinks at x = −1, 0, 1 are pixel edges), so each pixel's expected value is
+        // L · (1 − coverage) at its centre. The standard error of each column's mean is
+        // measured from its spread over the rows.
+        let mut worst = 0.0f64;
+        for col in 12..52 {
+            let x = -2.0 + (f64::from(col) + 0.5) * 4.0 / f64::from(N);
+            let v: Vec<f64> = rows.clone().map(|r| y(col, r) / l).collect();
+            let n = v.len() as f64;
+            let mean = v.iter().sum::<f64>() / n;
+            let var = v.iter().map(|a| (a - mean) * (a - mean)).sum::<f64>() / (n - 1.0);
+            let se = (var / n).sqrt().max(1e-3);
+            let want = 1.0 - coverage(x);
+            let z = (mean - want).abs() / se;
+            worst = worst.max(z);
+            assert!(z <= 4.0, "{kind:?}: column {col} (x = {x:.3}) transmits {mean:.4} ± {se:.4}, want {want:.4}");
+        }
+        // A sharp image (the square at its start or end position) would be 0 over a unit width.
+        let middle: f64 = rows.clone().map(|r| y(31, r) / l).sum::<f64>() / rows.len() as f64;
+        assert!(middle < 0.1, "{kind:?}: x = −0.03 is covered for 97% of the shutter, transmits {middle}");
+        eprintln!("{kind:?}: worst column {worst:.2}σ");
+    }
+}
+
+#[test]
+fn only_a_scene_where_something_moves_samples_a_time() {
+    let still = TRANSLATING_SQUARE.replace("Translate 1 0 0", "Translate 0 0 0");
+    for kind in backends() {
+        assert_eq!(scene(&still, kind).shutter, None);
+        assert_eq!(scene(TRANSLATING_SQUARE, kind).shutter, Some((0.0, 1.0)));
+    }
+}
