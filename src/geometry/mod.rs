@@ -1,6 +1,8 @@
-//! Geometry: rays, hits, triangle meshes, bilinear patches, quadrics, object instances, test shapes.
+//! Geometry: rays, hits, triangle meshes, curves, bilinear patches, quadrics, object instances, test shapes.
 
 pub mod bilinear;
+pub mod curve;
+pub mod curve_hit;
 pub mod instance;
 pub mod loop_subdivision;
 mod mesh;
@@ -9,6 +11,7 @@ pub mod quadric_hit;
 mod ray;
 pub mod shapes;
 
+pub use curve::{CurveKind, CurveSegment, Curves};
 pub use instance::{Instance, InstanceSet, Prototype};
 pub use mesh::{Bounds3, Mesh};
 pub use quadric::Quadric;
