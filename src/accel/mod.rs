@@ -121,7 +121,11 @@ pub fn build(kind: AccelKind, meshes: &[Mesh]) -> Result<Box<dyn Accel>, String>
 /// are those of primitives whose meshes are empty). Embree intersects curves as its own curve
 /// geometry in the same scene; obvhs, and Embree's instanced scenes, keep them in a [`CurveBvh`]
 /// beside the triangles. Without curves this is [`build`].
-pub fn build_with_curves(kind: AccelKind, meshes: &[Mesh], curves: &[(u32, &Curves)]) -> Result<Box<dyn Accel>, String> {
+pub fn build_with_curves(
+    kind: AccelKind,
+    meshes: &[Mesh],
+    curves: &[(u32, &Curves)],
+) -> Result<Box<dyn Accel>, String> {
     if curves.is_empty() {
         return build(kind, meshes);
     }

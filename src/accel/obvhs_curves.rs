@@ -90,7 +90,8 @@ impl CurveBvh {
     /// Calls `visit(piece index, &mut t_max)` for every piece whose box the ray reaches.
     #[inline]
     fn visit(&self, ray: &Ray, mut visit: impl FnMut(usize, &mut f32) -> bool) {
-        if self.pieces.is_empty() || ray.t_max.is_nan() || ray.t_max <= 0.0 || !ray.d.is_finite() || !ray.o.is_finite() {
+        if self.pieces.is_empty() || ray.t_max.is_nan() || ray.t_max <= 0.0 || !ray.d.is_finite() || !ray.o.is_finite()
+        {
             return;
         }
         if self.linear {
@@ -111,7 +112,15 @@ impl CurveBvh {
         let p = self.pieces[k];
         let s = &self.segments[p.segment as usize];
         let h = intersect_curve(&s.curve, p.u[0], p.u[1], ray, t_max, any)?;
-        Some(Hit { t: h.t, geom_id: s.ids[0], prim_id: s.ids[1], u: h.u, v: 0.0, ng: glam::Vec3::ZERO, inst_id: Hit::NO_INSTANCE })
+        Some(Hit {
+            t: h.t,
+            geom_id: s.ids[0],
+            prim_id: s.ids[1],
+            u: h.u,
+            v: 0.0,
+            ng: glam::Vec3::ZERO,
+            inst_id: Hit::NO_INSTANCE,
+        })
     }
 
     /// Closest hit with t in (0, t_max].

@@ -133,7 +133,11 @@ pub fn bezier_segments(p: &[Vec3], basis: CurveBasis, degree: usize) -> Result<V
         }
         CurveBasis::BSpline => {
             if p.len() < degree + 1 {
-                return Err(format!("{} control points: a degree {degree} B-spline needs at least {}", p.len(), degree + 1));
+                return Err(format!(
+                    "{} control points: a degree {degree} B-spline needs at least {}",
+                    p.len(),
+                    degree + 1
+                ));
             }
             Ok((0..p.len() - degree)
                 .map(|s| {

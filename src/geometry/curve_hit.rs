@@ -101,9 +101,7 @@ pub fn intersect_curve(seg: &CurveSegment, u0: f32, u1: f32, ray: &Ray, t_max: f
     }
     // Depth so that the pieces are straight to within a twentieth of the width: the control
     // polygon's second differences L₀ bound the deviation from the chord (PBR 4th ed. §6.7.2).
-    let l0 = (0..2)
-        .map(|i| (cp[i] - 2.0 * cp[i + 1] + cp[i + 2]).abs().max_element())
-        .fold(0.0f32, f32::max);
+    let l0 = (0..2).map(|i| (cp[i] - 2.0 * cp[i + 1] + cp[i + 2]).abs().max_element()).fold(0.0f32, f32::max);
     let depth = if l0 > 0.0 {
         let eps = seg.width[0].max(seg.width[1]) * 0.05;
         let r = (std::f32::consts::SQRT_2 * 6.0 * l0 / (8.0 * eps)).log2();

@@ -78,6 +78,9 @@ impl<'s> SurfaceInteraction<'s> {
     /// Builds the interaction for `hit` of `ray` in `scene`.
     pub(super) fn new(scene: &'s Scene, ray: &Ray, hit: &Hit) -> Self {
         let primitive = &scene.primitives[hit.geom_id as usize];
+        if let Some(curves) = &primitive.curves {
+            return Self::on_curve(scene, primitive, curves, ray, hit);
+        }
         let bound = Bound { scene, primitive };
         let mesh = &primitive.mesh;
         let tri = mesh.indices[hit.prim_id as usize];
@@ -340,6 +343,9 @@ impl<'s> SurfaceInteraction<'s> {
         Ray::segment(o, end - o, 1.0)
     }
 }
+
+#[path = "curve_interaction.rs"]
+mod curve_interaction;
 
 #[cfg(test)]
 mod tests {

@@ -34,16 +34,15 @@ pub(super) fn attach(scene: ffi::RTCScene, device: &Device, curves: &Curves, id:
     let vertices: Vec<[f32; 4]> = curves
         .segments
         .iter()
-        .flat_map(|s| (0..4).map(move |k| {
-            let p = s.cp[k];
-            [p.x, p.y, p.z, 0.5 * s.width_at(k as f32 / 3.0)]
-        }))
+        .flat_map(|s| {
+            (0..4).map(move |k| {
+                let p = s.cp[k];
+                [p.x, p.y, p.z, 0.5 * s.width_at(k as f32 / 3.0)]
+            })
+        })
         .collect();
-    let normals: Vec<[f32; 3]> = curves
-        .segments
-        .iter()
-        .flat_map(|s| (0..4).map(move |k| s.ribbon_normal(k as f32 / 3.0).to_array()))
-        .collect();
+    let normals: Vec<[f32; 3]> =
+        curves.segments.iter().flat_map(|s| (0..4).map(move |k| s.ribbon_normal(k as f32 / 3.0).to_array())).collect();
     // SAFETY: valid device; the buffers Embree allocates are filled within their sizes, and the
     // geometry is released after attaching (the scene keeps its own reference).
     unsafe {
@@ -59,8 +58,14 @@ pub(super) fn attach(scene: ffi::RTCScene, device: &Device, curves: &Curves, id:
             16,
             vertices.len(),
         ) as *mut [f32; 4];
-        let ib = ffi::rtcSetNewGeometryBuffer(geom, ffi::RTCBufferType_RTC_BUFFER_TYPE_INDEX, 0, ffi::RTCFormat_RTC_FORMAT_UINT, 4, n)
-            as *mut u32;
+        let ib = ffi::rtcSetNewGeometryBuffer(
+            geom,
+            ffi::RTCBufferType_RTC_BUFFER_TYPE_INDEX,
+            0,
+            ffi::RTCFormat_RTC_FORMAT_UINT,
+            4,
+            n,
+        ) as *mut u32;
         let nb = if kind == CurveKind::Ribbon {
             ffi::rtcSetNewGeometryBuffer(
                 geom,
@@ -75,7 +80,9 @@ pub(super) fn attach(scene: ffi::RTCScene, device: &Device, curves: &Curves, id:
         };
         if vb.is_null() || ib.is_null() || nb.is_null() {
             ffi::rtcReleaseGeometry(geom);
-            return Err(EmbreeError::Call(device.take_error().unwrap_or_else(|| "out of memory for curve buffers".into())));
+            return Err(EmbreeError::Call(
+                device.take_error().unwrap_or_else(|| "out of memory for curve buffers".into()),
+            ));
         }
         std::slice::from_raw_parts_mut(vb, vertices.len()).copy_from_slice(&vertices);
         for (i, dst) in std::slice::from_raw_parts_mut(ib, n).iter_mut().enumerate() {
