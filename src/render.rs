@@ -3,15 +3,17 @@
 //! its samples in index order, so the image is bit-identical for any thread count, and a render
 //! can be split into disjoint sample ranges and merged.
 
+use crate::camera::CameraRay;
 use crate::film::{Film, FilmAllocError, FilmSettings};
 use crate::filter::Filter;
+use crate::geometry::Ray;
 use crate::integrator::lanes::{self, LaneTrace, LaneTracer};
 use crate::integrator::{PathIntegrator, Stats, VolPathIntegrator};
 use crate::sampling::Sampler;
 use crate::scene::Scene;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 use crate::texture::TextureFootprint;
-use glam::Vec2;
+use glam::{Vec2, Vec3};
 use rayon::prelude::*;
 use std::ops::Range;
 use std::time::{Duration, Instant};
@@ -139,7 +141,7 @@ pub fn render_pass(scene: &Scene, settings: &RenderSettings, film: &mut Film, ra
                 let lambdas = SampledWavelengths::sample_visible(u.z);
                 let (offset, weight) = settings.filter.sample(u.truncate());
                 let p_film = Vec2::new(x as f32 + 0.5, y as f32 + 0.5) + offset;
-                (lambdas, weight, camera.generate_ray(p_film, sampler.get_2d()))
+                (lambdas, weight, camera.sample_ray(p_film, sampler.get_2d()))
             };
             let add = |px: &mut crate::film::Pixel,
                        stats: &mut Stats,
@@ -170,15 +172,19 @@ pub fn render_pass(scene: &Scene, settings: &RenderSettings, film: &mut Film, ra
                     for s in range.clone() {
                         let mut w = [SampledWavelengths::sample_uniform(0.0); lanes::LANES];
                         let mut weights = [0.0; lanes::LANES];
+                        let mut ray_weights = [0.0; lanes::LANES];
                         let rays = std::array::from_fn(|k| {
                             let (lambdas, weight, ray) = start(&mut samplers[k], at[k], s);
                             (w[k], weights[k]) = (lambdas, weight);
-                            ray
+                            let ray = ray.unwrap_or(CameraRay { ray: Ray::new(Vec3::ZERO, Vec3::Z), weight: 0.0 });
+                            ray_weights[k] = ray.weight;
+                            ray.ray
                         });
-                        let active = crate::simd::LanesMask(std::array::from_fn(|k| k < n));
+                        // Lanes whose camera ray the lens blocked bring back nothing.
+                        let active = crate::simd::LanesMask(std::array::from_fn(|k| k < n && ray_weights[k] != 0.0));
                         let l = tracer.li(rays, &mut w, &mut samplers, active, &mut stats);
                         for (k, px) in pxs.iter_mut().enumerate() {
-                            add(px, &mut stats, at[k], s, l[k], w[k], weights[k]);
+                            add(px, &mut stats, at[k], s, l[k] * ray_weights[k], w[k], weights[k]);
                         }
                     }
                 }
@@ -189,9 +195,12 @@ pub fn render_pass(scene: &Scene, settings: &RenderSettings, film: &mut Film, ra
                 let (x, y) = pixel_at(i);
                 for s in range.clone() {
                     let (mut lambdas, weight, ray) = start(&mut sampler, (x, y), s);
-                    let l = match &volpath {
-                        Some(v) => v.li(scene, ray, &mut lambdas, &mut sampler, &mut stats),
-                        None => integrator.li(scene, ray, &mut lambdas, &mut sampler, &mut stats),
+                    let l = match (ray, &volpath) {
+                        (None, _) => SampledSpectrum::splat(0.0),
+                        (Some(r), Some(v)) => v.li(scene, r.ray, &mut lambdas, &mut sampler, &mut stats) * r.weight,
+                        (Some(r), None) => {
+                            integrator.li(scene, r.ray, &mut lambdas, &mut sampler, &mut stats) * r.weight
+                        }
                     };
                     add(px, &mut stats, (x, y), s, l, lambdas, weight);
                 }

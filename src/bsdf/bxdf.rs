@@ -1,7 +1,7 @@
 //! The closed set of BxDF models, an enum, dispatched by `match`.
 
 use super::{
-    BsdfSample, BxdfFlags, CoatedDiffuse, Conductor, Dielectric, Diffuse, DiffuseTransmission, LayeredConductor,
+    BsdfSample, BxdfFlags, CoatedDiffuse, Conductor, Dielectric, Diffuse, DiffuseTransmission, Hair, LayeredConductor,
     LayeredDiffuse, NormalizedFresnel, ThinDielectric, TransportMode,
 };
 use crate::math::{Vec2, Vec3};
@@ -31,6 +31,8 @@ pub enum Bxdf {
     LayeredConductor(Box<LayeredConductor>),
     /// The entry-point lobe S_ω of a diffusion BSSRDF.
     NormalizedFresnel(NormalizedFresnel),
+    /// A hair fibre (Chiang et al. 2016; local x along the fibre).
+    Hair(Hair),
 }
 
 macro_rules! dispatch {
@@ -45,6 +47,7 @@ macro_rules! dispatch {
             Bxdf::LayeredDiffuse($b) => $e,
             Bxdf::LayeredConductor($b) => $e,
             Bxdf::NormalizedFresnel($b) => $e,
+            Bxdf::Hair($b) => $e,
         }
     };
 }
@@ -72,6 +75,27 @@ impl Bxdf {
     #[inline]
     pub fn flags(&self) -> BxdfFlags {
         dispatch!(self, b => b.flags())
+    }
+
+    /// Widens every microfacet lobe ([`super::TrowbridgeReitz::regularize`]); lobes without a
+    /// microfacet distribution (diffuse, thin dielectric, hair, the BSSRDF entry lobe) stay
+    /// as they are, as in pbrt-v4.
+    pub fn regularize(&mut self) {
+        match self {
+            Bxdf::Conductor(b) => b.distrib.regularize(),
+            Bxdf::Dielectric(b) => b.distrib.regularize(),
+            Bxdf::CoatedDiffuse(b) => b.distrib.regularize(),
+            Bxdf::LayeredDiffuse(b) => b.top.distrib.regularize(),
+            Bxdf::LayeredConductor(b) => {
+                b.top.distrib.regularize();
+                b.bottom.distrib.regularize();
+            }
+            Bxdf::Diffuse(_)
+            | Bxdf::DiffuseTransmission(_)
+            | Bxdf::ThinDielectric(_)
+            | Bxdf::NormalizedFresnel(_)
+            | Bxdf::Hair(_) => {}
+        }
     }
 }
 
@@ -108,6 +132,11 @@ impl From<CoatedDiffuse> for Bxdf {
 impl From<NormalizedFresnel> for Bxdf {
     fn from(b: NormalizedFresnel) -> Self {
         Bxdf::NormalizedFresnel(b)
+    }
+}
+impl From<Hair> for Bxdf {
+    fn from(b: Hair) -> Self {
+        Bxdf::Hair(b)
     }
 }
 impl From<LayeredDiffuse> for Bxdf {

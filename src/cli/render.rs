@@ -202,6 +202,7 @@ pub fn prepare(args: &RenderArgs) -> Result<Job> {
     let integrator = PathIntegrator {
         max_depth: max_depth.or(file.max_depth).unwrap_or(d.integrator.max_depth),
         sss: sss.unwrap_or(d.integrator.sss),
+        regularize: file.regularize.unwrap_or(d.integrator.regularize),
         ..d.integrator
     };
     let resolution = resolution.or(file.resolution).unwrap_or(d.resolution);

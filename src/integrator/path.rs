@@ -43,6 +43,10 @@ pub struct PathIntegrator {
     /// The camera's pixel footprint, for filtered texture lookups (`None`: unfiltered, the
     /// finest texture detail everywhere).
     pub footprint: Option<TextureFootprint>,
+    /// pbrt-v4's `regularize`: after the first non-specular bounce every microfacet lobe is
+    /// widened ([`crate::bsdf::TrowbridgeReitz::regularize`]), trading bias for caustics that
+    /// light sampling can find.
+    pub regularize: bool,
 }
 
 impl Default for PathIntegrator {
@@ -53,6 +57,7 @@ impl Default for PathIntegrator {
             strategy: DirectStrategy::Mis,
             sss: SubsurfaceMethod::default(),
             footprint: None,
+            regularize: false,
         }
     }
 }
@@ -78,6 +83,8 @@ struct PathState {
     specular_bounce: bool,
     /// Scattering vertices so far; every vertex counts, subsurface exits included.
     depth: u32,
+    /// Some earlier vertex sampled a non-delta lobe (pbrt-v4 `anyNonSpecularBounces`).
+    any_non_specular: bool,
 }
 
 impl PathState {
@@ -90,6 +97,7 @@ impl PathState {
             prev_pdf: 0.0,
             specular_bounce: true,
             depth: 0,
+            any_non_specular: false,
         }
     }
 }
@@ -161,7 +169,7 @@ impl PathIntegrator {
                         let d = ray.d.normalize();
                         for (id, light) in scene.infinite_lights() {
                             let weight = self.emission_weight(&state, scene.light_pdf(id, state.prev_p, d));
-                            state.l += state.beta * light.escaped_radiance(d, w) * weight;
+                            state.l += state.beta * light.escaped_radiance(ray.o, d, w) * weight;
                         }
                         break;
                     };
@@ -192,11 +200,14 @@ impl PathIntegrator {
             state.depth += 1;
             // The BSDF is borrowed where it was built, not moved (it is larger than the
             // compiler copies without a `memcpy` call).
-            let computed;
+            let mut computed;
             let bsdf = match &given_bsdf {
                 Some(b) => b,
                 None => {
                     computed = si.bsdf(w, self.footprint.as_ref());
+                    if let Some(b) = computed.as_mut().filter(|_| self.regularize && state.any_non_specular) {
+                        b.bxdf.regularize();
+                    }
                     match &computed {
                         Some(b) => b,
                         None => break,
@@ -222,6 +233,7 @@ impl PathIntegrator {
             state.prev_pdf =
                 if bs.pdf_is_proportional { bsdf.pdf(si.wo, bs.wi, TransportMode::Radiance) } else { bs.pdf };
             state.specular_bounce = bs.is_specular();
+            state.any_non_specular |= !bs.is_specular();
             ray = si.spawn_ray(bs.wi);
             state.prev_p = si.p;
             if bs.is_transmission() {

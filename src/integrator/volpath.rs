@@ -31,12 +31,15 @@ pub struct VolPathIntegrator {
     pub max_depth: u32,
     /// The camera's pixel footprint for filtered texture lookups.
     pub footprint: Option<TextureFootprint>,
+    /// Widen microfacet lobes after the first non-specular bounce (`PathIntegrator::regularize`).
+    pub regularize: bool,
 }
 
 impl VolPathIntegrator {
-    /// The settings of the surface path tracer that apply (depth limit, texture footprint).
+    /// The settings of the surface path tracer that apply (depth limit, texture footprint,
+    /// regularisation).
     pub fn from_path(p: &PathIntegrator) -> Self {
-        Self { max_depth: p.max_depth, footprint: p.footprint }
+        Self { max_depth: p.max_depth, footprint: p.footprint, regularize: p.regularize }
     }
 }
 
@@ -62,6 +65,7 @@ impl VolPathIntegrator {
         let mut beta = SampledSpectrum::one();
         let (mut r_u, mut r_l) = (SampledSpectrum::one(), SampledSpectrum::one());
         let mut specular_bounce = true;
+        let mut any_non_specular = false;
         let mut eta_scale = 1.0f32;
         let mut depth = 0u32;
         let mut prev_p = ray.o;
@@ -129,6 +133,7 @@ impl VolPathIntegrator {
                     r_l = r_u / pdf;
                     prev_p = p;
                     specular_bounce = false;
+                    any_non_specular = true;
                     ray = Ray::new(p, wi);
                     continue;
                 }
@@ -143,7 +148,7 @@ impl VolPathIntegrator {
 
             let Some(si) = si else {
                 for (id, light) in scene.infinite_lights() {
-                    let le = light.escaped_radiance(ray.d, w);
+                    let le = light.escaped_radiance(ray.o, ray.d, w);
                     l += self.found_emission(scene, id, le, beta, r_u, r_l, specular_bounce, prev_p, ray.d);
                 }
                 break;
@@ -168,7 +173,10 @@ impl VolPathIntegrator {
                 break;
             }
             depth += 1;
-            let Some(bsdf) = si.bsdf(w, self.footprint.as_ref()) else { break };
+            let Some(mut bsdf) = si.bsdf(w, self.footprint.as_ref()) else { break };
+            if self.regularize && any_non_specular {
+                bsdf.bxdf.regularize();
+            }
             let flags = bsdf.flags();
             if flags.is_empty() {
                 break;
@@ -183,6 +191,7 @@ impl VolPathIntegrator {
             let pdf = if bs.pdf_is_proportional { bsdf.pdf(si.wo, bs.wi, TransportMode::Radiance) } else { bs.pdf };
             r_l = r_u / pdf;
             specular_bounce = bs.is_specular();
+            any_non_specular |= !bs.is_specular();
             if bs.is_transmission() {
                 eta_scale *= bs.eta * bs.eta;
             }

@@ -99,7 +99,7 @@ fn beer_lambert_through_an_absorbing_slab() {
     );
     let dir = Vec3::new(0.3, 0.0, 1.0).normalize();
     let ray = Ray::new(Vec3::new(0.1, 0.2, -1.0), dir);
-    let integ = VolPathIntegrator { max_depth: 5, footprint: None };
+    let integ = VolPathIntegrator { max_depth: 5, footprint: None, regularize: false };
     let got = per_wavelength(40_000, 1, |w, s, st| integ.li(&scene, ray, w, s, st));
     let path = d as f64 / dir.z as f64;
     assert_close(got, sigma_a.map(|a| 2.0 * (-(a as f64) * path).exp()), "L = L_sky exp(-σ_a ℓ)");
@@ -146,7 +146,7 @@ fn single_scattering_of_a_collimated_beam_in_a_thin_slab() {
         light,
     );
     let ray = Ray::new(Vec3::new(0.0, 0.0, -1.0), Vec3::Z);
-    let integ = VolPathIntegrator { max_depth: 1, footprint: None };
+    let integ = VolPathIntegrator { max_depth: 1, footprint: None, regularize: false };
     let got = per_wavelength(40_000, 3, |w, s, st| integ.li(&scene, ray, w, s, st));
     let mu = theta.cos();
     // Light propagates along ω_l = −to_light, the scattered light toward the camera along −z:
@@ -175,7 +175,7 @@ fn furnace_a_closed_emitter_filled_with_a_scattering_medium_gives_its_radiance()
     b.set_camera(Mat4::IDENTITY, 40.0);
     b.set_camera_medium(Some(m));
     let scene = b.build(AccelKind::Obvhs).unwrap();
-    let integ = VolPathIntegrator { max_depth: 1000, footprint: None };
+    let integ = VolPathIntegrator { max_depth: 1000, footprint: None, regularize: false };
     let ray = Ray::new(Vec3::new(0.2, -0.1, 0.3), Vec3::new(0.3, 0.5, -0.2).normalize());
     let got = per_wavelength(20_000, 4, |w, s, st| integ.li(&scene, ray, w, s, st));
     // A furnace has zero variance per path only up to MIS and the hero's choices; still, the
@@ -194,7 +194,7 @@ fn an_emissive_absorbing_sphere_seen_from_outside() {
         homogeneous(sigma_a, [0.0; 4], 0.0, Spectrum::constant(le)),
         uniform_sky(0.0),
     );
-    let integ = VolPathIntegrator { max_depth: 5, footprint: None };
+    let integ = VolPathIntegrator { max_depth: 5, footprint: None, regularize: false };
     // Near the pole, where the tessellation's chord is within 10⁻⁴ of the sphere's.
     let b = 1e-3f64;
     let ray = Ray::new(Vec3::new(b as f32, 0.0, -3.0), Vec3::Z);
@@ -264,7 +264,7 @@ fn subsurface_random_walk_and_volpath_agree_on_the_same_medium() {
     let spec = ScatteringSpec::Coefficients { sigma_a: chromatic(sigma_a), sigma_s: chromatic(sigma_s), scale: 1.0 };
     let sss = SubsurfaceMaterial::new(spec, eta, g, Roughness::alpha(0.0));
     let walk_scene = build(Material::Subsurface(Box::new(sss)), None);
-    let volpath = VolPathIntegrator { max_depth: 10_000, footprint: None };
+    let volpath = VolPathIntegrator { max_depth: 10_000, footprint: None, regularize: false };
     let walk = PathIntegrator { max_depth: 10_000, sss: SubsurfaceMethod::RandomWalk, ..Default::default() };
     for (k, x) in [0.0f32, 0.5, 0.85].into_iter().enumerate() {
         let ray = Ray::new(Vec3::new(x, 0.1, 3.0), -Vec3::Z);

@@ -33,6 +33,48 @@ fn mis_compensated(v: &[f32]) -> Vec<f32> {
     v.iter().map(|&x| (x - mean).max((0.001 * mean).min(x))).collect()
 }
 
+/// An image's texels as linear RGB, row-major; grey images repeated in three channels, negative
+/// and non-finite samples 0.
+pub(super) fn image_rgb(image: &Image) -> Vec<[f32; 3]> {
+    let c = image.channels as usize;
+    let n = image.width.max(1) as usize * image.height.max(1) as usize;
+    (0..n)
+        .map(|i| {
+            let px = |k: usize| image.data.get(i * c + k).copied().unwrap_or(0.0);
+            let rgb = if c >= 3 { [px(0), px(1), px(2)] } else { [px(0); 3] };
+            rgb.map(|v| if v.is_finite() { v.max(0.0) } else { 0.0 })
+        })
+        .collect()
+}
+
+fn luminance_of(rgb: &[[f32; 3]], space: &ColorSpace) -> Vec<f32> {
+    rgb.iter().map(|&c| space.rgb_to_xyz(Vec3::from(c)).y.max(0.0)).collect()
+}
+
+/// ∫ Y(ω) max(cos θ, 0) dω over the upper hemisphere (+z in light space) of the map `image`
+/// (laid out by its shape), in luminance units Y: the illuminance an upward-facing patch
+/// receives, divided by K_m ∫ȳ dλ. Exact for the nearest-texel map
+/// ([`MapLayout::texel_cosine_weight`]).
+///
+/// With `pbrt_v4_rule`, what pbrt-v4 (`Light::Create`, "illuminance") takes instead: on an
+/// equal-area map it sums Y cos θ over the texel centres above the horizon with the weight
+/// 2π/(w h) where each texel subtends 4π/(w h), so its value is about half the true one and a
+/// map scaled to `illuminance` E gives an upward patch about 2E (1.016 · 2E for a constant 16²
+/// map, whose midpoint sum is 1.6 % low). Scenes are tuned on that, so prism's "illuminance"
+/// does the same; its "lux" is the true illuminance. pbrt-v4 has no latitude–longitude maps:
+/// there the true value.
+pub fn image_upper_hemisphere_y(image: &Image, space: &ColorSpace, pbrt_v4_rule: bool) -> f64 {
+    let layout = MapLayout::for_size(image.width, image.height);
+    let (w, h) = (image.width.max(1) as usize, image.height.max(1) as usize);
+    let weight = if pbrt_v4_rule { MapLayout::pbrt_v4_cosine_weight } else { MapLayout::texel_cosine_weight };
+    let luminance = luminance_of(&image_rgb(image), space);
+    (0..h)
+        .flat_map(|y| (0..w).map(move |x| (x, y)))
+        .filter(|&(x, y)| luminance[y * w + x] > 0.0)
+        .map(|(x, y)| luminance[y * w + x] as f64 * weight(layout, x, y, w, h))
+        .sum()
+}
+
 /// An image-based infinite light.
 #[derive(Clone, Debug)]
 pub struct EnvMapLight {
@@ -40,8 +82,6 @@ pub struct EnvMapLight {
     width: usize,
     height: usize,
     texels: Arc<Vec<TexelSpectrum>>,
-    /// Luminance Y of each texel (∫ȳ normalisation of `spectrum::cie`: Y = 1 for RGB white).
-    luminance: Arc<Vec<f32>>,
     distribution: Arc<Distribution2D>,
     /// ∫ Y dω over the sphere [sr], without `scale`.
     luminance_integral: f64,
@@ -62,20 +102,15 @@ impl EnvMapLight {
     pub fn new(image: &Image, world_from_light: Mat3, scale: f32, space: &'static ColorSpace) -> Self {
         let layout = MapLayout::for_size(image.width, image.height);
         let (w, h) = (image.width.max(1) as usize, image.height.max(1) as usize);
-        let c = image.channels as usize;
-        let rgb_at = |i: usize| -> [f32; 3] {
-            let o = i * c;
-            let px = |k: usize| image.data.get(o + k).copied().unwrap_or(0.0);
-            let rgb = if c >= 3 { [px(0), px(1), px(2)] } else { [px(0); 3] };
-            rgb.map(|v| if v.is_finite() { v.max(0.0) } else { 0.0 })
-        };
+        let rgb = image_rgb(image);
+        let rgb_at = |i: usize| rgb[i];
         // Build (or fetch) the lazily-made table and fitter before going parallel: the table's
         // construction runs rayon jobs inside a OnceLock, and a worker stealing one of ours in
         // the middle of it would re-enter the OnceLock and deadlock.
         let _ = space.rgb_to_spectrum_table();
         let texels: Vec<TexelSpectrum> =
             (0..w * h).into_par_iter().map(|i| TexelSpectrum::from_rgb(rgb_at(i), space)).collect();
-        let luminance: Vec<f32> = (0..w * h).map(|i| space.rgb_to_xyz(Vec3::from(rgb_at(i))).y.max(0.0)).collect();
+        let luminance = luminance_of(&rgb, space);
         // The importance is positive wherever radiance is (luminance weights are positive for
         // every supported space), so light sampling alone stays unbiased.
         let (f, luminance_integral) = match layout {
@@ -98,7 +133,6 @@ impl EnvMapLight {
             width: w,
             height: h,
             texels: Arc::new(texels),
-            luminance: Arc::new(luminance),
             distribution,
             luminance_integral,
             world_from_light,
@@ -155,33 +189,6 @@ impl EnvMapLight {
             return 0.0;
         }
         self.distribution.pdf(uv) / jacobian
-    }
-
-    /// ∫ Y(ω) max(cos θ, 0) dω over the map's upper hemisphere (+z in light space), in luminance
-    /// units Y (without `scale`): the illuminance an upward-facing patch receives, divided by
-    /// K_m ∫ȳ dλ. Exact for the nearest-texel map ([`MapLayout::texel_cosine_weight`]).
-    pub fn upper_hemisphere_y(&self) -> f64 {
-        self.weighted_luminance(MapLayout::texel_cosine_weight)
-    }
-
-    /// What pbrt-v4 (`Light::Create`, "illuminance") takes for [`Self::upper_hemisphere_y`]: on
-    /// an equal-area map it sums Y cos θ over the texel centres above the horizon with the
-    /// weight 2π/(w h) where each texel subtends 4π/(w h), so its value is about half the true
-    /// one and a map scaled to `illuminance` E gives an upward patch about 2E (1.016 · 2E for a
-    /// constant 16² map, whose midpoint sum is 1.6 % low). Scenes are tuned on that, so prism's
-    /// "illuminance" does the same; its "lux" is the true illuminance. pbrt-v4 has no
-    /// latitude–longitude maps: there the true value.
-    pub fn pbrt_v4_upper_hemisphere_y(&self) -> f64 {
-        self.weighted_luminance(MapLayout::pbrt_v4_cosine_weight)
-    }
-
-    fn weighted_luminance(&self, weight: fn(MapLayout, usize, usize, usize, usize) -> f64) -> f64 {
-        let (w, h) = (self.width, self.height);
-        (0..h)
-            .flat_map(|y| (0..w).map(move |x| (x, y)))
-            .filter(|&(x, y)| self.luminance[y * w + x] > 0.0)
-            .map(|(x, y)| self.luminance[y * w + x] as f64 * weight(self.layout, x, y, w, h))
-            .sum()
     }
 
     pub(super) fn power(&self, scene_radius: f32) -> f32 {

@@ -11,6 +11,7 @@ mod infinite;
 mod map_layout;
 pub mod photometry;
 mod point;
+mod portal;
 mod projection;
 mod sampler;
 mod sphere;
@@ -19,11 +20,12 @@ mod texel_spectrum;
 pub use area::{AreaLight, TriangleLightLanes};
 pub use distant::DistantLight;
 pub use emission_image::{EmissionImage, ImageEmission};
-pub use envmap::EnvMapLight;
+pub use envmap::{image_upper_hemisphere_y, EnvMapLight};
 pub use goniometric::GoniometricLight;
 pub use infinite::UniformInfiniteLight;
 pub use map_layout::MapLayout;
 pub use point::{PointLight, SpotFalloff, SpotLight};
+pub use portal::{is_rectangle, PortalLight};
 pub use projection::ProjectionLight;
 pub use sampler::LightSampler;
 pub use sphere::SphereLight;
@@ -72,6 +74,8 @@ pub enum Light {
     UniformInfinite(UniformInfiniteLight),
     /// Radiance from an environment image (equal-area or latitude–longitude).
     EnvMap(EnvMapLight),
+    /// An equal-area environment map seen only through a rectangular portal.
+    Portal(Box<PortalLight>),
 }
 
 impl Light {
@@ -95,6 +99,7 @@ impl Light {
             Light::Distant(l) => l.sample_li(w),
             Light::UniformInfinite(l) => l.sample_li(u, w),
             Light::EnvMap(l) => l.sample_li(u, w),
+            Light::Portal(l) => l.sample_li(p, u, w),
         }
     }
 
@@ -106,6 +111,7 @@ impl Light {
             Light::Sphere(l) => l.pdf_li(p, wi),
             Light::UniformInfinite(_) => infinite::uniform_sphere_pdf(),
             Light::EnvMap(l) => l.pdf_li(wi),
+            Light::Portal(l) => l.pdf_li(p, wi),
             _ => 0.0,
         }
     }
@@ -122,6 +128,7 @@ impl Light {
             Light::Distant(l) => l.power(scene_radius),
             Light::UniformInfinite(l) => l.power(scene_radius),
             Light::EnvMap(l) => l.power(scene_radius),
+            Light::Portal(l) => l.power(),
         }
     }
 
@@ -139,14 +146,15 @@ impl Light {
 
     /// True for lights at infinity that rays escaping the scene see.
     pub fn is_infinite(&self) -> bool {
-        matches!(self, Light::UniformInfinite(_) | Light::EnvMap(_))
+        matches!(self, Light::UniformInfinite(_) | Light::EnvMap(_) | Light::Portal(_))
     }
 
-    /// Radiance arriving along an escaping ray with direction `d` (0 for other lights).
-    pub fn escaped_radiance(&self, d: Vec3, w: &SampledWavelengths) -> SampledSpectrum {
+    /// Radiance arriving along an escaping ray from `o` with direction `d` (0 for other lights).
+    pub fn escaped_radiance(&self, o: Vec3, d: Vec3, w: &SampledWavelengths) -> SampledSpectrum {
         match self {
             Light::UniformInfinite(l) => l.le(w),
             Light::EnvMap(l) => l.le(d, w),
+            Light::Portal(l) => l.le(o, d, w),
             _ => SampledSpectrum::zero(),
         }
     }

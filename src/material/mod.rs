@@ -3,6 +3,7 @@
 
 mod bump;
 mod conductor;
+mod hair;
 mod layered;
 mod mix;
 mod subsurface;
@@ -10,6 +11,7 @@ mod subsurface;
 pub use crate::texture::{FloatTexture, SpectrumTexture, TextureEvalContext};
 pub use bump::{BumpedMaterial, NormalMap, NormalPerturbation, ShadingDerivatives};
 pub use conductor::ConductorIor;
+pub use hair::{melanin_sigma_a, HairAbsorption, HairMaterial};
 pub use layered::{CoatedConductorMaterial, CoatedDiffuseMaterial, LayerSpec};
 pub use mix::{hit_key, MixMaterial};
 pub use subsurface::{ScatteringSpec, SubsurfaceMaterial};
@@ -30,6 +32,7 @@ pub const PBRT_NAMES: &[&str] = &[
     "subsurface",
     "mix",
     "interface",
+    "hair",
 ];
 
 /// Index of refraction: constant, or a spectrum η(λ) (dispersive when it varies).
@@ -138,6 +141,8 @@ pub enum Material {
     /// "subsurface": a dielectric boundary over a scattering medium; the integrator continues
     /// paths that refract into it (`integrator::subsurface`).
     Subsurface(Box<SubsurfaceMaterial>),
+    /// "hair": a fibre of a curve (Chiang et al. 2016).
+    Hair(Box<HairMaterial>),
     /// Any other material with its shading normal perturbed by a displacement texture or a
     /// normal map ("float displacement", "string normalmap").
     Bumped(Box<BumpedMaterial>),
@@ -244,6 +249,7 @@ impl Material {
             Material::ThinDielectric { eta } => ThinDielectric::new(*eta).into(),
             Material::CoatedDiffuse(m) => m.bxdf(&sp.tex, w),
             Material::CoatedConductor(m) => m.bxdf(&sp.tex, w),
+            Material::Hair(m) => m.bxdf(&sp.tex, w),
             Material::Mix(_) => return self.bsdf_of_unresolved_mix(sp, w),
             Material::Subsurface(m) => return Some(m.boundary_bsdf(sp)),
             // The perturbation needs the surface's derivatives, which

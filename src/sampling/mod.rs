@@ -8,8 +8,10 @@ pub mod rng;
 pub mod sampler;
 mod sobol;
 pub mod warp;
+pub mod windowed;
 
 pub use alias::AliasTable;
 pub use distribution::{Distribution1D, Distribution2D, Sample1D};
 pub use rng::Rng;
 pub use sampler::Sampler;
+pub use windowed::{Window, WindowedDistribution2D};

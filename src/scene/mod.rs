@@ -31,7 +31,7 @@ pub use parser::{look_at, parse_file, parse_str, ParseOptions};
 pub use primitive::{MediumInterface, Primitive};
 
 use crate::accel::{self, Accel, AccelKind};
-use crate::camera::{Camera, Projection};
+use crate::camera::{Camera, Projection, RealisticLens};
 use crate::geometry::{Curves, Hit, Instance, InstanceSet, Mesh, Prototype, Ray};
 use crate::light::{AreaLight, EmissionImage, ImageEmission, Light, LightSampler, SphereLight};
 use crate::material::{FloatTexture, Material};
@@ -66,8 +66,10 @@ pub struct CameraDesc {
     pub focal_distance: f32,
     /// Optional screen window.
     pub screen_window: Option<[f32; 4]>,
-    /// Perspective, orthographic or spherical.
+    /// Perspective, orthographic, spherical or realistic.
     pub projection: Projection,
+    /// A realistic camera's lens (`None` for the others).
+    pub lens: Option<Arc<RealisticLens>>,
 }
 
 impl CameraDesc {
@@ -78,6 +80,10 @@ impl CameraDesc {
         match self.projection {
             Projection::Perspective => Camera::perspective(m, resolution, self.fov_deg, lens, focus, window),
             Projection::Orthographic => Camera::orthographic(m, resolution, lens, focus, window),
+            Projection::Realistic => match &self.lens {
+                Some(l) => Camera::realistic(m, resolution, l.clone()),
+                None => Camera::perspective(m, resolution, self.fov_deg, lens, focus, window),
+            },
             spherical => Camera::spherical(m, resolution, spherical),
         }
     }
@@ -341,6 +347,7 @@ impl SceneBuilder {
             focal_distance: 1e6,
             screen_window: None,
             projection: Projection::Perspective,
+            lens: None,
         });
     }
 

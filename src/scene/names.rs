@@ -13,7 +13,7 @@ pub const PBRT_ONLY_SHAPES: &[(&str, &str)] = &[];
 /// Materials prism renders (listed beside the `Material` enum they become).
 pub const PRISM_MATERIALS: &[&str] = crate::material::PBRT_NAMES;
 /// pbrt-v4 materials prism replaces, with the replacement type (used with default parameters).
-pub const PBRT_ONLY_MATERIALS: &[(&str, &str)] = &[("hair", "diffuse"), ("measured", "diffuse")];
+pub const PBRT_ONLY_MATERIALS: &[(&str, &str)] = &[("measured", "diffuse")];
 
 /// Non-area lights prism renders (listed beside the `Light` enum they become).
 pub const PRISM_LIGHTS: &[&str] = crate::light::PBRT_NAMES;
@@ -23,9 +23,9 @@ pub const PBRT_ONLY_LIGHTS: &[(&str, &str)] = &[];
 pub const PRISM_AREA_LIGHTS: &[&str] = &["diffuse"];
 
 /// Cameras prism renders.
-pub const PRISM_CAMERAS: &[&str] = &["perspective", "orthographic", "spherical"];
+pub const PRISM_CAMERAS: &[&str] = &["perspective", "orthographic", "spherical", "realistic"];
 /// pbrt-v4 cameras prism replaces.
-pub const PBRT_ONLY_CAMERAS: &[(&str, &str)] = &[("realistic", "perspective")];
+pub const PBRT_ONLY_CAMERAS: &[(&str, &str)] = &[];
 
 /// Films prism writes.
 pub const PRISM_FILMS: &[&str] = &["rgb", "spectral"];

@@ -431,10 +431,13 @@ impl ParamSet {
     }
 
     /// The files this set's parameters name, resolved as [`ParamSet::filename`] does: every
-    /// "string filename" and every spectrum read from a file. Does not mark them used.
+    /// "string filename", a realistic camera's "string lensfile" and every spectrum read from a
+    /// file. Does not mark them used.
     pub fn named_files(&self) -> impl Iterator<Item = PathBuf> + '_ {
         self.params.iter().flat_map(|p| match &p.value {
-            ParamValue::String(v) if p.name == "filename" => v.iter().map(|s| p.loc.base_dir().join(s)).collect(),
+            ParamValue::String(v) if p.name == "filename" || p.name == "lensfile" => {
+                v.iter().map(|s| p.loc.base_dir().join(s)).collect()
+            }
             ParamValue::Spectrum(SpectrumParam::File(f)) => vec![f.clone()],
             _ => Vec::new(),
         })

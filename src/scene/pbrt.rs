@@ -12,6 +12,7 @@ mod lights;
 mod load;
 mod materials;
 mod media;
+mod realistic;
 mod subsurface;
 mod textures;
 
@@ -47,6 +48,8 @@ pub struct FileSettings {
     pub spp: Option<u64>,
     /// Integrator "maxdepth" ([`PBRT_DEFAULT_MAX_DEPTH`] when the file gives none).
     pub max_depth: Option<u32>,
+    /// Integrator "regularize" (pbrt-v4's default false).
+    pub regularize: Option<bool>,
     /// PixelFilter with its parameters.
     pub filter: Option<crate::filter::Filter>,
     /// Sampler type mapped to prism's ("independent" or "sobol").
@@ -159,6 +162,7 @@ impl Ctx<'_> {
         let p = &c.directive.params;
         let projection = match c.directive.kind.as_str() {
             "orthographic" => Projection::Orthographic,
+            "realistic" => Projection::Realistic,
             "spherical" => match p.string("mapping").unwrap_or("equalarea") {
                 "equalarea" => Projection::SphericalEqualArea,
                 "equirectangular" => Projection::SphericalEquirect,
@@ -179,6 +183,7 @@ impl Ctx<'_> {
         let screen_window = p.floats("screenwindow").filter(|s| s.len() == 4).map(|s| [s[0], s[1], s[2], s[3]]);
         let (lens_radius, focal_distance) =
             if spherical { (0.0, 1e6) } else { (p.float_or("lensradius", 0.0), p.float_or("focaldistance", 1e6)) };
+        let lens = if projection == Projection::Realistic { Some(self.realistic_lens()?) } else { None };
         self.b.set_camera_desc(CameraDesc {
             camera_to_world: c.camera_from_world.inverse(),
             fov_deg: fov,
@@ -186,6 +191,7 @@ impl Ctx<'_> {
             focal_distance,
             screen_window,
             projection,
+            lens,
         });
         Ok(())
     }
@@ -241,6 +247,7 @@ impl Ctx<'_> {
             spp: count(&d.sampler.params, "pixelsamples", &d.sampler.loc, 1)?.map(|n| n as u64),
             // pbrt-v4's default when the file gives none.
             max_depth: Some(self.max_depth()?.unwrap_or(PBRT_DEFAULT_MAX_DEPTH)),
+            regularize: d.integrator.params.bool("regularize"),
             filter: Some(filter),
             sampler: Some(sampler.to_string()),
             seed: d.sampler.params.int("seed").or_else(|| d.options.int("seed")).map(|s| s as u64),
@@ -362,6 +369,7 @@ impl Ctx<'_> {
             "mix" => self.mix(m)?,
             "subsurface" => self.subsurface(m)?,
             "interface" => Material::Interface,
+            "hair" => self.hair(p, loc)?,
             other => {
                 self.unsupported(loc, format!("material \"{other}\""), "uses diffuse 0.5");
                 Material::diffuse(Spectrum::constant(0.5))

@@ -64,10 +64,11 @@ impl TextureFootprint {
         let mut min_dir = [Vec3::splat(f32::INFINITY); 2];
         for i in 0..SEARCH_POINTS {
             let film = Vec2::new(w, h) * (i as f32 / (SEARCH_POINTS - 1) as f32);
-            let ray = camera.generate_ray(film, lens);
+            // A realistic camera's lens blocks some rays; those points are skipped.
+            let Some(ray) = camera.sample_ray(film, lens).map(|c| c.ray) else { continue };
             let d = ray.d.normalize();
             for (k, step) in [Vec2::new(FILM_STEP, 0.0), Vec2::new(0.0, FILM_STEP)].into_iter().enumerate() {
-                let shifted = camera.generate_ray(film + step, lens);
+                let Some(shifted) = camera.sample_ray(film + step, lens).map(|c| c.ray) else { continue };
                 // Per pixel: the finite difference over FILM_STEP, scaled up.
                 let o_diff = (shifted.o - ray.o) / FILM_STEP;
                 let d_diff = (d + (shifted.d.normalize() - d) / FILM_STEP).normalize();

@@ -93,6 +93,13 @@ fn perspective_depth_of_field_has_pbrt_v4s_means() {
 }
 
 #[test]
+fn realistic_double_gauss_camera_has_pbrt_v4s_means() {
+    // The lens's ray weights (cos⁴θ · pupil area / rear distance²) with the film's ISO set the
+    // brightness; a pinhole in its place is an order of magnitude too bright.
+    assert_matches_pbrt_v4("cameras-realistic.pbrt", 16);
+}
+
+#[test]
 fn orthographic_and_spherical_cameras_have_pbrt_v4s_means() {
     for scene in ["cameras-ortho.pbrt", "cameras-spherical.pbrt", "cameras-equirect.pbrt"] {
         assert_matches_pbrt_v4(scene, 16);

@@ -95,3 +95,18 @@ fn chi2_near_specular_lobes_in_a_zoomed_cap() {
     }
     assert!(failures.is_empty(), "{} of {n} failed:\n{}", failures.len(), failures.join("\n"));
 }
+
+/// Hair fibres with absorption (so the lobe choice differs from the attenuations), at
+/// several offsets across the fibre and roughnesses.
+#[test]
+fn chi2_hair_on_the_sphere() {
+    let sigma_a = spectrum(0.2, 0.5, 1.0, 2.0);
+    let mut models = Vec::new();
+    for (h, beta_m, beta_n) in [(-0.6f32, 0.3f32, 0.3f32), (0.1, 0.7, 0.9), (0.85, 0.4, 0.6)] {
+        let hair = Hair::new(h, 1.55, sigma_a, beta_m, beta_n, 2.0);
+        models.push((format!("hair h={h} β_m={beta_m} β_n={beta_n}"), Bxdf::from(hair)));
+    }
+    let n = suite_size(models.iter().map(|m| &m.1));
+    let failures = run_suite(models, n, |_, _| Domain::SPHERE);
+    assert!(failures.is_empty(), "{} of {n} failed:\n{}", failures.len(), failures.join("\n"));
+}

@@ -5,8 +5,8 @@
 use super::{param_error, space_of, Ctx};
 use crate::light::photometry::{lumens_per_unit_y, spectral_integral};
 use crate::light::{
-    DistantLight, EnvMapLight, GoniometricLight, Light, PointLight, ProjectionLight, SpotFalloff, SpotLight,
-    UniformInfiniteLight,
+    image_upper_hemisphere_y, is_rectangle, DistantLight, EnvMapLight, GoniometricLight, Light, MapLayout, PointLight,
+    PortalLight, ProjectionLight, SpotFalloff, SpotLight, UniformInfiniteLight,
 };
 use crate::scene::desc::LightDesc;
 use crate::scene::error::{Location, SceneError};
@@ -51,8 +51,9 @@ impl Ctx<'_> {
     /// layout), its RGB an illuminant of the scene's colour space (pbrt-v4 reads the file's; prism
     /// does not read colour-space metadata from files), times `scale`. "illuminance" E scales
     /// the map as pbrt-v4 does, which on an equal-area map gives an upward-facing (+z) patch 2E
-    /// ([`EnvMapLight::pbrt_v4_upper_hemisphere_y`]); prism's "lux" E gives it E.
-    pub(super) fn env_map(&mut self, l: &LightDesc) -> Result<EnvMapLight, SceneError> {
+    /// ([`image_upper_hemisphere_y`]); prism's "lux" E gives it E. With "portal" (four corners
+    /// of a rectangle, world space) it is pbrt-v4's portal light ([`PortalLight`]).
+    pub(super) fn env_map(&mut self, l: &LightDesc) -> Result<Light, SceneError> {
         let p = &l.params;
         if p.has("L") {
             return Err(SceneError::syntax(
@@ -62,22 +63,37 @@ impl Ctx<'_> {
             ));
         }
         let image = self.image(p, &l.loc)?;
-        if let Some(portal) = p.get("portal") {
-            let at = portal.loc.clone();
-            self.unsupported(
-                &at,
-                "infinite light \"portal\" (pbrt-v4's PortalImageInfiniteLight)".to_string(),
-                "ignores the portal and lights from the whole map: the same image where the portal is the \
-                 only opening to the sky, with more noise, and the sky seen elsewhere where it is not",
-            );
-        }
         let space = space_of(p);
         let rotation = orthonormal(glam::Mat3::from_mat4(l.world_from_light));
-        let mut light = EnvMapLight::new(&image, rotation, p.float_or("scale", 1.0), space);
+        // "illuminance" is met by the whole map, with or without a portal (as pbrt-v4).
         let pbrt_target = p.float(ILLUMINANCE.pbrt).is_some_and(|v| v > 0.0);
-        let k_e = if pbrt_target { light.pbrt_v4_upper_hemisphere_y() } else { light.upper_hemisphere_y() };
-        light.scale *= brightness_factor(p, ILLUMINANCE, k_e as f32, None, &l.loc)?;
-        Ok(light)
+        let k_e = image_upper_hemisphere_y(&image, space, pbrt_target);
+        let scale = p.float_or("scale", 1.0) * brightness_factor(p, ILLUMINANCE, k_e as f32, None, &l.loc)?;
+        let Some(portal) = p.get("portal") else {
+            return Ok(Light::EnvMap(EnvMapLight::new(&image, rotation, scale, space)));
+        };
+        // pbrt-v4: the four corners are in world space, whatever the light's transform.
+        let corners = match p.point3s("portal") {
+            Some(c) if c.len() == 4 => [c[0], c[1], c[2], c[3]],
+            c => {
+                let given = c.map_or(0, |c| c.len());
+                return Err(SceneError::syntax(
+                    &portal.loc,
+                    "portal",
+                    format!("a portal needs 4 corners, got {given}"),
+                ));
+            }
+        };
+        if MapLayout::for_size(image.width, image.height) != MapLayout::EqualArea {
+            let message = "a portal needs a square (equal-area) environment map";
+            return Err(SceneError::syntax(&portal.loc, "portal", message));
+        }
+        if !is_rectangle(&corners) {
+            // pbrt-v4 reports this and goes on; the sky is then masked by the rectangle's
+            // frame, not by the quadrilateral.
+            self.warn(&portal.loc.clone(), "the portal's corners are not a rectangle".to_string());
+        }
+        Ok(Light::Portal(Box::new(PortalLight::new(&image, corners, rotation, scale, space))))
     }
 
     /// A spotlight's falloff: Warn's cos^s lobe given "exponent" s ≥ 0 (prism's extension; D. R.
@@ -190,8 +206,16 @@ impl Ctx<'_> {
             "infinite" => {
                 if p.has("filename") {
                     let light = self.env_map(l)?;
-                    self.b.add_light(Light::EnvMap(light));
+                    self.b.add_light(light);
                 } else {
+                    if let Some(portal) = p.get("portal") {
+                        // pbrt-v4 refuses a portal on an "L" sky and ignores it on the default one.
+                        let message = "a portal needs an environment map (\"filename\")";
+                        if p.has("L") {
+                            return Err(SceneError::syntax(&portal.loc, "portal", message));
+                        }
+                        self.warn(&portal.loc.clone(), format!("{message}; ignored"));
+                    }
                     // pbrt-v4: a uniform sky of illuminance E_v on any patch has k_e = π.
                     let (s, norm) = self.light_spectrum(p, "L", &l.loc)?;
                     let sc =

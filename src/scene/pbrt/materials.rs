@@ -4,13 +4,14 @@
 
 use super::{param_error, Ctx};
 use crate::material::{
-    CoatedConductorMaterial, CoatedDiffuseMaterial, ConductorIor, Ior, LayerSpec, Material, MixMaterial, NormalMap,
-    NormalPerturbation, Roughness,
+    melanin_sigma_a, CoatedConductorMaterial, CoatedDiffuseMaterial, ConductorIor, HairAbsorption, HairMaterial, Ior,
+    LayerSpec, Material, MixMaterial, NormalMap, NormalPerturbation, Roughness,
 };
 use crate::scene::desc::MaterialDesc;
 use crate::scene::error::{Location, SceneError};
 use crate::scene::params::ParamSet;
 use crate::spectrum::RgbKind;
+use crate::texture::Texture;
 use crate::texture::{rgb_texels, ColorEncoding};
 use std::sync::Arc;
 
@@ -134,6 +135,35 @@ impl Ctx<'_> {
         })))
     }
 
+    /// "hair" (pbrt-v4's `HairMaterial::Create`): σa from "sigma_a", else from "reflectance",
+    /// else from "eumelanin" (1.3 when none of the three is given) and "pheomelanin" (0).
+    pub(super) fn hair(&mut self, p: &ParamSet, loc: &Location) -> Result<Material, SceneError> {
+        let absorption = if p.has("sigma_a") {
+            if p.texture("sigma_a").is_some() {
+                self.unsupported(loc, "a textured hair \"sigma_a\"".into(), "uses eumelanin 1.3");
+                HairAbsorption::SigmaA(melanin_sigma_a(1.3, 0.0))
+            } else {
+                HairAbsorption::SigmaA(self.unbounded_or(p, "sigma_a", [0.0; 3], loc)?)
+            }
+        } else if p.has("reflectance") {
+            HairAbsorption::Reflectance(self.spectrum_texture(p, "reflectance", 0.5, loc)?)
+        } else {
+            let eumelanin = self.float_texture(p, "eumelanin", if p.has("eumelanin") { 0.0 } else { 1.3 })?;
+            let pheomelanin = self.float_texture(p, "pheomelanin", 0.0)?;
+            match (&eumelanin, &pheomelanin) {
+                (Texture::Constant(ce), Texture::Constant(cp)) => HairAbsorption::SigmaA(melanin_sigma_a(*ce, *cp)),
+                _ => HairAbsorption::Melanin { eumelanin, pheomelanin },
+            }
+        };
+        Ok(Material::Hair(Box::new(HairMaterial {
+            absorption,
+            eta: self.float_texture(p, "eta", 1.55)?,
+            beta_m: self.float_texture(p, "beta_m", 0.3)?,
+            beta_n: self.float_texture(p, "beta_n", 0.3)?,
+            alpha: self.float_texture(p, "alpha", 2.0)?,
+        })))
+    }
+
     /// "coatedconductor": `interface.*` for the coat, `conductor.*` (or `reflectance`) for the
     /// metal.
     pub(super) fn coated_conductor(&mut self, p: &ParamSet, loc: &Location) -> Result<Material, SceneError> {
@@ -186,5 +216,40 @@ impl Ctx<'_> {
         let materials = [pick(a)?, pick(b)?];
         let amount = self.float_texture(p, "amount", 0.5)?;
         Ok(Material::Mix(Box::new(MixMaterial { amount, materials })))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::material::{HairAbsorption, Material};
+    use crate::scene::{parse_str, ParseOptions};
+
+    fn hair(params: &str) -> (HairAbsorption, usize) {
+        let text = format!("Camera \"perspective\"\nWorldBegin\nMaterial \"hair\" {params}\nShape \"sphere\"\n");
+        let (desc, mut w) = parse_str(&text, &ParseOptions::default()).unwrap();
+        let (b, _) = super::super::build(&desc, &mut w).unwrap();
+        let scene = b.build(crate::accel::AccelKind::Obvhs).unwrap();
+        let Material::Hair(m) = &scene.materials[0] else { panic!("{:?}", scene.materials[0]) };
+        (m.absorption.clone(), w.len())
+    }
+
+    #[test]
+    fn hair_absorption_follows_pbrt_v4s_precedence() {
+        let eumelanin = |c: f32| crate::material::melanin_sigma_a(c, 0.0).eval(550.0);
+        // Nothing given: eumelanin 1.3.
+        let (HairAbsorption::SigmaA(s), 0) = hair("") else { panic!() };
+        assert!((s.eval(550.0) - eumelanin(1.3)).abs() < 1e-6);
+        let (HairAbsorption::SigmaA(s), 0) = hair("\"float eumelanin\" [ 0.3 ]") else { panic!() };
+        assert!((s.eval(550.0) - eumelanin(0.3)).abs() < 1e-6);
+        // σa wins over a colour, a colour over melanin.
+        let (HairAbsorption::SigmaA(s), 0) = hair("\"rgb sigma_a\" [ 2 2 2 ] \"rgb reflectance\" [ 0.5 0.5 0.5 ]")
+        else {
+            panic!()
+        };
+        assert!((s.eval(550.0) - 2.0).abs() < 0.02, "{}", s.eval(550.0));
+        assert!(matches!(
+            hair("\"rgb reflectance\" [ 0.5 0.3 0.2 ] \"float eumelanin\" [ 1 ]"),
+            (HairAbsorption::Reflectance(_), 0)
+        ));
     }
 }

@@ -42,7 +42,7 @@ impl Ctx<'_> {
     }
 
     /// An unbounded spectrum parameter (RGB, spectrum or a float), else RGB `default`.
-    fn unbounded_or(
+    pub(super) fn unbounded_or(
         &mut self,
         p: &crate::scene::params::ParamSet,
         name: &str,

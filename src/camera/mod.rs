@@ -1,12 +1,20 @@
 //! Cameras (pbrt-v4 conventions; the camera looks down +z in its own space, +y up): perspective
 //! (`fov` spans the shorter image axis) and orthographic (the screen window in scene units),
 //! both with an optional thin lens for depth of field; spherical (every direction, through an
-//! equal-area or equirectangular image).
+//! equal-area or equirectangular image); and realistic (a lens system traced ray by ray, whose
+//! rays carry weights).
+
+pub mod exit_pupil;
+pub mod lens;
+pub mod lens_system;
+pub mod realistic;
 
 use crate::geometry::Ray;
 use crate::math::equal_area;
 use crate::sampling::warp::sample_uniform_disk_concentric;
 use glam::{Mat4, Vec2, Vec3};
+pub use realistic::RealisticLens;
+use std::sync::Arc;
 
 /// How film positions become rays in camera space.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
@@ -22,6 +30,18 @@ pub enum Projection {
     SphericalEqualArea,
     /// Every direction: latitude-longitude, θ = π v from +y down, φ = 2π u.
     SphericalEquirect,
+    /// Through a lens system onto a physical film ([`RealisticLens`]).
+    Realistic,
+}
+
+/// A primary ray and the factor the radiance it brings back is scaled by (pbrt-v4's
+/// `CameraRay`; 1 for every camera but the realistic one).
+#[derive(Clone, Copy, Debug)]
+pub struct CameraRay {
+    /// The ray [world space; unit direction].
+    pub ray: Ray,
+    /// The weight of its radiance.
+    pub weight: f32,
 }
 
 /// A pinhole or thin-lens perspective camera.
@@ -39,6 +59,8 @@ pub struct Camera {
     pub focal_distance: f32,
     /// The projection.
     pub projection: Projection,
+    /// The lens system of a realistic camera.
+    pub lens: Option<Arc<RealisticLens>>,
 }
 
 impl Camera {
@@ -66,6 +88,7 @@ impl Camera {
             lens_radius,
             focal_distance,
             projection: Projection::Perspective,
+            lens: None,
         }
     }
 
@@ -88,6 +111,12 @@ impl Camera {
         Self { projection, ..c }
     }
 
+    /// A realistic camera: film rays traced through `lens`.
+    pub fn realistic(camera_to_world: Mat4, resolution: (u32, u32), lens: Arc<RealisticLens>) -> Self {
+        let c = Self::perspective(camera_to_world, resolution, 90.0, 0.0, 1.0, None);
+        Self { projection: Projection::Realistic, lens: Some(lens), ..c }
+    }
+
     /// A camera-to-world matrix looking from `eye` at `target` with `up` (left-handed camera
     /// space like pbrt: +x right, +y up, +z forward).
     pub fn look_at(eye: Vec3, target: Vec3, up: Vec3) -> Mat4 {
@@ -98,15 +127,34 @@ impl Camera {
     }
 
     /// The primary ray through film position `p_film` (pixels, origin at the top-left corner,
-    /// y down) using lens sample `u_lens` in [0,1)². The direction is unit length.
-    pub fn generate_ray(&self, p_film: Vec2, u_lens: Vec2) -> Ray {
+    /// y down) using lens sample `u_lens` in [0,1)², and its weight; `None` when a realistic
+    /// camera's lens blocks it.
+    #[inline]
+    pub fn sample_ray(&self, p_film: Vec2, u_lens: Vec2) -> Option<CameraRay> {
+        match &self.lens {
+            None => Some(CameraRay { ray: self.generate_ray(p_film, u_lens), weight: 1.0 }),
+            Some(lens) => {
+                let (o, d, weight) = lens.generate_ray(p_film, self.resolution, u_lens)?;
+                let ray = Ray::new(
+                    self.camera_to_world.transform_point3(o),
+                    self.camera_to_world.transform_vector3(d).normalize(),
+                );
+                Some(CameraRay { ray, weight })
+            }
+        }
+    }
+
+    /// The ray of a camera without a lens system through film position `p_film` (as
+    /// [`Camera::sample_ray`]) with lens sample `u_lens`; the direction is unit length.
+    fn generate_ray(&self, p_film: Vec2, u_lens: Vec2) -> Ray {
         let (w, h) = (self.resolution.0 as f32, self.resolution.1 as f32);
         let [x0, x1, y0, y1] = self.screen;
         let sx = x0 + (x1 - x0) * (p_film.x / w);
         let sy = y1 - (y1 - y0) * (p_film.y / h);
         let uv = Vec2::new(p_film.x / w, p_film.y / h);
         let (mut o, mut d) = match self.projection {
-            Projection::Perspective => (Vec3::ZERO, Vec3::new(sx, sy, 1.0).normalize()),
+            // A realistic projection without its lens (never built so) is a pinhole.
+            Projection::Perspective | Projection::Realistic => (Vec3::ZERO, Vec3::new(sx, sy, 1.0).normalize()),
             Projection::Orthographic => (Vec3::new(sx, sy, 0.0), Vec3::Z),
             Projection::SphericalEqualArea => {
                 let d = equal_area::square_to_sphere(uv.clamp(Vec2::ZERO, Vec2::ONE));
