@@ -113,7 +113,7 @@ pub fn bezier_segments(p: &[Vec3], basis: CurveBasis, degree: usize) -> Result<V
     }
     match basis {
         CurveBasis::Bezier => {
-            if p.len() < degree + 1 || (p.len() - 1 - degree) % degree != 0 {
+            if p.len() < degree + 1 || !(p.len() - 1 - degree).is_multiple_of(degree) {
                 return Err(format!(
                     "{} control points: a degree {degree} Bézier curve needs {} + n·{degree}",
                     p.len(),

@@ -74,7 +74,7 @@ impl RayFrame {
     }
 
     #[inline]
-    fn to_world(&self, v: Vec3) -> Vec3 {
+    fn world(&self, v: Vec3) -> Vec3 {
         self.x * v.x + self.y * v.y + self.z * v.z
     }
 }
@@ -215,7 +215,7 @@ pub fn curve_surface(seg: &CurveSegment, ray: &Ray, t: f32, u: f32) -> Option<Cu
             } else {
                 across
             };
-            frame.to_world(across)
+            frame.world(across)
         }
     };
     let n = dpdu.cross(dpdv).normalize_or_zero();

@@ -1,6 +1,7 @@
 //! Curves on both backends: Embree's native curve geometry and obvhs's curve BVH with pbrt-v4's
 //! recursive intersector find the same hits on a hair bundle, and the compat scene's curves
 //! render alike on both.
+#![cfg(embree)]
 
 use glam::Vec3;
 use prism::accel::{self, AccelKind};
@@ -98,7 +99,6 @@ fn compare(kind: CurveKind, rays: usize) -> Agreement {
     a
 }
 
-#[cfg(embree)]
 #[test]
 fn embree_and_obvhs_find_the_same_hits_on_a_hair_bundle() {
     // Both intersect a ribbon facing the ray, the width linear in u; they differ only in how
@@ -141,7 +141,6 @@ fn render(scene: &str, accel: &str, spp: u32, seed: u32) -> prism::image::Image 
     img
 }
 
-#[cfg(embree)]
 #[test]
 fn the_compat_curves_render_alike_on_embree_and_obvhs() {
     // Two seeds per backend: the pixel differences of a backend's seeds give its standard error.
