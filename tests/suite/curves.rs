@@ -5,37 +5,14 @@
 
 use glam::Vec3;
 use prism::accel::{self, AccelKind};
-use prism::geometry::curve::{bezier_point, bezier_segments, CurveBasis};
-use prism::geometry::{CurveKind, CurveSegment, Curves, Hit, Mesh, Ray};
+use prism::geometry::curve::bezier_point;
+use prism::geometry::shapes::hair_bundle;
+use prism::geometry::{CurveKind, Hit, Mesh, Ray};
 use prism::sampling::Rng;
 
 use prism::image::metrics::channel_means;
 
 use crate::common::{prism, stderr, tmpdir};
-
-/// `n` strands of `kind` rising along +y from a disc of radius 0.5 at the origin, one cubic
-/// B-spline of 5 control points (2 segments) each, bent at random, 0.02 wide at the root and
-/// 0.008 at the tip. A ribbon's normal is the same at both ends, so Embree's interpolated
-/// normal and pbrt-v4's spherical one coincide.
-fn bundle(n: usize, kind: CurveKind, rng: &mut Rng) -> Curves {
-    let mut segments = Vec::new();
-    for _ in 0..n {
-        let r = 0.5 * rng.uniform().sqrt();
-        let phi = std::f32::consts::TAU * rng.uniform();
-        let root = Vec3::new(r * phi.cos(), 0.0, r * phi.sin());
-        let lean = Vec3::new(rng.uniform() - 0.5, 0.0, rng.uniform() - 0.5) * 0.6;
-        let p: Vec<Vec3> = (0..5).map(|k| root + Vec3::Y * (0.3 * k as f32) + lean * (k * k) as f32 / 16.0).collect();
-        let normal = Vec3::new(phi.cos(), 0.0, phi.sin());
-        let cps = bezier_segments(&p, CurveBasis::BSpline, 3).unwrap();
-        let count = cps.len() as f32;
-        for (i, cp) in cps.into_iter().enumerate() {
-            let w = |u: f32| 0.02 + (0.008 - 0.02) * u;
-            let width = [w(i as f32 / count), w((i + 1) as f32 / count)];
-            segments.push(CurveSegment::new(cp, width, kind, [normal; 2]));
-        }
-    }
-    Curves { segments, split_depth: 2 }
-}
 
 /// A ray from a random point 4 units from the bundle's centre toward a random point inside it;
 /// with `level`, a horizontal one (across the strands).
@@ -66,8 +43,8 @@ struct Agreement {
 }
 
 fn compare(kind: CurveKind, rays: usize) -> Agreement {
-    let mut rng = Rng::new(23, 1);
-    let curves = bundle(1000, kind, &mut rng);
+    let mut rng = Rng::new(29, 2);
+    let curves = hair_bundle(1000, kind, 23);
     let meshes = vec![Mesh::default()];
     let build = |k| accel::build_with_curves(k, &meshes, &[(0, &curves)]).unwrap();
     let (embree, obvhs) = (build(AccelKind::Embree), build(AccelKind::Obvhs));
