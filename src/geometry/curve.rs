@@ -44,6 +44,9 @@ pub struct Curves {
     pub segments: Vec<CurveSegment>,
     /// Each segment becomes 2^split_depth primitives of equal u range (pbrt-v4 "splitdepth").
     pub split_depth: u32,
+    /// The normal ∂p/∂u × ∂p/∂v is reversed (pbrt-v4: `ReverseOrientation` differing from
+    /// whether the transform to world space swaps handedness).
+    pub flip_normal: bool,
 }
 
 impl CurveSegment {
@@ -280,7 +283,7 @@ mod tests {
         let n = s.ribbon_normal(0.5);
         assert!((n - Vec3::new(1.0, 0.0, 1.0).normalize()).length() < 1e-6);
         assert!((s.ribbon_normal(0.0) - Vec3::Z).length() < 1e-6);
-        let c = Curves { segments: vec![s; 2], split_depth: 2 };
+        let c = Curves { segments: vec![s; 2], split_depth: 2, flip_normal: false };
         assert_eq!(c.pieces().count(), 8);
         assert_eq!(c.pieces().nth(5), Some((1, [0.25, 0.5])));
     }

@@ -230,7 +230,7 @@ pub fn hair_bundle(count: usize, kind: CurveKind, seed: u64) -> Curves {
             segments.push(CurveSegment::new(cp, w, kind, [normal; 2]));
         }
     }
-    Curves { segments, split_depth: 2 }
+    Curves { segments, split_depth: 2, flip_normal: false }
 }
 
 #[cfg(test)]

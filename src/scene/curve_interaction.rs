@@ -2,7 +2,8 @@
 //! curve give the point, the normal — shading and geometric alike, as pbrt-v4 has them for
 //! curves — ∂p/∂u along the curve, ∂p/∂v across it and (u, v)
 //! ([`crate::geometry::curve_hit::curve_surface`]). The point's error bound is the curve's
-//! width there, so a spawned ray starts clear of the curve it leaves.
+//! width there, so a spawned ray starts clear of the curve it leaves. Under `ReverseOrientation`
+//! (or a handedness-swapping transform) both normals are reversed, as pbrt-v4 reverses them.
 
 use super::{Bound, SurfaceInteraction, SurfaceNormals};
 use crate::geometry::curve_hit::{curve_surface, CurveSurface};
@@ -28,10 +29,11 @@ impl<'s> SurfaceInteraction<'s> {
                 uv: Vec2::new(hit.u, 0.5),
             }
         });
+        let n = if curves.flip_normal { -s.n } else { s.n };
         Self {
             p: s.p,
             p_err: s.p_err,
-            shading: SurfaceNormals { ns: s.n, ng: s.n },
+            shading: SurfaceNormals { ns: n, ng: n },
             dpdu: s.dpdu,
             dpdv: s.dpdv,
             uv: s.uv,

@@ -63,5 +63,5 @@ pub fn load(ps: &ParamSet, notes: &mut Vec<String>) -> Result<Curves, String> {
             CurveSegment::new(cp, width, kind, ends)
         })
         .collect();
-    Ok(Curves { segments, split_depth })
+    Ok(Curves { segments, split_depth, flip_normal: false })
 }

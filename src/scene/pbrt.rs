@@ -499,7 +499,8 @@ impl Ctx<'_> {
 
 impl Ctx<'_> {
     /// A curve shape: its segments carried to world space (control points by the transform, a
-    /// Bézier curve being affine invariant; widths by its scale), with its material and media.
+    /// Bézier curve being affine invariant; widths by its scale), with its material and media;
+    /// its normal reversed as pbrt-v4 reverses it.
     /// Curves do not emit: an area light on them is reported and dropped.
     fn curves(&mut self, s: &ShapeDesc, c: &crate::geometry::Curves) -> Result<(), SceneError> {
         if s.area_light.is_some() {
@@ -518,7 +519,8 @@ impl Ctx<'_> {
                 crate::geometry::CurveSegment::new(cp, seg.width.map(|w| w * scale), seg.kind, n)
             })
             .collect();
-        let world = crate::geometry::Curves { segments, split_depth: c.split_depth };
+        let flip_normal = s.reverse_orientation ^ (linear.determinant() < 0.0);
+        let world = crate::geometry::Curves { segments, split_depth: c.split_depth, flip_normal };
         let material = self.material(self.desc.material(&s.material))?;
         let id = self.b.add_curves(world, material);
         let alpha = self.float_texture(&s.params, "alpha", 1.0)?;
