@@ -8,11 +8,12 @@ pub mod obvhs;
 pub mod obvhs_instanced;
 pub mod watertight;
 
+pub use self::obvhs::curves::{CurveBvh, WithCurves};
 pub use self::obvhs::{BuildQuality, BuildStats, ObvhsAccel};
 pub use self::obvhs_instanced::ObvhsInstancedAccel;
 
 use crate::geometry::InstanceSet;
-use crate::geometry::{Bounds3, Hit, Mesh, Ray};
+use crate::geometry::{Bounds3, Curves, Hit, Mesh, Ray};
 
 /// A ray-intersection accelerator over a set of triangle meshes.
 pub trait Accel: Send + Sync {
@@ -113,6 +114,29 @@ pub fn build(kind: AccelKind, meshes: &[Mesh]) -> Result<Box<dyn Accel>, String>
         #[cfg(not(embree))]
         AccelKind::Embree | AccelKind::EmbreeWatertight => Err(NO_EMBREE.into()),
         AccelKind::Obvhs => Ok(Box::new(obvhs::ObvhsAccel::new(meshes))),
+    }
+}
+
+/// Builds the chosen backend over `meshes` and `curves` ((geometry id, its curves); the ids
+/// are those of primitives whose meshes are empty). Embree intersects curves as its own curve
+/// geometry in the same scene; obvhs, and Embree's instanced scenes, keep them in a [`CurveBvh`]
+/// beside the triangles. Without curves this is [`build`].
+pub fn build_with_curves(
+    kind: AccelKind,
+    meshes: &[Mesh],
+    curves: &[(u32, &Curves)],
+) -> Result<Box<dyn Accel>, String> {
+    if curves.is_empty() {
+        return build(kind, meshes);
+    }
+    match kind {
+        #[cfg(embree)]
+        AccelKind::Embree | AccelKind::EmbreeWatertight => {
+            let test =
+                if kind == AccelKind::Embree { embree::TriangleTest::Embree } else { embree::TriangleTest::Watertight };
+            Ok(Box::new(embree::EmbreeAccel::with_curves(meshes, curves, test).map_err(|e| e.to_string())?))
+        }
+        _ => Ok(Box::new(WithCurves::new(build(kind, meshes)?, CurveBvh::new(curves)))),
     }
 }
 

@@ -28,6 +28,8 @@ use super::watertight::{LaneRay, TriangleHit, TriangleLanes};
 use super::Accel;
 use crate::geometry::{Bounds3, Hit, Mesh, Ray};
 
+#[path = "obvhs_curves.rs"]
+pub mod curves;
 #[path = "obvhs_isa.rs"]
 mod isa;
 #[path = "obvhs_leaves.rs"]

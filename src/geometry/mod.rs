@@ -1,7 +1,9 @@
-//! Geometry: rays, hits, triangle meshes, bilinear patches, quadrics, object instances, test shapes.
+//! Geometry: rays, hits, triangle meshes, curves, bilinear patches, quadrics, object instances, test shapes.
 
 pub mod animated;
 pub mod bilinear;
+pub mod curve;
+pub mod curve_hit;
 pub mod instance;
 pub mod loop_subdivision;
 mod mesh;
@@ -11,6 +13,7 @@ mod ray;
 pub mod shapes;
 
 pub use animated::AnimatedTransform;
+pub use curve::{CurveKind, CurveSegment, Curves};
 pub use instance::{Instance, InstanceSet, Prototype};
 pub use mesh::{Bounds3, Mesh};
 pub use quadric::Quadric;

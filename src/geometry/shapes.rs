@@ -1,5 +1,5 @@
-//! Mesh generators for tests and benchmarks (spheres, boxes, terrain, random soups, quads) and
-//! [`Mesh::transformed`].
+//! Mesh generators for tests and benchmarks (spheres, boxes, terrain, random soups, quads), a
+//! bundle of hair curves, and [`Mesh::transformed`].
 //!
 //! Closed shapes share vertices between neighbouring triangles, so a watertight ray–triangle test
 //! over them must never let a ray through an edge or a vertex.
@@ -8,7 +8,8 @@ use std::collections::HashMap;
 
 use glam::{Mat3, Mat4, Vec3};
 
-use super::Mesh;
+use super::curve::{bezier_segments, CurveBasis};
+use super::{CurveKind, CurveSegment, Curves, Mesh};
 use crate::sampling::Rng;
 
 impl Mesh {
@@ -205,6 +206,31 @@ pub fn triangle_soup(count: usize, min: Vec3, max: Vec3, size: f32, seed: u64) -
     }
     let indices = (0..count as u32).map(|i| [3 * i, 3 * i + 1, 3 * i + 2]).collect();
     Mesh::new(positions, indices)
+}
+
+/// `count` strands of `kind` rising along +y from a disc of radius 0.5 at the origin to a height
+/// of 1.2, each one cubic B-spline of 5 control points (2 Bézier segments) bent at random, 0.02
+/// wide at the root and 0.008 at the tip. A ribbon's normal, radial, is the same at both ends of
+/// each strand.
+pub fn hair_bundle(count: usize, kind: CurveKind, seed: u64) -> Curves {
+    let mut rng = Rng::new(seed, 1);
+    let width = |u: f32| 0.02 + (0.008 - 0.02) * u;
+    let mut segments = Vec::with_capacity(2 * count);
+    for _ in 0..count {
+        let r = 0.5 * rng.uniform().sqrt();
+        let phi = std::f32::consts::TAU * rng.uniform();
+        let root = Vec3::new(r * phi.cos(), 0.0, r * phi.sin());
+        let lean = Vec3::new(rng.uniform() - 0.5, 0.0, rng.uniform() - 0.5) * 0.6;
+        let p: Vec<Vec3> = (0..5).map(|k| root + Vec3::Y * (0.3 * k as f32) + lean * (k * k) as f32 / 16.0).collect();
+        let normal = Vec3::new(phi.cos(), 0.0, phi.sin());
+        let cps = bezier_segments(&p, CurveBasis::BSpline, 3).expect("5 points make 2 cubic B-spline segments");
+        let n = cps.len() as f32;
+        for (i, cp) in cps.into_iter().enumerate() {
+            let w = [width(i as f32 / n), width((i + 1) as f32 / n)];
+            segments.push(CurveSegment::new(cp, w, kind, [normal; 2]));
+        }
+    }
+    Curves { segments, split_depth: 2, flip_normal: false }
 }
 
 #[cfg(test)]

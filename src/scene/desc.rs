@@ -124,6 +124,8 @@ pub enum ShapeGeometry {
     /// A pbrt-v4 quadric (sphere, disk, cylinder) about the object-space origin, tessellated
     /// where the scene is built (`geometry::Quadric::tessellate`).
     Quadric(Quadric),
+    /// pbrt-v4 curves: cubic Bézier segments in object space.
+    Curves(Arc<crate::geometry::Curves>),
 }
 
 /// An AreaLightSource in effect for a shape.

@@ -80,6 +80,9 @@ impl<'s> SurfaceInteraction<'s> {
     /// Builds the interaction for `hit` of `ray` in `scene`.
     pub(super) fn new(scene: &'s Scene, ray: &Ray, hit: &Hit) -> Self {
         let primitive = &scene.primitives[hit.geom_id as usize];
+        if let Some(curves) = &primitive.curves {
+            return Self::on_curve(scene, primitive, curves, ray, hit);
+        }
         let bound = Bound { scene, primitive };
         let mesh = &primitive.mesh;
         let tri = mesh.indices[hit.prim_id as usize];
@@ -346,6 +349,9 @@ impl<'s> SurfaceInteraction<'s> {
         Ray::segment(o, end - o, 1.0).at_time(self.time)
     }
 }
+
+#[path = "curve_interaction.rs"]
+mod curve_interaction;
 
 #[cfg(test)]
 mod tests {

@@ -3,6 +3,7 @@
 //! bind geometry to material, emission and media.
 
 mod cornell;
+mod curve_params;
 pub mod desc;
 pub mod error;
 pub mod input;
@@ -31,7 +32,7 @@ pub use primitive::{MediumInterface, Primitive};
 
 use crate::accel::{self, Accel, AccelKind};
 use crate::camera::{Camera, Projection, RealisticLens};
-use crate::geometry::{AnimatedTransform, Hit, Instance, InstanceSet, Mesh, Prototype, Ray};
+use crate::geometry::{AnimatedTransform, Curves, Hit, Instance, InstanceSet, Mesh, Prototype, Ray};
 use crate::light::{
     AreaLight, EmissionImage, ImageEmission, Light, LightSampleContext, LightSampler, LightSamplerKind, SphereLight,
 };
@@ -105,6 +106,8 @@ pub enum BuildError {
 /// prototype it belongs to when it is instanced.
 struct PendingPrimitive {
     mesh: Mesh,
+    /// Curves (world space) instead of triangles.
+    curves: Option<Arc<Curves>>,
     material: u32,
     emission: Option<Emission>,
     /// Cut-out mask (`None`: opaque).
@@ -175,6 +178,7 @@ impl SceneBuilder {
         }
         self.primitives.push(PendingPrimitive {
             mesh,
+            curves: None,
             material,
             emission,
             alpha: None,
@@ -184,6 +188,14 @@ impl SceneBuilder {
             emission_image: None,
             emission_per_area: false,
         });
+        id
+    }
+
+    /// Adds curves (world space) with a material as a primitive, returning its id. Curves do not
+    /// emit.
+    pub fn add_curves(&mut self, curves: Curves, material: u32) -> u32 {
+        let id = self.add_mesh(Mesh::default(), material, None);
+        self.primitives[id as usize].curves = Some(Arc::new(curves));
         id
     }
 
@@ -402,25 +414,34 @@ impl SceneBuilder {
             (0..self.primitives.len() as u32).filter(|&m| self.primitives[m as usize].prototype.is_none()).collect();
         // An emission with its image and whether its scale is per unit area.
         type Emitting = (Emission, Option<Arc<EmissionImage>>, bool);
-        type Parts = (u32, Option<Emitting>, Option<FloatTexture>, Option<(Vec3, f32)>, MediumInterface);
+        type Parts =
+            (u32, Option<Emitting>, Option<FloatTexture>, Option<(Vec3, f32)>, MediumInterface, Option<Arc<Curves>>);
         let (meshes, parts): (Vec<Mesh>, Vec<Parts>) = self
             .primitives
             .into_iter()
             .map(|p| {
                 let emission = p.emission.map(|e| (e, p.emission_image, p.emission_per_area));
-                (p.mesh, (p.material, emission, p.alpha, p.sphere, p.medium_interface))
+                (p.mesh, (p.material, emission, p.alpha, p.sphere, p.medium_interface, p.curves))
             })
             .unzip();
+        let curves: Vec<(u32, &Curves)> =
+            parts.iter().enumerate().filter_map(|(id, p)| Some((id as u32, p.5.as_deref()?))).collect();
         let accel = if self.prototypes.is_empty() {
-            accel::build(accel_kind, &meshes)
+            accel::build_with_curves(accel_kind, &meshes, &curves)
         } else {
             let set = InstanceSet { world_meshes, prototypes: self.prototypes, instances: self.instances.clone() };
-            accel::build_instanced(accel_kind, &meshes, &set)
+            accel::build_instanced(accel_kind, &meshes, &set).map(|a| {
+                if curves.is_empty() {
+                    a
+                } else {
+                    Box::new(accel::WithCurves::new(a, accel::CurveBvh::new(&curves)))
+                }
+            })
         }
         .map_err(BuildError::Accel)?;
         let mut lights = self.lights;
         let mut primitives = Vec::with_capacity(meshes.len());
-        for (mesh, (material, emission, alpha, sphere, medium_interface)) in meshes.into_iter().zip(parts) {
+        for (mesh, (material, emission, alpha, sphere, medium_interface, curves)) in meshes.into_iter().zip(parts) {
             // A sphere light has no (u, v): an image keeps the sphere's triangles.
             let one_light = emission.as_ref().is_some_and(|e| e.1.is_none()) && sphere.is_some() && !mesh.is_empty();
             let area_lights = emission.map(|(em, em_image, per_area)| {
@@ -455,7 +476,7 @@ impl SceneBuilder {
                 }
                 first
             });
-            primitives.push(Primitive { mesh, material, area_lights, one_light, medium_interface, alpha });
+            primitives.push(Primitive { mesh, curves, material, area_lights, one_light, medium_interface, alpha });
         }
         let has_alpha = primitives.iter().any(|p| p.alpha.is_some());
         let bounds = accel.bounds();

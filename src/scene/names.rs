@@ -6,9 +6,9 @@
 
 /// Shapes prism renders. "objmesh" is prism's extension (docs/scene-format.md).
 pub const PRISM_SHAPES: &[&str] =
-    &["trianglemesh", "plymesh", "objmesh", "sphere", "disk", "cylinder", "bilinearmesh", "loopsubdiv"];
+    &["trianglemesh", "plymesh", "objmesh", "sphere", "disk", "cylinder", "bilinearmesh", "loopsubdiv", "curve"];
 /// pbrt-v4 shapes prism skips (with a warning), and what the warning says prism does.
-pub const PBRT_ONLY_SHAPES: &[(&str, &str)] = &[("curve", "skips the shape (hair/curves are not rendered)")];
+pub const PBRT_ONLY_SHAPES: &[(&str, &str)] = &[];
 
 /// Materials prism renders (listed beside the `Material` enum they become).
 pub const PRISM_MATERIALS: &[&str] = crate::material::PBRT_NAMES;

@@ -425,6 +425,9 @@ impl Ctx<'_> {
                     let mut meshes = Vec::with_capacity(obj.shapes.len());
                     let mut alphas = Vec::with_capacity(obj.shapes.len());
                     for s in &obj.shapes {
+                        if matches!(s.geometry, ShapeGeometry::Curves(_)) {
+                            self.unsupported(&s.loc, "curves inside ObjectBegin".into(), "skips them");
+                        }
                         meshes.push((shape_mesh(s, &s.world_from_object), self.material(desc.material(&s.material))?));
                         alphas.push(self.float_texture(&s.params, "alpha", 1.0)?);
                     }
@@ -472,6 +475,12 @@ impl Ctx<'_> {
     }
 
     fn shape(&mut self, s: &ShapeDesc) -> Result<(), SceneError> {
+        if let ShapeGeometry::Curves(c) = &s.geometry {
+            if s.motion.is_some() {
+                self.unsupported(&s.loc, "moving curves".into(), "uses the start transform");
+            }
+            return self.curves(s, c);
+        }
         if let Some(motion) = s.motion {
             return self.moving_shape(s, motion);
         }
@@ -480,7 +489,7 @@ impl Ctx<'_> {
         // sphere that can be sampled by solid angle.
         let similar = match &s.geometry {
             ShapeGeometry::Quadric(q) => similarity_scale(&s.world_from_object).map(|k| (q, k)),
-            ShapeGeometry::Mesh(_) => None,
+            ShapeGeometry::Mesh(_) | ShapeGeometry::Curves(_) => None,
         };
         let area = similar.map_or_else(|| mesh.area(), |(q, k)| q.area() * k * k);
         let sphere = similar.and_then(|(q, k)| match *q {
@@ -531,6 +540,39 @@ impl Ctx<'_> {
     }
 }
 
+impl Ctx<'_> {
+    /// A curve shape: its segments carried to world space (control points by the transform, a
+    /// Bézier curve being affine invariant; widths by its scale), with its material and media;
+    /// its normal reversed as pbrt-v4 reverses it.
+    /// Curves do not emit: an area light on them is reported and dropped.
+    fn curves(&mut self, s: &ShapeDesc, c: &crate::geometry::Curves) -> Result<(), SceneError> {
+        if s.area_light.is_some() {
+            self.warnings.push(Warning::unsupported(&s.loc, "area light on a curve", "makes the curve non-emissive"));
+        }
+        let m = &s.world_from_object;
+        let linear = glam::Mat3::from_mat4(*m);
+        let scale = similarity_scale(m).unwrap_or_else(|| linear.determinant().abs().cbrt());
+        let normal_matrix = linear.inverse().transpose();
+        let segments = c
+            .segments
+            .iter()
+            .map(|seg| {
+                let cp = seg.cp.map(|p| m.transform_point3(p));
+                let n = seg.n.map(|n| normal_matrix * n);
+                crate::geometry::CurveSegment::new(cp, seg.width.map(|w| w * scale), seg.kind, n)
+            })
+            .collect();
+        let flip_normal = s.reverse_orientation ^ (linear.determinant() < 0.0);
+        let world = crate::geometry::Curves { segments, split_depth: c.split_depth, flip_normal };
+        let material = self.material(self.desc.material(&s.material))?;
+        let id = self.b.add_curves(world, material);
+        let alpha = self.float_texture(&s.params, "alpha", 1.0)?;
+        self.b.set_alpha(id, alpha);
+        self.b.set_medium_interface(id, media::interface(&self.media, &s.media));
+        Ok(())
+    }
+}
+
 /// The shapes pbrt-v4 creates as one `Triangle` shape per triangle.
 const TRIANGLE_SHAPES: &[&str] = &["trianglemesh", "loopsubdiv"];
 
@@ -547,6 +589,7 @@ fn shape_mesh(s: &ShapeDesc, m: &Mat4) -> Mesh {
             }
             mesh
         }
+        ShapeGeometry::Curves(_) => Mesh::default(),
         ShapeGeometry::Quadric(q) => {
             let mut mesh = q.tessellate();
             // pbrt-v4 takes a quadric's normal as ∂p/∂u × ∂p/∂v in object space, flipped when

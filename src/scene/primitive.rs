@@ -3,7 +3,9 @@
 //! Humphreys, *Physically Based Rendering*, 4th ed., §7.1.1) and Mitsuba 3's `Shape` do. The
 //! integrator asks the hit ([`super::SurfaceInteraction`]) for these, never the scene's lists.
 
-use crate::geometry::Mesh;
+use std::sync::Arc;
+
+use crate::geometry::{Curves, Mesh};
 use crate::material::FloatTexture;
 
 /// The participating media on the two sides of a surface (pbrt-v4 `MediumInterface`): indices
@@ -40,12 +42,15 @@ impl MediumInterface {
     }
 }
 
-/// A triangle mesh with its material, area emission, medium interface and alpha. A hit's `geom_id`
-/// names its primitive; primitives of object instances are in object space.
+/// A triangle mesh, or curves, with its material, area emission, medium interface and alpha. A
+/// hit's `geom_id` names its primitive; primitives of object instances are in object space.
 #[derive(Clone, Debug, Default)]
 pub struct Primitive {
-    /// The geometry.
+    /// The geometry (empty for curves).
     pub mesh: Mesh,
+    /// The curves, when the primitive is a curve shape (a hit's `prim_id` is a segment, its `u`
+    /// the curve parameter along it).
+    pub curves: Option<Arc<Curves>>,
     /// Index of its material in the scene's materials.
     pub material: u32,
     /// Index in the scene's lights of the area light of triangle 0, when the primitive emits

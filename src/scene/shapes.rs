@@ -1,4 +1,4 @@
-//! Shape parameters → geometry: inline meshes, mesh files, quadrics.
+//! Shape parameters → geometry: inline meshes, mesh files, quadrics, curves.
 
 use std::sync::Arc;
 
@@ -22,6 +22,12 @@ pub fn load(
     match kind {
         "sphere" | "disk" | "cylinder" => {
             super::quadric_params::load(kind, ps).map(ShapeGeometry::Quadric).map_err(err)
+        }
+        "curve" => {
+            let mut notes = Vec::new();
+            let curves = super::curve_params::load(ps, &mut notes).map_err(err)?;
+            warnings.extend(notes.into_iter().map(|n| Warning::note(loc, n)));
+            Ok(ShapeGeometry::Curves(Arc::new(curves)))
         }
         "trianglemesh" => Ok(ShapeGeometry::Mesh(Arc::new(inline_mesh(ps, loc, 3)?))),
         "bilinearmesh" => Ok(ShapeGeometry::Mesh(Arc::new(inline_mesh(ps, loc, 4)?))),

@@ -208,3 +208,10 @@ fn homogeneous_media_in_spheres_and_filling_the_scene_have_pbrt_v4s_means() {
 fn density_grid_rgb_grid_and_cloud_media_have_pbrt_v4s_means() {
     assert_matches_pbrt_v4("media-grid.pbrt", 16);
 }
+
+#[test]
+fn cylinder_ribbon_and_flat_curves_with_hair_have_pbrt_v4s_means() {
+    // Cylinder curves shade through pbrt-v4's normal turned across the width, and the hair
+    // BSDF reads the offset across the fibre as h = 2v − 1.
+    assert_matches_pbrt_v4("curves.pbrt", 16);
+}

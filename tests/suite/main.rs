@@ -8,6 +8,7 @@ mod bump;
 mod cli;
 mod common;
 mod compat;
+mod curves;
 mod envmap;
 mod equal_area_envmap;
 mod film;

@@ -113,7 +113,7 @@ fn load(name: &str) -> SceneDesc {
 fn mesh_triangles(s: &ShapeDesc) -> usize {
     match &s.geometry {
         ShapeGeometry::Mesh(m) => m.len(),
-        ShapeGeometry::Quadric(_) => 0,
+        ShapeGeometry::Quadric(_) | ShapeGeometry::Curves(_) => 0,
     }
 }
 

@@ -355,20 +355,16 @@ fn unknown_types_list_valid_names() {
 
 #[test]
 fn unsupported_features_warn_or_fail_under_strict() {
-    let (d, w) = parse(
-        "MakeNamedMedium \"fog\" \"string type\" \"nanovdb\"\nWorldBegin\nMaterial \"measured\"\nShape \"curve\"",
-    );
+    let (d, w) = parse("MakeNamedMedium \"fog\" \"string type\" \"nanovdb\"\nWorldBegin\nMaterial \"measured\"");
     let w: Vec<String> = w.iter().map(|w| w.to_string()).collect();
     assert_eq!(
         w,
         [
             "<string>:1:1: warning: unsupported feature: medium type \"nanovdb\" of \"fog\"; prism renders vacuum in its place",
             "<string>:3:10: warning: unsupported feature: material \"measured\"; prism uses \"diffuse\" instead",
-            "<string>:4:7: warning: unsupported feature: shape \"curve\"; prism skips the shape (hair/curves are not rendered)",
         ]
     );
     assert_eq!(d.materials[0].kind, "diffuse");
-    assert!(d.shapes.is_empty());
     assert_eq!(
         strict_err("WorldBegin\nMaterial \"measured\" \"string filename\" \"x.bsdf\""),
         "<string>:2:10: unsupported feature: material \"measured\" (strict mode; without --strict prism uses \"diffuse\" instead)"
@@ -684,4 +680,29 @@ fn large_inline_mesh_parses() {
     let ShapeGeometry::Mesh(m) = &d.shapes[0].geometry else { panic!() };
     assert_eq!((m.positions.len(), m.len()), (n as usize, n as usize - 2));
     eprintln!("parsed {} bytes in {:?}", s.len(), t.elapsed());
+}
+
+#[test]
+fn bspline_curves_become_bezier_segments_with_widths_linear_along_the_curve() {
+    let (d, w) = parse(
+        "WorldBegin\nShape \"curve\" \"string basis\" \"bspline\" \"point3 P\" [0 0 0 1 0 0 3 0 0 6 0 0 10 0 0]\n  \"float width0\" 0.3 \"float width1\" 0.1 \"integer splitdepth\" 2",
+    );
+    assert!(w.is_empty(), "{w:?}");
+    let prism::scene::desc::ShapeGeometry::Curves(c) = &d.shapes[0].geometry else { panic!("not curves") };
+    assert_eq!((c.segments.len(), c.split_depth), (2, 2));
+    // The first four B-spline points 0, 1, 3, 6 give the Bézier points (p0 + 4p1 + p2)/6,
+    // (2p1 + p2)/3, (p1 + 2p2)/3, (p1 + 4p2 + p3)/6.
+    let xs = c.segments[0].cp.map(|p| p.x);
+    for (x, want) in xs.iter().zip([7.0 / 6.0, 5.0 / 3.0, 7.0 / 3.0, 19.0 / 6.0]) {
+        assert!((x - want).abs() < 1e-6, "{xs:?}");
+    }
+    assert_eq!(c.segments[1].cp[0], c.segments[0].cp[3]);
+    let widths: Vec<[f32; 2]> = c.segments.iter().map(|s| s.width).collect();
+    assert!(
+        (widths[0][0] - 0.3).abs() < 1e-6 && (widths[0][1] - 0.2).abs() < 1e-6 && (widths[1][1] - 0.1).abs() < 1e-6
+    );
+    assert_eq!(
+        err("WorldBegin\nShape \"curve\" \"string type\" \"ribbon\" \"point3 P\" [0 0 0 1 0 0 2 0 0 3 0 0]"),
+        "<string>:2:1: a ribbon curve of 1 segment(s) needs 2 normals \"N\" (one per segment end), got 0 (at \"Shape \"curve\"\")"
+    );
 }

@@ -8,6 +8,7 @@
 //! user-geometry callbacks (no leaks; slower), selected on the command line as `embree` and
 //! `embree-watertight`.
 
+mod curves;
 mod device;
 mod ffi;
 #[cfg(test)]
@@ -22,7 +23,7 @@ pub use device::{error_name, Device, EmbreeError, CONFIG_ENV};
 
 use super::Accel;
 use crate::geometry::InstanceSet;
-use crate::geometry::{Bounds3, Hit, Mesh, Ray};
+use crate::geometry::{Bounds3, Curves, Hit, Mesh, Ray};
 
 /// BVH build quality, as Embree names it.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -90,6 +91,14 @@ impl EmbreeAccel {
     pub fn with_test(meshes: &[Mesh], quality: BuildQuality, test: TriangleTest) -> Result<Self, EmbreeError> {
         let device = device::Device::new()?;
         Ok(Self { scene: Levels::Flat(scene::Scene::build(device, meshes, quality.rtc(), test)?), test })
+    }
+
+    /// Builds one scene over `meshes` and `curves` ((geometry id, its curves), as Embree curve
+    /// geometry: `curves.rs`) with the given triangle test.
+    pub fn with_curves(meshes: &[Mesh], curves: &[(u32, &Curves)], test: TriangleTest) -> Result<Self, EmbreeError> {
+        let device = device::Device::new()?;
+        let q = BuildQuality::Medium.rtc();
+        Ok(Self { scene: Levels::Flat(scene::Scene::build_with_curves(device, meshes, curves, q, test)?), test })
     }
 
     /// Builds a two-level scene: one Embree scene per prototype, instanced into a top scene

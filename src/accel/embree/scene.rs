@@ -4,7 +4,7 @@ use super::device::{Device, EmbreeError};
 use super::ffi;
 use super::user_triangles::{self, ShearCache, UserMesh};
 use super::TriangleTest;
-use crate::geometry::{Bounds3, Hit, Mesh, Ray};
+use crate::geometry::{Bounds3, Curves, Hit, Mesh, Ray};
 use glam::Vec3;
 
 /// Owns one `RTCScene` handle; released in Drop. The device must outlive it.
@@ -168,6 +168,18 @@ impl Scene {
         quality: ffi::RTCBuildQuality,
         test: TriangleTest,
     ) -> Result<Self, EmbreeError> {
+        Self::build_with_curves(device, meshes, &[], quality, test)
+    }
+
+    /// [`Scene::build`] with curve geometries too: `curves` pairs a geometry id (of an empty
+    /// mesh) with its curves.
+    pub fn build_with_curves(
+        device: Device,
+        meshes: &[Mesh],
+        curves: &[(u32, &Curves)],
+        quality: ffi::RTCBuildQuality,
+        test: TriangleTest,
+    ) -> Result<Self, EmbreeError> {
         let mut raw = SceneHandle::new(&device, quality, test)?;
         let mut bounds = Bounds3::EMPTY;
         for (id, mesh) in meshes.iter().enumerate() {
@@ -176,6 +188,10 @@ impl Scene {
             }
             raw.attach_mesh(&device, mesh, id as u32)?;
             bounds = bounds.union(mesh.bounds());
+        }
+        for &(id, c) in curves {
+            super::curves::attach(raw.raw, &device, c, id)?;
+            bounds = bounds.union(c.bounds());
         }
         raw.commit(&device)?;
         Ok(Self { raw, device, bounds })

@@ -52,16 +52,22 @@ pub const RTCSceneFlags_RTC_SCENE_FLAG_ROBUST: RTCSceneFlags = 1 << 2;
 
 pub type RTCGeometryType = c_uint;
 pub const RTCGeometryType_RTC_GEOMETRY_TYPE_TRIANGLE: RTCGeometryType = 0;
+pub const RTCGeometryType_RTC_GEOMETRY_TYPE_ROUND_BEZIER_CURVE: RTCGeometryType = 24;
+pub const RTCGeometryType_RTC_GEOMETRY_TYPE_FLAT_BEZIER_CURVE: RTCGeometryType = 25;
+pub const RTCGeometryType_RTC_GEOMETRY_TYPE_NORMAL_ORIENTED_BEZIER_CURVE: RTCGeometryType = 26;
 pub const RTCGeometryType_RTC_GEOMETRY_TYPE_USER: RTCGeometryType = 120;
 pub const RTCGeometryType_RTC_GEOMETRY_TYPE_INSTANCE: RTCGeometryType = 121;
 
 pub type RTCBufferType = c_uint;
 pub const RTCBufferType_RTC_BUFFER_TYPE_INDEX: RTCBufferType = 0;
 pub const RTCBufferType_RTC_BUFFER_TYPE_VERTEX: RTCBufferType = 1;
+pub const RTCBufferType_RTC_BUFFER_TYPE_NORMAL: RTCBufferType = 3;
 
 pub type RTCFormat = c_uint;
+pub const RTCFormat_RTC_FORMAT_UINT: RTCFormat = 0x5001;
 pub const RTCFormat_RTC_FORMAT_UINT3: RTCFormat = 0x5003;
 pub const RTCFormat_RTC_FORMAT_FLOAT3: RTCFormat = 0x9003;
+pub const RTCFormat_RTC_FORMAT_FLOAT4: RTCFormat = 0x9004;
 pub const RTCFormat_RTC_FORMAT_FLOAT3X4_COLUMN_MAJOR: RTCFormat = 0x9234;
 
 /// `RTCRayQueryFlags` (rtcore_common.h).

@@ -1,0 +1,95 @@
+//! Curves on Embree (native flat Bézier curves) against obvhs (a curve BVH with pbrt-v4's
+//! recursive intersector): build time and closest-hit rays/s on one thread over a bundle of
+//! 10 000 cylinder-type hair strands (20 000 cubic segments). Camera rays are a pinhole's grid
+//! over the bundle; random rays start 4 units out and aim at random points in it. The backends
+//! take turns on each 4096-ray chunk, timed by the thread's CPU time; the figure is the median
+//! over passes.
+//!
+//! `cargo bench --bench curves`; `PRISM_BENCH_PASSES` (default 5).
+
+use std::time::Instant;
+
+use cpu_time::ThreadTime;
+use glam::Vec3;
+
+use prism::accel::{self, Accel, AccelKind};
+use prism::geometry::shapes::hair_bundle;
+use prism::geometry::{CurveKind, Mesh, Ray};
+use prism::sampling::Rng;
+
+const CHUNK: usize = 4096;
+
+/// A 512² pinhole image of the bundle from 2.5 units in front of it.
+fn camera_rays() -> Vec<Ray> {
+    let eye = Vec3::new(0.0, 0.6, -2.5);
+    let n = 512;
+    (0..n * n)
+        .map(|i| {
+            let (x, y) = ((i % n) as f32 / n as f32 - 0.5, 0.5 - (i / n) as f32 / n as f32);
+            Ray::new(eye, Vec3::new(0.6 * x, 0.6 * y, 1.0).normalize())
+        })
+        .collect()
+}
+
+/// Rays from a sphere of radius 4 about the bundle toward random points inside its box.
+fn random_rays(count: usize) -> Vec<Ray> {
+    let mut rng = Rng::new(7, 3);
+    (0..count)
+        .map(|_| {
+            let z = 1.0 - 2.0 * rng.uniform();
+            let s = (1.0 - z * z).max(0.0).sqrt();
+            let phi = std::f32::consts::TAU * rng.uniform();
+            let o = Vec3::new(0.0, 0.6, 0.0) + 4.0 * Vec3::new(s * phi.cos(), z, s * phi.sin());
+            let target = Vec3::new(rng.uniform() - 0.5, 1.2 * rng.uniform(), rng.uniform() - 0.5);
+            Ray::new(o, (target - o).normalize())
+        })
+        .collect()
+}
+
+fn median(mut v: Vec<f64>) -> f64 {
+    v.sort_by(f64::total_cmp);
+    v[v.len() / 2]
+}
+
+fn main() {
+    let passes: usize = std::env::var("PRISM_BENCH_PASSES").ok().and_then(|s| s.parse().ok()).unwrap_or(5);
+    let curves = hair_bundle(10_000, CurveKind::Cylinder, 1);
+    let meshes = vec![Mesh::default()];
+    let backends: Vec<(&str, Box<dyn Accel>)> = [("embree", AccelKind::Embree), ("obvhs", AccelKind::Obvhs)]
+        .into_iter()
+        .map(|(name, kind)| {
+            let t0 = Instant::now();
+            let a = accel::build_with_curves(kind, &meshes, &[(0, &curves)]).expect("build");
+            println!("{name}: build {:.3} s over {} segments", t0.elapsed().as_secs_f64(), curves.segments.len());
+            (name, a)
+        })
+        .collect();
+    for (label, rays) in [("camera", camera_rays()), ("random", random_rays(1 << 18))] {
+        let mut rates = vec![Vec::new(); backends.len()];
+        let mut hits = vec![0usize; backends.len()];
+        for _ in 0..passes {
+            let mut secs = vec![0.0f64; backends.len()];
+            for (c, chunk) in rays.chunks(CHUNK).enumerate() {
+                for k in 0..backends.len() {
+                    let b = (c + k) % backends.len();
+                    let t0 = ThreadTime::now();
+                    hits[b] += chunk.iter().filter(|r| backends[b].1.intersect(r).is_some()).count();
+                    secs[b] += t0.elapsed().as_secs_f64();
+                }
+            }
+            for (r, s) in rates.iter_mut().zip(secs) {
+                r.push(rays.len() as f64 / s * 1e-6);
+            }
+        }
+        for (b, (name, _)) in backends.iter().enumerate() {
+            let r = rates[b].clone();
+            println!(
+                "{label}: {name} {:.2} M rays/s (median of {passes}; range {:.2}–{:.2}), hit fraction {:.3}",
+                median(r.clone()),
+                r.iter().cloned().fold(f64::INFINITY, f64::min),
+                r.iter().cloned().fold(0.0, f64::max),
+                hits[b] as f64 / (passes * rays.len()) as f64
+            );
+        }
+    }
+}

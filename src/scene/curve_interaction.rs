@@ -1,0 +1,48 @@
+//! The surface interaction at a curve hit: the hit's t and u (from either backend) with the
+//! curve give the point, the normal — shading and geometric alike, as pbrt-v4 has them for
+//! curves — ∂p/∂u along the curve, ∂p/∂v across it and (u, v)
+//! ([`crate::geometry::curve_hit::curve_surface`]). The point's error bound is the curve's
+//! width there, so a spawned ray starts clear of the curve it leaves. Under `ReverseOrientation`
+//! (or a handedness-swapping transform) both normals are reversed, as pbrt-v4 reverses them.
+
+use super::{Bound, SurfaceInteraction, SurfaceNormals};
+use crate::geometry::curve_hit::{curve_surface, CurveSurface};
+use crate::geometry::{Curves, Hit, Ray};
+use crate::scene::{Primitive, Scene};
+use glam::{Vec2, Vec3};
+
+impl<'s> SurfaceInteraction<'s> {
+    /// The interaction for `hit` of `ray` on `curves`, the geometry of `primitive`.
+    pub(super) fn on_curve(scene: &'s Scene, primitive: &'s Primitive, curves: &Curves, ray: &Ray, hit: &Hit) -> Self {
+        let seg = &curves.segments[hit.prim_id as usize];
+        let s = curve_surface(seg, ray, hit.t, hit.u).unwrap_or_else(|| {
+            // A degenerate frame (zero tangent): face the ray.
+            let n = -ray.d.normalize_or_zero();
+            let w = seg.width_at(hit.u.clamp(0.0, 1.0));
+            let dpdu = n.any_orthonormal_vector();
+            CurveSurface {
+                p: ray.at(hit.t),
+                p_err: Vec3::splat(w),
+                n,
+                dpdu,
+                dpdv: n.cross(dpdu) * w,
+                uv: Vec2::new(hit.u, 0.5),
+            }
+        });
+        let n = if curves.flip_normal { -s.n } else { s.n };
+        Self {
+            p: s.p,
+            p_err: s.p_err,
+            shading: SurfaceNormals { ns: n, ng: n },
+            dpdu: s.dpdu,
+            dpdv: s.dpdv,
+            uv: s.uv,
+            wo: -ray.d.normalize(),
+            bound: Some(Bound { scene, primitive }),
+            mesh: hit.geom_id,
+            prim: hit.prim_id,
+            inst: hit.inst_id,
+            time: ray.time,
+        }
+    }
+}
