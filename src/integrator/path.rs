@@ -7,7 +7,6 @@ use super::Stats;
 use crate::bsdf::{Bsdf, Diffuse, TransportMode};
 use crate::geometry::Ray;
 use crate::light::LightSampleContext;
-use crate::material::Material;
 use crate::math::PI;
 use crate::sampling::mis::power_heuristic;
 use crate::sampling::Sampler;
@@ -240,8 +239,7 @@ impl PathIntegrator {
             if bs.is_transmission() {
                 // Refraction into a subsurface medium: continue where light leaves it. Entering and
                 // leaving scale radiance by 1/η² and η², so eta_scale is left alone.
-                let entered = si.material().and_then(Material::subsurface).filter(|_| bs.wi.dot(bsdf.ns()) < 0.0);
-                if let Some(m) = entered {
+                if let Some(m) = subsurface::entered(&si, &bs, bsdf.ns()) {
                     let w: &SampledWavelengths = w;
                     let mut light = |b: &SurfaceInteraction, bsdf: &Bsdf, sampler: &mut Sampler, stats: &mut Stats| {
                         self.sample_light(scene, b, bsdf, w, sampler, stats)

@@ -19,11 +19,11 @@
 //! is treated as its boundary.
 
 use super::Stats;
-use crate::bsdf::{Bsdf, TransportMode};
+use crate::bsdf::{Bsdf, BsdfSample, TransportMode};
 use crate::bssrdf::TabulatedBssrdf;
 use crate::geometry::{Hit, Ray};
 use crate::light::LightSampleContext;
-use crate::material::SubsurfaceMaterial;
+use crate::material::{Material, SubsurfaceMaterial};
 use crate::math::Frame;
 use crate::media::{FreeFlight, HomogeneousMedium};
 use crate::sampling::Sampler;
@@ -77,6 +77,16 @@ pub(super) enum Exit<'s> {
     /// sampled from the boundary's lobe with this solid-angle density (`None`: a delta lobe), for
     /// MIS with the light sampling done there.
     Ray(Ray, LightSampleContext, Option<f32>),
+}
+
+/// The subsurface material a path enters when its sample `bs` at `si` (with BSDF shading normal
+/// `ns`) refracts into the surface; `None` for any other sample or material. The material is
+/// resolved only for inward transmissions, so other bounces pay nothing.
+pub(super) fn entered<'s>(si: &SurfaceInteraction<'s>, bs: &BsdfSample, ns: Vec3) -> Option<&'s SubsurfaceMaterial> {
+    if !bs.is_transmission() || bs.wi.dot(ns) >= 0.0 {
+        return None;
+    }
+    si.material().and_then(Material::subsurface)
 }
 
 /// Next-event estimation at a boundary vertex of a random walk: the light sampled from the

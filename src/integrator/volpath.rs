@@ -20,7 +20,6 @@ use super::{PathIntegrator, Stats};
 use crate::bsdf::{Bsdf, TransportMode};
 use crate::geometry::Ray;
 use crate::light::LightSampleContext;
-use crate::material::Material;
 use crate::media::{sample_t_maj, HenyeyGreenstein};
 use crate::sampling::Sampler;
 use crate::scene::{Scene, SurfaceInteraction, MAX_INTERFACE_CROSSINGS};
@@ -217,11 +216,7 @@ impl VolPathIntegrator {
             // Refraction into a subsurface material: the path goes on where light leaves it, in
             // the medium it came from (entering and leaving scale radiance by 1/η² and η², so
             // eta_scale is left alone).
-            let entered = si
-                .material()
-                .and_then(Material::subsurface)
-                .filter(|_| bs.is_transmission() && wi.dot(bsdf.ns()) < 0.0);
-            if let Some(m) = entered {
+            if let Some(m) = subsurface::entered(&si, &bs, bsdf.ns()) {
                 let outside = si.medium_interface().medium_toward(si.wo, si.shading.ng, medium);
                 let (w, r_p): (&SampledWavelengths, _) = (w, r_u);
                 let mut light = |b: &SurfaceInteraction, b_bsdf: &Bsdf, sampler: &mut Sampler, stats: &mut Stats| {

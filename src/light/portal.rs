@@ -108,11 +108,15 @@ impl PortalLight {
         let y = (corners[1] - corners[0]).normalize();
         let world_from_portal = Mat3::from_cols(x, y, x.cross(y).normalize());
         let light_from_portal = world_from_light.transpose() * world_from_portal;
-        let centre = |i: usize| Vec2::new(((i % n) as f32 + 0.5) / n as f32, ((i / n) as f32 + 0.5) / n as f32);
-        let rectified: Vec<[f32; 3]> = (0..n * n)
-            .into_par_iter()
+        // Each rectified texel centre's direction (portal frame) and dω/(du dv) there.
+        let centres: Vec<(Vec3, f32)> = (0..n * n)
             .map(|i| {
-                let (w, _) = rectified_direction(centre(i));
+                rectified_direction(Vec2::new(((i % n) as f32 + 0.5) / n as f32, ((i / n) as f32 + 0.5) / n as f32))
+            })
+            .collect();
+        let rectified: Vec<[f32; 3]> = centres
+            .par_iter()
+            .map(|&(w, _)| {
                 bilerp_equal_area(&source, n, equal_area::sphere_to_square((light_from_portal * w).normalize()))
             })
             .collect();
@@ -120,15 +124,13 @@ impl PortalLight {
         let _ = space.rgb_to_spectrum_table();
         let texels: Vec<TexelSpectrum> = rectified.par_iter().map(|&rgb| TexelSpectrum::from_rgb(rgb, space)).collect();
         let weights: Vec<f32> =
-            (0..n * n).map(|i| rectified[i].iter().sum::<f32>() / 3.0 * rectified_direction(centre(i)).1).collect();
+            rectified.iter().zip(&centres).map(|(rgb, &(_, jac))| rgb.iter().sum::<f32>() / 3.0 * jac).collect();
         // Φ = A ∫ L cos θ dω over the directions through the portal, by the midpoint rule.
         let area = (corners[1] - corners[0]).length() * (corners[3] - corners[0]).length();
-        let flux = (0..n * n)
-            .map(|i| {
-                let (w, jac) = rectified_direction(centre(i));
-                let lum = space.rgb_to_xyz(Vec3::from(rectified[i])).y.max(0.0);
-                (lum * jac * w.z) as f64
-            })
+        let flux = rectified
+            .iter()
+            .zip(&centres)
+            .map(|(&rgb, &(w, jac))| (space.rgb_to_xyz(Vec3::from(rgb)).y.max(0.0) * jac * w.z) as f64)
             .sum::<f64>()
             * area as f64
             / (n * n) as f64;
