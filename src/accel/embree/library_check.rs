@@ -105,8 +105,11 @@ fn check_library(device: &Device) -> Result<(), String> {
     unsafe { ffi::intersect1(scene.raw, ctx.as_mut_ptr(), &mut g.rh) };
     let past = g.overwritten_past_record();
     let found = (g.rh.hit.geomID, g.rh.hit.primID, g.rh.ray.tfar);
+    // The distance is 1 up to the rounding of the kernel Embree picks for the CPU (its AVX2
+    // kernel returns 1 − 2⁻²⁴ here, its AVX-512 kernel exactly 1).
+    let hit_found = found.0 == 0 && found.1 == 0 && (found.2 - 1.0).abs() <= 4.0 * f32::EPSILON;
     let instances_written = g.instance_words().iter().all(|&w| w == ffi::RTC_INVALID_GEOMETRY_ID);
-    if !past.is_empty() || found != (0, 0, 1.0) || !instances_written {
+    if !past.is_empty() || !hit_found || !instances_written {
         return Err(format!(
             "the {} library {} writes a hit record other than prism's declarations (RTCHit of {} \
              bytes ending with {} instance words): hit {found:?}, instance words {:x?}, words \
