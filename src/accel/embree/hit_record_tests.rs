@@ -26,7 +26,8 @@ fn probe(dx: f32) -> GuardedRayHit {
 
 fn assert_record_kept(g: &GuardedRayHit, what: &str) {
     assert_eq!(g.rh.hit.geomID, 0, "{what}: the probe ray must hit mesh 0 ({:?})", g.rh);
-    assert_eq!(g.rh.ray.tfar, 1.0, "{what}");
+    // 1 up to the rounding of the kernel Embree picks for the CPU (1 − 2⁻²⁴ from its AVX2 kernel).
+    assert!((g.rh.ray.tfar - 1.0).abs() <= 4.0 * f32::EPSILON, "{what}: t = {}", g.rh.ray.tfar);
     assert!(
         g.overwritten_past_record().is_empty(),
         "{what}: words {:?} past the hit record were written",

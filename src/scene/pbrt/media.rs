@@ -5,7 +5,7 @@
 //! multiplied by `Lescale`.
 
 use super::{param_error, space_of, Ctx};
-use crate::media::presets::{measured_media_names, measured_medium};
+use crate::media::presets::{measured_coefficients, measured_media_names};
 use crate::media::{
     CloudMedium, CloudShape, DensityGrid, EmissionSource, GridEmission, GridMedium, Homogeneous, Medium, RgbGridMedium,
     SpectrumGrid,
@@ -178,23 +178,18 @@ impl Ctx<'_> {
     }
 
     /// σ_a and σ_s: a named measured medium (`preset`), else `sigma_a`/`sigma_s` (default 1).
+    /// An unknown preset is a warning and the defaults, as pbrt-v4 reads it.
     fn coefficients(&mut self, m: &MediumDesc) -> Result<(Spectrum, Spectrum), SceneError> {
         let p = &m.params;
         if let Some(name) = p.string("preset") {
-            match measured_medium(name) {
-                Some((s, a)) => {
-                    let space = space_of(p);
-                    return Ok((
-                        Spectrum::from_rgb(a, RgbKind::Unbounded, space),
-                        Spectrum::from_rgb(s, RgbKind::Unbounded, space),
-                    ));
-                }
+            match measured_coefficients(name) {
+                Some(coefficients) => return Ok(coefficients),
                 None => {
                     let message = format!(
-                        "unknown measured medium \"{name}\" (prism has Jensen et al. 2001's: {})",
+                        "unknown measured medium preset \"{name}\": sigma_a and sigma_s are used (known: {})",
                         measured_media_names().join(", ")
                     );
-                    return Err(param_error(p, "preset", &m.loc, message));
+                    self.warnings.push(crate::scene::error::Warning::note(&m.loc, message));
                 }
             }
         }
@@ -304,9 +299,11 @@ mod tests {
         let undefined = "Camera \"perspective\"\nWorldBegin\nMediumInterface \"smoke\"\nShape \"sphere\"";
         let e = scene(undefined).err().unwrap();
         assert!(e.contains("<string>:4:") && e.contains("medium \"smoke\" is not defined"), "{e}");
-        let preset = "MakeNamedMedium \"m\" \"string type\" \"homogeneous\" \"string preset\" \"Mud\"\nWorldBegin";
-        let e = scene(preset).err().unwrap();
-        assert!(e.contains("<string>:1:") && e.contains("Wholemilk"), "{e}");
+        // An unknown preset warns and keeps sigma_a/sigma_s, as pbrt-v4.
+        let preset = "MakeNamedMedium \"m\" \"string type\" \"homogeneous\" \"string preset\" \"Mud\"\n\
+            Camera \"perspective\"\nWorldBegin";
+        let (_, w) = scene(preset).unwrap();
+        assert!(w.len() == 1 && w[0].contains("<string>:1:") && w[0].contains("Wholemilk"), "{w:?}");
         let g = "MakeNamedMedium \"m\" \"string type\" \"homogeneous\" \"float g\" [ 1 ]\nWorldBegin";
         assert!(scene(g).err().unwrap().contains("g must lie in (-1, 1)"));
         let grid = "MakeNamedMedium \"m\" \"string type\" \"uniformgrid\" \"integer nx\" 2 \"float density\" [ 1 ]\nWorldBegin";

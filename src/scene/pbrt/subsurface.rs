@@ -2,25 +2,32 @@
 //! `SubsurfaceMaterial::Create`: `eta` (1.33), `g` (0), `scale` (1), roughness as the
 //! dielectric; the medium from `reflectance` + `mfp` (SubsurfaceFromDiffuse), else `sigma_a` +
 //! `sigma_s` (defaults: pbrt's skin-like RGB (.0011, .0024, .014) and (2.55, 3.21, 3.77) per mm).
-//! Named measured media (`name`) are not shipped: a warning, then the defaults.
+//! `name` picks a measured medium ([`crate::media::presets`]) for σ_a and σ_s, with g = 0 (the
+//! tables give reduced scattering coefficients); an unknown name is an error, as in pbrt-v4.
 
 use super::Ctx;
 use crate::material::{Material, ScatteringSpec, SubsurfaceMaterial};
 use crate::scene::desc::MaterialDesc;
-use crate::scene::error::SceneError;
+use crate::scene::error::{SceneError, Warning};
 use crate::spectrum::{RgbKind, Spectrum};
 
 impl Ctx<'_> {
     pub(super) fn subsurface(&mut self, m: &MaterialDesc) -> Result<Material, SceneError> {
         let p = &m.params;
         let loc = &m.loc;
-        if let Some(name) = p.string("name") {
-            let name = name.to_string();
-            let feature = format!("subsurface: measured medium \"{name}\" (not shipped with prism)");
-            self.unsupported(loc, feature, "uses sigma_a/sigma_s");
-        }
         let scale = p.float_or("scale", 1.0);
-        let spec = if p.has("reflectance") {
+        let mut g = p.float_or("g", 0.0);
+        let spec = if let Some(name) = p.string("name") {
+            let Some((sigma_a, sigma_s)) = crate::media::presets::measured_coefficients(name) else {
+                let message = format!("unknown measured medium \"{name}\"");
+                return Err(SceneError::syntax(loc, "name", message));
+            };
+            if g != 0.0 {
+                self.warnings.push(Warning::note(loc, "subsurface: g is ignored with a named medium (g = 0)"));
+                g = 0.0;
+            }
+            ScatteringSpec::Coefficients { sigma_a, sigma_s, scale }
+        } else if p.has("reflectance") {
             let reflectance = self.spectrum_texture(p, "reflectance", 1.0, loc)?;
             let mfp = self.unbounded_or(p, "mfp", [1.0; 3], loc)?;
             ScatteringSpec::Reflectance { reflectance, mfp, scale }
@@ -33,7 +40,6 @@ impl Ctx<'_> {
         if !(eta.is_finite() && eta > 0.0) {
             return Err(SceneError::syntax(loc, "eta", format!("subsurface eta must be positive, got {eta}")));
         }
-        let g = p.float_or("g", 0.0);
         if !(g.is_finite() && g.abs() < 1.0) {
             return Err(SceneError::syntax(loc, "g", format!("subsurface g must lie in (-1, 1), got {g}")));
         }
@@ -85,8 +91,30 @@ mod tests {
         assert_eq!((s.eta, s.g), (1.4, 0.3));
         assert!(matches!(s.spec, crate::material::ScatteringSpec::Reflectance { .. }));
         assert!(!s.table_built(), "parsing must not build the table");
-        let named = format!("{HEAD}Material \"subsurface\" \"string name\" [ \"Skin1\" ]{SHAPE}");
-        assert_eq!(materials(&named).unwrap().1, 1, "unsupported named medium warns");
+        // A named medium: the table's coefficients (Narasimhan et al. 2006's espresso), g = 0
+        // with a warning, and `scale` still applies.
+        let named = format!(
+            "{HEAD}Material \"subsurface\" \"string name\" [ \"Espresso\" ] \"float g\" [ 0.4 ] \"float scale\" [ 10 ]{SHAPE}"
+        );
+        let (m, warnings) = materials(&named).unwrap();
+        assert_eq!(warnings, 1, "g with a name warns");
+        let crate::material::Material::Subsurface(s) = &m[0] else { panic!("{m:?}") };
+        assert_eq!(s.g, 0.0);
+        let crate::material::ScatteringSpec::Coefficients { sigma_a, sigma_s, scale } = &s.spec else { panic!() };
+        let srgb = |c| {
+            crate::spectrum::Spectrum::from_rgb(
+                c,
+                crate::spectrum::RgbKind::Unbounded,
+                crate::spectrum::ColorSpace::srgb(),
+            )
+        };
+        for l in [450.0, 550.0, 650.0] {
+            assert_eq!(sigma_a.eval(l), srgb([4.7984, 6.5751, 8.8493]).eval(l));
+            assert_eq!(sigma_s.eval(l), srgb([0.72378, 0.84557, 1.0247]).eval(l));
+        }
+        assert_eq!(*scale, 10.0);
+        let unknown = format!("{HEAD}Material \"subsurface\" \"string name\" [ \"Mud\" ]{SHAPE}");
+        assert!(materials(&unknown).unwrap_err().contains("unknown measured medium \"Mud\""));
         for bad in ["\"float g\" [ 1 ]", "\"float eta\" [ -1 ]"] {
             let text = format!("{HEAD}Material \"subsurface\" {bad}{SHAPE}");
             let e = materials(&text).unwrap_err();
