@@ -326,3 +326,46 @@ fn volpath_renders_subsurface_materials_as_the_path_tracer_does() {
         }
     }
 }
+
+#[test]
+fn an_emissive_rgb_grid_gives_the_quadrature_of_its_emission() {
+    // An absorbing RGB grid over the unit cube, 2 × 1 × 1 voxels, emitting Lescale · trilinear(Le)
+    // [pbrt-v4's RGBGridMedium]. Along z at x = 3/8 the x weights are ¾ and ¼; with one voxel in
+    // z, the lattice's trilinear support falls to half at the faces z = 0 and z = 1, so
+    // w(z) = ½ + min(z, 1 − z) for σ_a and L_e alike, and
+    // L = ∫₀¹ σ_a(z) L_e(z) exp(−∫₀ᶻ σ_a) dz, by quadrature here.
+    use crate::media::{RgbGridMedium, SpectrumGrid};
+    let (a0, a1) = ([0.4f32, 1.0, 2.0, 3.0], [1.2f32, 0.6, 0.2, 3.0]);
+    let (e0, e1, le_scale) = ([1.0f32, 2.0, 0.5, 4.0], [3.0f32, 0.5, 0.5, 0.0], 1.5f32);
+    let grid = |v0, v1| SpectrumGrid { n: UVec3::new(2, 1, 1), values: vec![chromatic(v0), chromatic(v1)] };
+    let medium = RgbGridMedium::new(
+        Mat4::IDENTITY,
+        Vec3::ZERO,
+        Vec3::ONE,
+        Some(grid(a0, a1)),
+        Some(grid([0.0; 4], [0.0; 4])),
+        1.0,
+        0.0,
+    )
+    .unwrap()
+    .with_emission(grid(e0, e1), le_scale);
+    let scene = bounded_medium(axis_box(Vec3::ZERO, Vec3::ONE), Medium::RgbGrid(Box::new(medium)), uniform_sky(0.0));
+    let integ = VolPathIntegrator { max_depth: 5, footprint: None, regularize: false, sss: Default::default() };
+    let ray = Ray::new(Vec3::new(0.375, 0.5, -2.0), Vec3::Z);
+    let got = per_wavelength(40_000, 6, |w, s, st| integ.li(&scene, ray, w, s, st));
+    let expect = std::array::from_fn(|c| {
+        let support = |z: f64| 0.5 + z.min(1.0 - z);
+        let x_mix = |v0: f32, v1: f32| 0.75 * v0 as f64 + 0.25 * v1 as f64;
+        let (steps, mut tau, mut l) = (100_000, 0.0f64, 0.0f64);
+        for i in 0..steps {
+            let z = (i as f64 + 0.5) / steps as f64;
+            let sa = x_mix(a0[c], a1[c]) * support(z);
+            let le = le_scale as f64 * x_mix(e0[c], e1[c]) * support(z);
+            let dz = 1.0 / steps as f64;
+            l += (-(tau + 0.5 * sa * dz)).exp() * sa * le * dz;
+            tau += sa * dz;
+        }
+        l
+    });
+    assert_close(got, expect, "emissive rgb grid");
+}

@@ -2,7 +2,9 @@
 //! `RGBGridMedium`, the scene format's "rgbgrid"): each voxel's RGB is an unbounded spectrum
 //! (Jakob & Hanika 2019), and the coefficients at a point are the trilinear interpolation of the
 //! eight neighbouring voxels' spectra at the path's wavelengths, times `scale`. A coefficient
-//! given no grid is 1 everywhere (times `scale`), as in pbrt-v4.
+//! given no grid is 1 everywhere (times `scale`), as in pbrt-v4. An optional `Le` grid of RGB
+//! illuminant spectra (the colour space's white times each voxel's colour) emits
+//! L_e(p) = `Lescale` · trilinear(Le)(p), unscaled by `scale` and not normalised, as pbrt-v4's.
 
 use super::grid::{clip_to_unit_cube, unit_cube_from_world, DensityGrid, MAJORANT_RES};
 use super::majorant::{Dda, MajorantGrid, MajorantSegments};
@@ -61,6 +63,8 @@ pub struct RgbGridMedium {
     sigma_s: Option<SpectrumGrid>,
     scale: f32,
     g: f32,
+    /// The emission grid [W/(sr·m²·nm) per unit of its RGB] and its `Lescale`.
+    le: Option<(SpectrumGrid, f32)>,
     /// Per-cell bound on max σ_a + max σ_s (before `scale`).
     majorants: MajorantGrid,
 }
@@ -86,7 +90,12 @@ impl RgbGridMedium {
         let max = |g: &Option<SpectrumGrid>| g.as_ref().map_or(vec![1.0; cells], |g| g.maxima().majorants(res).max);
         let majorants =
             MajorantGrid { res, max: max(&sigma_a).iter().zip(max(&sigma_s)).map(|(a, s)| a + s).collect() };
-        Some(Self { grid_from_world, sigma_a, sigma_s, scale, g, majorants })
+        Some(Self { grid_from_world, sigma_a, sigma_s, scale, g, le: None, majorants })
+    }
+
+    /// The medium emitting `le_scale` times the trilinear interpolation of `le`.
+    pub fn with_emission(self, le: SpectrumGrid, le_scale: f32) -> Self {
+        Self { le: (le_scale > 0.0).then_some((le, le_scale)), ..self }
     }
 
     /// The coefficients at world-space `p`.
@@ -97,7 +106,8 @@ impl RgbGridMedium {
             return MediumPoint { sigma_a: zero, sigma_s: zero, le: zero, g: self.g };
         }
         let at = |g: &Option<SpectrumGrid>| g.as_ref().map_or(SampledSpectrum::one(), |g| g.lookup(q, w)) * self.scale;
-        MediumPoint { sigma_a: at(&self.sigma_a), sigma_s: at(&self.sigma_s), le: SampledSpectrum::zero(), g: self.g }
+        let le = self.le.as_ref().map_or(SampledSpectrum::zero(), |(le, k)| le.lookup(q, w) * *k);
+        MediumPoint { sigma_a: at(&self.sigma_a), sigma_s: at(&self.sigma_s), le, g: self.g }
     }
 
     /// The majorant grid's cells along `o + t d`, t in [0, t_max], clipped to the box.

@@ -1,8 +1,9 @@
 //! pbrt-v4's MakeNamedMedium → [`Medium`], with parameters and defaults as pbrt-v4's
 //! `media.cpp`: "homogeneous" (`sigma_a`, `sigma_s` (default 1 each), `scale`, `g`, `preset`,
 //! `Le`, `Lescale`) and "uniformgrid" (`density` with `nx`, `ny`, `nz`, bounds `p0`/`p1`, and
-//! the same coefficients). Emission `Le` is normalised to unit luminance like a light's, then
-//! multiplied by `Lescale`.
+//! the same coefficients), "rgbgrid" (RGB grids of σ_a, σ_s and `Le`) and "cloud". Emission
+//! `Le` of homogeneous and density grids is normalised to unit luminance like a light's, then
+//! multiplied by `Lescale`; an rgbgrid's `Le` grid is not normalised, as pbrt-v4's.
 
 use super::{param_error, space_of, Ctx};
 use crate::media::presets::{measured_coefficients, measured_media_names};
@@ -79,12 +80,10 @@ impl Ctx<'_> {
                 Some(Medium::Grid(Box::new(medium)))
             }
             "rgbgrid" => {
-                if p.has("Le") {
-                    let feature = "rgbgrid \"Le\" (emission of an RGB grid)".to_string();
-                    self.unsupported(&m.loc, feature, "renders the grid without emission");
-                }
                 let n = ["nx", "ny", "nz"].map(|k| p.int_or(k, 1));
-                let (a, s) = (self.rgb_grid(m, "sigma_a", n)?, self.rgb_grid(m, "sigma_s", n)?);
+                let unbounded = RgbKind::Unbounded;
+                let (a, s) = (self.rgb_grid(m, "sigma_a", n, unbounded)?, self.rgb_grid(m, "sigma_s", n, unbounded)?);
+                let le = self.rgb_grid(m, "Le", n, RgbKind::Illuminant)?;
                 let (p0, p1) = (p.point3("p0").unwrap_or(Vec3::ZERO), p.point3("p1").unwrap_or(Vec3::ONE));
                 let medium = RgbGridMedium::new(m.world_from_medium, p0, p1, a, s, scale, g).ok_or_else(|| {
                     param_error(
@@ -94,6 +93,10 @@ impl Ctx<'_> {
                         "rgbgrid needs sigma_a or sigma_s, non-empty bounds and an invertible transform".into(),
                     )
                 })?;
+                let medium = match le {
+                    Some(le) => medium.with_emission(le, p.float_or("Lescale", 1.0)),
+                    None => medium,
+                };
                 Some(Medium::RgbGrid(Box::new(medium)))
             }
             "cloud" => {
@@ -157,8 +160,14 @@ impl Ctx<'_> {
         Ok(Some(GridEmission { scale, source }))
     }
 
-    /// An rgbgrid coefficient: nx·ny·nz RGB triples, each an unbounded spectrum (absent: zero).
-    fn rgb_grid(&mut self, m: &MediumDesc, name: &str, n: [i32; 3]) -> Result<Option<SpectrumGrid>, SceneError> {
+    /// An rgbgrid coefficient or emission: nx·ny·nz RGB triples, each lifted as `kind`.
+    fn rgb_grid(
+        &mut self,
+        m: &MediumDesc,
+        name: &str,
+        n: [i32; 3],
+        kind: RgbKind,
+    ) -> Result<Option<SpectrumGrid>, SceneError> {
         let p = &m.params;
         let rgbs: Vec<[f32; 3]> = match p.spectrum(name) {
             None => return Ok(None),
@@ -172,8 +181,7 @@ impl Ctx<'_> {
             return Err(param_error(p, name, &m.loc, message));
         }
         let space = space_of(p);
-        let values =
-            rgbs.iter().map(|&c| Spectrum::from_rgb(c.map(|x| x.max(0.0)), RgbKind::Unbounded, space)).collect();
+        let values = rgbs.iter().map(|&c| Spectrum::from_rgb(c.map(|x| x.max(0.0)), kind, space)).collect();
         Ok(Some(SpectrumGrid { n: UVec3::new(n[0] as u32, n[1] as u32, n[2] as u32), values }))
     }
 
