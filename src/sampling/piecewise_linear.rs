@@ -200,12 +200,11 @@ impl<const N: usize> PiecewiseLinear2D<N> {
     fn corners(&self, param: &[f32; N]) -> Corners {
         let mut c = Corners { slice: [0; 8], weight: [0.0; 8], n: 1 };
         c.weight[0] = 1.0;
-        for d in 0..N {
-            let v = &self.params[d];
+        for (d, (v, &p)) in self.params.iter().zip(param).enumerate() {
             if v.len() == 1 {
                 continue;
             }
-            let p = if param[d].is_nan() { v[0] } else { param[d] };
+            let p = if p.is_nan() { v[0] } else { p };
             let i = find_interval(v.len(), |k| v[k] <= p);
             let w1 = ((p - v[i]) / (v[i + 1] - v[i])).clamp(0.0, 1.0);
             for k in 0..c.n {

@@ -111,7 +111,7 @@ impl Measured {
             return r / cos2;
         }
         let sigma = b.sigma.eval(w1.u(), &[]);
-        if !(sigma > 0.0) {
+        if sigma.is_nan() || sigma <= 0.0 {
             return SampledSpectrum::zero();
         }
         r * (b.ndf.eval(u_wm, &[]) / (4.0 * sigma * cos2))

@@ -212,7 +212,7 @@ pub fn tabulate<B: AnalyticBrdf + Sync>(brdf: &B, grid: &Grid, description: &str
     };
     let ndf = over_u(&|c| brdf.ndf(c));
     let sigma = over_u(&|c| brdf.sigma(c));
-    let per_theta: Vec<(Vec<f32>, Vec<f32>, Vec<f32>)> = grid
+    let per_theta: Vec<[Vec<f32>; 3]> = grid
         .theta_i
         .par_iter()
         .map(|&t| {
@@ -237,12 +237,10 @@ pub fn tabulate<B: AnalyticBrdf + Sync>(brdf: &B, grid: &Grid, description: &str
                     luminance[k] += r / grid.wavelengths.len() as f32;
                 }
             }
-            (vndf, luminance, spectra)
+            [vndf, luminance, spectra]
         })
         .collect();
-    let cat = |pick: fn(&(Vec<f32>, Vec<f32>, Vec<f32>)) -> &Vec<f32>| -> Vec<f32> {
-        per_theta.iter().flat_map(|p| pick(p).iter().copied()).collect()
-    };
+    let cat = |k: usize| -> Vec<f32> { per_theta.iter().flat_map(|p| p[k].iter().copied()).collect() };
     let nt = grid.theta_i.len();
     let nl = grid.wavelengths.len();
     let mut t = TensorFile::default();
@@ -254,9 +252,9 @@ pub fn tabulate<B: AnalyticBrdf + Sync>(brdf: &B, grid: &Grid, description: &str
     put("wavelengths", Field::f32(vec![nl], &grid.wavelengths));
     put("ndf", Field::f32(vec![nd, nd], &ndf));
     put("sigma", Field::f32(vec![nd, nd], &sigma));
-    put("vndf", Field::f32(vec![1, nt, ns, ns], &cat(|p| &p.0)));
-    put("luminance", Field::f32(vec![1, nt, ns, ns], &cat(|p| &p.1)));
-    put("spectra", Field::f32(vec![1, nt, nl, ns, ns], &cat(|p| &p.2)));
+    put("vndf", Field::f32(vec![1, nt, ns, ns], &cat(0)));
+    put("luminance", Field::f32(vec![1, nt, ns, ns], &cat(1)));
+    put("spectra", Field::f32(vec![1, nt, nl, ns, ns], &cat(2)));
     put("jacobian", Field::u8(vec![1], &[1]));
     put("description", Field::u8(vec![description.len()], description.as_bytes()));
     t
