@@ -2,7 +2,7 @@
 
 use super::{
     BsdfSample, BxdfFlags, CoatedDiffuse, Conductor, Dielectric, Diffuse, DiffuseTransmission, Hair, LayeredConductor,
-    LayeredDiffuse, NormalizedFresnel, ThinDielectric, TransportMode,
+    LayeredDiffuse, Measured, NormalizedFresnel, ThinDielectric, TransportMode,
 };
 use crate::math::{Vec2, Vec3};
 use crate::spectrum::SampledSpectrum;
@@ -33,6 +33,8 @@ pub enum Bxdf {
     NormalizedFresnel(NormalizedFresnel),
     /// A hair fibre (Chiang et al. 2016; local x along the fibre).
     Hair(Hair),
+    /// A tabulated BRDF (pbrt-v4 `measured`; Dupuy & Jakob 2018).
+    Measured(Measured),
 }
 
 macro_rules! dispatch {
@@ -48,6 +50,7 @@ macro_rules! dispatch {
             Bxdf::LayeredConductor($b) => $e,
             Bxdf::NormalizedFresnel($b) => $e,
             Bxdf::Hair($b) => $e,
+            Bxdf::Measured($b) => $e,
         }
     };
 }
@@ -78,8 +81,8 @@ impl Bxdf {
     }
 
     /// Widens every microfacet lobe ([`super::TrowbridgeReitz::regularize`]); lobes without a
-    /// microfacet distribution (diffuse, thin dielectric, hair, the BSSRDF entry lobe) stay
-    /// as they are, as in pbrt-v4.
+    /// microfacet distribution (diffuse, thin dielectric, hair, the BSSRDF entry lobe) and the
+    /// tabulated measured one stay as they are, as in pbrt-v4.
     pub fn regularize(&mut self) {
         match self {
             Bxdf::Conductor(b) => b.distrib.regularize(),
@@ -94,7 +97,8 @@ impl Bxdf {
             | Bxdf::DiffuseTransmission(_)
             | Bxdf::ThinDielectric(_)
             | Bxdf::NormalizedFresnel(_)
-            | Bxdf::Hair(_) => {}
+            | Bxdf::Hair(_)
+            | Bxdf::Measured(_) => {}
         }
     }
 }
@@ -137,6 +141,11 @@ impl From<NormalizedFresnel> for Bxdf {
 impl From<Hair> for Bxdf {
     fn from(b: Hair) -> Self {
         Bxdf::Hair(b)
+    }
+}
+impl From<Measured> for Bxdf {
+    fn from(b: Measured) -> Self {
+        Bxdf::Measured(b)
     }
 }
 impl From<LayeredDiffuse> for Bxdf {

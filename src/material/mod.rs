@@ -16,7 +16,10 @@ pub use layered::{CoatedConductorMaterial, CoatedDiffuseMaterial, LayerSpec};
 pub use mix::{hit_key, MixMaterial};
 pub use subsurface::{ScatteringSpec, SubsurfaceMaterial};
 
-use crate::bsdf::{Bsdf, Bxdf, Conductor, Dielectric, Diffuse, DiffuseTransmission, ThinDielectric, TrowbridgeReitz};
+use crate::bsdf::{
+    Bsdf, Bxdf, Conductor, Dielectric, Diffuse, DiffuseTransmission, Measured, MeasuredBrdf, ThinDielectric,
+    TrowbridgeReitz,
+};
 use crate::spectrum::{SampledSpectrum, SampledWavelengths, Spectrum};
 use glam::Vec3;
 
@@ -33,6 +36,7 @@ pub const PBRT_NAMES: &[&str] = &[
     "mix",
     "interface",
     "hair",
+    "measured",
 ];
 
 /// Index of refraction: constant, or a spectrum η(λ) (dispersive when it varies).
@@ -143,6 +147,9 @@ pub enum Material {
     Subsurface(Box<SubsurfaceMaterial>),
     /// "hair": a fibre of a curve (Chiang et al. 2016).
     Hair(Box<HairMaterial>),
+    /// "measured": a tabulated BRDF read from an RGL `.bsdf` file, shared by every material
+    /// that names the same file.
+    Measured(std::sync::Arc<MeasuredBrdf>),
     /// Any other material with its shading normal perturbed by a displacement texture or a
     /// normal map ("float displacement", "string normalmap").
     Bumped(Box<BumpedMaterial>),
@@ -206,7 +213,7 @@ impl Material {
             }
             Material::Conductor { ior: ConductorIor::EtaK { .. }, roughness } => rough(roughness),
             Material::Dielectric { roughness, .. } => rough(roughness),
-            Material::ThinDielectric { .. } | Material::Interface => false,
+            Material::ThinDielectric { .. } | Material::Measured(_) | Material::Interface => false,
             _ => true,
         }
     }
@@ -250,6 +257,7 @@ impl Material {
             Material::CoatedDiffuse(m) => m.bxdf(&sp.tex, w),
             Material::CoatedConductor(m) => m.bxdf(&sp.tex, w),
             Material::Hair(m) => m.bxdf(&sp.tex, w),
+            Material::Measured(brdf) => Measured::new(brdf.clone(), w.lambda).into(),
             Material::Mix(_) => return self.bsdf_of_unresolved_mix(sp, w),
             Material::Subsurface(m) => return Some(m.boundary_bsdf(sp)),
             // The perturbation needs the surface's derivatives, which

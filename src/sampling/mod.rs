@@ -4,6 +4,7 @@ pub mod alias;
 pub mod chi2;
 pub mod distribution;
 pub mod mis;
+pub mod piecewise_linear;
 pub mod rng;
 pub mod sampler;
 mod sobol;
@@ -12,6 +13,7 @@ pub mod windowed;
 
 pub use alias::AliasTable;
 pub use distribution::{Distribution1D, Distribution2D, Sample1D};
+pub use piecewise_linear::PiecewiseLinear2D;
 pub use rng::Rng;
 pub use sampler::Sampler;
 pub use windowed::{Window, WindowedDistribution2D};

@@ -13,7 +13,7 @@ pub const PBRT_ONLY_SHAPES: &[(&str, &str)] = &[];
 /// Materials prism renders (listed beside the `Material` enum they become).
 pub const PRISM_MATERIALS: &[&str] = crate::material::PBRT_NAMES;
 /// pbrt-v4 materials prism replaces, with the replacement type (used with default parameters).
-pub const PBRT_ONLY_MATERIALS: &[(&str, &str)] = &[("measured", "diffuse")];
+pub const PBRT_ONLY_MATERIALS: &[(&str, &str)] = &[];
 
 /// Non-area lights prism renders (listed beside the `Light` enum they become).
 pub const PRISM_LIGHTS: &[&str] = crate::light::PBRT_NAMES;

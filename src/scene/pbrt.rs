@@ -384,6 +384,7 @@ impl Ctx<'_> {
             "subsurface" => self.subsurface(m)?,
             "interface" => Material::Interface,
             "hair" => self.hair(p, loc)?,
+            "measured" => self.measured(p, loc)?,
             other => {
                 self.unsupported(loc, format!("material \"{other}\""), "uses diffuse 0.5");
                 Material::diffuse(Spectrum::constant(0.5))

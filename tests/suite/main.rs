@@ -14,6 +14,7 @@ mod equal_area_envmap;
 mod film;
 mod instancing;
 mod light_sampler;
+mod measured;
 mod media;
 mod merge;
 mod motion;

@@ -355,19 +355,19 @@ fn unknown_types_list_valid_names() {
 
 #[test]
 fn unsupported_features_warn_or_fail_under_strict() {
-    let (d, w) = parse("MakeNamedMedium \"fog\" \"string type\" \"nanovdb\"\nWorldBegin\nMaterial \"measured\"");
+    let (d, w) = parse("MakeNamedMedium \"fog\" \"string type\" \"nanovdb\"\nFilm \"gbuffer\"\nWorldBegin");
     let w: Vec<String> = w.iter().map(|w| w.to_string()).collect();
     assert_eq!(
         w,
         [
             "<string>:1:1: warning: unsupported feature: medium type \"nanovdb\" of \"fog\"; prism renders vacuum in its place",
-            "<string>:3:10: warning: unsupported feature: material \"measured\"; prism uses \"diffuse\" instead",
+            "<string>:2:6: warning: unsupported feature: film \"gbuffer\"; prism uses \"rgb\" instead",
         ]
     );
-    assert_eq!(d.materials[0].kind, "diffuse");
+    assert_eq!(d.film.kind, "rgb");
     assert_eq!(
-        strict_err("WorldBegin\nMaterial \"measured\" \"string filename\" \"x.bsdf\""),
-        "<string>:2:10: unsupported feature: material \"measured\" (strict mode; without --strict prism uses \"diffuse\" instead)"
+        strict_err("Film \"gbuffer\"\nWorldBegin"),
+        "<string>:1:6: unsupported feature: film \"gbuffer\" (strict mode; without --strict prism uses \"rgb\" instead)"
     );
     let (d, _) = parse("Integrator \"bdpt\" \"integer maxdepth\" 3\nWorldBegin");
     assert_eq!((d.integrator.kind.as_str(), d.integrator.params.int("maxdepth")), ("path", Some(3)));

@@ -74,7 +74,6 @@ fn every_unsupported_feature_warns_and_is_an_error_in_strict_mode() {
             "\"subsurface\"",
             "subsurface: measured medium \"Skin1\"",
         ),
-        (false, "Material \"measured\"\nShape \"sphere\"".into(), "\"measured\"", "material \"measured\""),
     ];
     let strict = ParseOptions { strict: true, ..Default::default() };
     for (i, (in_options, directive, at, feature)) in cases.iter().enumerate() {

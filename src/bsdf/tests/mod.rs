@@ -6,6 +6,7 @@ mod coated_reference;
 mod delta;
 mod energy;
 mod layered;
+mod measured;
 mod robustness;
 
 use super::*;

@@ -3,6 +3,7 @@
 //! `CoatedConductorMaterial` and `MixMaterial::Create`.
 
 use super::{param_error, Ctx};
+use crate::bsdf::{MeasuredBrdf, MeasuredError};
 use crate::material::{
     melanin_sigma_a, CoatedConductorMaterial, CoatedDiffuseMaterial, ConductorIor, HairAbsorption, HairMaterial, Ior,
     LayerSpec, Material, MixMaterial, NormalMap, NormalPerturbation, Roughness,
@@ -162,6 +163,25 @@ impl Ctx<'_> {
             beta_n: self.float_texture(p, "beta_n", 0.3)?,
             alpha: self.float_texture(p, "alpha", 2.0)?,
         })))
+    }
+
+    /// "measured": the RGL `.bsdf` file of "string filename", relative to the scene file that
+    /// names it; each file is read once.
+    pub(super) fn measured(&mut self, p: &ParamSet, loc: &Location) -> Result<Material, SceneError> {
+        let Some(file) = p.filename("filename") else {
+            return Err(SceneError::syntax(loc, "measured", "a measured material needs a \"string filename\""));
+        };
+        if let Some(brdf) = self.textures.measured.get(&file) {
+            return Ok(Material::Measured(brdf.clone()));
+        }
+        let at = p.get("filename").map_or(loc, |v| &v.loc).clone();
+        let brdf = match MeasuredBrdf::read(&file) {
+            Ok(b) => Arc::new(b),
+            Err(MeasuredError::Io(e)) => return Err(SceneError::Io { loc: at, path: file, reason: e.to_string() }),
+            Err(e) => return Err(param_error(p, "filename", loc, format!("{}: {e}", file.display()))),
+        };
+        self.textures.measured.insert(file, brdf.clone());
+        Ok(Material::Measured(brdf))
     }
 
     /// "coatedconductor": `interface.*` for the coat, `conductor.*` (or `reflectance`) for the

@@ -27,6 +27,8 @@ pub(super) struct Built {
     pyramids: HashMap<String, Arc<MipMap<[f32; 3]>>>,
     /// Normal maps by file.
     pub(super) normal_maps: HashMap<std::path::PathBuf, Arc<crate::material::NormalMap>>,
+    /// Measured BRDFs by file, read once however many materials name them.
+    pub(super) measured: HashMap<std::path::PathBuf, Arc<crate::bsdf::MeasuredBrdf>>,
 }
 
 /// A texture parameter's value: given in place, or the name of a texture.
