@@ -68,12 +68,6 @@ fn every_unsupported_feature_warns_and_is_an_error_in_strict_mode() {
             "named spectrum \"stdillum-F7\"",
         ),
         (false, PTEX.into(), "Texture \"t\"", "ptex textures"),
-        (
-            false,
-            "Material \"subsurface\" \"string name\" \"Skin1\"\nShape \"sphere\"".into(),
-            "\"subsurface\"",
-            "subsurface: measured medium \"Skin1\"",
-        ),
     ];
     let strict = ParseOptions { strict: true, ..Default::default() };
     for (i, (in_options, directive, at, feature)) in cases.iter().enumerate() {
