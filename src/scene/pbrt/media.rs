@@ -1,7 +1,7 @@
 //! pbrt-v4's MakeNamedMedium → [`Medium`], with parameters and defaults as pbrt-v4's
 //! `media.cpp`: "homogeneous" (`sigma_a`, `sigma_s` (default 1 each), `scale`, `g`, `preset`,
 //! `Le`, `Lescale`) and "uniformgrid" (`density` with `nx`, `ny`, `nz`, bounds `p0`/`p1`, and
-//! the same coefficients). Emission `Le` is normalised to unit luminance like a light's, then
+//! the same coefficients); "rgbgrid", "cloud" and "nanovdb" (`nanovdb.rs`). Emission `Le` is normalised to unit luminance like a light's, then
 //! multiplied by `Lescale`.
 
 use super::{param_error, space_of, Ctx};
@@ -109,6 +109,7 @@ impl Ctx<'_> {
                 })?;
                 Some(Medium::Cloud(Box::new(medium)))
             }
+            "nanovdb" => Some(self.nanovdb_medium(m, (sigma_a, sigma_s), scale, g)?),
             _ => None,
         })
     }
