@@ -1,6 +1,8 @@
 //! Integrators: estimators of the radiance arriving at the camera.
 
 pub mod lanes;
+#[cfg(test)]
+mod nanovdb_tests;
 mod path;
 pub mod subsurface;
 mod transmittance;

@@ -18,21 +18,21 @@ use glam::{Mat4, UVec3, Vec3};
 use std::sync::Arc;
 
 /// The wavelengths [nm] the chromatic coefficients are given at.
-const LAMBDAS: [f32; 4] = [450.0, 520.0, 590.0, 660.0];
+pub(super) const LAMBDAS: [f32; 4] = [450.0, 520.0, 590.0, 660.0];
 
 /// A spectrum taking `v[c]` at `LAMBDAS[c]` (linear between, constant beyond).
-fn chromatic(v: [f32; 4]) -> Spectrum {
+pub(super) fn chromatic(v: [f32; 4]) -> Spectrum {
     Spectrum::piecewise_linear(&[380.0, 450.0, 520.0, 590.0, 660.0, 780.0], &[v[0], v[0], v[1], v[2], v[3], v[3]])
         .unwrap()
 }
 
-fn homogeneous(sigma_a: [f32; 4], sigma_s: [f32; 4], g: f32, le: Spectrum) -> Medium {
+pub(super) fn homogeneous(sigma_a: [f32; 4], sigma_s: [f32; 4], g: f32, le: Spectrum) -> Medium {
     Medium::Homogeneous(Homogeneous { sigma_a: chromatic(sigma_a), sigma_s: chromatic(sigma_s), scale: 1.0, le, g })
 }
 
 /// Mean and standard error per wavelength of `LAMBDAS` of `n` estimates; sample `i` makes
 /// wavelength `i mod 4` the hero.
-fn per_wavelength(
+pub(super) fn per_wavelength(
     n: u64,
     seed: u64,
     mut estimate: impl FnMut(&mut SampledWavelengths, &mut Sampler, &mut Stats) -> SampledSpectrum,
@@ -59,7 +59,7 @@ fn per_wavelength(
     })
 }
 
-fn assert_close(got: [(f64, f64); 4], expect: [f64; 4], what: &str) {
+pub(super) fn assert_close(got: [(f64, f64); 4], expect: [f64; 4], what: &str) {
     for c in 0..4 {
         let (mean, se) = got[c];
         assert!(expect[c] > 1e-4, "{what}: the expected value must not be negligible");
@@ -73,7 +73,7 @@ fn assert_close(got: [(f64, f64); 4], expect: [f64; 4], what: &str) {
 }
 
 /// A scene of `mesh` as an interface with `medium` inside and vacuum outside, lit by `light`.
-fn bounded_medium(mesh: crate::geometry::Mesh, medium: Medium, light: Light) -> Scene {
+pub(super) fn bounded_medium(mesh: crate::geometry::Mesh, medium: Medium, light: Light) -> Scene {
     let mut b = SceneBuilder::new();
     let interface = b.add_material(Material::Interface);
     let m = b.add_medium(medium);
@@ -84,7 +84,7 @@ fn bounded_medium(mesh: crate::geometry::Mesh, medium: Medium, light: Light) -> 
     b.build(AccelKind::Obvhs).unwrap()
 }
 
-fn uniform_sky(l: f32) -> Light {
+pub(super) fn uniform_sky(l: f32) -> Light {
     Light::UniformInfinite(UniformInfiniteLight { spectrum: Arc::new(Spectrum::constant(l)), scale: 1.0 })
 }
 

@@ -7,6 +7,7 @@
 use super::cloud::CloudMedium;
 use super::grid::GridMedium;
 use super::majorant::MajorantSegments;
+use super::nanovdb_medium::NanoVdbMedium;
 use super::rgb_grid::RgbGridMedium;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths, Spectrum};
 use glam::Vec3;
@@ -62,6 +63,8 @@ pub enum Medium {
     RgbGrid(Box<RgbGridMedium>),
     /// pbrt-v4's procedural cloud.
     Cloud(Box<CloudMedium>),
+    /// A NanoVDB density grid (pbrt-v4 `NanoVDBMedium`).
+    NanoVdb(Box<NanoVdbMedium>),
 }
 
 impl Medium {
@@ -74,11 +77,12 @@ impl Medium {
             Medium::Grid(g) => g.point(p, w),
             Medium::RgbGrid(g) => g.point(p, w),
             Medium::Cloud(c) => c.point(p, uniform),
+            Medium::NanoVdb(v) => v.point(p, uniform, w),
         }
     }
 
     /// The spatially constant part of the medium at `w`: all of a homogeneous medium, the
-    /// coefficients at unit density of a density grid or a cloud (the RGB grid has none).
+    /// coefficients at unit density of a density grid, a cloud or a NanoVDB grid (the RGB grid has none).
     pub fn uniform_point(&self, w: &SampledWavelengths) -> MediumPoint {
         match self {
             Medium::Homogeneous(h) => h.point(w),
@@ -90,6 +94,7 @@ impl Medium {
                 g: 0.0,
             },
             Medium::Cloud(c) => c.coefficients.point(w),
+            Medium::NanoVdb(v) => v.coefficients.point(w),
         }
     }
 
@@ -101,6 +106,7 @@ impl Medium {
             Medium::Grid(g) => g.majorant_segments(o, d, t_max, uniform.sigma_a + uniform.sigma_s),
             Medium::RgbGrid(g) => g.majorant_segments(o, d, t_max),
             Medium::Cloud(c) => c.majorant_segments(o, d, t_max, uniform.sigma_a + uniform.sigma_s),
+            Medium::NanoVdb(v) => v.majorant_segments(o, d, t_max, uniform.sigma_a + uniform.sigma_s),
         }
     }
 }

@@ -1,5 +1,5 @@
-//! Participating media: homogeneous media, density and RGB grids and pbrt-v4's procedural
-//! cloud ([`Medium`]), majorants and
+//! Participating media: homogeneous media, density and RGB grids, pbrt-v4's procedural
+//! cloud and NanoVDB grids ([`Medium`]), majorants and
 //! free-flight sampling against them ([`sample_t_maj`]), the measured media table, and the
 //! Henyey–Greenstein phase function. The random-walk subsurface reference
 //! (`integrator::subsurface`) uses [`HomogeneousMedium`]'s spectral-MIS free flights; the
@@ -10,6 +10,8 @@ pub mod grid;
 mod homogeneous;
 pub mod majorant;
 mod medium;
+pub mod nanovdb;
+mod nanovdb_medium;
 mod phase;
 pub mod presets;
 mod rgb_grid;
@@ -19,5 +21,6 @@ pub use grid::{DensityGrid, EmissionSource, GridEmission, GridMedium};
 pub use homogeneous::{FreeFlight, HomogeneousMedium};
 pub use majorant::{sample_t_maj, Collision, MajorantSegment};
 pub use medium::{Homogeneous, Medium, MediumPoint};
+pub use nanovdb_medium::{NanoVdbMedium, TemperatureEmission, NANOVDB_MAJORANT_RES};
 pub use phase::{hg_density, HenyeyGreenstein};
 pub use rgb_grid::{RgbGridMedium, SpectrumGrid};

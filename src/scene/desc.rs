@@ -270,7 +270,7 @@ impl SceneDesc {
     }
 
     /// Every file rendering this scene reads, each once in first-use order: the scene files,
-    /// then the data files parameters name (meshes, images, spectra). The Film's "filename" is
+    /// then the data files parameters name (meshes, images, spectra, media). The Film's "filename" is
     /// where the image goes, so it is left out.
     pub fn input_files(&self) -> Vec<PathBuf> {
         let shapes = self.shapes.iter().chain(self.objects.iter().flat_map(|o| o.shapes.iter()));
@@ -280,7 +280,8 @@ impl SceneDesc {
             .chain(shapes.flat_map(|s| std::iter::once(&s.params).chain(s.area_light.as_ref().map(|a| &a.params))))
             .chain(self.lights.iter().map(|l| &l.params))
             .chain(materials.map(|m| &m.params))
-            .chain(self.textures.iter().map(|t| &t.params));
+            .chain(self.textures.iter().map(|t| &t.params))
+            .chain(self.media.iter().map(|m| &m.params));
         let mut seen: HashSet<PathBuf> = self.scene_files.iter().cloned().collect();
         let mut files = self.scene_files.clone();
         for f in sets.flat_map(ParamSet::named_files) {

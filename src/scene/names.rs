@@ -33,7 +33,7 @@ pub const PRISM_FILMS: &[&str] = &["rgb", "spectral"];
 pub const PBRT_ONLY_FILMS: &[(&str, &str)] = &[("gbuffer", "rgb")];
 
 /// Medium types prism renders (MakeNamedMedium "string type").
-pub const MEDIA: &[&str] = &["homogeneous", "uniformgrid", "rgbgrid", "cloud"];
+pub const MEDIA: &[&str] = &["homogeneous", "uniformgrid", "rgbgrid", "cloud", "nanovdb"];
 
 /// Integrators prism runs.
 /// A scene with media is rendered by the volumetric path tracer whichever is named; without

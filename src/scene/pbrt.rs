@@ -12,6 +12,7 @@ mod lights;
 mod load;
 mod materials;
 mod media;
+mod nanovdb;
 mod realistic;
 mod subsurface;
 mod textures;

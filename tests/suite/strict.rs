@@ -54,12 +54,6 @@ fn every_unsupported_feature_warns_and_is_an_error_in_strict_mode() {
             "LightSource \"distant\"",
             "a moving light",
         ),
-        (
-            true,
-            "MakeNamedMedium \"fog\" \"string type\" \"nanovdb\"".into(),
-            "MakeNamedMedium",
-            "medium type \"nanovdb\"",
-        ),
         (true, "Film \"rgb\" \"string sensor\" \"canon_eos_100d\"".into(), "Film", "sensor \"canon_eos_100d\""),
         (
             false,

@@ -1,9 +1,10 @@
 //! pbrt-v4's MakeNamedMedium → [`Medium`], with parameters and defaults as pbrt-v4's
 //! `media.cpp`: "homogeneous" (`sigma_a`, `sigma_s` (default 1 each), `scale`, `g`, `preset`,
 //! `Le`, `Lescale`) and "uniformgrid" (`density` with `nx`, `ny`, `nz`, bounds `p0`/`p1`, and
-//! the same coefficients), "rgbgrid" (RGB grids of σ_a, σ_s and `Le`) and "cloud". Emission
-//! `Le` of homogeneous and density grids is normalised to unit luminance like a light's, then
-//! multiplied by `Lescale`; an rgbgrid's `Le` grid is not normalised, as pbrt-v4's.
+//! the same coefficients), "rgbgrid" (RGB grids of σ_a, σ_s and `Le`), "cloud" and "nanovdb"
+//! (`nanovdb.rs`). Emission `Le` of homogeneous and density grids is normalised to unit
+//! luminance like a light's, then multiplied by `Lescale`; an rgbgrid's `Le` grid is not
+//! normalised, as pbrt-v4's.
 
 use super::{param_error, space_of, Ctx};
 use crate::media::presets::{measured_coefficients, measured_media_names};
@@ -112,6 +113,7 @@ impl Ctx<'_> {
                 })?;
                 Some(Medium::Cloud(Box::new(medium)))
             }
+            "nanovdb" => Some(self.nanovdb_medium(m, (sigma_a, sigma_s), scale, g)?),
             _ => None,
         })
     }

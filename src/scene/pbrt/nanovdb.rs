@@ -1,0 +1,115 @@
+//! pbrt-v4's "nanovdb" medium (`NanoVDBMedium::Create`): `filename` (required), the file's
+//! "density" grid and optional "temperature" grid, `sigma_a`/`sigma_s` (1), `scale` (1), `g`
+//! (0), `Lescale` (1), `temperatureoffset` (or `temperaturecutoff`, 0) and `temperaturescale`
+//! (1). Grids must be fog volumes or of unknown class, as pbrt-v4 requires.
+
+use super::{param_error, Ctx};
+use crate::media::nanovdb::{read_float_grids, FloatGrid};
+use crate::media::{Homogeneous, Medium, NanoVdbMedium, TemperatureEmission};
+use crate::scene::desc::MediumDesc;
+use crate::scene::error::SceneError;
+use crate::spectrum::Spectrum;
+
+impl Ctx<'_> {
+    /// The NanoVDB medium `m` with the coefficients already read from it.
+    pub(super) fn nanovdb_medium(
+        &mut self,
+        m: &MediumDesc,
+        (sigma_a, sigma_s): (Spectrum, Spectrum),
+        scale: f32,
+        g: f32,
+    ) -> Result<Medium, SceneError> {
+        let p = &m.params;
+        let Some(path) = p.filename("filename") else {
+            return Err(param_error(p, "filename", &m.loc, "a \"nanovdb\" medium needs a \"string filename\"".into()));
+        };
+        let file_error = |message: String| param_error(p, "filename", &m.loc, format!("{}: {message}", path.display()));
+        let mut grids = read_float_grids(&path, &["density", "temperature"]).map_err(|e| file_error(e.to_string()))?;
+        let temperature = grids.pop().flatten();
+        let density = grids.pop().flatten().ok_or_else(|| file_error("no \"density\" grid".into()))?;
+        for grid in std::iter::once(&density).chain(&temperature) {
+            check_class(grid).map_err(file_error)?;
+        }
+        let le_scale = p.float_or("Lescale", 1.0);
+        let offset = p.float("temperatureoffset").or_else(|| p.float("temperaturecutoff")).unwrap_or(0.0);
+        let temperature_scale = p.float_or("temperaturescale", 1.0);
+        // pbrt-v4 emits only with a temperature grid and a positive Lescale.
+        let emission = temperature.filter(|_| le_scale > 0.0).map(|grid| TemperatureEmission {
+            grid,
+            le_scale,
+            offset,
+            scale: temperature_scale,
+        });
+        let coefficients = Homogeneous { sigma_a, sigma_s, scale, le: Spectrum::constant(0.0), g };
+        let medium = NanoVdbMedium::new(m.world_from_medium, density, coefficients, emission)
+            .ok_or_else(|| file_error("the grids' bounds are empty or the medium's transform singular".into()))?;
+        Ok(Medium::NanoVdb(Box::new(medium)))
+    }
+}
+
+/// pbrt-v4 reads fog volumes (class 2) and grids of unknown class (0) only.
+fn check_class(grid: &FloatGrid) -> Result<(), String> {
+    const CLASSES: [&str; 9] = [
+        "unknown",
+        "level set",
+        "fog volume",
+        "staggered",
+        "point index",
+        "point data",
+        "topology",
+        "voxel volume",
+        "index",
+    ];
+    match grid.class {
+        0 | 2 => Ok(()),
+        c => Err(format!(
+            "grid \"{}\" is a {} grid, not a fog volume",
+            grid.name,
+            CLASSES.get(c as usize).copied().unwrap_or("unknown-class")
+        )),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::media::Medium;
+    use crate::scene::{parse_str, ParseOptions};
+
+    fn build(medium: &str) -> Result<crate::scene::Scene, String> {
+        let text = format!("{medium}\nCamera \"perspective\"\nWorldBegin\n");
+        let (desc, mut w) = parse_str(&text, &ParseOptions::default()).map_err(|e| e.to_string())?;
+        let (b, _) = super::super::build(&desc, &mut w).map_err(|e| e.to_string())?;
+        Ok(b.build(crate::accel::AccelKind::Obvhs).unwrap())
+    }
+
+    /// The error of a scene that must not build.
+    fn error(medium: &str) -> String {
+        build(medium).err().expect("the scene must not build")
+    }
+
+    fn fixture(name: &str) -> String {
+        format!("{}/tests/data/nanovdb/{name}", env!("CARGO_MANIFEST_DIR"))
+    }
+
+    #[test]
+    fn a_nanovdb_medium_is_placed_by_its_transform_and_file_errors_name_the_file() {
+        let m = format!(
+            "Translate 1 2 3\nMakeNamedMedium \"m\" \"string type\" \"nanovdb\" \"string filename\" \"{}\"",
+            fixture("plain.nvdb")
+        );
+        let scene = build(&m).unwrap();
+        let Medium::NanoVdb(v) = &scene.media()[0] else { panic!("{:?}", scene.media()[0]) };
+        // plain.nvdb: g = (i + 8j + 64k)/512 at world (1, 2, 3) + 0.5 (i, j, k), moved by (1, 2, 3).
+        let at = |i: f32, j: f32, k: f32| v.density_at(glam::Vec3::new(2.0, 4.0, 6.0) + 0.5 * glam::Vec3::new(i, j, k));
+        assert!((at(3.0, 2.0, 1.0) - (3.0 + 16.0 + 64.0) / 512.0).abs() < 1e-6);
+        assert_eq!(v.bounds, (glam::Vec3::new(1.0, 2.0, 3.0), glam::Vec3::new(5.0, 6.0, 7.0)));
+
+        let none = error("MakeNamedMedium \"m\" \"string type\" \"nanovdb\"");
+        assert!(none.starts_with("<string>:1:1:") && none.contains("\"string filename\""), "{none}");
+        let missing = error("MakeNamedMedium \"m\" \"string type\" \"nanovdb\" \"string filename\" \"no.nvdb\"");
+        assert!(missing.starts_with("<string>:1:") && missing.contains("no.nvdb"), "{missing}");
+        let not_vdb = format!("MakeNamedMedium \"m\" \"string type\" \"nanovdb\" \"string filename\" \"{}\"", file!());
+        let not_vdb = error(&not_vdb);
+        assert!(not_vdb.contains("not a NanoVDB file"), "{not_vdb}");
+    }
+}
