@@ -3,17 +3,20 @@
 
 #[cfg(embree)]
 pub mod embree;
+mod extra;
 pub mod huge_array;
 pub mod obvhs;
 pub mod obvhs_instanced;
 pub mod watertight;
 
-pub use self::obvhs::curves::{CurveBvh, WithCurves};
+pub use self::extra::WithExtra;
+pub use self::obvhs::curves::CurveBvh;
+pub use self::obvhs::quadrics::QuadricBvh;
 pub use self::obvhs::{BuildQuality, BuildStats, ObvhsAccel};
 pub use self::obvhs_instanced::ObvhsInstancedAccel;
 
 use crate::geometry::InstanceSet;
-use crate::geometry::{Bounds3, Curves, Hit, Mesh, Ray};
+use crate::geometry::{Bounds3, Curves, Hit, Mesh, PlacedQuadric, Ray};
 
 /// A ray-intersection accelerator over a set of triangle meshes.
 pub trait Accel: Send + Sync {
@@ -117,16 +120,50 @@ pub fn build(kind: AccelKind, meshes: &[Mesh]) -> Result<Box<dyn Accel>, String>
     }
 }
 
+/// The geometry beside a scene's triangles, each paired with its geometry id (the id of a
+/// primitive whose mesh is empty).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct ExtraShapes<'a> {
+    /// Curves (world space).
+    pub curves: &'a [(u32, &'a Curves)],
+    /// Quadrics with their placements.
+    pub quadrics: &'a [(u32, &'a PlacedQuadric)],
+}
+
+impl ExtraShapes<'_> {
+    /// True when there are neither curves nor quadrics.
+    pub fn is_empty(&self) -> bool {
+        self.curves.is_empty() && self.quadrics.is_empty()
+    }
+
+    /// `triangles` with these shapes beside it in BVHs of their own ([`WithExtra`]), or
+    /// `triangles` itself when there are none.
+    pub fn beside(&self, triangles: Box<dyn Accel>) -> Box<dyn Accel> {
+        if self.is_empty() {
+            return triangles;
+        }
+        let curves = (!self.curves.is_empty()).then(|| CurveBvh::new(self.curves));
+        let quadrics = (!self.quadrics.is_empty()).then(|| QuadricBvh::new(self.quadrics));
+        Box::new(WithExtra::new(triangles, curves, quadrics))
+    }
+}
+
 /// Builds the chosen backend over `meshes` and `curves` ((geometry id, its curves); the ids
-/// are those of primitives whose meshes are empty). Embree intersects curves as its own curve
-/// geometry in the same scene; obvhs, and Embree's instanced scenes, keep them in a [`CurveBvh`]
-/// beside the triangles. Without curves this is [`build`].
+/// are those of primitives whose meshes are empty): [`build_with_extra`] without quadrics.
 pub fn build_with_curves(
     kind: AccelKind,
     meshes: &[Mesh],
     curves: &[(u32, &Curves)],
 ) -> Result<Box<dyn Accel>, String> {
-    if curves.is_empty() {
+    build_with_extra(kind, meshes, ExtraShapes { curves, quadrics: &[] })
+}
+
+/// Builds the chosen backend over `meshes` and the curves and quadrics of `extra`. Embree
+/// intersects curves as its own curve geometry and static quadrics as user geometry in the same
+/// scene (moving quadrics in a [`QuadricBvh`] beside it); obvhs keeps both in BVHs beside the
+/// triangles ([`WithExtra`]). Without either this is [`build`].
+pub fn build_with_extra(kind: AccelKind, meshes: &[Mesh], extra: ExtraShapes) -> Result<Box<dyn Accel>, String> {
+    if extra.is_empty() {
         return build(kind, meshes);
     }
     match kind {
@@ -134,9 +171,12 @@ pub fn build_with_curves(
         AccelKind::Embree | AccelKind::EmbreeWatertight => {
             let test =
                 if kind == AccelKind::Embree { embree::TriangleTest::Embree } else { embree::TriangleTest::Watertight };
-            Ok(Box::new(embree::EmbreeAccel::with_curves(meshes, curves, test).map_err(|e| e.to_string())?))
+            let (moving, fixed): (Vec<_>, Vec<_>) = extra.quadrics.iter().partition(|(_, q)| q.moves());
+            let scene =
+                embree::EmbreeAccel::with_extra(meshes, extra.curves, &fixed, test).map_err(|e| e.to_string())?;
+            Ok(ExtraShapes { curves: &[], quadrics: &moving }.beside(Box::new(scene)))
         }
-        _ => Ok(Box::new(WithCurves::new(build(kind, meshes)?, CurveBvh::new(curves)))),
+        _ => Ok(extra.beside(build(kind, meshes)?)),
     }
 }
 

@@ -28,12 +28,16 @@ use super::watertight::{LaneRay, TriangleHit, TriangleLanes};
 use super::Accel;
 use crate::geometry::{Bounds3, Hit, Mesh, Ray};
 
+#[path = "obvhs_box_tree.rs"]
+mod box_tree;
 #[path = "obvhs_curves.rs"]
 pub mod curves;
 #[path = "obvhs_isa.rs"]
 mod isa;
 #[path = "obvhs_leaves.rs"]
 mod leaves;
+#[path = "obvhs_quadrics.rs"]
+pub mod quadrics;
 #[path = "obvhs_traverse.rs"]
 mod traverse;
 

@@ -1,17 +1,10 @@
 //! Curves in the obvhs backend: a CWBVH of their own over curve pieces (each segment split into
 //! 2^splitdepth u ranges, as pbrt-v4 splits them into shapes), traversed by the same loop as the
 //! triangles' and tested with pbrt-v4's recursive ray–curve intersector
-//! ([`crate::geometry::curve_hit`]). [`WithCurves`] puts it beside any triangle accelerator, so a
-//! scene without curves never meets it.
+//! ([`crate::geometry::curve_hit`]). [`crate::accel::WithExtra`] puts it beside any triangle
+//! accelerator, so a scene without curves never meets it.
 
-use std::time::Duration;
-
-use ::obvhs::{aabb::Aabb, cwbvh::builder::build_cwbvh, cwbvh::node::CwBvhNode};
-use glam::Vec3A;
-
-use super::traverse::{self, BoxRay};
-use super::BuildQuality;
-use crate::accel::Accel;
+use super::box_tree::BoxTree;
 use crate::geometry::curve_hit::intersect_curve;
 use crate::geometry::{Bounds3, CurveSegment, Curves, Hit, Ray};
 
@@ -32,13 +25,11 @@ struct Segment {
 
 /// A BVH over the pieces of every curve of a scene.
 pub struct CurveBvh {
-    nodes: Vec<CwBvhNode>,
+    tree: BoxTree,
     /// In BVH leaf order.
     pieces: Vec<Piece>,
     segments: Vec<Segment>,
     bounds: Bounds3,
-    /// The tree is deeper than the traversal stack: test every piece.
-    linear: bool,
 }
 
 impl CurveBvh {
@@ -63,17 +54,13 @@ impl CurveBvh {
                 }
                 let b = c.segments[prim as usize].bounds(u[0], u[1]);
                 bounds = bounds.union(b);
-                boxes.push(Aabb::new(Vec3A::from(b.min), Vec3A::from(b.max)));
+                boxes.push(b);
                 pieces.push(Piece { segment, u });
             }
         }
-        if pieces.is_empty() {
-            return Self { nodes: Vec::new(), pieces, segments, bounds, linear: false };
-        }
-        let bvh = build_cwbvh(&boxes, BuildQuality::default().params(), &mut Duration::default());
-        let pieces = bvh.primitive_indices.iter().map(|&k| pieces[k as usize]).collect();
-        let linear = super::max_depth(&bvh.nodes) as usize + 1 >= traverse::STACK_SIZE;
-        Self { nodes: bvh.nodes, pieces, segments, bounds, linear }
+        let (tree, order) = BoxTree::new(&boxes);
+        let pieces = order.iter().map(|&k| pieces[k as usize]).collect();
+        Self { tree, pieces, segments, bounds }
     }
 
     /// Bounds of all curves.
@@ -84,26 +71,12 @@ impl CurveBvh {
     /// Bytes of nodes, pieces and segments.
     pub fn memory_bytes(&self) -> usize {
         use std::mem::size_of_val;
-        size_of_val(&self.nodes[..]) + size_of_val(&self.pieces[..]) + size_of_val(&self.segments[..])
+        self.tree.memory_bytes() + size_of_val(&self.pieces[..]) + size_of_val(&self.segments[..])
     }
 
-    /// Calls `visit(piece index, &mut t_max)` for every piece whose box the ray reaches.
     #[inline]
-    fn visit(&self, ray: &Ray, mut visit: impl FnMut(usize, &mut f32) -> bool) {
-        if self.pieces.is_empty() || ray.t_max.is_nan() || ray.t_max <= 0.0 || !ray.d.is_finite() || !ray.o.is_finite()
-        {
-            return;
-        }
-        if self.linear {
-            let mut t_max = ray.t_max;
-            for k in 0..self.pieces.len() {
-                if visit(k, &mut t_max) {
-                    return;
-                }
-            }
-            return;
-        }
-        traverse::traverse(&self.nodes, &BoxRay::new(ray.o, ray.d), ray.t_max, |_| {}, |k, t| visit(k as usize, t));
+    fn visit(&self, ray: &Ray, visit: impl FnMut(usize, &mut f32) -> bool) {
+        self.tree.visit(ray, visit)
     }
 
     /// The hit of `ray` on piece `k` with t ≤ `t_max` (with `any`, the first the search finds).
@@ -154,50 +127,5 @@ impl CurveBvh {
             hits.extend(self.test(k, ray, *t_max, false).filter(|h| h.t < ray.t_max));
             false
         });
-    }
-}
-
-/// A triangle accelerator and the scene's curves: closest hit of the two, occlusion by either.
-pub struct WithCurves {
-    triangles: Box<dyn Accel>,
-    curves: CurveBvh,
-}
-
-impl WithCurves {
-    /// `triangles` with `curves` beside it.
-    pub fn new(triangles: Box<dyn Accel>, curves: CurveBvh) -> Self {
-        Self { triangles, curves }
-    }
-}
-
-impl Accel for WithCurves {
-    fn intersect(&self, ray: &Ray) -> Option<Hit> {
-        let tri = self.triangles.intersect(ray);
-        let limited = Ray { t_max: tri.map_or(ray.t_max, |h| h.t), ..*ray };
-        match self.curves.intersect(&limited) {
-            Some(c) if tri.is_none_or(|t| c.t < t.t) => Some(c),
-            _ => tri,
-        }
-    }
-
-    fn occluded(&self, ray: &Ray) -> bool {
-        self.triangles.occluded(ray) || self.curves.occluded(ray)
-    }
-
-    fn bounds(&self) -> Bounds3 {
-        self.triangles.bounds().union(self.curves.bounds())
-    }
-
-    fn memory_bytes(&self) -> usize {
-        self.triangles.memory_bytes() + self.curves.memory_bytes()
-    }
-
-    fn name(&self) -> &'static str {
-        self.triangles.name()
-    }
-
-    fn intersect_all(&self, ray: &Ray, hits: &mut Vec<Hit>) {
-        self.triangles.intersect_all(ray, hits);
-        self.curves.intersect_all(ray, hits);
     }
 }

@@ -36,6 +36,9 @@ pub struct CompatArgs {
     /// Light sampler passed to `prism render` (bvh, power, uniform).
     #[arg(long)]
     pub light_sampler: Option<String>,
+    /// Quadrics passed to `prism render` (analytic, tessellated).
+    #[arg(long)]
+    pub quadrics: Option<String>,
     /// Directory for prism's renders and logs.
     #[arg(long, default_value = "target/compat")]
     pub out: PathBuf,
@@ -210,6 +213,9 @@ fn run_case(case: &CompatCase, a: &CompatArgs, image_dir: Option<&Path>) -> Resu
     }
     if let Some(kind) = &a.light_sampler {
         cmd.args(["--light-sampler", kind]);
+    }
+    if let Some(mode) = &a.quadrics {
+        cmd.args(["--quadrics", mode]);
     }
     cmd.arg("-o").arg(&output).arg("--stats-json").arg(&stats);
     let t0 = Instant::now();

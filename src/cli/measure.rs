@@ -84,7 +84,7 @@ pub fn run(cmd: &MeasureCommand) -> Result<()> {
     let seed = a.seed.unwrap_or(d.seed);
     let builder = match &a.scene {
         None => SceneBuilder::cornell_box(),
-        Some(path) => super::render::load_scene_file(path, false)?.builder,
+        Some(path) => super::render::load_scene_file(path, false, Default::default())?.builder,
     };
     let scene = builder.build(AccelKind::default_available()).context("building the scene")?;
     // (radiometric name, estimate, unit), (photometric ...), samples, JSON.

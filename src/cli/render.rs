@@ -7,7 +7,7 @@ use crate::integrator::{PathIntegrator, Stats, SubsurfaceMethod};
 use crate::light::LightSamplerKind;
 use crate::render::RenderSettings;
 use crate::scene::pbrt::{input_stamps, FileSettings, InputStamp, LoadedScene};
-use crate::scene::{Scene, SceneBuilder};
+use crate::scene::{QuadricMode, Scene, SceneBuilder};
 use crate::sensor::Sensor;
 use crate::settings;
 use crate::spectrum::ColorSpace;
@@ -78,6 +78,10 @@ pub struct RenderArgs {
     /// Treat features prism does not render as errors instead of warnings.
     #[arg(long)]
     pub strict: bool,
+    /// pbrt-v4's sphere, disk and cylinder: intersected exactly (`analytic`) or as inscribed
+    /// triangle meshes (`tessellated`) [default: analytic].
+    #[arg(long)]
+    pub quadrics: Option<String>,
     /// Stop at the end of the pass during which this many seconds have passed (e.g. 30 or 30s).
     #[arg(long)]
     pub time_limit: Option<String>,
@@ -180,7 +184,8 @@ pub fn prepare(args: &RenderArgs) -> Result<Job> {
     let (mut builder, file, scene_name, inputs) = match &args.scene {
         None => (SceneBuilder::cornell_box(), FileSettings::default(), "builtin:cornell".to_string(), Vec::new()),
         Some(path) => {
-            let loaded = load_scene_file(path, args.strict)?;
+            let quadrics = args.quadrics.as_deref().map(QuadricMode::parse).transpose().map_err(anyhow::Error::msg)?;
+            let loaded = load_scene_file(path, args.strict, quadrics.unwrap_or_default())?;
             let base = path.parent().unwrap_or(Path::new(""));
             let name = path.file_name().map_or(String::new(), |n| n.to_string_lossy().into_owned());
             (loaded.builder, loaded.settings, name, input_stamps(&loaded.inputs, base))
@@ -249,11 +254,11 @@ pub fn prepare(args: &RenderArgs) -> Result<Job> {
 
 /// Parses a pbrt-v4 file and maps it onto a builder, printing its warnings (in strict mode an
 /// unsupported feature is the error instead).
-pub(crate) fn load_scene_file(path: &Path, strict: bool) -> Result<LoadedScene> {
+pub(crate) fn load_scene_file(path: &Path, strict: bool, quadrics: QuadricMode) -> Result<LoadedScene> {
     if !path.exists() {
         bail!("scene file '{}' does not exist", path.display());
     }
-    let opts = crate::scene::ParseOptions { strict, ..Default::default() };
+    let opts = crate::scene::ParseOptions { strict, quadrics, ..Default::default() };
     let loaded = crate::scene::pbrt::load_file(path, &opts)?;
     for w in &loaded.warnings {
         log::warn!("{w}");
@@ -307,13 +312,12 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     if args.part.is_some() && !film_output {
         bail!("--part writes a share of the samples: give a .film output and combine with `prism merge`");
     }
-    let fp = crate::fingerprint::fingerprint(
-        &job.scene_name,
-        &job.inputs,
-        &job.settings,
-        job.space.name,
-        job.scene.accel().name(),
-    );
+    // Tessellated quadrics change the image: the backend's name carries the choice.
+    let accel = match args.quadrics.as_deref() {
+        Some("tessellated") => format!("{} (tessellated quadrics)", job.scene.accel().name()),
+        _ => job.scene.accel().name().to_string(),
+    };
+    let fp = crate::fingerprint::fingerprint(&job.scene_name, &job.inputs, &job.settings, job.space.name, &accel);
     let ckpt_path = PathBuf::from(format!("{}.ckpt", job.output.display()));
     let ckpt_every = args.checkpoint_every.as_deref().map(settings::parse_duration).transpose()?;
     let (w, h) = job.settings.film_size();

@@ -7,14 +7,17 @@ pub mod curve_hit;
 pub mod instance;
 pub mod loop_subdivision;
 mod mesh;
+pub mod placed_quadric;
 pub mod quadric;
 pub mod quadric_hit;
 mod ray;
 pub mod shapes;
+pub mod weingarten;
 
 pub use animated::AnimatedTransform;
 pub use curve::{CurveKind, CurveSegment, Curves};
 pub use instance::{Instance, InstanceSet, Prototype};
 pub use mesh::{Bounds3, Mesh};
+pub use placed_quadric::{PlacedQuadric, QuadricSurface};
 pub use quadric::Quadric;
 pub use ray::{Hit, Ray};

@@ -109,6 +109,34 @@ impl Quadric {
 
     /// The hit at ray parameter `t`, re-projected onto the surface, if it lies in the ranges.
     fn hit_at(&self, o: Vec3, d: Vec3, t: f32) -> Option<QuadricHit> {
+        let h = self.surface_at(o, d, t);
+        self.contains(&h).then_some(h)
+    }
+
+    /// True when the re-projected hit `h` lies within the shape's z, φ and radius ranges.
+    fn contains(&self, h: &QuadricHit) -> bool {
+        let p = h.p;
+        match *self {
+            Quadric::Sphere { radius, z_min, z_max, phi_max } => {
+                let clipped_z = (z_min > -radius && p.z < z_min) || (z_max < radius && p.z > z_max);
+                !clipped_z && azimuth(p.x, p.y) <= phi_max.to_radians()
+            }
+            Quadric::Cylinder { z_min, z_max, phi_max, .. } => {
+                p.z >= z_min && p.z <= z_max && azimuth(p.x, p.y) <= phi_max.to_radians()
+            }
+            Quadric::Disk { radius, inner_radius, phi_max, .. } => {
+                let dist2 = p.x * p.x + p.y * p.y;
+                dist2 <= radius * radius
+                    && dist2 >= inner_radius * inner_radius
+                    && azimuth(p.x, p.y) <= phi_max.to_radians()
+            }
+        }
+    }
+
+    /// The surface point at ray parameter `t` of o + t d, re-projected onto the (unclipped)
+    /// surface, with its (u, v), derivatives and error bound. The interaction at a hit is
+    /// recomputed by this from the hit's t, so both backends shade the same point.
+    pub fn surface_at(&self, o: Vec3, d: Vec3, t: f32) -> QuadricHit {
         let mut p = o + t * d;
         match *self {
             Quadric::Sphere { radius, z_min, z_max, phi_max } => {
@@ -117,11 +145,7 @@ impl Quadric {
                     p.x = 1e-5 * radius;
                 }
                 let phi = azimuth(p.x, p.y);
-                let clipped_z = (z_min > -radius && p.z < z_min) || (z_max < radius && p.z > z_max);
                 let phi_max = phi_max.to_radians();
-                if clipped_z || phi > phi_max {
-                    return None;
-                }
                 let theta_min = (z_min / radius).clamp(-1.0, 1.0).acos();
                 let theta_max = (z_max / radius).clamp(-1.0, 1.0).acos();
                 let cos_theta = (p.z / radius).clamp(-1.0, 1.0);
@@ -131,7 +155,7 @@ impl Quadric {
                 let (cos_phi, sin_phi) = (p.x / rho, p.y / rho);
                 let dpdu = Vec3::new(-phi_max * p.y, phi_max * p.x, 0.0);
                 let dpdv = (theta_max - theta_min) * Vec3::new(p.z * cos_phi, p.z * sin_phi, -radius * sin_theta);
-                Some(QuadricHit {
+                QuadricHit {
                     t,
                     p,
                     p_err: gamma(5) * p.abs(),
@@ -139,18 +163,19 @@ impl Quadric {
                     dpdu,
                     dpdv,
                     n: p / radius,
-                })
+                }
             }
             Quadric::Cylinder { radius, z_min, z_max, phi_max } => {
                 let rho = (p.x * p.x + p.y * p.y).sqrt();
-                p.x *= radius / rho;
-                p.y *= radius / rho;
+                if rho > 0.0 {
+                    p.x *= radius / rho;
+                    p.y *= radius / rho;
+                } else {
+                    p.x = radius;
+                }
                 let phi = azimuth(p.x, p.y);
                 let phi_max = phi_max.to_radians();
-                if p.z < z_min || p.z > z_max || phi > phi_max {
-                    return None;
-                }
-                Some(QuadricHit {
+                QuadricHit {
                     t,
                     p,
                     p_err: gamma(3) * Vec3::new(p.x.abs(), p.y.abs(), 0.0),
@@ -158,26 +183,19 @@ impl Quadric {
                     dpdu: Vec3::new(-phi_max * p.y, phi_max * p.x, 0.0),
                     dpdv: Vec3::new(0.0, 0.0, z_max - z_min),
                     n: Vec3::new(p.x / radius, p.y / radius, 0.0),
-                })
+                }
             }
             Quadric::Disk { height, radius, inner_radius, phi_max } => {
                 p.z = height;
-                let dist2 = p.x * p.x + p.y * p.y;
-                if dist2 > radius * radius || dist2 < inner_radius * inner_radius {
-                    return None;
-                }
+                let rho = (p.x * p.x + p.y * p.y).sqrt();
                 let phi = azimuth(p.x, p.y);
                 let phi_max = phi_max.to_radians();
-                if phi > phi_max {
-                    return None;
-                }
-                let rho = dist2.sqrt();
                 let dpdv = if rho > 0.0 {
                     Vec3::new(p.x, p.y, 0.0) * ((inner_radius - radius) / rho)
                 } else {
                     Vec3::new(inner_radius - radius, 0.0, 0.0)
                 };
-                Some(QuadricHit {
+                QuadricHit {
                     t,
                     p,
                     p_err: Vec3::ZERO,
@@ -185,9 +203,47 @@ impl Quadric {
                     dpdu: Vec3::new(-phi_max * p.y, phi_max * p.x, 0.0),
                     dpdv,
                     n: Vec3::Z,
-                })
+                }
             }
         }
+    }
+
+    /// ∂n/∂u and ∂n/∂v at the surface point `h` (object space), from the second derivatives
+    /// of p by the Weingarten equations (PBR 4th ed. §6.2.3, do Carmo 1976 §3.3): for the
+    /// sphere ∂²p/∂u² = −φmax² (x, y, 0), ∂²p/∂u∂v = (θmax − θmin) z φmax (−sin φ, cos φ, 0),
+    /// ∂²p/∂v² = −(θmax − θmin)² p; for the cylinder only ∂²p/∂u² = −φmax² (x, y, 0); the
+    /// disk is flat.
+    pub fn normal_derivatives(&self, h: &QuadricHit) -> (Vec3, Vec3) {
+        let p = h.p;
+        let (duu, duv, dvv) = match *self {
+            Quadric::Sphere { radius, z_min, z_max, phi_max } => {
+                let phi_max = phi_max.to_radians();
+                let theta_span = (z_max / radius).clamp(-1.0, 1.0).acos() - (z_min / radius).clamp(-1.0, 1.0).acos();
+                let rho = (p.x * p.x + p.y * p.y).sqrt().max(f32::MIN_POSITIVE);
+                (
+                    -phi_max * phi_max * Vec3::new(p.x, p.y, 0.0),
+                    theta_span * p.z * phi_max * Vec3::new(-p.y / rho, p.x / rho, 0.0),
+                    -theta_span * theta_span * p,
+                )
+            }
+            Quadric::Cylinder { phi_max, .. } => {
+                let phi_max = phi_max.to_radians();
+                (-phi_max * phi_max * Vec3::new(p.x, p.y, 0.0), Vec3::ZERO, Vec3::ZERO)
+            }
+            Quadric::Disk { .. } => return (Vec3::ZERO, Vec3::ZERO),
+        };
+        super::weingarten::normal_derivatives(h.dpdu, h.dpdv, [duu, duv, dvv])
+    }
+
+    /// The object-space box of the whole shape (pbrt-v4 `Bounds()`).
+    pub fn object_bounds(&self) -> super::Bounds3 {
+        let (r, lo, hi) = match *self {
+            Quadric::Sphere { radius, z_min, z_max, .. } | Quadric::Cylinder { radius, z_min, z_max, .. } => {
+                (radius, z_min, z_max)
+            }
+            Quadric::Disk { height, radius, .. } => (radius, height, height),
+        };
+        super::Bounds3 { min: Vec3::new(-r, -r, lo), max: Vec3::new(r, r, hi) }
     }
 }
 

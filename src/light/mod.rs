@@ -13,6 +13,7 @@ pub mod photometry;
 mod point;
 mod portal;
 mod projection;
+mod quadric;
 mod sampler;
 mod sphere;
 mod texel_spectrum;
@@ -27,6 +28,7 @@ pub use map_layout::MapLayout;
 pub use point::{PointLight, SpotFalloff, SpotLight};
 pub use portal::{is_rectangle, PortalLight};
 pub use projection::ProjectionLight;
+pub use quadric::QuadricLight;
 pub use sampler::{LightSampleContext, LightSampler, LightSamplerKind};
 pub use sphere::SphereLight;
 
@@ -68,6 +70,8 @@ pub enum Light {
     Area(AreaLight),
     /// A diffuse area light on a full sphere, sampled by the cone it subtends.
     Sphere(SphereLight),
+    /// A diffuse area light on a disk, cylinder or partial sphere, sampled by area.
+    Quadric(Box<QuadricLight>),
     /// Directional light at infinity.
     Distant(DistantLight),
     /// Constant radiance from every direction.
@@ -96,6 +100,7 @@ impl Light {
             Light::Projection(l) => l.sample_li(p, w),
             Light::Area(l) => l.sample_li(p, u, w),
             Light::Sphere(l) => l.sample_li(p, u, w),
+            Light::Quadric(l) => l.sample_li(p, u, w),
             Light::Distant(l) => l.sample_li(w),
             Light::UniformInfinite(l) => l.sample_li(u, w),
             Light::EnvMap(l) => l.sample_li(u, w),
@@ -109,6 +114,7 @@ impl Light {
         match self {
             Light::Area(l) => l.pdf_li(p, wi),
             Light::Sphere(l) => l.pdf_li(p, wi),
+            Light::Quadric(l) => l.pdf_li(p, wi),
             Light::UniformInfinite(_) => infinite::uniform_sphere_pdf(),
             Light::EnvMap(l) => l.pdf_li(wi),
             Light::Portal(l) => l.pdf_li(p, wi),
@@ -125,6 +131,7 @@ impl Light {
             Light::Projection(l) => l.power(),
             Light::Area(l) => l.power(),
             Light::Sphere(l) => l.power(),
+            Light::Quadric(l) => l.power(),
             Light::Distant(l) => l.power(scene_radius),
             Light::UniformInfinite(l) => l.power(scene_radius),
             Light::EnvMap(l) => l.power(scene_radius),
@@ -140,6 +147,7 @@ impl Light {
         match self {
             Light::Area(l) => l.radiance(wo, uv, w),
             Light::Sphere(l) => l.radiance(n, wo, w),
+            Light::Quadric(l) => l.radiance(n, wo, w),
             _ => SampledSpectrum::zero(),
         }
     }

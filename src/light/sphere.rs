@@ -3,10 +3,9 @@
 //! (density 1/(2π(1 − cos θmax)), sin θmax = r/d); from a point inside, uniformly by area
 //! (density d²/(|cos θ_l| A) in solid angle).
 //!
-//! The geometry rays meet is the sphere's inscribed tessellation, which lies in the shell between
-//! `inner_radius` and `radius`. A sampled point on the sphere seen from outside is where the ray
-//! first reaches the sphere, before any triangle, so the shadow ray to it cannot meet the light's
-//! own mesh; from inside, the shadow ray stops where it leaves the inner sphere.
+//! Rays meet the exact sphere (the analytic quadric the light is attached to), so a shadow ray
+//! toward a sampled point stops just short of it (pbrt-v4's shadow epsilon) from outside and
+//! from inside alike.
 
 use super::point::spectral_integral;
 use super::LightSample;
@@ -27,8 +26,6 @@ pub struct SphereLight {
     pub center: Vec3,
     /// Radius [scene units].
     pub radius: f32,
-    /// Radius of the largest sphere about `center` inside the light's mesh [scene units].
-    pub inner_radius: f32,
     /// Spectral shape of the radiance.
     pub spectrum: Arc<Spectrum>,
     /// Multiplier turning `spectrum` into radiance L.
@@ -120,9 +117,7 @@ impl SphereLight {
             let dist2 = d.length_squared();
             let wi = d / dist2.sqrt();
             let cos_l = ((q - self.center) / self.radius).dot(wi).abs();
-            // The shadow ray ends where it leaves the sphere inside the mesh.
-            let (_, t_exit) = sphere_roots(p, wi, self.center, self.inner_radius)?;
-            (q, wi, dist2 / (cos_l * self.area()), p + wi * t_exit)
+            (q, wi, dist2 / (cos_l * self.area()), q)
         };
         if !(pdf.is_finite() && pdf > 0.0) || wi == Vec3::ZERO {
             return None;
@@ -173,7 +168,6 @@ mod tests {
         SphereLight {
             center,
             radius,
-            inner_radius: radius * 0.999,
             spectrum: Arc::new(Spectrum::constant(1.0)),
             scale: 1.0,
             two_sided: false,
@@ -289,7 +283,7 @@ mod tests {
     }
 
     #[test]
-    fn from_inside_points_are_sampled_by_area_and_the_shadow_ray_stays_inside_the_mesh() {
+    fn from_inside_points_are_sampled_by_area_on_the_sphere() {
         let mut s = light(Vec3::new(1.0, 0.0, 0.0), 2.0);
         s.inward = true;
         let w = SampledWavelengths::sample_visible(0.5);
@@ -302,7 +296,7 @@ mod tests {
         let (mut sum, mut sum2) = (0.0f64, 0.0f64);
         for _ in 0..n {
             let ls = s.sample_li(p, uniform2(&mut rng), &w).unwrap();
-            assert!((ls.p_light - s.center).length() <= s.inner_radius * (1.0 + 1e-5));
+            assert!(((ls.p_light - s.center).length() - s.radius).abs() <= 1e-5 * s.radius);
             let pdf = s.pdf_li(p, ls.wi);
             assert!((pdf - ls.pdf).abs() <= 1e-3 * ls.pdf, "pdf_li {pdf} vs sampled {}", ls.pdf);
             let f = (ls.li[0] * ls.wi.z.abs() / ls.pdf) as f64;

@@ -83,6 +83,9 @@ impl<'s> SurfaceInteraction<'s> {
         if let Some(curves) = &primitive.curves {
             return Self::on_curve(scene, primitive, curves, ray, hit);
         }
+        if let Some(quadric) = &primitive.quadric {
+            return Self::on_quadric(scene, primitive, quadric, ray, hit);
+        }
         let bound = Bound { scene, primitive };
         let mesh = &primitive.mesh;
         let tri = mesh.indices[hit.prim_id as usize];
@@ -193,6 +196,9 @@ impl<'s> SurfaceInteraction<'s> {
     /// perpendicular to the shading normal n, ∂p/∂v = n × ∂p/∂u, and ∂n/∂u, ∂n/∂v from the
     /// corners' normals and (u, v) as ∂p/∂u and ∂p/∂v are found from their positions.
     fn shading_derivatives(&self, b: Bound<'s>) -> ShadingDerivatives {
+        if let Some(q) = &b.primitive.quadric {
+            return self.quadric_derivatives(q);
+        }
         let mesh = &b.primitive.mesh;
         let Some(normals) = &mesh.normals else {
             return ShadingDerivatives { dpdu: self.dpdu, dpdv: self.dpdv, ..Default::default() };
@@ -352,6 +358,8 @@ impl<'s> SurfaceInteraction<'s> {
 
 #[path = "curve_interaction.rs"]
 mod curve_interaction;
+#[path = "quadric_interaction.rs"]
+mod quadric_interaction;
 
 #[cfg(test)]
 mod tests {

@@ -32,9 +32,10 @@ pub use primitive::{MediumInterface, Primitive};
 
 use crate::accel::{self, Accel, AccelKind};
 use crate::camera::{Camera, Projection, RealisticLens};
-use crate::geometry::{AnimatedTransform, Curves, Hit, Instance, InstanceSet, Mesh, Prototype, Ray};
+use crate::geometry::{AnimatedTransform, Curves, Hit, Instance, InstanceSet, Mesh, PlacedQuadric, Prototype, Ray};
 use crate::light::{
-    AreaLight, EmissionImage, ImageEmission, Light, LightSampleContext, LightSampler, LightSamplerKind, SphereLight,
+    AreaLight, EmissionImage, ImageEmission, Light, LightSampleContext, LightSampler, LightSamplerKind, QuadricLight,
+    SphereLight,
 };
 use crate::material::{FloatTexture, Material};
 use crate::media::Medium;
@@ -53,6 +54,28 @@ pub struct Emission {
     pub scale: f32,
     /// Emits from both sides.
     pub two_sided: bool,
+}
+
+/// How pbrt-v4's sphere, disk and cylinder shapes are built.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum QuadricMode {
+    /// Intersected exactly in object space by both backends (inside `ObjectBegin`,
+    /// tessellated).
+    #[default]
+    Analytic,
+    /// Inscribed triangle meshes with analytic normals and (u, v) ([`crate::geometry::quadric`]).
+    Tessellated,
+}
+
+impl QuadricMode {
+    /// Parses "analytic" or "tessellated".
+    pub fn parse(name: &str) -> Result<Self, String> {
+        match name {
+            "analytic" => Ok(QuadricMode::Analytic),
+            "tessellated" => Ok(QuadricMode::Tessellated),
+            other => Err(format!("unknown quadric mode '{other}' (valid: analytic, tessellated)")),
+        }
+    }
 }
 
 /// Camera parameters independent of the image resolution.
@@ -108,6 +131,8 @@ struct PendingPrimitive {
     mesh: Mesh,
     /// Curves (world space) instead of triangles.
     curves: Option<Arc<Curves>>,
+    /// A quadric with its placement instead of triangles.
+    quadric: Option<Arc<PlacedQuadric>>,
     material: u32,
     emission: Option<Emission>,
     /// Cut-out mask (`None`: opaque).
@@ -116,9 +141,6 @@ struct PendingPrimitive {
     medium_interface: MediumInterface,
     /// Its prototype (`None`: placed in the world as it is).
     prototype: Option<u32>,
-    /// Centre and radius of the full sphere the mesh is inscribed in, when it emits as one
-    /// sphere light.
-    sphere: Option<(Vec3, f32)>,
     /// The image its emission shows, if any.
     emission_image: Option<Arc<EmissionImage>>,
     /// Its emission's scale is per unit area: each triangle's is divided by its area.
@@ -179,12 +201,12 @@ impl SceneBuilder {
         self.primitives.push(PendingPrimitive {
             mesh,
             curves: None,
+            quadric: None,
             material,
             emission,
             alpha: None,
             medium_interface: MediumInterface::default(),
             prototype: None,
-            sphere: None,
             emission_image: None,
             emission_per_area: false,
         });
@@ -199,6 +221,17 @@ impl SceneBuilder {
         id
     }
 
+    /// Adds a quadric with its placement, a material and optional area emission as a
+    /// primitive, returning its id. An emissive full sphere under a static similarity becomes
+    /// one [`SphereLight`] sampled by solid angle; any other emissive quadric one
+    /// [`QuadricLight`] sampled by area. (Emission images and moving emitters are not
+    /// supported on quadrics: give those as meshes.)
+    pub fn add_quadric(&mut self, quadric: PlacedQuadric, material: u32, emission: Option<Emission>) -> u32 {
+        let id = self.add_mesh(Mesh::default(), material, emission);
+        self.primitives[id as usize].quadric = Some(Arc::new(quadric));
+        id
+    }
+
     /// Gives primitive `id` a cut-out mask (pbrt-v4's shape `alpha`): where it evaluates to a < 1
     /// a ray passes through with probability 1 − a. A constant 1 (or more) is opaque and stores
     /// nothing.
@@ -208,15 +241,6 @@ impl SceneBuilder {
         }
         if let Some(p) = self.primitives.get_mut(id as usize) {
             p.alpha = Some(alpha);
-        }
-    }
-
-    /// Makes emissive primitive `id`, a mesh inscribed in the sphere of `radius` about `center`
-    /// (world space) with its vertices on it, one sphere light sampled by solid angle
-    /// ([`SphereLight`]) instead of one light per triangle.
-    pub fn set_sphere_light(&mut self, id: u32, center: Vec3, radius: f32) {
-        if let Some(p) = self.primitives.get_mut(id as usize) {
-            p.sphere = Some((center, radius));
         }
     }
 
@@ -320,7 +344,7 @@ impl SceneBuilder {
         let ids: Vec<u32> = (0..self.primitives.len() as u32)
             .filter(|&m| {
                 let p = &self.primitives[m as usize];
-                p.prototype.is_none() && p.emission.is_none()
+                p.prototype.is_none() && p.emission.is_none() && p.quadric.is_none() && p.curves.is_none()
             })
             .collect();
         if ids.is_empty() {
@@ -388,7 +412,17 @@ impl SceneBuilder {
         let scale = m.transform_vector3(Vec3::X).length();
         for p in self.primitives.iter_mut().filter(|p| p.prototype.is_none()) {
             p.mesh = p.mesh.transformed(&m);
-            p.sphere = p.sphere.map(|(c, r)| (m.transform_point3(c), r * scale));
+            if let Some(q) = p.quadric.as_mut() {
+                let mut placed = **q;
+                let motion = placed.placement.motion.unwrap_or_else(|| {
+                    let w = placed.placement.world_from_object;
+                    AnimatedTransform::new(w, 0.0, w, 1.0)
+                });
+                let moved =
+                    AnimatedTransform::new(m * motion.start, motion.start_time, m * motion.end, motion.end_time);
+                placed.placement = Instance::animated(0, moved).expect("a similarity keeps it invertible");
+                *q = Arc::new(placed);
+            }
         }
         for inst in self.instances.iter_mut() {
             let motion = inst
@@ -414,41 +448,41 @@ impl SceneBuilder {
             (0..self.primitives.len() as u32).filter(|&m| self.primitives[m as usize].prototype.is_none()).collect();
         // An emission with its image and whether its scale is per unit area.
         type Emitting = (Emission, Option<Arc<EmissionImage>>, bool);
-        type Parts =
-            (u32, Option<Emitting>, Option<FloatTexture>, Option<(Vec3, f32)>, MediumInterface, Option<Arc<Curves>>);
-        let (meshes, parts): (Vec<Mesh>, Vec<Parts>) = self
+        type Parts = (u32, Option<Emitting>, Option<FloatTexture>, MediumInterface, Option<Arc<Curves>>);
+        type Quadrics = Vec<Option<Arc<PlacedQuadric>>>;
+        let (meshes, (parts, quadrics)): (Vec<Mesh>, (Vec<Parts>, Quadrics)) = self
             .primitives
             .into_iter()
             .map(|p| {
                 let emission = p.emission.map(|e| (e, p.emission_image, p.emission_per_area));
-                (p.mesh, (p.material, emission, p.alpha, p.sphere, p.medium_interface, p.curves))
+                (p.mesh, ((p.material, emission, p.alpha, p.medium_interface, p.curves), p.quadric))
             })
             .unzip();
         let curves: Vec<(u32, &Curves)> =
-            parts.iter().enumerate().filter_map(|(id, p)| Some((id as u32, p.5.as_deref()?))).collect();
+            parts.iter().enumerate().filter_map(|(id, p)| Some((id as u32, p.4.as_deref()?))).collect();
+        let placed: Vec<(u32, &PlacedQuadric)> =
+            quadrics.iter().enumerate().filter_map(|(id, q)| Some((id as u32, q.as_deref()?))).collect();
+        let extra = accel::ExtraShapes { curves: &curves, quadrics: &placed };
         let accel = if self.prototypes.is_empty() {
-            accel::build_with_curves(accel_kind, &meshes, &curves)
+            accel::build_with_extra(accel_kind, &meshes, extra)
         } else {
             let set = InstanceSet { world_meshes, prototypes: self.prototypes, instances: self.instances.clone() };
-            accel::build_instanced(accel_kind, &meshes, &set).map(|a| {
-                if curves.is_empty() {
-                    a
-                } else {
-                    Box::new(accel::WithCurves::new(a, accel::CurveBvh::new(&curves)))
-                }
-            })
+            accel::build_instanced(accel_kind, &meshes, &set).map(|a| extra.beside(a))
         }
         .map_err(BuildError::Accel)?;
+        let quadric_moves = placed.iter().any(|(_, q)| q.moves());
         let mut lights = self.lights;
         let mut primitives = Vec::with_capacity(meshes.len());
-        for (mesh, (material, emission, alpha, sphere, medium_interface, curves)) in meshes.into_iter().zip(parts) {
-            // A sphere light has no (u, v): an image keeps the sphere's triangles.
-            let one_light = emission.as_ref().is_some_and(|e| e.1.is_none()) && sphere.is_some() && !mesh.is_empty();
+        for ((mesh, (material, emission, alpha, medium_interface, curves)), quadric) in
+            meshes.into_iter().zip(parts).zip(quadrics)
+        {
+            // A quadric is one light: a sphere light for a full sphere, else sampled by area.
+            let one_light = emission.is_some() && quadric.is_some();
             let area_lights = emission.map(|(em, em_image, per_area)| {
                 let first = lights.len() as u32;
                 let spectrum = Arc::new(em.spectrum);
-                if let (true, Some((center, radius))) = (one_light, sphere) {
-                    lights.push(Light::Sphere(sphere_light(&mesh, (center, radius), spectrum, em.scale, em.two_sided)));
+                if let Some(q) = &quadric {
+                    lights.push(quadric_light(q, spectrum, em.scale, em.two_sided));
                     return first;
                 }
                 for prim in 0..mesh.len() {
@@ -476,7 +510,16 @@ impl SceneBuilder {
                 }
                 first
             });
-            primitives.push(Primitive { mesh, curves, material, area_lights, one_light, medium_interface, alpha });
+            primitives.push(Primitive {
+                mesh,
+                curves,
+                quadric,
+                material,
+                area_lights,
+                one_light,
+                medium_interface,
+                alpha,
+            });
         }
         let has_alpha = primitives.iter().any(|p| p.alpha.is_some());
         let bounds = accel.bounds();
@@ -485,7 +528,7 @@ impl SceneBuilder {
         let infinite_lights =
             lights.iter().enumerate().filter(|(_, l)| l.is_infinite()).map(|(i, _)| i as u32).collect();
         let has_interfaces = self.materials.iter().any(Material::may_be_interface);
-        let moves = self.instances.iter().any(|i| i.motion.is_some());
+        let moves = quadric_moves || self.instances.iter().any(|i| i.motion.is_some());
         let shutter = moves.then(|| self.shutter.unwrap_or((0.0, 1.0)));
         Ok(Scene {
             has_interfaces,
@@ -507,28 +550,15 @@ impl SceneBuilder {
     }
 }
 
-/// The sphere light of radiance `scale · spectrum` on an emissive `mesh` inscribed in the sphere
-/// of `radius` about `center`;
-/// it emits inward when the mesh's normals face the centre.
-fn sphere_light(
-    mesh: &Mesh,
-    (center, radius): (Vec3, f32),
-    spectrum: Arc<Spectrum>,
-    scale: f32,
-    two_sided: bool,
-) -> SphereLight {
-    let inward = match (&mesh.normals, mesh.positions.first()) {
-        (Some(n), Some(&p)) => n[0].dot(p - center) < 0.0,
-        _ => false,
-    };
-    SphereLight {
-        center,
-        radius,
-        inner_radius: crate::geometry::quadric::inscribed_inner_radius(mesh, center, radius),
-        spectrum,
-        scale,
-        two_sided,
-        inward,
+/// The light of radiance `scale · spectrum` on an emissive quadric: a [`SphereLight`] for a
+/// full sphere under a similarity (emitting inward when its normal is reversed), a
+/// [`QuadricLight`] sampled by area otherwise.
+fn quadric_light(q: &PlacedQuadric, spectrum: Arc<Spectrum>, scale: f32, two_sided: bool) -> Light {
+    match q.full_sphere() {
+        Some((center, radius)) => {
+            Light::Sphere(SphereLight { center, radius, spectrum, scale, two_sided, inward: q.flip_normal })
+        }
+        None => Light::Quadric(Box::new(QuadricLight { shape: *q, area: q.area(), spectrum, scale, two_sided })),
     }
 }
 
@@ -709,7 +739,7 @@ impl Scene {
         self.primitives
             .iter()
             .filter(|p| p.material == material)
-            .map(|p| p.mesh.bounds())
+            .map(|p| p.quadric.as_ref().map_or_else(|| p.mesh.bounds(), |q| q.bounds()))
             .filter(|b| !b.is_empty())
             .map(|b| b.radius())
             .fold(0.0, f32::max)

@@ -25,16 +25,16 @@ use lights::{brightness_factor, FLUX};
 use super::desc::{MaterialDesc, SceneDesc, ShapeDesc, ShapeGeometry};
 use super::error::{Location, SceneError, Warning};
 use super::params::{ParamSet, SpectrumParam};
-use super::{CameraDesc, Emission, SceneBuilder};
+use super::{CameraDesc, Emission, QuadricMode, SceneBuilder};
 use crate::bsdf::{ior, metals};
 use crate::camera::Projection;
 use crate::film::Crop;
 use crate::geometry::quadric::similarity_scale;
-use crate::geometry::{AnimatedTransform, Mesh, Quadric};
+use crate::geometry::{AnimatedTransform, Mesh, PlacedQuadric};
 use crate::light::{EmissionImage, LightSamplerKind};
 use crate::material::{BumpedMaterial, Ior, Material, Roughness};
 use crate::spectrum::{ColorSpace, RgbKind, Spectrum};
-use glam::{Mat4, Vec3};
+use glam::Mat4;
 use std::collections::HashMap;
 use std::sync::Arc;
 
@@ -92,8 +92,17 @@ fn pixel_filter(kind: &str, p: &ParamSet) -> crate::filter::Filter {
 /// pbrt-v4's Integrator "maxdepth" when a scene gives none.
 pub const PBRT_DEFAULT_MAX_DEPTH: u32 = 5;
 
-/// Turns a desc into a builder; warnings go to `warnings`.
+/// Turns a desc into a builder, with analytic quadrics; warnings go to `warnings`.
 pub fn build(desc: &SceneDesc, warnings: &mut Vec<Warning>) -> Result<(SceneBuilder, FileSettings), SceneError> {
+    build_with(desc, warnings, QuadricMode::default())
+}
+
+/// [`build`] with quadrics built as `quadrics` says.
+pub fn build_with(
+    desc: &SceneDesc,
+    warnings: &mut Vec<Warning>,
+    quadrics: QuadricMode,
+) -> Result<(SceneBuilder, FileSettings), SceneError> {
     let mut ctx = Ctx {
         desc,
         b: SceneBuilder::new(),
@@ -101,6 +110,7 @@ pub fn build(desc: &SceneDesc, warnings: &mut Vec<Warning>) -> Result<(SceneBuil
         materials: HashMap::new(),
         textures: Default::default(),
         media: Default::default(),
+        quadrics,
     };
     ctx.camera()?;
     ctx.media = ctx.media()?;
@@ -129,6 +139,8 @@ struct Ctx<'a> {
     textures: textures::Built,
     /// Medium ids by name.
     media: media::MediumIds,
+    /// Whether quadrics are intersected exactly or tessellated.
+    quadrics: QuadricMode,
 }
 
 /// An error at parameter `name` of `params` (at `directive` where the parameter is not written).
@@ -465,6 +477,20 @@ impl Ctx<'_> {
             self.unsupported(&s.loc, "a moving area light".into(), "makes the shape non-emissive");
         }
         let material = self.material(self.desc.material(&s.material))?;
+        let moving = match &s.geometry {
+            ShapeGeometry::Quadric(q) if self.quadrics == QuadricMode::Analytic => {
+                PlacedQuadric::moving(*q, motion, s.reverse_orientation)
+            }
+            _ => None,
+        };
+        if let Some(q) = moving {
+            // A moving quadric is intersected where it is at each ray's time.
+            let id = self.b.add_quadric(q, material, None);
+            let alpha = self.float_texture(&s.params, "alpha", 1.0)?;
+            self.b.set_alpha(id, alpha);
+            self.b.set_medium_interface(id, media::interface(&self.media, &s.media));
+            return Ok(());
+        }
         let proto = self.b.add_prototype(vec![(shape_mesh(s, &Mat4::IDENTITY), material)]);
         let id = self.b.prototype_meshes(proto)[0];
         let alpha = self.float_texture(&s.params, "alpha", 1.0)?;
@@ -486,20 +512,22 @@ impl Ctx<'_> {
         if let Some(motion) = s.motion {
             return self.moving_shape(s, motion);
         }
-        let mesh = shape_mesh(s, &s.world_from_object);
-        // A quadric under a similarity keeps its analytic area, and a full sphere stays a
-        // sphere that can be sampled by solid angle.
-        let similar = match &s.geometry {
-            ShapeGeometry::Quadric(q) => similarity_scale(&s.world_from_object).map(|k| (q, k)),
-            ShapeGeometry::Mesh(_) | ShapeGeometry::Curves(_) => None,
-        };
-        let area = similar.map_or_else(|| mesh.area(), |(q, k)| q.area() * k * k);
-        let sphere = similar.and_then(|(q, k)| match *q {
-            Quadric::Sphere { radius, .. } if q.is_full_sphere() => {
-                Some((s.world_from_object.transform_point3(Vec3::ZERO), radius * k))
+        // A quadric is intersected exactly (unless tessellation is asked for); under a
+        // similarity it keeps its analytic area either way.
+        let mut analytic = match &s.geometry {
+            ShapeGeometry::Quadric(q) if self.quadrics == QuadricMode::Analytic => {
+                PlacedQuadric::new(*q, s.world_from_object, s.reverse_orientation)
             }
             _ => None,
-        });
+        };
+        let mut mesh = if analytic.is_some() { Mesh::default() } else { shape_mesh(s, &s.world_from_object) };
+        let area = match (&s.geometry, analytic) {
+            (_, Some(q)) => q.area(),
+            (ShapeGeometry::Quadric(q), None) => {
+                similarity_scale(&s.world_from_object).map_or_else(|| mesh.area(), |k| q.area() * k * k)
+            }
+            _ => mesh.area(),
+        };
         let material = self.material(self.desc.material(&s.material))?;
         let mut per_triangle = false;
         let emission = match &s.area_light {
@@ -523,17 +551,21 @@ impl Ctx<'_> {
                 Some((Emission { spectrum, scale, two_sided }, image))
             }
         };
-        let emits = emission.is_some();
         let (emission, image) = emission.unzip();
-        let id = self.b.add_mesh(mesh, material, emission);
+        if analytic.is_some() && image.as_ref().is_some_and(Option::is_some) {
+            // An emission image needs the triangles' (u, v) corners: tessellate.
+            analytic = None;
+            mesh = shape_mesh(s, &s.world_from_object);
+        }
+        let id = match analytic {
+            Some(q) => self.b.add_quadric(q, material, emission),
+            None => self.b.add_mesh(mesh, material, emission),
+        };
         if let Some(image) = image.flatten() {
             self.b.set_emission_image(id, image);
         }
         if per_triangle {
             self.b.set_emission_per_triangle_area(id);
-        }
-        if let (true, Some((center, radius))) = (emits, sphere) {
-            self.b.set_sphere_light(id, center, radius);
         }
         let alpha = self.float_texture(&s.params, "alpha", 1.0)?;
         self.b.set_alpha(id, alpha);

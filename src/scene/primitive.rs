@@ -5,7 +5,7 @@
 
 use std::sync::Arc;
 
-use crate::geometry::{Curves, Mesh};
+use crate::geometry::{Curves, Mesh, PlacedQuadric};
 use crate::material::FloatTexture;
 
 /// The participating media on the two sides of a surface (pbrt-v4 `MediumInterface`): indices
@@ -51,14 +51,17 @@ pub struct Primitive {
     /// The curves, when the primitive is a curve shape (a hit's `prim_id` is a segment, its `u`
     /// the curve parameter along it).
     pub curves: Option<Arc<Curves>>,
+    /// The quadric, when the primitive is a sphere, disk or cylinder (a hit's t is all the
+    /// backends report: the surface is recomputed from the ray).
+    pub quadric: Option<Arc<PlacedQuadric>>,
     /// Index of its material in the scene's materials.
     pub material: u32,
     /// Index in the scene's lights of the area light of triangle 0, when the primitive emits
     /// (triangle `i` is light `first + i`: one light per triangle, so the light sampler can pick
     /// triangles in proportion to their power).
     pub area_lights: Option<u32>,
-    /// The whole primitive is the one light `area_lights` (a sphere sampled by solid angle)
-    /// rather than one light per triangle.
+    /// The whole primitive is the one light `area_lights` (a quadric: a sphere sampled by solid
+    /// angle, or another quadric sampled by area) rather than one light per triangle.
     pub one_light: bool,
     /// The media inside and outside the surface.
     pub medium_interface: MediumInterface,

@@ -30,6 +30,7 @@ const BOX_WORLD: &str = r#"LightSource "point" "rgb I" [5 5 5] "point3 from" [0 
 Material "diffuse" "rgb reflectance" [0.7 0.3 0.2]
 Shape "trianglemesh" "point3 P" [-2 -2 3  2 -2 3  2 2 3  -2 2 3] "integer indices" [0 1 2 0 2 3]
 Material "diffuse" "rgb reflectance" [0.2 0.5 0.8]
+Translate 0 0 1.5
 Shape "sphere" "float radius" 0.6"#;
 
 #[test]

@@ -3,6 +3,7 @@
 
 mod accel_agreement;
 mod alpha;
+mod analytic_quadrics;
 mod area_image;
 mod bump;
 mod cli;

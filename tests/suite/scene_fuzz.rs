@@ -145,7 +145,7 @@ fn opts(strict: bool) -> ParseOptions {
     // Includes in fuzz input resolve inside an empty directory: they fail cleanly.
     let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("scene_fuzz_empty");
     std::fs::create_dir_all(&dir).unwrap();
-    ParseOptions { strict, base_dir: Some(dir) }
+    ParseOptions { strict, base_dir: Some(dir), ..Default::default() }
 }
 
 fn pick<T: Copy>(rng: &mut Rng, v: &[T]) -> T {

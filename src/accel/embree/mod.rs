@@ -16,6 +16,7 @@ mod hit_record_tests;
 mod instanced;
 mod library_check;
 mod motion;
+mod quadrics;
 mod scene;
 mod user_triangles;
 
@@ -23,7 +24,7 @@ pub use device::{error_name, Device, EmbreeError, CONFIG_ENV};
 
 use super::Accel;
 use crate::geometry::InstanceSet;
-use crate::geometry::{Bounds3, Curves, Hit, Mesh, Ray};
+use crate::geometry::{Bounds3, Curves, Hit, Mesh, PlacedQuadric, Ray};
 
 /// BVH build quality, as Embree names it.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -93,12 +94,19 @@ impl EmbreeAccel {
         Ok(Self { scene: Levels::Flat(scene::Scene::build(device, meshes, quality.rtc(), test)?), test })
     }
 
-    /// Builds one scene over `meshes` and `curves` ((geometry id, its curves), as Embree curve
-    /// geometry: `curves.rs`) with the given triangle test.
-    pub fn with_curves(meshes: &[Mesh], curves: &[(u32, &Curves)], test: TriangleTest) -> Result<Self, EmbreeError> {
+    /// Builds one scene over `meshes`, `curves` ((geometry id, its curves), as Embree curve
+    /// geometry: `curves.rs`) and static `quadrics` ((geometry id, its quadric), as user
+    /// geometry: `quadrics.rs`) with the given triangle test.
+    pub fn with_extra(
+        meshes: &[Mesh],
+        curves: &[(u32, &Curves)],
+        quadrics: &[(u32, &PlacedQuadric)],
+        test: TriangleTest,
+    ) -> Result<Self, EmbreeError> {
         let device = device::Device::new()?;
         let q = BuildQuality::Medium.rtc();
-        Ok(Self { scene: Levels::Flat(scene::Scene::build_with_curves(device, meshes, curves, q, test)?), test })
+        let scene = scene::Scene::build_with_extra(device, meshes, super::ExtraShapes { curves, quadrics }, q, test)?;
+        Ok(Self { scene: Levels::Flat(scene), test })
     }
 
     /// Builds a two-level scene: one Embree scene per prototype, instanced into a top scene

@@ -4,7 +4,7 @@ use super::device::{Device, EmbreeError};
 use super::ffi;
 use super::user_triangles::{self, ShearCache, UserMesh};
 use super::TriangleTest;
-use crate::geometry::{Bounds3, Curves, Hit, Mesh, Ray};
+use crate::geometry::{Bounds3, Hit, Mesh, PlacedQuadric, Ray};
 use glam::Vec3;
 
 /// Owns one `RTCScene` handle; released in Drop. The device must outlive it.
@@ -16,6 +16,9 @@ pub(super) struct SceneHandle {
     /// Boxed: Embree holds each UserMesh's address, which must not move when the Vec grows.
     #[allow(clippy::vec_box)]
     user_meshes: Vec<Box<UserMesh>>,
+    /// The quadrics of the quadric user geometries, kept as `user_meshes` are.
+    #[allow(clippy::vec_box)]
+    user_quadrics: Vec<Box<PlacedQuadric>>,
 }
 
 impl SceneHandle {
@@ -32,13 +35,32 @@ impl SceneHandle {
             ffi::rtcSetSceneFlags(raw, ffi::RTCSceneFlags_RTC_SCENE_FLAG_ROBUST);
             ffi::rtcSetSceneBuildQuality(raw, quality);
         }
-        Ok(Self { raw, test, user_meshes: Vec::new() })
+        Ok(Self { raw, test, user_meshes: Vec::new(), user_quadrics: Vec::new() })
     }
 
     /// Bytes of triangle storage held by prism for the user geometries (Embree's own
     /// allocations are counted by the device).
     pub(super) fn user_bytes(&self) -> usize {
-        self.user_meshes.iter().map(|m| m.bytes()).sum()
+        self.user_meshes.iter().map(|m| m.bytes()).sum::<usize>()
+            + self.user_quadrics.len() * std::mem::size_of::<PlacedQuadric>()
+    }
+
+    /// Attaches `quadric` as user geometry `id` (`quadrics.rs`).
+    pub(super) fn attach_quadric(
+        &mut self,
+        device: &Device,
+        quadric: &PlacedQuadric,
+        id: u32,
+    ) -> Result<(), EmbreeError> {
+        let (geom, user) = super::quadrics::new_geometry(device, quadric)?;
+        self.user_quadrics.push(user);
+        // SAFETY: valid scene and committed geometry; the scene takes its own reference, and the
+        // quadric it points to is kept in `user_quadrics` until after the release.
+        unsafe {
+            ffi::rtcAttachGeometryByID(self.raw, geom, id);
+            ffi::rtcReleaseGeometry(geom);
+        }
+        device.take_error().map_or(Ok(()), |e| Err(EmbreeError::Call(e)))
     }
 
     /// Builds the BVH over everything attached.
@@ -168,15 +190,15 @@ impl Scene {
         quality: ffi::RTCBuildQuality,
         test: TriangleTest,
     ) -> Result<Self, EmbreeError> {
-        Self::build_with_curves(device, meshes, &[], quality, test)
+        Self::build_with_extra(device, meshes, Default::default(), quality, test)
     }
 
-    /// [`Scene::build`] with curve geometries too: `curves` pairs a geometry id (of an empty
-    /// mesh) with its curves.
-    pub fn build_with_curves(
+    /// [`Scene::build`] with curve and quadric geometries too: each pairs a geometry id (of an
+    /// empty mesh) with its curves or its (static) quadric.
+    pub fn build_with_extra(
         device: Device,
         meshes: &[Mesh],
-        curves: &[(u32, &Curves)],
+        extra: crate::accel::ExtraShapes,
         quality: ffi::RTCBuildQuality,
         test: TriangleTest,
     ) -> Result<Self, EmbreeError> {
@@ -189,9 +211,13 @@ impl Scene {
             raw.attach_mesh(&device, mesh, id as u32)?;
             bounds = bounds.union(mesh.bounds());
         }
-        for &(id, c) in curves {
+        for &(id, c) in extra.curves {
             super::curves::attach(raw.raw, &device, c, id)?;
             bounds = bounds.union(c.bounds());
+        }
+        for &(id, q) in extra.quadrics {
+            raw.attach_quadric(&device, q, id)?;
+            bounds = bounds.union(q.bounds());
         }
         raw.commit(&device)?;
         Ok(Self { raw, device, bounds })

@@ -165,7 +165,7 @@ impl ShearCache {
 }
 
 /// Float indices of `RTCRayHitN` fields, in units of N (rtcore_ray.h, the same in Embree 3 and 4).
-mod field {
+pub(super) mod field {
     pub const ORG: usize = 0;
     pub const TNEAR: usize = 3;
     pub const DIR: usize = 4;
@@ -180,31 +180,31 @@ mod field {
 }
 
 /// Ray `i` of a structure-of-arrays packet of width `n` starting at `base`.
-struct Lane {
-    base: *mut f32,
-    n: usize,
-    i: usize,
+pub(super) struct Lane {
+    pub(super) base: *mut f32,
+    pub(super) n: usize,
+    pub(super) i: usize,
 }
 
 impl Lane {
     /// # Safety
     /// `k·n + i` must index a float of the packet.
     #[inline(always)]
-    unsafe fn get(&self, k: usize) -> f32 {
+    pub(super) unsafe fn get(&self, k: usize) -> f32 {
         // SAFETY: by the caller's contract.
         unsafe { *self.base.add(k * self.n + self.i) }
     }
     /// # Safety
     /// As [`Lane::get`], and the packet must be writable.
     #[inline(always)]
-    unsafe fn set(&self, k: usize, x: f32) {
+    pub(super) unsafe fn set(&self, k: usize, x: f32) {
         // SAFETY: by the caller's contract.
         unsafe { *self.base.add(k * self.n + self.i) = x }
     }
     /// # Safety
     /// As [`Lane::get`] for fields 0..=8.
     #[inline(always)]
-    unsafe fn ray(&self) -> (Vec3, Vec3, f32, f32) {
+    pub(super) unsafe fn ray(&self) -> (Vec3, Vec3, f32, f32) {
         // SAFETY: by the caller's contract.
         unsafe {
             let v = |k: usize| Vec3::new(self.get(k), self.get(k + 1), self.get(k + 2));

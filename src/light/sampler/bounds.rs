@@ -155,6 +155,13 @@ impl LightBounds {
                 let bounds = Bounds3 { min: s.center - Vec3::splat(s.radius), max: s.center + Vec3::splat(s.radius) };
                 b(bounds, Vec3::Z, -1.0, cos_half_pi, s.two_sided)
             }
+            Light::Quadric(q) => match q.shape.quadric {
+                // A disk's normal is one direction; the other shapes' span every direction.
+                crate::geometry::Quadric::Disk { .. } => {
+                    b(q.shape.bounds(), q.shape.point(0.0, 0.5).1, 1.0, cos_half_pi, q.two_sided)
+                }
+                _ => b(q.shape.bounds(), Vec3::Z, -1.0, cos_half_pi, q.two_sided),
+            },
             Light::Distant(_) | Light::UniformInfinite(_) | Light::EnvMap(_) | Light::Portal(_) => None,
         }
     }

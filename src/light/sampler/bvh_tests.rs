@@ -51,7 +51,6 @@ fn many_lights(seed: u64, one_sided: f32, spots: bool) -> Vec<Light> {
         lights.push(Light::Sphere(SphereLight {
             center: in_box(&mut rng, 5.0),
             radius: 0.05 + 0.3 * rng.uniform(),
-            inner_radius: 0.04,
             spectrum: white(),
             scale: 0.1 + 5.0 * rng.uniform(),
             two_sided: false,

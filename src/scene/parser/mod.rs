@@ -36,6 +36,8 @@ pub struct ParseOptions {
     /// Directory that relative paths in [`parse_str`] text resolve against (default: the
     /// current directory).
     pub base_dir: Option<PathBuf>,
+    /// How quadrics are built ([`crate::scene::pbrt::build_with`]).
+    pub quadrics: crate::scene::QuadricMode,
 }
 
 /// Include/Import nesting deeper than this is an error (guards against runaway recursion that is

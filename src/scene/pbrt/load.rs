@@ -1,7 +1,7 @@
 //! A pbrt-v4 scene file from disk to a [`SceneBuilder`]: parse, build, report what was not
 //! used, and in strict mode refuse every feature prism does not render.
 
-use super::{build, FileSettings};
+use super::{build_with, FileSettings};
 use crate::scene::error::{check_strict, SceneError, Warning};
 use crate::scene::{parse_file, ParseOptions, SceneBuilder};
 use std::path::{Path, PathBuf};
@@ -23,7 +23,7 @@ pub struct LoadedScene {
 /// feature, wherever it arose (parser, shapes, materials, lights, film), is the error.
 pub fn load_file(path: &Path, opts: &ParseOptions) -> Result<LoadedScene, SceneError> {
     let (desc, mut warnings) = parse_file(path, opts)?;
-    let (builder, settings) = build(&desc, &mut warnings)?;
+    let (builder, settings) = build_with(&desc, &mut warnings, opts.quadrics)?;
     warnings.extend(desc.report_unused());
     if opts.strict {
         check_strict(&warnings)?;

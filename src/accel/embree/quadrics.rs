@@ -1,0 +1,147 @@
+//! Quadrics as Embree *user geometry* (`RTC_GEOMETRY_TYPE_USER`): one geometry of one primitive
+//! per quadric, whose bounds callback gives its world box and whose intersect and occluded
+//! callbacks run the exact object-space test ([`PlacedQuadric::intersect`]). The hit record
+//! carries only t (and the geometry id): the interaction recomputes the surface from the ray and
+//! t, as for the obvhs backend's quadrics, so both backends shade the same point.
+//!
+//! Conventions, those of the watertight triangles' user geometry (`user_triangles.rs`): a
+//! closest hit is accepted for tnear ≤ t ≤ tfar (a tie keeps the smaller geometry id), an
+//! occlusion for tnear ≤ t < tfar; `valid[i]` is set to 0 for a lane that missed; the instance
+//! stack is copied from the query context. Only static quadrics are attached here (rays reach
+//! the callbacks without prism's time): moving ones stay in the BVH beside the scene.
+
+use glam::Vec3;
+
+use super::device::{Device, EmbreeError};
+use super::ffi;
+use super::scene::RayContext;
+use super::user_triangles::{field, Lane};
+use crate::geometry::{PlacedQuadric, Ray};
+use crate::math::offset::next_float_up;
+
+/// Creates a committed user geometry for `quadric`, not yet attached. The returned box must
+/// outlive every scene the geometry is attached to.
+pub(super) fn new_geometry(
+    device: &Device,
+    quadric: &PlacedQuadric,
+) -> Result<(ffi::RTCGeometry, Box<PlacedQuadric>), EmbreeError> {
+    let user = Box::new(*quadric);
+    let ptr = &*user as *const PlacedQuadric as *mut std::ffi::c_void;
+    // SAFETY: valid device; `ptr` points to the boxed quadric, whose heap address does not change
+    // when the Box moves and which the caller keeps alive as long as the geometry; the callbacks
+    // only read through it.
+    let geom = unsafe {
+        let geom = ffi::rtcNewGeometry(device.raw(), ffi::RTCGeometryType_RTC_GEOMETRY_TYPE_USER);
+        if geom.is_null() {
+            return Err(EmbreeError::Call(device.take_error().unwrap_or_default()));
+        }
+        ffi::rtcSetGeometryUserPrimitiveCount(geom, 1);
+        ffi::rtcSetGeometryUserData(geom, ptr);
+        ffi::rtcSetGeometryBoundsFunction(geom, Some(bounds), ptr);
+        ffi::rtcSetGeometryIntersectFunction(geom, Some(intersect));
+        ffi::rtcSetGeometryOccludedFunction(geom, Some(occluded));
+        ffi::rtcCommitGeometry(geom);
+        geom
+    };
+    if let Some(e) = device.take_error() {
+        // SAFETY: `geom` is a valid geometry we own one reference to.
+        unsafe { ffi::rtcReleaseGeometry(geom) };
+        return Err(EmbreeError::Call(e));
+    }
+    Ok((geom, user))
+}
+
+unsafe extern "C" fn bounds(args: *const ffi::RTCBoundsFunctionArguments) {
+    // SAFETY: Embree passes valid arguments for the duration of the call; the user pointer is
+    // the PlacedQuadric given to rtcSetGeometryBoundsFunction.
+    unsafe {
+        let args = &*args;
+        let q = &*(args.geometryUserPtr as *const PlacedQuadric);
+        let b = q.bounds();
+        *args.bounds_o = ffi::RTCBounds {
+            lower_x: b.min.x,
+            lower_y: b.min.y,
+            lower_z: b.min.z,
+            align0: 0.0,
+            upper_x: b.max.x,
+            upper_y: b.max.y,
+            upper_z: b.max.z,
+            align1: 0.0,
+        };
+    }
+}
+
+/// The world ray of a lane (time 0: only static quadrics are attached).
+#[inline(always)]
+fn ray(o: Vec3, d: Vec3, tfar: f32) -> Ray {
+    Ray::segment(o, d, tfar)
+}
+
+unsafe extern "C" fn intersect(args: *const ffi::RTCIntersectFunctionNArguments) {
+    // SAFETY: Embree passes valid arguments for the duration of the call: `valid` has N entries,
+    // `rayhit` is an RTCRayHitN of width N (all fields up to the last instance word), `context`
+    // is the caller's RayContext (every query passes one: Scene::context), and the user pointer
+    // is the geometry's PlacedQuadric.
+    unsafe {
+        let args = &*args;
+        let q = &*(args.geometryUserPtr as *const PlacedQuadric);
+        let ctx = &*(args.context as *const RayContext);
+        let inst = ffi::hit_instance_ids(&ctx.rtc);
+        let n = args.N as usize;
+        for i in 0..n {
+            let valid = args.valid.add(i);
+            if *valid == 0 {
+                continue;
+            }
+            let lane = Lane { base: args.rayhit as *mut f32, n, i };
+            let (o, d, tnear, tfar) = lane.ray();
+            // Quadric::intersect excludes its limit; a closest hit may equal tfar.
+            let Some(t) = q.intersect(&ray(o, d, tfar), next_float_up(tfar)).filter(|&t| t >= tnear) else {
+                *valid = 0;
+                continue;
+            };
+            if t == tfar {
+                let old_geom = lane.get(field::GEOM_ID).to_bits();
+                let old = (lane.get(field::INST_ID).to_bits(), old_geom);
+                if old_geom != ffi::RTC_INVALID_GEOMETRY_ID && (inst[0], args.geomID) >= old {
+                    *valid = 0;
+                    continue;
+                }
+            }
+            lane.set(field::TFAR, t);
+            for k in 0..3 {
+                lane.set(field::NG + k, 0.0);
+            }
+            lane.set(field::U, 0.0);
+            lane.set(field::V, 0.0);
+            lane.set(field::PRIM_ID, f32::from_bits(0));
+            lane.set(field::GEOM_ID, f32::from_bits(args.geomID));
+            for (l, &id) in inst.iter().enumerate() {
+                lane.set(field::INST_ID + l, f32::from_bits(id));
+            }
+        }
+    }
+}
+
+unsafe extern "C" fn occluded(args: *const ffi::RTCOccludedFunctionNArguments) {
+    // SAFETY: as in `intersect`; `ray` is an RTCRayN of width N.
+    unsafe {
+        let args = &*args;
+        let q = &*(args.geometryUserPtr as *const PlacedQuadric);
+        let n = args.N as usize;
+        for i in 0..n {
+            let valid = args.valid.add(i);
+            if *valid == 0 {
+                continue;
+            }
+            let lane = Lane { base: args.ray as *mut f32, n, i };
+            let (o, d, tnear, tfar) = lane.ray();
+            if q.intersect(&ray(o, d, tfar), tfar).is_some_and(|t| t >= tnear) {
+                // Embree's convention for "occluded": tfar = −∞.
+                lane.set(field::TFAR, f32::NEG_INFINITY);
+            } else {
+                *valid = 0;
+            }
+        }
+    }
+}

@@ -1,0 +1,57 @@
+//! A CWBVH over boxes of primitives that are not triangles (curve pieces, quadrics), traversed
+//! by the triangles' loop ([`super::traverse`]); the primitive test is the caller's. Trees
+//! deeper than the traversal stack fall back to visiting every primitive.
+
+use std::time::Duration;
+
+use ::obvhs::{aabb::Aabb, cwbvh::builder::build_cwbvh, cwbvh::node::CwBvhNode};
+use glam::Vec3A;
+
+use super::traverse::{self, BoxRay};
+use super::BuildQuality;
+use crate::geometry::{Bounds3, Ray};
+
+/// The nodes over `len` primitives, in the leaf order [`BoxTree::new`] returns.
+pub struct BoxTree {
+    nodes: Vec<CwBvhNode>,
+    len: usize,
+    /// The tree is deeper than the traversal stack: visit every primitive.
+    linear: bool,
+}
+
+impl BoxTree {
+    /// Builds over `boxes`; returns the tree and, for each leaf slot, the index of its box.
+    pub fn new(boxes: &[Bounds3]) -> (Self, Vec<u32>) {
+        if boxes.is_empty() {
+            return (Self { nodes: Vec::new(), len: 0, linear: false }, Vec::new());
+        }
+        let aabbs: Vec<Aabb> = boxes.iter().map(|b| Aabb::new(Vec3A::from(b.min), Vec3A::from(b.max))).collect();
+        let bvh = build_cwbvh(&aabbs, BuildQuality::default().params(), &mut Duration::default());
+        let linear = super::max_depth(&bvh.nodes) as usize + 1 >= traverse::STACK_SIZE;
+        (Self { nodes: bvh.nodes, len: boxes.len(), linear }, bvh.primitive_indices)
+    }
+
+    /// Bytes of nodes.
+    pub fn memory_bytes(&self) -> usize {
+        std::mem::size_of_val(&self.nodes[..])
+    }
+
+    /// Calls `visit(leaf slot, &mut t_max)` for every primitive whose box the ray reaches,
+    /// until it returns true.
+    #[inline]
+    pub fn visit(&self, ray: &Ray, mut visit: impl FnMut(usize, &mut f32) -> bool) {
+        if self.len == 0 || ray.t_max.is_nan() || ray.t_max <= 0.0 || !ray.d.is_finite() || !ray.o.is_finite() {
+            return;
+        }
+        if self.linear {
+            let mut t_max = ray.t_max;
+            for k in 0..self.len {
+                if visit(k, &mut t_max) {
+                    return;
+                }
+            }
+            return;
+        }
+        traverse::traverse(&self.nodes, &BoxRay::new(ray.o, ray.d), ray.t_max, |_| {}, |k, t| visit(k as usize, t));
+    }
+}
