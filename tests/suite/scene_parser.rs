@@ -357,10 +357,7 @@ fn unknown_types_list_valid_names() {
 fn unsupported_features_warn_or_fail_under_strict() {
     let (d, w) = parse("Film \"gbuffer\"\nWorldBegin");
     let w: Vec<String> = w.iter().map(|w| w.to_string()).collect();
-    assert_eq!(
-        w,
-        ["<string>:1:6: warning: unsupported feature: film \"gbuffer\"; prism uses \"rgb\" instead"]
-    );
+    assert_eq!(w, ["<string>:1:6: warning: unsupported feature: film \"gbuffer\"; prism uses \"rgb\" instead"]);
     assert_eq!(d.film.kind, "rgb");
     assert_eq!(
         strict_err("Film \"gbuffer\"\nWorldBegin"),
