@@ -15,7 +15,7 @@ use glam::Vec3;
 use super::device::{Device, EmbreeError};
 use super::ffi;
 use super::scene::RayContext;
-use super::user_triangles::{field, Lane};
+use super::user_triangles::{field, new_user_geometry, Lane, UserCallbacks};
 use crate::geometry::{PlacedQuadric, Ray};
 use crate::math::offset::next_float_up;
 
@@ -26,28 +26,7 @@ pub(super) fn new_geometry(
     quadric: &PlacedQuadric,
 ) -> Result<(ffi::RTCGeometry, Box<PlacedQuadric>), EmbreeError> {
     let user = Box::new(*quadric);
-    let ptr = &*user as *const PlacedQuadric as *mut std::ffi::c_void;
-    // SAFETY: valid device; `ptr` points to the boxed quadric, whose heap address does not change
-    // when the Box moves and which the caller keeps alive as long as the geometry; the callbacks
-    // only read through it.
-    let geom = unsafe {
-        let geom = ffi::rtcNewGeometry(device.raw(), ffi::RTCGeometryType_RTC_GEOMETRY_TYPE_USER);
-        if geom.is_null() {
-            return Err(EmbreeError::Call(device.take_error().unwrap_or_default()));
-        }
-        ffi::rtcSetGeometryUserPrimitiveCount(geom, 1);
-        ffi::rtcSetGeometryUserData(geom, ptr);
-        ffi::rtcSetGeometryBoundsFunction(geom, Some(bounds), ptr);
-        ffi::rtcSetGeometryIntersectFunction(geom, Some(intersect));
-        ffi::rtcSetGeometryOccludedFunction(geom, Some(occluded));
-        ffi::rtcCommitGeometry(geom);
-        geom
-    };
-    if let Some(e) = device.take_error() {
-        // SAFETY: `geom` is a valid geometry we own one reference to.
-        unsafe { ffi::rtcReleaseGeometry(geom) };
-        return Err(EmbreeError::Call(e));
-    }
+    let geom = new_user_geometry(device, &*user, 1, UserCallbacks { bounds, intersect, occluded })?;
     Ok((geom, user))
 }
 

@@ -91,20 +91,40 @@ impl UserMesh {
 /// must outlive every scene the geometry is attached to.
 pub(super) fn new_geometry(device: &Device, mesh: &Mesh) -> Result<(ffi::RTCGeometry, Box<UserMesh>), EmbreeError> {
     let user = Box::new(UserMesh::new(mesh));
-    let ptr = &*user as *const UserMesh as *mut std::ffi::c_void;
-    // SAFETY: valid device; `ptr` points to the boxed UserMesh, whose heap address does not change
-    // when the Box moves and which the caller keeps alive as long as the geometry; the callbacks
-    // only read through it.
+    let count = user.triangles.len() as u32;
+    let geom = new_user_geometry(device, &*user, count, UserCallbacks { bounds, intersect, occluded })?;
+    Ok((geom, user))
+}
+
+/// The three callbacks of a user geometry.
+pub(super) struct UserCallbacks {
+    pub bounds: unsafe extern "C" fn(*const ffi::RTCBoundsFunctionArguments),
+    pub intersect: unsafe extern "C" fn(*const ffi::RTCIntersectFunctionNArguments),
+    pub occluded: unsafe extern "C" fn(*const ffi::RTCOccludedFunctionNArguments),
+}
+
+/// A committed user geometry of `count` primitives whose callbacks read `user`. `user` must be
+/// heap-allocated (its address fixed) and outlive every scene the geometry is attached to.
+pub(super) fn new_user_geometry<T>(
+    device: &Device,
+    user: &T,
+    count: u32,
+    callbacks: UserCallbacks,
+) -> Result<ffi::RTCGeometry, EmbreeError> {
+    let ptr = user as *const T as *mut std::ffi::c_void;
+    // SAFETY: valid device; `ptr` points to the caller's boxed data, whose heap address does not
+    // change when the Box moves and which the caller keeps alive as long as the geometry; the
+    // callbacks only read through it.
     let geom = unsafe {
         let geom = ffi::rtcNewGeometry(device.raw(), ffi::RTCGeometryType_RTC_GEOMETRY_TYPE_USER);
         if geom.is_null() {
             return Err(EmbreeError::Call(device.take_error().unwrap_or_default()));
         }
-        ffi::rtcSetGeometryUserPrimitiveCount(geom, user.triangles.len() as u32);
+        ffi::rtcSetGeometryUserPrimitiveCount(geom, count);
         ffi::rtcSetGeometryUserData(geom, ptr);
-        ffi::rtcSetGeometryBoundsFunction(geom, Some(bounds), ptr);
-        ffi::rtcSetGeometryIntersectFunction(geom, Some(intersect));
-        ffi::rtcSetGeometryOccludedFunction(geom, Some(occluded));
+        ffi::rtcSetGeometryBoundsFunction(geom, Some(callbacks.bounds), ptr);
+        ffi::rtcSetGeometryIntersectFunction(geom, Some(callbacks.intersect));
+        ffi::rtcSetGeometryOccludedFunction(geom, Some(callbacks.occluded));
         ffi::rtcCommitGeometry(geom);
         geom
     };
@@ -113,7 +133,7 @@ pub(super) fn new_geometry(device: &Device, mesh: &Mesh) -> Result<(ffi::RTCGeom
         unsafe { ffi::rtcReleaseGeometry(geom) };
         return Err(EmbreeError::Call(e));
     }
-    Ok((geom, user))
+    Ok(geom)
 }
 
 /// The triangle's box grown by `pad` (see [`BOX_PAD`]).
