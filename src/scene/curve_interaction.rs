@@ -30,13 +30,29 @@ impl<'s> SurfaceInteraction<'s> {
             }
         });
         let n = if curves.flip_normal { -s.n } else { s.n };
+        Self::on_analytic_surface(scene, primitive, ray, hit, (s.p, s.p_err), n, (s.dpdu, s.dpdv), s.uv)
+    }
+
+    /// The interaction at a point `p` (error bound `p_err`) of an analytic surface whose shading
+    /// and geometric normals are both `n`, with ∂p/∂u, ∂p/∂v and (u, v) as the shape gives them.
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn on_analytic_surface(
+        scene: &'s Scene,
+        primitive: &'s Primitive,
+        ray: &Ray,
+        hit: &Hit,
+        (p, p_err): (Vec3, Vec3),
+        n: Vec3,
+        (dpdu, dpdv): (Vec3, Vec3),
+        uv: Vec2,
+    ) -> Self {
         Self {
-            p: s.p,
-            p_err: s.p_err,
+            p,
+            p_err,
             shading: SurfaceNormals { ns: n, ng: n },
-            dpdu: s.dpdu,
-            dpdv: s.dpdv,
-            uv: s.uv,
+            dpdu,
+            dpdv,
+            uv,
             wo: -ray.d.normalize(),
             bound: Some(Bound { scene, primitive }),
             mesh: hit.geom_id,

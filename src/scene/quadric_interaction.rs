@@ -5,7 +5,7 @@
 //! Weingarten equations ([`PlacedQuadric::normal_derivatives`]). Under ReverseOrientation, or
 //! a transform that swaps handedness, the normal is reversed, as pbrt-v4 reverses it.
 
-use super::{Bound, SurfaceInteraction, SurfaceNormals};
+use super::SurfaceInteraction;
 use crate::geometry::{Hit, PlacedQuadric, Ray};
 use crate::material::ShadingDerivatives;
 use crate::scene::{Primitive, Scene};
@@ -20,20 +20,7 @@ impl<'s> SurfaceInteraction<'s> {
         hit: &Hit,
     ) -> Self {
         let s = quadric.surface(ray, hit.t);
-        Self {
-            p: s.p,
-            p_err: s.p_err,
-            shading: SurfaceNormals { ns: s.n, ng: s.n },
-            dpdu: s.dpdu,
-            dpdv: s.dpdv,
-            uv: s.uv,
-            wo: -ray.d.normalize(),
-            bound: Some(Bound { scene, primitive }),
-            mesh: hit.geom_id,
-            prim: hit.prim_id,
-            inst: hit.inst_id,
-            time: ray.time,
-        }
+        Self::on_analytic_surface(scene, primitive, ray, hit, (s.p, s.p_err), s.n, (s.dpdu, s.dpdv), s.uv)
     }
 
     /// pbrt-v4's shading derivatives of a quadric: ∂p/∂u, ∂p/∂v and ∂n/∂u, ∂n/∂v at this
