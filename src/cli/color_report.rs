@@ -36,13 +36,15 @@ Ground truth: `tests/data/colour_truth.json` (colour-science 0.4.7), checked by
 
 ## Jakob–Hanika tables: generated on first use, not checked in
 `Spectrum::from_rgb` looks the colour up in a coarse coefficient table (16³ per largest
-component, pbrt-v4's layout and z remapping, built by continuation from grey, 10 nm
-quadrature) and then runs Newton's method on the exact 1 nm forward model to 1e-7. Because
-the refinement makes the round trip exact wherever a sigmoid can reach the colour, the table
-only has to be a good *starting point*, so it can be small (3·16³ cells) and built in memory
-on first use of a colour space (about 1 s per space on an idle core, see below), in
-parallel with rayon. Nothing is checked in (pbrt-v4's 64³ tables are ~9 MB per space) and
-there is no cache file to go stale when the CMFs, the illuminant or the optimiser change.
+component, pbrt-v4's layout and z remapping, built by continuation from grey on the forward
+model with σ interpolated linearly between 5 nm nodes) and then runs Newton's method on the
+exact 1 nm forward model to 1e-7. Because the refinement makes the round trip exact wherever a
+sigmoid can reach the colour, the table only has to be a good *starting point*, so it can be
+small (3·16³ cells) and built in memory on first use of a colour space (about 0.07 s per space
+on one core, see below; every scene with an RGB value pays it once), in parallel with rayon.
+An image texture fits each distinct texel value once. Nothing is checked in (pbrt-v4's 64³
+tables are ~9 MB per space) and there is no cache file to go stale when the CMFs, the
+illuminant or the optimiser change.
 The cost is a few µs per `from_rgb` call, which is paid at scene load, not per ray.
 `RgbToSpectrumTable::lookup` is the table-only fast path (for per-texel use); its accuracy
 is in the "table only" rows below — use it only where that is good enough.

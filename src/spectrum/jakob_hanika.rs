@@ -74,11 +74,9 @@ pub(crate) struct SigmoidFitter {
     x: Vec<f64>,
     /// RGB weight of each node.
     w: Vec<DVec3>,
-    /// The same, on a 10 nm grid (for building the table quickly).
-    coarse_x: Vec<f64>,
-    coarse_w: Vec<DVec3>,
     /// σ sampled every [`SigmoidFitter::HAT_STEP_NM`] and interpolated linearly, integrated
-    /// exactly against the fine weights (for refining many colours quickly).
+    /// exactly against the fine weights (for building the table and refining many colours
+    /// quickly).
     hat_x: Vec<f64>,
     hat_w: Vec<DVec3>,
 }
@@ -126,31 +124,17 @@ impl SigmoidFitter {
 
     pub(crate) fn new(cs: &ColorSpace) -> Self {
         let illum = &cs.illuminant;
-        let knots = illum.knots();
-        let build = |step: f64| {
-            let mut xs = Vec::new();
-            let mut ws = Vec::new();
-            let mut y = 0.0;
-            let grid: Vec<f64> = if step > 1.0 {
-                (0..=((X_SPAN / step) as usize)).map(|i| CIE_LAMBDA_MIN + step * i as f64).collect()
-            } else {
-                knots.clone()
-            };
-            for_each_node(CIE_LAMBDA_MIN, CIE_LAMBDA_MAX, &grid, |l, wt| {
-                let e = illum.eval_f64(l) * wt;
-                let xyz = xyz_bar_f64(l) * e;
-                y += xyz.y;
-                xs.push((l - CIE_LAMBDA_MIN) / X_SPAN);
-                ws.push(cs.xyz_to_rgb_f64 * xyz);
-            });
-            ws.iter_mut().for_each(|w| *w /= y);
-            (xs, ws)
-        };
-        let (x, w) = build(1.0);
-        // 10 nm intervals: the coarse rule only feeds the table, refinement uses the fine one.
-        let (coarse_x, coarse_w) = build(10.0);
+        let (mut x, mut w) = (Vec::new(), Vec::new());
+        let mut y = 0.0;
+        for_each_node(CIE_LAMBDA_MIN, CIE_LAMBDA_MAX, &illum.knots(), |l, wt| {
+            let xyz = xyz_bar_f64(l) * (illum.eval_f64(l) * wt);
+            y += xyz.y;
+            x.push((l - CIE_LAMBDA_MIN) / X_SPAN);
+            w.push(cs.xyz_to_rgb_f64 * xyz);
+        });
+        w.iter_mut().for_each(|w| *w /= y);
         let (hat_x, hat_w) = hat_rule(&x, &w, (X_SPAN / Self::HAT_STEP_NM).round() as usize);
-        Self { x, w, coarse_x, coarse_w, hat_x, hat_w }
+        Self { x, w, hat_x, hat_w }
     }
 
     /// RGB of σ(poly) and its Jacobian with respect to the coefficients.
@@ -252,8 +236,9 @@ impl SigmoidFitter {
         Self::newton(&self.hat_x, &self.hat_w, target, init.c, 20, 1e-6)
     }
 
+    /// Newton on the product rule for the table (a starting point only, so a looser tolerance).
     fn fit_coarse(&self, target: DVec3, init: [f64; 3]) -> [f64; 3] {
-        Self::newton(&self.coarse_x, &self.coarse_w, target, init, 15, 1e-5).poly.c
+        Self::newton(&self.hat_x, &self.hat_w, target, init, 15, 1e-5).poly.c
     }
 }
 

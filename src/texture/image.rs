@@ -10,6 +10,8 @@ use super::mipmap::MipMap;
 use crate::image::Image;
 use crate::spectrum::{fit_albedo, srgb_encode, ColorSpace, SampledSpectrum, SampledWavelengths, SigmoidPolynomial};
 use glam::Vec2;
+use rayon::prelude::*;
+use std::collections::HashMap;
 use std::sync::Arc;
 
 /// The RGB texels of `img` (grey for one or two channels; alpha dropped), row 0 at the top.
@@ -75,19 +77,25 @@ pub struct SpectrumImage {
 }
 
 impl SpectrumImage {
-    /// Fits every texel of every level of `rgb` in `space` (in parallel).
+    /// Fits every distinct texel value of every level of `rgb` in `space` (in parallel; an
+    /// image of few colours, as most 8-bit ones, needs few fits).
     pub fn new(mapping: Mapping2D, rgb: &MipMap<[f32; 3]>, scale: f32, invert: bool, space: &ColorSpace) -> Self {
         // The fit's starting table is built in parallel on first use: build it here, before
         // the parallel fits, so that no fit waits inside the thread pool for the table.
         let _ = space.rgb_to_spectrum_table();
-        let mip = rgb.map(|t| {
-            let v = t.map(|x| {
+        let reflectance = |t: &[f32; 3]| {
+            t.map(|x| {
                 let x = x * scale;
                 let x = if invert { 1.0 - x } else { x };
-                x.clamp(0.0, 1.0) as f64
-            });
-            fit_albedo(v, space).poly
-        });
+                (x.clamp(0.0, 1.0) as f64).to_bits()
+            })
+        };
+        let mut distinct: Vec<[u64; 3]> = rgb.texels().map(reflectance).collect();
+        distinct.sort_unstable();
+        distinct.dedup();
+        let fits: HashMap<[u64; 3], SigmoidPolynomial> =
+            distinct.into_par_iter().map(|v| (v, fit_albedo(v.map(f64::from_bits), space).poly)).collect();
+        let mip = rgb.map(|t| fits[&reflectance(t)]);
         Self { mapping, mip: Arc::new(mip) }
     }
 

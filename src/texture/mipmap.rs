@@ -142,6 +142,11 @@ impl<T: Sync> MipMap<T> {
         (self.levels[i].width, self.levels[i].height)
     }
 
+    /// Every texel of every level, finest level first.
+    pub fn texels(&self) -> impl Iterator<Item = &T> {
+        self.levels.iter().flat_map(|l| &l.texels)
+    }
+
     /// The same pyramid with every texel converted by `f` (in parallel).
     pub fn map<U: Send>(&self, f: impl Fn(&T) -> U + Sync) -> MipMap<U> {
         let levels = self

@@ -35,6 +35,8 @@ impl Ctx<'_> {
                 (s, r)
             }
         };
+        // Evaluated at every light sample: tabulated, as pbrt-v4 does.
+        let s = s.densely_sampled();
         let y = reference.to_xyz_f64().y;
         let norm = if y > 0.0 { 1.0 / y } else { 0.0 };
         if (norm as f32).is_finite() || !matches!(p.spectrum(name), Some(q) if !matches!(q, SpectrumParam::Rgb(_))) {
