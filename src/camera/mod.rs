@@ -157,7 +157,10 @@ impl Camera {
             Projection::Perspective | Projection::Realistic => (Vec3::ZERO, Vec3::new(sx, sy, 1.0).normalize()),
             Projection::Orthographic => (Vec3::new(sx, sy, 0.0), Vec3::Z),
             Projection::SphericalEqualArea => {
-                let d = equal_area::square_to_sphere(uv.clamp(Vec2::ZERO, Vec2::ONE));
+                // A filter sample beyond the film's edge continues across it, as pbrt-v4 wraps
+                // it: the square's edges are glued to themselves reversed (a clamp would pile
+                // those samples onto the edge's directions).
+                let d = equal_area::square_to_sphere(equal_area::wrap_square(uv).clamp(Vec2::ZERO, Vec2::ONE));
                 (Vec3::ZERO, Vec3::new(d.x, d.z, d.y))
             }
             Projection::SphericalEquirect => {
@@ -236,6 +239,21 @@ mod tests {
         // the corners along −y.
         assert!((dir(Projection::SphericalEqualArea, 32.0, 16.0) - Vec3::Y).length() < 1e-5);
         assert!((dir(Projection::SphericalEqualArea, 0.0, 0.0) + Vec3::Y).length() < 1e-5);
+    }
+
+    #[test]
+    fn equal_area_film_points_beyond_an_edge_wrap_across_it() {
+        // A filter sample left of the film at height v looks where the mirrored point right of
+        // the edge at 1 − v looks (pbrt-v4's wrap), not where the edge's nearest point does.
+        let m = Camera::look_at(Vec3::ZERO, Vec3::Z, Vec3::Y);
+        let cam = Camera::spherical(m, (64, 64), Projection::SphericalEqualArea);
+        let dir = |x: f32, y: f32| cam.generate_ray(Vec2::new(x, y), Vec2::ZERO).d;
+        for (outside, inside) in [((-0.3, 20.0), (0.3, 44.0)), ((64.4, 9.0), (63.6, 55.0)), ((30.0, -0.5), (34.0, 0.5))]
+        {
+            let (a, b) = (dir(outside.0, outside.1), dir(inside.0, inside.1));
+            assert!((a - b).length() < 1e-5, "{outside:?}: {a} vs {inside:?}: {b}");
+            assert!((a - dir(outside.0.clamp(0.0, 64.0), outside.1.clamp(0.0, 64.0))).length() > 1e-3);
+        }
     }
 
     #[test]
