@@ -40,8 +40,8 @@ component, pbrt-v4's layout and z remapping, built by continuation from grey on 
 model with σ interpolated linearly between 5 nm nodes) and then runs Newton's method on the
 exact 1 nm forward model to 1e-7. Because the refinement makes the round trip exact wherever a
 sigmoid can reach the colour, the table only has to be a good *starting point*, so it can be
-small (3·16³ cells) and built in memory on first use of a colour space (about 0.07 s per space
-on one core, see below; every scene with an RGB value pays it once), in parallel with rayon.
+small (3·16³ cells) and built in memory on first use of a colour space (under 0.1 s per space,
+see below; every scene with an RGB value pays it once), in parallel with rayon.
 An image texture fits each distinct texel value once. Nothing is checked in (pbrt-v4's 64³
 tables are ~9 MB per space) and there is no cache file to go stale when the CMFs, the
 illuminant or the optimiser change.
