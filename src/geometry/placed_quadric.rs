@@ -13,6 +13,7 @@
 use glam::{Mat3, Mat4, Vec2, Vec3};
 
 use super::animated::AnimatedTransform;
+use super::quadric_hit::QuadricHit;
 use super::{Bounds3, Instance, Quadric, Ray};
 use crate::math::offset::gamma;
 
@@ -96,14 +97,25 @@ impl PlacedQuadric {
     #[inline]
     pub fn intersect(&self, ray: &Ray, t_max: f32) -> Option<f32> {
         let (o, d, _) = self.object_ray(ray);
-        self.quadric.intersect(o, d, t_max).map(|h| h.t)
+        self.quadric.intersect_t(o, d, t_max)
     }
 
     /// The surface where `ray` meets the shape at `t` (a hit [`PlacedQuadric::intersect`]
     /// found), in world space.
     pub fn surface(&self, ray: &Ray, t: f32) -> QuadricSurface {
         let (o, d, inst) = self.object_ray(ray);
-        let h = self.quadric.surface_at(o, d, t);
+        self.carried_to_world(&inst, &self.quadric.surface_at(o, d, t))
+    }
+
+    /// [`PlacedQuadric::surface`] without (u, v) and the derivatives (left zero), for a
+    /// boundary between media.
+    pub fn boundary(&self, ray: &Ray, t: f32) -> QuadricSurface {
+        let (o, d, inst) = self.object_ray(ray);
+        self.carried_to_world(&inst, &self.quadric.boundary_at(o, d, t))
+    }
+
+    /// The object-space hit `h` carried to world space by `inst`.
+    fn carried_to_world(&self, inst: &Instance, h: &QuadricHit) -> QuadricSurface {
         let (p, p_err) = inst.point_to_world(h.p, h.p_err);
         let inverse = Mat3::from_mat4(inst.object_from_world);
         let back = gamma(3) * (abs(inverse) * p.abs() + inst.object_from_world.w_axis.truncate().abs());

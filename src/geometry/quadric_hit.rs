@@ -55,9 +55,29 @@ fn azimuth(x: f32, y: f32) -> f32 {
     }
 }
 
+/// θ(z_min) and θ(z_max) of a sphere, θ = acos(z/r): π and 0 without the arccosine for the
+/// uncut poles.
+#[inline]
+fn sphere_theta_range(radius: f32, z_min: f32, z_max: f32) -> (f32, f32) {
+    let theta = |z: f32, pole: f32, at_pole: f32| {
+        if z * pole >= radius {
+            at_pole
+        } else {
+            (z / radius).clamp(-1.0, 1.0).acos()
+        }
+    };
+    (theta(z_min, -1.0, std::f32::consts::PI), theta(z_max, 1.0, 0.0))
+}
+
 impl Quadric {
     /// The nearest hit of the ray o + t d with t in (0, `t_max`) on the shape, if any.
     pub fn intersect(&self, o: Vec3, d: Vec3, t_max: f32) -> Option<QuadricHit> {
+        self.intersect_t(o, d, t_max).map(|t| self.surface_at(o, d, t))
+    }
+
+    /// The ray parameter of [`Quadric::intersect`]'s hit, found without the hit's (u, v) and
+    /// derivatives.
+    pub fn intersect_t(&self, o: Vec3, d: Vec3, t_max: f32) -> Option<f32> {
         match *self {
             Quadric::Sphere { radius, .. } => {
                 let a = d.length_squared();
@@ -83,71 +103,76 @@ impl Quadric {
                     return None;
                 }
                 let t = (height - o.z) / d.z;
-                if !(t > 0.0 && t < t_max) {
-                    return None;
-                }
-                self.hit_at(o, d, t)
+                (t > 0.0 && t < t_max && self.contains(self.projected_point(o, d, t))).then_some(t)
             }
         }
     }
 
     /// The first root of the sphere's or cylinder's quadratic a t² + b t + c (discriminant
     /// `disc`) in (0, t_max) whose point lies in the shape's ranges.
-    fn first_of_roots(
-        &self,
-        (a, b, c, disc): (f32, f32, f32, f32),
-        o: Vec3,
-        d: Vec3,
-        t_max: f32,
-    ) -> Option<QuadricHit> {
+    fn first_of_roots(&self, (a, b, c, disc): (f32, f32, f32, f32), o: Vec3, d: Vec3, t_max: f32) -> Option<f32> {
         if disc.is_nan() || disc < 0.0 {
             return None;
         }
         let (t0, t1) = roots(a, b, c, disc);
-        [t0, t1].into_iter().filter(|&t| t > 0.0 && t < t_max).find_map(|t| self.hit_at(o, d, t))
+        [t0, t1].into_iter().find(|&t| t > 0.0 && t < t_max && self.contains(self.projected_point(o, d, t)))
     }
 
-    /// The hit at ray parameter `t`, re-projected onto the surface, if it lies in the ranges.
-    fn hit_at(&self, o: Vec3, d: Vec3, t: f32) -> Option<QuadricHit> {
-        let h = self.surface_at(o, d, t);
-        self.contains(&h).then_some(h)
-    }
-
-    /// True when the re-projected hit `h` lies within the shape's z, φ and radius ranges.
-    fn contains(&self, h: &QuadricHit) -> bool {
-        let p = h.p;
+    /// True when the re-projected hit point `p` lies within the shape's z, φ and radius ranges
+    /// (φ is found only when the shape is cut in φ).
+    fn contains(&self, p: Vec3) -> bool {
+        let in_phi = |phi_max: f32| phi_max >= 360.0 || azimuth(p.x, p.y) <= phi_max.to_radians();
         match *self {
             Quadric::Sphere { radius, z_min, z_max, phi_max } => {
                 let clipped_z = (z_min > -radius && p.z < z_min) || (z_max < radius && p.z > z_max);
-                !clipped_z && azimuth(p.x, p.y) <= phi_max.to_radians()
+                !clipped_z && in_phi(phi_max)
             }
-            Quadric::Cylinder { z_min, z_max, phi_max, .. } => {
-                p.z >= z_min && p.z <= z_max && azimuth(p.x, p.y) <= phi_max.to_radians()
-            }
+            Quadric::Cylinder { z_min, z_max, phi_max, .. } => p.z >= z_min && p.z <= z_max && in_phi(phi_max),
             Quadric::Disk { radius, inner_radius, phi_max, .. } => {
                 let dist2 = p.x * p.x + p.y * p.y;
-                dist2 <= radius * radius
-                    && dist2 >= inner_radius * inner_radius
-                    && azimuth(p.x, p.y) <= phi_max.to_radians()
+                dist2 <= radius * radius && dist2 >= inner_radius * inner_radius && in_phi(phi_max)
             }
         }
+    }
+
+    /// The point at ray parameter `t` of o + t d re-projected onto the (unclipped) surface:
+    /// scaled to the radius (the sphere: moved off its pole axis by 10⁻⁵ r if on it; the
+    /// cylinder), or set to the disk's height.
+    #[inline]
+    fn projected_point(&self, o: Vec3, d: Vec3, t: f32) -> Vec3 {
+        let mut p = o + t * d;
+        match *self {
+            Quadric::Sphere { radius, .. } => {
+                p *= radius / p.length();
+                if p.x == 0.0 && p.y == 0.0 {
+                    p.x = 1e-5 * radius;
+                }
+            }
+            Quadric::Cylinder { radius, .. } => {
+                let rho = (p.x * p.x + p.y * p.y).sqrt();
+                if rho > 0.0 {
+                    p.x *= radius / rho;
+                    p.y *= radius / rho;
+                } else {
+                    p.x = radius;
+                }
+            }
+            Quadric::Disk { height, .. } => p.z = height,
+        }
+        p
     }
 
     /// The surface point at ray parameter `t` of o + t d, re-projected onto the (unclipped)
     /// surface, with its (u, v), derivatives and error bound. The interaction at a hit is
     /// recomputed by this from the hit's t, so both backends shade the same point.
     pub fn surface_at(&self, o: Vec3, d: Vec3, t: f32) -> QuadricHit {
-        let mut p = o + t * d;
+        let p = self.projected_point(o, d, t);
+        let (p_err, n) = self.error_and_normal(p);
         match *self {
             Quadric::Sphere { radius, z_min, z_max, phi_max } => {
-                p *= radius / p.length();
-                if p.x == 0.0 && p.y == 0.0 {
-                    p.x = 1e-5 * radius;
-                }
                 let phi = azimuth(p.x, p.y);
                 let phi_max = phi_max.to_radians();
-                let theta_min = (z_min / radius).clamp(-1.0, 1.0).acos();
-                let theta_max = (z_max / radius).clamp(-1.0, 1.0).acos();
+                let (theta_min, theta_max) = sphere_theta_range(radius, z_min, z_max);
                 let cos_theta = (p.z / radius).clamp(-1.0, 1.0);
                 let theta = cos_theta.acos();
                 let sin_theta = (1.0 - cos_theta * cos_theta).max(0.0).sqrt();
@@ -158,35 +183,27 @@ impl Quadric {
                 QuadricHit {
                     t,
                     p,
-                    p_err: gamma(5) * p.abs(),
+                    p_err,
                     uv: Vec2::new(phi / phi_max, (theta - theta_min) / (theta_max - theta_min)),
                     dpdu,
                     dpdv,
-                    n: p / radius,
+                    n,
                 }
             }
-            Quadric::Cylinder { radius, z_min, z_max, phi_max } => {
-                let rho = (p.x * p.x + p.y * p.y).sqrt();
-                if rho > 0.0 {
-                    p.x *= radius / rho;
-                    p.y *= radius / rho;
-                } else {
-                    p.x = radius;
-                }
+            Quadric::Cylinder { z_min, z_max, phi_max, .. } => {
                 let phi = azimuth(p.x, p.y);
                 let phi_max = phi_max.to_radians();
                 QuadricHit {
                     t,
                     p,
-                    p_err: gamma(3) * Vec3::new(p.x.abs(), p.y.abs(), 0.0),
+                    p_err,
                     uv: Vec2::new(phi / phi_max, (p.z - z_min) / (z_max - z_min)),
                     dpdu: Vec3::new(-phi_max * p.y, phi_max * p.x, 0.0),
                     dpdv: Vec3::new(0.0, 0.0, z_max - z_min),
-                    n: Vec3::new(p.x / radius, p.y / radius, 0.0),
+                    n,
                 }
             }
-            Quadric::Disk { height, radius, inner_radius, phi_max } => {
-                p.z = height;
+            Quadric::Disk { radius, inner_radius, phi_max, .. } => {
                 let rho = (p.x * p.x + p.y * p.y).sqrt();
                 let phi = azimuth(p.x, p.y);
                 let phi_max = phi_max.to_radians();
@@ -198,13 +215,33 @@ impl Quadric {
                 QuadricHit {
                     t,
                     p,
-                    p_err: Vec3::ZERO,
+                    p_err,
                     uv: Vec2::new(phi / phi_max, (radius - rho) / (radius - inner_radius)),
                     dpdu: Vec3::new(-phi_max * p.y, phi_max * p.x, 0.0),
                     dpdv,
-                    n: Vec3::Z,
+                    n,
                 }
             }
+        }
+    }
+
+    /// [`Quadric::surface_at`]'s point, error bound and normal only, with (u, v) and the
+    /// derivatives left zero: what a boundary between media (an interface surface) needs.
+    pub fn boundary_at(&self, o: Vec3, d: Vec3, t: f32) -> QuadricHit {
+        let p = self.projected_point(o, d, t);
+        let (p_err, n) = self.error_and_normal(p);
+        QuadricHit { t, p, p_err, uv: Vec2::ZERO, dpdu: Vec3::ZERO, dpdv: Vec3::ZERO, n }
+    }
+
+    /// The error bound and unit normal at the re-projected point `p`.
+    #[inline]
+    fn error_and_normal(&self, p: Vec3) -> (Vec3, Vec3) {
+        match *self {
+            Quadric::Sphere { radius, .. } => (gamma(5) * p.abs(), p / radius),
+            Quadric::Cylinder { radius, .. } => {
+                (gamma(3) * Vec3::new(p.x.abs(), p.y.abs(), 0.0), Vec3::new(p.x / radius, p.y / radius, 0.0))
+            }
+            Quadric::Disk { .. } => (Vec3::ZERO, Vec3::Z),
         }
     }
 
@@ -218,7 +255,8 @@ impl Quadric {
         let (duu, duv, dvv) = match *self {
             Quadric::Sphere { radius, z_min, z_max, phi_max } => {
                 let phi_max = phi_max.to_radians();
-                let theta_span = (z_max / radius).clamp(-1.0, 1.0).acos() - (z_min / radius).clamp(-1.0, 1.0).acos();
+                let (theta_min, theta_max) = sphere_theta_range(radius, z_min, z_max);
+                let theta_span = theta_max - theta_min;
                 let rho = (p.x * p.x + p.y * p.y).sqrt().max(f32::MIN_POSITIVE);
                 (
                     -phi_max * phi_max * Vec3::new(p.x, p.y, 0.0),

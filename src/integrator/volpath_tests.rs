@@ -337,7 +337,7 @@ fn an_emissive_rgb_grid_gives_the_quadrature_of_its_emission() {
     use crate::media::{RgbGridMedium, SpectrumGrid};
     let (a0, a1) = ([0.4f32, 1.0, 2.0, 3.0], [1.2f32, 0.6, 0.2, 3.0]);
     let (e0, e1, le_scale) = ([1.0f32, 2.0, 0.5, 4.0], [3.0f32, 0.5, 0.5, 0.0], 1.5f32);
-    let grid = |v0, v1| SpectrumGrid { n: UVec3::new(2, 1, 1), values: vec![chromatic(v0), chromatic(v1)] };
+    let grid = |v0, v1| SpectrumGrid::new(UVec3::new(2, 1, 1), vec![chromatic(v0), chromatic(v1)]).unwrap();
     let medium = RgbGridMedium::new(
         Mat4::IDENTITY,
         Vec3::ZERO,

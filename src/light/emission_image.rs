@@ -38,14 +38,15 @@ impl EmissionImage {
     pub fn new(image: &Image, space: &'static ColorSpace) -> Self {
         let (width, height) = (image.width.max(1) as usize, image.height.max(1) as usize);
         let c = image.channels.max(1) as usize;
-        let mut texels = Vec::with_capacity(width * height);
+        let mut rgbs = Vec::with_capacity(width * height);
         let mut sum = 0.0f64;
         for p in image.data.chunks_exact(c) {
             let px = |k: usize| p.get(k.min(c - 1)).copied().filter(|v| v.is_finite()).unwrap_or(0.0).max(0.0);
             let rgb = [px(0), px(1), px(2)];
-            texels.push(TexelSpectrum::from_rgb(rgb, space));
+            rgbs.push(rgb);
             sum += f64::from(space.rgb_to_xyz(Vec3::from_array(rgb)).y);
         }
+        let mut texels = TexelSpectrum::from_rgbs(&rgbs, space);
         texels.resize(width * height, TexelSpectrum::default());
         let mean_luminance = (sum / (width * height) as f64) as f32;
         Self { width, height, texels, white: Arc::new(space.illuminant.clone()), mean_luminance }

@@ -19,7 +19,6 @@ use crate::math::PI;
 use crate::sampling::Distribution2D;
 use crate::spectrum::{ColorSpace, SampledSpectrum, SampledWavelengths, Spectrum, LAMBDA_MAX, LAMBDA_MIN};
 use glam::{Mat3, Vec2, Vec3};
-use rayon::prelude::*;
 use std::sync::Arc;
 
 /// pbrt-v4's MIS-compensated sampling weights (Karlík et al., "MIS Compensation: Optimizing
@@ -104,12 +103,7 @@ impl EnvMapLight {
         let (w, h) = (image.width.max(1) as usize, image.height.max(1) as usize);
         let rgb = image_rgb(image);
         let rgb_at = |i: usize| rgb[i];
-        // Build (or fetch) the lazily-made table and fitter before going parallel: the table's
-        // construction runs rayon jobs inside a OnceLock, and a worker stealing one of ours in
-        // the middle of it would re-enter the OnceLock and deadlock.
-        let _ = space.rgb_to_spectrum_table();
-        let texels: Vec<TexelSpectrum> =
-            (0..w * h).into_par_iter().map(|i| TexelSpectrum::from_rgb(rgb_at(i), space)).collect();
+        let texels = TexelSpectrum::from_rgbs(&rgb[..w * h], space);
         let luminance = luminance_of(&rgb, space);
         // The importance is positive wherever radiance is (luminance weights are positive for
         // every supported space), so light sampling alone stays unbiased.

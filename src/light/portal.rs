@@ -120,9 +120,7 @@ impl PortalLight {
                 bilerp_equal_area(&source, n, equal_area::sphere_to_square((light_from_portal * w).normalize()))
             })
             .collect();
-        // Fetch the lazily built table before going parallel (see `EnvMapLight::new`).
-        let _ = space.rgb_to_spectrum_table();
-        let texels: Vec<TexelSpectrum> = rectified.par_iter().map(|&rgb| TexelSpectrum::from_rgb(rgb, space)).collect();
+        let texels = TexelSpectrum::from_rgbs(&rectified, space);
         let weights: Vec<f32> =
             rectified.iter().zip(&centres).map(|(rgb, &(_, jac))| rgb.iter().sum::<f32>() / 3.0 * jac).collect();
         // Φ = A ∫ L cos θ dω over the directions through the portal, by the midpoint rule.

@@ -54,19 +54,20 @@ impl ProjectionLight {
         let screen = if aspect > 1.0 { [-aspect, aspect, -1.0, 1.0] } else { [-1.0, 1.0, -1.0 / aspect, 1.0 / aspect] };
         let c = image.channels.max(1) as usize;
         let tan_half_fov = (fov_deg.to_radians() * 0.5).tan();
-        let mut texels = Vec::with_capacity(width * height);
+        let mut rgbs = Vec::with_capacity(width * height);
         let mut sum = 0.0f64;
         for (i, p) in image.data.chunks_exact(c).enumerate() {
             let px = |k: usize| p.get(k.min(c - 1)).copied().filter(|v| v.is_finite()).unwrap_or(0.0).max(0.0);
             let rgb = [px(0), px(1), px(2)];
-            texels.push(TexelSpectrum::from_rgb(rgb, space));
+            rgbs.push(rgb);
             let (x, y) = ((i % width) as f32 + 0.5, (i / width) as f32 + 0.5);
             let sx = (screen[0] + (screen[1] - screen[0]) * x / width as f32) * tan_half_fov;
             let sy = (screen[2] + (screen[3] - screen[2]) * y / height as f32) * tan_half_fov;
             let cos = 1.0 / (1.0 + sx * sx + sy * sy).sqrt();
             sum += f64::from(space.rgb_to_xyz(Vec3::from_array(rgb)).y * cos * cos * cos);
         }
-        let mean_y_cos3 = (sum / texels.len().max(1) as f64) as f32;
+        let mean_y_cos3 = (sum / rgbs.len().max(1) as f64) as f32;
+        let texels = TexelSpectrum::from_rgbs(&rgbs, space);
         Self {
             position,
             light_from_world: world_from_light.inverse(),

@@ -4,7 +4,11 @@
 //! multiplied by the colour space's white illuminant W(λ) (Y = 1). A lookup then evaluates one
 //! sigmoid per wavelength and never runs the RGB→spectrum fit.
 
-use crate::spectrum::{fit_albedo_fast, ColorSpace, SampledSpectrum, SampledWavelengths, LAMBDA_MAX, LAMBDA_MIN};
+use crate::spectrum::{
+    fit_albedo_fast, normalised_wavelengths, sigmoid4, ColorSpace, SampledSpectrum, SampledWavelengths,
+};
+use rayon::prelude::*;
+use std::collections::HashMap;
 
 /// One texel's spectrum shape: `scale · σ(poly(x))`, x = (λ − 360 nm)/470 nm (times the white).
 #[derive(Clone, Copy, Debug, Default)]
@@ -32,17 +36,27 @@ impl TexelSpectrum {
         Self { c: poly.c.map(|c| c as f32), scale: 2.0 * m }
     }
 
+    /// [`TexelSpectrum::from_rgb`] of every colour of `rgbs`, each distinct colour fitted once
+    /// (images repeat colours: a slide or a sky's flat regions), in parallel.
+    pub(super) fn from_rgbs(rgbs: &[[f32; 3]], space: &ColorSpace) -> Vec<Self> {
+        // Build (or fetch) the lazily made table before going parallel: its construction runs
+        // rayon jobs inside a OnceLock, and a worker stealing one of ours in the middle of it
+        // would re-enter the OnceLock and deadlock.
+        let _ = space.rgb_to_spectrum_table();
+        let key = |rgb: &[f32; 3]| rgb.map(f32::to_bits);
+        let mut distinct: Vec<[u32; 3]> = rgbs.iter().map(key).collect();
+        distinct.sort_unstable();
+        distinct.dedup();
+        let fits: HashMap<[u32; 3], Self> =
+            distinct.into_par_iter().map(|k| (k, Self::from_rgb(k.map(f32::from_bits), space))).collect();
+        rgbs.iter().map(|rgb| fits[&key(rgb)]).collect()
+    }
+
     #[inline]
     pub(super) fn sample(&self, w: &SampledWavelengths) -> SampledSpectrum {
         if self.scale == 0.0 {
             return SampledSpectrum::zero();
         }
-        let span = LAMBDA_MAX - LAMBDA_MIN;
-        SampledSpectrum::new(w.lambda.map(|l| {
-            let x = (l - LAMBDA_MIN) / span;
-            let t = (self.c[0] * x + self.c[1]) * x + self.c[2];
-            let s = if t.is_infinite() { (t > 0.0) as u8 as f32 } else { 0.5 + t / (2.0 * (1.0 + t * t).sqrt()) };
-            self.scale * s
-        }))
+        SampledSpectrum(self.scale * sigmoid4(self.c, normalised_wavelengths(w.lambda)))
     }
 }

@@ -4,6 +4,7 @@
 
 use super::majorant::{Dda, MajorantGrid, MajorantSegments};
 use super::medium::{Homogeneous, MediumPoint};
+use crate::math::floor;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths, Spectrum};
 use glam::{IVec3, Mat4, UVec3, Vec3};
 
@@ -40,7 +41,7 @@ impl DensityGrid {
             return 0.0;
         }
         let ps = p * self.n.as_vec3() - Vec3::splat(0.5);
-        let base = ps.floor();
+        let base = ps.map(floor);
         let f = ps - base;
         let c = base.as_ivec3();
         let lerp = |a: f32, b: f32, t: f32| a + (b - a) * t;

@@ -10,7 +10,7 @@
 use super::medium::{Medium, MediumPoint};
 use crate::sampling::Rng;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
-use glam::{UVec3, Vec3};
+use glam::{UVec3, Vec3, Vec4};
 
 /// A stretch of ray [t_min, t_max] over which the majorant is σ_maj.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -189,7 +189,7 @@ pub fn sample_t_maj(
     for seg in medium.majorant_segments(o, d, t_max, uniform) {
         let s0 = seg.sigma_maj[0];
         if s0 == 0.0 {
-            t_maj *= (seg.sigma_maj * -finite_length(seg.t_max - seg.t_min)).exp();
+            t_maj *= beer_lambert(seg.sigma_maj, finite_length(seg.t_max - seg.t_min));
             continue;
         }
         let mut t_min = seg.t_min;
@@ -197,7 +197,7 @@ pub fn sample_t_maj(
             let t = t_min - (1.0 - u).ln() / s0;
             u = rng.uniform();
             if t < seg.t_max {
-                t_maj *= (seg.sigma_maj * -(t - t_min)).exp();
+                t_maj *= beer_lambert(seg.sigma_maj, t - t_min);
                 let p = o + d * t;
                 let mp = medium.point_at(p, uniform, w);
                 if !collide(Collision { p, mp, sigma_maj: seg.sigma_maj, t_maj }, rng) {
@@ -206,12 +206,23 @@ pub fn sample_t_maj(
                 t_maj = SampledSpectrum::one();
                 t_min = t;
             } else {
-                t_maj *= (seg.sigma_maj * -finite_length(seg.t_max - t_min)).exp();
+                t_maj *= beer_lambert(seg.sigma_maj, finite_length(seg.t_max - t_min));
                 break;
             }
         }
     }
     t_maj
+}
+
+/// exp(−σ d) at the four wavelengths: one exponential when σ is the same at all four, as a
+/// grid's majorant is.
+#[inline]
+fn beer_lambert(sigma: SampledSpectrum, d: f32) -> SampledSpectrum {
+    if sigma.0 == Vec4::splat(sigma[0]) {
+        SampledSpectrum::splat((sigma[0] * -d).exp())
+    } else {
+        (sigma * -d).exp()
+    }
 }
 
 /// An infinite length is taken as the largest float, so that exp(−σ·len) is 0 for σ > 0 and 1

@@ -9,19 +9,39 @@
 use super::grid::{clip_to_unit_cube, unit_cube_from_world, DensityGrid, MAJORANT_RES};
 use super::majorant::{Dda, MajorantGrid, MajorantSegments};
 use super::medium::MediumPoint;
-use crate::spectrum::{SampledSpectrum, SampledWavelengths, Spectrum};
-use glam::{IVec3, Mat4, UVec3, Vec3};
+use crate::math::floor;
+use crate::spectrum::{normalised_wavelengths, sigmoid4, SampledSpectrum, SampledWavelengths, Spectrum};
+use glam::{IVec3, Mat4, UVec3, Vec3, Vec4};
 
 /// Spectra on the unit cube's sample lattice (cell centres), x fastest.
 #[derive(Clone, Debug)]
 pub struct SpectrumGrid {
     /// Samples per axis.
-    pub n: UVec3,
+    n: UVec3,
     /// One spectrum per sample.
-    pub values: Vec<Spectrum>,
+    values: Vec<Spectrum>,
+    /// When every sample is a sigmoid spectrum (or a constant, σ(0) = ½ times twice it): its
+    /// coefficients c₀, c₁, c₂ and scale in single precision, evaluated four wavelengths at a
+    /// time without dispatch (and not at all where the scale is 0, as in a sparse grid's
+    /// empty voxels).
+    sigmoids: Option<Vec<[f32; 4]>>,
 }
 
 impl SpectrumGrid {
+    /// The grid of `n.x · n.y · n.z` spectra `values`, x fastest; `None` when the counts differ.
+    pub fn new(n: UVec3, values: Vec<Spectrum>) -> Option<Self> {
+        if values.len() as u64 != u64::from(n.x) * u64::from(n.y) * u64::from(n.z) || values.is_empty() {
+            return None;
+        }
+        let packed = |s: &Spectrum| match s {
+            Spectrum::Sigmoid { poly, scale } => Some([poly.c[0] as f32, poly.c[1] as f32, poly.c[2] as f32, *scale]),
+            Spectrum::Constant(v) => Some([0.0, 0.0, 0.0, 2.0 * v]),
+            _ => None,
+        };
+        let sigmoids = values.iter().map(packed).collect();
+        Some(Self { n, values, sigmoids })
+    }
+
     /// Trilinear interpolation at `p` of the unit cube, 0 outside it and outside the lattice.
     fn lookup(&self, p: Vec3, w: &SampledWavelengths) -> SampledSpectrum {
         if p.cmplt(Vec3::ZERO).any() || p.cmpgt(Vec3::ONE).any() {
@@ -29,23 +49,41 @@ impl SpectrumGrid {
         }
         let n = self.n.as_ivec3();
         let ps = p * self.n.as_vec3() - Vec3::splat(0.5);
-        let base = ps.floor();
+        let base = ps.map(floor);
         let f = ps - base;
         let c0 = base.as_ivec3();
-        let mut sum = SampledSpectrum::zero();
+        let x = normalised_wavelengths(w.lambda);
+        let value = |i: usize| match &self.sigmoids {
+            Some(s) if s[i][3] == 0.0 => Vec4::ZERO,
+            Some(s) => s[i][3] * sigmoid4([s[i][0], s[i][1], s[i][2]], x),
+            None => self.values[i].sample(w).0,
+        };
+        let (wx, wy, wz) = ([1.0 - f.x, f.x], [1.0 - f.y, f.y], [1.0 - f.z, f.z]);
+        let mut sum = Vec4::ZERO;
+        if c0.cmpge(IVec3::ZERO).all() && (c0 + IVec3::ONE).cmplt(n).all() {
+            // All eight neighbours are in the lattice (the common case).
+            let i0 = ((c0.z * n.y + c0.y) * n.x + c0.x) as usize;
+            let (sy, sz) = (n.x as usize, (n.x * n.y) as usize);
+            for (dz, wz) in wz.into_iter().enumerate() {
+                for (dy, wy) in wy.into_iter().enumerate() {
+                    let row = i0 + dz * sz + dy * sy;
+                    sum += (wz * wy) * (wx[0] * value(row) + wx[1] * value(row + 1));
+                }
+            }
+            return SampledSpectrum(sum);
+        }
         for corner in 0..8 {
             let o = IVec3::new(corner & 1, (corner >> 1) & 1, corner >> 2);
             let c = c0 + o;
             if c.cmplt(IVec3::ZERO).any() || c.cmpge(n).any() {
                 continue;
             }
-            let wgt = |k: usize| if o[k] == 1 { f[k] } else { 1.0 - f[k] };
-            let weight = wgt(0) * wgt(1) * wgt(2);
+            let weight = wx[o.x as usize] * wy[o.y as usize] * wz[o.z as usize];
             if weight > 0.0 {
-                sum += self.values[((c.z * n.y + c.y) * n.x + c.x) as usize].sample(w) * weight;
+                sum += weight * value(((c.z * n.y + c.y) * n.x + c.x) as usize);
             }
         }
-        sum
+        SampledSpectrum(sum)
     }
 
     /// Each sample's largest value over the visible range, as a scalar grid.

@@ -98,20 +98,25 @@ impl<'s> SurfaceInteraction<'s> {
             Some(uvs) => uvs[tri[k] as usize],
             None => [Vec2::ZERO, Vec2::X, Vec2::ONE][k],
         };
-        let uv = corner_uv(0) * b[0] + corner_uv(1) * b[1] + corner_uv(2) * b[2];
         let interpolated = mesh.normals.as_ref().and_then(|normals| {
             let n = normals[tri[0] as usize] * b[0] + normals[tri[1] as usize] * b[1] + normals[tri[2] as usize] * b[2];
             (n.length_squared() > 0.0 && n.is_finite()).then_some(n)
         });
         // ∂p/∂u and ∂p/∂v from the corners' positions and (u, v) (pbrt-v4 §6.5.3); a degenerate
-        // (u, v) layout falls back to edges of the triangle.
-        let (duv02, duv12) = (corner_uv(0) - corner_uv(2), corner_uv(1) - corner_uv(2));
-        let (dp02, dp12) = (p[0] - p[2], p[1] - p[2]);
-        let det = duv02.x * duv12.y - duv02.y * duv12.x;
-        let (dpdu, dpdv) = if det.abs() > 1e-12 {
-            ((dp02 * duv12.y - dp12 * duv02.y) / det, (dp12 * duv02.x - dp02 * duv12.x) / det)
+        // (u, v) layout falls back to edges of the triangle. A boundary between media that
+        // nothing shades or textures needs neither, nor (u, v).
+        let (uv, dpdu, dpdv) = if primitive.is_bare_boundary(scene) {
+            (Vec2::ZERO, Vec3::ZERO, Vec3::ZERO)
         } else {
-            (p[1] - p[0], ng.cross(p[1] - p[0]))
+            let uv = corner_uv(0) * b[0] + corner_uv(1) * b[1] + corner_uv(2) * b[2];
+            let (duv02, duv12) = (corner_uv(0) - corner_uv(2), corner_uv(1) - corner_uv(2));
+            let (dp02, dp12) = (p[0] - p[2], p[1] - p[2]);
+            let det = duv02.x * duv12.y - duv02.y * duv12.x;
+            if det.abs() > 1e-12 {
+                (uv, (dp02 * duv12.y - dp12 * duv02.y) / det, (dp12 * duv02.x - dp02 * duv12.x) / det)
+            } else {
+                (uv, p[1] - p[0], ng.cross(p[1] - p[0]))
+            }
         };
         // An instance hit was computed in object space: carry the point with its error bound,
         // the normals and the tangent to world space (pbrt-v4 transforms interactions the same way).

@@ -5,8 +5,9 @@
 
 use std::sync::Arc;
 
+use super::Scene;
 use crate::geometry::{Curves, Mesh, PlacedQuadric};
-use crate::material::FloatTexture;
+use crate::material::{FloatTexture, Material};
 
 /// The participating media on the two sides of a surface (pbrt-v4 `MediumInterface`): indices
 /// into the scene's media, `None` for vacuum. `inside` is the side the geometric normal points
@@ -71,6 +72,16 @@ pub struct Primitive {
 }
 
 impl Primitive {
+    /// True when the surface is only a boundary between media that neither emits nor cuts
+    /// out: nothing shades or textures a hit on it, so its interaction needs no (u, v),
+    /// derivatives or shading normal.
+    #[inline]
+    pub fn is_bare_boundary(&self, scene: &Scene) -> bool {
+        matches!(scene.materials[self.material as usize], Material::Interface)
+            && self.area_lights.is_none()
+            && self.alpha.is_none()
+    }
+
     /// The light index of triangle `prim`'s area light, if the primitive emits.
     #[inline]
     pub fn area_light(&self, prim: u32) -> Option<u32> {

@@ -8,7 +8,7 @@
 //! the quadratic product of two linear pieces), not by a Riemann sum.
 
 use super::data::CIE_1931_XYZ;
-use glam::{DVec3, Vec3};
+use glam::{DVec3, Vec3, Vec4};
 
 /// First wavelength of the table [nm].
 pub const CIE_LAMBDA_MIN: f64 = 360.0;
@@ -47,9 +47,30 @@ pub fn xyz_bar_f64(lambda_nm: f64) -> DVec3 {
     a + (b - a) * f
 }
 
-/// (x̄, ȳ, z̄)(λ): linear interpolation of the 1 nm table, 0 outside 360–830 nm.
+/// The table in single precision, padded to four lanes, for [`xyz_bar`] (evaluated for every
+/// camera sample's four wavelengths).
+static CIE_1931_XYZ_F32: [Vec4; CIE_SAMPLES] = {
+    let mut t = [Vec4::ZERO; CIE_SAMPLES];
+    let mut i = 0;
+    while i < CIE_SAMPLES {
+        let [x, y, z] = CIE_1931_XYZ[i];
+        t[i] = Vec4::new(x as f32, y as f32, z as f32, 0.0);
+        i += 1;
+    }
+    t
+};
+
+/// (x̄, ȳ, z̄)(λ): linear interpolation of the 1 nm table, 0 outside 360–830 nm, in single
+/// precision.
+#[inline]
 pub fn xyz_bar(lambda_nm: f32) -> Vec3 {
-    xyz_bar_f64(lambda_nm as f64).as_vec3()
+    if !(CIE_LAMBDA_MIN as f32..=CIE_LAMBDA_MAX as f32).contains(&lambda_nm) {
+        return Vec3::ZERO;
+    }
+    let t = lambda_nm - CIE_LAMBDA_MIN as f32;
+    let i = (t as usize).min(CIE_SAMPLES - 2);
+    let (a, b) = (CIE_1931_XYZ_F32[i], CIE_1931_XYZ_F32[i + 1]);
+    (a + (b - a) * (t - i as f32)).truncate()
 }
 
 /// Nodes and weights of 3-point Gauss–Legendre quadrature on [0, 1] (exact to degree 5).

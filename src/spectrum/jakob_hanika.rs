@@ -12,7 +12,7 @@
 
 use super::cie::{for_each_node, xyz_bar_f64, CIE_LAMBDA_MAX, CIE_LAMBDA_MIN};
 use super::color_space::ColorSpace;
-use glam::{DMat3, DVec3};
+use glam::{DMat3, DVec3, Vec4};
 use rayon::prelude::*;
 
 const X_SPAN: f64 = CIE_LAMBDA_MAX - CIE_LAMBDA_MIN;
@@ -27,6 +27,21 @@ fn sigmoid(t: f64) -> f64 {
         return if t > 0.0 { 1.0 } else { 0.0 };
     }
     0.5 + t / (2.0 * (1.0 + t * t).sqrt())
+}
+
+/// x = (λ − 360 nm) / 470 nm of four wavelengths λ [nm].
+#[inline]
+pub fn normalised_wavelengths(lambda: [f32; 4]) -> Vec4 {
+    (Vec4::from_array(lambda) - Vec4::splat(CIE_LAMBDA_MIN as f32)) * (1.0 / X_SPAN as f32)
+}
+
+/// σ(c₀x² + c₁x + c₂) at four normalised wavelengths x in single precision. t is clamped to
+/// ±10¹⁸ (where σ rounds to 0 or 1) so that t² stays finite and ±∞ give the limits.
+#[inline]
+pub fn sigmoid4(c: [f32; 3], x: Vec4) -> Vec4 {
+    let t = (Vec4::splat(c[0]) * x + Vec4::splat(c[1])) * x + Vec4::splat(c[2]);
+    let t = t.clamp(Vec4::splat(-1e18), Vec4::splat(1e18));
+    Vec4::splat(0.5) + Vec4::splat(0.5) * t / (Vec4::ONE + t * t).sqrt()
 }
 
 /// dσ/dt = ½ (1 + t²)^(−3/2).
@@ -49,6 +64,14 @@ impl SigmoidPolynomial {
     pub fn eval_f64(&self, lambda: f64) -> f64 {
         let x = (lambda - CIE_LAMBDA_MIN) / X_SPAN;
         sigmoid((self.c[0] * x + self.c[1]) * x + self.c[2])
+    }
+
+    /// The values at four wavelengths whose normalised x are `x`
+    /// ([`normalised_wavelengths`]), in single precision, as pbrt-v4 evaluates its sigmoid
+    /// polynomials.
+    #[inline]
+    pub fn sample(&self, x: Vec4) -> Vec4 {
+        sigmoid4(self.c.map(|c| c as f32), x)
     }
 
     /// The same polynomial in λ [nm] (c₀λ² + c₁λ + c₂), the form pbrt-v4 and colour-science

@@ -21,7 +21,9 @@ pub use blackbody::{blackbody_peak_radiance, blackbody_radiance};
 pub use cie::{xyz_bar, CIE_Y_INTEGRAL, K_M};
 pub use color_space::{rgb_to_xyz_from_chromaticities, ColorSpace};
 pub use illuminant::{daylight, normalise_luminance, NAMED_ILLUMINANTS};
-pub use jakob_hanika::{fit_albedo, fit_albedo_fast, Fit, RgbToSpectrumTable, SigmoidPolynomial};
+pub use jakob_hanika::{
+    fit_albedo, fit_albedo_fast, normalised_wavelengths, sigmoid4, Fit, RgbToSpectrumTable, SigmoidPolynomial,
+};
 pub use sampled::{
     sample_visible_wavelength, uniform_wavelength_pdf, visible_wavelength_pdf, SampledSpectrum, SampledWavelengths,
     LAMBDA_MAX, LAMBDA_MIN, N_SPECTRUM_SAMPLES,

@@ -4,7 +4,7 @@
 
 use super::blackbody::{blackbody_normalised, blackbody_peak_radiance};
 use super::cie::{xyz_of, CIE_LAMBDA_MAX, CIE_LAMBDA_MIN};
-use super::jakob_hanika::SigmoidPolynomial;
+use super::jakob_hanika::{normalised_wavelengths, SigmoidPolynomial};
 use super::sampled::{SampledSpectrum, SampledWavelengths};
 use glam::{DVec3, Vec3};
 use std::sync::Arc;
@@ -247,6 +247,9 @@ impl Spectrum {
         match self {
             Spectrum::Constant(v) => SampledSpectrum::splat(*v),
             Spectrum::PiecewiseLinear(p) => SampledSpectrum::new(w.lambda.map(|l| p.eval(l as f64) as f32)),
+            Spectrum::Sigmoid { poly, scale } => {
+                SampledSpectrum(poly.sample(normalised_wavelengths(w.lambda)) * *scale)
+            }
             _ => SampledSpectrum::new(w.lambda.map(|l| self.eval(l))),
         }
     }

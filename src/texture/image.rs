@@ -8,7 +8,9 @@ use super::encoding::ColorEncoding;
 use super::mapping::Mapping2D;
 use super::mipmap::MipMap;
 use crate::image::Image;
-use crate::spectrum::{fit_albedo, srgb_encode, ColorSpace, SampledSpectrum, SampledWavelengths, SigmoidPolynomial};
+use crate::spectrum::{
+    fit_albedo, normalised_wavelengths, srgb_encode, ColorSpace, SampledSpectrum, SampledWavelengths, SigmoidPolynomial,
+};
 use glam::Vec2;
 use rayon::prelude::*;
 use std::collections::HashMap;
@@ -102,9 +104,8 @@ impl SpectrumImage {
     /// The reflectance at `ctx` for the path's wavelengths.
     pub fn eval(&self, ctx: &TextureEvalContext, w: &SampledWavelengths) -> SampledSpectrum {
         let (st, d0, d1) = image_coords(&self.mapping, ctx);
-        self.mip.filter(st, d0, d1, |p| {
-            SampledSpectrum::new(std::array::from_fn(|k| p.eval_f64(w.lambda[k] as f64) as f32))
-        })
+        let x = normalised_wavelengths(w.lambda);
+        self.mip.filter(st, d0, d1, |p| SampledSpectrum(p.sample(x)))
     }
 }
 

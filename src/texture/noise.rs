@@ -3,6 +3,7 @@
 //! 0..256, blended with the quintic fade 6t⁵ − 15t⁴ + 10t³ so the second derivative is
 //! continuous across cells. The value is 0 at every lattice point and lies in about [−1, 1].
 
+use crate::math::floor;
 use glam::Vec3;
 
 /// The permutation of 0..256 of Perlin's reference implementation (pbrt-v4 uses the same one, so
@@ -48,9 +49,16 @@ fn gradient(hash: usize, x: f32, y: f32, z: f32) -> f32 {
 /// Improved noise at `p`: 0 on the integer lattice, smooth elsewhere, range about [−1, 1].
 pub fn noise(p: Vec3) -> f32 {
     // Reduce large coordinates so the integer cell fits an i32 (the noise has period 256).
-    let reduce = |x: f32| x % (1u32 << 30) as f32;
+    let reduce = |x: f32| {
+        const PERIOD: f32 = (1u32 << 30) as f32;
+        if x.abs() < PERIOD {
+            x
+        } else {
+            x % PERIOD
+        }
+    };
     let (x, y, z) = (reduce(p.x), reduce(p.y), reduce(p.z));
-    let (fx, fy, fz) = (x.floor(), y.floor(), z.floor());
+    let (fx, fy, fz) = (floor(x), floor(y), floor(z));
     let (dx, dy, dz) = (x - fx, y - fy, z - fz);
     let (ix, iy, iz) = ((fx as i32 & 255) as usize, (fy as i32 & 255) as usize, (fz as i32 & 255) as usize);
     let corner = |i: usize, j: usize, k: usize| {

@@ -184,7 +184,8 @@ impl Ctx<'_> {
         }
         let space = space_of(p);
         let values = rgbs.iter().map(|&c| Spectrum::from_rgb(c.map(|x| x.max(0.0)), kind, space)).collect();
-        Ok(Some(SpectrumGrid { n: UVec3::new(n[0] as u32, n[1] as u32, n[2] as u32), values }))
+        let n = UVec3::new(n[0] as u32, n[1] as u32, n[2] as u32);
+        Ok(Some(SpectrumGrid::new(n, values).expect("the count was checked")))
     }
 
     /// σ_a and σ_s: a named measured medium (`preset`), else `sigma_a`/`sigma_s` (default 1).
