@@ -79,10 +79,11 @@ impl SampledSpectrum {
     pub fn map(self, f: impl Fn(f32) -> f32) -> Self {
         Self(Vec4::new(f(self.0.x), f(self.0.y), f(self.0.z), f(self.0.w)))
     }
-    /// Element-wise exponential (Beer–Lambert transmittance).
+    /// Element-wise exponential (Beer–Lambert transmittance), four lanes at once
+    /// ([`exp4`]).
     #[inline]
     pub fn exp(self) -> Self {
-        self.map(f32::exp)
+        Self(Vec4::from_array(exp4(self.0.to_array())))
     }
     /// Element-wise square root.
     #[inline]
@@ -118,6 +119,35 @@ impl SampledSpectrum {
         }
         acc / (N_SPECTRUM_SAMPLES as f32 * CIE_Y_INTEGRAL)
     }
+}
+
+/// eˣ of four values in single precision without a library call per lane, as a loop the
+/// compiler vectorises: x = k ln 2 + r with k = ⌊x log₂e + ½⌋ and |r| ≤ ½ ln 2 (ln 2 split in
+/// two parts so that r is exact), eʳ by Cephes' degree-7 minimax polynomial for `expf` (Moshier
+/// 1989, *Methods and Programs for Mathematical Functions*), times 2ᵏ built in the exponent
+/// bits. Relative error below 3·10⁻⁷; 0 below ln 2⁻¹²⁵ ≈ −86.64 (where the true value is under
+/// 2.4·10⁻³⁸), +∞ above 88.72, NaN for NaN.
+#[inline]
+pub fn exp4(x: [f32; 4]) -> [f32; 4] {
+    const LO: f32 = -86.643_4;
+    const HI: f32 = 88.722_83;
+    let x = Vec4::from_array(x);
+    let c = x.clamp(Vec4::splat(LO), Vec4::splat(HI));
+    let k = (c * std::f32::consts::LOG2_E + Vec4::splat(0.5)).floor();
+    let r = c - k * 0.693_359_4 - k * -2.121_944_4e-4;
+    let p = ((((Vec4::splat(1.987_569_1e-4) * r + Vec4::splat(1.398_199_9e-3)) * r + Vec4::splat(8.333_452e-3)) * r
+        + Vec4::splat(4.166_579_6e-2))
+        * r
+        + Vec4::splat(0.166_666_65))
+        * r
+        + Vec4::splat(0.5);
+    let e = p * r * r + r + Vec4::ONE;
+    // Times 2ᵏ⁻¹ (biased exponent k + 126, in 1..=254 for k in −125..=128), then 2.
+    let half_two_k = k.to_array().map(|k| f32::from_bits(((k as i32 + 126) as u32) << 23));
+    let e = e * Vec4::from_array(half_two_k) * 2.0;
+    let e = Vec4::select(x.cmplt(Vec4::splat(LO)), Vec4::ZERO, e);
+    let e = Vec4::select(x.cmpgt(Vec4::splat(HI)), Vec4::splat(f32::INFINITY), e);
+    Vec4::select(x.cmpeq(x), e, x).to_array()
 }
 
 impl Index<usize> for SampledSpectrum {
@@ -314,6 +344,24 @@ pub fn uniform_wavelength_pdf(lambda: f32) -> f32 {
 
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn exp4_agrees_with_the_exponential() {
+        let mut worst = 0.0f64;
+        let n = 200_000;
+        for i in 0..=n {
+            let x = -86.6 + (88.7 + 86.6) * i as f32 / n as f32;
+            let got = super::exp4([x, -x.min(86.6), x * 0.01, 0.0]);
+            for (g, v) in got.iter().zip([x, -x.min(86.6), x * 0.01, 0.0]) {
+                let want = (v as f64).exp();
+                worst = worst.max(((*g as f64) - want).abs() / want);
+            }
+        }
+        assert!(worst < 3e-7, "relative error {worst}");
+        let [a, b, c, d] = super::exp4([-1e30, f32::NEG_INFINITY, f32::INFINITY, f32::NAN]);
+        assert!(a == 0.0 && b == 0.0 && c == f32::INFINITY && d.is_nan());
+        assert_eq!(super::exp4([0.0, -100.0, 100.0, -f32::MAX]), [1.0, 0.0, f32::INFINITY, 0.0]);
+    }
+
     use super::*;
 
     #[test]

@@ -38,13 +38,33 @@ fn fade(t: f32) -> f32 {
 /// The paper maps the 16 hashes onto the 12 directions by repeating four of them; for hashes
 /// 12–15 this is pbrt-v4's assignment ((1,1,0), (−1,1,0), (0,1,−1), (0,−1,−1)), which differs
 /// from the paper's listing for 13 and 14, so that prism's noise patterns are pbrt-v4's.
+/// Looked up in a table rather than chosen by branches on the (random) hash.
+#[inline]
 fn gradient(hash: usize, x: f32, y: f32, z: f32) -> f32 {
-    let h = hash & 15;
-    let low = h == 12 || h == 13;
-    let u = if h < 8 || low { x } else { y };
-    let v = if h < 4 || low { y } else { z };
-    (if h & 1 == 0 { u } else { -u }) + (if h & 2 == 0 { v } else { -v })
+    let [gx, gy, gz] = GRADIENTS[hash & 15];
+    (gx * x + gy * y) + gz * z
 }
+
+/// The direction of each hash: for h < 12 bit 2–3 pick the plane ((x, y), (x, z), (y, z)) and
+/// bits 0 and 1 the signs; 12–15 repeat four of them.
+const GRADIENTS: [[f32; 3]; 16] = [
+    [1.0, 1.0, 0.0],
+    [-1.0, 1.0, 0.0],
+    [1.0, -1.0, 0.0],
+    [-1.0, -1.0, 0.0],
+    [1.0, 0.0, 1.0],
+    [-1.0, 0.0, 1.0],
+    [1.0, 0.0, -1.0],
+    [-1.0, 0.0, -1.0],
+    [0.0, 1.0, 1.0],
+    [0.0, -1.0, 1.0],
+    [0.0, 1.0, -1.0],
+    [0.0, -1.0, -1.0],
+    [1.0, 1.0, 0.0],
+    [-1.0, 1.0, 0.0],
+    [0.0, 1.0, -1.0],
+    [0.0, -1.0, -1.0],
+];
 
 /// Improved noise at `p`: 0 on the integer lattice, smooth elsewhere, range about [−1, 1].
 pub fn noise(p: Vec3) -> f32 {
@@ -81,6 +101,23 @@ pub fn noise_2d(x: f32, y: f32) -> f32 {
 
 #[cfg(test)]
 mod tests {
+    /// The gradient table against Perlin's branch form (u, v chosen by the hash's bits) with
+    /// pbrt-v4's assignment of hashes 12–15.
+    #[test]
+    fn gradient_table_is_the_branch_form() {
+        let branches = |h: usize, x: f32, y: f32, z: f32| {
+            let low = h == 12 || h == 13;
+            let u = if h < 8 || low { x } else { y };
+            let v = if h < 4 || low { y } else { z };
+            (if h & 1 == 0 { u } else { -u }) + (if h & 2 == 0 { v } else { -v })
+        };
+        for h in 0..16 {
+            for (x, y, z) in [(0.3f32, -0.7f32, 0.11f32), (-0.9, 0.25, 0.6), (0.5, 0.5, -0.5)] {
+                assert_eq!(super::gradient(h, x, y, z), branches(h, x, y, z), "hash {h}");
+            }
+        }
+    }
+
     use super::*;
 
     #[test]
