@@ -173,7 +173,12 @@ impl GridMedium {
 
     /// The coefficients at world-space `p`.
     pub fn point(&self, p: Vec3, w: &SampledWavelengths) -> MediumPoint {
-        let unit = self.unit_point(w);
+        self.point_given(p, &self.unit_point(w), w)
+    }
+
+    /// [`GridMedium::point`] given the coefficients at unit density `unit` at `w` (evaluated
+    /// once per ray by the caller).
+    pub fn point_given(&self, p: Vec3, unit: &MediumPoint, w: &SampledWavelengths) -> MediumPoint {
         let q = self.grid_from_world.transform_point3(p);
         let d = self.density.lookup(q);
         let le = self.emission.as_ref().map_or(unit.le, |e| e.at(q, w));

@@ -74,7 +74,7 @@ impl Medium {
     pub fn point_at(&self, p: Vec3, uniform: &MediumPoint, w: &SampledWavelengths) -> MediumPoint {
         match self {
             Medium::Homogeneous(_) => *uniform,
-            Medium::Grid(g) => g.point(p, w),
+            Medium::Grid(g) => g.point_given(p, uniform, w),
             Medium::RgbGrid(g) => g.point(p, w),
             Medium::Cloud(c) => c.point(p, uniform),
             Medium::NanoVdb(v) => v.point(p, uniform, w),
