@@ -105,7 +105,7 @@ impl<'s> SurfaceInteraction<'s> {
         // ∂p/∂u and ∂p/∂v from the corners' positions and (u, v) (pbrt-v4 §6.5.3); a degenerate
         // (u, v) layout falls back to edges of the triangle. A boundary between media that
         // nothing shades or textures needs neither, nor (u, v).
-        let (uv, dpdu, dpdv) = if primitive.is_bare_boundary(scene) {
+        let (uv, dpdu, dpdv) = if primitive.bare_boundary {
             (Vec2::ZERO, Vec3::ZERO, Vec3::ZERO)
         } else {
             let uv = corner_uv(0) * b[0] + corner_uv(1) * b[1] + corner_uv(2) * b[2];

@@ -510,6 +510,9 @@ impl SceneBuilder {
                 }
                 first
             });
+            let bare_boundary = matches!(self.materials[material as usize], Material::Interface)
+                && area_lights.is_none()
+                && alpha.is_none();
             primitives.push(Primitive {
                 mesh,
                 curves,
@@ -519,6 +522,7 @@ impl SceneBuilder {
                 one_light,
                 medium_interface,
                 alpha,
+                bare_boundary,
             });
         }
         let has_alpha = primitives.iter().any(|p| p.alpha.is_some());

@@ -5,9 +5,8 @@
 
 use std::sync::Arc;
 
-use super::Scene;
 use crate::geometry::{Curves, Mesh, PlacedQuadric};
-use crate::material::{FloatTexture, Material};
+use crate::material::FloatTexture;
 
 /// The participating media on the two sides of a surface (pbrt-v4 `MediumInterface`): indices
 /// into the scene's media, `None` for vacuum. `inside` is the side the geometric normal points
@@ -69,19 +68,13 @@ pub struct Primitive {
     /// Cut-out mask (pbrt-v4's `alpha`): where it is 0 a ray passes through the surface. `None`
     /// is opaque; the accelerator's any-hit test is where a mask takes effect.
     pub alpha: Option<FloatTexture>,
+    /// The surface is only a boundary between media (`Material::Interface`) that neither
+    /// emits nor cuts out: nothing shades or textures a hit on it, so its interaction needs no
+    /// (u, v), derivatives or shading normal.
+    pub bare_boundary: bool,
 }
 
 impl Primitive {
-    /// True when the surface is only a boundary between media that neither emits nor cuts
-    /// out: nothing shades or textures a hit on it, so its interaction needs no (u, v),
-    /// derivatives or shading normal.
-    #[inline]
-    pub fn is_bare_boundary(&self, scene: &Scene) -> bool {
-        matches!(scene.materials[self.material as usize], Material::Interface)
-            && self.area_lights.is_none()
-            && self.alpha.is_none()
-    }
-
     /// The light index of triangle `prim`'s area light, if the primitive emits.
     #[inline]
     pub fn area_light(&self, prim: u32) -> Option<u32> {

@@ -19,8 +19,7 @@ impl<'s> SurfaceInteraction<'s> {
         ray: &Ray,
         hit: &Hit,
     ) -> Self {
-        let s =
-            if primitive.is_bare_boundary(scene) { quadric.boundary(ray, hit.t) } else { quadric.surface(ray, hit.t) };
+        let s = if primitive.bare_boundary { quadric.boundary(ray, hit.t) } else { quadric.surface(ray, hit.t) };
         Self::on_analytic_surface(scene, primitive, ray, hit, (s.p, s.p_err), s.n, (s.dpdu, s.dpdv), s.uv)
     }
 
