@@ -10,7 +10,7 @@
 use super::point::spectral_integral;
 use super::LightSample;
 use crate::math::{Frame, PI};
-use crate::sampling::warp::sample_uniform_sphere;
+use crate::sampling::warp::{sample_uniform_sphere, sin_cos_turn};
 use crate::spectrum::{SampledSpectrum, SampledWavelengths, Spectrum};
 use glam::{Vec2, Vec3};
 use std::sync::Arc;
@@ -105,9 +105,9 @@ impl SphereLight {
             let sin_max = sin2_max.sqrt();
             let cos_alpha = sin2_theta / sin_max + cos_theta * (1.0 - sin2_theta / sin2_max).max(0.0).sqrt();
             let sin_alpha = (1.0 - cos_alpha * cos_alpha).max(0.0).sqrt();
-            let phi = 2.0 * PI * u.y;
+            let (sin_phi, cos_phi) = sin_cos_turn(u.y);
             let frame = Frame::from_normal(to_center / d2.sqrt());
-            let local = Vec3::new(sin_alpha * phi.cos(), sin_alpha * phi.sin(), cos_alpha);
+            let local = Vec3::new(sin_alpha * cos_phi, sin_alpha * sin_phi, cos_alpha);
             let q = self.center - self.radius * frame.to_world(local);
             let wi = (q - p).normalize_or_zero();
             (q, wi, 1.0 / (2.0 * PI * one_minus_cos_max), q)

@@ -40,12 +40,41 @@ pub fn square_to_sphere(p: Vec2) -> Vec3 {
 pub fn sphere_to_square(d: Vec3) -> Vec2 {
     let (ax, ay, az) = (d.x.abs(), d.y.abs(), d.z.abs());
     let r = ((ax * ax + ay * ay) / (1.0 + az)).sqrt().min(1.0);
-    let t = ay.atan2(ax) * (2.0 / PI);
+    let t = quadrant_angle(ax, ay);
     let (mut u, mut v) = (r - t * r, t * r);
     if d.z < 0.0 {
         (u, v) = (1.0 - v, 1.0 - u);
     }
     Vec2::new(0.5 * (u.copysign(d.x) + 1.0), 0.5 * (v.copysign(d.y) + 1.0))
+}
+
+/// atan2(y, x) / (π/2) for x, y ≥ 0: the azimuth within the first quadrant as a fraction of
+/// it, in [0, 1]. atan(q) for q = min/max ∈ [0, 1] is q·P(q²) with P of degree 7, fitted here to
+/// atan on [0, 1] (weighted least squares on Chebyshev nodes): |error| < 1.5·10⁻⁷ rad in single
+/// precision, against a library atan2 that is a call and several times the instructions (the
+/// mapping runs at every environment-map lookup).
+#[inline]
+fn quadrant_angle(x: f32, y: f32) -> f32 {
+    const C: [f32; 8] = [
+        0.999_999_34,
+        -0.333_298_6,
+        0.199_465_66,
+        -0.139_086_3,
+        0.096_421_98,
+        -0.055_912_325,
+        0.021_862_949,
+        -0.004_054_563,
+    ];
+    let (a, b) = (x.max(y), x.min(y));
+    let q = if a > 0.0 { b / a } else { 0.0 };
+    let z = q * q;
+    let p = C.iter().rev().fold(0.0f32, |acc, &c| acc * z + c);
+    let t = q * p * (2.0 / PI);
+    if y > x {
+        1.0 - t
+    } else {
+        t
+    }
 }
 
 /// A point just outside the square moved to the point inside it with the same direction
@@ -93,6 +122,18 @@ mod tests {
 
     fn random_point(rng: &mut Rng) -> Vec2 {
         Vec2::new(rng.uniform(), rng.uniform())
+    }
+
+    #[test]
+    fn the_quadrant_angle_is_atan2_over_a_right_angle() {
+        let mut rng = Rng::new(4, 4);
+        let mut cases: Vec<(f32, f32)> = (0..200_000).map(|_| (rng.uniform(), rng.uniform())).collect();
+        cases.extend([(0.0, 0.0), (1.0, 0.0), (0.0, 1.0), (1.0, 1.0), (1e-30, 1.0), (1.0, 1e-30), (3.0, 3.0)]);
+        for (x, y) in cases {
+            let want = (y as f64).atan2(x as f64) / std::f64::consts::FRAC_PI_2;
+            let got = quadrant_angle(x, y) as f64;
+            assert!((got - want).abs() < 1.2e-7, "({x}, {y}): {got} vs {want}");
+        }
     }
 
     #[test]

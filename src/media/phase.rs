@@ -4,6 +4,7 @@
 //! Sampling inverts its CDF in closed form (pbrt-v4 `SampleHenyeyGreenstein`).
 
 use crate::math::{Frame, Vec2, Vec3, PI};
+use crate::sampling::warp::sin_cos_turn;
 
 /// HG phase function with asymmetry g = E[cos θ] ∈ (−1, 1).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -37,9 +38,9 @@ impl HenyeyGreenstein {
         }
         .clamp(-1.0, 1.0);
         let sin_theta = (1.0 - cos_theta * cos_theta).max(0.0).sqrt();
-        let phi = 2.0 * PI * u.y;
+        let (sin_phi, cos_phi) = sin_cos_turn(u.y);
         let f = Frame::from_normal(d_in);
-        f.to_world(Vec3::new(sin_theta * phi.cos(), sin_theta * phi.sin(), cos_theta))
+        f.to_world(Vec3::new(sin_theta * cos_phi, sin_theta * sin_phi, cos_theta))
     }
 }
 

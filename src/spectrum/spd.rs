@@ -6,7 +6,7 @@ use super::blackbody::{blackbody_normalised, blackbody_peak_radiance};
 use super::cie::{xyz_of, CIE_LAMBDA_MAX, CIE_LAMBDA_MIN};
 use super::jakob_hanika::{normalised_wavelengths, SigmoidPolynomial};
 use super::sampled::{SampledSpectrum, SampledWavelengths};
-use glam::{DVec3, Vec3};
+use glam::{DVec3, Vec3, Vec4};
 use std::sync::Arc;
 
 /// Samples (λᵢ [nm], vᵢ) of a piecewise-linear function, zero outside [λ₀, λₙ₋₁]
@@ -25,6 +25,8 @@ pub struct PiecewiseLinear {
     /// interpolating these is the same function (each 1-nm step lies within one segment), found
     /// with no search at all. Measured data comes on such grids.
     per_nm: Option<Vec<f64>>,
+    /// `per_nm` in single precision, for [`Self::sample4`].
+    per_nm_f32: Option<Vec<f32>>,
 }
 
 impl PiecewiseLinear {
@@ -53,9 +55,11 @@ impl PiecewiseLinear {
             }
             cell_segment.push(i as u32);
         }
-        let mut p = Self { lambda, value, cell_segment, cells_per_nm, per_nm: None };
+        let mut p = Self { lambda, value, cell_segment, cells_per_nm, per_nm: None, per_nm_f32: None };
         if p.lambda.iter().all(|l| l.fract() == 0.0) && span <= 10_000.0 {
-            p.per_nm = Some((0..=span as usize).map(|i| p.eval(p.lambda[0] + i as f64)).collect());
+            let v: Vec<f64> = (0..=span as usize).map(|i| p.eval(p.lambda[0] + i as f64)).collect();
+            p.per_nm_f32 = Some(v.iter().map(|&x| x as f32).collect());
+            p.per_nm = Some(v);
         }
         Some(p)
     }
@@ -94,8 +98,27 @@ impl PiecewiseLinear {
         let t = (l - l0) / (l1 - l0);
         self.value[i] + t * (self.value[i + 1] - self.value[i])
     }
+    /// The function at four wavelengths [nm], in single precision: on a whole-nm grid one
+    /// table step per wavelength (this runs for every light and metal spectrum at every hit),
+    /// otherwise [`Self::eval`].
+    #[inline]
+    pub fn sample4(&self, lambda: [f32; 4]) -> Vec4 {
+        let Some(v) = &self.per_nm_f32 else {
+            return Vec4::from_array(lambda.map(|l| self.eval(l as f64) as f32));
+        };
+        let (l0, last) = (self.lambda[0] as f32, (v.len() - 1) as f32);
+        Vec4::from_array(lambda.map(|l| {
+            let x = l - l0;
+            if !(x >= 0.0 && x <= last) {
+                return 0.0;
+            }
+            let i = (x as usize).min(v.len() - 2);
+            v[i] + (x - i as f32) * (v[i + 1] - v[i])
+        }))
+    }
     fn scale(&mut self, s: f64) {
         self.value.iter_mut().chain(self.per_nm.iter_mut().flatten()).for_each(|v| *v *= s);
+        self.per_nm_f32 = self.per_nm.as_ref().map(|v| v.iter().map(|&x| x as f32).collect());
     }
 }
 
@@ -246,7 +269,7 @@ impl Spectrum {
         // The common cases dispatch once for all four wavelengths.
         match self {
             Spectrum::Constant(v) => SampledSpectrum::splat(*v),
-            Spectrum::PiecewiseLinear(p) => SampledSpectrum::new(w.lambda.map(|l| p.eval(l as f64) as f32)),
+            Spectrum::PiecewiseLinear(p) => SampledSpectrum(p.sample4(w.lambda)),
             Spectrum::Sigmoid { poly, scale } => {
                 SampledSpectrum(poly.sample(normalised_wavelengths(w.lambda)) * *scale)
             }
@@ -402,6 +425,17 @@ mod tests {
                 assert!((p.eval(x) - reference(x)).abs() <= 1e-14, "table {table}, λ = {x}");
             }
             assert_eq!((p.eval(l[0] - 1e-9), p.eval(l[n - 1] + 1e-9)), (0.0, 0.0));
+            // Four at a time in single precision: the same function to f32 rounding, zero
+            // outside the range.
+            for _ in 0..100 {
+                let x = [0.0f32; 4].map(|_| (l[0] - 5.0 + (l[n - 1] - l[0] + 10.0) * rng.uniform() as f64) as f32);
+                let got = p.sample4(x);
+                for k in 0..4 {
+                    let want = if (l[0]..=l[n - 1]).contains(&(x[k] as f64)) { reference(x[k] as f64) } else { 0.0 };
+                    assert!((got[k] as f64 - want).abs() <= 1e-6, "table {table}, λ = {}: {} vs {want}", x[k], got[k]);
+                }
+            }
+            assert_eq!(p.sample4([l[0] as f32 - 1e-3, l[n - 1] as f32 + 1e-3, l[0] as f32, l[n - 1] as f32])[0], 0.0);
         }
     }
 
