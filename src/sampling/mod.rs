@@ -8,6 +8,7 @@ pub mod piecewise_linear;
 pub mod rng;
 pub mod sampler;
 mod sobol;
+pub mod spherical_rectangle;
 pub mod warp;
 pub mod windowed;
 
@@ -16,4 +17,5 @@ pub use distribution::{Distribution1D, Distribution2D, Sample1D};
 pub use piecewise_linear::PiecewiseLinear2D;
 pub use rng::Rng;
 pub use sampler::Sampler;
+pub use spherical_rectangle::SphericalRectangle;
 pub use windowed::{Window, WindowedDistribution2D};
