@@ -62,13 +62,15 @@ impl Conductor {
         if !same_hemisphere(wo, wi) {
             return None;
         }
-        let pdf = self.distrib.pdf(wo, wm) / (4.0 * wo.dot(wm).abs());
+        let (d, lambda_o) = (self.distrib.d(wm), self.distrib.lambda(wo));
+        let pdf = self.distrib.visible_pdf(wo, wm, d, lambda_o) / (4.0 * wo.dot(wm).abs());
         let (cos_o, cos_i) = (abs_cos_theta(wo), abs_cos_theta(wi));
         if cos_i == 0.0 || cos_o == 0.0 || pdf.is_nan() || pdf <= 0.0 {
             return None;
         }
         let fr = fr_complex_spectrum(wo.dot(wm).abs(), self.eta, self.k);
-        let f = fr * (self.distrib.d(wm) * self.distrib.g(wo, wi) / (4.0 * cos_i * cos_o));
+        let g = 1.0 / (1.0 + lambda_o + self.distrib.lambda(wi));
+        let f = fr * (d * g / (4.0 * cos_i * cos_o));
         Some(BsdfSample::new(f, wi, pdf, BxdfFlags::GLOSSY_REFLECTION))
     }
 

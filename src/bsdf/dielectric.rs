@@ -114,8 +114,10 @@ impl Dielectric {
             if !same_hemisphere(wo, wi) {
                 return None;
             }
-            let pdf = self.distrib.pdf(wo, wm) / (4.0 * wo.dot(wm).abs()) * r / (r + t);
-            let f = self.distrib.d(wm) * self.distrib.g(wo, wi) * r / (4.0 * cos_theta(wi) * cos_theta(wo)).abs();
+            let (d, lambda_o) = (self.distrib.d(wm), self.distrib.lambda(wo));
+            let pdf = self.distrib.visible_pdf(wo, wm, d, lambda_o) / (4.0 * wo.dot(wm).abs()) * r / (r + t);
+            let g = 1.0 / (1.0 + lambda_o + self.distrib.lambda(wi));
+            let f = d * g * r / (4.0 * cos_theta(wi) * cos_theta(wo)).abs();
             if pdf.is_nan() || pdf <= 0.0 {
                 return None;
             }
@@ -127,11 +129,10 @@ impl Dielectric {
         }
         let denom = (wi.dot(wm) + wo.dot(wm) / etap).powi(2);
         let dwm_dwi = wi.dot(wm).abs() / denom;
-        let pdf = self.distrib.pdf(wo, wm) * dwm_dwi * t / (r + t);
-        let mut ft = t
-            * self.distrib.d(wm)
-            * self.distrib.g(wo, wi)
-            * (wi.dot(wm) * wo.dot(wm) / (cos_theta(wi) * cos_theta(wo) * denom)).abs();
+        let (d, lambda_o) = (self.distrib.d(wm), self.distrib.lambda(wo));
+        let pdf = self.distrib.visible_pdf(wo, wm, d, lambda_o) * dwm_dwi * t / (r + t);
+        let g = 1.0 / (1.0 + lambda_o + self.distrib.lambda(wi));
+        let mut ft = t * d * g * (wi.dot(wm) * wo.dot(wm) / (cos_theta(wi) * cos_theta(wo) * denom)).abs();
         if mode == TransportMode::Radiance {
             ft /= etap * etap;
         }

@@ -100,12 +100,18 @@ impl TrowbridgeReitz {
     /// (Heitz 2014 eq. 38); also the density of [`Self::sample_wm`] [1/sr]. A `w` below the
     /// surface is mirrored to the upper side first, as in the sampling; `wm` has z > 0.
     pub fn pdf(&self, w: Vec3, wm: Vec3) -> f32 {
+        self.visible_pdf(w, wm, self.d(wm), self.lambda(w))
+    }
+
+    /// [`Self::pdf`] given D(ωm) and Λ(ω), for callers that need them for the BSDF as well.
+    #[inline]
+    pub fn visible_pdf(&self, w: Vec3, wm: Vec3, d: f32, lambda: f32) -> f32 {
         let cos = w.z.abs();
         if cos == 0.0 {
             return 0.0;
         }
         let visible = (w.dot(wm) * w.z.signum()).max(0.0);
-        self.g1(w) / cos * self.d(wm) * visible
+        d * visible / (cos * (1.0 + lambda))
     }
 
     /// Samples a visible normal for `w` (Heitz 2018): stretch to the α = 1 configuration,
