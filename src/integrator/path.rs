@@ -313,7 +313,7 @@ impl PathIntegrator {
         let Some((_, light, pmf, u)) = scene.sample_light(&ctx, sampler.get_2d()) else {
             return SampledSpectrum::zero();
         };
-        let Some(ls) = light.sample_li(si.p, u, w) else { return SampledSpectrum::zero() };
+        let Some(ls) = light.sample_li(&ctx, u, w) else { return SampledSpectrum::zero() };
         if ls.pdf <= 0.0 || ls.li.is_black() {
             return SampledSpectrum::zero();
         }

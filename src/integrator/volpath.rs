@@ -312,7 +312,7 @@ impl VolPathIntegrator {
             Scatterer::Medium { p, .. } => LightSampleContext::medium(*p),
         };
         let Some((_, light, pmf, u)) = scene.sample_light(&ctx, sampler.get_2d()) else { return zero };
-        let Some(ls) = light.sample_li(ctx.p, u, w) else { return zero };
+        let Some(ls) = light.sample_li(&ctx, u, w) else { return zero };
         if ls.pdf <= 0.0 || ls.li.is_black() {
             return zero;
         }

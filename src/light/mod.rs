@@ -14,6 +14,7 @@ mod point;
 mod portal;
 mod projection;
 mod quadric;
+mod rectangle;
 mod sampler;
 mod sphere;
 mod texel_spectrum;
@@ -29,6 +30,7 @@ pub use point::{PointLight, SpotFalloff, SpotLight};
 pub use portal::{is_rectangle, PortalLight};
 pub use projection::ProjectionLight;
 pub use quadric::QuadricLight;
+pub use rectangle::RectangleLight;
 pub use sampler::{LightSampleContext, LightSampler, LightSamplerKind};
 pub use sphere::SphereLight;
 
@@ -68,6 +70,8 @@ pub enum Light {
     Projection(Box<ProjectionLight>),
     /// One emissive triangle of a diffuse area light.
     Area(AreaLight),
+    /// A diffuse area light on a rectangle, sampled by the solid angle it subtends.
+    Rectangle(Box<RectangleLight>),
     /// A diffuse area light on a full sphere, sampled by the cone it subtends.
     Sphere(SphereLight),
     /// A diffuse area light on a disk, cylinder or partial sphere, sampled by area.
@@ -91,14 +95,17 @@ impl Light {
         )
     }
 
-    /// Samples incident light at `p` (with `u` in [0,1)²).
-    pub fn sample_li(&self, p: Vec3, u: Vec2, w: &SampledWavelengths) -> Option<LightSample> {
+    /// Samples incident light at `ctx` (with `u` in [0,1)²); a surface point's normal lets
+    /// lights that can shape their samples by the cosine there do so.
+    pub fn sample_li(&self, ctx: &LightSampleContext, u: Vec2, w: &SampledWavelengths) -> Option<LightSample> {
+        let p = ctx.p;
         match self {
             Light::Point(l) => l.sample_li(p, w),
             Light::Spot(l) => l.sample_li(p, w),
             Light::Goniometric(l) => l.sample_li(p, w),
             Light::Projection(l) => l.sample_li(p, w),
             Light::Area(l) => l.sample_li(p, u, w),
+            Light::Rectangle(l) => l.sample_li(ctx, u, w),
             Light::Sphere(l) => l.sample_li(p, u, w),
             Light::Quadric(l) => l.sample_li(p, u, w),
             Light::Distant(l) => l.sample_li(w),
@@ -108,11 +115,13 @@ impl Light {
         }
     }
 
-    /// Solid-angle density [1/sr] with which `sample_li` at the reference point `p` picks the
-    /// unit direction `wi` (pbrt-v4 `Light::PDF_Li(ctx, wi)`); 0 for delta lights.
-    pub fn pdf_li(&self, p: Vec3, wi: Vec3) -> f32 {
+    /// Solid-angle density [1/sr] with which `sample_li` at `ctx` picks the unit direction `wi`
+    /// (pbrt-v4 `Light::PDF_Li(ctx, wi)`); 0 for delta lights.
+    pub fn pdf_li(&self, ctx: &LightSampleContext, wi: Vec3) -> f32 {
+        let p = ctx.p;
         match self {
             Light::Area(l) => l.pdf_li(p, wi),
+            Light::Rectangle(l) => l.pdf_li(ctx, wi),
             Light::Sphere(l) => l.pdf_li(p, wi),
             Light::Quadric(l) => l.pdf_li(p, wi),
             Light::UniformInfinite(_) => infinite::uniform_sphere_pdf(),
@@ -130,6 +139,7 @@ impl Light {
             Light::Goniometric(l) => l.power(),
             Light::Projection(l) => l.power(),
             Light::Area(l) => l.power(),
+            Light::Rectangle(l) => l.power(),
             Light::Sphere(l) => l.power(),
             Light::Quadric(l) => l.power(),
             Light::Distant(l) => l.power(scene_radius),
@@ -146,6 +156,7 @@ impl Light {
     pub fn surface_radiance(&self, n: Vec3, wo: Vec3, uv: Vec2, w: &SampledWavelengths) -> SampledSpectrum {
         match self {
             Light::Area(l) => l.radiance(wo, uv, w),
+            Light::Rectangle(l) => l.radiance(wo, w),
             Light::Sphere(l) => l.radiance(n, wo, w),
             Light::Quadric(l) => l.radiance(n, wo, w),
             _ => SampledSpectrum::zero(),

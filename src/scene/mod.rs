@@ -730,7 +730,7 @@ impl Scene {
         if pmf == 0.0 {
             return 0.0;
         }
-        pmf * self.lights[light as usize].pdf_li(ctx.p, wi)
+        pmf * self.lights[light as usize].pdf_li(ctx, wi)
     }
 
     /// The lights that rays escaping the scene see.

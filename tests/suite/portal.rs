@@ -10,7 +10,7 @@ use glam::{Vec2, Vec3};
 use prism::accel::AccelKind;
 use prism::integrator::{DirectStrategy, PathIntegrator};
 use prism::light::photometry::lumens_per_unit_y;
-use prism::light::Light;
+use prism::light::{Light, LightSampleContext};
 use prism::math::PI;
 use prism::measure::irradiance;
 use prism::sampling::chi2::{Chi2Test, Domain};
@@ -147,7 +147,8 @@ fn portal_direction_sampling_matches_its_density_chi2() {
             domain: Domain::Cap { axis: Vec3::Z, theta_max: 1.2 },
             ..Chi2Test::default()
         };
-        let r = t.run(|_, u| light.sample_li(p, u, &w).map(|s| s.wi), |d| light.pdf_li(p, d));
+        let ctx = LightSampleContext::medium(p);
+        let r = t.run(|_, u| light.sample_li(&ctx, u, &w).map(|s| s.wi), |d| light.pdf_li(&ctx, d));
         assert!(r.passed, "at {p}: {r}");
         assert!((r.pdf_integral - 1.0).abs() < 1e-2, "at {p}: ∫ pdf = {}", r.pdf_integral);
     }
@@ -167,8 +168,9 @@ fn radiance_arrives_only_through_the_portal() {
     // Above the portal nothing is lit, and light sampling finds nothing.
     let above = Vec3::new(0.0, 0.0, CEILING + 1.0);
     assert!(light.escaped_radiance(above, Vec3::Z, &w).is_black());
-    assert!(light.sample_li(above, Vec2::splat(0.5), &w).is_none());
-    assert_eq!(light.pdf_li(above, Vec3::Z), 0.0);
+    let above = LightSampleContext::medium(above);
+    assert!(light.sample_li(&above, Vec2::splat(0.5), &w).is_none());
+    assert_eq!(light.pdf_li(&above, Vec3::Z), 0.0);
 }
 
 #[test]

@@ -151,6 +151,10 @@ impl LightBounds {
                 let bounds = a.p.iter().fold(Bounds3::EMPTY, |bb, &q| bb.union_point(q));
                 b(bounds, a.n, 1.0, cos_half_pi, a.two_sided)
             }
+            Light::Rectangle(r) => {
+                let bounds = r.corners().iter().fold(Bounds3::EMPTY, |bb, &q| bb.union_point(q));
+                b(bounds, r.n, 1.0, cos_half_pi, r.two_sided)
+            }
             Light::Sphere(s) => {
                 let bounds = Bounds3 { min: s.center - Vec3::splat(s.radius), max: s.center + Vec3::splat(s.radius) };
                 b(bounds, Vec3::Z, -1.0, cos_half_pi, s.two_sided)

@@ -205,7 +205,7 @@ mod tests {
                                 let (id, light, pmf, _) = scene.sample_light(&ctx, choice).unwrap();
                                 (id, light, pmf, s.get_2d())
                             };
-                            light.sample_li(p, u, &w).map_or(0.0, |ls| (ls.wi.y / (pmf * ls.pdf)) as f64)
+                            light.sample_li(&ctx, u, &w).map_or(0.0, |ls| (ls.wi.y / (pmf * ls.pdf)) as f64)
                         })
                         .sum();
                     (sum / samples as f64 - exact).powi(2)
