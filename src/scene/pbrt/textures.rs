@@ -293,7 +293,8 @@ impl Ctx<'_> {
             }
             "ptex" => {
                 let _ = (p.string("filename"), p.string("encoding"), p.float("scale"));
-                let feature = "ptex textures (no Ptex library or file is available to check a reader against)".to_string();
+                let feature =
+                    "ptex textures (no Ptex library or file is available to check a reader against)".to_string();
                 self.unsupported(loc, feature, "uses a constant 0.5");
                 Texture::Constant(V::constant(0.5))
             }
