@@ -68,7 +68,11 @@ fn bench(kind: CurveKind, passes: usize) {
         .map(|(name, accel_kind)| {
             let t0 = Instant::now();
             let a = accel::build_with_curves(accel_kind, &meshes, &[(0, &curves)]).expect("build");
-            println!("{kind:?}, {name}: build {:.3} s over {} segments", t0.elapsed().as_secs_f64(), curves.segments.len());
+            println!(
+                "{kind:?}, {name}: build {:.3} s over {} segments",
+                t0.elapsed().as_secs_f64(),
+                curves.segments.len()
+            );
             (name, a)
         })
         .collect();

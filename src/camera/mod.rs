@@ -16,8 +16,8 @@ use crate::math::equal_area;
 use crate::sampling::warp::sample_uniform_disk_concentric;
 use glam::{Mat4, Vec2, Vec3};
 pub use realistic::RealisticLens;
-pub use transform::CameraTransform;
 use std::sync::Arc;
+pub use transform::CameraTransform;
 
 /// How film positions become rays in camera space.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
@@ -331,7 +331,13 @@ mod tests {
                     let r = cam.sample_ray(p, u, t).expect("the lens passes it at every time").ray;
                     let o = Vec3::new(1.0, 2.0, 3.0) + turn * (r0.o - Vec3::new(1.0, 2.0, 3.0));
                     assert!((r.o - o).length() < 1e-5, "{:?} at {t}: {} vs {o}", cam.projection, r.o);
-                    assert!((r.d - turn * r0.d).length() < 1e-5, "{:?} at {t}: {} vs {}", cam.projection, r.d, turn * r0.d);
+                    assert!(
+                        (r.d - turn * r0.d).length() < 1e-5,
+                        "{:?} at {t}: {} vs {}",
+                        cam.projection,
+                        r.d,
+                        turn * r0.d
+                    );
                     compared += 1;
                 }
             }
@@ -340,7 +346,10 @@ mod tests {
         // Without motion the time changes nothing.
         let fixed = Camera::perspective(at, (64, 48), 50.0, 0.2, 4.0, None);
         assert!(!fixed.transform.moves());
-        let (a, b) = (fixed.sample_ray(Vec2::new(5.0, 9.0), Vec2::splat(0.4), 0.0).unwrap().ray, fixed.sample_ray(Vec2::new(5.0, 9.0), Vec2::splat(0.4), 0.7).unwrap().ray);
+        let (a, b) = (
+            fixed.sample_ray(Vec2::new(5.0, 9.0), Vec2::splat(0.4), 0.0).unwrap().ray,
+            fixed.sample_ray(Vec2::new(5.0, 9.0), Vec2::splat(0.4), 0.7).unwrap().ray,
+        );
         assert_eq!((a.o, a.d), (b.o, b.d));
     }
 

@@ -87,7 +87,10 @@ mod tests {
         assert!(!CameraTransform::new(a, Some(AnimatedTransform::new(a, 0.0, a, 1.0))).moves());
         // A quarter turn about y and a translation along x between times 2 and 4: at time 3 the
         // camera has turned 45° and moved half way.
-        let b = Mat4::from_rotation_translation(Quat::from_rotation_y(0.3 + std::f32::consts::FRAC_PI_2), Vec3::new(5.0, 2.0, 3.0));
+        let b = Mat4::from_rotation_translation(
+            Quat::from_rotation_y(0.3 + std::f32::consts::FRAC_PI_2),
+            Vec3::new(5.0, 2.0, 3.0),
+        );
         let moving = CameraTransform::new(Mat4::IDENTITY, Some(AnimatedTransform::new(a, 2.0, b, 4.0)));
         assert!(moving.moves());
         assert_eq!(moving.mid_time(), 3.0);

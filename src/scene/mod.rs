@@ -444,7 +444,9 @@ impl SceneBuilder {
             // Keep the camera frame orthonormal: move the origin, rotate the axes, do not scale.
             let unscale = Mat4::from_scale(Vec3::splat(1.0 / scale));
             c.camera_to_world = m * c.camera_to_world * unscale;
-            c.motion = c.motion.map(|a| AnimatedTransform::new(m * a.start * unscale, a.start_time, m * a.end * unscale, a.end_time));
+            c.motion = c
+                .motion
+                .map(|a| AnimatedTransform::new(m * a.start * unscale, a.start_time, m * a.end * unscale, a.end_time));
             c.focal_distance *= scale;
             c.lens_radius *= scale;
         }

@@ -83,7 +83,10 @@ fn assert_only_relative_motion_is_seen(motion: &str, what: &str) {
         eprintln!("{what}, {kind:?}: rms moving camera vs moving scene {same_samples:.2e}, noise {noise:.2e}, vs still camera {sharp:.2e}; mean difference {md:.2e} ± {se:.2e}");
         assert!(same_samples < 0.1 * noise, "{what}, {kind:?}: {same_samples} vs noise {noise}");
         assert!(md.abs() <= 4.0 * se.max(1e-9), "{what}, {kind:?}: mean difference {md} ± {se}");
-        assert!(sharp > 2.0 * noise, "{what}, {kind:?}: the still camera's image is as near as noise ({sharp} vs {noise})");
+        assert!(
+            sharp > 2.0 * noise,
+            "{what}, {kind:?}: the still camera's image is as near as noise ({sharp} vs {noise})"
+        );
     }
 }
 

@@ -220,7 +220,8 @@ fn sampled_motion_steps_place_an_instance_within_their_bound_of_its_interpolated
             let placed = build(&|b, p, m| b.add_instance(p, m.interpolate(t))).build(kind).unwrap();
             for _ in 0..4000 {
                 let o = Vec3::new(rng.uniform() * 16.0 - 8.0, rng.uniform() * 6.0 - 1.0, -4.0);
-                let target = Vec3::new(rng.uniform() * 12.0 - 6.0, rng.uniform() * 4.0 - 1.0, 1.0 + rng.uniform() * 5.0);
+                let target =
+                    Vec3::new(rng.uniform() * 12.0 - 6.0, rng.uniform() * 4.0 - 1.0, 1.0 + rng.uniform() * 5.0);
                 let ray = Ray::new(o, (target - o).normalize()).at_time(t);
                 let what = format!("{kind:?} at t = {t}");
                 let (a, b) = (moving.closest_hit(&ray), placed.closest_hit(&Ray::new(ray.o, ray.d)));

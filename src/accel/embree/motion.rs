@@ -294,7 +294,15 @@ mod tests {
             // passes through).
             ("skew", AnimatedTransform::new(a, 0.0, Mat4::from_scale(Vec3::new(2.0, 1.0, 1.0)) * turned, 1.0)),
             // A mirror at both keyframes.
-            ("mirror", AnimatedTransform::new(a * Mat4::from_scale(Vec3::new(1.0, -1.0, 1.0)), 0.0, turned * Mat4::from_scale(Vec3::new(1.0, -1.0, 1.0)), 1.0)),
+            (
+                "mirror",
+                AnimatedTransform::new(
+                    a * Mat4::from_scale(Vec3::new(1.0, -1.0, 1.0)),
+                    0.0,
+                    turned * Mat4::from_scale(Vec3::new(1.0, -1.0, 1.0)),
+                    1.0,
+                ),
+            ),
             // A rigid motion over half of the scene's span, its ends on steps (0.25 = 8/32).
             ("aligned half", AnimatedTransform::new(a, 0.25, turned, 0.75)),
             // ... and ends between steps.
@@ -303,7 +311,11 @@ mod tests {
         for (what, m) in cases {
             let span = (0.0, 1.0);
             let (steps, range) = time_steps(&m, span);
-            assert!(steps.len() >= SAMPLED_STEPS && range.0 <= 0.0 && range.1 >= 1.0, "{what}: {} over {range:?}", steps.len());
+            assert!(
+                steps.len() >= SAMPLED_STEPS && range.0 <= 0.0 && range.1 >= 1.0,
+                "{what}: {} over {range:?}",
+                steps.len()
+            );
             let radius = 3f32.sqrt();
             let sampled = (&steps[..], range);
             let (measured, bound) = (measured_error(&m, span, sampled), error_bound(&m, span, sampled, radius));

@@ -54,8 +54,8 @@ impl Parser<'_> {
                 }
                 let (world_from_camera, world_from_camera_end) = (ctm.inverse(), ctm_end.inverse());
                 let (t0, t1) = self.transform_times;
-                let motion = (ctm != ctm_end)
-                    .then(|| AnimatedTransform::new(world_from_camera, t0, world_from_camera_end, t1));
+                let motion =
+                    (ctm != ctm_end).then(|| AnimatedTransform::new(world_from_camera, t0, world_from_camera_end, t1));
                 self.named_cs.insert("camera".into(), [world_from_camera, world_from_camera_end]);
                 self.camera = Some(CameraDesc {
                     directive: Directive { kind: kind.unwrap_or_default(), params, loc: tok.loc.clone() },
