@@ -326,8 +326,8 @@ mod tests {
             for (p, u) in [((10.0, 7.0), (0.3, 0.6)), ((32.0, 24.0), (0.5, 0.5)), ((50.0, 40.0), (0.8, 0.1))] {
                 let (p, u) = (Vec2::from(p), Vec2::from(u));
                 let Some(r0) = cam.sample_ray(p, u, 0.0).map(|c| c.ray) else { continue };
-                for t in [0.5, 1.0, 2.0] {
-                    let turn = glam::Quat::from_rotation_y((30.0 * t as f32).to_radians());
+                for t in [0.5f32, 1.0, 2.0] {
+                    let turn = glam::Quat::from_rotation_y((30.0 * t).to_radians());
                     let r = cam.sample_ray(p, u, t).expect("the lens passes it at every time").ray;
                     let o = Vec3::new(1.0, 2.0, 3.0) + turn * (r0.o - Vec3::new(1.0, 2.0, 3.0));
                     assert!((r.o - o).length() < 1e-5, "{:?} at {t}: {} vs {o}", cam.projection, r.o);

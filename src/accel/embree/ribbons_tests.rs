@@ -134,7 +134,8 @@ fn ribbon_speed() {
             Ray::new(o, (target - o).normalize())
         })
         .collect();
-    let backends: [(&str, &dyn Fn(&Ray) -> bool); 3] = [
+    type Trace<'a> = &'a dyn Fn(&Ray) -> bool;
+    let backends: [(&str, Trace); 3] = [
         ("Embree's ribbons", &|r| native.intersect(r).is_some()),
         ("ribbon user geometry", &|r| user.intersect(r).is_some()),
         ("obvhs curve BVH", &|r| bvh.intersect(r).is_some()),
