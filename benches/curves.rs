@@ -1,6 +1,7 @@
-//! Curves on Embree (native flat Bézier curves) against obvhs (a curve BVH with pbrt-v4's
+//! Curves on Embree (native flat Bézier curves for flat and cylinder curves, user geometry
+//! running pbrt-v4's intersector for ribbons) against obvhs (a curve BVH with pbrt-v4's
 //! recursive intersector): build time and closest-hit rays/s on one thread over a bundle of
-//! 10 000 cylinder-type hair strands (20 000 cubic segments). Camera rays are a pinhole's grid
+//! 10 000 hair strands (20 000 cubic segments), as cylinder curves and as ribbons. Camera rays are a pinhole's grid
 //! over the bundle; random rays start 4 units out and aim at random points in it. The backends
 //! take turns on each 4096-ray chunk, timed by the thread's CPU time; the figure is the median
 //! over passes.
@@ -53,14 +54,25 @@ fn median(mut v: Vec<f64>) -> f64 {
 
 fn main() {
     let passes: usize = std::env::var("PRISM_BENCH_PASSES").ok().and_then(|s| s.parse().ok()).unwrap_or(5);
-    let curves = hair_bundle(10_000, CurveKind::Cylinder, 1);
+    for kind in [CurveKind::Cylinder, CurveKind::Ribbon] {
+        bench(kind, passes);
+    }
+}
+
+/// Builds both backends over the bundle as curves of `kind` and times their rays.
+fn bench(kind: CurveKind, passes: usize) {
+    let curves = hair_bundle(10_000, kind, 1);
     let meshes = vec![Mesh::default()];
     let backends: Vec<(&str, Box<dyn Accel>)> = [("embree", AccelKind::Embree), ("obvhs", AccelKind::Obvhs)]
         .into_iter()
-        .map(|(name, kind)| {
+        .map(|(name, accel_kind)| {
             let t0 = Instant::now();
-            let a = accel::build_with_curves(kind, &meshes, &[(0, &curves)]).expect("build");
-            println!("{name}: build {:.3} s over {} segments", t0.elapsed().as_secs_f64(), curves.segments.len());
+            let a = accel::build_with_curves(accel_kind, &meshes, &[(0, &curves)]).expect("build");
+            println!(
+                "{kind:?}, {name}: build {:.3} s over {} segments",
+                t0.elapsed().as_secs_f64(),
+                curves.segments.len()
+            );
             (name, a)
         })
         .collect();
@@ -84,7 +96,7 @@ fn main() {
         for (b, (name, _)) in backends.iter().enumerate() {
             let r = rates[b].clone();
             println!(
-                "{label}: {name} {:.2} M rays/s (median of {passes}; range {:.2}–{:.2}), hit fraction {:.3}",
+                "{kind:?}, {label}: {name} {:.2} M rays/s (median of {passes}; range {:.2}–{:.2}), hit fraction {:.3}",
                 median(r.clone()),
                 r.iter().cloned().fold(f64::INFINITY, f64::min),
                 r.iter().cloned().fold(0.0, f64::max),

@@ -142,17 +142,13 @@ pub fn render_pass(scene: &Scene, settings: &RenderSettings, film: &mut Film, ra
                 let (offset, weight) = settings.filter.sample(u.truncate());
                 let p_film = Vec2::new(x as f32 + 0.5, y as f32 + 0.5) + offset;
                 // pbrt-v4's camera sample: a time uniform over the shutter interval, then the
-                // lens. A scene where nothing moves draws no time sample, so its sampler
-                // dimensions (and image) stay as without motion blur.
+                // lens. A scene where nothing (camera included) moves draws no time sample, so
+                // its sampler dimensions (and image) stay as without motion blur.
                 let time = scene.shutter.map_or(0.0, |(open, close)| {
                     let u = sampler.get_1d();
                     open + (close - open) * u
                 });
-                (
-                    lambdas,
-                    weight,
-                    camera.sample_ray(p_film, sampler.get_2d()).map(|c| CameraRay { ray: c.ray.at_time(time), ..c }),
-                )
+                (lambdas, weight, camera.sample_ray(p_film, sampler.get_2d(), time))
             };
             let add = |px: &mut crate::film::Pixel,
                        stats: &mut Stats,

@@ -2,19 +2,22 @@
 //! (`fov` spans the shorter image axis) and orthographic (the screen window in scene units),
 //! both with an optional thin lens for depth of field; spherical (every direction, through an
 //! equal-area or equirectangular image); and realistic (a lens system traced ray by ray, whose
-//! rays carry weights).
+//! rays carry weights). Every ray is made in camera space and carried to world space by the
+//! camera's transform at the ray's time ([`CameraTransform`]), which may move over the shutter.
 
 pub mod exit_pupil;
 pub mod lens;
 pub mod lens_system;
 pub mod realistic;
+pub mod transform;
 
-use crate::geometry::Ray;
+use crate::geometry::{AnimatedTransform, Ray};
 use crate::math::equal_area;
 use crate::sampling::warp::sample_uniform_disk_concentric;
 use glam::{Mat4, Vec2, Vec3};
 pub use realistic::RealisticLens;
 use std::sync::Arc;
+pub use transform::CameraTransform;
 
 /// How film positions become rays in camera space.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
@@ -47,8 +50,8 @@ pub struct CameraRay {
 /// A pinhole or thin-lens perspective camera.
 #[derive(Clone, Debug)]
 pub struct Camera {
-    /// Camera space → world space.
-    pub camera_to_world: Mat4,
+    /// Camera space → world space, at each time.
+    pub transform: CameraTransform,
     /// Image size in pixels.
     pub resolution: (u32, u32),
     /// Screen window [x0, x1, y0, y1] at unit distance (tan of the half-angles).
@@ -82,7 +85,7 @@ impl Camera {
         });
         let t = (fov_deg.to_radians() * 0.5).tan();
         Self {
-            camera_to_world,
+            transform: CameraTransform::fixed(camera_to_world),
             resolution,
             screen: [sw[0] * t, sw[1] * t, sw[2] * t, sw[3] * t],
             lens_radius,
@@ -117,6 +120,13 @@ impl Camera {
         Self { projection: Projection::Realistic, lens: Some(lens), ..c }
     }
 
+    /// The same camera moving by `motion` (camera space → world space over the shutter; `None`
+    /// or equal keyframes: it stays where it was built).
+    pub fn with_motion(self, motion: Option<AnimatedTransform>) -> Self {
+        let fixed = self.transform.world_from_camera(0.0);
+        Self { transform: CameraTransform::new(fixed, motion), ..self }
+    }
+
     /// A camera-to-world matrix looking from `eye` at `target` with `up` (left-handed camera
     /// space like pbrt: +x right, +y up, +z forward).
     pub fn look_at(eye: Vec3, target: Vec3, up: Vec3) -> Mat4 {
@@ -126,27 +136,28 @@ impl Camera {
         Mat4::from_cols(right.extend(0.0), new_up.extend(0.0), dir.extend(0.0), eye.extend(1.0))
     }
 
-    /// The primary ray through film position `p_film` (pixels, origin at the top-left corner,
-    /// y down) using lens sample `u_lens` in [0,1)², and its weight; `None` when a realistic
-    /// camera's lens blocks it.
+    /// The primary ray at `time` through film position `p_film` (pixels, origin at the
+    /// top-left corner, y down) using lens sample `u_lens` in [0,1)², and its weight; `None`
+    /// when a realistic camera's lens blocks it. The ray is made in camera space and carried to
+    /// world space by the camera's transform at `time` (pbrt-v4 `CameraBase::RenderFromCamera`).
     #[inline]
-    pub fn sample_ray(&self, p_film: Vec2, u_lens: Vec2) -> Option<CameraRay> {
-        match &self.lens {
-            None => Some(CameraRay { ray: self.generate_ray(p_film, u_lens), weight: 1.0 }),
-            Some(lens) => {
-                let (o, d, weight) = lens.generate_ray(p_film, self.resolution, u_lens)?;
-                let ray = Ray::new(
-                    self.camera_to_world.transform_point3(o),
-                    self.camera_to_world.transform_vector3(d).normalize(),
-                );
-                Some(CameraRay { ray, weight })
+    pub fn sample_ray(&self, p_film: Vec2, u_lens: Vec2, time: f32) -> Option<CameraRay> {
+        let (o, d, weight) = match &self.lens {
+            None => {
+                let (o, d) = self.camera_space_ray(p_film, u_lens);
+                (o, d, 1.0)
             }
-        }
+            Some(lens) => lens.generate_ray(p_film, self.resolution, u_lens)?,
+        };
+        let world_from_camera = self.transform.world_from_camera(time);
+        let o = world_from_camera.transform_point3(o);
+        let d = world_from_camera.transform_vector3(d).normalize();
+        Some(CameraRay { ray: Ray::new(o, d).at_time(time), weight })
     }
 
-    /// The ray of a camera without a lens system through film position `p_film` (as
-    /// [`Camera::sample_ray`]) with lens sample `u_lens`; the direction is unit length.
-    fn generate_ray(&self, p_film: Vec2, u_lens: Vec2) -> Ray {
+    /// The ray [camera space: origin, unit direction] of a camera without a lens system through
+    /// film position `p_film` (as [`Camera::sample_ray`]) with lens sample `u_lens`.
+    fn camera_space_ray(&self, p_film: Vec2, u_lens: Vec2) -> (Vec3, Vec3) {
         let (w, h) = (self.resolution.0 as f32, self.resolution.1 as f32);
         let [x0, x1, y0, y1] = self.screen;
         let sx = x0 + (x1 - x0) * (p_film.x / w);
@@ -178,9 +189,13 @@ impl Camera {
             o = Vec3::new(o.x + lens.x, o.y + lens.y, 0.0);
             d = (focus - o).normalize();
         }
-        let o = self.camera_to_world.transform_point3(o);
-        let d = self.camera_to_world.transform_vector3(d).normalize();
-        Ray::new(o, d)
+        (o, d)
+    }
+
+    /// The ray of a camera without a lens system at time 0 (as [`Camera::sample_ray`]).
+    #[cfg(test)]
+    fn generate_ray(&self, p_film: Vec2, u_lens: Vec2) -> Ray {
+        self.sample_ray(p_film, u_lens, 0.0).expect("no lens system blocks it").ray
     }
 }
 
@@ -254,6 +269,88 @@ mod tests {
             assert!((a - b).length() < 1e-5, "{outside:?}: {a} vs {inside:?}: {b}");
             assert!((a - dir(outside.0.clamp(0.0, 64.0), outside.1.clamp(0.0, 64.0))).length() > 1e-3);
         }
+    }
+
+    /// A camera at the origin looking down +z that moves by `motion` over times 0 to 1, for
+    /// each projection; the realistic one through the double-Gauss lens.
+    fn cameras(motion: AnimatedTransform) -> Vec<Camera> {
+        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/compat/cameras-dgauss.50mm.dat");
+        let elements = lens::parse_lens_file(&std::fs::read_to_string(path).unwrap()).unwrap();
+        let lens = Arc::new(RealisticLens::new(elements, 0.014, 5.0, 0.035, 1.0).unwrap().0);
+        let i = Mat4::IDENTITY;
+        [
+            Camera::perspective(i, (64, 48), 50.0, 0.2, 4.0, None),
+            Camera::orthographic(i, (64, 48), 0.1, 3.0, None),
+            Camera::spherical(i, (64, 32), Projection::SphericalEqualArea),
+            Camera::spherical(i, (64, 32), Projection::SphericalEquirect),
+            Camera::realistic(i, (64, 48), lens),
+        ]
+        .map(|c| c.with_motion(Some(motion)))
+        .into()
+    }
+
+    #[test]
+    fn a_translating_camera_shifts_every_ray_origin_by_the_distance_moved_at_the_rays_time() {
+        // From the origin to (2, −1, 0.5) over times 0 to 1: at time t every projection's ray
+        // starts t · (2, −1, 0.5) from where the same film and lens sample start it at time 0,
+        // in the same direction, and carries the time.
+        let step = Vec3::new(2.0, -1.0, 0.5);
+        let motion = AnimatedTransform::new(Mat4::IDENTITY, 0.0, Mat4::from_translation(step), 1.0);
+        for cam in cameras(motion) {
+            assert!(cam.transform.moves());
+            let mut compared = 0;
+            for (p, u) in [((10.0, 7.0), (0.3, 0.6)), ((32.0, 24.0), (0.5, 0.5)), ((50.0, 40.0), (0.8, 0.1))] {
+                let (p, u) = (Vec2::from(p), Vec2::from(u));
+                let Some(r0) = cam.sample_ray(p, u, 0.0) else { continue };
+                for t in [0.25, 0.5, 1.0] {
+                    let r = cam.sample_ray(p, u, t).expect("the lens passes it at every time").ray;
+                    assert_eq!(r.time, t);
+                    assert!((r.o - (r0.ray.o + t * step)).length() < 1e-5, "{:?} at {t}: {r:?}", cam.projection);
+                    assert!((r.d - r0.ray.d).length() < 1e-6, "{:?} at {t}: {r:?}", cam.projection);
+                    compared += 1;
+                }
+            }
+            assert!(compared >= 3, "{:?}", cam.projection);
+        }
+    }
+
+    #[test]
+    fn a_turning_camera_turns_every_ray_about_its_position_by_the_angle_turned_at_the_rays_time() {
+        // A camera at (1, 2, 3) turning 60° about +y over times 0 to 2: at time t its rays are
+        // those at time 0 turned by 30° t about the vertical through its position.
+        let at = Mat4::from_translation(Vec3::new(1.0, 2.0, 3.0));
+        let end = at * Mat4::from_rotation_y(60f32.to_radians());
+        let motion = AnimatedTransform::new(at, 0.0, end, 2.0);
+        for cam in cameras(motion) {
+            let mut compared = 0;
+            for (p, u) in [((10.0, 7.0), (0.3, 0.6)), ((32.0, 24.0), (0.5, 0.5)), ((50.0, 40.0), (0.8, 0.1))] {
+                let (p, u) = (Vec2::from(p), Vec2::from(u));
+                let Some(r0) = cam.sample_ray(p, u, 0.0).map(|c| c.ray) else { continue };
+                for t in [0.5f32, 1.0, 2.0] {
+                    let turn = glam::Quat::from_rotation_y((30.0 * t).to_radians());
+                    let r = cam.sample_ray(p, u, t).expect("the lens passes it at every time").ray;
+                    let o = Vec3::new(1.0, 2.0, 3.0) + turn * (r0.o - Vec3::new(1.0, 2.0, 3.0));
+                    assert!((r.o - o).length() < 1e-5, "{:?} at {t}: {} vs {o}", cam.projection, r.o);
+                    assert!(
+                        (r.d - turn * r0.d).length() < 1e-5,
+                        "{:?} at {t}: {} vs {}",
+                        cam.projection,
+                        r.d,
+                        turn * r0.d
+                    );
+                    compared += 1;
+                }
+            }
+            assert!(compared >= 3, "{:?}", cam.projection);
+        }
+        // Without motion the time changes nothing.
+        let fixed = Camera::perspective(at, (64, 48), 50.0, 0.2, 4.0, None);
+        assert!(!fixed.transform.moves());
+        let (a, b) = (
+            fixed.sample_ray(Vec2::new(5.0, 9.0), Vec2::splat(0.4), 0.0).unwrap().ray,
+            fixed.sample_ray(Vec2::new(5.0, 9.0), Vec2::splat(0.4), 0.7).unwrap().ray,
+        );
+        assert_eq!((a.o, a.d), (b.o, b.d));
     }
 
     #[test]

@@ -29,8 +29,12 @@ pub struct Directive {
 pub struct CameraDesc {
     /// Type and parameters ("perspective": fov, lensradius, focaldistance, screenwindow, ...).
     pub directive: Directive,
-    /// The current transform at the Camera directive: camera space from world space.
+    /// The current transform at the Camera directive: camera space from world space (the start
+    /// one when the camera moves).
     pub camera_from_world: Mat4,
+    /// World space from camera space between the start and end CTMs over `TransformTimes`,
+    /// when they differ (a moving camera, pbrt-v4's camera `AnimatedTransform`).
+    pub motion: Option<AnimatedTransform>,
     /// The medium the camera sits in: the current outside medium at the directive ("": vacuum).
     pub medium: String,
 }

@@ -190,7 +190,7 @@ impl<'s> SurfaceInteraction<'s> {
     fn shading_point_for(&self, material: Option<&Material>, footprint: Option<&TextureFootprint>) -> ShadingPoint {
         let mut tex = self.texture_point();
         if let Some(f) = footprint.filter(|_| material.is_some_and(Material::is_textured)) {
-            let (dpdx, dpdy) = f.dp_dxy(self.p, self.shading.ns);
+            let (dpdx, dpdy) = f.dp_dxy(self.p, self.shading.ns, self.time);
             tex = tex.with_footprint(dpdx, dpdy, self.dpdu, self.dpdv);
         }
         ShadingPoint { ns: self.shading.ns, ng: self.shading.ng, dpdu: self.dpdu, tex }

@@ -81,8 +81,10 @@ impl QuadricMode {
 /// Camera parameters independent of the image resolution.
 #[derive(Clone, Debug)]
 pub struct CameraDesc {
-    /// Camera space → world space.
+    /// Camera space → world space (for a moving camera: at the start of its motion).
     pub camera_to_world: Mat4,
+    /// The camera's motion, camera space → world space over time (`None`: it does not move).
+    pub motion: Option<AnimatedTransform>,
     /// Field of view along the shorter image axis [degrees].
     pub fov_deg: f32,
     /// Thin-lens radius (0: pinhole).
@@ -102,7 +104,7 @@ impl CameraDesc {
     pub fn camera(&self, resolution: (u32, u32)) -> Camera {
         let (m, lens, focus, window) =
             (self.camera_to_world, self.lens_radius, self.focal_distance, self.screen_window);
-        match self.projection {
+        let camera = match self.projection {
             Projection::Perspective => Camera::perspective(m, resolution, self.fov_deg, lens, focus, window),
             Projection::Orthographic => Camera::orthographic(m, resolution, lens, focus, window),
             Projection::Realistic => match &self.lens {
@@ -110,7 +112,13 @@ impl CameraDesc {
                 None => Camera::perspective(m, resolution, self.fov_deg, lens, focus, window),
             },
             spherical => Camera::spherical(m, resolution, spherical),
-        }
+        };
+        camera.with_motion(self.motion)
+    }
+
+    /// True when the camera moves during the shutter.
+    pub fn moves(&self) -> bool {
+        self.motion.is_some_and(|m| m.is_animated())
     }
 }
 
@@ -392,6 +400,7 @@ impl SceneBuilder {
     pub fn set_camera(&mut self, camera_to_world: Mat4, fov_deg: f32) {
         self.camera = Some(CameraDesc {
             camera_to_world,
+            motion: None,
             fov_deg,
             lens_radius: 0.0,
             focal_distance: 1e6,
@@ -433,7 +442,11 @@ impl SceneBuilder {
         }
         if let Some(c) = self.camera.as_mut() {
             // Keep the camera frame orthonormal: move the origin, rotate the axes, do not scale.
-            c.camera_to_world = m * c.camera_to_world * Mat4::from_scale(Vec3::splat(1.0 / scale));
+            let unscale = Mat4::from_scale(Vec3::splat(1.0 / scale));
+            c.camera_to_world = m * c.camera_to_world * unscale;
+            c.motion = c
+                .motion
+                .map(|a| AnimatedTransform::new(m * a.start * unscale, a.start_time, m * a.end * unscale, a.end_time));
             c.focal_distance *= scale;
             c.lens_radius *= scale;
         }
@@ -532,7 +545,7 @@ impl SceneBuilder {
         let infinite_lights =
             lights.iter().enumerate().filter(|(_, l)| l.is_infinite()).map(|(i, _)| i as u32).collect();
         let has_interfaces = self.materials.iter().any(Material::may_be_interface);
-        let moves = quadric_moves || self.instances.iter().any(|i| i.motion.is_some());
+        let moves = quadric_moves || self.instances.iter().any(|i| i.motion.is_some()) || camera.moves();
         let shutter = moves.then(|| self.shutter.unwrap_or((0.0, 1.0)));
         Ok(Scene {
             has_interfaces,
@@ -596,7 +609,8 @@ pub struct Scene {
     media: Vec<Medium>,
     /// The medium the camera sits in.
     camera_medium: Option<u32>,
-    /// The shutter open and close times when something in the scene moves (`None`: every ray
+    /// The shutter open and close times when something in the scene or the camera moves
+    /// (`None`: every ray
     /// is at time 0 and the camera draws no time sample).
     pub shutter: Option<(f32, f32)>,
 }

@@ -213,6 +213,7 @@ impl Ctx<'_> {
         let lens = if projection == Projection::Realistic { Some(self.realistic_lens()?) } else { None };
         self.b.set_camera_desc(CameraDesc {
             camera_to_world: c.camera_from_world.inverse(),
+            motion: c.motion,
             fov_deg: fov,
             lens_radius,
             focal_distance,

@@ -3,10 +3,12 @@
 //! camera ray direction (and origin) per pixel step over the film is found once; at a point p
 //! with normal n, rays from the camera origin along the direction to p offset by that change
 //! are intersected with p's tangent plane. The offsets are scaled by max(1/8, 1/√spp), since
-//! many samples per pixel already average a pixel's area.
+//! many samples per pixel already average a pixel's area. The differentials are camera-space
+//! quantities; a moving camera carries them to the shading point's time by its transform then
+//! (pbrt-v4 `CameraFromRender(p, time)`).
 
-use crate::camera::Camera;
-use glam::{Mat4, Vec2, Vec3};
+use crate::camera::{Camera, CameraTransform};
+use glam::{Vec2, Vec3};
 
 /// Film step of the finite differences that give a camera ray's change per pixel [pixels].
 const FILM_STEP: f32 = 0.05;
@@ -17,8 +19,8 @@ const SEARCH_POINTS: usize = 512;
 /// What a shading point needs to know of the camera to estimate its pixel footprint.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct TextureFootprint {
-    world_from_camera: Mat4,
-    camera_from_world: Mat4,
+    /// Camera space → world space at each time.
+    transform: CameraTransform,
     /// Smallest change of a camera ray's origin per pixel along x, y [camera space].
     min_pos: [Vec3; 2],
     /// Smallest change of a camera ray's unit direction per pixel along x, y, in the frame of
@@ -57,7 +59,10 @@ fn to_local(z: Vec3, v: Vec3) -> Vec3 {
 impl TextureFootprint {
     /// The footprint estimator for `camera` rendering `spp` samples per pixel.
     pub fn new(camera: &Camera, spp: u64) -> Self {
-        let camera_from_world = camera.camera_to_world.inverse();
+        // The rays are compared in camera space; a moving camera is measured at one time of its
+        // motion (pbrt-v4 measures at the middle of the shutter), a fixed one at any.
+        let time = camera.transform.mid_time();
+        let camera_from_world = camera.transform.camera_from_world(time);
         let (w, h) = (camera.resolution.0 as f32, camera.resolution.1 as f32);
         let lens = Vec2::splat(0.5);
         let mut min_pos = [Vec3::splat(f32::INFINITY); 2];
@@ -65,10 +70,10 @@ impl TextureFootprint {
         for i in 0..SEARCH_POINTS {
             let film = Vec2::new(w, h) * (i as f32 / (SEARCH_POINTS - 1) as f32);
             // A realistic camera's lens blocks some rays; those points are skipped.
-            let Some(ray) = camera.sample_ray(film, lens).map(|c| c.ray) else { continue };
+            let Some(ray) = camera.sample_ray(film, lens, time).map(|c| c.ray) else { continue };
             let d = ray.d.normalize();
             for (k, step) in [Vec2::new(FILM_STEP, 0.0), Vec2::new(0.0, FILM_STEP)].into_iter().enumerate() {
-                let Some(shifted) = camera.sample_ray(film + step, lens).map(|c| c.ray) else { continue };
+                let Some(shifted) = camera.sample_ray(film + step, lens, time).map(|c| c.ray) else { continue };
                 // Per pixel: the finite difference over FILM_STEP, scaled up.
                 let o_diff = (shifted.o - ray.o) / FILM_STEP;
                 let d_diff = (d + (shifted.d.normalize() - d) / FILM_STEP).normalize();
@@ -83,19 +88,20 @@ impl TextureFootprint {
             }
         }
         let spp_scale = (1.0 / (spp.max(1) as f32).sqrt()).max(0.125);
-        Self { world_from_camera: camera.camera_to_world, camera_from_world, min_pos, min_dir, spp_scale }
+        Self { transform: camera.transform, min_pos, min_dir, spp_scale }
     }
 
-    /// ∂p/∂x and ∂p/∂y at `p` on a surface with unit normal `n` [world space]; zero where the
-    /// estimate fails (a plane seen edge-on).
-    pub fn dp_dxy(&self, p: Vec3, n: Vec3) -> (Vec3, Vec3) {
+    /// ∂p/∂x and ∂p/∂y at `p` on a surface with unit normal `n` [world space], seen by a camera
+    /// ray at `time`; zero where the estimate fails (a plane seen edge-on).
+    pub fn dp_dxy(&self, p: Vec3, n: Vec3, time: f32) -> (Vec3, Vec3) {
         // The differential rays are given in a frame where p lies straight ahead (+z) of the
         // camera; carried back to world space they are intersected with p's tangent plane.
-        let to_p = self.camera_from_world.transform_point3(p).normalize_or_zero();
+        let world_from_camera = self.transform.world_from_camera(time);
+        let to_p = self.transform.camera_from_world(time).transform_point3(p).normalize_or_zero();
         let frame = down_z_reflections(to_p);
         let step = |k: usize| {
-            let o = self.world_from_camera.transform_point3(from_down_z(frame, self.min_pos[k]));
-            let d = self.world_from_camera.transform_vector3(to_p + from_down_z(frame, self.min_dir[k]));
+            let o = world_from_camera.transform_point3(from_down_z(frame, self.min_pos[k]));
+            let d = world_from_camera.transform_vector3(to_p + from_down_z(frame, self.min_dir[k]));
             let t = n.dot(p - o) / n.dot(d);
             let v = self.spp_scale * (o + t * d - p);
             if v.is_finite() {
@@ -111,7 +117,7 @@ impl TextureFootprint {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use glam::Mat3;
+    use glam::{Mat3, Mat4};
 
     fn camera(res: (u32, u32), fov: f32) -> Camera {
         let m = Camera::look_at(Vec3::new(0.0, -9.0, 2.2), Vec3::new(0.0, 0.0, 2.2), Vec3::Z);
@@ -141,7 +147,7 @@ mod tests {
         let cam = camera((200, 200), 28.0);
         let f = TextureFootprint::new(&cam, 1);
         // The wall y = 0 is 9 away, facing the camera.
-        let (dx, dy) = f.dp_dxy(Vec3::new(0.0, 0.0, 2.2), -Vec3::Y);
+        let (dx, dy) = f.dp_dxy(Vec3::new(0.0, 0.0, 2.2), -Vec3::Y, 0.0);
         let t = 14f32.to_radians().tan();
         let expect = 9.0 * 2.0 * t / 200.0 * (1.0 + t * t).sqrt() / (1.0 + 2.0 * t * t);
         assert!((dx.length() / expect - 1.0).abs() < 0.02, "{} vs {expect}", dx.length());
@@ -152,22 +158,45 @@ mod tests {
         assert!(dx.normalize().dot(dy.normalize()).abs() < 0.08);
         // Many samples per pixel shrink the footprint, by 1/√spp down to 1/8.
         let f16 = TextureFootprint::new(&cam, 16);
-        assert!((f16.dp_dxy(Vec3::new(0.0, 0.0, 2.2), -Vec3::Y).0.length() / dx.length() - 0.25).abs() < 1e-4);
+        assert!((f16.dp_dxy(Vec3::new(0.0, 0.0, 2.2), -Vec3::Y, 0.0).0.length() / dx.length() - 0.25).abs() < 1e-4);
         let f1024 = TextureFootprint::new(&cam, 1024);
-        assert!((f1024.dp_dxy(Vec3::new(0.0, 0.0, 2.2), -Vec3::Y).0.length() / dx.length() - 0.125).abs() < 1e-4);
+        assert!((f1024.dp_dxy(Vec3::new(0.0, 0.0, 2.2), -Vec3::Y, 0.0).0.length() / dx.length() - 0.125).abs() < 1e-4);
+    }
+
+    #[test]
+    fn a_moving_camera_sees_the_footprint_of_where_it_is_at_the_shading_points_time() {
+        // The camera dollies from 9 to 4.5 in front of the wall y = 0 over times 0 to 1 and
+        // turns 10° about its view axis: at time 1 the wall is half as far, so the footprint
+        // is half as long, and it turns with the camera.
+        let start = Camera::look_at(Vec3::new(0.0, -9.0, 2.2), Vec3::new(0.0, 0.0, 2.2), Vec3::Z);
+        let turn = Mat4::from_rotation_z(10f32.to_radians());
+        let end = Mat4::from_translation(Vec3::new(0.0, 4.5, 0.0)) * start * turn;
+        let motion = crate::geometry::AnimatedTransform::new(start, 0.0, end, 1.0);
+        let moving = TextureFootprint::new(&camera((200, 200), 28.0).with_motion(Some(motion)), 1);
+        let fixed = TextureFootprint::new(&camera((200, 200), 28.0), 1);
+        let p = Vec3::new(0.0, 0.0, 2.2);
+        let (fx, _) = fixed.dp_dxy(p, -Vec3::Y, 0.0);
+        let (x0, _) = moving.dp_dxy(p, -Vec3::Y, 0.0);
+        let (x1, _) = moving.dp_dxy(p, -Vec3::Y, 1.0);
+        assert!((x0.length() / fx.length() - 1.0).abs() < 0.01, "{x0} vs {fx}");
+        assert!((x1.length() / fx.length() - 0.5).abs() < 0.01, "{} vs {}", x1.length(), fx.length());
+        // Both lie in the wall; the one at time 1 is turned 10° about the view axis.
+        assert!(x0.y.abs() < 1e-5 && x1.y.abs() < 1e-5, "{x0} {x1}");
+        let cos = x1.normalize().dot(x0.normalize());
+        assert!((cos.acos().to_degrees() - 10.0).abs() < 0.5, "turned {}°", cos.acos().to_degrees());
     }
 
     #[test]
     fn footprints_grow_with_distance_and_obliquity() {
         let f = TextureFootprint::new(&camera((100, 100), 40.0), 1);
-        let near = f.dp_dxy(Vec3::new(0.0, -4.0, 2.2), -Vec3::Y).0.length();
-        let far = f.dp_dxy(Vec3::new(0.0, 5.0, 2.2), -Vec3::Y).0.length();
+        let near = f.dp_dxy(Vec3::new(0.0, -4.0, 2.2), -Vec3::Y, 0.0).0.length();
+        let far = f.dp_dxy(Vec3::new(0.0, 5.0, 2.2), -Vec3::Y, 0.0).0.length();
         assert!((far / near - 14.0 / 5.0).abs() < 1e-3, "{far} / {near}");
         // The floor seen at a grazing angle: the footprint along the view is stretched.
-        let (a, b) = f.dp_dxy(Vec3::new(0.0, 5.0, 0.0), Vec3::Z);
+        let (a, b) = f.dp_dxy(Vec3::new(0.0, 5.0, 0.0), Vec3::Z, 0.0);
         assert!(a.length().max(b.length()) > 3.0 * far, "{a} {b}");
         // Edge-on: no estimate.
-        let (a, b) = f.dp_dxy(Vec3::new(0.0, 5.0, 2.2), Vec3::X);
+        let (a, b) = f.dp_dxy(Vec3::new(0.0, 5.0, 2.2), Vec3::X, 0.0);
         assert!(a.is_finite() && b.is_finite());
     }
 }

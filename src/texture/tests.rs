@@ -89,7 +89,7 @@ fn floor_camera() -> Camera {
 
 /// The floor's texture context at `p`, with (u, v) = (x, y) and the camera's footprint.
 fn floor_point(f: &TextureFootprint, p: Vec3) -> TextureEvalContext {
-    let (dx, dy) = f.dp_dxy(p, Vec3::Z);
+    let (dx, dy) = f.dp_dxy(p, Vec3::Z, 0.0);
     TextureEvalContext::at(p, Vec3::Z, Vec2::new(p.x, p.y)).with_footprint(dx, dy, Vec3::X, Vec3::Y)
 }
 

@@ -1,9 +1,12 @@
 //! Curves as Embree's own curve geometry: cubic Bézier segments with a radius per control point
 //! (x, y, z, r as float4), one index per segment (its first control point). Flat curves become
-//! `FLAT_BEZIER_CURVE` (ribbons facing the ray, as pbrt-v4's), ribbons `NORMAL_ORIENTED_BEZIER_CURVE`
-//! with a normal per control point, and pbrt-v4's "cylinder" curves ray-facing flat curves too
-//! ([`CYLINDER_AS_ROUND`] switches them to Embree's round tubes). A hit's u is the segment's
-//! curve parameter; the surface is recomputed from it (`geometry::curve_hit::curve_surface`).
+//! `FLAT_BEZIER_CURVE` (ribbons facing the ray, as pbrt-v4's) and pbrt-v4's "cylinder" curves
+//! ray-facing flat curves too
+//! ([`CYLINDER_AS_ROUND`] switches them to Embree's round tubes). Ribbons would become
+//! `NORMAL_ORIENTED_BEZIER_CURVE` with a normal per control point, which is not pbrt-v4's ribbon:
+//! scenes attach them as user geometry instead (`ribbons.rs`), and only the test measuring the
+//! difference attaches them here. A hit's u is the segment's curve parameter; the surface is
+//! recomputed from it (`geometry::curve_hit::curve_surface`).
 
 use super::device::{Device, EmbreeError};
 use super::ffi;

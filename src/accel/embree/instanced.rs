@@ -99,8 +99,9 @@ impl InstancedScene {
                 ffi::rtcSetGeometryInstancedScene(geom, proto.raw);
                 match (&inst.motion, time_span) {
                     (Some(m), Some(span)) => {
-                        let steps = motion::time_steps(m, span);
+                        let (steps, range) = motion::time_steps(m, span);
                         ffi::rtcSetGeometryTimeStepCount(geom, steps.len() as u32);
+                        ffi::rtcSetGeometryTimeRange(geom, range.0, range.1);
                         for (k, qd) in steps.iter().enumerate() {
                             ffi::rtcSetGeometryTransformQuaternion(geom, k as u32, qd);
                         }

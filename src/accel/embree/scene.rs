@@ -2,9 +2,10 @@
 
 use super::device::{Device, EmbreeError};
 use super::ffi;
+use super::ribbons::UserRibbons;
 use super::user_triangles::{self, ShearCache, UserMesh};
 use super::TriangleTest;
-use crate::geometry::{Bounds3, Hit, Mesh, PlacedQuadric, Ray};
+use crate::geometry::{Bounds3, CurveKind, Curves, Hit, Mesh, PlacedQuadric, Ray};
 use glam::Vec3;
 
 /// Owns one `RTCScene` handle; released in Drop. The device must outlive it.
@@ -19,6 +20,9 @@ pub(super) struct SceneHandle {
     /// The quadrics of the quadric user geometries, kept as `user_meshes` are.
     #[allow(clippy::vec_box)]
     user_quadrics: Vec<Box<PlacedQuadric>>,
+    /// The ribbon curves of the ribbon user geometries, kept as `user_meshes` are.
+    #[allow(clippy::vec_box)]
+    user_ribbons: Vec<Box<UserRibbons>>,
 }
 
 impl SceneHandle {
@@ -35,7 +39,7 @@ impl SceneHandle {
             ffi::rtcSetSceneFlags(raw, ffi::RTCSceneFlags_RTC_SCENE_FLAG_ROBUST);
             ffi::rtcSetSceneBuildQuality(raw, quality);
         }
-        Ok(Self { raw, test, user_meshes: Vec::new(), user_quadrics: Vec::new() })
+        Ok(Self { raw, test, user_meshes: Vec::new(), user_quadrics: Vec::new(), user_ribbons: Vec::new() })
     }
 
     /// Bytes of triangle storage held by prism for the user geometries (Embree's own
@@ -43,6 +47,24 @@ impl SceneHandle {
     pub(super) fn user_bytes(&self) -> usize {
         self.user_meshes.iter().map(|m| m.bytes()).sum::<usize>()
             + self.user_quadrics.len() * std::mem::size_of::<PlacedQuadric>()
+            + self.user_ribbons.iter().map(|r| r.bytes()).sum::<usize>()
+    }
+
+    /// Attaches `curves` as geometry `id`: pbrt-v4's ribbons as user geometry running prism's
+    /// curve test (`ribbons.rs`), flat and cylinder curves as Embree's own (`curves.rs`).
+    pub(super) fn attach_curves(&mut self, device: &Device, curves: &Curves, id: u32) -> Result<(), EmbreeError> {
+        if curves.segments.first().is_none_or(|s| s.kind != CurveKind::Ribbon) {
+            return super::curves::attach(self.raw, device, curves, id);
+        }
+        let (geom, user) = super::ribbons::new_geometry(device, curves)?;
+        self.user_ribbons.push(user);
+        // SAFETY: valid scene and committed geometry; the scene takes its own reference, and the
+        // ribbons it points to are kept in `user_ribbons` until after the release.
+        unsafe {
+            ffi::rtcAttachGeometryByID(self.raw, geom, id);
+            ffi::rtcReleaseGeometry(geom);
+        }
+        device.take_error().map_or(Ok(()), |e| Err(EmbreeError::Call(e)))
     }
 
     /// Attaches `quadric` as user geometry `id` (`quadrics.rs`).
@@ -212,7 +234,7 @@ impl Scene {
             bounds = bounds.union(mesh.bounds());
         }
         for &(id, c) in extra.curves {
-            super::curves::attach(raw.raw, &device, c, id)?;
+            raw.attach_curves(&device, c, id)?;
             bounds = bounds.union(c.bounds());
         }
         for &(id, q) in extra.quadrics {
@@ -221,6 +243,17 @@ impl Scene {
         }
         raw.commit(&device)?;
         Ok(Self { raw, device, bounds })
+    }
+
+    /// A scene of `curves` alone, attached as Embree's own curve geometry whatever their kind
+    /// (ribbons as `NORMAL_ORIENTED_BEZIER_CURVE`), to measure Embree's ribbons against
+    /// pbrt-v4's.
+    #[cfg(test)]
+    pub(super) fn native_curves(device: Device, curves: &Curves) -> Result<Self, EmbreeError> {
+        let raw = SceneHandle::new(&device, ffi::RTCBuildQuality_RTC_BUILD_QUALITY_MEDIUM, TriangleTest::Embree)?;
+        super::curves::attach(raw.raw, &device, curves, 0)?;
+        raw.commit(&device)?;
+        Ok(Self { raw, device, bounds: curves.bounds() })
     }
 
     /// Bytes held for this scene: Embree's (BVH and vertex/index copies) and the user

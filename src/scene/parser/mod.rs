@@ -404,6 +404,7 @@ impl<'o> Parser<'o> {
             camera: self.camera.unwrap_or_else(|| CameraDesc {
                 directive: dflt("perspective"),
                 camera_from_world: Mat4::IDENTITY,
+                motion: None,
                 medium: String::new(),
             }),
             film: self.film.unwrap_or_else(|| dflt("rgb")),

@@ -4,6 +4,7 @@
 use glam::Mat4;
 
 use super::Parser;
+use crate::geometry::AnimatedTransform;
 use crate::scene::desc::*;
 use crate::scene::error::SceneError;
 use crate::scene::names;
@@ -42,15 +43,24 @@ impl Parser<'_> {
                 let ty = src.string(tok, "a camera type")?;
                 let params = src.params(cs)?;
                 let kind = self.resolve_type(&ty, "camera", names::PRISM_CAMERAS, names::PBRT_ONLY_CAMERAS, false)?;
-                let ctm = self.start_ctm(tok, "camera");
-                let det = ctm.determinant();
-                if det == 0.0 || !det.is_finite() {
-                    return Err(SceneError::syntax(&tok.loc, &tok.text, "the camera transform is not invertible"));
+                // pbrt-v4 animates the camera between the inverses of the two CTMs over the
+                // current TransformTimes.
+                let (ctm, ctm_end) = (self.gs.ctm, self.gs.ctm_end);
+                for m in [ctm, ctm_end] {
+                    let det = m.determinant();
+                    if det == 0.0 || !det.is_finite() {
+                        return Err(SceneError::syntax(&tok.loc, &tok.text, "the camera transform is not invertible"));
+                    }
                 }
-                self.named_cs.insert("camera".into(), [ctm.inverse(); 2]);
+                let (world_from_camera, world_from_camera_end) = (ctm.inverse(), ctm_end.inverse());
+                let (t0, t1) = self.transform_times;
+                let motion =
+                    (ctm != ctm_end).then(|| AnimatedTransform::new(world_from_camera, t0, world_from_camera_end, t1));
+                self.named_cs.insert("camera".into(), [world_from_camera, world_from_camera_end]);
                 self.camera = Some(CameraDesc {
                     directive: Directive { kind: kind.unwrap_or_default(), params, loc: tok.loc.clone() },
                     camera_from_world: ctm,
+                    motion,
                     medium: self.gs.media.outside.clone(),
                 });
             }

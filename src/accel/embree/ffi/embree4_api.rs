@@ -298,6 +298,7 @@ extern "C" {
     pub fn rtcSetGeometryInstancedScene(geometry: RTCGeometry, scene: RTCScene);
     pub fn rtcSetGeometryTransform(geometry: RTCGeometry, timeStep: c_uint, format: RTCFormat, xfm: *const c_void);
     pub fn rtcSetGeometryTimeStepCount(geometry: RTCGeometry, timeStepCount: c_uint);
+    pub fn rtcSetGeometryTimeRange(geometry: RTCGeometry, startTime: f32, endTime: f32);
     pub fn rtcSetGeometryTransformQuaternion(
         geometry: RTCGeometry,
         timeStep: c_uint,

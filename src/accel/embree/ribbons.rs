@@ -1,0 +1,183 @@
+//! pbrt-v4's ribbon curves as Embree *user geometry* (`RTC_GEOMETRY_TYPE_USER`), intersected by
+//! prism's own curve test ([`intersect_curve`], pbrt-v4's `Curve::IntersectRay`, PBR 4th ed.
+//! §6.7.2) so that Embree finds the hits the obvhs backend finds.
+//!
+//! Why not Embree's `NORMAL_ORIENTED_BEZIER_CURVE`: Embree's ribbon is a true surface swept
+//! across the normal curve that Embree interpolates from per-control-point normals, while
+//! pbrt-v4 orients a ribbon at u by the spherical interpolation of its two end normals and
+//! intersects the strip facing the ray, w·|n(u)·d̂| wide, at the centre line's depth. On a ribbon
+//! whose normal turns along it the two differ by far more than rounding (docs/benchmarks.md,
+//! "Ribbon curves on Embree").
+//!
+//! The primitives are the curve pieces (each segment split into 2^splitdepth u ranges, as the
+//! obvhs curve BVH and pbrt-v4 split them), boxed by their control hulls grown by half their
+//! width. The hit record is t, u along the segment, primID = the segment's index (as Embree's own
+//! curves report), Ng = 0; the interaction recomputes the surface from the ray and u
+//! ([`crate::geometry::curve_hit::curve_surface`]). Conventions, those of the quadrics' user
+//! geometry (`quadrics.rs`): a closest hit is accepted for tnear ≤ t ≤ tfar (a tie keeps the
+//! smaller (instID, geomID, primID)), an occlusion for tnear ≤ t < tfar; `valid[i]` is set to 0
+//! for a lane that missed. Curves are static: rays reach the callbacks without a time.
+
+use super::device::{Device, EmbreeError};
+use super::ffi;
+use super::scene::RayContext;
+use super::user_triangles::{field, new_user_geometry, Lane, UserCallbacks};
+use crate::geometry::curve_hit::intersect_curve;
+use crate::geometry::{CurveSegment, Curves, Ray};
+
+/// One Embree primitive: a u range of a segment.
+#[derive(Clone, Copy, Debug)]
+struct Piece {
+    /// Index into `UserRibbons::segments`.
+    segment: u32,
+    /// The segment's index in its curves (the hit's primID).
+    prim_id: u32,
+    u: [f32; 2],
+}
+
+/// The ribbon segments of one curve shape and their pieces; Embree's user primitive `k` is
+/// `pieces[k]`. Boxed by its owner: Embree holds its address as the geometry's user pointer.
+pub(super) struct UserRibbons {
+    segments: Vec<CurveSegment>,
+    pieces: Vec<Piece>,
+}
+
+impl UserRibbons {
+    /// The pieces of `curves` whose control points and widths are finite.
+    fn new(curves: &Curves) -> Self {
+        let finite = |s: &CurveSegment| s.cp.iter().all(|p| p.is_finite()) && s.width.iter().all(|w| w.is_finite());
+        let mut index = vec![u32::MAX; curves.segments.len()];
+        let mut segments = Vec::new();
+        for (prim, s) in curves.segments.iter().enumerate().filter(|(_, s)| finite(s)) {
+            index[prim] = segments.len() as u32;
+            segments.push(*s);
+        }
+        let pieces = curves
+            .pieces()
+            .filter(|&(prim, _)| index[prim as usize] != u32::MAX)
+            .map(|(prim, u)| Piece { segment: index[prim as usize], prim_id: prim, u })
+            .collect();
+        Self { segments, pieces }
+    }
+
+    /// Bytes of segment and piece storage (held by prism, not by Embree's allocator).
+    pub(super) fn bytes(&self) -> usize {
+        std::mem::size_of_val(&self.segments[..]) + std::mem::size_of_val(&self.pieces[..])
+    }
+
+    /// The closest hit (t, u) of `ray` on piece `k` with t ≤ `t_max`, or with `any` the first
+    /// found.
+    #[inline]
+    fn hit(&self, k: usize, ray: &Ray, t_max: f32, any: bool) -> Option<(f32, f32, u32)> {
+        let p = self.pieces[k];
+        let h = intersect_curve(&self.segments[p.segment as usize], p.u[0], p.u[1], ray, t_max, any)?;
+        Some((h.t, h.u, p.prim_id))
+    }
+}
+
+/// Creates a committed user geometry for the ribbons `curves`, not yet attached. The returned
+/// box must outlive every scene the geometry is attached to.
+pub(super) fn new_geometry(
+    device: &Device,
+    curves: &Curves,
+) -> Result<(ffi::RTCGeometry, Box<UserRibbons>), EmbreeError> {
+    let user = Box::new(UserRibbons::new(curves));
+    let count = user.pieces.len() as u32;
+    let geom = new_user_geometry(device, &*user, count, UserCallbacks { bounds, intersect, occluded })?;
+    Ok((geom, user))
+}
+
+unsafe extern "C" fn bounds(args: *const ffi::RTCBoundsFunctionArguments) {
+    // SAFETY: Embree passes valid arguments for the duration of the call; the user pointer is
+    // the UserRibbons given to rtcSetGeometryBoundsFunction, and primID < its piece count.
+    unsafe {
+        let args = &*args;
+        let r = &*(args.geometryUserPtr as *const UserRibbons);
+        let p = r.pieces[args.primID as usize];
+        let b = r.segments[p.segment as usize].bounds(p.u[0], p.u[1]);
+        *args.bounds_o = ffi::RTCBounds {
+            lower_x: b.min.x,
+            lower_y: b.min.y,
+            lower_z: b.min.z,
+            align0: 0.0,
+            upper_x: b.max.x,
+            upper_y: b.max.y,
+            upper_z: b.max.z,
+            align1: 0.0,
+        };
+    }
+}
+
+unsafe extern "C" fn intersect(args: *const ffi::RTCIntersectFunctionNArguments) {
+    // SAFETY: Embree passes valid arguments for the duration of the call: `valid` has N entries,
+    // `rayhit` is an RTCRayHitN of width N (all fields up to the last instance word), `context`
+    // is the caller's RayContext (every query passes one: Scene::context), and the user pointer
+    // is the geometry's UserRibbons with primID < its piece count.
+    unsafe {
+        let args = &*args;
+        let r = &*(args.geometryUserPtr as *const UserRibbons);
+        let ctx = &*(args.context as *const RayContext);
+        let inst = ffi::hit_instance_ids(&ctx.rtc);
+        let n = args.N as usize;
+        for i in 0..n {
+            let valid = args.valid.add(i);
+            if *valid == 0 {
+                continue;
+            }
+            let lane = Lane { base: args.rayhit as *mut f32, n, i };
+            let (o, d, tnear, tfar) = lane.ray();
+            let hit = r.hit(args.primID as usize, &Ray::segment(o, d, tfar), tfar, false);
+            let Some((t, u, prim_id)) = hit.filter(|h| h.0 >= tnear) else {
+                *valid = 0;
+                continue;
+            };
+            if t == tfar {
+                let old_geom = lane.get(field::GEOM_ID).to_bits();
+                let old = (lane.get(field::INST_ID).to_bits(), old_geom, lane.get(field::PRIM_ID).to_bits());
+                if old_geom != ffi::RTC_INVALID_GEOMETRY_ID && (inst[0], args.geomID, prim_id) >= old {
+                    *valid = 0;
+                    continue;
+                }
+            }
+            lane.set(field::TFAR, t);
+            for k in 0..3 {
+                lane.set(field::NG + k, 0.0);
+            }
+            lane.set(field::U, u);
+            lane.set(field::V, 0.0);
+            lane.set(field::PRIM_ID, f32::from_bits(prim_id));
+            lane.set(field::GEOM_ID, f32::from_bits(args.geomID));
+            for (l, &id) in inst.iter().enumerate() {
+                lane.set(field::INST_ID + l, f32::from_bits(id));
+            }
+        }
+    }
+}
+
+unsafe extern "C" fn occluded(args: *const ffi::RTCOccludedFunctionNArguments) {
+    // SAFETY: as in `intersect`; `ray` is an RTCRayN of width N.
+    unsafe {
+        let args = &*args;
+        let r = &*(args.geometryUserPtr as *const UserRibbons);
+        let n = args.N as usize;
+        for i in 0..n {
+            let valid = args.valid.add(i);
+            if *valid == 0 {
+                continue;
+            }
+            let lane = Lane { base: args.ray as *mut f32, n, i };
+            let (o, d, tnear, tfar) = lane.ray();
+            let hit = r.hit(args.primID as usize, &Ray::segment(o, d, tfar), tfar, true);
+            if hit.is_some_and(|(t, _, _)| t >= tnear && t < tfar) {
+                // Embree's convention for "occluded": tfar = −∞.
+                lane.set(field::TFAR, f32::NEG_INFINITY);
+            } else {
+                *valid = 0;
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+#[path = "ribbons_tests.rs"]
+mod tests;
