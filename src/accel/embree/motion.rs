@@ -15,16 +15,20 @@ use glam::{Mat3, Mat4, Quat, Vec3};
 
 use super::ffi;
 use crate::geometry::animated::Decomposed;
-use crate::geometry::AnimatedTransform;
+use crate::geometry::Motion;
 
 /// Time steps of a motion Embree cannot follow exactly with two.
 pub const SAMPLED_STEPS: usize = 33;
 
+/// The most time steps a geometry may have (`RTC_MAX_TIME_STEP_COUNT` in Embree 3 and 4).
+pub const MAX_STEPS: usize = 129;
+
 /// The scene's time span: the union of the moving instances' intervals (`None`: nothing moves).
-pub fn time_span<'a>(motions: impl Iterator<Item = &'a AnimatedTransform>) -> Option<(f32, f32)> {
+pub fn time_span<'a>(motions: impl Iterator<Item = &'a Motion>) -> Option<(f32, f32)> {
     motions.fold(None, |acc, m| {
-        let (a, b) = acc.unwrap_or((m.start_time, m.end_time));
-        Some((a.min(m.start_time), b.max(m.end_time)))
+        let (start, end) = m.time_span();
+        let (a, b) = acc.unwrap_or((start, end));
+        Some((a.min(start), b.max(end)))
     })
 }
 
@@ -78,17 +82,27 @@ fn qr(m: &Mat4) -> (Vec3, Quat, Mat3) {
     (m.w_axis.truncate(), Quat::from_mat3(&q).normalize(), q.transpose() * a)
 }
 
-/// The time steps that make Embree follow `motion` over `span`.
-pub fn time_steps(motion: &AnimatedTransform, span: (f32, f32)) -> Vec<ffi::RTCQuaternionDecomposition> {
-    let (from, to): (Decomposed, Decomposed) = motion.keyframes();
-    let whole_span = motion.start_time == span.0 && motion.end_time == span.1;
-    if whole_span && is_positive_diagonal(&from.stretch) && is_positive_diagonal(&to.stretch) {
-        return [from, to].iter().map(|k| rtc(k.translation, k.rotation, &k.stretch)).collect();
-    }
+/// The time steps that make Embree follow `motion` over `span`: two for one transform Embree
+/// interpolates as it is, else [`SAMPLED_STEPS`], or for a product of two motions Embree's most
+/// ([`MAX_STEPS`]): Embree's interpolation between steps departs from the
+/// product by about the motion's curvature times the squared step, (θ/128)² of its size for a
+/// turn by θ.
+pub fn time_steps(motion: &Motion, span: (f32, f32)) -> Vec<ffi::RTCQuaternionDecomposition> {
+    let steps = match motion.as_one() {
+        Some(one) => {
+            let (from, to): (Decomposed, Decomposed) = one.keyframes();
+            let whole_span = one.start_time == span.0 && one.end_time == span.1;
+            if whole_span && is_positive_diagonal(&from.stretch) && is_positive_diagonal(&to.stretch) {
+                return [from, to].iter().map(|k| rtc(k.translation, k.rotation, &k.stretch)).collect();
+            }
+            SAMPLED_STEPS
+        }
+        None => MAX_STEPS,
+    };
     let mut previous = Quat::IDENTITY;
-    (0..SAMPLED_STEPS)
+    (0..steps)
         .map(|k| {
-            let time = span.0 + (span.1 - span.0) * k as f32 / (SAMPLED_STEPS - 1) as f32;
+            let time = span.0 + (span.1 - span.0) * k as f32 / (steps - 1) as f32;
             let (t, mut q, u) = qr(&motion.interpolate(time));
             // Consecutive quaternions on one hemisphere: slerp then takes the shorter arc.
             if k > 0 && q.dot(previous) < 0.0 {
@@ -103,6 +117,7 @@ pub fn time_steps(motion: &AnimatedTransform, span: (f32, f32)) -> Vec<ffi::RTCQ
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::geometry::AnimatedTransform;
 
     /// The matrix Embree rebuilds from a decomposition: T · R · U.
     fn rebuilt(d: &ffi::RTCQuaternionDecomposition) -> Mat4 {
@@ -129,7 +144,7 @@ mod tests {
     fn steps_rebuild_the_motion_at_their_times() {
         let a = Mat4::from_translation(Vec3::new(1.3, 0.5, 0.2));
         let rotating = AnimatedTransform::new(a, 0.0, a * Mat4::from_rotation_y(1.3), 1.0);
-        let steps = time_steps(&rotating, (0.0, 1.0));
+        let steps = time_steps(&rotating.into(), (0.0, 1.0));
         assert_eq!(steps.len(), 2);
         assert!(close(rebuilt(&steps[0]), rotating.start) && close(rebuilt(&steps[1]), rotating.end));
         // A stretch along a rotated axis is not upper triangular: sampled steps, each exact.
@@ -139,7 +154,7 @@ mod tests {
             Mat4::from_scale(Vec3::new(2.0, 1.0, 1.0)) * Mat4::from_rotation_y(1.3),
             1.0,
         );
-        let steps = time_steps(&skewed, (0.0, 1.0));
+        let steps = time_steps(&skewed.into(), (0.0, 1.0));
         assert_eq!(steps.len(), SAMPLED_STEPS);
         for (k, s) in steps.iter().enumerate() {
             assert!(close(rebuilt(s), skewed.interpolate(k as f32 / (SAMPLED_STEPS - 1) as f32)), "step {k}");
@@ -148,7 +163,7 @@ mod tests {
 
     #[test]
     fn scene_time_maps_onto_embree_time() {
-        let m = |t0, t1| AnimatedTransform::new(Mat4::IDENTITY, t0, Mat4::from_translation(Vec3::X), t1);
+        let m = |t0, t1| Motion::from(AnimatedTransform::new(Mat4::IDENTITY, t0, Mat4::from_translation(Vec3::X), t1));
         let span = time_span([m(0.5, 1.0), m(0.0, 0.75)].iter()).unwrap();
         assert_eq!(span, (0.0, 1.0));
         assert_eq!(embree_time(span, 0.25), 0.25);
