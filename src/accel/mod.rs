@@ -124,7 +124,7 @@ pub fn build(kind: AccelKind, meshes: &[Mesh]) -> Result<Box<dyn Accel>, String>
 /// primitive whose mesh is empty).
 #[derive(Clone, Copy, Debug, Default)]
 pub struct ExtraShapes<'a> {
-    /// Curves (world space).
+    /// Curves (world space, or object space for a prototype's).
     pub curves: &'a [(u32, &'a Curves)],
     /// Quadrics with their placements.
     pub quadrics: &'a [(u32, &'a PlacedQuadric)],
@@ -148,6 +148,57 @@ impl ExtraShapes<'_> {
     }
 }
 
+/// The curves and the quadric of each primitive id, for splitting a scene's extra shapes
+/// between the world and the prototypes.
+pub(crate) struct ShapeTable<'a> {
+    curves: Vec<Option<&'a Curves>>,
+    quadrics: Vec<Option<&'a PlacedQuadric>>,
+}
+
+/// Curves and quadrics, each with the id its hits report.
+pub(crate) type Picked<'a> = (Vec<(u32, &'a Curves)>, Vec<(u32, &'a PlacedQuadric)>);
+
+impl<'a> ShapeTable<'a> {
+    /// The table of `extra`.
+    pub(crate) fn new(extra: ExtraShapes<'a>) -> Self {
+        let ids = extra.curves.iter().map(|c| c.0).chain(extra.quadrics.iter().map(|q| q.0));
+        let len = ids.max().map_or(0, |m| m as usize + 1);
+        let (mut curves, mut quadrics) = (vec![None; len], vec![None; len]);
+        for &(id, c) in extra.curves {
+            curves[id as usize] = Some(c);
+        }
+        for &(id, q) in extra.quadrics {
+            quadrics[id as usize] = Some(q);
+        }
+        Self { curves, quadrics }
+    }
+
+    /// The curves of primitive `id`, if it is a curve shape.
+    pub(crate) fn curves(&self, id: u32) -> Option<&'a Curves> {
+        self.curves.get(id as usize).copied().flatten()
+    }
+
+    /// The quadric of primitive `id`, if it is one.
+    pub(crate) fn quadric(&self, id: u32) -> Option<&'a PlacedQuadric> {
+        self.quadrics.get(id as usize).copied().flatten()
+    }
+
+    /// The curves and quadrics among primitives `ids`, each reported as `report(k, id)` of its
+    /// index k in `ids`.
+    pub(crate) fn pick(&self, ids: &[u32], report: impl Fn(u32, u32) -> u32) -> Picked<'a> {
+        let mut picked: Picked<'a> = (Vec::new(), Vec::new());
+        for (k, &id) in ids.iter().enumerate() {
+            if let Some(c) = self.curves(id) {
+                picked.0.push((report(k as u32, id), c));
+            }
+            if let Some(q) = self.quadric(id) {
+                picked.1.push((report(k as u32, id), q));
+            }
+        }
+        picked
+    }
+}
+
 /// Builds the chosen backend over `meshes` and `curves` ((geometry id, its curves); the ids
 /// are those of primitives whose meshes are empty): [`build_with_extra`] without quadrics.
 pub fn build_with_curves(
@@ -158,43 +209,72 @@ pub fn build_with_curves(
     build_with_extra(kind, meshes, ExtraShapes { curves, quadrics: &[] })
 }
 
-/// Builds the chosen backend over `meshes` and the curves and quadrics of `extra`. Embree
-/// intersects curves as its own curve geometry and static quadrics as user geometry in the same
-/// scene (moving quadrics in a [`QuadricBvh`] beside it); obvhs keeps both in BVHs beside the
-/// triangles ([`WithExtra`]). Without either this is [`build`].
+/// Builds the chosen backend over `meshes` and the curves and quadrics of `extra`, no
+/// instances: [`build_scene`] with an empty [`InstanceSet`].
 pub fn build_with_extra(kind: AccelKind, meshes: &[Mesh], extra: ExtraShapes) -> Result<Box<dyn Accel>, String> {
-    if extra.is_empty() {
+    build_scene(kind, meshes, extra, &InstanceSet::default())
+}
+
+/// Builds the chosen backend over a scene with object instances of triangle meshes:
+/// [`build_scene`] without curves and quadrics.
+pub fn build_instanced(kind: AccelKind, meshes: &[Mesh], set: &InstanceSet) -> Result<Box<dyn Accel>, String> {
+    build_scene(kind, meshes, ExtraShapes::default(), set)
+}
+
+/// Builds the chosen backend over a whole scene — the one place accelerators are composed.
+/// `meshes` are indexed by primitive id (empty for curves and quadrics), `extra` gives the
+/// curves and quadrics by the same ids, and `set` the object instances: its world primitives
+/// are traced as they are, each prototype (meshes, curves and static quadrics in object space)
+/// is built once and traced through its instances' transforms. Hits report primitive ids
+/// (`geom_id`) and the instance index (`inst_id`).
+///
+/// Embree holds everything in its scenes — curves as its curve geometry, static quadrics as user
+/// geometry, prototypes as instanced scenes — except moving world quadrics (rays reach user
+/// geometry without prism's time), which a [`QuadricBvh`] holds beside it. obvhs keeps the world's
+/// curves and quadrics in BVHs beside its triangles, and each prototype's beside the prototype's
+/// ([`WithExtra`]). A scene without curves, quadrics or instances gets the plain triangle
+/// accelerator.
+pub fn build_scene(
+    kind: AccelKind,
+    meshes: &[Mesh],
+    extra: ExtraShapes,
+    set: &InstanceSet,
+) -> Result<Box<dyn Accel>, String> {
+    let instanced = !set.prototypes.is_empty();
+    if extra.is_empty() && !instanced {
         return build(kind, meshes);
     }
+    let table = ShapeTable::new(extra);
+    // The world's curves and quadrics, by their primitive ids.
+    let (curves, quadrics) = if instanced {
+        table.pick(&set.world_meshes, |_, id| id)
+    } else {
+        (extra.curves.to_vec(), extra.quadrics.to_vec())
+    };
     match kind {
         #[cfg(embree)]
         AccelKind::Embree | AccelKind::EmbreeWatertight => {
             let test =
                 if kind == AccelKind::Embree { embree::TriangleTest::Embree } else { embree::TriangleTest::Watertight };
-            let (moving, fixed): (Vec<_>, Vec<_>) = extra.quadrics.iter().partition(|(_, q)| q.moves());
-            let scene =
-                embree::EmbreeAccel::with_extra(meshes, extra.curves, &fixed, test).map_err(|e| e.to_string())?;
+            let (moving, fixed): (Vec<_>, Vec<_>) = quadrics.into_iter().partition(|(_, q)| q.moves());
+            let scene = if instanced {
+                embree::EmbreeAccel::instanced_with_shapes(meshes, &table, set, test)
+            } else {
+                embree::EmbreeAccel::with_extra(meshes, &curves, &fixed, test)
+            }
+            .map_err(|e| e.to_string())?;
             Ok(ExtraShapes { curves: &[], quadrics: &moving }.beside(Box::new(scene)))
         }
-        _ => Ok(extra.beside(build(kind, meshes)?)),
-    }
-}
-
-/// Builds the chosen backend over a scene with object instances: `set.world_meshes` are traced
-/// as they are, each prototype is built once and traced through its instances' transforms.
-/// Hits report scene mesh ids (`geom_id`) and the instance index (`inst_id`).
-pub fn build_instanced(kind: AccelKind, meshes: &[Mesh], set: &InstanceSet) -> Result<Box<dyn Accel>, String> {
-    match kind {
-        #[cfg(embree)]
-        AccelKind::Embree => Ok(Box::new(embree::EmbreeAccel::instanced(meshes, set).map_err(|e| e.to_string())?)),
-        #[cfg(embree)]
-        AccelKind::EmbreeWatertight => Ok(Box::new(
-            embree::EmbreeAccel::instanced_with_test(meshes, set, embree::TriangleTest::Watertight)
-                .map_err(|e| e.to_string())?,
-        )),
         #[cfg(not(embree))]
         AccelKind::Embree | AccelKind::EmbreeWatertight => Err(NO_EMBREE.into()),
-        AccelKind::Obvhs => Ok(Box::new(obvhs_instanced::ObvhsInstancedAccel::new(meshes, set))),
+        AccelKind::Obvhs => {
+            let triangles: Box<dyn Accel> = if instanced {
+                Box::new(obvhs_instanced::ObvhsInstancedAccel::new(meshes, &table, set))
+            } else {
+                Box::new(obvhs::ObvhsAccel::new(meshes))
+            };
+            Ok(ExtraShapes { curves: &curves, quadrics: &quadrics }.beside(triangles))
+        }
     }
 }
 

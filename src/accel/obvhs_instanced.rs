@@ -1,6 +1,7 @@
 //! Two-level obvhs traversal for object instances: a top-level CWBVH (the TLAS) over the
 //! instances' world-space boxes; each instance carries the ray into object space by its inverse
-//! transform and traverses its prototype's [`ObvhsAccel`] (the BLAS). World meshes have their own
+//! transform and traverses its prototype's [`ObvhsAccel`] (the BLAS), with the prototype's curves
+//! and quadrics in BVHs beside it ([`WithExtra`]) when it has any. World meshes have their own
 //! BLAS, traced first without any transform.
 //!
 //! The parametric distance t is the same in both spaces (the direction is transformed, not
@@ -41,9 +42,10 @@ fn obvhs_ray(ray: &Ray, t_max_scaled: f32) -> ::obvhs::ray::Ray {
         tmax: t_max_scaled,
     }
 }
-use super::Accel;
-use crate::geometry::{AnimatedTransform, Instance, InstanceSet};
+use super::{Accel, ExtraShapes, ShapeTable, WithExtra};
 use crate::geometry::{Bounds3, Hit, Mesh, Ray};
+use crate::geometry::{Instance, InstanceSet, Motion};
+use std::sync::Arc;
 
 /// One instance in TLAS primitive order.
 struct Placed {
@@ -54,9 +56,59 @@ struct Placed {
     object_from_world: Mat4,
     /// Maps object-space unnormalised normals to world space (see `Instance::normal_cofactor`).
     normal_cofactor: Mat3,
-    /// The motion of a moving instance (boxed: static instances stay small); the two matrices
+    /// The motion of a moving instance (shared: static instances stay small); the two matrices
     /// above are then those of its start time.
-    motion: Option<Box<AnimatedTransform>>,
+    motion: Option<Arc<Motion>>,
+}
+
+/// A prototype's BLAS: its triangles, or its triangles with curves and quadrics beside them.
+enum Blas {
+    Triangles(ObvhsAccel),
+    Mixed(WithExtra),
+}
+
+impl Blas {
+    /// The BLAS over `meshes` and the curves and quadrics of `extra` (ids local to the
+    /// prototype, as the meshes').
+    fn new(meshes: &[Mesh], extra: ExtraShapes) -> Self {
+        let triangles = ObvhsAccel::new(meshes);
+        if extra.is_empty() {
+            return Blas::Triangles(triangles);
+        }
+        let curves = (!extra.curves.is_empty()).then(|| super::CurveBvh::new(extra.curves));
+        let quadrics = (!extra.quadrics.is_empty()).then(|| super::QuadricBvh::new(extra.quadrics));
+        Blas::Mixed(WithExtra::new(Box::new(triangles), curves, quadrics))
+    }
+
+    #[inline]
+    fn intersect(&self, ray: &Ray) -> Option<Hit> {
+        match self {
+            Blas::Triangles(t) => t.intersect(ray),
+            Blas::Mixed(m) => m.intersect(ray),
+        }
+    }
+
+    #[inline]
+    fn occluded(&self, ray: &Ray) -> bool {
+        match self {
+            Blas::Triangles(t) => t.occluded(ray),
+            Blas::Mixed(m) => m.occluded(ray),
+        }
+    }
+
+    fn bounds(&self) -> Bounds3 {
+        match self {
+            Blas::Triangles(t) => t.bounds(),
+            Blas::Mixed(m) => m.bounds(),
+        }
+    }
+
+    fn memory_bytes(&self) -> usize {
+        match self {
+            Blas::Triangles(t) => t.memory_bytes(),
+            Blas::Mixed(m) => m.memory_bytes(),
+        }
+    }
 }
 
 impl Placed {
@@ -75,7 +127,7 @@ pub struct ObvhsInstancedAccel {
     world: ObvhsAccel,
     /// Scene mesh id of the world BLAS's geometry `g`.
     world_ids: Vec<u32>,
-    blas: Vec<ObvhsAccel>,
+    blas: Vec<Blas>,
     /// Scene mesh id of geometry `g` of prototype `p`: `proto_ids[p][g]`.
     proto_ids: Vec<Vec<u32>>,
     /// TLAS primitive `k` is `placed[k]`.
@@ -98,12 +150,19 @@ fn padded(b: Bounds3) -> Aabb {
 }
 
 impl ObvhsInstancedAccel {
-    /// Builds one BLAS per prototype and per the world meshes, and the TLAS over the instances
-    /// of non-empty prototypes.
-    pub fn new(meshes: &[Mesh], set: &InstanceSet) -> Self {
+    /// Builds one BLAS per prototype (its meshes, and its curves and quadrics from `shapes`) and
+    /// per the world meshes, and the TLAS over the instances of non-empty prototypes. The world's
+    /// curves and quadrics are not traced here.
+    pub(crate) fn new(meshes: &[Mesh], shapes: &ShapeTable, set: &InstanceSet) -> Self {
         let world = ObvhsAccel::new(&gather(meshes, &set.world_meshes));
-        let blas: Vec<ObvhsAccel> =
-            set.prototypes.iter().map(|p| ObvhsAccel::new(&gather(meshes, &p.meshes))).collect();
+        let blas: Vec<Blas> = set
+            .prototypes
+            .iter()
+            .map(|p| {
+                let (curves, quadrics) = shapes.pick(&p.meshes, |k, _| k);
+                Blas::new(&gather(meshes, &p.meshes), ExtraShapes { curves: &curves, quadrics: &quadrics })
+            })
+            .collect();
         let mut bounds = world.bounds();
         let mut placed = Vec::new();
         let mut boxes = Vec::new();
@@ -120,7 +179,7 @@ impl ObvhsInstancedAccel {
                 proto: inst.prototype,
                 object_from_world: inst.object_from_world,
                 normal_cofactor: inst.normal_cofactor,
-                motion: inst.motion.map(Box::new),
+                motion: inst.motion.clone(),
             });
         }
         let mut tlas = CwBvh::default();
@@ -238,7 +297,7 @@ impl Accel for ObvhsInstancedAccel {
     fn memory_bytes(&self) -> usize {
         use std::mem::size_of_val;
         self.world.memory_bytes()
-            + self.blas.iter().map(ObvhsAccel::memory_bytes).sum::<usize>()
+            + self.blas.iter().map(Blas::memory_bytes).sum::<usize>()
             + size_of_val(&self.tlas.nodes[..])
             + size_of_val(&self.tlas.primitive_indices[..])
             + size_of_val(&self.placed[..])

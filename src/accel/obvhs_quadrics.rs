@@ -22,7 +22,7 @@ impl QuadricBvh {
         let boxes: Vec<Bounds3> = quadrics.iter().map(|(_, q)| q.bounds()).collect();
         let bounds = boxes.iter().fold(Bounds3::EMPTY, |a, &b| a.union(b));
         let (tree, order) = BoxTree::new(&boxes);
-        let quadrics = order.iter().map(|&k| (quadrics[k as usize].0, *quadrics[k as usize].1)).collect();
+        let quadrics = order.iter().map(|&k| (quadrics[k as usize].0, quadrics[k as usize].1.clone())).collect();
         Self { tree, quadrics, bounds }
     }
 

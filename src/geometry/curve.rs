@@ -4,11 +4,14 @@
 //! the width so that they shade like a tube), and ribbons oriented by normals given at the segment
 //! ends. B-splines and quadratic curves are turned into cubic Bézier segments as pbrt-v4 does.
 //!
-//! Segments are stored in world space (the control points carried by the shape's transform:
-//! a Bézier curve is affine invariant, so this is the transformed curve exactly).
+//! Segments are stored in world space, or in an object instance's space inside an object
+//! definition (the control points carried by the shape's transform: a Bézier curve is affine
+//! invariant, so this is the transformed curve exactly; its width is scaled by the transform's
+//! scale, exact under a similarity).
 
-use glam::Vec3;
+use glam::{Mat3, Mat4, Vec3};
 
+use super::quadric::similarity_scale;
 use super::Bounds3;
 
 /// How a curve meets a ray (pbrt-v4 `CurveType`).
@@ -96,6 +99,27 @@ impl Curves {
     /// Bounds of every segment.
     pub fn bounds(&self) -> Bounds3 {
         self.segments.iter().fold(Bounds3::EMPTY, |b, s| b.union(s.bounds(0.0, 1.0)))
+    }
+
+    /// The curves carried by the affine `m`: control points transformed, ribbon normals by the
+    /// inverse transpose, widths scaled by m's scale (a similarity's, else the cube root of
+    /// |det|), and the normal reversed once more when `m` swaps handedness (pbrt-v4 reverses it
+    /// for `ReverseOrientation` differing from the transform's handedness).
+    pub fn transformed(&self, m: &Mat4) -> Self {
+        let linear = Mat3::from_mat4(*m);
+        let scale = similarity_scale(m).unwrap_or_else(|| linear.determinant().abs().cbrt());
+        let normal_matrix = linear.inverse().transpose();
+        let segments = self
+            .segments
+            .iter()
+            .map(|seg| {
+                let cp = seg.cp.map(|p| m.transform_point3(p));
+                let n = seg.n.map(|n| normal_matrix * n);
+                CurveSegment::new(cp, seg.width.map(|w| w * scale), seg.kind, n)
+            })
+            .collect();
+        let flip_normal = self.flip_normal ^ (linear.determinant() < 0.0);
+        Self { segments, split_depth: self.split_depth, flip_normal }
     }
 }
 

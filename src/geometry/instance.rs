@@ -7,21 +7,25 @@
 //! Hit points on instances are transformed back to world space together with their rounding-error
 //! bounds (pbrt-v4, `Transform::operator()(Point3fi)`, §6.8.5), so spawned rays stay robust.
 
+use std::sync::Arc;
+
 use glam::{Mat3, Mat4, Vec3};
 
 use super::animated::{corner_box, AnimatedTransform};
+use super::motion::Motion;
 use super::{Bounds3, Mesh};
 use crate::math::offset::gamma;
 
-/// A prototype: meshes (indices into the scene's mesh list) that are instanced together.
+/// A prototype: primitives (indices into the scene's primitive and mesh lists) that are
+/// instanced together — triangle meshes, and curves or quadrics (whose meshes are empty).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Prototype {
-    /// Mesh ids in object space; a hit's `geom_id` is one of these.
+    /// Primitive ids in object space; a hit's `geom_id` is one of these.
     pub meshes: Vec<u32>,
 }
 
 /// One placed copy of a prototype.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct Instance {
     /// Index into the prototype list.
     pub prototype: u32,
@@ -35,8 +39,9 @@ pub struct Instance {
     /// Sign of det(A): −1 when the transform mirrors (swaps handedness).
     pub handedness: f32,
     /// The motion, for an instance that moves over the shutter interval; the matrices above are
-    /// then those of its start time (see [`Instance::at`]).
-    pub motion: Option<AnimatedTransform>,
+    /// then those of its start time (see [`Instance::at`]). Shared: instances are cloned while
+    /// a scene is built, and a static one stays small.
+    pub motion: Option<Arc<Motion>>,
 }
 
 impl Instance {
@@ -66,27 +71,57 @@ impl Instance {
     /// An instance of `prototype` moving by `motion`; static when the two matrices are equal.
     /// `None` when either keyframe is singular or not finite.
     pub fn animated(prototype: u32, motion: AnimatedTransform) -> Option<Self> {
-        let start = Self::new(prototype, motion.start)?;
-        Self::new(prototype, motion.end)?;
-        Some(Self { motion: motion.is_animated().then_some(motion), ..start })
+        Self::moving(prototype, Motion::One(motion))
+    }
+
+    /// An instance of `prototype` moving by `motion` (static when it does not move); `None`
+    /// when its matrix at either end of its time span is singular or not finite.
+    pub fn moving(prototype: u32, motion: Motion) -> Option<Self> {
+        let (t0, t1) = motion.time_span();
+        let start = Self::new(prototype, motion.interpolate(t0))?;
+        Self::new(prototype, motion.interpolate(t1))?;
+        Some(Self { motion: motion.is_animated().then(|| Arc::new(motion)), ..start })
     }
 
     /// The instance as it is placed at `time` (itself when it does not move; its start placement
-    /// should the interpolated matrix be singular, as a scale passing through zero is).
+    /// should the interpolated matrix be singular, as a scale passing through zero is); never
+    /// moving.
     #[inline]
     pub fn at(&self, time: f32) -> Self {
         match &self.motion {
-            None => *self,
-            Some(m) => Self::new(self.prototype, m.interpolate(time)).unwrap_or(Self { motion: None, ..*self }),
+            None => self.fixed(),
+            Some(m) => Self::new(self.prototype, m.interpolate(time)).unwrap_or_else(|| self.fixed()),
+        }
+    }
+
+    /// The placement of its start time, without the motion.
+    #[inline]
+    fn fixed(&self) -> Self {
+        Self {
+            prototype: self.prototype,
+            world_from_object: self.world_from_object,
+            object_from_world: self.object_from_world,
+            normal_cofactor: self.normal_cofactor,
+            handedness: self.handedness,
+            motion: None,
         }
     }
 
     /// World-space box around the object-space box `b` (its eight corners transformed), over
-    /// the whole motion for a moving instance ([`AnimatedTransform::motion_bounds`]).
+    /// the whole motion for a moving instance ([`Motion::motion_bounds`]).
     pub fn world_bounds(&self, b: Bounds3) -> Bounds3 {
         match &self.motion {
             None => corner_box(&self.world_from_object, b),
             Some(m) => m.motion_bounds(b),
+        }
+    }
+
+    /// The instance followed by the static transform `m` (world from world), `None` when the
+    /// result is singular.
+    pub fn then(&self, m: Mat4) -> Option<Self> {
+        match &self.motion {
+            None => Self::new(self.prototype, m * self.world_from_object),
+            Some(motion) => Self::moving(self.prototype, motion.then(m)),
         }
     }
 
@@ -96,11 +131,10 @@ impl Instance {
     /// δ'ᵢ = (γ₃+1) Σⱼ |mᵢⱼ| δⱼ + γ₃ (Σⱼ |mᵢⱼ pⱼ| + |tᵢ|).
     pub fn point_to_world(&self, p: Vec3, err: Vec3) -> (Vec3, Vec3) {
         let m = &self.world_from_object;
-        let a = Mat3::from_mat4(*m);
-        let abs = Mat3::from_cols(a.x_axis.abs(), a.y_axis.abs(), a.z_axis.abs());
+        let a = abs(Mat3::from_mat4(*m));
         let t = m.w_axis.truncate();
-        let rounding = (abs * p.abs() + t.abs()) * gamma(3);
-        let propagated = (abs * err) * (gamma(3) + 1.0);
+        let rounding = (a * p.abs() + t.abs()) * gamma(3);
+        let propagated = (a * err) * (gamma(3) + 1.0);
         (m.transform_point3(p), propagated + rounding)
     }
 
@@ -115,6 +149,30 @@ impl Instance {
     pub fn vector_to_world(&self, v: Vec3) -> Vec3 {
         self.world_from_object.transform_vector3(v)
     }
+
+    /// [`Instance::point_to_world`] for a point rays will leave from: the bound also covers the
+    /// rounding of carrying a point near it back into object space, γ₃(|M⁻¹| |p| + |t⁻¹|) mapped
+    /// to world space by |M| (pbrt-v4 carries that error as an interval through its object-space
+    /// tests; here it widens the offset instead, so a spawned ray starts on its own side of the
+    /// surface in object space too).
+    pub fn spawn_point_to_world(&self, p: Vec3, err: Vec3) -> (Vec3, Vec3) {
+        let (p, p_err) = self.point_to_world(p, err);
+        let inverse = abs(Mat3::from_mat4(self.object_from_world));
+        let back = gamma(3) * (inverse * p.abs() + self.object_from_world.w_axis.truncate().abs());
+        (p, p_err + abs(Mat3::from_mat4(self.world_from_object)) * back)
+    }
+
+    /// A ray in object space (same t, same time).
+    #[inline]
+    pub fn ray_to_object(&self, ray: &super::Ray) -> super::Ray {
+        let m = &self.object_from_world;
+        super::Ray { o: m.transform_point3(ray.o), d: m.transform_vector3(ray.d), ..*ray }
+    }
+}
+
+/// |A| of a 3×3 matrix, entry by entry.
+fn abs(a: Mat3) -> Mat3 {
+    Mat3::from_cols(a.x_axis.abs(), a.y_axis.abs(), a.z_axis.abs())
 }
 
 /// The instancing part of a scene's geometry: which meshes are placed directly in the world,

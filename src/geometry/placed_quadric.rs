@@ -15,14 +15,13 @@ use glam::{Mat3, Mat4, Vec2, Vec3};
 use super::animated::AnimatedTransform;
 use super::quadric_hit::QuadricHit;
 use super::{Bounds3, Instance, Quadric, Ray};
-use crate::math::offset::gamma;
 
 /// Relative margin by which world boxes are grown, as the triangle boxes of the Embree user
 /// geometry are (their slab tests round by about 2⁻²⁴ of the coordinates).
 const BOX_PAD: f32 = 1.0 / (1u32 << 18) as f32;
 
 /// A quadric with its placement.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct PlacedQuadric {
     /// The shape in object space.
     pub quadric: Quadric,
@@ -52,23 +51,30 @@ pub struct QuadricSurface {
     pub area_scale: f32,
 }
 
-/// |A| of a 3×3 matrix, entry by entry.
-fn abs(a: Mat3) -> Mat3 {
-    Mat3::from_cols(a.x_axis.abs(), a.y_axis.abs(), a.z_axis.abs())
-}
-
 impl PlacedQuadric {
     /// `quadric` at `world_from_object`; `None` when the transform is singular or not finite.
     pub fn new(quadric: Quadric, world_from_object: Mat4, reverse_orientation: bool) -> Option<Self> {
         let placement = Instance::new(0, world_from_object)?;
-        Some(Self { quadric, placement, flip_normal: reverse_orientation ^ (placement.handedness < 0.0) })
+        let flip_normal = reverse_orientation ^ (placement.handedness < 0.0);
+        Some(Self { quadric, placement, flip_normal })
     }
 
     /// `quadric` moving by `motion` (static when its two matrices are equal); `None` as
     /// [`PlacedQuadric::new`].
     pub fn moving(quadric: Quadric, motion: AnimatedTransform, reverse_orientation: bool) -> Option<Self> {
         let placement = Instance::animated(0, motion)?;
-        Some(Self { quadric, placement, flip_normal: reverse_orientation ^ (placement.handedness < 0.0) })
+        let flip_normal = reverse_orientation ^ (placement.handedness < 0.0);
+        Some(Self { quadric, placement, flip_normal })
+    }
+
+    /// The static quadric carried on by `m` (world from its present world space); `None` when
+    /// it moves or the result is singular.
+    pub fn placed_by(&self, m: &Mat4) -> Option<Self> {
+        if self.moves() {
+            return None;
+        }
+        let reverse = self.flip_normal ^ (self.placement.handedness < 0.0);
+        Self::new(self.quadric, *m * self.placement.world_from_object, reverse)
     }
 
     /// True when the placement moves over the shutter interval.
@@ -116,10 +122,7 @@ impl PlacedQuadric {
 
     /// The object-space hit `h` carried to world space by `inst`.
     fn carried_to_world(&self, inst: &Instance, h: &QuadricHit) -> QuadricSurface {
-        let (p, p_err) = inst.point_to_world(h.p, h.p_err);
-        let inverse = Mat3::from_mat4(inst.object_from_world);
-        let back = gamma(3) * (abs(inverse) * p.abs() + inst.object_from_world.w_axis.truncate().abs());
-        let p_err = p_err + abs(Mat3::from_mat4(inst.world_from_object)) * back;
+        let (p, p_err) = inst.spawn_point_to_world(h.p, h.p_err);
         let n = inst.normal_to_world(h.n);
         QuadricSurface {
             area_scale: (inst.normal_cofactor * h.n).length(),

@@ -117,8 +117,8 @@ mod tests {
         );
         let shape = PlacedQuadric::new(quadric, m, false).unwrap();
         QuadricLight {
-            shape,
             area: shape.area(),
+            shape,
             spectrum: Arc::new(Spectrum::constant(1.0)),
             scale: 1.0,
             two_sided: true,
@@ -165,8 +165,8 @@ mod tests {
         )
         .unwrap();
         let l = QuadricLight {
-            shape,
             area: shape.area(),
+            shape,
             spectrum: Arc::new(Spectrum::constant(1.0)),
             scale: 2.0,
             two_sided: false,

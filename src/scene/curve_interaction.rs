@@ -4,7 +4,10 @@
 //! ([`crate::geometry::curve_hit::curve_surface`]). The point's error bound is the curve's
 //! width there, so a spawned ray starts clear of the curve it leaves. Under `ReverseOrientation`
 //! (or a handedness-swapping transform) both normals are reversed, as pbrt-v4 reverses them.
+//! Curves in an object instance are met by the ray carried into the prototype's space (as
+//! pbrt-v4 meets curves in their object space), and the surface is carried back.
 
+use super::quadric_interaction::Instanced;
 use super::{Bound, SurfaceInteraction, SurfaceNormals};
 use crate::geometry::curve_hit::{curve_surface, CurveSurface};
 use crate::geometry::{Curves, Hit, Ray};
@@ -14,8 +17,24 @@ use glam::{Vec2, Vec3};
 impl<'s> SurfaceInteraction<'s> {
     /// The interaction for `hit` of `ray` on `curves`, the geometry of `primitive`.
     pub(super) fn on_curve(scene: &'s Scene, primitive: &'s Primitive, curves: &Curves, ray: &Ray, hit: &Hit) -> Self {
+        let instance = Instanced::of(scene, hit.inst_id, ray.time);
+        let local = instance.as_ref().map(|i| i.0.ray_to_object(ray));
+        let s = Self::curve_point(curves, local.as_ref().unwrap_or(ray), hit);
+        let n = if curves.flip_normal { -s.n } else { s.n };
+        match instance {
+            None => Self::on_analytic_surface(scene, primitive, ray, hit, (s.p, s.p_err), n, (s.dpdu, s.dpdv), s.uv),
+            Some(inst) => {
+                let p = inst.0.spawn_point_to_world(s.p, s.p_err);
+                let (dpdu, dpdv) = (inst.0.vector_to_world(s.dpdu), inst.0.vector_to_world(s.dpdv));
+                Self::on_analytic_surface(scene, primitive, ray, hit, p, inst.normal(n), (dpdu, dpdv), s.uv)
+            }
+        }
+    }
+
+    /// The surface of `curves` at `hit` of `ray` (both in the curves' space).
+    fn curve_point(curves: &Curves, ray: &Ray, hit: &Hit) -> CurveSurface {
         let seg = &curves.segments[hit.prim_id as usize];
-        let s = curve_surface(seg, ray, hit.t, hit.u).unwrap_or_else(|| {
+        curve_surface(seg, ray, hit.t, hit.u).unwrap_or_else(|| {
             // A degenerate frame (zero tangent): face the ray.
             let n = -ray.d.normalize_or_zero();
             let w = seg.width_at(hit.u.clamp(0.0, 1.0));
@@ -28,9 +47,7 @@ impl<'s> SurfaceInteraction<'s> {
                 dpdv: n.cross(dpdu) * w,
                 uv: Vec2::new(hit.u, 0.5),
             }
-        });
-        let n = if curves.flip_normal { -s.n } else { s.n };
-        Self::on_analytic_surface(scene, primitive, ray, hit, (s.p, s.p_err), n, (s.dpdu, s.dpdv), s.uv)
+        })
     }
 
     /// The interaction at a point `p` (error bound `p_err`) of an analytic surface whose shading

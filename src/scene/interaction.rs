@@ -202,7 +202,7 @@ impl<'s> SurfaceInteraction<'s> {
     /// corners' normals and (u, v) as ∂p/∂u and ∂p/∂v are found from their positions.
     fn shading_derivatives(&self, b: Bound<'s>) -> ShadingDerivatives {
         if let Some(q) = &b.primitive.quadric {
-            return self.quadric_derivatives(q);
+            return self.quadric_derivatives(b.scene, q);
         }
         let mesh = &b.primitive.mesh;
         let Some(normals) = &mesh.normals else {
@@ -212,10 +212,10 @@ impl<'s> SurfaceInteraction<'s> {
         let ts = ns.cross(self.dpdu);
         let (ss, ts) = if ts.length_squared() > 0.0 { (ts.cross(ns), ts) } else { ns.any_orthonormal_pair() };
         let tri = mesh.indices[self.prim as usize];
-        let instance = b.scene.instances.get(self.inst as usize);
+        let instance = b.scene.instances.get(self.inst as usize).map(|i| i.at(self.time));
         let n = |k: usize| {
             let n = normals[tri[k] as usize];
-            instance.map_or(n, |inst| inst.normal_to_world(n))
+            instance.as_ref().map_or(n, |inst| inst.normal_to_world(n))
         };
         let uv = |k: usize| match &mesh.uvs {
             Some(uvs) => uvs[tri[k] as usize],

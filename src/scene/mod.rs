@@ -32,7 +32,7 @@ pub use primitive::{MediumInterface, Primitive};
 
 use crate::accel::{self, Accel, AccelKind};
 use crate::camera::{Camera, Projection, RealisticLens};
-use crate::geometry::{AnimatedTransform, Curves, Hit, Instance, InstanceSet, Mesh, PlacedQuadric, Prototype, Ray};
+use crate::geometry::{Curves, Hit, Instance, InstanceSet, Mesh, Motion, PlacedQuadric, Prototype, Ray};
 use crate::light::{
     AreaLight, EmissionImage, ImageEmission, Light, LightSampleContext, LightSampler, LightSamplerKind, QuadricLight,
     SphereLight,
@@ -59,8 +59,7 @@ pub struct Emission {
 /// How pbrt-v4's sphere, disk and cylinder shapes are built.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum QuadricMode {
-    /// Intersected exactly in object space by both backends (inside `ObjectBegin`,
-    /// tessellated).
+    /// Intersected exactly in object space by both backends.
     #[default]
     Analytic,
     /// Inscribed triangle meshes with analytic normals and (u, v) ([`crate::geometry::quadric`]).
@@ -294,15 +293,41 @@ impl SceneBuilder {
     /// Adds a prototype: meshes in object space, each with its material (no emission: pbrt-v4
     /// does not instance area lights). Returns its id for [`SceneBuilder::add_instance`].
     pub fn add_prototype(&mut self, meshes: Vec<(Mesh, u32)>) -> u32 {
-        let proto = self.prototypes.len() as u32;
-        let mut ids = Vec::with_capacity(meshes.len());
+        let proto = self.new_prototype();
         for (mesh, material) in meshes {
             let id = self.add_mesh(mesh, material, None);
-            self.primitives[id as usize].prototype = Some(proto);
-            ids.push(id);
+            self.add_to_prototype(proto, id);
         }
-        self.prototypes.push(Prototype { meshes: ids });
         proto
+    }
+
+    /// Adds an empty prototype, returning its id for [`SceneBuilder::add_to_prototype`].
+    pub fn new_prototype(&mut self) -> u32 {
+        self.prototypes.push(Prototype::default());
+        self.prototypes.len() as u32 - 1
+    }
+
+    /// Moves primitive `id` — a mesh, curves or a static quadric, in object space — from the
+    /// world into prototype `proto`. An emissive primitive (pbrt-v4 does not instance area
+    /// lights), a moving quadric (a moving shape is a prototype of its own under a moving
+    /// instance), one already in a prototype, or an unknown id stays where it is: false with a
+    /// warning.
+    pub fn add_to_prototype(&mut self, proto: u32, id: u32) -> bool {
+        let refused = match self.primitives.get(id as usize) {
+            _ if proto as usize >= self.prototypes.len() => Some("unknown prototype"),
+            None => Some("unknown primitive"),
+            Some(p) if p.emission.is_some() => Some("it emits"),
+            Some(p) if p.quadric.as_ref().is_some_and(|q| q.moves()) => Some("it moves"),
+            Some(p) if p.prototype.is_some() => Some("it is in a prototype already"),
+            Some(_) => None,
+        };
+        if let Some(why) = refused {
+            self.warnings.push(format!("primitive {id} not added to prototype {proto}: {why}"));
+            return false;
+        }
+        self.primitives[id as usize].prototype = Some(proto);
+        self.prototypes[proto as usize].meshes.push(id);
+        true
     }
 
     /// Places prototype `prototype` at `world_from_object`. A singular or non-finite transform
@@ -311,10 +336,10 @@ impl SceneBuilder {
         self.place(prototype, Instance::new(prototype, world_from_object))
     }
 
-    /// Places prototype `prototype` moving by `motion` (static when its two matrices are equal);
-    /// false with a warning as [`SceneBuilder::add_instance`].
-    pub fn add_moving_instance(&mut self, prototype: u32, motion: AnimatedTransform) -> bool {
-        self.place(prototype, Instance::animated(prototype, motion))
+    /// Places prototype `prototype` moving by `motion` (static when it does not move); false
+    /// with a warning as [`SceneBuilder::add_instance`].
+    pub fn add_moving_instance(&mut self, prototype: u32, motion: impl Into<Motion>) -> bool {
+        self.place(prototype, Instance::moving(prototype, motion.into()))
     }
 
     /// Sets the camera's shutter open and close times, in the time units of the instances'
@@ -371,21 +396,34 @@ impl SceneBuilder {
     }
 
     /// Replaces every instance by world-space copies of its prototype's primitives (the
-    /// reference that instancing must reproduce); the prototypes' own meshes become empty.
+    /// reference that instancing must reproduce): meshes, curves and quadrics, with their
+    /// materials, alpha masks and media, each at its instance's start placement; the
+    /// prototypes' own primitives become empty.
     pub fn flatten_instances(&mut self) {
         for inst in std::mem::take(&mut self.instances) {
-            for &m in &self.prototypes[inst.prototype as usize].meshes.clone() {
-                let p = &self.primitives[m as usize];
-                let copy = p.mesh.transformed(&inst.world_from_object);
-                let mi = p.medium_interface;
-                let id = self.add_mesh(copy, p.material, None);
-                self.set_medium_interface(id, mi);
+            let m = inst.world_from_object;
+            for &id in &self.prototypes[inst.prototype as usize].meshes.clone() {
+                let p = &self.primitives[id as usize];
+                let (material, mi, alpha) = (p.material, p.medium_interface, p.alpha.clone());
+                let curves = p.curves.as_ref().map(|c| c.transformed(&m));
+                let quadric = p.quadric.as_ref().map(|q| q.placed_by(&m));
+                let copy = match (curves, quadric) {
+                    (Some(c), _) => self.add_curves(c, material),
+                    (_, Some(Some(q))) => self.add_quadric(q, material, None),
+                    (_, Some(None)) => continue,
+                    _ => {
+                        let mesh = self.primitives[id as usize].mesh.transformed(&m);
+                        self.add_mesh(mesh, material, None)
+                    }
+                };
+                self.set_medium_interface(copy, mi);
+                self.primitives[copy as usize].alpha = alpha;
             }
         }
         for proto in std::mem::take(&mut self.prototypes) {
             for m in proto.meshes {
                 let p = &mut self.primitives[m as usize];
-                p.mesh = Mesh::default();
+                (p.mesh, p.curves, p.quadric) = (Mesh::default(), None, None);
                 p.prototype = None;
             }
         }
@@ -421,24 +459,17 @@ impl SceneBuilder {
         let scale = m.transform_vector3(Vec3::X).length();
         for p in self.primitives.iter_mut().filter(|p| p.prototype.is_none()) {
             p.mesh = p.mesh.transformed(&m);
+            if let Some(c) = p.curves.as_mut() {
+                *c = Arc::new(c.transformed(&m));
+            }
             if let Some(q) = p.quadric.as_mut() {
-                let mut placed = **q;
-                let motion = placed.placement.motion.unwrap_or_else(|| {
-                    let w = placed.placement.world_from_object;
-                    AnimatedTransform::new(w, 0.0, w, 1.0)
-                });
-                let moved =
-                    AnimatedTransform::new(m * motion.start, motion.start_time, m * motion.end, motion.end_time);
-                placed.placement = Instance::animated(0, moved).expect("a similarity keeps it invertible");
+                let mut placed = PlacedQuadric::clone(q);
+                placed.placement = placed.placement.then(m).expect("a similarity keeps it invertible");
                 *q = Arc::new(placed);
             }
         }
         for inst in self.instances.iter_mut() {
-            let motion = inst
-                .motion
-                .unwrap_or_else(|| AnimatedTransform::new(inst.world_from_object, 0.0, inst.world_from_object, 1.0));
-            let moved = AnimatedTransform::new(m * motion.start, motion.start_time, m * motion.end, motion.end_time);
-            *inst = Instance::animated(inst.prototype, moved).expect("a similarity keeps it invertible");
+            *inst = inst.then(m).expect("a similarity keeps it invertible");
         }
         if let Some(c) = self.camera.as_mut() {
             // Keep the camera frame orthonormal: move the origin, rotate the axes, do not scale.
@@ -476,13 +507,8 @@ impl SceneBuilder {
         let placed: Vec<(u32, &PlacedQuadric)> =
             quadrics.iter().enumerate().filter_map(|(id, q)| Some((id as u32, q.as_deref()?))).collect();
         let extra = accel::ExtraShapes { curves: &curves, quadrics: &placed };
-        let accel = if self.prototypes.is_empty() {
-            accel::build_with_extra(accel_kind, &meshes, extra)
-        } else {
-            let set = InstanceSet { world_meshes, prototypes: self.prototypes, instances: self.instances.clone() };
-            accel::build_instanced(accel_kind, &meshes, &set).map(|a| extra.beside(a))
-        }
-        .map_err(BuildError::Accel)?;
+        let set = InstanceSet { world_meshes, prototypes: self.prototypes, instances: self.instances };
+        let accel = accel::build_scene(accel_kind, &meshes, extra, &set).map_err(BuildError::Accel)?;
         let quadric_moves = placed.iter().any(|(_, q)| q.moves());
         let mut lights = self.lights;
         let mut primitives = Vec::with_capacity(meshes.len());
@@ -545,14 +571,14 @@ impl SceneBuilder {
         let infinite_lights =
             lights.iter().enumerate().filter(|(_, l)| l.is_infinite()).map(|(i, _)| i as u32).collect();
         let has_interfaces = self.materials.iter().any(Material::may_be_interface);
-        let moves = quadric_moves || self.instances.iter().any(|i| i.motion.is_some()) || camera.moves();
+        let moves = quadric_moves || set.instances.iter().any(|i| i.motion.is_some()) || camera.moves();
         let shutter = moves.then(|| self.shutter.unwrap_or((0.0, 1.0)));
         Ok(Scene {
             has_interfaces,
             has_alpha,
             accel,
             primitives,
-            instances: self.instances,
+            instances: set.instances,
             materials: self.materials,
             lights,
             infinite_lights,
@@ -575,7 +601,7 @@ fn quadric_light(q: &PlacedQuadric, spectrum: Arc<Spectrum>, scale: f32, two_sid
         Some((center, radius)) => {
             Light::Sphere(SphereLight { center, radius, spectrum, scale, two_sided, inward: q.flip_normal })
         }
-        None => Light::Quadric(Box::new(QuadricLight { shape: *q, area: q.area(), spectrum, scale, two_sided })),
+        None => Light::Quadric(Box::new(QuadricLight { shape: q.clone(), area: q.area(), spectrum, scale, two_sided })),
     }
 }
 

@@ -22,7 +22,7 @@ pub use load::{load_file, LoadedScene};
 
 use lights::{brightness_factor, FLUX};
 
-use super::desc::{MaterialDesc, SceneDesc, ShapeDesc, ShapeGeometry};
+use super::desc::{MaterialDesc, ObjectDesc, SceneDesc, ShapeDesc, ShapeGeometry};
 use super::error::{Location, SceneError, Warning};
 use super::params::{ParamSet, SpectrumParam};
 use super::{CameraDesc, Emission, QuadricMode, SceneBuilder};
@@ -30,7 +30,7 @@ use crate::bsdf::{ior, metals};
 use crate::camera::Projection;
 use crate::film::Crop;
 use crate::geometry::quadric::similarity_scale;
-use crate::geometry::{AnimatedTransform, Mesh, PlacedQuadric};
+use crate::geometry::{AnimatedTransform, Curves, Mesh, Motion, PlacedQuadric, Quadric};
 use crate::light::{EmissionImage, LightSamplerKind};
 use crate::material::{BumpedMaterial, Ior, Material, Roughness};
 use crate::spectrum::{ColorSpace, RgbKind, Spectrum};
@@ -426,58 +426,119 @@ impl Ctx<'_> {
         }
     }
 
-    /// Object instances: each instanced object becomes one prototype (its shapes in instance
-    /// space, built once), placed by every ObjectInstance. Objects nobody instances are not
-    /// built; an instance with a singular transform is skipped with a warning.
+    /// Object instances, built as pbrt-v4 builds them (`BasicScene::CreateAggregate`): an
+    /// instanced object's static shapes — meshes, curves, quadrics — become one prototype in
+    /// instance space, built once and placed by every ObjectInstance; each of its moving shapes
+    /// becomes a prototype of its own in its object space, placed by one instance per
+    /// ObjectInstance that carries the ObjectInstance's placement times the shape's motion
+    /// (pbrt-v4: an `AnimatedPrimitive` inside the object's BVH, [`Motion::compose`]). Objects
+    /// nobody instances are not built; an instance with a singular transform is skipped with a
+    /// warning.
     fn instances(&mut self) -> Result<(), SceneError> {
         let desc = self.desc;
-        let mut prototype: HashMap<usize, Option<u32>> = HashMap::new();
+        let mut built: HashMap<usize, ObjectParts> = HashMap::new();
         for inst in &desc.instances {
-            let proto = match prototype.get(&inst.object_index) {
-                Some(&p) => p,
-                None => {
-                    let obj = &desc.objects[inst.object_index];
-                    let mut meshes = Vec::with_capacity(obj.shapes.len());
-                    let mut alphas = Vec::with_capacity(obj.shapes.len());
-                    for s in &obj.shapes {
-                        if matches!(s.geometry, ShapeGeometry::Curves(_)) {
-                            self.unsupported(&s.loc, "curves inside ObjectBegin".into(), "skips them");
-                        }
-                        meshes.push((shape_mesh(s, &s.world_from_object), self.material(desc.material(&s.material))?));
-                        alphas.push(self.float_texture(&s.params, "alpha", 1.0)?);
-                    }
-                    let p = (!meshes.is_empty()).then(|| self.b.add_prototype(meshes));
-                    if let Some(p) = p {
-                        let ids = self.b.prototype_meshes(p).to_vec();
-                        for ((id, alpha), s) in ids.into_iter().zip(alphas).zip(&obj.shapes) {
-                            self.b.set_alpha(id, alpha);
-                            self.b.set_medium_interface(id, media::interface(&self.media, &s.media));
-                        }
-                    }
-                    prototype.insert(inst.object_index, p);
-                    p
-                }
-            };
-            let Some(proto) = proto else { continue };
-            let placed = match inst.motion {
-                Some(m) => self.b.add_moving_instance(proto, m),
-                None => self.b.add_instance(proto, inst.world_from_instance),
-            };
-            if !placed {
-                self.warnings.extend(self.b.warnings.pop().map(|message| Warning::note(&inst.loc, message)));
+            if !built.contains_key(&inst.object_index) {
+                let parts = self.object_parts(&desc.objects[inst.object_index])?;
+                built.insert(inst.object_index, parts);
+            }
+            let parts = &built[&inst.object_index];
+            if let Some(proto) = parts.fixed {
+                let placed = match inst.motion {
+                    Some(m) => self.b.add_moving_instance(proto, m),
+                    None => self.b.add_instance(proto, inst.world_from_instance),
+                };
+                self.note_unplaced(placed, &inst.loc);
+            }
+            for &(proto, shape_motion) in &parts.moving {
+                let w = inst.world_from_instance;
+                let fixed = AnimatedTransform::new(w, shape_motion.start_time, w, shape_motion.end_time);
+                let motion = Motion::compose(inst.motion.unwrap_or(fixed), shape_motion);
+                let placed = self.b.add_moving_instance(proto, motion);
+                self.note_unplaced(placed, &inst.loc);
             }
         }
         Ok(())
     }
 
-    /// A moving shape: its mesh in object space becomes a prototype of its own, placed by one
-    /// instance that moves (pbrt-v4 wraps such a shape in an `AnimatedPrimitive`). pbrt-v4 lets
-    /// moving shapes emit; here they do not.
+    /// The builder's warning about an instance it did not place, at `loc`.
+    fn note_unplaced(&mut self, placed: bool, loc: &Location) {
+        if !placed {
+            self.warnings.extend(self.b.warnings.pop().map(|message| Warning::note(loc, message)));
+        }
+    }
+
+    /// The prototypes of object `obj`: one of its static shapes (`None` when it has none) and
+    /// one per moving shape, with the shape's motion.
+    fn object_parts(&mut self, obj: &ObjectDesc) -> Result<ObjectParts, SceneError> {
+        let mut parts = ObjectParts { fixed: None, moving: Vec::new() };
+        for s in &obj.shapes {
+            match s.motion {
+                Some(motion) => parts.moving.push((self.shape_prototype(s)?, motion)),
+                None => {
+                    let id = self.geometry(s, &s.world_from_object)?;
+                    let proto = match parts.fixed {
+                        Some(p) => p,
+                        None => *parts.fixed.insert(self.b.new_prototype()),
+                    };
+                    self.b.add_to_prototype(proto, id);
+                }
+            }
+        }
+        Ok(parts)
+    }
+
+    /// Shape `s` in its own object space as a prototype of its own.
+    fn shape_prototype(&mut self, s: &ShapeDesc) -> Result<u32, SceneError> {
+        let id = self.geometry(s, &Mat4::IDENTITY)?;
+        let proto = self.b.new_prototype();
+        self.b.add_to_prototype(proto, id);
+        Ok(proto)
+    }
+
+    /// Shape `s` carried by `m` (to world space, to instance space inside an object definition,
+    /// or the identity: its object space) as a primitive without emission, with its material,
+    /// alpha and media: triangles, curves, or — unless tessellation is asked for or `m` is
+    /// singular — an exact quadric. Returns its id.
+    fn geometry(&mut self, s: &ShapeDesc, m: &Mat4) -> Result<u32, SceneError> {
+        let material = self.material(self.desc.material(&s.material))?;
+        let id = match &s.geometry {
+            ShapeGeometry::Curves(c) => {
+                let oriented = Curves { flip_normal: c.flip_normal ^ s.reverse_orientation, ..Curves::clone(c) };
+                self.b.add_curves(oriented.transformed(m), material)
+            }
+            ShapeGeometry::Quadric(q) => match self.analytic(q, m, s.reverse_orientation) {
+                Some(placed) => self.b.add_quadric(placed, material, None),
+                None => self.b.add_mesh(shape_mesh(s, m), material, None),
+            },
+            ShapeGeometry::Mesh(_) => self.b.add_mesh(shape_mesh(s, m), material, None),
+        };
+        self.finish(id, s)?;
+        Ok(id)
+    }
+
+    /// Quadric `q` at `m`, intersected exactly; `None` when tessellation is asked for or the
+    /// transform is singular.
+    fn analytic(&self, q: &Quadric, m: &Mat4, reverse_orientation: bool) -> Option<PlacedQuadric> {
+        (self.quadrics == QuadricMode::Analytic).then(|| PlacedQuadric::new(*q, *m, reverse_orientation)).flatten()
+    }
+
+    /// Gives primitive `id` shape `s`'s alpha mask and media.
+    fn finish(&mut self, id: u32, s: &ShapeDesc) -> Result<(), SceneError> {
+        let alpha = self.float_texture(&s.params, "alpha", 1.0)?;
+        self.b.set_alpha(id, alpha);
+        self.b.set_medium_interface(id, media::interface(&self.media, &s.media));
+        Ok(())
+    }
+
+    /// A moving shape (pbrt-v4 wraps it in an `AnimatedPrimitive`): a quadric is intersected
+    /// where it is at each ray's time; other shapes — meshes, curves — become a prototype of
+    /// their own in object space, placed by one instance that moves. pbrt-v4 lets moving shapes
+    /// emit; here they do not.
     fn moving_shape(&mut self, s: &ShapeDesc, motion: AnimatedTransform) -> Result<(), SceneError> {
-        if s.area_light.is_some() {
+        if s.area_light.is_some() && !matches!(s.geometry, ShapeGeometry::Curves(_)) {
             self.unsupported(&s.loc, "a moving area light".into(), "makes the shape non-emissive");
         }
-        let material = self.material(self.desc.material(&s.material))?;
         let moving = match &s.geometry {
             ShapeGeometry::Quadric(q) if self.quadrics == QuadricMode::Analytic => {
                 PlacedQuadric::moving(*q, motion, s.reverse_orientation)
@@ -485,44 +546,35 @@ impl Ctx<'_> {
             _ => None,
         };
         if let Some(q) = moving {
-            // A moving quadric is intersected where it is at each ray's time.
+            let material = self.material(self.desc.material(&s.material))?;
             let id = self.b.add_quadric(q, material, None);
-            let alpha = self.float_texture(&s.params, "alpha", 1.0)?;
-            self.b.set_alpha(id, alpha);
-            self.b.set_medium_interface(id, media::interface(&self.media, &s.media));
-            return Ok(());
+            return self.finish(id, s);
         }
-        let proto = self.b.add_prototype(vec![(shape_mesh(s, &Mat4::IDENTITY), material)]);
-        let id = self.b.prototype_meshes(proto)[0];
-        let alpha = self.float_texture(&s.params, "alpha", 1.0)?;
-        self.b.set_alpha(id, alpha);
-        self.b.set_medium_interface(id, media::interface(&self.media, &s.media));
-        if !self.b.add_moving_instance(proto, motion) {
-            self.warnings.extend(self.b.warnings.pop().map(|message| Warning::note(&s.loc, message)));
-        }
+        let proto = self.shape_prototype(s)?;
+        let placed = self.b.add_moving_instance(proto, motion);
+        self.note_unplaced(placed, &s.loc);
         Ok(())
     }
 
     fn shape(&mut self, s: &ShapeDesc) -> Result<(), SceneError> {
-        if let ShapeGeometry::Curves(c) = &s.geometry {
-            if s.motion.is_some() {
-                self.unsupported(&s.loc, "moving curves".into(), "uses the start transform");
-            }
-            return self.curves(s, c);
+        let curves = matches!(s.geometry, ShapeGeometry::Curves(_));
+        if curves && s.area_light.is_some() {
+            self.unsupported(&s.loc, "area light on a curve".into(), "makes the curve non-emissive");
         }
         if let Some(motion) = s.motion {
             return self.moving_shape(s, motion);
         }
+        if curves {
+            return self.geometry(s, &s.world_from_object).map(drop);
+        }
         // A quadric is intersected exactly (unless tessellation is asked for); under a
         // similarity it keeps its analytic area either way.
         let mut analytic = match &s.geometry {
-            ShapeGeometry::Quadric(q) if self.quadrics == QuadricMode::Analytic => {
-                PlacedQuadric::new(*q, s.world_from_object, s.reverse_orientation)
-            }
+            ShapeGeometry::Quadric(q) => self.analytic(q, &s.world_from_object, s.reverse_orientation),
             _ => None,
         };
         let mut mesh = if analytic.is_some() { Mesh::default() } else { shape_mesh(s, &s.world_from_object) };
-        let area = match (&s.geometry, analytic) {
+        let area = match (&s.geometry, &analytic) {
             (_, Some(q)) => q.area(),
             (ShapeGeometry::Quadric(q), None) => {
                 similarity_scale(&s.world_from_object).map_or_else(|| mesh.area(), |k| q.area() * k * k)
@@ -568,44 +620,16 @@ impl Ctx<'_> {
         if per_triangle {
             self.b.set_emission_per_triangle_area(id);
         }
-        let alpha = self.float_texture(&s.params, "alpha", 1.0)?;
-        self.b.set_alpha(id, alpha);
-        self.b.set_medium_interface(id, media::interface(&self.media, &s.media));
-        Ok(())
+        self.finish(id, s)
     }
 }
 
-impl Ctx<'_> {
-    /// A curve shape: its segments carried to world space (control points by the transform, a
-    /// Bézier curve being affine invariant; widths by its scale), with its material and media;
-    /// its normal reversed as pbrt-v4 reverses it.
-    /// Curves do not emit: an area light on them is reported and dropped.
-    fn curves(&mut self, s: &ShapeDesc, c: &crate::geometry::Curves) -> Result<(), SceneError> {
-        if s.area_light.is_some() {
-            self.warnings.push(Warning::unsupported(&s.loc, "area light on a curve", "makes the curve non-emissive"));
-        }
-        let m = &s.world_from_object;
-        let linear = glam::Mat3::from_mat4(*m);
-        let scale = similarity_scale(m).unwrap_or_else(|| linear.determinant().abs().cbrt());
-        let normal_matrix = linear.inverse().transpose();
-        let segments = c
-            .segments
-            .iter()
-            .map(|seg| {
-                let cp = seg.cp.map(|p| m.transform_point3(p));
-                let n = seg.n.map(|n| normal_matrix * n);
-                crate::geometry::CurveSegment::new(cp, seg.width.map(|w| w * scale), seg.kind, n)
-            })
-            .collect();
-        let flip_normal = s.reverse_orientation ^ (linear.determinant() < 0.0);
-        let world = crate::geometry::Curves { segments, split_depth: c.split_depth, flip_normal };
-        let material = self.material(self.desc.material(&s.material))?;
-        let id = self.b.add_curves(world, material);
-        let alpha = self.float_texture(&s.params, "alpha", 1.0)?;
-        self.b.set_alpha(id, alpha);
-        self.b.set_medium_interface(id, media::interface(&self.media, &s.media));
-        Ok(())
-    }
+/// The prototypes of an object definition.
+struct ObjectParts {
+    /// Its static shapes in instance space.
+    fixed: Option<u32>,
+    /// Each moving shape in its object space, with its motion (instance space from object).
+    moving: Vec<(u32, AnimatedTransform)>,
 }
 
 /// The shapes pbrt-v4 creates as one `Triangle` shape per triangle.

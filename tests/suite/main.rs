@@ -14,6 +14,7 @@ mod curves;
 mod envmap;
 mod equal_area_envmap;
 mod film;
+mod instanced_shapes;
 mod instancing;
 mod light_sampler;
 mod measured;

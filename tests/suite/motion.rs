@@ -1,9 +1,11 @@
 //! Motion blur: a moving instance hit at time t is the instance placed at its interpolated
 //! transform (pbrt-v4's `AnimatedTransform`, PBR 4th ed. §3.10.1) on every backend; a square
 //! translating by its own width over the shutter blurs into the tent-shaped coverage the
-//! shutter integral gives; a scene where nothing moves draws no time sample.
+//! shutter integral gives, and so does a curve of that shape, moving by itself or held by a
+//! moving object instance; a moving instance of a sphere blurs as the moving sphere does; a
+//! scene where nothing moves draws no time sample.
 
-use crate::common::{backends, pbrt_scene as scene, test_settings};
+use crate::common::{backends, film_difference, pbrt_scene as scene, pixels_far_off, test_settings};
 use glam::{Mat4, Quat, Vec3};
 use prism::camera::Camera;
 use prism::geometry::shapes::{axis_box, icosphere};
@@ -122,12 +124,47 @@ fn coverage(x: f64) -> f64 {
     (1.0 - x.abs()).max(0.0)
 }
 
+/// The square of [`TRANSLATING_SQUARE`] as a flat curve (a ribbon facing the ray: the
+/// orthographic rays see a band 1 wide) along y at x = −0.5.
+const CURVE_SQUARE: &str =
+    r#"Shape "curve" "point3 P" [ -0.5 -1.5 0  -0.5 -0.5 0  -0.5 0.5 0  -0.5 1.5 0 ] "float width" 1"#;
+
+/// [`TRANSLATING_SQUARE`]'s square shape.
+const SQUARE: &str = r#"Shape "bilinearmesh" "point3 P" [ -1 -1.5 0  0 -1.5 0  -1 1.5 0  0 1.5 0 ]"#;
+
+/// [`TRANSLATING_SQUARE`] with the curve square, and with the curve square as an object
+/// instance that translates.
+fn translating_curves() -> [String; 2] {
+    let moving_curve = TRANSLATING_SQUARE.replace(SQUARE, CURVE_SQUARE);
+    let instanced = moving_curve.replace(
+        "AttributeBegin\n  Material \"diffuse\" \"rgb reflectance\" [ 0 0 0 ]\n  ActiveTransform StartTime",
+        &format!(
+            "ObjectBegin \"c\"\n  Material \"diffuse\" \"rgb reflectance\" [ 0 0 0 ]\n  {CURVE_SQUARE}\nObjectEnd\n\
+             AttributeBegin\n  ActiveTransform StartTime"
+        ),
+    );
+    let instanced = instanced
+        .replace(&format!("ActiveTransform All\n  {CURVE_SQUARE}"), "ActiveTransform All\n  ObjectInstance \"c\"");
+    assert!(moving_curve.contains("curve") && instanced.contains("ObjectInstance"), "{instanced}");
+    [moving_curve, instanced]
+}
+
 #[test]
 fn a_translating_square_blurs_into_its_shutter_coverage() {
+    assert!(TRANSLATING_SQUARE.contains(SQUARE));
+    let [curve, instanced_curve] = translating_curves();
+    for (what, text) in [("square", TRANSLATING_SQUARE), ("curve", &curve), ("instanced curve", &instanced_curve)] {
+        assert_blurs_into_the_tent(what, text);
+    }
+}
+
+/// The image of `text` (a [`TRANSLATING_SQUARE`]) transmits 1 − coverage in each column.
+fn assert_blurs_into_the_tent(what: &str, text: &str) {
     const N: u32 = 64;
     let settings = test_settings((N, N), 64, 5, 1);
-    for kind in backends() {
-        let s = scene(TRANSLATING_SQUARE, kind);
+    for accel in backends() {
+        let kind = format!("{what} {accel:?}");
+        let s = scene(text, accel);
         assert_eq!(s.shutter, Some((0.0, 1.0)));
         let film = render(&s, &settings, |_| {}).unwrap().0;
         let y = |col: u32, row: u32| {
@@ -139,7 +176,7 @@ fn a_translating_square_blurs_into_its_shutter_coverage() {
         let wall: Vec<f64> =
             rows.clone().flat_map(|r| (0..12).chain(52..N).map(move |c| (c, r))).map(|(c, r)| y(c, r)).collect();
         let l = wall.iter().sum::<f64>() / wall.len() as f64;
-        assert!(l > 0.1, "{kind:?}: the wall is black ({l})");
+        assert!(l > 0.1, "{kind}: the wall is black ({l})");
         // The box filter averages each pixel's area, and the tent is linear inside every pixel
         // (its kinks at x = −1, 0, 1 are pixel edges), so each pixel's expected value is
         // L · (1 − coverage) at its centre. The standard error of each column's mean is
@@ -155,12 +192,12 @@ fn a_translating_square_blurs_into_its_shutter_coverage() {
             let want = 1.0 - coverage(x);
             let z = (mean - want).abs() / se;
             worst = worst.max(z);
-            assert!(z <= 4.0, "{kind:?}: column {col} (x = {x:.3}) transmits {mean:.4} ± {se:.4}, want {want:.4}");
+            assert!(z <= 4.0, "{kind}: column {col} (x = {x:.3}) transmits {mean:.4} ± {se:.4}, want {want:.4}");
         }
         // A sharp image (the square at its start or end position) would be 0 over a unit width.
         let middle: f64 = rows.clone().map(|r| y(31, r) / l).sum::<f64>() / rows.len() as f64;
-        assert!(middle < 0.1, "{kind:?}: x = −0.03 is covered for 97% of the shutter, transmits {middle}");
-        eprintln!("{kind:?}: worst column {worst:.2}σ");
+        assert!(middle < 0.1, "{kind}: x = −0.03 is covered for 97% of the shutter, transmits {middle}");
+        eprintln!("{kind}: worst column {worst:.2}σ");
     }
 }
 
@@ -251,5 +288,59 @@ fn sampled_motion_steps_place_an_instance_within_their_bound_of_its_interpolated
         assert!(both > 4000, "{kind:?}: only {both} rays hit");
         // A ray passing within the bound of a silhouette may hit on one side only.
         assert!(one_sided * 200 < both, "{kind:?}: {one_sided} one-sided of {both}");
+    }
+}
+
+/// A partial sphere that moves and turns over the shutter in front of a lit wall: as a moving
+/// shape, or held by a moving object instance.
+fn moving_sphere(instanced: bool) -> String {
+    let motion =
+        "ActiveTransform StartTime\n  Translate -0.8 0 0\n  ActiveTransform EndTime\n  Translate 0.9 0.4 0\n  \
+                  Rotate 70 0 1 0.3\n  ActiveTransform All";
+    let sphere = "Material \"diffuse\" \"rgb reflectance\" [ 0.7 0.4 0.2 ]\n  \
+                  Shape \"sphere\" \"float radius\" 0.9 \"float zmin\" -0.5 \"float phimax\" 300";
+    let moved = if instanced {
+        format!("ObjectBegin \"s\"\n  {sphere}\nObjectEnd\nAttributeBegin\n  {motion}\n  ObjectInstance \"s\"\nAttributeEnd")
+    } else {
+        format!("AttributeBegin\n  {motion}\n  {sphere}\nAttributeEnd")
+    };
+    format!(
+        r#"LookAt 0 0 -6  0 0 0  0 1 0
+Camera "perspective" "float fov" 40
+WorldBegin
+LightSource "distant" "point3 from" [ -1 2 -3 ] "point3 to" [ 0 0 0 ] "rgb L" [ 2 2 2 ]
+AttributeBegin
+  AreaLightSource "diffuse" "rgb L" [ 0.6 0.6 0.6 ]
+  Shape "bilinearmesh" "point3 P" [ -4 -4 2  4 -4 2  -4 4 2  4 4 2 ]
+AttributeEnd
+{moved}
+"#
+    )
+}
+
+#[test]
+fn a_moving_instance_of_a_sphere_blurs_as_the_moving_sphere_does() {
+    // Two different paths: the moving sphere is intersected where it is at the ray's time; the
+    // instance carries the ray into its space. The images agree within noise (same seed), and
+    // differ from the sphere standing at its start.
+    let settings = test_settings((48, 32), 32, 9, 3);
+    for kind in backends() {
+        let moving = scene(&moving_sphere(false), kind);
+        let instanced = scene(&moving_sphere(true), kind);
+        assert_eq!((moving.shutter, instanced.shutter), (Some((0.0, 1.0)), Some((0.0, 1.0))));
+        assert_eq!((moving.instances().len(), instanced.instances().len()), (0, 1));
+        let (a, sa) = render(&instanced, &settings, |_| {}).unwrap();
+        let (b, sb) = render(&moving, &settings, |_| {}).unwrap();
+        assert_eq!((sa.nonfinite, sb.nonfinite), (0, 0));
+        let (d, se, mean) = film_difference(&a, &b);
+        eprintln!("{kind:?}: mean Y {mean:.4}, difference {d:.2e} ± {se:.2e}");
+        assert!(mean > 0.05, "{kind:?}: black image");
+        // With one seed both follow the same paths: their difference is rounding, 10⁻⁹ of Y.
+        assert!(d.abs() <= 4.0 * se.max(1e-6 * mean), "{kind:?}: {d} ± {se}");
+        let still = moving_sphere(false).replace("Translate 0.9 0.4 0\n  Rotate 70 0 1 0.3", "Translate -0.8 0 0");
+        assert!(!still.contains("Rotate"));
+        let still = scene(&still, kind);
+        let (c, _) = render(&still, &settings, |_| {}).unwrap();
+        assert!(pixels_far_off(&a, &c) > a.pixels.len() / 20, "{kind:?}: the blur is not visible");
     }
 }

@@ -61,7 +61,8 @@ fn no_byte_past_the_hit_record_is_written_flat_or_instanced_by_either_triangle_t
             prototypes: vec![Prototype { meshes: vec![0] }],
             instances: vec![Instance::new(0, Mat4::from_translation(Vec3::new(10.0, 0.0, 0.0))).unwrap()],
         };
-        let inst = InstancedScene::build(Device::new().unwrap(), &[quad(), far], &set, q, test).unwrap();
+        let shapes = crate::accel::ShapeTable::new(Default::default());
+        let inst = InstancedScene::build(Device::new().unwrap(), &[quad(), far], &shapes, &set, q, test).unwrap();
         let mut g = probe(10.0);
         inst.raw_intersect(&mut g.rh);
         assert_record_kept(&g, &format!("{test:?}, instanced"));

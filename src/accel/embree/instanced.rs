@@ -1,10 +1,13 @@
 //! Two-level Embree scene: one committed `RTCScene` per prototype, instanced into a top-level
 //! scene by `RTC_GEOMETRY_TYPE_INSTANCE` geometries (`rtcSetGeometryInstancedScene`,
-//! `rtcSetGeometryTransform`, the same in Embree 3 and 4). World meshes sit in the top scene beside the instances.
+//! `rtcSetGeometryTransform`, the same in Embree 3 and 4). World primitives sit in the top scene
+//! beside the instances. A prototype holds triangle meshes, curves (Embree's curve geometry) and
+//! static quadrics (user geometry, whose callbacks Embree hands the ray already carried into
+//! the prototype's space), as the world does.
 //!
-//! Top-level geometry ids: world meshes take 0..W, instance `i` takes W + i. A hit reports the
-//! instance in `instID[0]` and the triangle geometry's id within its prototype scene in `geomID`,
-//! both mapped back here to the scene's mesh ids.
+//! Top-level geometry ids: world primitives take 0..W, instance `i` takes W + i. A hit reports
+//! the instance in `instID[0]` and the geometry's id within its prototype scene in `geomID`,
+//! both mapped back here to the scene's primitive ids.
 //!
 //! A moving instance has time steps (`motion`); rays carry their time mapped onto Embree's
 //! [0, 1].
@@ -16,8 +19,10 @@ use super::ffi;
 use super::motion;
 use super::scene::{Scene, SceneHandle};
 use super::TriangleTest;
-use crate::geometry::{AnimatedTransform, Instance, InstanceSet};
+use crate::accel::ShapeTable;
 use crate::geometry::{Bounds3, Hit, Mesh, Ray};
+use crate::geometry::{Instance, InstanceSet, Motion};
+use std::sync::Arc;
 
 /// Prototype scenes, instances and world meshes in one top-level Embree scene.
 pub struct InstancedScene {
@@ -33,7 +38,7 @@ pub struct InstancedScene {
     /// moves).
     instances: Vec<(u32, Mat3)>,
     /// The moving instances by index: the cofactor at a hit's time comes from their motion.
-    motions: Vec<Option<Box<AnimatedTransform>>>,
+    motions: Vec<Option<Arc<Motion>>>,
     /// The scene time that Embree's ray time 0 and 1 stand for (`None`: nothing moves).
     time_span: Option<(f32, f32)>,
     bounds: Bounds3,
@@ -45,40 +50,60 @@ unsafe impl Send for InstancedScene {}
 // SAFETY: see above.
 unsafe impl Sync for InstancedScene {}
 
+/// Attaches primitives `ids` to `scene`, each as geometry of its index in `ids`: its mesh, its
+/// curves, or its quadric when static. Returns their bounds.
+fn attach(
+    scene: &mut SceneHandle,
+    device: &Device,
+    meshes: &[Mesh],
+    shapes: &ShapeTable,
+    ids: &[u32],
+) -> Result<Bounds3, EmbreeError> {
+    let mut bounds = Bounds3::EMPTY;
+    for (local, &id) in ids.iter().enumerate() {
+        let local = local as u32;
+        let mesh = &meshes[id as usize];
+        if !mesh.is_empty() {
+            scene.attach_mesh(device, mesh, local)?;
+            bounds = bounds.union(mesh.bounds());
+        }
+        if let Some(c) = shapes.curves(id) {
+            super::curves::attach(scene.raw, device, c, local)?;
+            bounds = bounds.union(c.bounds());
+        }
+        if let Some(q) = shapes.quadric(id).filter(|q| !q.moves()) {
+            scene.attach_quadric(device, q, local)?;
+            bounds = bounds.union(q.bounds());
+        }
+    }
+    Ok(bounds)
+}
+
 impl InstancedScene {
-    /// Builds the prototype scenes and the top scene. Instances of empty prototypes are skipped.
-    pub fn build(
+    /// Builds the prototype scenes and the top scene over the meshes, and the curves and static
+    /// quadrics of `shapes` (moving ones are left out). Instances of empty prototypes are skipped.
+    pub(crate) fn build(
         device: Device,
         meshes: &[Mesh],
+        shapes: &ShapeTable,
         set: &InstanceSet,
         quality: ffi::RTCBuildQuality,
         test: TriangleTest,
     ) -> Result<Self, EmbreeError> {
-        let proto_bounds = set.prototype_bounds(meshes);
         let mut prototypes = Vec::with_capacity(set.prototypes.len());
         let mut proto_ids = Vec::with_capacity(set.prototypes.len());
+        let mut proto_bounds = Vec::with_capacity(set.prototypes.len());
         for p in &set.prototypes {
             let mut scene = SceneHandle::new(&device, quality, test)?;
-            for (local, &m) in p.meshes.iter().enumerate() {
-                if !meshes[m as usize].is_empty() {
-                    scene.attach_mesh(&device, &meshes[m as usize], local as u32)?;
-                }
-            }
+            proto_bounds.push(attach(&mut scene, &device, meshes, shapes, &p.meshes)?);
             scene.commit(&device)?;
             prototypes.push(scene);
             proto_ids.push(p.meshes.clone());
         }
         let mut top = SceneHandle::new(&device, quality, test)?;
-        let mut bounds = Bounds3::EMPTY;
-        for (i, &m) in set.world_meshes.iter().enumerate() {
-            let mesh = &meshes[m as usize];
-            if !mesh.is_empty() {
-                top.attach_mesh(&device, mesh, i as u32)?;
-                bounds = bounds.union(mesh.bounds());
-            }
-        }
+        let mut bounds = attach(&mut top, &device, meshes, shapes, &set.world_meshes)?;
         let first_instance = set.world_meshes.len() as u32;
-        let time_span = motion::time_span(set.instances.iter().filter_map(|i| i.motion.as_ref()));
+        let time_span = motion::time_span(set.instances.iter().filter_map(|i| i.motion.as_deref()));
         for (i, inst) in set.instances.iter().enumerate() {
             let b = proto_bounds[inst.prototype as usize];
             if b.is_empty() {
@@ -123,7 +148,7 @@ impl InstancedScene {
         }
         top.commit(&device)?;
         let instances = set.instances.iter().map(|i| (i.prototype, i.normal_cofactor)).collect();
-        let motions = set.instances.iter().map(|i| i.motion.map(Box::new)).collect();
+        let motions = set.instances.iter().map(|i| i.motion.clone()).collect();
         Ok(Self {
             top,
             prototypes,

@@ -118,9 +118,22 @@ impl EmbreeAccel {
 
     /// [`EmbreeAccel::instanced`] with the given triangle test (in prototypes and world meshes).
     pub fn instanced_with_test(meshes: &[Mesh], set: &InstanceSet, test: TriangleTest) -> Result<Self, EmbreeError> {
+        let shapes = super::ShapeTable::new(super::ExtraShapes::default());
+        Self::instanced_with_shapes(meshes, &shapes, set, test)
+    }
+
+    /// [`EmbreeAccel::instanced_with_test`] with the curves and static quadrics of `shapes`
+    /// (by primitive id, in the world or in prototypes) in the scenes too.
+    pub(crate) fn instanced_with_shapes(
+        meshes: &[Mesh],
+        shapes: &super::ShapeTable,
+        set: &InstanceSet,
+        test: TriangleTest,
+    ) -> Result<Self, EmbreeError> {
         let device = device::Device::new()?;
         let q = BuildQuality::Medium.rtc();
-        Ok(Self { scene: Levels::Instanced(instanced::InstancedScene::build(device, meshes, set, q, test)?), test })
+        let scene = instanced::InstancedScene::build(device, meshes, shapes, set, q, test)?;
+        Ok(Self { scene: Levels::Instanced(scene), test })
     }
 
     /// The triangle test this accelerator runs.

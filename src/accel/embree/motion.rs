@@ -21,16 +21,20 @@ use glam::{Mat3, Mat4, Quat, Vec3};
 
 use super::ffi;
 use crate::geometry::animated::Decomposed;
-use crate::geometry::AnimatedTransform;
+use crate::geometry::Motion;
 
 /// Time steps of a motion Embree cannot follow exactly with two.
 pub const SAMPLED_STEPS: usize = 33;
 
+/// The most time steps a geometry may have (`RTC_MAX_TIME_STEP_COUNT` in Embree 3 and 4).
+pub const MAX_STEPS: usize = 129;
+
 /// The scene's time span: the union of the moving instances' intervals (`None`: nothing moves).
-pub fn time_span<'a>(motions: impl Iterator<Item = &'a AnimatedTransform>) -> Option<(f32, f32)> {
+pub fn time_span<'a>(motions: impl Iterator<Item = &'a Motion>) -> Option<(f32, f32)> {
     motions.fold(None, |acc, m| {
-        let (a, b) = acc.unwrap_or((m.start_time, m.end_time));
-        Some((a.min(m.start_time), b.max(m.end_time)))
+        let (start, end) = m.time_span();
+        let (a, b) = acc.unwrap_or((start, end));
+        Some((a.min(start), b.max(end)))
     })
 }
 
@@ -85,14 +89,24 @@ fn qr(m: &Mat4) -> (Vec3, Quat, Mat3) {
 }
 
 /// The time steps that make Embree follow `motion` over `span`, and the Embree time range
-/// (containing [0, 1]) they are evenly spread over.
-pub fn time_steps(motion: &AnimatedTransform, span: (f32, f32)) -> (Vec<ffi::RTCQuaternionDecomposition>, (f32, f32)) {
-    let (from, to): (Decomposed, Decomposed) = motion.keyframes();
-    let whole_span = motion.start_time == span.0 && motion.end_time == span.1;
-    if whole_span && is_positive_diagonal(&from.stretch) && is_positive_diagonal(&to.stretch) {
-        return ([from, to].iter().map(|k| rtc(k.translation, k.rotation, &k.stretch)).collect(), (0.0, 1.0));
-    }
-    let times = sample_times(embree_time(span, motion.start_time), embree_time(span, motion.end_time));
+/// (containing [0, 1]) they are evenly spread over: two for one transform Embree interpolates as
+/// it is; about [`SAMPLED_STEPS`] per unit of Embree time for one it does not, with the motion's
+/// ends on steps; for a product of two motions Embree's most ([`MAX_STEPS`]) over [0, 1]:
+/// Embree's interpolation between steps departs from the product by about the motion's
+/// curvature times the squared step, (θ/128)² of its size for a turn by θ.
+pub fn time_steps(motion: &Motion, span: (f32, f32)) -> (Vec<ffi::RTCQuaternionDecomposition>, (f32, f32)) {
+    let times = match motion.as_one() {
+        Some(one) => {
+            let (from, to): (Decomposed, Decomposed) = one.keyframes();
+            let whole_span = one.start_time == span.0 && one.end_time == span.1;
+            if whole_span && is_positive_diagonal(&from.stretch) && is_positive_diagonal(&to.stretch) {
+                let steps = [from, to].iter().map(|k| rtc(k.translation, k.rotation, &k.stretch)).collect();
+                return (steps, (0.0, 1.0));
+            }
+            sample_times(embree_time(span, one.start_time), embree_time(span, one.end_time))
+        }
+        None => (0..MAX_STEPS).map(|k| k as f32 / (MAX_STEPS - 1) as f32).collect(),
+    };
     let range = (times[0], times[times.len() - 1]);
     let mut previous = Quat::IDENTITY;
     let steps = times
@@ -112,7 +126,8 @@ pub fn time_steps(motion: &AnimatedTransform, span: (f32, f32)) -> (Vec<ffi::RTC
 }
 
 /// Evenly spaced Embree times, about `SAMPLED_STEPS` − 1 intervals per unit, with `a` and `b`
-/// (the motion's ends in Embree time, 0 ≤ a ≤ b ≤ 1) among them and the first ≤ 0, the last ≥ 1.
+/// (the motion's ends in Embree time, 0 ≤ a ≤ b ≤ 1) among them and the first ≤ 0, the last ≥ 1;
+/// [`MAX_STEPS`] over [0, 1] for a motion too short for that.
 fn sample_times(a: f32, b: f32) -> Vec<f32> {
     let per_unit = (SAMPLED_STEPS - 1) as f32;
     if b <= a {
@@ -130,6 +145,11 @@ fn sample_times(a: f32, b: f32) -> Vec<f32> {
         after += 1.0;
     }
     let count = (before + inside + after) as usize + 1;
+    if count > MAX_STEPS {
+        // A motion shorter than about 1/128 of the span: as many steps as Embree takes, its ends
+        // between them.
+        return (0..MAX_STEPS).map(|k| k as f32 / (MAX_STEPS - 1) as f32).collect();
+    }
     // The ends of the motion exactly, the others from the nearer end.
     (0..count)
         .map(|k| {
@@ -146,6 +166,7 @@ fn sample_times(a: f32, b: f32) -> Vec<f32> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::geometry::AnimatedTransform;
 
     /// The matrix Embree rebuilds from a decomposition: T · R · U.
     fn rebuilt(d: &ffi::RTCQuaternionDecomposition) -> Mat4 {
@@ -172,7 +193,7 @@ mod tests {
     fn steps_rebuild_the_motion_at_their_times() {
         let a = Mat4::from_translation(Vec3::new(1.3, 0.5, 0.2));
         let rotating = AnimatedTransform::new(a, 0.0, a * Mat4::from_rotation_y(1.3), 1.0);
-        let (steps, range) = time_steps(&rotating, (0.0, 1.0));
+        let (steps, range) = time_steps(&rotating.into(), (0.0, 1.0));
         assert_eq!((steps.len(), range), (2, (0.0, 1.0)));
         assert!(close(rebuilt(&steps[0]), rotating.start) && close(rebuilt(&steps[1]), rotating.end));
         // A stretch along a rotated axis is not upper triangular: sampled steps, each exact.
@@ -182,7 +203,7 @@ mod tests {
             Mat4::from_scale(Vec3::new(2.0, 1.0, 1.0)) * Mat4::from_rotation_y(1.3),
             1.0,
         );
-        let (steps, range) = time_steps(&skewed, (0.0, 1.0));
+        let (steps, range) = time_steps(&skewed.into(), (0.0, 1.0));
         assert_eq!((steps.len(), range), (SAMPLED_STEPS, (0.0, 1.0)));
         for (k, s) in steps.iter().enumerate() {
             assert!(close(rebuilt(s), skewed.interpolate(k as f32 / (SAMPLED_STEPS - 1) as f32)), "step {k}");
@@ -310,7 +331,7 @@ mod tests {
         ];
         for (what, m) in cases {
             let span = (0.0, 1.0);
-            let (steps, range) = time_steps(&m, span);
+            let (steps, range) = time_steps(&m.into(), span);
             assert!(
                 steps.len() >= SAMPLED_STEPS && range.0 <= 0.0 && range.1 >= 1.0,
                 "{what}: {} over {range:?}",
@@ -337,11 +358,14 @@ mod tests {
             assert!(times.windows(2).all(|w| ((w[1] - w[0]) - h).abs() < 1e-5), "{a}..{b}: uneven {times:?}");
             assert!(h <= 1.5 / (SAMPLED_STEPS - 1) as f32, "{a}..{b}: spacing {h}");
         }
+        // Too short to hold both ends on at most Embree's most steps.
+        let times = sample_times(0.5, 0.501);
+        assert_eq!((times.len(), times[0], times[MAX_STEPS - 1]), (MAX_STEPS, 0.0, 1.0));
     }
 
     #[test]
     fn scene_time_maps_onto_embree_time() {
-        let m = |t0, t1| AnimatedTransform::new(Mat4::IDENTITY, t0, Mat4::from_translation(Vec3::X), t1);
+        let m = |t0, t1| Motion::from(AnimatedTransform::new(Mat4::IDENTITY, t0, Mat4::from_translation(Vec3::X), t1));
         let span = time_span([m(0.5, 1.0), m(0.0, 0.75)].iter()).unwrap();
         assert_eq!(span, (0.0, 1.0));
         assert_eq!(embree_time(span, 0.25), 0.25);

@@ -25,7 +25,7 @@ pub(super) fn new_geometry(
     device: &Device,
     quadric: &PlacedQuadric,
 ) -> Result<(ffi::RTCGeometry, Box<PlacedQuadric>), EmbreeError> {
-    let user = Box::new(*quadric);
+    let user = Box::new(quadric.clone());
     let geom = new_user_geometry(device, &*user, 1, UserCallbacks { bounds, intersect, occluded })?;
     Ok((geom, user))
 }

@@ -259,11 +259,7 @@ impl Parser<'_> {
             self.unsupported(&tok.loc, "area light on a shape inside ObjectBegin", "makes the shape non-emissive");
             area_light = None;
         }
-        let mut motion = self.motion();
-        if motion.is_some() && self.current_object.is_some() {
-            self.unsupported(&tok.loc, "a moving shape inside ObjectBegin", "uses the start transform");
-            motion = None;
-        }
+        let motion = self.motion();
         let s = ShapeDesc {
             kind,
             params,
