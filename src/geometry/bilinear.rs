@@ -38,15 +38,17 @@ where
 
 /// Triangles for the bilinear patches `patches` (vertex indices p00, p10, p01, p11 into
 /// `positions`, already checked), with optional per-vertex `normals` and `uvs`. Each patch gets
-/// vertices of its own, so that (u, v) never has to be shared between patches.
+/// vertices of its own, so that (u, v) never has to be shared between patches, and its triangles
+/// carry its index as their face.
 pub fn triangulate(positions: &[Vec3], patches: &[[u32; 4]], normals: Option<&[Vec3]>, uvs: Option<&[Vec2]>) -> Mesh {
     let mut mesh = Mesh {
         positions: Vec::new(),
         indices: Vec::new(),
         normals: normals.map(|_| Vec::new()),
         uvs: Some(Vec::new()),
+        faces: Some(Vec::new()),
     };
-    for patch in patches {
+    for (face, patch) in patches.iter().enumerate() {
         let p = patch.map(|i| positions[i as usize]);
         let corner_uv = match uvs {
             Some(uv) => patch.map(|i| uv[i as usize]),
@@ -75,6 +77,9 @@ pub fn triangulate(positions: &[Vec3], patches: &[[u32; 4]], normals: Option<&[V
                 mesh.indices.push([first + a, first + b, first + d]);
                 mesh.indices.push([first + a, first + d, first + c]);
             }
+        }
+        if let Some(faces) = mesh.faces.as_mut() {
+            faces.resize(mesh.indices.len(), face as u32);
         }
     }
     mesh
@@ -150,5 +155,29 @@ mod tests {
         // Two triangles: the diagonal's midpoint misses the patch's centre by |d|/4.
         let two = 0.5 * (p[0] + p[3]) - bilinear(p, 0.5, 0.5);
         assert!((two.length() - 0.9).abs() < 1e-5);
+    }
+
+    /// Every triangle of a patch, however finely it is cut, carries the patch's index as its
+    /// face, so the faces' areas are the patches' (a parallelogram's |e₁ × e₂|).
+    #[test]
+    fn the_triangles_of_each_patch_make_one_face() {
+        let saddle = [
+            Vec3::new(-1.1, 0.1, -0.2),
+            Vec3::new(1.1, 1.9, -0.2),
+            Vec3::new(-1.1, 1.9, 0.2),
+            Vec3::new(1.1, 0.1, 0.2),
+        ];
+        let flat =
+            [Vec3::new(5.0, 0.0, 0.0), Vec3::new(7.0, 0.0, 0.0), Vec3::new(5.5, 3.0, 0.0), Vec3::new(7.5, 3.0, 0.0)];
+        let positions: Vec<Vec3> = saddle.iter().chain(&flat).copied().collect();
+        let m = triangulate(&positions, &[[0, 1, 2, 3], [4, 5, 6, 7]], None, None);
+        let n = cells(saddle) as usize;
+        let faces = m.faces.as_ref().unwrap();
+        assert_eq!(faces.len(), m.len());
+        assert!(faces[..2 * n * n].iter().all(|&f| f == 0) && faces[2 * n * n..] == [1, 1]);
+        let areas = m.face_areas();
+        assert!((areas[m.len() - 1] - 6.0).abs() < 1e-5, "{}", areas[m.len() - 1]);
+        let saddle_area: f32 = (0..2 * n * n).map(|i| m.triangle_area(i)).sum();
+        assert!(areas[..2 * n * n].iter().all(|&a| a == saddle_area));
     }
 }

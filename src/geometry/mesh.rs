@@ -13,12 +13,16 @@ pub struct Mesh {
     pub normals: Option<Vec<Vec3>>,
     /// Optional per-vertex texture coordinates.
     pub uvs: Option<Vec<Vec2>>,
+    /// The face each triangle was cut from, when a face is more than one triangle (a bilinear
+    /// patch or a polygon of a mesh file): triangles with the same id make one face. `None`:
+    /// every triangle is a face of its own.
+    pub faces: Option<Vec<u32>>,
 }
 
 impl Mesh {
     /// A mesh from positions and triangles.
     pub fn new(positions: Vec<Vec3>, indices: Vec<[u32; 3]>) -> Self {
-        Self { positions, indices, normals: None, uvs: None }
+        Self { positions, indices, normals: None, uvs: None, faces: None }
     }
 
     /// Number of triangles.
@@ -49,18 +53,36 @@ impl Mesh {
         (0..self.len()).map(|i| self.triangle_area(i)).sum()
     }
 
+    /// For each triangle, the area of the face it belongs to [scene units²]: its own area, or
+    /// the summed area of the triangles that share its face id.
+    pub fn face_areas(&self) -> Vec<f32> {
+        let own = (0..self.len()).map(|i| self.triangle_area(i));
+        let Some(faces) = &self.faces else { return own.collect() };
+        let mut sums = vec![0.0f32; faces.iter().max().map_or(0, |&f| f as usize + 1)];
+        for (&f, a) in faces.iter().zip(own) {
+            sums[f as usize] += a;
+        }
+        faces.iter().map(|&f| sums[f as usize]).collect()
+    }
+
     /// Drops triangles with out-of-range indices, non-finite vertices or zero area; returns how
-    /// many were dropped. Vertices are kept, so per-vertex data stays aligned.
+    /// many were dropped. Vertices are kept, so per-vertex data stays aligned; face ids go with
+    /// their triangles.
     pub fn remove_degenerate(&mut self) -> usize {
         let before = self.indices.len();
         let pos = &self.positions;
-        self.indices.retain(|t| {
+        let sound = |t: &[u32; 3]| {
             if t.iter().any(|&i| i as usize >= pos.len()) {
                 return false;
             }
             let [a, b, c] = t.map(|i| pos[i as usize]);
             a.is_finite() && b.is_finite() && c.is_finite() && (b - a).cross(c - a).length_squared() > 0.0
-        });
+        };
+        if let Some(faces) = self.faces.as_mut() {
+            let mut triangles = self.indices.iter();
+            faces.retain(|_| triangles.next().is_some_and(sound));
+        }
+        self.indices.retain(sound);
         before - self.indices.len()
     }
 
@@ -110,5 +132,25 @@ impl Bounds3 {
     /// True when nothing was added.
     pub fn is_empty(&self) -> bool {
         self.min.x > self.max.x
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Dropping a degenerate triangle drops its face id with it, and a face's area is the sum
+    /// over the triangles left in it.
+    #[test]
+    fn face_ids_follow_their_triangles_when_degenerate_ones_are_dropped() {
+        let p = vec![Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::new(1.0, 1.0, 0.0), Vec3::new(2.0, 0.0, 0.0)];
+        let mut m = Mesh::new(p, vec![[0, 1, 2], [0, 1, 4], [1, 3, 2], [1, 4, 3]]);
+        m.faces = Some(vec![0, 0, 0, 3]);
+        assert_eq!(m.remove_degenerate(), 1);
+        assert_eq!(m.indices, vec![[0, 1, 2], [1, 3, 2], [1, 4, 3]]);
+        assert_eq!(m.faces, Some(vec![0, 0, 3]));
+        assert_eq!(m.face_areas(), vec![1.0, 1.0, 0.5]);
+        m.faces = None;
+        assert_eq!(m.face_areas(), vec![0.5, 0.5, 0.5]);
     }
 }

@@ -174,7 +174,7 @@ impl Quadric {
                 }
             }
         }
-        Mesh { positions, indices, normals: Some(normals), uvs: Some(uvs) }
+        Mesh { positions, indices, normals: Some(normals), uvs: Some(uvs), faces: None }
     }
 }
 

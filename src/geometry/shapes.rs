@@ -27,7 +27,7 @@ impl Mesh {
         } else {
             self.indices.clone()
         };
-        Mesh { positions, indices, normals, uvs: self.uvs.clone() }
+        Mesh { positions, indices, normals, uvs: self.uvs.clone(), faces: self.faces.clone() }
     }
 }
 
@@ -94,7 +94,7 @@ pub fn icosphere(center: Vec3, radius: f32, subdivisions: u32) -> Mesh {
         tris = next;
     }
     let positions = dirs.iter().map(|&d| center + radius * d).collect();
-    Mesh { positions, indices: tris, normals: Some(dirs), uvs: None }
+    Mesh { positions, indices: tris, normals: Some(dirs), uvs: None, faces: None }
 }
 
 /// A UV sphere with `n_theta` ≥ 2 latitude bands and `n_phi` ≥ 3 longitude segments (z is the polar
@@ -126,7 +126,7 @@ pub fn uv_sphere(center: Vec3, radius: f32, n_theta: u32, n_phi: u32) -> Mesh {
         }
     }
     let positions = dirs.iter().map(|&d| center + radius * d).collect();
-    Mesh { positions, indices, normals: Some(dirs), uvs: None }
+    Mesh { positions, indices, normals: Some(dirs), uvs: None, faces: None }
 }
 
 /// A closed axis-aligned box from `min` to `max`: 8 shared corners, 12 triangles wound outward.

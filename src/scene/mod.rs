@@ -150,7 +150,7 @@ struct PendingPrimitive {
     prototype: Option<u32>,
     /// The image its emission shows, if any.
     emission_image: Option<Arc<EmissionImage>>,
-    /// Its emission's scale is per unit area: each triangle's is divided by its area.
+    /// Its emission's scale is per unit area: each triangle's is divided by its face's area.
     emission_per_area: bool,
 }
 
@@ -260,8 +260,9 @@ impl SceneBuilder {
     }
 
     /// Makes each triangle of emissive primitive `id` emit its emission's scale divided by the
-    /// triangle's area [scene units²] (pbrt-v4's `power` given to each triangle of a mesh).
-    pub fn set_emission_per_triangle_area(&mut self, id: u32) {
+    /// area of its face [scene units²] (`Mesh::faces`): pbrt-v4's `power` given to each face of a
+    /// mesh, a triangle or a bilinear patch.
+    pub fn set_emission_per_face_area(&mut self, id: u32) {
         if let Some(p) = self.primitives.get_mut(id as usize) {
             p.emission_per_area = true;
         }
@@ -512,7 +513,7 @@ impl SceneBuilder {
         let quadric_moves = placed.iter().any(|(_, q)| q.moves());
         let mut lights = self.lights;
         let mut primitives = Vec::with_capacity(meshes.len());
-        for ((mesh, (material, emission, alpha, medium_interface, curves)), quadric) in
+        for ((mut mesh, (material, emission, alpha, medium_interface, curves)), quadric) in
             meshes.into_iter().zip(parts).zip(quadrics)
         {
             // A quadric is one light: a sphere light for a full sphere, else sampled by area.
@@ -524,6 +525,7 @@ impl SceneBuilder {
                     lights.push(quadric_light(q, spectrum, em.scale, em.two_sided));
                     return first;
                 }
+                let face_areas = if per_area { mesh.face_areas() } else { Vec::new() };
                 for prim in 0..mesh.len() {
                     let p = mesh.triangle(prim);
                     let n = (p[1] - p[0]).cross(p[2] - p[0]);
@@ -542,13 +544,15 @@ impl SceneBuilder {
                         n: n.normalize_or_zero(),
                         area,
                         spectrum: spectrum.clone(),
-                        scale: if per_area { em.scale / area } else { em.scale },
+                        scale: if per_area { em.scale / face_areas[prim] } else { em.scale },
                         two_sided: em.two_sided,
                         image,
                     }));
                 }
                 first
             });
+            // Faces matter only to the emission above.
+            mesh.faces = None;
             let bare_boundary = matches!(self.materials[material as usize], Material::Interface)
                 && area_lights.is_none()
                 && alpha.is_none();

@@ -582,7 +582,7 @@ impl Ctx<'_> {
             _ => mesh.area(),
         };
         let material = self.material(self.desc.material(&s.material))?;
-        let mut per_triangle = false;
+        let mut per_face = false;
         let emission = match &s.area_light {
             None => None,
             Some(a) => {
@@ -592,12 +592,12 @@ impl Ctx<'_> {
                 let two_sided = p.bool_or("twosided", false);
                 // pbrt-v4 DiffuseAreaLight: k_e = π A per emitting side (world-space area, so any
                 // transform works), times an image's mean luminance. pbrt-v4 makes one light per
-                // shape it creates, and a triangle mesh creates one shape per triangle: its
-                // `power` is each triangle's, so k_e is taken per unit area here and each
-                // triangle's scale divided by its area.
-                per_triangle = p.float("power").is_some_and(|v| v > 0.0) && TRIANGLE_SHAPES.contains(&s.kind.as_str());
+                // shape it creates, and a mesh creates one shape per face (triangle or bilinear
+                // patch): its `power` is each face's, so k_e is taken per unit area here and each
+                // triangle's scale divided by the area of its face.
+                per_face = p.float("power").is_some_and(|v| v > 0.0) && FACETED_SHAPES.contains(&s.kind.as_str());
                 let mean = image.as_ref().map_or(1.0, |i| i.mean_luminance());
-                let k_area = if per_triangle { 1.0 } else { area };
+                let k_area = if per_face { 1.0 } else { area };
                 let k_e = crate::math::PI * k_area * if two_sided { 2.0 } else { 1.0 } * mean;
                 let scale =
                     p.float_or("scale", 1.0) * norm * brightness_factor(p, FLUX, k_e, Some((&spectrum, norm)), &a.loc)?;
@@ -617,8 +617,8 @@ impl Ctx<'_> {
         if let Some(image) = image.flatten() {
             self.b.set_emission_image(id, image);
         }
-        if per_triangle {
-            self.b.set_emission_per_triangle_area(id);
+        if per_face {
+            self.b.set_emission_per_face_area(id);
         }
         self.finish(id, s)
     }
@@ -632,8 +632,10 @@ struct ObjectParts {
     moving: Vec<(u32, AnimatedTransform)>,
 }
 
-/// The shapes pbrt-v4 creates as one `Triangle` shape per triangle.
-const TRIANGLE_SHAPES: &[&str] = &["trianglemesh", "loopsubdiv"];
+/// The shapes pbrt-v4 creates as one shape per face: a `Triangle` per triangle (of a triangle
+/// mesh, of a subdivided mesh's last level, of a PLY file) and a `BilinearPatch` per patch (of a
+/// bilinear mesh, per quad of a PLY file).
+const FACETED_SHAPES: &[&str] = &["trianglemesh", "loopsubdiv", "plymesh", "bilinearmesh"];
 
 /// A shape's triangles under `m` (its own transform into world space, or instance space inside
 /// an object definition; the identity keeps them in object space), oriented.

@@ -5,6 +5,7 @@ mod accel_agreement;
 mod alpha;
 mod analytic_quadrics;
 mod area_image;
+mod area_power;
 mod bump;
 mod camera_motion;
 mod cli;

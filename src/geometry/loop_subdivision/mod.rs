@@ -218,7 +218,7 @@ impl Level {
                 s.cross(t).normalize_or_zero()
             })
             .collect();
-        Mesh { positions, indices: self.triangles.clone(), normals: Some(normals), uvs: None }
+        Mesh { positions, indices: self.triangles.clone(), normals: Some(normals), uvs: None, faces: None }
     }
 }
 

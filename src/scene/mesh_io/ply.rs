@@ -1,6 +1,7 @@
 //! PLY reader (Turk 1994, "The PLY Polygon File Format"): ASCII and binary little/big endian,
 //! vertex x/y/z, nx/ny/nz, u/v (or s/t, texture_u/texture_v), faces via `vertex_indices` or
-//! `vertex_index` lists; quads and larger convex polygons are split into a triangle fan.
+//! `vertex_index` lists; quads and larger convex polygons are split into a triangle fan whose
+//! triangles share the polygon's face id (a quad is one shape in pbrt-v4: a bilinear patch).
 //!
 //! Counts in the header are checked against the bytes present before anything is allocated.
 
@@ -180,6 +181,9 @@ pub fn parse(bytes: &[u8]) -> Result<Mesh, String> {
     let mut normals: Vec<Vec3> = Vec::new();
     let mut uvs: Vec<Vec2> = Vec::new();
     let mut tris: Vec<[u32; 3]> = Vec::new();
+    // Each triangle's polygon, named by the index of its first triangle; recorded from the
+    // first polygon of more than three vertices on (every triangle before it is its own).
+    let mut faces: Option<Vec<u32>> = None;
     let mut have_vertices = false;
     for e in &elements {
         // Every element takes at least one byte (binary) or two characters (ASCII) per scalar
@@ -275,8 +279,15 @@ pub fn parse(bytes: &[u8]) -> Result<Mesh, String> {
                                             poly.len()
                                         ));
                                     }
+                                    if poly.len() > 3 && faces.is_none() {
+                                        faces = Some((0..tris.len() as u32).collect());
+                                    }
+                                    let face = tris.len() as u32;
                                     for j in 1..poly.len() - 1 {
                                         tris.push([poly[0], poly[j], poly[j + 1]]);
+                                        if let Some(faces) = faces.as_mut() {
+                                            faces.push(face);
+                                        }
                                     }
                                 }
                             }
@@ -310,6 +321,7 @@ pub fn parse(bytes: &[u8]) -> Result<Mesh, String> {
         ));
     }
     let mut mesh = Mesh::new(positions, tris);
+    mesh.faces = faces;
     if !normals.is_empty() {
         mesh.normals = Some(normals);
     }
@@ -404,9 +416,15 @@ mod tests {
             let r = parse(&write(&m, &faces, binary)).unwrap();
             assert_eq!(r.positions, m.positions);
             assert_eq!(r.indices, vec![[0, 1, 2], [0, 2, 3], [0, 1, 4]]);
+            // The quad's two triangles are one face.
+            assert_eq!(r.faces, Some(vec![0, 0, 2]));
             assert_eq!(r.normals, m.normals);
             assert_eq!(r.uvs, m.uvs);
         }
+        // Triangles before the first quad are faces of their own; a mesh of triangles has no ids.
+        let r = parse(&write(&m, &[faces[1].clone(), faces[0].clone()], false)).unwrap();
+        assert_eq!(r.faces, Some(vec![0, 1, 1]));
+        assert_eq!(parse(&write(&m, &faces[1..], false)).unwrap().faces, None);
     }
 
     #[test]
