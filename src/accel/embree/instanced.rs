@@ -68,7 +68,7 @@ fn attach(
             bounds = bounds.union(mesh.bounds());
         }
         if let Some(c) = shapes.curves(id) {
-            super::curves::attach(scene.raw, device, c, local)?;
+            scene.attach_curves(device, c, local)?;
             bounds = bounds.union(c.bounds());
         }
         if let Some(q) = shapes.quadric(id).filter(|q| !q.moves()) {
