@@ -29,6 +29,113 @@ pub struct LightBounds {
     pub two_sided: bool,
 }
 
+/// [`LightBounds`] as the importance reads them: the box as its bounding sphere (centre and
+/// squared radius) and sin θ_o beside cos θ_o, so that a point's importance computes only what
+/// depends on the point.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PreparedBounds {
+    /// Centre of the box [scene units].
+    centre: Vec3,
+    /// Squared radius of the box's bounding sphere (half its diagonal) [scene units²].
+    radius2: f32,
+    /// Its radius [scene units].
+    radius: f32,
+    /// The emitters share one normal (θ_o = 0) and emit over its hemisphere (θ_e = π/2), and the
+    /// box is more than a point: [`PreparedBounds::reaches`] is then a plane test.
+    flat: bool,
+    /// Axis of the cone of emitting normals (unit).
+    w: Vec3,
+    /// Total flux Φ.
+    phi: f32,
+    cos_theta_o: f32,
+    sin_theta_o: f32,
+    cos_theta_e: f32,
+    two_sided: bool,
+}
+
+/// The angles of [`PreparedBounds::importance`] at a point: the unit direction from the box's
+/// centre to it and the squared distance, sin and cos θ_b, cos θ'.
+struct Angles {
+    wi: Vec3,
+    dist2: f32,
+    sin_b: f32,
+    cos_b: f32,
+    cos_p: f32,
+}
+
+impl PreparedBounds {
+    /// Importance of the bounds at `p` with unit normal `n` (zero for a point in a medium):
+    /// Φ cos θ' / d², times cos θ'_i at a surface, where θ' = max(0, θ_w − θ_o − θ_b) is the
+    /// smallest angle between an emitting normal and the direction from the lights to `p`
+    /// (θ_w that angle for the axis, θ_b the half-angle the box's bounding sphere subtends from
+    /// `p`: sin²θ_b = r²/d², all directions from inside it), and θ'_i = max(0, θ_i − θ_b) the
+    /// smallest angle between `n` and a direction to the box. It is 0 when θ' ≥ θ_e: no light
+    /// inside can reach `p`. d² is the squared distance to the box's centre, at least r² so
+    /// that points inside stay finite.
+    pub fn importance(&self, p: Vec3, n: Vec3) -> f32 {
+        let Some(a) = self.angles(p) else { return 0.0 };
+        let mut importance = self.phi * a.cos_p / a.dist2.max(self.radius2);
+        if n != Vec3::ZERO {
+            importance *= incidence_factor(&a, n);
+        }
+        // (Finite even at a point light's own position, where d² = 0.)
+        importance.max(0.0).clamp(0.0, f32::MAX)
+    }
+
+    /// Whether [`PreparedBounds::importance`] is positive at `p`, `n` (up to rounding at the
+    /// boundary and f32 underflow), without its value: θ' < θ_e, cos θ' > 0, and at a surface
+    /// cos θ'_i > 0.
+    ///
+    /// For flat bounds (θ_o = 0, θ_e = π/2, r > 0) this is a plane test. θ'_i < π/2 always,
+    /// θ_i being at most π/2 and θ_b positive; two-sided, θ_w ≤ π/2 and so θ' < π/2; one-sided,
+    /// θ' = max(0, θ_w − θ_b) < π/2 ⟺ cos θ_w > cos(θ_b + π/2) = −sin θ_b ⟺
+    /// w · (p − c) > −r (with sin θ_b = r/|p − c|; from inside the sphere both hold): `p` is in
+    /// front of the plane normal to `w` that touches the bounding sphere behind its centre.
+    #[inline]
+    pub fn reaches(&self, p: Vec3, n: Vec3) -> bool {
+        if self.flat {
+            return self.two_sided || self.w.dot(p - self.centre) > -self.radius;
+        }
+        self.reaches_by_angles(p, n)
+    }
+
+    fn reaches_by_angles(&self, p: Vec3, n: Vec3) -> bool {
+        let Some(a) = self.angles(p) else { return false };
+        a.cos_p > 0.0 && (n == Vec3::ZERO || incidence_factor(&a, n) > 0.0)
+    }
+
+    /// The angles at `p`; `None` when θ' ≥ θ_e.
+    #[inline(always)]
+    fn angles(&self, p: Vec3) -> Option<Angles> {
+        let d = p - self.centre;
+        let dist2 = d.length_squared();
+        let wi = if dist2 > 0.0 { d * dist2.sqrt().recip() } else { Vec3::ZERO };
+        let mut cos_w = self.w.dot(wi);
+        if self.two_sided {
+            cos_w = cos_w.abs();
+        }
+        let sin_w = sin_from_cos(cos_w);
+        let (sin_b, cos_b) = if dist2 < self.radius2 {
+            (0.0, -1.0)
+        } else {
+            // (At the centre of a point box, 0/0: θ_b is taken as π/2.)
+            let sin2_b = self.radius2 / dist2;
+            (sin2_b.min(1.0).sqrt(), (1.0 - sin2_b).max(0.0).sqrt())
+        };
+        let cos_x = cos_sub_clamped(sin_w, cos_w, self.sin_theta_o, self.cos_theta_o);
+        let sin_x = sin_sub_clamped(sin_w, cos_w, self.sin_theta_o, self.cos_theta_o);
+        let cos_p = cos_sub_clamped(sin_x, cos_x, sin_b, cos_b);
+        (cos_p > self.cos_theta_e).then_some(Angles { wi, dist2, sin_b, cos_b, cos_p })
+    }
+}
+
+/// cos θ'_i = cos(max(0, θ_i − θ_b)) for the unit normal `n`.
+#[inline(always)]
+fn incidence_factor(a: &Angles, n: Vec3) -> f32 {
+    let cos_i = a.wi.dot(n).abs();
+    cos_sub_clamped(sin_from_cos(cos_i), cos_i, a.sin_b, a.cos_b)
+}
+
 /// cos(max(0, a − b)) from the sines and cosines of angles a, b in [0, π].
 #[inline]
 fn cos_sub_clamped(sin_a: f32, cos_a: f32, sin_b: f32, cos_b: f32) -> f32 {
@@ -84,38 +191,37 @@ impl LightBounds {
     }
 
     /// Importance of these bounds at `p` with unit normal `n` (zero for a point in a medium):
-    /// Φ cos θ' / d², times cos θ'_i at a surface, where θ' = max(0, θ_w − θ_o − θ_b) is the
-    /// smallest angle between an emitting normal and the direction from the lights to `p`
-    /// (θ_w that angle for the axis, θ_b the half-angle the box subtends from `p`), and
-    /// θ'_i = max(0, θ_i − θ_b) the smallest angle between `n` and a direction to the box. It is
-    /// 0 when θ' ≥ θ_e: no light inside can reach `p`. d² is the squared distance to the box's
-    /// centre, at least its squared bounding-sphere radius so that points inside stay finite.
+    /// see [`PreparedBounds::importance`].
     pub fn importance(&self, p: Vec3, n: Vec3) -> f32 {
-        let pc = self.centroid();
-        let r = self.bounds.radius();
-        let d2 = (p - pc).length_squared().max(r * r);
-        let wi = (p - pc).normalize_or_zero();
-        let mut cos_w = self.w.dot(wi);
-        if self.two_sided {
-            cos_w = cos_w.abs();
+        self.prepare().importance(p, n)
+    }
+
+    /// What the importance needs of these bounds alone, worked out once.
+    pub fn prepare(&self) -> PreparedBounds {
+        let half_diagonal = 0.5 * (self.bounds.max - self.bounds.min);
+        let radius2 = half_diagonal.length_squared();
+        PreparedBounds {
+            centre: self.centroid(),
+            radius2,
+            radius: radius2.sqrt(),
+            flat: self.cos_theta_o == 1.0 && self.cos_theta_e == 0.0 && radius2 > 0.0,
+            w: self.w,
+            phi: self.phi,
+            cos_theta_o: self.cos_theta_o,
+            sin_theta_o: sin_from_cos(self.cos_theta_o),
+            cos_theta_e: self.cos_theta_e,
+            two_sided: self.two_sided,
         }
-        let sin_w = sin_from_cos(cos_w);
-        let cos_b = DirectionCone::subtended_by(&self.bounds, p).cos_theta;
-        let sin_b = sin_from_cos(cos_b);
-        let sin_o = sin_from_cos(self.cos_theta_o);
-        let cos_x = cos_sub_clamped(sin_w, cos_w, sin_o, self.cos_theta_o);
-        let sin_x = sin_sub_clamped(sin_w, cos_w, sin_o, self.cos_theta_o);
-        let cos_p = cos_sub_clamped(sin_x, cos_x, sin_b, cos_b);
-        if cos_p <= self.cos_theta_e {
-            return 0.0;
-        }
-        let mut importance = self.phi * cos_p / d2;
-        if n != Vec3::ZERO {
-            let cos_i = wi.dot(n).abs();
-            importance *= cos_sub_clamped(sin_from_cos(cos_i), cos_i, sin_b, cos_b);
-        }
-        // (Finite even at a point light's own position, where d² = 0.)
-        importance.max(0.0).clamp(0.0, f32::MAX)
+    }
+
+    /// The same bounds but for the flux: their importance at any point differs by the ratio of
+    /// their fluxes alone.
+    pub fn same_but_flux(&self, o: &Self) -> bool {
+        self.bounds == o.bounds
+            && self.w == o.w
+            && self.cos_theta_o == o.cos_theta_o
+            && self.cos_theta_e == o.cos_theta_e
+            && self.two_sided == o.two_sided
     }
 
     /// Bounds of one light with flux `phi`: `None` for lights at infinity (sampled apart from
@@ -247,5 +353,71 @@ mod tests {
         assert!(u.two_sided);
         assert!(u.w.dot(Vec3::Z) >= u.cos_theta_o - 1e-6 && u.w.dot(Vec3::X) >= u.cos_theta_o - 1e-6);
         assert_eq!(u.cos_theta_e, 0.0);
+    }
+
+    fn light(p: [Vec3; 3], two_sided: bool) -> Light {
+        let n = (p[1] - p[0]).cross(p[2] - p[0]);
+        Light::Area(AreaLight {
+            p,
+            n: n.normalize(),
+            area: 0.5 * n.length(),
+            spectrum: Arc::new(Spectrum::constant(1.0)),
+            scale: 1.0,
+            two_sided,
+            image: None,
+        })
+    }
+
+    /// `reaches` is `importance > 0`: by the plane test for flat bounds (a triangle, the two
+    /// triangles of an axis-aligned rectangle), by the angles otherwise (two triangles at an
+    /// angle, a point light), at points all around them and near their planes, with and without
+    /// a normal.
+    #[test]
+    fn reaching_a_point_is_having_importance_there() {
+        use crate::light::PointLight;
+        use crate::sampling::rng::Rng;
+        use crate::sampling::warp::sample_uniform_sphere;
+        use glam::Vec2;
+        let mut rng = Rng::new(31, 7);
+        let unit = |rng: &mut Rng| sample_uniform_sphere(Vec2::new(rng.uniform(), rng.uniform()));
+        let (mut flat, mut by_angles, mut reached, mut missed) = (0, 0, 0, 0);
+        for k in 0..400 {
+            let c = Vec3::new(rng.uniform(), rng.uniform(), rng.uniform()) * 4.0;
+            let two_sided = k % 5 == 0;
+            let (e1, e2) = match k % 3 {
+                0 => (Vec3::X * (0.1 + rng.uniform()), Vec3::Y * (0.1 + rng.uniform())),
+                1 => (Vec3::Z * (0.1 + rng.uniform()), Vec3::X * (0.1 + rng.uniform())),
+                _ => (unit(&mut rng), unit(&mut rng)),
+            };
+            let of = |l: &Light| LightBounds::of_light(l, 1.0).unwrap();
+            let a = of(&light([c, c + e1, c + e1 + e2], two_sided));
+            let b = of(&light([c, c + e1 + e2, c + e2], two_sided));
+            let point = of(&Light::Point(PointLight::new(c, Arc::new(Spectrum::constant(1.0)), 1.0)));
+            for bounds in [a, LightBounds::union(&a, &b), point] {
+                let prepared = bounds.prepare();
+                if prepared.flat {
+                    flat += 1;
+                } else {
+                    by_angles += 1;
+                }
+                for _ in 0..200 {
+                    // Around the box, and within 1% of its size of the plane through its centre.
+                    let mut p = bounds.centroid() + unit(&mut rng) * (3.0 * rng.uniform());
+                    if rng.uniform() < 0.3 {
+                        p -= bounds.w * (bounds.w.dot(p - bounds.centroid()) + 0.01 * (rng.uniform() - 0.5));
+                    }
+                    let n = if rng.uniform() < 0.25 { Vec3::ZERO } else { unit(&mut rng) };
+                    let positive = prepared.importance(p, n) > 0.0;
+                    assert_eq!(prepared.reaches(p, n), positive, "{bounds:?} at {p}, n = {n}");
+                    if positive {
+                        reached += 1;
+                    } else {
+                        missed += 1;
+                    }
+                }
+            }
+        }
+        assert!(flat > 300 && by_angles > 300, "{flat} flat, {by_angles} by angles");
+        assert!(reached > 10_000 && missed > 10_000, "{reached} reached, {missed} not");
     }
 }

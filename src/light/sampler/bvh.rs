@@ -11,7 +11,7 @@
 //! solid-angle measure of its normal cone widened by θ_e, K_r the parent box's longest side over
 //! its side along the axis (which favours cutting long boxes across).
 
-use super::bounds::LightBounds;
+use super::bounds::{LightBounds, PreparedBounds};
 use crate::geometry::Bounds3;
 use crate::math::PI;
 use glam::Vec3;
@@ -25,13 +25,18 @@ const NO_LEAF: u32 = u32::MAX;
 
 #[derive(Clone, Debug)]
 struct Node {
-    bounds: LightBounds,
+    bounds: PreparedBounds,
     /// The light's index for a leaf; the second child's node index otherwise (the first child
     /// follows its parent).
     child_or_light: u32,
     /// Parent node index (the root's is its own).
     parent: u32,
     leaf: bool,
+    /// For an interior node whose children have the same bounds but for their flux (the two
+    /// triangles of an axis-aligned rectangle, coincident lights), the first child's
+    /// probabilities: their importances anywhere are in the ratio of their fluxes, so they are
+    /// Φᵢ/(Φ₀ + Φ₁) and none needs evaluating. `None` otherwise.
+    flux_split: Option<[f32; 2]>,
 }
 
 /// The tree over the bounded lights, and the lights at infinity.
@@ -44,6 +49,9 @@ pub struct BvhLightSampler {
     infinite: Vec<u32>,
     /// Which lights are in `infinite`.
     is_infinite: Vec<bool>,
+    /// The probability of choosing among the lights at infinity, n_∞/(n_∞ + 1) (1 without a
+    /// tree).
+    p_infinite: f32,
 }
 
 /// `bounds` of each light (`None` for lights at infinity) and whether it is at infinity.
@@ -81,21 +89,23 @@ fn split_cost(b: &LightBounds, parent_extent: Vec3, axis: usize) -> f32 {
     b.phi * orientation_measure(b) * k_r * surface_area(&b.bounds)
 }
 
-/// c0/(c0 + c1), in f64 so that two importances near f32's largest value do not overflow.
+/// The children's probabilities c0/(c0 + c1) and c1/(c0 + c1), in f64 so that two importances
+/// near f32's largest value do not overflow, and each divided out (1 − p0 in f32 would keep
+/// few digits of a small p1).
 #[inline]
-fn child_probability(c0: f32, c1: f32) -> f32 {
-    (c0 as f64 / (c0 as f64 + c1 as f64)) as f32
+fn child_probabilities(c0: f32, c1: f32) -> [f32; 2] {
+    let sum = c0 as f64 + c1 as f64;
+    [(c0 as f64 / sum) as f32, (c1 as f64 / sum) as f32]
 }
 
-/// The two-way choice of a tree level: child 0 with probability p0 = c0/(c0 + c1), `u` rescaled
-/// into the chosen interval (as a fresh uniform).
+/// The two-way choice of a tree level: child 0 with probability `p[0]`, else child 1 (with
+/// `p[1]`), `u` rescaled into the chosen interval (as a fresh uniform).
 #[inline]
-fn choose(c0: f32, c1: f32, u: f32) -> (usize, f32, f32) {
-    let p0 = child_probability(c0, c1);
-    if u < p0 {
-        (0, p0, (u / p0).min(1.0f32.next_down()))
+fn choose(p: [f32; 2], u: f32) -> (usize, f32, f32) {
+    if u < p[0] {
+        (0, p[0], (u / p[0]).min(1.0f32.next_down()))
     } else {
-        (1, 1.0 - p0, ((u - p0) / (1.0 - p0)).clamp(0.0, 1.0f32.next_down()))
+        (1, p[1], ((u - p[0]) / p[1]).clamp(0.0, 1.0f32.next_down()))
     }
 }
 
@@ -107,6 +117,7 @@ impl BvhLightSampler {
             leaf_of: vec![NO_LEAF; lights.len()],
             infinite: Vec::new(),
             is_infinite: lights.iter().map(|l| l.infinite).collect(),
+            p_infinite: 0.0,
         };
         let mut bounded: Vec<(u32, LightBounds)> = Vec::new();
         for (i, l) in lights.iter().enumerate() {
@@ -119,35 +130,50 @@ impl BvhLightSampler {
         if !bounded.is_empty() {
             s.build(&mut bounded, 0, 0);
         }
+        let n_inf = s.infinite.len();
+        s.p_infinite = n_inf as f32 / (n_inf + usize::from(!s.nodes.is_empty())).max(1) as f32;
         s
     }
 
-    /// Adds the subtree over `items` below `parent`; returns its root's index.
-    fn build(&mut self, items: &mut [(u32, LightBounds)], parent: u32, depth: u32) -> u32 {
+    /// Adds the subtree over `items` below `parent`; returns its root's index and bounds.
+    fn build(&mut self, items: &mut [(u32, LightBounds)], parent: u32, depth: u32) -> (u32, LightBounds) {
         let index = self.nodes.len() as u32;
         if let [(light, bounds)] = items {
-            self.nodes.push(Node { bounds: *bounds, child_or_light: *light, parent, leaf: true });
+            self.nodes.push(Node {
+                bounds: bounds.prepare(),
+                child_or_light: *light,
+                parent,
+                leaf: true,
+                flux_split: None,
+            });
             self.leaf_of[*light as usize] = index;
-            return index;
+            return (index, *bounds);
         }
         let bounds = items.iter().skip(1).fold(items[0].1, |acc, (_, b)| LightBounds::union(&acc, b));
-        self.nodes.push(Node { bounds, child_or_light: 0, parent, leaf: false });
+        self.nodes.push(Node { bounds: bounds.prepare(), child_or_light: 0, parent, leaf: false, flux_split: None });
         let mid = if depth < MAX_SEARCH_DEPTH { partition_by_cost(items, &bounds) } else { None };
         let mid = mid.unwrap_or(items.len() / 2);
         let (left, right) = items.split_at_mut(mid);
-        self.build(left, index, depth + 1);
-        let second = self.build(right, index, depth + 1);
-        self.nodes[index as usize].child_or_light = second;
-        index
+        let (_, b0) = self.build(left, index, depth + 1);
+        let (second, b1) = self.build(right, index, depth + 1);
+        let node = &mut self.nodes[index as usize];
+        node.child_or_light = second;
+        if b0.same_but_flux(&b1) {
+            // The union of equal bounds is those bounds (with the summed flux): this node's
+            // importance is positive where its children's are.
+            debug_assert!(bounds.same_but_flux(&b0));
+            node.flux_split = Some(child_probabilities(b0.phi, b1.phi));
+        }
+        (index, bounds)
     }
 
     /// Picks a light for the point `p` with normal `n` (zero in a medium) and `u` in [0, 1):
     /// the index, its probability and `u` rescaled to a fresh uniform; `None` when no light can
     /// reach `p`.
     pub fn sample(&self, p: Vec3, n: Vec3, u: f32) -> Option<(usize, f32, f32)> {
-        let n_inf = self.infinite.len();
-        let p_inf = n_inf as f32 / (n_inf + usize::from(!self.nodes.is_empty())) as f32;
+        let p_inf = self.p_infinite;
         if u < p_inf {
+            let n_inf = self.infinite.len();
             let v = u / p_inf * n_inf as f32;
             let k = (v as usize).min(n_inf - 1);
             return Some((
@@ -156,7 +182,11 @@ impl BvhLightSampler {
                 (v - k as f32).clamp(0.0, 1.0f32.next_down()),
             ));
         }
-        if self.nodes.is_empty() {
+        let root = self.nodes.first()?;
+        // Below the root a node is only reached through its positive importance (or, under a
+        // flux split, its parent's, which is the same); the root must be checked when no two
+        // importances are compared there.
+        if (root.leaf || root.flux_split.is_some()) && !root.bounds.reaches(p, n) {
             return None;
         }
         let mut u = ((u - p_inf) / (1.0 - p_inf)).clamp(0.0, 1.0f32.next_down());
@@ -165,19 +195,21 @@ impl BvhLightSampler {
         loop {
             let node = &self.nodes[index];
             if node.leaf {
-                // Below the root a leaf is only reached through its positive importance.
-                if index > 0 || node.bounds.importance(p, n) > 0.0 {
-                    return Some((node.child_or_light as usize, pmf, u));
-                }
-                return None;
+                return Some((node.child_or_light as usize, pmf, u));
             }
             let second = node.child_or_light as usize;
-            let c0 = self.nodes[index + 1].bounds.importance(p, n);
-            let c1 = self.nodes[second].bounds.importance(p, n);
-            if c0 + c1 <= 0.0 {
-                return None;
-            }
-            let (child, p_child, rest) = choose(c0, c1, u);
+            let p = match node.flux_split {
+                Some(p) => p,
+                None => {
+                    let c0 = self.nodes[index + 1].bounds.importance(p, n);
+                    let c1 = self.nodes[second].bounds.importance(p, n);
+                    if c0 + c1 <= 0.0 {
+                        return None;
+                    }
+                    child_probabilities(c0, c1)
+                }
+            };
+            let (child, p_child, rest) = choose(p, u);
             pmf *= p_child;
             u = rest;
             index = if child == 0 { index + 1 } else { second };
@@ -187,28 +219,33 @@ impl BvhLightSampler {
     /// Probability with which [`BvhLightSampler::sample`] picks light `light` at `p`, `n`: the
     /// product of the child probabilities on the path from its leaf up to the root.
     pub fn pmf(&self, p: Vec3, n: Vec3, light: usize) -> f32 {
-        let n_inf = self.infinite.len();
-        let p_inf = n_inf as f32 / (n_inf + usize::from(!self.nodes.is_empty())) as f32;
         if self.is_infinite.get(light).copied().unwrap_or(false) {
-            return p_inf / n_inf as f32;
+            return self.p_infinite / self.infinite.len() as f32;
         }
         let Some(&leaf) = self.leaf_of.get(light).filter(|&&l| l != NO_LEAF) else { return 0.0 };
+        let mut pmf = 1.0 - self.p_infinite;
         let mut index = leaf as usize;
-        if index == 0 {
-            return if self.nodes[0].bounds.importance(p, n) > 0.0 { 1.0 - p_inf } else { 0.0 };
-        }
-        let mut pmf = 1.0 - p_inf;
         while index != 0 {
             let parent = self.nodes[index].parent as usize;
-            let second = self.nodes[parent].child_or_light as usize;
-            let c0 = self.nodes[parent + 1].bounds.importance(p, n);
-            let c1 = self.nodes[second].bounds.importance(p, n);
-            if c0 + c1 <= 0.0 {
-                return 0.0;
-            }
-            let p0 = child_probability(c0, c1);
-            pmf *= if index == second { 1.0 - p0 } else { p0 };
+            let node = &self.nodes[parent];
+            let second = node.child_or_light as usize;
+            let p = match node.flux_split {
+                Some(p) => p,
+                None => {
+                    let c0 = self.nodes[parent + 1].bounds.importance(p, n);
+                    let c1 = self.nodes[second].bounds.importance(p, n);
+                    if c0 + c1 <= 0.0 {
+                        return 0.0;
+                    }
+                    child_probabilities(c0, c1)
+                }
+            };
+            pmf *= p[usize::from(index == second)];
             index = parent;
+        }
+        let root = &self.nodes[0];
+        if (root.leaf || root.flux_split.is_some()) && !root.bounds.reaches(p, n) {
+            return 0.0;
         }
         pmf
     }

@@ -264,3 +264,100 @@ fn coincident_lights_still_sum_to_one() {
         assert!((sampler.pmf(&ctx, k) - expected).abs() < 1e-5 * 37.0, "{k}");
     }
 }
+
+/// `many_lights` and 20 axis-aligned rectangles, each two triangles with the same box and
+/// normal, so that the tree has nodes whose children differ only in flux.
+fn lights_with_rectangles(seed: u64) -> Vec<Light> {
+    let mut lights = many_lights(seed, 0.7, true);
+    let mut rng = Rng::new(seed, 2);
+    for k in 0..20 {
+        let c = in_box(&mut rng, 5.0);
+        let (a, b) = (0.1 + rng.uniform(), 0.1 + rng.uniform());
+        let (e1, e2) = match k % 3 {
+            0 => (Vec3::X * a, Vec3::Y * b),
+            1 => (Vec3::Z * a, Vec3::X * b),
+            _ => (Vec3::Y * a, Vec3::Z * b),
+        };
+        let two_sided = k % 4 == 0;
+        let scale = 0.1 + 10.0 * rng.uniform();
+        lights.insert(k, triangle([c, c + e1, c + e1 + e2], scale, two_sided));
+        lights.insert(k + 1, triangle([c, c + e1 + e2, c + e2], scale, two_sided));
+    }
+    lights
+}
+
+/// The pmf by pbrt-v4's definition: the product, from the root to the light's leaf, of each
+/// choice's importance over the sum of both children's, every importance evaluated (and a root
+/// that is a leaf checked for positive importance).
+fn pmf_by_importances(s: &BvhLightSampler, ctx: &LightSampleContext, light: usize) -> f64 {
+    let n_inf = s.infinite.len();
+    let mut pmf = 1.0 - n_inf as f64 / (n_inf + 1) as f64;
+    let mut index = s.leaf_of[light] as usize;
+    if index == 0 {
+        return if s.nodes[0].bounds.importance(ctx.p, ctx.n) > 0.0 { pmf } else { 0.0 };
+    }
+    while index != 0 {
+        let parent = s.nodes[index].parent as usize;
+        let second = s.nodes[parent].child_or_light as usize;
+        let c0 = s.nodes[parent + 1].bounds.importance(ctx.p, ctx.n) as f64;
+        let c1 = s.nodes[second].bounds.importance(ctx.p, ctx.n) as f64;
+        if c0 + c1 == 0.0 {
+            return 0.0;
+        }
+        pmf *= if index == second { c1 } else { c0 } / (c0 + c1);
+        index = parent;
+    }
+    pmf
+}
+
+/// Where two children differ only in flux the tree takes their flux ratio instead of evaluating
+/// both importances: the pmfs are still those of evaluating every importance, and sampling
+/// reports them, at points around, behind and inside the rectangles.
+#[test]
+fn children_that_differ_only_in_flux_are_chosen_by_their_flux_ratio() {
+    let lights = lights_with_rectangles(11);
+    let sampler = LightSampler::new(LightSamplerKind::Bvh, &lights, 10.0);
+    let LightSampler::Bvh(tree) = &sampler else { unreachable!() };
+    let split = tree.nodes.iter().filter(|n| n.flux_split.is_some()).count();
+    assert!(split >= 20, "{split} nodes split by flux");
+    let mut rng = Rng::new(29, 4);
+    for _ in 0..500 {
+        let ctx = random_context(&mut rng);
+        for i in 0..lights.len() - 2 {
+            let (got, expected) = (sampler.pmf(&ctx, i) as f64, pmf_by_importances(tree, &ctx, i));
+            assert!(
+                (got - expected).abs() <= 1e-5 * expected,
+                "light {i} at {ctx:?}: pmf {got}, by importances {expected}"
+            );
+        }
+        for _ in 0..20 {
+            let Some((i, pmf, _)) = sampler.sample(&ctx, rng.uniform()) else { continue };
+            let expected = sampler.pmf(&ctx, i);
+            assert!((pmf - expected).abs() <= 1e-5 * expected, "light {i}: sampled pmf {pmf}, pmf() {expected}");
+        }
+    }
+}
+
+/// One rectangle of two triangles (the Cornell box's light): the root splits by flux, so
+/// sampling evaluates one importance, the root's. Below the light, each triangle has 1/2; above
+/// it (behind a one-sided light) none can be picked.
+#[test]
+fn one_rectangle_of_two_triangles_is_split_evenly_where_it_shines() {
+    let (c, e1, e2) = (Vec3::new(-1.0, 2.0, -1.0), Vec3::Z * 2.0, Vec3::X * 1.5);
+    let lights = [triangle([c, c + e1, c + e1 + e2], 3.0, false), triangle([c, c + e1 + e2, c + e2], 3.0, false)];
+    let sampler = LightSampler::new(LightSamplerKind::Bvh, &lights, 10.0);
+    let LightSampler::Bvh(tree) = &sampler else { unreachable!() };
+    assert_eq!(tree.nodes[0].flux_split, Some([0.5, 0.5]));
+    // The triangles face −y: (e1 × (e1 + e2)) points along Z × X = Y... reversed by the order.
+    let below = LightSampleContext::surface(Vec3::new(0.0, 0.0, 0.3), Vec3::Y);
+    let above = LightSampleContext::surface(Vec3::new(0.0, 4.0, 0.3), -Vec3::Y);
+    let (lit, dark) = if lights_face_down(&lights) { (below, above) } else { (above, below) };
+    assert_eq!((sampler.pmf(&lit, 0), sampler.pmf(&lit, 1)), (0.5, 0.5));
+    assert_eq!(sampler.sample(&lit, 0.3), Some((0, 0.5, 0.6)));
+    assert_eq!((sampler.pmf(&dark, 0), sampler.pmf(&dark, 1)), (0.0, 0.0));
+    assert_eq!(sampler.sample(&dark, 0.3), None);
+}
+
+fn lights_face_down(lights: &[Light]) -> bool {
+    matches!(&lights[0], Light::Area(a) if a.n.y < 0.0)
+}
