@@ -9,6 +9,7 @@ pub mod error;
 pub mod input;
 mod interaction;
 pub mod mesh_io;
+mod mesh_lights;
 pub mod names;
 pub mod params;
 pub mod parser;
@@ -32,15 +33,17 @@ pub use primitive::{MediumInterface, Primitive};
 
 use crate::accel::{self, Accel, AccelKind};
 use crate::camera::{Camera, Projection, RealisticLens};
-use crate::geometry::{Curves, Hit, Instance, InstanceSet, Mesh, Motion, PlacedQuadric, Prototype, Ray};
+use crate::geometry::{
+    AnimatedTransform, Curves, Hit, Instance, InstanceSet, Mesh, Motion, PlacedQuadric, Prototype, Ray,
+};
 use crate::light::{
-    AreaLight, EmissionImage, ImageEmission, Light, LightSampleContext, LightSampler, LightSamplerKind, QuadricLight,
-    SphereLight,
+    EmissionImage, Light, LightSampleContext, LightSampler, LightSamplerKind, QuadricLight, SphereLight,
 };
 use crate::material::{FloatTexture, Material};
 use crate::media::Medium;
 use crate::spectrum::Spectrum;
 use glam::{Mat4, Vec2, Vec3};
+use mesh_lights::{push_mesh_lights, LightsOf};
 use std::sync::Arc;
 
 /// Emission of an area light attached to a mesh: radiance `scale · spectrum(λ)`, or `scale`
@@ -516,39 +519,17 @@ impl SceneBuilder {
         for ((mut mesh, (material, emission, alpha, medium_interface, curves)), quadric) in
             meshes.into_iter().zip(parts).zip(quadrics)
         {
-            // A quadric is one light: a sphere light for a full sphere, else sampled by area.
-            let one_light = emission.is_some() && quadric.is_some();
+            let mut lights_of = LightsOf::Triangles;
             let area_lights = emission.map(|(em, em_image, per_area)| {
                 let first = lights.len() as u32;
-                let spectrum = Arc::new(em.spectrum);
-                if let Some(q) = &quadric {
-                    lights.push(quadric_light(q, spectrum, em.scale, em.two_sided));
-                    return first;
-                }
-                let face_areas = if per_area { mesh.face_areas() } else { Vec::new() };
-                for prim in 0..mesh.len() {
-                    let p = mesh.triangle(prim);
-                    let n = (p[1] - p[0]).cross(p[2] - p[0]);
-                    let image = em_image.as_ref().map(|image| {
-                        let tri = mesh.indices[prim];
-                        // pbrt-v4's default (u, v) of a triangle's corners, as the surface uses.
-                        let uv = std::array::from_fn(|k| match &mesh.uvs {
-                            Some(uvs) => uvs[tri[k] as usize],
-                            None => [Vec2::ZERO, Vec2::X, Vec2::ONE][k],
-                        });
-                        Box::new(ImageEmission { image: image.clone(), uv })
-                    });
-                    let area = 0.5 * n.length();
-                    lights.push(Light::Area(AreaLight {
-                        p,
-                        n: n.normalize_or_zero(),
-                        area,
-                        spectrum: spectrum.clone(),
-                        scale: if per_area { em.scale / face_areas[prim] } else { em.scale },
-                        two_sided: em.two_sided,
-                        image,
-                    }));
-                }
+                lights_of = match &quadric {
+                    // A quadric is one light: a sphere light for a full sphere, else sampled by area.
+                    Some(q) => {
+                        lights.push(quadric_light(q, Arc::new(em.spectrum), em.scale, em.two_sided));
+                        LightsOf::Whole
+                    }
+                    None => push_mesh_lights(&mesh, &em, em_image.as_ref(), per_area, &mut lights),
+                };
                 first
             });
             // Faces matter only to the emission above.
@@ -562,7 +543,7 @@ impl SceneBuilder {
                 quadric,
                 material,
                 area_lights,
-                one_light,
+                lights_of,
                 medium_interface,
                 alpha,
                 bare_boundary,

@@ -5,6 +5,7 @@
 
 use std::sync::Arc;
 
+use super::mesh_lights::LightsOf;
 use crate::geometry::{Curves, Mesh, PlacedQuadric};
 use crate::material::FloatTexture;
 
@@ -56,13 +57,13 @@ pub struct Primitive {
     pub quadric: Option<Arc<PlacedQuadric>>,
     /// Index of its material in the scene's materials.
     pub material: u32,
-    /// Index in the scene's lights of the area light of triangle 0, when the primitive emits
-    /// (triangle `i` is light `first + i`: one light per triangle, so the light sampler can pick
-    /// triangles in proportion to their power).
+    /// Index in the scene's lights of the primitive's first light, when it emits.
     pub area_lights: Option<u32>,
-    /// The whole primitive is the one light `area_lights` (a quadric: a sphere sampled by solid
-    /// angle, or another quadric sampled by area) rather than one light per triangle.
-    pub one_light: bool,
+    /// Which light each triangle is, from `area_lights`: one per triangle (so the light sampler
+    /// can pick triangles in proportion to their power) or per rectangular face, or the whole
+    /// primitive one light (a quadric: a sphere sampled by solid angle, or another quadric
+    /// sampled by area).
+    pub lights_of: LightsOf,
     /// The media inside and outside the surface.
     pub medium_interface: MediumInterface,
     /// Cut-out mask (pbrt-v4's `alpha`): where it is 0 a ray passes through the surface. `None`
@@ -78,6 +79,6 @@ impl Primitive {
     /// The light index of triangle `prim`'s area light, if the primitive emits.
     #[inline]
     pub fn area_light(&self, prim: u32) -> Option<u32> {
-        self.area_lights.map(|first| if self.one_light { first } else { first + prim })
+        self.area_lights.map(|first| self.lights_of.of(first, prim))
     }
 }
