@@ -20,6 +20,8 @@ use super::Bounds3;
 
 /// The motion of an instance.
 #[derive(Clone, Debug, PartialEq)]
+// Instances hold their motion behind an `Arc`: the larger variant costs no per-instance space.
+#[allow(clippy::large_enum_variant)]
 pub enum Motion {
     /// One animated transform.
     One(AnimatedTransform),

@@ -56,7 +56,7 @@ impl SphericalRectangle {
             z = -z;
             z0 = -z0;
         }
-        if !(z0 < 0.0) {
+        if z0 >= 0.0 || z0.is_nan() {
             return None;
         }
         let (x0, y0) = (d.dot(x), d.dot(y));
@@ -190,7 +190,7 @@ mod tests {
         let inside = |w: Vec3| {
             // The ray o + t w meets the rectangle.
             let t = (c - o).dot(n) / w.dot(n);
-            if !(t > 0.0) {
+            if t <= 0.0 || t.is_nan() {
                 return false;
             }
             let q = o + t * w - c;

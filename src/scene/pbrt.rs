@@ -438,9 +438,8 @@ impl Ctx<'_> {
         let desc = self.desc;
         let mut built: HashMap<usize, ObjectParts> = HashMap::new();
         for inst in &desc.instances {
-            if !built.contains_key(&inst.object_index) {
-                let parts = self.object_parts(&desc.objects[inst.object_index])?;
-                built.insert(inst.object_index, parts);
+            if let std::collections::hash_map::Entry::Vacant(e) = built.entry(inst.object_index) {
+                e.insert(self.object_parts(&desc.objects[inst.object_index])?);
             }
             let parts = &built[&inst.object_index];
             if let Some(proto) = parts.fixed {

@@ -79,24 +79,8 @@ unsafe extern "C" fn intersect(args: *const ffi::RTCIntersectFunctionNArguments)
                 *valid = 0;
                 continue;
             };
-            if t == tfar {
-                let old_geom = lane.get(field::GEOM_ID).to_bits();
-                let old = (lane.get(field::INST_ID).to_bits(), old_geom);
-                if old_geom != ffi::RTC_INVALID_GEOMETRY_ID && (inst[0], args.geomID) >= old {
-                    *valid = 0;
-                    continue;
-                }
-            }
-            lane.set(field::TFAR, t);
-            for k in 0..3 {
-                lane.set(field::NG + k, 0.0);
-            }
-            lane.set(field::U, 0.0);
-            lane.set(field::V, 0.0);
-            lane.set(field::PRIM_ID, f32::from_bits(0));
-            lane.set(field::GEOM_ID, f32::from_bits(args.geomID));
-            for (l, &id) in inst.iter().enumerate() {
-                lane.set(field::INST_ID + l, f32::from_bits(id));
+            if !lane.record_hit(t, Vec3::ZERO, (0.0, 0.0), (args.geomID, 0), &inst) {
+                *valid = 0;
             }
         }
     }

@@ -24,6 +24,7 @@ use super::scene::RayContext;
 use super::user_triangles::{field, new_user_geometry, Lane, UserCallbacks};
 use crate::geometry::curve_hit::intersect_curve;
 use crate::geometry::{CurveSegment, Curves, Ray};
+use glam::Vec3;
 
 /// One Embree primitive: a u range of a segment.
 #[derive(Clone, Copy, Debug)]
@@ -131,24 +132,8 @@ unsafe extern "C" fn intersect(args: *const ffi::RTCIntersectFunctionNArguments)
                 *valid = 0;
                 continue;
             };
-            if t == tfar {
-                let old_geom = lane.get(field::GEOM_ID).to_bits();
-                let old = (lane.get(field::INST_ID).to_bits(), old_geom, lane.get(field::PRIM_ID).to_bits());
-                if old_geom != ffi::RTC_INVALID_GEOMETRY_ID && (inst[0], args.geomID, prim_id) >= old {
-                    *valid = 0;
-                    continue;
-                }
-            }
-            lane.set(field::TFAR, t);
-            for k in 0..3 {
-                lane.set(field::NG + k, 0.0);
-            }
-            lane.set(field::U, u);
-            lane.set(field::V, 0.0);
-            lane.set(field::PRIM_ID, f32::from_bits(prim_id));
-            lane.set(field::GEOM_ID, f32::from_bits(args.geomID));
-            for (l, &id) in inst.iter().enumerate() {
-                lane.set(field::INST_ID + l, f32::from_bits(id));
+            if !lane.record_hit(t, Vec3::ZERO, (u, 0.0), (args.geomID, prim_id), &inst) {
+                *valid = 0;
             }
         }
     }

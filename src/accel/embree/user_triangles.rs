@@ -231,6 +231,39 @@ impl Lane {
             (v(field::ORG), v(field::DIR), self.get(field::TNEAR), self.get(field::TFAR))
         }
     }
+
+    /// Makes the hit at `t` (geometric normal `ng`, (u, v), `geom_id`, `prim_id`, in the
+    /// instances `inst`) the lane's hit; `false`, changing nothing, when it ties the current hit
+    /// (t = tfar) and that one has the smaller (instID, geomID, primID), as obvhs decides ties.
+    ///
+    /// # Safety
+    /// As [`Lane::set`] for every field of an `RTCRayHitN` up to its last instance word.
+    #[inline(always)]
+    pub(super) unsafe fn record_hit(&self, t: f32, ng: Vec3, uv: (f32, f32), ids: (u32, u32), inst: &[u32]) -> bool {
+        let (geom_id, prim_id) = ids;
+        // SAFETY: by the caller's contract.
+        unsafe {
+            if t == self.get(field::TFAR) {
+                let old_geom = self.get(field::GEOM_ID).to_bits();
+                let old = (self.get(field::INST_ID).to_bits(), old_geom, self.get(field::PRIM_ID).to_bits());
+                if old_geom != ffi::RTC_INVALID_GEOMETRY_ID && (inst[0], geom_id, prim_id) >= old {
+                    return false;
+                }
+            }
+            self.set(field::TFAR, t);
+            for (k, x) in ng.to_array().into_iter().enumerate() {
+                self.set(field::NG + k, x);
+            }
+            self.set(field::U, uv.0);
+            self.set(field::V, uv.1);
+            self.set(field::PRIM_ID, f32::from_bits(prim_id));
+            self.set(field::GEOM_ID, f32::from_bits(geom_id));
+            for (l, &id) in inst.iter().enumerate() {
+                self.set(field::INST_ID + l, f32::from_bits(id));
+            }
+        }
+        true
+    }
 }
 
 unsafe extern "C" fn intersect(args: *const ffi::RTCIntersectFunctionNArguments) {
@@ -257,27 +290,10 @@ unsafe extern "C" fn intersect(args: *const ffi::RTCIntersectFunctionNArguments)
                 *valid = 0;
                 continue;
             };
-            if h.t == tfar {
-                // A tie with the current hit: keep the smaller (instID, geomID, primID).
-                let old_geom = lane.get(field::GEOM_ID).to_bits();
-                let old = (lane.get(field::INST_ID).to_bits(), old_geom, lane.get(field::PRIM_ID).to_bits());
-                if old_geom != ffi::RTC_INVALID_GEOMETRY_ID && (inst[0], args.geomID, tri.prim_id) >= old {
-                    *valid = 0;
-                    continue;
-                }
-            }
             let [p0, p1, p2] = tri.lanes.vertices();
             let ng = (p1 - p0).cross(p2 - p0);
-            lane.set(field::TFAR, h.t);
-            lane.set(field::NG, ng.x);
-            lane.set(field::NG + 1, ng.y);
-            lane.set(field::NG + 2, ng.z);
-            lane.set(field::U, h.u);
-            lane.set(field::V, h.v);
-            lane.set(field::PRIM_ID, f32::from_bits(tri.prim_id));
-            lane.set(field::GEOM_ID, f32::from_bits(args.geomID));
-            for (l, &id) in inst.iter().enumerate() {
-                lane.set(field::INST_ID + l, f32::from_bits(id));
+            if !lane.record_hit(h.t, ng, (h.u, h.v), (args.geomID, tri.prim_id), &inst) {
+                *valid = 0;
             }
         }
     }
