@@ -132,6 +132,16 @@ fn bump_normal_map_and_alpha_shading_has_pbrt_v4s_means() {
 }
 
 #[test]
+fn coated_conductor_and_diffuse_mix_dielectric_and_interface_materials_have_pbrt_v4s_means() {
+    assert_matches_pbrt_v4("materials.pbrt", 16);
+}
+
+#[test]
+fn partial_quadrics_bilinear_patches_and_a_subdivided_mesh_have_pbrt_v4s_means() {
+    assert_matches_pbrt_v4("shapes.pbrt", 16);
+}
+
+#[test]
 fn film_response_clamp_and_a_tiny_sphere_light_have_pbrt_v4s_means() {
     // The brightest feature is a sphere light 1.5 cm across: the clamp scales down each sample
     // over `maxcomponentvalue`, so the means hold only when the sphere is sampled by its cone.
