@@ -14,9 +14,8 @@ use cpu_time::ThreadTime;
 use glam::Vec3;
 
 use prism::accel::{self, Accel, AccelKind};
-use prism::geometry::shapes::hair_bundle;
+use prism::geometry::shapes::{hair_bundle, rays_into_hair_bundle};
 use prism::geometry::{CurveKind, Mesh, Ray};
-use prism::sampling::Rng;
 
 const CHUNK: usize = 4096;
 
@@ -28,21 +27,6 @@ fn camera_rays() -> Vec<Ray> {
         .map(|i| {
             let (x, y) = ((i % n) as f32 / n as f32 - 0.5, 0.5 - (i / n) as f32 / n as f32);
             Ray::new(eye, Vec3::new(0.6 * x, 0.6 * y, 1.0).normalize())
-        })
-        .collect()
-}
-
-/// Rays from a sphere of radius 4 about the bundle toward random points inside its box.
-fn random_rays(count: usize) -> Vec<Ray> {
-    let mut rng = Rng::new(7, 3);
-    (0..count)
-        .map(|_| {
-            let z = 1.0 - 2.0 * rng.uniform();
-            let s = (1.0 - z * z).max(0.0).sqrt();
-            let phi = std::f32::consts::TAU * rng.uniform();
-            let o = Vec3::new(0.0, 0.6, 0.0) + 4.0 * Vec3::new(s * phi.cos(), z, s * phi.sin());
-            let target = Vec3::new(rng.uniform() - 0.5, 1.2 * rng.uniform(), rng.uniform() - 0.5);
-            Ray::new(o, (target - o).normalize())
         })
         .collect()
 }
@@ -76,7 +60,7 @@ fn bench(kind: CurveKind, passes: usize) {
             (name, a)
         })
         .collect();
-    for (label, rays) in [("camera", camera_rays()), ("random", random_rays(1 << 18))] {
+    for (label, rays) in [("camera", camera_rays()), ("random", rays_into_hair_bundle(1 << 18, 7))] {
         let mut rates = vec![Vec::new(); backends.len()];
         let mut hits = vec![0usize; backends.len()];
         for _ in 0..passes {

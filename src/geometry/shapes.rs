@@ -1,5 +1,6 @@
 //! Mesh generators for tests and benchmarks (spheres, boxes, terrain, random soups, quads), a
-//! bundle of hair curves, and [`Mesh::transformed`].
+//! bundle of hair curves and a grid of twisted ribbons with rays aimed at them, and
+//! [`Mesh::transformed`].
 //!
 //! Closed shapes share vertices between neighbouring triangles, so a watertight ray–triangle test
 //! over them must never let a ray through an edge or a vertex.
@@ -9,7 +10,7 @@ use std::collections::HashMap;
 use glam::{Mat3, Mat4, Vec3};
 
 use super::curve::{bezier_segments, CurveBasis};
-use super::{CurveKind, CurveSegment, Curves, Mesh};
+use super::{CurveKind, CurveSegment, Curves, Mesh, Ray};
 use crate::sampling::Rng;
 
 impl Mesh {
@@ -231,6 +232,50 @@ pub fn hair_bundle(count: usize, kind: CurveKind, seed: u64) -> Curves {
         }
     }
     Curves { segments, split_depth: 2, flip_normal: false }
+}
+
+/// `count` rays from a sphere of radius 4 about [`hair_bundle`] toward random points inside its
+/// box.
+pub fn rays_into_hair_bundle(count: usize, seed: u64) -> Vec<Ray> {
+    let mut rng = Rng::new(seed, 3);
+    (0..count)
+        .map(|_| {
+            let z = 1.0 - 2.0 * rng.uniform();
+            let s = (1.0 - z * z).max(0.0).sqrt();
+            let phi = std::f32::consts::TAU * rng.uniform();
+            let o = Vec3::new(0.0, 0.6, 0.0) + 4.0 * Vec3::new(s * phi.cos(), z, s * phi.sin());
+            let target = Vec3::new(rng.uniform() - 0.5, 1.2 * rng.uniform(), rng.uniform() - 0.5);
+            Ray::new(o, (target - o).normalize())
+        })
+        .collect()
+}
+
+/// 100 one-segment ribbons standing on a 10 × 10 grid over [−0.5, 0.5]², from y = 0 to 1 with a
+/// slight lean, `width` wide at the root and 0.6 `width` at the tip, each turning its normal by
+/// `twist` [radians] about the vertical from root to tip.
+pub fn ribbon_grid(twist: f32, width: f32) -> Curves {
+    let mut rng = Rng::new(5, 9);
+    let segments = (0..100)
+        .map(|i| {
+            let root = Vec3::new((i % 10) as f32 / 9.0 - 0.5, 0.0, (i / 10) as f32 / 9.0 - 0.5);
+            let lean = Vec3::new(rng.uniform() - 0.5, 0.0, rng.uniform() - 0.5) * 0.1;
+            let cp = [0.0, 1.0 / 3.0, 2.0 / 3.0, 1.0].map(|y: f32| root + Vec3::Y * y + lean * y * y);
+            let phi = std::f32::consts::TAU * rng.uniform();
+            let n = |a: f32| Vec3::new(a.cos(), 0.0, a.sin());
+            CurveSegment::new(cp, [width, 0.6 * width], CurveKind::Ribbon, [n(phi), n(phi + twist)])
+        })
+        .collect();
+    Curves { segments, split_depth: 3, flip_normal: false }
+}
+
+/// A horizontal ray from 3 units away at a random azimuth toward a random point among the
+/// strands of [`ribbon_grid`]: across them, where a ribbon's seen width w·|n·d̂| is its
+/// projected width.
+pub fn level_ray_into_ribbon_grid(rng: &mut Rng) -> Ray {
+    let target = Vec3::new(rng.uniform() - 0.5, rng.uniform(), rng.uniform() - 0.5);
+    let phi = std::f32::consts::TAU * rng.uniform();
+    let o = target + 3.0 * Vec3::new(phi.cos(), 0.0, phi.sin());
+    Ray::new(o, (target - o).normalize())
 }
 
 #[cfg(test)]

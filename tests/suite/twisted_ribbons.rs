@@ -6,38 +6,14 @@
 use glam::Vec3;
 use prism::accel::{self, Accel, AccelKind};
 use prism::geometry::curve_hit::curve_surface;
-use prism::geometry::{CurveKind, CurveSegment, Curves, Hit, Mesh, Ray};
+use prism::geometry::shapes::{level_ray_into_ribbon_grid, ribbon_grid};
+use prism::geometry::{Curves, Hit, Mesh};
 use prism::sampling::Rng;
 
 use crate::common::{backends, pbrt_scene, test_settings};
 
 /// Strand width [scene units].
 const WIDTH: f32 = 0.05;
-
-/// 100 one-segment strands standing on a 10 × 10 grid over [−0.5, 0.5]², from y = 0 to 1 with a
-/// slight lean, each turning its normal by `twist` [radians] about the vertical from root to tip.
-fn strands(twist: f32) -> Curves {
-    let mut rng = Rng::new(5, 9);
-    let mut segments = Vec::new();
-    for i in 0..100 {
-        let root = Vec3::new((i % 10) as f32 / 9.0 - 0.5, 0.0, (i / 10) as f32 / 9.0 - 0.5);
-        let lean = Vec3::new(rng.uniform() - 0.5, 0.0, rng.uniform() - 0.5) * 0.1;
-        let cp = [0.0, 1.0 / 3.0, 2.0 / 3.0, 1.0].map(|y: f32| root + Vec3::Y * y + lean * y * y);
-        let phi = std::f32::consts::TAU * rng.uniform();
-        let n = |a: f32| Vec3::new(a.cos(), 0.0, a.sin());
-        segments.push(CurveSegment::new(cp, [WIDTH, 0.6 * WIDTH], CurveKind::Ribbon, [n(phi), n(phi + twist)]));
-    }
-    Curves { segments, split_depth: 3, flip_normal: false }
-}
-
-/// A horizontal ray from 3 units away at a random azimuth toward a random point among the
-/// strands (across them, where a ribbon's seen width is w·|n·d̂| exactly).
-fn level_ray(rng: &mut Rng) -> Ray {
-    let target = Vec3::new(rng.uniform() - 0.5, rng.uniform(), rng.uniform() - 0.5);
-    let phi = std::f32::consts::TAU * rng.uniform();
-    let o = target + 3.0 * Vec3::new(phi.cos(), 0.0, phi.sin());
-    Ray::new(o, (target - o).normalize())
-}
 
 /// How two backends' closest hits on the same rays compare.
 #[derive(Debug, Default)]
@@ -61,7 +37,7 @@ fn compare(a: &dyn Accel, b: &dyn Accel, curves: &Curves, rays: usize) -> Agreem
     let mut rng = Rng::new(31, 4);
     let mut g = Agreement::default();
     for _ in 0..rays {
-        let ray = level_ray(&mut rng);
+        let ray = level_ray_into_ribbon_grid(&mut rng);
         let (x, y): (Option<Hit>, Option<Hit>) = (a.intersect(&ray), b.intersect(&ray));
         assert_eq!(a.occluded(&ray), x.is_some());
         assert_eq!(b.occluded(&ray), y.is_some());
@@ -93,7 +69,7 @@ fn every_backend_finds_the_same_hits_on_twisted_ribbons() {
     const RAYS: usize = 20_000;
     let meshes = vec![Mesh::default()];
     for twist in [0.0, std::f32::consts::FRAC_PI_2] {
-        let curves = strands(twist);
+        let curves = ribbon_grid(twist, WIDTH);
         let obvhs = accel::build_with_curves(AccelKind::Obvhs, &meshes, &[(0, &curves)]).unwrap();
         for kind in backends().into_iter().filter(|&k| k != AccelKind::Obvhs) {
             let other = accel::build_with_curves(kind, &meshes, &[(0, &curves)]).unwrap();

@@ -15,7 +15,7 @@ use glam::Vec3;
 use super::device::{Device, EmbreeError};
 use super::ffi;
 use super::scene::RayContext;
-use super::user_triangles::{field, new_user_geometry, Lane, UserCallbacks};
+use super::user_triangles::{for_each_valid_lane, new_user_geometry, UserCallbacks};
 use crate::geometry::{PlacedQuadric, Ray};
 use crate::math::offset::next_float_up;
 
@@ -66,23 +66,14 @@ unsafe extern "C" fn intersect(args: *const ffi::RTCIntersectFunctionNArguments)
         let q = &*(args.geometryUserPtr as *const PlacedQuadric);
         let ctx = &*(args.context as *const RayContext);
         let inst = ffi::hit_instance_ids(&ctx.rtc);
-        let n = args.N as usize;
-        for i in 0..n {
-            let valid = args.valid.add(i);
-            if *valid == 0 {
-                continue;
-            }
-            let lane = Lane { base: args.rayhit as *mut f32, n, i };
+        for_each_valid_lane(args.valid, args.N, args.rayhit as *mut f32, |lane| {
             let (o, d, tnear, tfar) = lane.ray();
             // Quadric::intersect excludes its limit; a closest hit may equal tfar.
             let Some(t) = q.intersect(&ray(o, d, tfar), next_float_up(tfar)).filter(|&t| t >= tnear) else {
-                *valid = 0;
-                continue;
+                return false;
             };
-            if !lane.record_hit(t, Vec3::ZERO, (0.0, 0.0), (args.geomID, 0), &inst) {
-                *valid = 0;
-            }
-        }
+            lane.record_hit(t, Vec3::ZERO, (0.0, 0.0), (args.geomID, 0), &inst)
+        });
     }
 }
 
@@ -91,20 +82,13 @@ unsafe extern "C" fn occluded(args: *const ffi::RTCOccludedFunctionNArguments) {
     unsafe {
         let args = &*args;
         let q = &*(args.geometryUserPtr as *const PlacedQuadric);
-        let n = args.N as usize;
-        for i in 0..n {
-            let valid = args.valid.add(i);
-            if *valid == 0 {
-                continue;
-            }
-            let lane = Lane { base: args.ray as *mut f32, n, i };
+        for_each_valid_lane(args.valid, args.N, args.ray as *mut f32, |lane| {
             let (o, d, tnear, tfar) = lane.ray();
             if q.intersect(&ray(o, d, tfar), tfar).is_some_and(|t| t >= tnear) {
-                // Embree's convention for "occluded": tfar = −∞.
-                lane.set(field::TFAR, f32::NEG_INFINITY);
-            } else {
-                *valid = 0;
+                lane.mark_occluded();
+                return true;
             }
-        }
+            false
+        });
     }
 }

@@ -21,7 +21,7 @@
 use super::device::{Device, EmbreeError};
 use super::ffi;
 use super::scene::RayContext;
-use super::user_triangles::{field, new_user_geometry, Lane, UserCallbacks};
+use super::user_triangles::{for_each_valid_lane, new_user_geometry, UserCallbacks};
 use crate::geometry::curve_hit::intersect_curve;
 use crate::geometry::{CurveSegment, Curves, Ray};
 use glam::Vec3;
@@ -119,23 +119,12 @@ unsafe extern "C" fn intersect(args: *const ffi::RTCIntersectFunctionNArguments)
         let r = &*(args.geometryUserPtr as *const UserRibbons);
         let ctx = &*(args.context as *const RayContext);
         let inst = ffi::hit_instance_ids(&ctx.rtc);
-        let n = args.N as usize;
-        for i in 0..n {
-            let valid = args.valid.add(i);
-            if *valid == 0 {
-                continue;
-            }
-            let lane = Lane { base: args.rayhit as *mut f32, n, i };
+        for_each_valid_lane(args.valid, args.N, args.rayhit as *mut f32, |lane| {
             let (o, d, tnear, tfar) = lane.ray();
             let hit = r.hit(args.primID as usize, &Ray::segment(o, d, tfar), tfar, false);
-            let Some((t, u, prim_id)) = hit.filter(|h| h.0 >= tnear) else {
-                *valid = 0;
-                continue;
-            };
-            if !lane.record_hit(t, Vec3::ZERO, (u, 0.0), (args.geomID, prim_id), &inst) {
-                *valid = 0;
-            }
-        }
+            let Some((t, u, prim_id)) = hit.filter(|h| h.0 >= tnear) else { return false };
+            lane.record_hit(t, Vec3::ZERO, (u, 0.0), (args.geomID, prim_id), &inst)
+        });
     }
 }
 
@@ -144,22 +133,15 @@ unsafe extern "C" fn occluded(args: *const ffi::RTCOccludedFunctionNArguments) {
     unsafe {
         let args = &*args;
         let r = &*(args.geometryUserPtr as *const UserRibbons);
-        let n = args.N as usize;
-        for i in 0..n {
-            let valid = args.valid.add(i);
-            if *valid == 0 {
-                continue;
-            }
-            let lane = Lane { base: args.ray as *mut f32, n, i };
+        for_each_valid_lane(args.valid, args.N, args.ray as *mut f32, |lane| {
             let (o, d, tnear, tfar) = lane.ray();
             let hit = r.hit(args.primID as usize, &Ray::segment(o, d, tfar), tfar, true);
             if hit.is_some_and(|(t, _, _)| t >= tnear && t < tfar) {
-                // Embree's convention for "occluded": tfar = −∞.
-                lane.set(field::TFAR, f32::NEG_INFINITY);
-            } else {
-                *valid = 0;
+                lane.mark_occluded();
+                return true;
             }
-        }
+            false
+        });
     }
 }
 

@@ -10,38 +10,12 @@ use super::super::scene::Scene;
 use super::super::TriangleTest;
 use crate::accel::CurveBvh;
 use crate::geometry::curve_hit::curve_surface;
-use crate::geometry::{CurveKind, CurveSegment, Curves, Hit, Mesh, Ray};
+use crate::geometry::shapes::{level_ray_into_ribbon_grid, ribbon_grid};
+use crate::geometry::{CurveKind, Curves, Hit, Mesh, Ray};
 use crate::sampling::Rng;
 
 /// Strand width [scene units].
 const WIDTH: f32 = 0.05;
-
-/// 100 one-segment strands standing on a grid over [−0.5, 0.5]², y from 0 to 1 with a slight
-/// lean, each turning its normal by `twist` [radians] about the vertical from root to tip.
-fn strands(twist: f32) -> Curves {
-    let mut rng = Rng::new(5, 9);
-    let segments = (0..100)
-        .map(|i| {
-            let root = Vec3::new((i % 10) as f32 / 9.0 - 0.5, 0.0, (i / 10) as f32 / 9.0 - 0.5);
-            let lean = Vec3::new(rng.uniform() - 0.5, 0.0, rng.uniform() - 0.5) * 0.1;
-            let cp = [0.0, 1.0 / 3.0, 2.0 / 3.0, 1.0].map(|y: f32| root + Vec3::Y * y + lean * y * y);
-            let phi = std::f32::consts::TAU * rng.uniform();
-            let n = |a: f32| Vec3::new(a.cos(), 0.0, a.sin());
-            CurveSegment::new(cp, [WIDTH, 0.6 * WIDTH], CurveKind::Ribbon, [n(phi), n(phi + twist)])
-        })
-        .collect();
-    Curves { segments, split_depth: 3, flip_normal: false }
-}
-
-/// A horizontal ray from 3 units away toward a random point among the strands: across them,
-/// where a ribbon's seen width w·|n·d̂| is its projected width, so that an untwisted ribbon is
-/// the same surface for both.
-fn level_ray(rng: &mut Rng) -> Ray {
-    let target = Vec3::new(rng.uniform() - 0.5, rng.uniform(), rng.uniform() - 0.5);
-    let phi = std::f32::consts::TAU * rng.uniform();
-    let o = target + 3.0 * Vec3::new(phi.cos(), 0.0, phi.sin());
-    Ray::new(o, (target - o).normalize())
-}
 
 /// How a backend's closest hits compare with the obvhs curve BVH's on the same rays.
 #[derive(Debug, Default)]
@@ -62,7 +36,7 @@ fn compare(intersect: impl Fn(&Ray) -> Option<Hit>, curves: &Curves) -> Agreemen
     let mut rng = Rng::new(31, 4);
     let mut g = Agreement::default();
     for _ in 0..20_000 {
-        let ray = level_ray(&mut rng);
+        let ray = level_ray_into_ribbon_grid(&mut rng);
         match (intersect(&ray), bvh.intersect(&ray)) {
             (Some(x), Some(y)) if x.prim_id != y.prim_id => g.other_strand += 1,
             (Some(x), Some(y)) => {
@@ -85,7 +59,7 @@ fn compare(intersect: impl Fn(&Ray) -> Option<Hit>, curves: &Curves) -> Agreemen
 #[test]
 fn embree_ribbons_are_not_pbrt_v4s_and_the_ribbon_user_geometry_finds_the_obvhs_hits() {
     for twist in [0.0f32, std::f32::consts::FRAC_PI_2] {
-        let curves = strands(twist);
+        let curves = ribbon_grid(twist, WIDTH);
         let native = Scene::native_curves(Device::new().unwrap(), &curves).unwrap();
         let q = ffi::RTCBuildQuality_RTC_BUILD_QUALITY_MEDIUM;
         let extra = crate::accel::ExtraShapes { curves: &[(0, &curves)], quadrics: &[] };
@@ -123,17 +97,7 @@ fn ribbon_speed() {
     let user =
         Scene::build_with_extra(Device::new().unwrap(), &[Mesh::default()], extra, q, TriangleTest::Embree).unwrap();
     let bvh = CurveBvh::new(&[(0, &curves)]);
-    let mut rng = Rng::new(7, 3);
-    let rays: Vec<Ray> = (0..1 << 18)
-        .map(|_| {
-            let z = 1.0 - 2.0 * rng.uniform();
-            let s = (1.0 - z * z).max(0.0).sqrt();
-            let phi = std::f32::consts::TAU * rng.uniform();
-            let o = Vec3::new(0.0, 0.6, 0.0) + 4.0 * Vec3::new(s * phi.cos(), z, s * phi.sin());
-            let target = Vec3::new(rng.uniform() - 0.5, 1.2 * rng.uniform(), rng.uniform() - 0.5);
-            Ray::new(o, (target - o).normalize())
-        })
-        .collect();
+    let rays = crate::geometry::shapes::rays_into_hair_bundle(1 << 18, 7);
     type Trace<'a> = &'a dyn Fn(&Ray) -> bool;
     let backends: [(&str, Trace); 3] = [
         ("Embree's ribbons", &|r| native.intersect(r).is_some()),

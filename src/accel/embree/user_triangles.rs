@@ -29,6 +29,7 @@
 //! N = 1, whose layout is `RTCRayHit`'s.
 
 use std::cell::Cell;
+use std::os::raw::{c_int, c_uint};
 
 use glam::Vec3;
 
@@ -264,6 +265,41 @@ impl Lane {
         }
         true
     }
+
+    /// Marks the ray occluded, by Embree's convention: tfar = −∞.
+    ///
+    /// # Safety
+    /// As [`Lane::set`] for tfar.
+    #[inline(always)]
+    pub(super) unsafe fn mark_occluded(&self) {
+        // SAFETY: by the caller's contract.
+        unsafe { self.set(field::TFAR, f32::NEG_INFINITY) }
+    }
+}
+
+/// Calls `test` on each lane of a callback's packet that `valid` marks valid, and marks the lane
+/// invalid (a miss) where `test` returns false.
+///
+/// # Safety
+/// `valid` has `n` entries and `base` is a packet of width `n` holding every field `test` reads
+/// or writes.
+#[inline(always)]
+pub(super) unsafe fn for_each_valid_lane(
+    valid: *mut c_int,
+    n: c_uint,
+    base: *mut f32,
+    mut test: impl FnMut(&Lane) -> bool,
+) {
+    let n = n as usize;
+    for i in 0..n {
+        // SAFETY: by the caller's contract, `i` < n indexes `valid` and a lane of the packet.
+        unsafe {
+            let v = valid.add(i);
+            if *v != 0 && !test(&Lane { base, n, i }) {
+                *v = 0;
+            }
+        }
+    }
 }
 
 unsafe extern "C" fn intersect(args: *const ffi::RTCIntersectFunctionNArguments) {
@@ -277,25 +313,14 @@ unsafe extern "C" fn intersect(args: *const ffi::RTCIntersectFunctionNArguments)
         let tri = &mesh.triangles[args.primID as usize];
         let ctx = &*(args.context as *const RayContext);
         let inst = ffi::hit_instance_ids(&ctx.rtc);
-        let n = args.N as usize;
-        for i in 0..n {
-            let valid = args.valid.add(i);
-            if *valid == 0 {
-                continue;
-            }
-            let lane = Lane { base: args.rayhit as *mut f32, n, i };
+        for_each_valid_lane(args.valid, args.N, args.rayhit as *mut f32, |lane| {
             let (o, d, tnear, tfar) = lane.ray();
             let hit = ctx.shear.get(o, d).and_then(|r| r.intersect_any_axis(&tri.lanes, tfar));
-            let Some(h) = hit.filter(|h| h.t >= tnear) else {
-                *valid = 0;
-                continue;
-            };
+            let Some(h) = hit.filter(|h| h.t >= tnear) else { return false };
             let [p0, p1, p2] = tri.lanes.vertices();
             let ng = (p1 - p0).cross(p2 - p0);
-            if !lane.record_hit(h.t, ng, (h.u, h.v), (args.geomID, tri.prim_id), &inst) {
-                *valid = 0;
-            }
-        }
+            lane.record_hit(h.t, ng, (h.u, h.v), (args.geomID, tri.prim_id), &inst)
+        });
     }
 }
 
@@ -306,21 +331,14 @@ unsafe extern "C" fn occluded(args: *const ffi::RTCOccludedFunctionNArguments) {
         let mesh = &*(args.geometryUserPtr as *const UserMesh);
         let tri = &mesh.triangles[args.primID as usize];
         let ctx = &*(args.context as *const RayContext);
-        let n = args.N as usize;
-        for i in 0..n {
-            let valid = args.valid.add(i);
-            if *valid == 0 {
-                continue;
-            }
-            let lane = Lane { base: args.ray as *mut f32, n, i };
+        for_each_valid_lane(args.valid, args.N, args.ray as *mut f32, |lane| {
             let (o, d, tnear, tfar) = lane.ray();
             let hit = ctx.shear.get(o, d).and_then(|r| r.intersect_any_axis(&tri.lanes, tfar));
             if hit.is_some_and(|h| h.t >= tnear && h.t < tfar) {
-                // Embree's convention for "occluded": tfar = −∞.
-                lane.set(field::TFAR, f32::NEG_INFINITY);
-            } else {
-                *valid = 0;
+                lane.mark_occluded();
+                return true;
             }
-        }
+            false
+        });
     }
 }
