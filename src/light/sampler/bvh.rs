@@ -182,11 +182,7 @@ impl BvhLightSampler {
                 (v - k as f32).clamp(0.0, 1.0f32.next_down()),
             ));
         }
-        let root = self.nodes.first()?;
-        // Below the root a node is only reached through its positive importance (or, under a
-        // flux split, its parent's, which is the same); the root must be checked when no two
-        // importances are compared there.
-        if (root.leaf || root.flux_split.is_some()) && !root.bounds.reaches(p, n) {
+        if self.nodes.is_empty() || !self.root_reaches(p, n) {
             return None;
         }
         let mut u = ((u - p_inf) / (1.0 - p_inf)).clamp(0.0, 1.0f32.next_down());
@@ -197,22 +193,10 @@ impl BvhLightSampler {
             if node.leaf {
                 return Some((node.child_or_light as usize, pmf, u));
             }
-            let second = node.child_or_light as usize;
-            let p = match node.flux_split {
-                Some(p) => p,
-                None => {
-                    let c0 = self.nodes[index + 1].bounds.importance(p, n);
-                    let c1 = self.nodes[second].bounds.importance(p, n);
-                    if c0 + c1 <= 0.0 {
-                        return None;
-                    }
-                    child_probabilities(c0, c1)
-                }
-            };
-            let (child, p_child, rest) = choose(p, u);
+            let (child, p_child, rest) = choose(self.children_probabilities(index, p, n)?, u);
             pmf *= p_child;
             u = rest;
-            index = if child == 0 { index + 1 } else { second };
+            index = if child == 0 { index + 1 } else { node.child_or_light as usize };
         }
     }
 
@@ -227,27 +211,38 @@ impl BvhLightSampler {
         let mut index = leaf as usize;
         while index != 0 {
             let parent = self.nodes[index].parent as usize;
-            let node = &self.nodes[parent];
-            let second = node.child_or_light as usize;
-            let p = match node.flux_split {
-                Some(p) => p,
-                None => {
-                    let c0 = self.nodes[parent + 1].bounds.importance(p, n);
-                    let c1 = self.nodes[second].bounds.importance(p, n);
-                    if c0 + c1 <= 0.0 {
-                        return 0.0;
-                    }
-                    child_probabilities(c0, c1)
-                }
-            };
-            pmf *= p[usize::from(index == second)];
+            let Some(probabilities) = self.children_probabilities(parent, p, n) else { return 0.0 };
+            pmf *= probabilities[usize::from(index == self.nodes[parent].child_or_light as usize)];
             index = parent;
         }
-        let root = &self.nodes[0];
-        if (root.leaf || root.flux_split.is_some()) && !root.bounds.reaches(p, n) {
-            return 0.0;
+        if self.root_reaches(p, n) {
+            pmf
+        } else {
+            0.0
         }
-        pmf
+    }
+
+    /// The probabilities of interior node `index`'s two children at `p`, `n`: by their flux
+    /// under a flux split, else by their importances; `None` when neither can light `p`.
+    #[inline]
+    fn children_probabilities(&self, index: usize, p: Vec3, n: Vec3) -> Option<[f32; 2]> {
+        let node = &self.nodes[index];
+        if let Some(split) = node.flux_split {
+            return Some(split);
+        }
+        let c0 = self.nodes[index + 1].bounds.importance(p, n);
+        let c1 = self.nodes[node.child_or_light as usize].bounds.importance(p, n);
+        (c0 + c1 > 0.0).then(|| child_probabilities(c0, c1))
+    }
+
+    /// Whether the root (the tree must have one) may light `p`, `n`. Below the root a node is
+    /// only reached through its positive importance (or, under a flux split, its parent's,
+    /// which is the same); the root itself needs this check when no two importances are
+    /// compared there: a leaf, or a flux split.
+    #[inline]
+    fn root_reaches(&self, p: Vec3, n: Vec3) -> bool {
+        let root = &self.nodes[0];
+        !(root.leaf || root.flux_split.is_some()) || root.bounds.reaches(p, n)
     }
 }
 
