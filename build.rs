@@ -1,12 +1,12 @@
 //! Build script: Embree 3 bindings by bindgen (feature `embree`) or the Embree 4 library to link
 //! (feature `embree4`; its declarations are in src/accel/embree/ffi/), and the OpenImageIO C++
-//! shim compiled by cc (feature `oiio`). Each system library is found at its standard Debian
+//! shim compiled into a shared library with cc's compiler (feature `oiio`). Each system library is found at its standard Debian
 //! path, with an environment-variable override, and a missing one fails with what to install.
 //!
 //! Either Embree feature sets `cfg(embree)`, which the code outside src/accel/embree/ tests.
 
 use std::env;
-#[cfg(any(feature = "embree", feature = "embree4"))]
+#[cfg(any(feature = "embree", feature = "embree4", feature = "oiio"))]
 use std::path::PathBuf;
 
 fn main() {
@@ -23,9 +23,9 @@ fn main() {
     if embree3 || embree4 {
         println!("cargo:rustc-cfg=embree");
     }
-    // Embree before OpenImageIO on the link line: the dynamic loader then searches Embree 4's
-    // own oneTBB (a dependency of libembree4) before the system oneTBB that OpenImageIO pulls in,
-    // and both export the same unversioned symbols.
+    // OpenImageIO is not on the link line (its shim is loaded on first use), so Embree 4's own
+    // oneTBB is in the global scope before the system oneTBB that OpenImageIO pulls in later:
+    // both export the same unversioned symbols, and the loader binds the first.
     if embree3 {
         build_embree();
     }
@@ -184,16 +184,16 @@ fn fail(message: &str) -> ! {
     std::process::exit(1);
 }
 
-/// Compiles `cpp/oiio_shim.cpp` (C++17) against the system OpenImageIO found by pkg-config and
-/// links it together with `OpenImageIO` and `OpenImageIO_Util`.
+/// Compiles `cpp/oiio_shim.cpp` (C++17) against the system OpenImageIO found by pkg-config into
+/// the shared library `libprism_oiio_shim.so` in OUT_DIR, whose path the crate receives as
+/// `PRISM_OIIO_SHIM`. prism loads it on first use rather than linking it: OpenImageIO brings ~260
+/// shared libraries whose loading and relocation cost every process 0.26 s at start-up.
 #[cfg(feature = "oiio")]
 fn build_oiio() {
     println!("cargo:rerun-if-changed=cpp/oiio_shim.h");
     println!("cargo:rerun-if-changed=cpp/oiio_shim.cpp");
     println!("cargo:rerun-if-env-changed=PKG_CONFIG_PATH");
 
-    // Probe without emitting link lines yet: the shim's static library must come before the
-    // OIIO shared libraries on the link line, or the linker drops them as unneeded.
     let oiio = match pkg_config::Config::new().cargo_metadata(false).probe("OpenImageIO") {
         Ok(lib) => lib,
         Err(e) => fail(&format!(
@@ -205,14 +205,17 @@ fn build_oiio() {
     };
 
     let mut build = cc::Build::new();
-    build.cpp(true).std("c++17").file("cpp/oiio_shim.cpp").include("cpp").warnings(true);
+    build.cpp(true).std("c++17").pic(true).include("cpp").warnings(true).cargo_metadata(false);
     for dir in &oiio.include_paths {
         build.include(dir);
     }
-    build.compile("prism_oiio_shim");
-
+    let compiler =
+        build.try_get_compiler().unwrap_or_else(|e| fail(&format!("no C++ compiler for the OpenImageIO shim: {e}")));
+    let out = PathBuf::from(env::var("OUT_DIR").expect("OUT_DIR")).join("libprism_oiio_shim.so");
+    let mut cmd = compiler.to_command();
+    cmd.args(["-shared", "-Wl,--no-undefined", "-o"]).arg(&out).arg("cpp/oiio_shim.cpp");
     for dir in &oiio.link_paths {
-        println!("cargo:rustc-link-search=native={}", dir.display());
+        cmd.arg(format!("-L{}", dir.display())).arg(format!("-Wl,-rpath,{}", dir.display()));
     }
     // pkg-config lists both OpenImageIO and OpenImageIO_Util; the shim needs both.
     let mut libs = oiio.libs.clone();
@@ -221,9 +224,16 @@ fn build_oiio() {
             libs.push(needed.to_string());
         }
     }
-    for lib in libs {
-        println!("cargo:rustc-link-lib={lib}");
+    cmd.args(libs.iter().map(|l| format!("-l{l}")));
+    match cmd.output() {
+        Ok(o) if o.status.success() => {}
+        Ok(o) => fail(&format!(
+            "compiling the OpenImageIO shim failed: {}",
+            String::from_utf8_lossy(&o.stderr).lines().find(|l| l.contains("error")).unwrap_or("(no message)")
+        )),
+        Err(e) => fail(&format!("cannot run the C++ compiler for the OpenImageIO shim: {e}")),
     }
+    println!("cargo:rustc-env=PRISM_OIIO_SHIM={}", out.display());
 }
 
 #[cfg(not(feature = "oiio"))]

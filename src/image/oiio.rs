@@ -1,10 +1,13 @@
-//! Safe wrapper over the OpenImageIO C++ shim (`cpp/oiio_shim.{h,cpp}`).
+//! Safe wrapper over the OpenImageIO C++ shim (`cpp/oiio_shim.{h,cpp}`), a shared library that
+//! build.rs compiles and this module loads on first use, so that a process which never needs
+//! OpenImageIO does not pay for loading it (~260 shared libraries, 0.26 s).
 //!
 //! The only `unsafe` code of the image module lives here. The shim catches every C++
 //! exception and reports failures through a caller-owned message buffer.
 
 use std::ffi::{c_char, c_int, CString};
-use std::path::Path;
+use std::path::{Path, PathBuf};
+use std::sync::OnceLock;
 
 use super::format::FileFormat;
 use super::{srgb, ExrSample, Image, WriteOptions};
@@ -18,42 +21,71 @@ const UINT16: c_int = 3;
 /// Size of the message buffer handed to the shim; longer messages are truncated.
 const ERR_LEN: usize = 1024;
 
-mod ffi {
-    use std::ffi::{c_char, c_int};
+/// `int prism_oiio_write(const char*, int, int, int, const float*, int, int, const int*, char*, size_t)`.
+type WriteFn = unsafe extern "C" fn(
+    *const c_char,
+    c_int,
+    c_int,
+    c_int,
+    *const f32,
+    c_int,
+    c_int,
+    *const c_int,
+    *mut c_char,
+    usize,
+) -> c_int;
+/// `int prism_oiio_read_info(const char*, int*, int*, int*, int*, char*, size_t)`.
+type ReadInfoFn =
+    unsafe extern "C" fn(*const c_char, *mut c_int, *mut c_int, *mut c_int, *mut c_int, *mut c_char, usize) -> c_int;
+/// `int prism_oiio_read(const char*, int, int, int, float*, size_t, char*, size_t)`.
+type ReadFn = unsafe extern "C" fn(*const c_char, c_int, c_int, c_int, *mut f32, usize, *mut c_char, usize) -> c_int;
 
-    extern "C" {
-        pub fn prism_oiio_write(
-            path: *const c_char,
-            width: c_int,
-            height: c_int,
-            channels: c_int,
-            pixels: *const f32,
-            format: c_int,
-            quality: c_int,
-            window: *const c_int,
-            err: *mut c_char,
-            err_len: usize,
-        ) -> c_int;
-        pub fn prism_oiio_read_info(
-            path: *const c_char,
-            width: *mut c_int,
-            height: *mut c_int,
-            channels: *mut c_int,
-            format: *mut c_int,
-            err: *mut c_char,
-            err_len: usize,
-        ) -> c_int;
-        pub fn prism_oiio_read(
-            path: *const c_char,
-            width: c_int,
-            height: c_int,
-            channels: c_int,
-            pixels: *mut f32,
-            pixel_count: usize,
-            err: *mut c_char,
-            err_len: usize,
-        ) -> c_int;
+/// The shim's three entry points, resolved from the loaded library (cpp/oiio_shim.h).
+struct Shim {
+    write: WriteFn,
+    read_info: ReadInfoFn,
+    read: ReadFn,
+    /// Keeps the library mapped for as long as the pointers above are used (the whole process).
+    _library: libloading::Library,
+}
+
+/// Where the shim may be: `PRISM_OIIO_SHIM` at run time, beside the executable, then where the
+/// build script wrote it.
+fn shim_candidates() -> Vec<PathBuf> {
+    const NAME: &str = "libprism_oiio_shim.so";
+    let mut paths: Vec<PathBuf> = std::env::var_os("PRISM_OIIO_SHIM").map(PathBuf::from).into_iter().collect();
+    if let Some(dir) = std::env::current_exe().ok().as_deref().and_then(Path::parent) {
+        paths.push(dir.join(NAME));
     }
+    paths.push(PathBuf::from(env!("PRISM_OIIO_SHIM")));
+    paths
+}
+
+/// The shim, loaded (with OpenImageIO and its dependencies) on the first call.
+fn shim() -> Result<&'static Shim, String> {
+    static SHIM: OnceLock<Result<Shim, String>> = OnceLock::new();
+    SHIM.get_or_init(|| {
+        let path = shim_candidates()
+            .into_iter()
+            .find(|p| p.is_file())
+            .ok_or("the OpenImageIO shim libprism_oiio_shim.so was not found (set PRISM_OIIO_SHIM to its path)")?;
+        let fail = |e: libloading::Error| format!("cannot load the OpenImageIO shim {}: {e}", path.display());
+        // SAFETY: the library is prism's own shim built by build.rs from cpp/oiio_shim.cpp, whose
+        // initialisers (and OpenImageIO's) have no preconditions on the caller.
+        let library = unsafe { libloading::Library::new(&path) }.map_err(fail)?;
+        // SAFETY: each symbol is declared in cpp/oiio_shim.h with exactly the C signature of the
+        // type it is read as; the pointers stay valid because `library` is kept with them.
+        unsafe {
+            Ok(Shim {
+                write: *library.get::<WriteFn>(b"prism_oiio_write\0").map_err(fail)?,
+                read_info: *library.get::<ReadInfoFn>(b"prism_oiio_read_info\0").map_err(fail)?,
+                read: *library.get::<ReadFn>(b"prism_oiio_read\0").map_err(fail)?,
+                _library: library,
+            })
+        }
+    })
+    .as_ref()
+    .map_err(Clone::clone)
 }
 
 fn c_path(path: &Path) -> Result<CString, String> {
@@ -78,6 +110,7 @@ fn to_c_int(v: u32, what: &str) -> Result<c_int, String> {
 
 /// Writes `img` (already validated for `format`) to `path` through OpenImageIO.
 pub(crate) fn write(path: &Path, format: FileFormat, img: &Image, opts: &WriteOptions) -> Result<(), String> {
+    let shim = shim()?;
     let cpath = c_path(path)?;
     let c = img.channels as usize;
     // Integer formats: quantise here exactly as the Rust path does (code / max is exact
@@ -120,7 +153,7 @@ pub(crate) fn write(path: &Path, format: FileFormat, img: &Image, opts: &WriteOp
     // width·height·channels floats (checked by `Image::validate` before we get here) and
     // outlives the call; `err` is a writable buffer of ERR_LEN bytes whose length we pass.
     let rc = unsafe {
-        ffi::prism_oiio_write(
+        (shim.write)(
             cpath.as_ptr(),
             to_c_int(img.width, "width")?,
             to_c_int(img.height, "height")?,
@@ -142,14 +175,13 @@ pub(crate) fn write(path: &Path, format: FileFormat, img: &Image, opts: &WriteOp
 
 /// Reads `path` through OpenImageIO into linear floats (integer formats are sRGB-decoded).
 pub(crate) fn read(path: &Path) -> Result<Image, String> {
+    let shim = shim()?;
     let cpath = c_path(path)?;
     let (mut w, mut h, mut c, mut fmt): (c_int, c_int, c_int, c_int) = (0, 0, 0, 0);
     let mut err = [0 as c_char; ERR_LEN];
     // SAFETY: `cpath` is a live NUL-terminated string; the four out-pointers point at live
     // local integers; `err` is a writable buffer of ERR_LEN bytes whose length we pass.
-    let rc = unsafe {
-        ffi::prism_oiio_read_info(cpath.as_ptr(), &mut w, &mut h, &mut c, &mut fmt, err.as_mut_ptr(), ERR_LEN)
-    };
+    let rc = unsafe { (shim.read_info)(cpath.as_ptr(), &mut w, &mut h, &mut c, &mut fmt, err.as_mut_ptr(), ERR_LEN) };
     if rc != 0 {
         return Err(message(&err));
     }
@@ -163,8 +195,7 @@ pub(crate) fn read(path: &Path) -> Result<Image, String> {
     data.resize(count, 0.0);
     // SAFETY: `data` holds exactly `count` = w·h·c writable floats and the shim writes at
     // most `pixel_count` of them; `cpath` and `err` are as above.
-    let rc =
-        unsafe { ffi::prism_oiio_read(cpath.as_ptr(), w, h, c, data.as_mut_ptr(), count, err.as_mut_ptr(), ERR_LEN) };
+    let rc = unsafe { (shim.read)(cpath.as_ptr(), w, h, c, data.as_mut_ptr(), count, err.as_mut_ptr(), ERR_LEN) };
     if rc != 0 {
         return Err(message(&err));
     }
