@@ -36,7 +36,7 @@ test-embree4: deps
 
 compat:
 	$(CARGO) build --release
-	./target/release/prism compat --doc docs/compatibility.md
+	./target/release/prism compat --repeat 3 --doc docs/compatibility.md
 
 lint: deps
 	$(CARGO) fmt --check

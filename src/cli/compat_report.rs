@@ -171,7 +171,7 @@ pub fn markdown(reports: &[SceneReport], command: &str, notes: Option<&str>) -> 
          pbrt-v4's high-spp image; pbrt-v4's own error is that of its second-seed image at the same spp. \
          A scene **matches** when it renders with no unsupported-feature warning, every channel mean is \
          within {:.0}% of pbrt-v4's and the error is at most {ERROR_RATIO_LIMIT}× pbrt-v4's. **Time to \
-         pbrt-v4's error** is prism's wall time × (error ratio)², the time at which noise alone would fall \
+         pbrt-v4's error** is prism's wall time (the median of `--repeat` runs, one by default) × (error ratio)², the time at which noise alone would fall \
          to pbrt-v4's error; it means something only for scenes that match. pbrt-v4's times are its \
          recorded wall times (a loaded 2-core machine of the same kind: an upper bound).\n",
         MEAN_TOLERANCE * 100.0
