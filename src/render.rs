@@ -9,6 +9,7 @@ use crate::filter::Filter;
 use crate::geometry::Ray;
 use crate::integrator::lanes::{self, LaneTrace, LaneTracer};
 use crate::integrator::{PathIntegrator, Stats, VolPathIntegrator};
+use crate::material::Material;
 use crate::sampling::Sampler;
 use crate::scene::Scene;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
@@ -126,6 +127,11 @@ pub fn render_pass(scene: &Scene, settings: &RenderSettings, film: &mut Film, ra
     // A scene with media is rendered by the volumetric path tracer; one without never reaches it.
     let volpath = scene.has_media().then(|| VolPathIntegrator::from_path(&integrator));
     let tracer = settings.lanes.filter(|_| volpath.is_none()).and_then(|t| LaneTracer::new(integrator, scene, t).ok());
+    // A camera ray's own differentials are only needed where a texture is filtered with them.
+    let differentials = integrator
+        .footprint
+        .as_ref()
+        .filter(|_| tracer.is_none() && scene.materials().iter().any(Material::is_textured));
     film.pixels
         .par_chunks_mut(width * BAND_ROWS)
         .enumerate()
@@ -134,7 +140,8 @@ pub fn render_pass(scene: &Scene, settings: &RenderSettings, film: &mut Film, ra
             // Pixels are named by their place in the full image, so a crop renders exactly
             // the samples of the same pixels of the full render.
             let pixel_at = |i: usize| (x0 + (i % width) as u32, y0 + (band * BAND_ROWS + i / width) as u32);
-            // A camera sample of pixel `(x, y)`: its wavelengths, filter weight and ray.
+            // A camera sample of pixel `(x, y)`: its wavelengths, filter weight, ray and the
+            // ray's differentials.
             let start = |sampler: &mut Sampler, (x, y): (u32, u32), s: u64| {
                 sampler.start_pixel_sample((x, y), s, settings.seed);
                 let u = sampler.get_pixel_3d();
@@ -148,7 +155,12 @@ pub fn render_pass(scene: &Scene, settings: &RenderSettings, film: &mut Film, ra
                     let u = sampler.get_1d();
                     open + (close - open) * u
                 });
-                (lambdas, weight, camera.sample_ray(p_film, sampler.get_2d(), time))
+                let u_lens = sampler.get_2d();
+                let ray = camera.sample_ray(p_film, u_lens, time);
+                let diff = differentials
+                    .zip(ray.as_ref())
+                    .and_then(|(f, r)| f.camera_ray_differentials(&camera, &r.ray, p_film, u_lens));
+                (lambdas, weight, ray, diff)
             };
             let add = |px: &mut crate::film::Pixel,
                        stats: &mut Stats,
@@ -181,7 +193,7 @@ pub fn render_pass(scene: &Scene, settings: &RenderSettings, film: &mut Film, ra
                         let mut weights = [0.0; lanes::LANES];
                         let mut ray_weights = [0.0; lanes::LANES];
                         let rays = std::array::from_fn(|k| {
-                            let (lambdas, weight, ray) = start(&mut samplers[k], at[k], s);
+                            let (lambdas, weight, ray, _) = start(&mut samplers[k], at[k], s);
                             (w[k], weights[k]) = (lambdas, weight);
                             let ray = ray.unwrap_or(CameraRay { ray: Ray::new(Vec3::ZERO, Vec3::Z), weight: 0.0 });
                             ray_weights[k] = ray.weight;
@@ -201,12 +213,15 @@ pub fn render_pass(scene: &Scene, settings: &RenderSettings, film: &mut Film, ra
             for (i, px) in pixels.iter_mut().enumerate() {
                 let (x, y) = pixel_at(i);
                 for s in range.clone() {
-                    let (mut lambdas, weight, ray) = start(&mut sampler, (x, y), s);
+                    let (mut lambdas, weight, ray, diff) = start(&mut sampler, (x, y), s);
+                    let diff = diff.as_ref();
                     let l = match (ray, &volpath) {
                         (None, _) => SampledSpectrum::splat(0.0),
-                        (Some(r), Some(v)) => v.li(scene, r.ray, &mut lambdas, &mut sampler, &mut stats) * r.weight,
+                        (Some(r), Some(v)) => {
+                            v.li_camera(scene, r.ray, diff, &mut lambdas, &mut sampler, &mut stats) * r.weight
+                        }
                         (Some(r), None) => {
-                            integrator.li(scene, r.ray, &mut lambdas, &mut sampler, &mut stats) * r.weight
+                            integrator.li_camera(scene, r.ray, diff, &mut lambdas, &mut sampler, &mut stats) * r.weight
                         }
                     };
                     add(px, &mut stats, (x, y), s, l, lambdas, weight);

@@ -28,6 +28,7 @@ use crate::sampling::Sampler;
 use crate::scene::Scene;
 use crate::simd::{Lanes, LanesMask, Mask, Real, S4, V3};
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
+use crate::texture::Footprint;
 
 /// How a group of rays is traced.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -147,7 +148,8 @@ impl<'s> LaneTracer<'s> {
                         l.set_lane(i, li);
                     }
                 }
-                let Some(Bxdf::Diffuse(d)) = si.bsdf(&mut w[i], self.integrator.footprint.as_ref()).map(|b| b.bxdf)
+                let Some(Bxdf::Diffuse(d)) =
+                    si.bsdf(&mut w[i], self.integrator.footprint.as_ref().map(Footprint::Camera)).map(|b| b.bxdf)
                 else {
                     unreachable!("LaneTracer::new admits Lambertian materials only")
                 };

@@ -12,7 +12,7 @@ use crate::sampling::mis::power_heuristic;
 use crate::sampling::Sampler;
 use crate::scene::{Scene, SurfaceInteraction, MAX_INTERFACE_CROSSINGS};
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
-use crate::texture::TextureFootprint;
+use crate::texture::{Footprint, RayDifferentials, TextureFootprint};
 use glam::Vec3;
 
 /// Which estimators of direct light to use (for validating MIS: all three must agree).
@@ -113,7 +113,21 @@ impl PathIntegrator {
         sampler: &mut Sampler,
         stats: &mut Stats,
     ) -> SampledSpectrum {
-        self.trace(scene, ray, None, w, sampler, stats)
+        self.trace(scene, ray, None, None, w, sampler, stats)
+    }
+
+    /// [`Self::li`] for a camera ray with its differentials, which give the texture footprint
+    /// at its first hit.
+    pub fn li_camera(
+        &self,
+        scene: &Scene,
+        ray: Ray,
+        differentials: Option<&RayDifferentials>,
+        w: &mut SampledWavelengths,
+        sampler: &mut Sampler,
+        stats: &mut Stats,
+    ) -> SampledSpectrum {
+        self.trace(scene, ray, differentials, None, w, sampler, stats)
     }
 
     /// Irradiance E [W/(m²·nm)] at `p` on a surface with unit normal `n`, by the full integrator:
@@ -131,7 +145,7 @@ impl PathIntegrator {
         let si = SurfaceInteraction::sensor(p, n);
         let bsdf = Bsdf::new(n, Vec3::ZERO, n, Diffuse::new(SampledSpectrum::one()).into());
         let probe = Ray::new(p + n, -n); // only its origin matters for MIS bookkeeping
-        self.trace(scene, probe, Some((si, bsdf)), w, sampler, stats) * PI
+        self.trace(scene, probe, None, Some((si, bsdf)), w, sampler, stats) * PI
     }
 
     /// MIS weight of emission found by BSDF sampling, given the light's solid-angle pdf.
@@ -145,12 +159,14 @@ impl PathIntegrator {
         }
     }
 
-    /// The path loop. `pending` is a vertex found without tracing the current ray (the
-    /// irradiance sensor; a subsurface exit), whose BSDF is given.
+    /// The path loop. `differentials` are the camera ray's, `pending` is a vertex found without
+    /// tracing the current ray (the irradiance sensor; a subsurface exit), whose BSDF is given.
+    #[allow(clippy::too_many_arguments)]
     fn trace<'s>(
         &self,
         scene: &'s Scene,
         mut ray: Ray,
+        differentials: Option<&RayDifferentials>,
         mut pending: Option<(SurfaceInteraction<'s>, Bsdf)>,
         w: &mut SampledWavelengths,
         sampler: &mut Sampler,
@@ -204,7 +220,8 @@ impl PathIntegrator {
             let bsdf = match &given_bsdf {
                 Some(b) => b,
                 None => {
-                    computed = si.bsdf(w, self.footprint.as_ref());
+                    let footprint = Footprint::of_vertex(self.footprint.as_ref(), differentials, state.depth == 1);
+                    computed = si.bsdf(w, footprint);
                     if let Some(b) = computed.as_mut().filter(|_| self.regularize && state.any_non_specular) {
                         b.bxdf.regularize();
                     }

@@ -24,7 +24,7 @@ use crate::media::{sample_t_maj, HenyeyGreenstein};
 use crate::sampling::Sampler;
 use crate::scene::{Scene, SurfaceInteraction, MAX_INTERFACE_CROSSINGS};
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
-use crate::texture::TextureFootprint;
+use crate::texture::{Footprint, RayDifferentials, TextureFootprint};
 use glam::Vec3;
 
 /// The volumetric path tracer's settings.
@@ -63,6 +63,21 @@ impl VolPathIntegrator {
         &self,
         scene: &Scene,
         ray: Ray,
+        w: &mut SampledWavelengths,
+        sampler: &mut Sampler,
+        stats: &mut Stats,
+    ) -> SampledSpectrum {
+        self.li_camera(scene, ray, None, w, sampler, stats)
+    }
+
+    /// [`Self::li`] for a camera ray with its differentials, which give the texture footprint
+    /// at its first surface vertex (through interfaces and null collisions, which do not
+    /// scatter it).
+    pub fn li_camera(
+        &self,
+        scene: &Scene,
+        ray: Ray,
+        differentials: Option<&RayDifferentials>,
         w: &mut SampledWavelengths,
         sampler: &mut Sampler,
         stats: &mut Stats,
@@ -190,7 +205,8 @@ impl VolPathIntegrator {
             let bsdf = match given_bsdf {
                 Some(b) => b,
                 None => {
-                    let Some(mut b) = si.bsdf(w, self.footprint.as_ref()) else { break };
+                    let footprint = Footprint::of_vertex(self.footprint.as_ref(), differentials, depth == 1);
+                    let Some(mut b) = si.bsdf(w, footprint) else { break };
                     if self.regularize && any_non_specular {
                         b.bxdf.regularize();
                     }

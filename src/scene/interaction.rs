@@ -10,7 +10,7 @@ use crate::material::{hit_key, Material, ShadingDerivatives, ShadingPoint};
 use crate::math::{offset_ray_origin, triangle_point};
 use crate::sampling::rng::hash64;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
-use crate::texture::{TextureEvalContext, TextureFootprint};
+use crate::texture::{Footprint, TextureEvalContext};
 use glam::{Vec2, Vec3};
 
 /// A point on a surface where a ray hit, with the primitive it belongs to.
@@ -183,11 +183,11 @@ impl<'s> SurfaceInteraction<'s> {
     /// with the pixel footprint `footprint` estimates here for filtered texture lookups
     /// (pbrt-v4 `SurfaceInteraction::ComputeDifferentials`) when the material has textures
     /// that vary; `None` gives the finest texture detail.
-    pub fn shading_point(&self, footprint: Option<&TextureFootprint>) -> ShadingPoint {
+    pub fn shading_point(&self, footprint: Option<Footprint>) -> ShadingPoint {
         self.shading_point_for(self.bound.map(|b| b.material()), footprint)
     }
 
-    fn shading_point_for(&self, material: Option<&Material>, footprint: Option<&TextureFootprint>) -> ShadingPoint {
+    fn shading_point_for(&self, material: Option<&Material>, footprint: Option<Footprint>) -> ShadingPoint {
         let mut tex = self.texture_point();
         if let Some(f) = footprint.filter(|_| material.is_some_and(Material::is_textured)) {
             let (dpdx, dpdy) = f.dp_dxy(self.p, self.shading.ns, self.time);
@@ -266,7 +266,7 @@ impl<'s> SurfaceInteraction<'s> {
     /// the hero wavelength (`None` for a virtual sensor or an interface); textures are
     /// filtered over `footprint`'s estimate of the pixel footprint.
     #[inline]
-    pub fn bsdf(&self, w: &mut SampledWavelengths, footprint: Option<&TextureFootprint>) -> Option<Bsdf> {
+    pub fn bsdf(&self, w: &mut SampledWavelengths, footprint: Option<Footprint>) -> Option<Bsdf> {
         let b = self.bound?;
         let material = self.resolve(b.material(), &self.texture_point());
         let sp = self.shading_point_for(Some(material), footprint);

@@ -6,8 +6,16 @@
 //! many samples per pixel already average a pixel's area. The differentials are camera-space
 //! quantities; a moving camera carries them to the shading point's time by its transform then
 //! (pbrt-v4 `CameraFromRender(p, time)`).
+//!
+//! A camera ray's first hit uses the ray's own differentials instead, as pbrt-v4 does
+//! (`CameraBase::GenerateRayDifferential`, `SurfaceInteraction::ComputeDifferentials`): the rays
+//! through the film position's neighbours met with the tangent plane. Where the camera-wide
+//! estimate and the ray's own differentials disagree most — a spherical camera's poles, where
+//! a pixel's φ step shrinks to nothing and the estimate's fixed frame points across it — only
+//! the latter follows the pixel.
 
 use crate::camera::{Camera, CameraTransform};
+use crate::geometry::Ray;
 use glam::{Vec2, Vec3};
 
 /// Film step of the finite differences that give a camera ray's change per pixel [pixels].
@@ -56,7 +64,83 @@ fn to_local(z: Vec3, v: Vec3) -> Vec3 {
     Vec3::new(v.dot(x), v.dot(y), v.dot(z))
 }
 
+/// A camera ray's neighbours one pixel step away along x and y (pbrt-v4's `RayDifferential`),
+/// scaled by max(1/8, 1/√spp) as the camera-wide estimate is: origins and directions (not unit)
+/// [world space].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RayDifferentials {
+    /// The neighbour along x: origin, direction.
+    x: (Vec3, Vec3),
+    /// The neighbour along y.
+    y: (Vec3, Vec3),
+}
+
+impl RayDifferentials {
+    /// ∂p/∂x and ∂p/∂y at `p` on the tangent plane of normal `n`: where the neighbouring rays
+    /// meet it; `None` when one runs parallel to it.
+    fn dp_dxy(&self, p: Vec3, n: Vec3) -> Option<(Vec3, Vec3)> {
+        let on_plane = |(o, d): (Vec3, Vec3)| {
+            let v = o + d * (n.dot(p - o) / n.dot(d)) - p;
+            v.is_finite().then_some(v)
+        };
+        Some((on_plane(self.x)?, on_plane(self.y)?))
+    }
+}
+
+/// What a shading point's pixel footprint is estimated from.
+#[derive(Clone, Copy, Debug)]
+pub enum Footprint<'a> {
+    /// The camera-wide estimate: every vertex after a path's first.
+    Camera(&'a TextureFootprint),
+    /// A camera ray's own differentials, at its first hit (the estimate where they fail).
+    CameraRay(&'a TextureFootprint, &'a RayDifferentials),
+}
+
+impl<'a> Footprint<'a> {
+    /// The footprint at a path's vertex: the camera ray's differentials at the `first` vertex,
+    /// when there are any; `None` without a camera estimate (textures at their finest detail).
+    pub fn of_vertex(
+        camera: Option<&'a TextureFootprint>,
+        camera_ray: Option<&'a RayDifferentials>,
+        first: bool,
+    ) -> Option<Self> {
+        let camera = camera?;
+        Some(match camera_ray.filter(|_| first) {
+            Some(r) => Footprint::CameraRay(camera, r),
+            None => Footprint::Camera(camera),
+        })
+    }
+
+    /// ∂p/∂x and ∂p/∂y at `p` on a surface with unit normal `n` [world space], at `time`.
+    pub fn dp_dxy(&self, p: Vec3, n: Vec3, time: f32) -> (Vec3, Vec3) {
+        match self {
+            Footprint::Camera(c) => c.dp_dxy(p, n, time),
+            Footprint::CameraRay(c, r) => r.dp_dxy(p, n).unwrap_or_else(|| c.dp_dxy(p, n, time)),
+        }
+    }
+}
+
 impl TextureFootprint {
+    /// The differentials of `camera`'s ray `ray` through `p_film` with lens sample `u_lens`:
+    /// finite differences over [`FILM_STEP`] pixel (the other way where a lens blocks the first),
+    /// as pbrt-v4's `CameraBase::GenerateRayDifferential`; `None` when a lens blocks both.
+    pub fn camera_ray_differentials(
+        &self,
+        camera: &Camera,
+        ray: &Ray,
+        p_film: Vec2,
+        u_lens: Vec2,
+    ) -> Option<RayDifferentials> {
+        let neighbour = |axis: Vec2| {
+            [FILM_STEP, -FILM_STEP].into_iter().find_map(|step| {
+                let shifted = camera.sample_ray(p_film + axis * step, u_lens, ray.time)?.ray;
+                let s = self.spp_scale / step;
+                Some((ray.o + (shifted.o - ray.o) * s, ray.d + (shifted.d - ray.d) * s))
+            })
+        };
+        Some(RayDifferentials { x: neighbour(Vec2::X)?, y: neighbour(Vec2::Y)? })
+    }
+
     /// The footprint estimator for `camera` rendering `spp` samples per pixel.
     pub fn new(camera: &Camera, spp: u64) -> Self {
         // The rays are compared in camera space; a moving camera is measured at one time of its
@@ -161,6 +245,57 @@ mod tests {
         assert!((f16.dp_dxy(Vec3::new(0.0, 0.0, 2.2), -Vec3::Y, 0.0).0.length() / dx.length() - 0.25).abs() < 1e-4);
         let f1024 = TextureFootprint::new(&cam, 1024);
         assert!((f1024.dp_dxy(Vec3::new(0.0, 0.0, 2.2), -Vec3::Y, 0.0).0.length() / dx.length() - 0.125).abs() < 1e-4);
+    }
+
+    #[test]
+    fn a_camera_rays_differentials_give_its_own_pixel_step() {
+        // The ray through the film's centre meets the wall y = 0, 9 away, head-on: one pixel
+        // moves the film point (s_x, s_y, 1) by 2t/200 (t = tan 14°), so the hit by 9 · 2t/200,
+        // along the camera's x and y; the camera-wide estimate is the corner's, shorter by
+        // √(1 + t²)/(1 + 2t²).
+        let cam = camera((200, 200), 28.0);
+        let f = TextureFootprint::new(&cam, 1);
+        let (p_film, u_lens) = (Vec2::new(100.0, 100.0), Vec2::splat(0.5));
+        let ray = cam.sample_ray(p_film, u_lens, 0.0).unwrap().ray;
+        let rd = f.camera_ray_differentials(&cam, &ray, p_film, u_lens).unwrap();
+        let p = Vec3::new(0.0, 0.0, 2.2);
+        let (dx, dy) = Footprint::CameraRay(&f, &rd).dp_dxy(p, -Vec3::Y, 0.0);
+        let t = 14f32.to_radians().tan();
+        let step = 9.0 * 2.0 * t / 200.0;
+        assert!((dx.length() / step - 1.0).abs() < 1e-3 && (dy.length() / step - 1.0).abs() < 1e-3, "{dx} {dy}");
+        assert!(dx.normalize().cross(Vec3::X).length() < 1e-3 && dy.normalize().cross(Vec3::Z).length() < 1e-3);
+        let (ax, _) = Footprint::Camera(&f).dp_dxy(p, -Vec3::Y, 0.0);
+        let corner = (1.0 + t * t).sqrt() / (1.0 + 2.0 * t * t);
+        assert!((ax.length() / (step * corner) - 1.0).abs() < 0.02, "{ax}");
+        // 1024 samples per pixel: an eighth of that, as the estimate.
+        let f1024 = TextureFootprint::new(&cam, 1024);
+        let rd = f1024.camera_ray_differentials(&cam, &ray, p_film, u_lens).unwrap();
+        let (dx, _) = Footprint::CameraRay(&f1024, &rd).dp_dxy(p, -Vec3::Y, 0.0);
+        assert!((dx.length() / step - 0.125).abs() < 1e-3, "{dx}");
+    }
+
+    #[test]
+    fn at_a_spherical_cameras_pole_the_differentials_follow_the_pixel() {
+        // An equirectangular camera 1.1 above the floor y = 0, looking along +z; the pixel at
+        // φ ≈ 89° (column 47.5 of 192), θ = π · 94.5/96 sees the floor at r = 1.1 tan(π − θ)
+        // from the point below. One row turns θ by π/96, moving the hit by
+        // 1.1 (π/96)/cos²(π − θ) radially (along z here); one column turns φ by 2π/192, moving it
+        // by r · 2π/192 across (along x). The camera-wide estimate has one frame for the whole
+        // pole and cannot follow φ.
+        let m = Camera::look_at(Vec3::new(0.0, 1.1, 0.0), Vec3::new(0.0, 1.1, 1.0), Vec3::Y);
+        let cam = Camera::spherical(m, (192, 96), crate::camera::Projection::SphericalEquirect);
+        let f = TextureFootprint::new(&cam, 1);
+        let (p_film, u_lens) = (Vec2::new(47.5, 94.5), Vec2::splat(0.5));
+        let ray = cam.sample_ray(p_film, u_lens, 0.0).unwrap().ray;
+        let p = ray.o + ray.d * (-ray.o.y / ray.d.y);
+        let rd = f.camera_ray_differentials(&cam, &ray, p_film, u_lens).unwrap();
+        let (dx, dy) = Footprint::CameraRay(&f, &rd).dp_dxy(p, Vec3::Y, 0.0);
+        let pole = std::f32::consts::PI * 1.5 / 96.0;
+        let radial = 1.1 * (std::f32::consts::PI / 96.0) / (pole.cos() * pole.cos());
+        let across = 1.1 * pole.tan() * std::f32::consts::TAU / 192.0;
+        assert!((dy.length() / radial - 1.0).abs() < 0.01, "{dy} vs {radial}");
+        assert!((dx.length() / across - 1.0).abs() < 0.01, "{dx} vs {across}");
+        assert!(dy.x.abs() < 0.03 * dy.length() && dx.z.abs() < 0.03 * dx.length(), "{dx} {dy}");
     }
 
     #[test]

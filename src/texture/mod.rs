@@ -26,7 +26,7 @@ pub use context::TextureEvalContext;
 pub use dots::inside_polka_dot;
 pub use encoding::ColorEncoding;
 pub use float::FloatSource;
-pub use footprint::TextureFootprint;
+pub use footprint::{Footprint, RayDifferentials, TextureFootprint};
 pub use fractal::{fbm, turbulence, windy};
 pub use image::{rgb_texels, FloatImage, SpectrumImage};
 pub use mapping::{Mapping2D, Mapping3D};
