@@ -102,8 +102,8 @@ impl PlacedQuadric {
     /// object and world space: the map is affine).
     #[inline]
     pub fn intersect(&self, ray: &Ray, t_max: f32) -> Option<f32> {
-        let (o, d, _) = self.object_ray(ray);
-        self.quadric.intersect_t(o, d, t_max)
+        let m = self.placement.object_from_world_at(ray.time);
+        self.quadric.intersect_t(m.transform_point3(ray.o), m.transform_vector3(ray.d), t_max)
     }
 
     /// The surface where `ray` meets the shape at `t` (a hit [`PlacedQuadric::intersect`]
