@@ -7,6 +7,7 @@
 //! Hit points on instances are transformed back to world space together with their rounding-error
 //! bounds (pbrt-v4, `Transform::operator()(Point3fi)`, §6.8.5), so spawned rays stay robust.
 
+use std::borrow::Cow;
 use std::sync::Arc;
 
 use glam::{Mat3, Mat4, Vec3};
@@ -85,6 +86,15 @@ impl Instance {
         match &self.motion {
             None => self.fixed(),
             Some(m) => Self::new(self.prototype, m.interpolate(time)).unwrap_or_else(|| self.fixed()),
+        }
+    }
+
+    /// [`Instance::at`] without copying a placement that does not move: itself then.
+    #[inline]
+    pub fn placed_at(&self, time: f32) -> Cow<'_, Self> {
+        match &self.motion {
+            None => Cow::Borrowed(self),
+            Some(_) => Cow::Owned(self.at(time)),
         }
     }
 

@@ -10,6 +10,8 @@
 //! interval through its quadratic; here it widens the offset instead, so a ray leaving the
 //! surface starts on its own side of it in object space too.
 
+use std::borrow::Cow;
+
 use glam::{Mat3, Mat4, Vec2, Vec3};
 
 use super::animated::AnimatedTransform;
@@ -92,8 +94,8 @@ impl PlacedQuadric {
 
     /// The ray in object space at its time: origin, direction, and the placement used.
     #[inline]
-    fn object_ray(&self, ray: &Ray) -> (Vec3, Vec3, Instance) {
-        let inst = self.placement.at(ray.time);
+    fn object_ray(&self, ray: &Ray) -> (Vec3, Vec3, Cow<'_, Instance>) {
+        let inst = self.placement.placed_at(ray.time);
         let m = &inst.object_from_world;
         (m.transform_point3(ray.o), m.transform_vector3(ray.d), inst)
     }
