@@ -4,9 +4,21 @@
 
 use super::majorant::{Dda, MajorantGrid, MajorantSegments};
 use super::medium::{Homogeneous, MediumPoint};
-use crate::math::floor;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths, Spectrum};
 use glam::{IVec3, Mat4, UVec3, Vec3};
+
+/// ⌊x⌋ of a lattice coordinate of a point in the unit cube (−½ ≤ x < 2³¹): truncation, one
+/// less where it rounded up. NaN gives 0 (and NaN interpolation weights, as
+/// [`crate::math::floor`]'s NaN would).
+#[inline]
+pub(super) fn lattice_floor(x: f32) -> f32 {
+    let t = x as i32 as f32;
+    if t > x {
+        t - 1.0
+    } else {
+        t
+    }
+}
 
 /// Samples of a scalar field on the unit cube, x fastest (pbrt-v4 `SampledGrid`).
 #[derive(Clone, Debug)]
@@ -41,15 +53,29 @@ impl DensityGrid {
             return 0.0;
         }
         let ps = p * self.n.as_vec3() - Vec3::splat(0.5);
-        let base = ps.map(floor);
+        let base = ps.map(lattice_floor);
         let f = ps - base;
         let c = base.as_ivec3();
         let lerp = |a: f32, b: f32, t: f32| a + (b - a) * t;
-        let s = |dx, dy, dz| self.sample(c + IVec3::new(dx, dy, dz));
-        let x00 = lerp(s(0, 0, 0), s(1, 0, 0), f.x);
-        let x10 = lerp(s(0, 1, 0), s(1, 1, 0), f.x);
-        let x01 = lerp(s(0, 0, 1), s(1, 0, 1), f.x);
-        let x11 = lerp(s(0, 1, 1), s(1, 1, 1), f.x);
+        let n = self.n.as_ivec3();
+        let [x00, x10, x01, x11] = if c.cmpge(IVec3::ZERO).all() && (c + IVec3::ONE).cmplt(n).all() {
+            // All eight samples are in the grid (the common case): four rows of two, each
+            // taken once as an array.
+            let i0 = ((c.z * n.y + c.y) * n.x + c.x) as usize;
+            let (sy, sz) = (n.x as usize, (n.x * n.y) as usize);
+            [i0, i0 + sy, i0 + sz, i0 + sz + sy].map(|row| {
+                let pair: &[f32; 2] = self.values[row..row + 2].try_into().expect("a pair");
+                lerp(pair[0], pair[1], f.x)
+            })
+        } else {
+            let s = |dx, dy, dz| self.sample(c + IVec3::new(dx, dy, dz));
+            [
+                lerp(s(0, 0, 0), s(1, 0, 0), f.x),
+                lerp(s(0, 1, 0), s(1, 1, 0), f.x),
+                lerp(s(0, 0, 1), s(1, 0, 1), f.x),
+                lerp(s(0, 1, 1), s(1, 1, 1), f.x),
+            ]
+        };
         lerp(lerp(x00, x10, f.y), lerp(x01, x11, f.y), f.z)
     }
 

@@ -6,10 +6,9 @@
 //! illuminant spectra (the colour space's white times each voxel's colour) emits
 //! L_e(p) = `Lescale` · trilinear(Le)(p), unscaled by `scale` and not normalised, as pbrt-v4's.
 
-use super::grid::{clip_to_unit_cube, unit_cube_from_world, DensityGrid, MAJORANT_RES};
+use super::grid::{clip_to_unit_cube, lattice_floor, unit_cube_from_world, DensityGrid, MAJORANT_RES};
 use super::majorant::{Dda, MajorantGrid, MajorantSegments};
 use super::medium::MediumPoint;
-use crate::math::floor;
 use crate::spectrum::{normalised_wavelengths, sigmoid4, SampledSpectrum, SampledWavelengths, Spectrum};
 use glam::{IVec3, Mat4, UVec3, Vec3, Vec4};
 
@@ -42,36 +41,52 @@ impl SpectrumGrid {
         Some(Self { n, values, sigmoids })
     }
 
-    /// Trilinear interpolation at `p` of the unit cube, 0 outside it and outside the lattice.
+    /// Trilinear interpolation at `p`, a point of the unit cube (which the caller has checked;
+    /// NaN coordinates give NaN), 0 outside the lattice.
     fn lookup(&self, p: Vec3, w: &SampledWavelengths) -> SampledSpectrum {
-        if p.cmplt(Vec3::ZERO).any() || p.cmpgt(Vec3::ONE).any() {
-            return SampledSpectrum::zero();
-        }
         let n = self.n.as_ivec3();
         let ps = p * self.n.as_vec3() - Vec3::splat(0.5);
-        let base = ps.map(floor);
+        let base = ps.map(lattice_floor);
         let f = ps - base;
         let c0 = base.as_ivec3();
         let x = normalised_wavelengths(w.lambda);
+        let (wx, wy, wz) = ([1.0 - f.x, f.x], [1.0 - f.y, f.y], [1.0 - f.z, f.z]);
+        let mut sum = Vec4::ZERO;
+        if c0.cmpge(IVec3::ZERO).all() && (c0 + IVec3::ONE).cmplt(n).all() {
+            // All eight neighbours are in the lattice (the common case), as four rows of two
+            // (each row's pair taken once, as an array).
+            let i0 = ((c0.z * n.y + c0.y) * n.x + c0.x) as usize;
+            let (sy, sz) = (n.x as usize, (n.x * n.y) as usize);
+            let rows = [i0, i0 + sy, i0 + sz, i0 + sz + sy];
+            let weights = [wz[0] * wy[0], wz[0] * wy[1], wz[1] * wy[0], wz[1] * wy[1]];
+            match &self.sigmoids {
+                Some(s) => {
+                    let value = |c: &[f32; 4]| {
+                        if c[3] == 0.0 {
+                            Vec4::ZERO
+                        } else {
+                            c[3] * sigmoid4([c[0], c[1], c[2]], x)
+                        }
+                    };
+                    for (row, weight) in rows.into_iter().zip(weights) {
+                        let pair: &[[f32; 4]; 2] = s[row..row + 2].try_into().expect("a pair");
+                        sum += weight * (wx[0] * value(&pair[0]) + wx[1] * value(&pair[1]));
+                    }
+                }
+                None => {
+                    for (row, weight) in rows.into_iter().zip(weights) {
+                        let pair: &[Spectrum; 2] = self.values[row..row + 2].try_into().expect("a pair");
+                        sum += weight * (wx[0] * pair[0].sample(w).0 + wx[1] * pair[1].sample(w).0);
+                    }
+                }
+            }
+            return SampledSpectrum(sum);
+        }
         let value = |i: usize| match &self.sigmoids {
             Some(s) if s[i][3] == 0.0 => Vec4::ZERO,
             Some(s) => s[i][3] * sigmoid4([s[i][0], s[i][1], s[i][2]], x),
             None => self.values[i].sample(w).0,
         };
-        let (wx, wy, wz) = ([1.0 - f.x, f.x], [1.0 - f.y, f.y], [1.0 - f.z, f.z]);
-        let mut sum = Vec4::ZERO;
-        if c0.cmpge(IVec3::ZERO).all() && (c0 + IVec3::ONE).cmplt(n).all() {
-            // All eight neighbours are in the lattice (the common case).
-            let i0 = ((c0.z * n.y + c0.y) * n.x + c0.x) as usize;
-            let (sy, sz) = (n.x as usize, (n.x * n.y) as usize);
-            for (dz, wz) in wz.into_iter().enumerate() {
-                for (dy, wy) in wy.into_iter().enumerate() {
-                    let row = i0 + dz * sz + dy * sy;
-                    sum += (wz * wy) * (wx[0] * value(row) + wx[1] * value(row + 1));
-                }
-            }
-            return SampledSpectrum(sum);
-        }
         for corner in 0..8 {
             let o = IVec3::new(corner & 1, (corner >> 1) & 1, corner >> 2);
             let c = c0 + o;
