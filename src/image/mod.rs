@@ -6,9 +6,9 @@
 //!
 //! Two backends do the work: a pure-Rust path (`exr` and `image` crates), which reads and writes
 //! by default, and OpenImageIO through the C++ shim in `cpp/` (feature `oiio`), loaded on first
-//! use, which reads what the Rust decoders cannot (OpenEXR's DWAA/DWAB compression, TIFF
-//! variants). Every write is atomic: data goes to a temporary file beside the destination that is renamed over it
-//! only once complete.
+//! use, which reads what the Rust decoders cannot (TIFFs of 64-bit floats or of 16- and 32-bit
+//! signed or 32-bit unsigned integers, among others). Every write is atomic: data goes to a
+//! temporary file beside the destination that is renamed over it only once complete.
 
 mod colormap;
 pub mod compose;
