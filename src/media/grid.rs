@@ -108,7 +108,7 @@ impl DensityGrid {
                 }
             }
         }
-        MajorantGrid { res, max }
+        MajorantGrid::scalar(res, max)
     }
 }
 

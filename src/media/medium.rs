@@ -99,14 +99,22 @@ impl Medium {
     }
 
     /// The majorant's segments along the ray `o + t d` (`d` unit, world space) for t in
-    /// [0, t_max].
-    pub fn majorant_segments(&self, o: Vec3, d: Vec3, t_max: f32, uniform: &MediumPoint) -> MajorantSegments<'_> {
+    /// [0, t_max] at the path's wavelengths `w`.
+    pub fn majorant_segments(
+        &self,
+        o: Vec3,
+        d: Vec3,
+        t_max: f32,
+        uniform: &MediumPoint,
+        w: &SampledWavelengths,
+    ) -> MajorantSegments<'_> {
+        let sigma_t = uniform.sigma_a + uniform.sigma_s;
         match self {
-            Medium::Homogeneous(_) => MajorantSegments::single(0.0, t_max, uniform.sigma_a + uniform.sigma_s),
-            Medium::Grid(g) => g.majorant_segments(o, d, t_max, uniform.sigma_a + uniform.sigma_s),
-            Medium::RgbGrid(g) => g.majorant_segments(o, d, t_max),
-            Medium::Cloud(c) => c.majorant_segments(o, d, t_max, uniform.sigma_a + uniform.sigma_s),
-            Medium::NanoVdb(v) => v.majorant_segments(o, d, t_max, uniform.sigma_a + uniform.sigma_s),
+            Medium::Homogeneous(_) => MajorantSegments::single(0.0, t_max, sigma_t),
+            Medium::Grid(g) => g.majorant_segments(o, d, t_max, sigma_t),
+            Medium::RgbGrid(g) => g.majorant_segments(o, d, t_max, w),
+            Medium::Cloud(c) => c.majorant_segments(o, d, t_max, sigma_t),
+            Medium::NanoVdb(v) => v.majorant_segments(o, d, t_max, sigma_t),
         }
     }
 }

@@ -202,5 +202,5 @@ fn majorant_grid(grid: &FloatGrid, bounds: (Vec3, Vec3), res: UVec3) -> Majorant
             }
         }
     });
-    MajorantGrid { res, max }
+    MajorantGrid::scalar(res, max)
 }

@@ -7,7 +7,7 @@
 //! L_e(p) = `Lescale` · trilinear(Le)(p), unscaled by `scale` and not normalised, as pbrt-v4's.
 
 use super::grid::{clip_to_unit_cube, lattice_floor, unit_cube_from_world, DensityGrid, MAJORANT_RES};
-use super::majorant::{Dda, MajorantGrid, MajorantSegments};
+use super::majorant::{band_range, Dda, MajorantGrid, MajorantSegments, BANDS};
 use super::medium::MediumPoint;
 use crate::spectrum::{normalised_wavelengths, sigmoid4, SampledSpectrum, SampledWavelengths, Spectrum};
 use glam::{IVec3, Mat4, UVec3, Vec3, Vec4};
@@ -101,9 +101,10 @@ impl SpectrumGrid {
         SampledSpectrum(sum)
     }
 
-    /// Each sample's largest value over the visible range, as a scalar grid.
-    fn maxima(&self) -> DensityGrid {
-        let m = self.values.iter().map(|s| s.max_value().max(0.0) as f32).collect();
+    /// Each sample's largest value over the wavelengths [lo, hi] nm, as a scalar grid, raised by
+    /// 10⁻⁵ of itself so that it bounds the single-precision evaluation too.
+    fn maxima_over(&self, (lo, hi): (f64, f64)) -> DensityGrid {
+        let m = self.values.iter().map(|s| s.max_value_over(lo, hi).max(0.0) as f32 * (1.0 + 1e-5)).collect();
         DensityGrid::new(self.n, m).expect("same shape")
     }
 }
@@ -118,7 +119,7 @@ pub struct RgbGridMedium {
     g: f32,
     /// The emission grid [W/(sr·m²·nm) per unit of its RGB] and its `Lescale`.
     le: Option<(SpectrumGrid, f32)>,
-    /// Per-cell bound on max σ_a + max σ_s (before `scale`).
+    /// Per-cell and per-band bound on max σ_a + max σ_s (before `scale`).
     majorants: MajorantGrid,
 }
 
@@ -139,10 +140,17 @@ impl RgbGridMedium {
         if sigma_a.is_none() && sigma_s.is_none() {
             return None;
         }
+        // The voxels' colours differ, so σ_t's largest value differs per wavelength band: one
+        // bound per band lets a path's majorant follow its wavelengths.
         let cells = (res.x * res.y * res.z) as usize;
-        let max = |g: &Option<SpectrumGrid>| g.as_ref().map_or(vec![1.0; cells], |g| g.maxima().majorants(res).max);
-        let majorants =
-            MajorantGrid { res, max: max(&sigma_a).iter().zip(max(&sigma_s)).map(|(a, s)| a + s).collect() };
+        let cell_maxima = |g: &Option<SpectrumGrid>, band| {
+            g.as_ref().map_or(vec![1.0; cells], |g| g.maxima_over(band_range(band)).majorants(res).max)
+        };
+        let per_band: Vec<Vec<f32>> = (0..BANDS)
+            .map(|b| cell_maxima(&sigma_a, b).iter().zip(cell_maxima(&sigma_s, b)).map(|(a, s)| a + s).collect())
+            .collect();
+        let max = (0..cells).flat_map(|c| per_band.iter().map(move |m| m[c])).collect();
+        let majorants = MajorantGrid { res, bands: BANDS, max };
         Some(Self { grid_from_world, sigma_a, sigma_s, scale, g, le: None, majorants })
     }
 
@@ -163,14 +171,91 @@ impl RgbGridMedium {
         MediumPoint { sigma_a: at(&self.sigma_a), sigma_s: at(&self.sigma_s), le, g: self.g }
     }
 
-    /// The majorant grid's cells along `o + t d`, t in [0, t_max], clipped to the box.
-    pub fn majorant_segments(&self, o: Vec3, d: Vec3, t_max: f32) -> MajorantSegments<'_> {
+    /// The majorant grid's cells along `o + t d`, t in [0, t_max], clipped to the box, at the
+    /// wavelengths `w`.
+    pub fn majorant_segments(&self, o: Vec3, d: Vec3, t_max: f32, w: &SampledWavelengths) -> MajorantSegments<'_> {
         let (go, gd) = (self.grid_from_world.transform_point3(o), self.grid_from_world.transform_vector3(d));
         match clip_to_unit_cube(go, gd, t_max) {
             Some((t0, t1)) => {
-                MajorantSegments::Dda(Dda::new(&self.majorants, go, gd, t0, t1, SampledSpectrum::splat(self.scale)))
+                let scale = SampledSpectrum::splat(self.scale);
+                MajorantSegments::Dda(Dda::new(&self.majorants, go, gd, t0, t1, scale).at_wavelengths(w))
             }
             None => MajorantSegments::none(),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sampling::Rng;
+    use crate::spectrum::SigmoidPolynomial;
+
+    /// A grid of strongly coloured sigmoid spectra (peaks at either end of the spectrum or
+    /// inside it), with some empty voxels.
+    fn colourful(rng: &mut Rng, n: UVec3) -> SpectrumGrid {
+        let values = (0..n.x * n.y * n.z)
+            .map(|_| {
+                if rng.uniform() < 0.2 {
+                    return Spectrum::constant(0.0);
+                }
+                let c = [(rng.uniform() - 0.5) * 16.0, (rng.uniform() - 0.5) * 12.0, (rng.uniform() - 0.5) * 3.0];
+                Spectrum::Sigmoid { poly: SigmoidPolynomial { c: c.map(f64::from) }, scale: 3.0 * rng.uniform() }
+            })
+            .collect();
+        SpectrumGrid::new(n, values).unwrap()
+    }
+
+    #[test]
+    fn the_majorant_bounds_sigma_t_at_each_wavelength_and_follows_the_band() {
+        // Every point of every DDA segment: σ_t ≤ σ_maj at each of the four wavelengths. All
+        // four in one band make the bound that band's alone, so a wrong band is caught; and
+        // that bound must be tighter than the whole spectrum's somewhere.
+        let mut rng = Rng::new(7, 1);
+        let n = UVec3::new(5, 4, 6);
+        let world_from_medium = Mat4::from_translation(Vec3::new(0.2, -0.1, 0.3)) * Mat4::from_rotation_x(0.5);
+        let (a, s) = (colourful(&mut rng, n), colourful(&mut rng, n));
+        let medium =
+            RgbGridMedium::new(world_from_medium, Vec3::ZERO, Vec3::new(1.0, 2.0, 1.5), Some(a), Some(s), 2.0, 0.0)
+                .unwrap();
+        let (mut checked, mut tighter) = (0, 0);
+        for _ in 0..400 {
+            let o = Vec3::new(rng.uniform(), rng.uniform(), rng.uniform()) * 4.0 - Vec3::splat(1.5);
+            let d = (Vec3::new(rng.uniform(), rng.uniform(), rng.uniform()) - Vec3::splat(0.5)).normalize();
+            let one_band = rng.uniform() < 0.5;
+            let lambda = if one_band {
+                [360.0 + 470.0 * rng.uniform(); 4]
+            } else {
+                std::array::from_fn(|_| 360.0 + 470.0 * rng.uniform())
+            };
+            let w = SampledWavelengths { lambda, pdf: [1.0 / 470.0; 4] };
+            // The cell's bound over the whole spectrum, at a point of the segment.
+            let whole = |p: Vec3| {
+                let res = medium.majorants.res;
+                let c = (medium.grid_from_world.transform_point3(p) * res.as_vec3()).as_uvec3().min(res - UVec3::ONE);
+                let first = ((c.z * res.y + c.y) * res.x + c.x) as usize * BANDS;
+                medium.majorants.max[first..first + BANDS].iter().fold(0.0f32, |m, &v| m.max(v)) * medium.scale
+            };
+            for seg in medium.majorant_segments(o, d, 10.0, &w) {
+                for k in 1..8 {
+                    let t = seg.t_min + (seg.t_max - seg.t_min) * k as f32 / 8.0;
+                    let mp = medium.point(o + d * t, &w);
+                    let sigma_t = mp.sigma_a + mp.sigma_s;
+                    for i in 0..4 {
+                        assert!(
+                            sigma_t[i] <= seg.sigma_maj[i],
+                            "λ {}: σ_t {} > σ_maj {}",
+                            lambda[i],
+                            sigma_t[i],
+                            seg.sigma_maj[i]
+                        );
+                    }
+                    checked += 1;
+                }
+                let mid = o + d * (0.5 * (seg.t_min + seg.t_max));
+                tighter += usize::from(one_band && seg.sigma_maj[0] < 0.9 * whole(mid));
+            }
+        }
+        assert!(checked > 2000 && tighter > 100, "{checked} points, {tighter} tighter segments");
     }
 }

@@ -74,6 +74,11 @@ impl SigmoidPolynomial {
         sigmoid4(self.c.map(|c| c as f32), x)
     }
 
+    /// The wavelength [nm] of the polynomial's vertex (its extremum), if it is not linear.
+    pub fn vertex_lambda(&self) -> Option<f64> {
+        (self.c[0] != 0.0).then(|| CIE_LAMBDA_MIN - self.c[1] / (2.0 * self.c[0]) * X_SPAN)
+    }
+
     /// The same polynomial in λ [nm] (c₀λ² + c₁λ + c₂), the form pbrt-v4 and colour-science
     /// store.
     pub fn coefficients_nm(&self) -> [f64; 3] {

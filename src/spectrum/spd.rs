@@ -331,21 +331,58 @@ impl Spectrum {
         }
     }
 
-    /// Largest value over 360–830 nm, estimated on the knots and a 1 nm grid.
+    /// Largest value over 360–830 nm (see [`Spectrum::max_value_over`]).
     pub fn max_value(&self) -> f64 {
-        let mut m = f64::NEG_INFINITY;
-        for l in (360..=830).map(|l| l as f64).chain(self.knots()) {
-            if (360.0..=830.0).contains(&l) {
-                m = m.max(self.eval_f64(l));
+        self.max_value_over(360.0, 830.0)
+    }
+
+    /// Largest value over [lo, hi] nm: exact for constants and sigmoid spectra (σ increases,
+    /// so its maximum is at the polynomial's largest value: an end or the vertex), otherwise
+    /// estimated on the ends, the knots and a 1 nm grid.
+    pub fn max_value_over(&self, lo: f64, hi: f64) -> f64 {
+        match self {
+            Spectrum::Constant(v) => f64::from(*v),
+            Spectrum::Sigmoid { poly, scale } => {
+                let ends = [poly.eval_f64(lo), poly.eval_f64(hi)];
+                let vertex = poly.vertex_lambda().filter(|l| (lo..=hi).contains(l)).map(|l| poly.eval_f64(l));
+                let values = ends.into_iter().chain(vertex);
+                let pick = if *scale >= 0.0 { f64::max } else { f64::min };
+                f64::from(*scale) * values.reduce(pick).expect("two ends")
+            }
+            _ => {
+                let grid = (lo.ceil() as i64..=hi.floor() as i64).map(|l| l as f64);
+                let mut m = f64::NEG_INFINITY;
+                for l in grid.chain([lo, hi]).chain(self.knots()) {
+                    if (lo..=hi).contains(&l) {
+                        m = m.max(self.eval_f64(l));
+                    }
+                }
+                m
             }
         }
-        m
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_sigmoid_spectrums_maximum_over_a_band_is_the_largest_of_a_fine_scan() {
+        // Polynomials with the vertex inside, left of and right of the band, opening up or down;
+        // the scan (0.001 nm) never exceeds the exact value and comes within its step's change.
+        let polys = [[-40.0, 30.0, -4.0], [25.0, -20.0, 3.0], [0.0, 3.0, -1.0], [-8.0, 1.0, 0.5], [6.0, 2.0, -2.0]];
+        for c in polys {
+            let s = Spectrum::Sigmoid { poly: SigmoidPolynomial { c }, scale: 1.7 };
+            for (lo, hi) in [(360.0, 830.0), (418.75, 477.5), (536.25, 595.0), (771.25, 830.0)] {
+                let steps = ((hi - lo) / 1e-3) as usize;
+                let scan =
+                    (0..=steps).map(|i| s.eval_f64(lo + (hi - lo) * i as f64 / steps as f64)).fold(0.0, f64::max);
+                let exact = s.max_value_over(lo, hi);
+                assert!(exact >= scan - 1e-12 && exact - scan < 1e-6, "{c:?} on [{lo}, {hi}]: {exact} vs scan {scan}");
+            }
+        }
+    }
 
     #[test]
     fn dense_sampling_of_a_blackbody_and_a_product_is_within_1e_4_of_the_formula() {
