@@ -22,7 +22,7 @@ use glam::{UVec3, Vec3, Vec4};
 /// Wavelength bands of a spectral majorant grid: [360, 830] nm in equal parts.
 pub const BANDS: usize = 8;
 
-/// The band [nm] that holds `lambda` (clamped to the visible range).
+/// The index of the band that holds `lambda` [nm] (clamped to the visible range).
 #[inline]
 pub fn band_of(lambda: f32) -> usize {
     let x = (lambda - LAMBDA_MIN) * (BANDS as f32 / (LAMBDA_MAX - LAMBDA_MIN));
