@@ -5,17 +5,14 @@
 //! sigmoid per wavelength and never runs the RGB→spectrum fit.
 
 use crate::spectrum::{
-    fit_albedo_fast, normalised_wavelengths, sigmoid4, ColorSpace, SampledSpectrum, SampledWavelengths,
+    fit_albedo_fast, normalised_wavelengths, ColorSpace, SampledSpectrum, SampledWavelengths, ScaledSigmoid,
 };
 use rayon::prelude::*;
 use std::collections::HashMap;
 
 /// One texel's spectrum shape: `scale · σ(poly(x))`, x = (λ − 360 nm)/470 nm (times the white).
 #[derive(Clone, Copy, Debug, Default)]
-pub(super) struct TexelSpectrum {
-    c: [f32; 3],
-    scale: f32,
-}
+pub(super) struct TexelSpectrum(ScaledSigmoid);
 
 impl TexelSpectrum {
     /// The unbounded form of `Spectrum::from_rgb` (m = max(rgb), 2m · σ(fit of rgb/2m)), with the
@@ -29,11 +26,11 @@ impl TexelSpectrum {
         }
         if rgb[0] == rgb[1] && rgb[1] == rgb[2] {
             // σ(0) = ½, so a constant m is scale 2m with a zero polynomial.
-            return Self { c: [0.0; 3], scale: 2.0 * m };
+            return Self(ScaledSigmoid { c: [0.0; 3], scale: 2.0 * m });
         }
         let scaled = rgb.map(|v| (v / (2.0 * m)) as f64);
         let poly = fit_albedo_fast(scaled, space);
-        Self { c: poly.c.map(|c| c as f32), scale: 2.0 * m }
+        Self(ScaledSigmoid { c: poly.c.map(|c| c as f32), scale: 2.0 * m })
     }
 
     /// [`TexelSpectrum::from_rgb`] of every colour of `rgbs`, each distinct colour fitted once
@@ -54,9 +51,6 @@ impl TexelSpectrum {
 
     #[inline]
     pub(super) fn sample(&self, w: &SampledWavelengths) -> SampledSpectrum {
-        if self.scale == 0.0 {
-            return SampledSpectrum::zero();
-        }
-        SampledSpectrum(self.scale * sigmoid4(self.c, normalised_wavelengths(w.lambda)))
+        SampledSpectrum(self.0.sample(normalised_wavelengths(w.lambda)))
     }
 }

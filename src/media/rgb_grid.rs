@@ -9,7 +9,7 @@
 use super::grid::{clip_to_unit_cube, lattice_floor, unit_cube_from_world, DensityGrid, MAJORANT_RES};
 use super::majorant::{band_range, Dda, MajorantGrid, MajorantSegments, BANDS};
 use super::medium::MediumPoint;
-use crate::spectrum::{normalised_wavelengths, sigmoid4, SampledSpectrum, SampledWavelengths, Spectrum};
+use crate::spectrum::{normalised_wavelengths, SampledSpectrum, SampledWavelengths, ScaledSigmoid, Spectrum};
 use glam::{IVec3, Mat4, UVec3, Vec3, Vec4};
 
 /// Spectra on the unit cube's sample lattice (cell centres), x fastest.
@@ -19,11 +19,9 @@ pub struct SpectrumGrid {
     n: UVec3,
     /// One spectrum per sample.
     values: Vec<Spectrum>,
-    /// When every sample is a sigmoid spectrum (or a constant, σ(0) = ½ times twice it): its
-    /// coefficients c₀, c₁, c₂ and scale in single precision, evaluated four wavelengths at a
-    /// time without dispatch (and not at all where the scale is 0, as in a sparse grid's
-    /// empty voxels).
-    sigmoids: Option<Vec<[f32; 4]>>,
+    /// When every sample is a sigmoid spectrum (or a constant, σ(0) = ½ times twice it): each
+    /// in single precision, evaluated four wavelengths at a time without dispatch.
+    sigmoids: Option<Vec<ScaledSigmoid>>,
 }
 
 impl SpectrumGrid {
@@ -33,8 +31,8 @@ impl SpectrumGrid {
             return None;
         }
         let packed = |s: &Spectrum| match s {
-            Spectrum::Sigmoid { poly, scale } => Some([poly.c[0] as f32, poly.c[1] as f32, poly.c[2] as f32, *scale]),
-            Spectrum::Constant(v) => Some([0.0, 0.0, 0.0, 2.0 * v]),
+            Spectrum::Sigmoid { poly, scale } => Some(ScaledSigmoid { c: poly.c.map(|c| c as f32), scale: *scale }),
+            Spectrum::Constant(v) => Some(ScaledSigmoid { c: [0.0; 3], scale: 2.0 * v }),
             _ => None,
         };
         let sigmoids = values.iter().map(packed).collect();
@@ -61,16 +59,9 @@ impl SpectrumGrid {
             let weights = [wz[0] * wy[0], wz[0] * wy[1], wz[1] * wy[0], wz[1] * wy[1]];
             match &self.sigmoids {
                 Some(s) => {
-                    let value = |c: &[f32; 4]| {
-                        if c[3] == 0.0 {
-                            Vec4::ZERO
-                        } else {
-                            c[3] * sigmoid4([c[0], c[1], c[2]], x)
-                        }
-                    };
                     for (row, weight) in rows.into_iter().zip(weights) {
-                        let pair: &[[f32; 4]; 2] = s[row..row + 2].try_into().expect("a pair");
-                        sum += weight * (wx[0] * value(&pair[0]) + wx[1] * value(&pair[1]));
+                        let pair: &[ScaledSigmoid; 2] = s[row..row + 2].try_into().expect("a pair");
+                        sum += weight * (wx[0] * pair[0].sample(x) + wx[1] * pair[1].sample(x));
                     }
                 }
                 None => {
@@ -83,8 +74,7 @@ impl SpectrumGrid {
             return SampledSpectrum(sum);
         }
         let value = |i: usize| match &self.sigmoids {
-            Some(s) if s[i][3] == 0.0 => Vec4::ZERO,
-            Some(s) => s[i][3] * sigmoid4([s[i][0], s[i][1], s[i][2]], x),
+            Some(s) => s[i].sample(x),
             None => self.values[i].sample(w).0,
         };
         for corner in 0..8 {

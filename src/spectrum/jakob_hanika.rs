@@ -44,6 +44,30 @@ pub fn sigmoid4(c: [f32; 3], x: Vec4) -> Vec4 {
     Vec4::splat(0.5) + Vec4::splat(0.5) * t / (Vec4::ONE + t * t).sqrt()
 }
 
+/// `scale · σ(c₀x² + c₁x + c₂)` with single-precision coefficients, evaluated at four
+/// normalised wavelengths at a time ([`normalised_wavelengths`]): the compact form of a sigmoid
+/// spectrum kept per voxel or texel. A zero scale gives 0 without evaluating σ (a sparse grid's
+/// empty voxels, a black texel).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ScaledSigmoid {
+    /// Polynomial coefficients in the normalised wavelength (highest degree first).
+    pub c: [f32; 3],
+    /// Multiplier.
+    pub scale: f32,
+}
+
+impl ScaledSigmoid {
+    /// The values at the normalised wavelengths `x`.
+    #[inline]
+    pub fn sample(&self, x: Vec4) -> Vec4 {
+        if self.scale == 0.0 {
+            Vec4::ZERO
+        } else {
+            self.scale * sigmoid4(self.c, x)
+        }
+    }
+}
+
 /// dσ/dt = ½ (1 + t²)^(−3/2).
 #[inline]
 fn sigmoid_derivative(t: f64) -> f64 {
