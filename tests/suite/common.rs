@@ -27,9 +27,10 @@ pub fn prism() -> Command {
     Command::new(env!("CARGO_BIN_EXE_prism"))
 }
 
-/// A fresh, empty directory for one test.
+/// A fresh, empty directory for one test, under cargo's temporary directory for tests (in the
+/// target directory, so that runs leave nothing in the system's temporary directory).
 pub fn tmpdir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("prism-cli-{name}-{}", std::process::id()));
+    let d = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("prism-cli-{name}"));
     let _ = std::fs::remove_dir_all(&d);
     std::fs::create_dir_all(&d).unwrap();
     d
