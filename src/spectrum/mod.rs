@@ -22,8 +22,7 @@ pub use cie::{xyz_bar, CIE_Y_INTEGRAL, K_M};
 pub use color_space::{rgb_to_xyz_from_chromaticities, ColorSpace};
 pub use illuminant::{daylight, normalise_luminance, NAMED_ILLUMINANTS};
 pub use jakob_hanika::{
-    fit_albedo, fit_albedo_fast, normalised_wavelengths, sigmoid4, Fit, RgbToSpectrumTable, ScaledSigmoid,
-    SigmoidPolynomial,
+    fit_albedo, fit_albedo_fast, normalised_wavelengths, Fit, RgbToSpectrumTable, ScaledSigmoid, SigmoidPolynomial,
 };
 pub use sampled::{
     sample_visible_wavelength, uniform_wavelength_pdf, visible_wavelength_pdf, SampledSpectrum, SampledWavelengths,
