@@ -190,10 +190,9 @@ mod tests {
     use crate::cli::{Cli, Command};
     use clap::Parser;
 
+    /// A file of `text` in the temporary directory (the caller removes it).
     fn write_tmp(name: &str, text: &str) -> PathBuf {
-        let dir = std::env::temp_dir().join(format!("prism-color-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
-        let p = dir.join(name);
+        let p = std::env::temp_dir().join(format!("prism-color-{}-{name}", std::process::id()));
         std::fs::write(&p, text).unwrap();
         p
     }
@@ -238,6 +237,9 @@ mod tests {
         let bad = write_tmp("bad.spd", "400 1\n400 2\n");
         let e = format!("{:#}", xyz_text(&bad).unwrap_err());
         assert!(e.contains("line 2") && e.contains("bad.spd"), "{e}");
+        for f in [p, bad] {
+            std::fs::remove_file(f).unwrap();
+        }
     }
 
     #[test]
@@ -264,5 +266,6 @@ mod tests {
         let err: f64 = t.lines().last().unwrap().split_whitespace().nth(3).unwrap().parse().unwrap();
         assert!(err < 1e-9, "{t}");
         assert!(project_text(BasisArg::Linear, FitArg::Exact, 1, &p).is_err());
+        std::fs::remove_file(p).unwrap();
     }
 }
