@@ -11,13 +11,35 @@ use glam::{IVec3, Mat4, UVec3, Vec3};
 /// less where it rounded up. NaN gives 0 (and NaN interpolation weights, as
 /// [`crate::math::floor`]'s NaN would).
 #[inline]
-pub(super) fn lattice_floor(x: f32) -> f32 {
+fn lattice_floor(x: f32) -> f32 {
     let t = x as i32 as f32;
     if t > x {
         t - 1.0
     } else {
         t
     }
+}
+
+/// Where `p`, a point of the unit cube, falls on a lattice of `n` samples per axis at cell
+/// centres: the lower corner sample of its trilinear neighbourhood and the offsets from it.
+#[inline]
+pub(super) fn lattice_point(n: UVec3, p: Vec3) -> (IVec3, Vec3) {
+    let ps = p * n.as_vec3() - Vec3::splat(0.5);
+    let base = ps.map(lattice_floor);
+    (base.as_ivec3(), ps - base)
+}
+
+/// The first sample of each of the four rows of two (x fastest; y, then z) that hold the eight
+/// neighbours of lower corner `c` on a lattice of `n` samples, when all eight are in it (the
+/// common case).
+#[inline]
+pub(super) fn interior_rows(n: IVec3, c: IVec3) -> Option<[usize; 4]> {
+    if !(c.cmpge(IVec3::ZERO).all() && (c + IVec3::ONE).cmplt(n).all()) {
+        return None;
+    }
+    let i0 = ((c.z * n.y + c.y) * n.x + c.x) as usize;
+    let (sy, sz) = (n.x as usize, (n.x * n.y) as usize);
+    Some([i0, i0 + sy, i0 + sz, i0 + sz + sy])
 }
 
 /// Samples of a scalar field on the unit cube, x fastest (pbrt-v4 `SampledGrid`).
@@ -52,18 +74,11 @@ impl DensityGrid {
         if p.cmplt(Vec3::ZERO).any() || p.cmpgt(Vec3::ONE).any() {
             return 0.0;
         }
-        let ps = p * self.n.as_vec3() - Vec3::splat(0.5);
-        let base = ps.map(lattice_floor);
-        let f = ps - base;
-        let c = base.as_ivec3();
+        let (c, f) = lattice_point(self.n, p);
         let lerp = |a: f32, b: f32, t: f32| a + (b - a) * t;
-        let n = self.n.as_ivec3();
-        let [x00, x10, x01, x11] = if c.cmpge(IVec3::ZERO).all() && (c + IVec3::ONE).cmplt(n).all() {
-            // All eight samples are in the grid (the common case): four rows of two, each
-            // taken once as an array.
-            let i0 = ((c.z * n.y + c.y) * n.x + c.x) as usize;
-            let (sy, sz) = (n.x as usize, (n.x * n.y) as usize);
-            [i0, i0 + sy, i0 + sz, i0 + sz + sy].map(|row| {
+        let [x00, x10, x01, x11] = if let Some(rows) = interior_rows(self.n.as_ivec3(), c) {
+            // Each row's pair taken once, as an array.
+            rows.map(|row| {
                 let pair: &[f32; 2] = self.values[row..row + 2].try_into().expect("a pair");
                 lerp(pair[0], pair[1], f.x)
             })

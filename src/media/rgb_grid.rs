@@ -6,7 +6,7 @@
 //! illuminant spectra (the colour space's white times each voxel's colour) emits
 //! L_e(p) = `Lescale` · trilinear(Le)(p), unscaled by `scale` and not normalised, as pbrt-v4's.
 
-use super::grid::{clip_to_unit_cube, lattice_floor, unit_cube_from_world, DensityGrid, MAJORANT_RES};
+use super::grid::{clip_to_unit_cube, interior_rows, lattice_point, unit_cube_from_world, DensityGrid, MAJORANT_RES};
 use super::majorant::{band_range, Dda, MajorantGrid, MajorantSegments, BANDS};
 use super::medium::MediumPoint;
 use crate::spectrum::{normalised_wavelengths, SampledSpectrum, SampledWavelengths, ScaledSigmoid, Spectrum};
@@ -43,19 +43,12 @@ impl SpectrumGrid {
     /// NaN coordinates give NaN), 0 outside the lattice.
     fn lookup(&self, p: Vec3, w: &SampledWavelengths) -> SampledSpectrum {
         let n = self.n.as_ivec3();
-        let ps = p * self.n.as_vec3() - Vec3::splat(0.5);
-        let base = ps.map(lattice_floor);
-        let f = ps - base;
-        let c0 = base.as_ivec3();
+        let (c0, f) = lattice_point(self.n, p);
         let x = normalised_wavelengths(w.lambda);
         let (wx, wy, wz) = ([1.0 - f.x, f.x], [1.0 - f.y, f.y], [1.0 - f.z, f.z]);
         let mut sum = Vec4::ZERO;
-        if c0.cmpge(IVec3::ZERO).all() && (c0 + IVec3::ONE).cmplt(n).all() {
-            // All eight neighbours are in the lattice (the common case), as four rows of two
-            // (each row's pair taken once, as an array).
-            let i0 = ((c0.z * n.y + c0.y) * n.x + c0.x) as usize;
-            let (sy, sz) = (n.x as usize, (n.x * n.y) as usize);
-            let rows = [i0, i0 + sy, i0 + sz, i0 + sz + sy];
+        if let Some(rows) = interior_rows(n, c0) {
+            // Each row's pair taken once, as an array.
             let weights = [wz[0] * wy[0], wz[0] * wy[1], wz[1] * wy[0], wz[1] * wy[1]];
             match &self.sigmoids {
                 Some(s) => {
