@@ -19,7 +19,7 @@ pub(super) struct SceneHandle {
     user_meshes: Vec<Box<UserMesh>>,
     /// The quadrics of the quadric user geometries, kept as `user_meshes` are.
     #[allow(clippy::vec_box)]
-    user_quadrics: Vec<Box<PlacedQuadric>>,
+    user_quadrics: Vec<Box<super::quadrics::UserQuadric>>,
     /// The ribbon curves of the ribbon user geometries, kept as `user_meshes` are.
     #[allow(clippy::vec_box)]
     user_ribbons: Vec<Box<UserRibbons>>,

@@ -291,6 +291,17 @@ pub(super) unsafe fn for_each_valid_lane(
     mut test: impl FnMut(&Lane) -> bool,
 ) {
     let n = n as usize;
+    if n == 1 {
+        // One ray (rtcIntersect1/rtcOccluded1, every query of the path tracer): the lane's
+        // field offsets are constants.
+        // SAFETY: by the caller's contract, `valid` has one entry and `base` is one ray.
+        unsafe {
+            if *valid != 0 && !test(&Lane { base, n: 1, i: 0 }) {
+                *valid = 0;
+            }
+        }
+        return;
+    }
     for i in 0..n {
         // SAFETY: by the caller's contract, `i` < n indexes `valid` and a lane of the packet.
         unsafe {
