@@ -43,6 +43,9 @@ pub struct PreparedBounds {
     /// The emitters share one normal (θ_o = 0) and emit over its hemisphere (θ_e = π/2), and the
     /// box is more than a point: [`PreparedBounds::reaches`] is then a plane test.
     flat: bool,
+    /// A point emitting over the whole sphere (θ_o = π, r = 0: point, goniometric and
+    /// projection lights): θ' = θ_b = 0, and the importance is Φ |cos θ_i| / d².
+    point_isotropic: bool,
     /// Axis of the cone of emitting normals (unit).
     w: Vec3,
     /// Total flux Φ.
@@ -73,6 +76,18 @@ impl PreparedBounds {
     /// inside can reach `p`. d² is the squared distance to the box's centre, at least r² so
     /// that points inside stay finite.
     pub fn importance(&self, p: Vec3, n: Vec3) -> f32 {
+        if self.point_isotropic {
+            // What `angles` and `incidence_factor` give with cos θ_o = −1 and sin θ_b = 0
+            // (cos θ' = 1 up to rounding, cos θ'_i = cos θ_i) without their trigonometry; the
+            // light's own position (d = 0) takes the general path.
+            let d = p - self.centre;
+            let dist2 = d.length_squared();
+            if dist2 > 0.0 {
+                let importance = self.phi / dist2;
+                let cos_i = if n != Vec3::ZERO { (d * dist2.sqrt().recip()).dot(n).abs().min(1.0) } else { 1.0 };
+                return (importance * cos_i).max(0.0).clamp(0.0, f32::MAX);
+            }
+        }
         let Some(a) = self.angles(p) else { return 0.0 };
         let mut importance = self.phi * a.cos_p / a.dist2.max(self.radius2);
         if n != Vec3::ZERO {
@@ -205,6 +220,7 @@ impl LightBounds {
             radius2,
             radius: radius2.sqrt(),
             flat: self.cos_theta_o == 1.0 && self.cos_theta_e == 0.0 && radius2 > 0.0,
+            point_isotropic: self.cos_theta_o == -1.0 && radius2 == 0.0,
             w: self.w,
             phi: self.phi,
             cos_theta_o: self.cos_theta_o,
@@ -338,6 +354,32 @@ mod tests {
         let n = Vec3::new(0.0, 0.0, -1.0);
         let got_n = b.importance(p, n);
         assert!((got_n - expected * 0.8).abs() < 2e-3 * expected, "{got_n} vs {}", expected * 0.8);
+    }
+
+    /// A point light's importance is Φ |cos θ_i| / d² (Φ / d² in a medium), computed here in
+    /// double precision at random points and normals; at the light's own position it stays
+    /// finite.
+    #[test]
+    fn a_point_lights_importance_is_flux_times_incident_cosine_over_distance_squared() {
+        use crate::light::PointLight;
+        use crate::sampling::rng::Rng;
+        let c = Vec3::new(0.5, -2.0, 3.0);
+        let point = Light::Point(PointLight::new(c, Arc::new(Spectrum::constant(1.0)), 1.0));
+        let b = LightBounds::of_light(&point, 7.0).unwrap();
+        let mut rng = Rng::new(5, 11);
+        for _ in 0..1000 {
+            let p = Vec3::new(rng.uniform(), rng.uniform(), rng.uniform()) * 8.0 - 4.0;
+            let n = (Vec3::new(rng.uniform(), rng.uniform(), rng.uniform()) - 0.5).normalize();
+            let d = (p - c).as_dvec3();
+            let want = 7.0 * (d.normalize().dot(n.as_dvec3())).abs() / d.length_squared();
+            let got = b.importance(p, n) as f64;
+            // (The cosine is rounded in single precision: to about 1e-6 absolute.)
+            let tolerance = 1e-5 * want + 1e-6 * 7.0 / d.length_squared();
+            assert!((got - want).abs() <= tolerance, "at {p}, n {n}: {got} vs {want}");
+            let in_medium = b.importance(p, Vec3::ZERO) as f64;
+            assert!((in_medium - 7.0 / d.length_squared()).abs() <= 1e-5 * in_medium, "at {p} in a medium");
+        }
+        assert!(b.importance(c, Vec3::Z).is_finite() && b.importance(c, Vec3::ZERO).is_finite());
     }
 
     /// The union keeps both boxes, a cone around both normals, the summed flux, the wider
