@@ -106,15 +106,17 @@ impl PiecewiseLinear {
         let Some(v) = &self.per_nm_f32 else {
             return Vec4::from_array(lambda.map(|l| self.eval(l as f64) as f32));
         };
-        let (l0, last) = (self.lambda[0] as f32, (v.len() - 1) as f32);
-        Vec4::from_array(lambda.map(|l| {
-            let x = l - l0;
-            if !(x >= 0.0 && x <= last) {
-                return 0.0;
-            }
-            let i = (x as usize).min(v.len() - 2);
-            v[i] + (x - i as f32) * (v[i + 1] - v[i])
-        }))
+        // The four table positions at once: the segment is ⌊x⌋ (the last one at the end).
+        let last = Vec4::splat((v.len() - 1) as f32);
+        let x = Vec4::from_array(lambda) - Vec4::splat(self.lambda[0] as f32);
+        let inside = x.cmpge(Vec4::ZERO) & x.cmple(last);
+        let x = x.clamp(Vec4::ZERO, last);
+        let left = x.floor().min(last - 1.0);
+        let (i, t) = (left.as_uvec4().to_array(), x - left);
+        let ends = |k: usize| (v[i[k] as usize], v[i[k] as usize + 1]);
+        let [(a0, b0), (a1, b1), (a2, b2), (a3, b3)] = [ends(0), ends(1), ends(2), ends(3)];
+        let (a, b) = (Vec4::new(a0, a1, a2, a3), Vec4::new(b0, b1, b2, b3));
+        Vec4::select(inside, a + t * (b - a), Vec4::ZERO)
     }
     fn scale(&mut self, s: f64) {
         self.value.iter_mut().chain(self.per_nm.iter_mut().flatten()).for_each(|v| *v *= s);
