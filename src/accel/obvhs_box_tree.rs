@@ -17,18 +17,29 @@ pub struct BoxTree {
     len: usize,
     /// The tree is deeper than the traversal stack: visit every primitive.
     linear: bool,
+    /// For a few primitives (at most [`FEW`]), their boxes in leaf order: one slab test each
+    /// costs less than a traversal of the tree.
+    few: Vec<Bounds3>,
 }
+
+/// Up to this many primitives, [`BoxTree::visit`] tests their boxes one by one.
+const FEW: usize = 4;
 
 impl BoxTree {
     /// Builds over `boxes`; returns the tree and, for each leaf slot, the index of its box.
     pub fn new(boxes: &[Bounds3]) -> (Self, Vec<u32>) {
         if boxes.is_empty() {
-            return (Self { nodes: Vec::new(), len: 0, linear: false }, Vec::new());
+            return (Self { nodes: Vec::new(), len: 0, linear: false, few: Vec::new() }, Vec::new());
         }
         let aabbs: Vec<Aabb> = boxes.iter().map(|b| Aabb::new(Vec3A::from(b.min), Vec3A::from(b.max))).collect();
         let bvh = build_cwbvh(&aabbs, BuildQuality::default().params(), &mut Duration::default());
         let linear = super::max_depth(&bvh.nodes) as usize + 1 >= traverse::STACK_SIZE;
-        (Self { nodes: bvh.nodes, len: boxes.len(), linear }, bvh.primitive_indices)
+        let few = if boxes.len() <= FEW {
+            bvh.primitive_indices.iter().map(|&k| boxes[k as usize]).collect()
+        } else {
+            Vec::new()
+        };
+        (Self { nodes: bvh.nodes, len: boxes.len(), linear, few }, bvh.primitive_indices)
     }
 
     /// Bytes of nodes.
@@ -41,6 +52,15 @@ impl BoxTree {
     #[inline]
     pub fn visit(&self, ray: &Ray, mut visit: impl FnMut(usize, &mut f32) -> bool) {
         if self.len == 0 || ray.t_max.is_nan() || ray.t_max <= 0.0 || !ray.d.is_finite() || !ray.o.is_finite() {
+            return;
+        }
+        if !self.few.is_empty() {
+            let mut t_max = ray.t_max;
+            for (k, b) in self.few.iter().enumerate() {
+                if b.may_hit(ray.o, ray.d, t_max) && visit(k, &mut t_max) {
+                    return;
+                }
+            }
             return;
         }
         if self.linear {

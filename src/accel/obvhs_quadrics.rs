@@ -36,6 +36,13 @@ impl QuadricBvh {
         self.tree.memory_bytes() + std::mem::size_of_val(&self.quadrics[..])
     }
 
+    /// False when `ray` certainly misses the box around all the quadrics: a few quadrics are
+    /// usually a small part of the scene, and one slab test spares most rays the traversal.
+    #[inline]
+    fn may_hit(&self, ray: &Ray) -> bool {
+        self.bounds.may_hit(ray.o, ray.d, ray.t_max)
+    }
+
     /// The hit of `ray` on leaf `k` with t < `t_max`.
     #[inline]
     fn test(&self, k: usize, ray: &Ray, t_max: f32) -> Option<Hit> {
@@ -46,6 +53,9 @@ impl QuadricBvh {
 
     /// Closest hit with t in (0, t_max]; equally distant hits resolve to the smaller geom_id.
     pub fn intersect(&self, ray: &Ray) -> Option<Hit> {
+        if !self.may_hit(ray) {
+            return None;
+        }
         let mut best: Option<Hit> = None;
         self.tree.visit(ray, |k, t_max| {
             // Quadric::intersect excludes its limit; the Accel contract includes t_max.
@@ -63,6 +73,9 @@ impl QuadricBvh {
 
     /// Any hit with t in (0, t_max).
     pub fn occluded(&self, ray: &Ray) -> bool {
+        if !self.may_hit(ray) {
+            return false;
+        }
         let mut hit = false;
         self.tree.visit(ray, |k, _| {
             hit = self.test(k, ray, ray.t_max).is_some();
