@@ -333,10 +333,8 @@ impl ObvhsAccel {
 /// Triangle box grown by 2⁻²⁰ of its largest coordinate magnitude (plus the smallest normal f32),
 /// far more than slab-test rounding and far less than any visible size.
 fn padded_box(t: &[Vec3; 3]) -> Aabb {
-    let min = t[0].min(t[1]).min(t[2]);
-    let max = t[0].max(t[1]).max(t[2]);
-    let pad = Vec3::splat(min.abs().max(max.abs()).max_element() * BOX_PAD + f32::MIN_POSITIVE);
-    Aabb::new(Vec3A::from(min - pad), Vec3A::from(max + pad))
+    let b = Bounds3 { min: t[0].min(t[1]).min(t[2]), max: t[0].max(t[1]).max(t[2]) }.padded(BOX_PAD);
+    Aabb::new(Vec3A::from(b.min), Vec3A::from(b.max))
 }
 
 /// Triangles grouped by centroid cell on a 2²⁰-per-axis grid over the scene bounds (about the

@@ -35,7 +35,9 @@ impl BoxTree {
         let bvh = build_cwbvh(&aabbs, BuildQuality::default().params(), &mut Duration::default());
         let linear = super::max_depth(&bvh.nodes) as usize + 1 >= traverse::STACK_SIZE;
         let few = if boxes.len() <= FEW {
-            bvh.primitive_indices.iter().map(|&k| boxes[k as usize]).collect()
+            // Grown as the quantised boxes of the tree are rounded outwards: `Bounds3::may_hit`
+            // may rule out a ray lying in the plane of a face.
+            bvh.primitive_indices.iter().map(|&k| boxes[k as usize].padded(1.0 / (1u32 << 18) as f32)).collect()
         } else {
             Vec::new()
         };

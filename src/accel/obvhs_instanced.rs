@@ -145,8 +145,8 @@ fn gather(meshes: &[Mesh], ids: &[u32]) -> Vec<Mesh> {
 /// Box grown by 2⁻²⁰ of its largest coordinate magnitude: more than the rounding of the corner
 /// transforms (γ₃ ≈ 2⁻²²) and of the slab test, far less than any visible size.
 fn padded(b: Bounds3) -> Aabb {
-    let pad = Vec3::splat(b.min.abs().max(b.max.abs()).max_element() / T_SCALE + f32::MIN_POSITIVE);
-    Aabb::new(Vec3A::from(b.min - pad), Vec3A::from(b.max + pad))
+    let b = b.padded(1.0 / T_SCALE);
+    Aabb::new(Vec3A::from(b.min), Vec3A::from(b.max))
 }
 
 impl ObvhsInstancedAccel {

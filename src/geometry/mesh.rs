@@ -136,6 +136,13 @@ impl Bounds3 {
         self.min.x > self.max.x
     }
 
+    /// The box grown on every side by `relative` times its largest coordinate (and at least the
+    /// smallest normal f32), so that slab tests that round cannot miss what it bounds.
+    pub fn padded(self, relative: f32) -> Self {
+        let pad = self.min.abs().max(self.max.abs()).max_element() * relative + f32::MIN_POSITIVE;
+        Self { min: self.min - pad, max: self.max + pad }
+    }
+
     /// False only when the ray o + t d with t in [0, `t_max`] certainly misses the box: the
     /// slab test with the far distance of each slab grown by 2γ₃ against its rounding (PBR 4th
     /// ed. §6.8.2, after Williams et al. 2005). A zero component of d is taken as ±1/f32::MAX

@@ -87,9 +87,7 @@ impl PlacedQuadric {
     /// World-space box over the whole motion, grown by a relative margin against the rounding
     /// of box tests.
     pub fn bounds(&self) -> Bounds3 {
-        let b = self.placement.world_bounds(self.quadric.object_bounds());
-        let pad = b.min.abs().max(b.max.abs()).max_element() * BOX_PAD + f32::MIN_POSITIVE;
-        Bounds3 { min: b.min - pad, max: b.max + pad }
+        self.placement.world_bounds(self.quadric.object_bounds()).padded(BOX_PAD)
     }
 
     /// The ray in object space at its time: origin, direction, and the placement used.
