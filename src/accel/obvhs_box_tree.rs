@@ -9,7 +9,7 @@ use glam::Vec3A;
 
 use super::traverse::{self, BoxRay};
 use super::BuildQuality;
-use crate::geometry::{Bounds3, Ray};
+use crate::geometry::{slab_inverse, Bounds3, Ray};
 
 /// The nodes over `len` primitives, in the leaf order [`BoxTree::new`] returns.
 pub struct BoxTree {
@@ -25,6 +25,9 @@ pub struct BoxTree {
 /// Up to this many primitives, [`BoxTree::visit`] tests their boxes one by one.
 const FEW: usize = 4;
 
+/// Relative growth of those boxes (2⁻¹⁸ of their largest coordinate).
+const FEW_PAD: f32 = 1.0 / (1u32 << 18) as f32;
+
 impl BoxTree {
     /// Builds over `boxes`; returns the tree and, for each leaf slot, the index of its box.
     pub fn new(boxes: &[Bounds3]) -> (Self, Vec<u32>) {
@@ -33,15 +36,15 @@ impl BoxTree {
         }
         let aabbs: Vec<Aabb> = boxes.iter().map(|b| Aabb::new(Vec3A::from(b.min), Vec3A::from(b.max))).collect();
         let bvh = build_cwbvh(&aabbs, BuildQuality::default().params(), &mut Duration::default());
-        let linear = super::max_depth(&bvh.nodes) as usize + 1 >= traverse::STACK_SIZE;
-        let few = if boxes.len() <= FEW {
+        if boxes.len() <= FEW {
             // Grown as the quantised boxes of the tree are rounded outwards: `Bounds3::may_hit`
-            // may rule out a ray lying in the plane of a face.
-            bvh.primitive_indices.iter().map(|&k| boxes[k as usize].padded(1.0 / (1u32 << 18) as f32)).collect()
-        } else {
-            Vec::new()
-        };
-        (Self { nodes: bvh.nodes, len: boxes.len(), linear, few }, bvh.primitive_indices)
+            // may rule out a ray lying in the plane of a face. (The tree is built for its leaf
+            // order only.)
+            let few = bvh.primitive_indices.iter().map(|&k| boxes[k as usize].padded(FEW_PAD)).collect();
+            return (Self { nodes: Vec::new(), len: boxes.len(), linear: false, few }, bvh.primitive_indices);
+        }
+        let linear = super::max_depth(&bvh.nodes) as usize + 1 >= traverse::STACK_SIZE;
+        (Self { nodes: bvh.nodes, len: boxes.len(), linear, few: Vec::new() }, bvh.primitive_indices)
     }
 
     /// Bytes of nodes.
@@ -57,9 +60,9 @@ impl BoxTree {
             return;
         }
         if !self.few.is_empty() {
-            let mut t_max = ray.t_max;
+            let (mut t_max, inv_d) = (ray.t_max, slab_inverse(ray.d));
             for (k, b) in self.few.iter().enumerate() {
-                if b.may_hit(ray.o, ray.d, t_max) && visit(k, &mut t_max) {
+                if b.may_hit_inv(ray.o, inv_d, t_max) && visit(k, &mut t_max) {
                     return;
                 }
             }

@@ -151,13 +151,25 @@ impl Bounds3 {
     /// (the callers' boxes are padded beyond what they bound).
     #[inline]
     pub fn may_hit(&self, o: Vec3, d: Vec3, t_max: f32) -> bool {
-        let inv_d = d.recip().clamp(Vec3::splat(-f32::MAX), Vec3::splat(f32::MAX));
+        self.may_hit_inv(o, slab_inverse(d), t_max)
+    }
+
+    /// [`Bounds3::may_hit`] with `inv_d` = [`slab_inverse`]`(d)`, for one ray tested against
+    /// several boxes.
+    #[inline]
+    pub fn may_hit_inv(&self, o: Vec3, inv_d: Vec3, t_max: f32) -> bool {
         let near = (self.min - o) * inv_d;
         let far = (self.max - o) * inv_d;
         let t0 = near.min(far).max_element().max(0.0);
         let t1 = (near.max(far).min_element() * (1.0 + 2.0 * gamma(3))).min(t_max);
         t0 <= t1
     }
+}
+
+/// 1/d per axis with a zero component's ±∞ taken as ±f32::MAX, as [`Bounds3::may_hit`] uses it.
+#[inline]
+pub fn slab_inverse(d: Vec3) -> Vec3 {
+    d.recip().clamp(Vec3::splat(-f32::MAX), Vec3::splat(f32::MAX))
 }
 
 #[cfg(test)]

@@ -18,7 +18,7 @@ pub mod weingarten;
 pub use animated::AnimatedTransform;
 pub use curve::{CurveKind, CurveSegment, Curves};
 pub use instance::{Instance, InstanceSet, Prototype};
-pub use mesh::{Bounds3, Mesh};
+pub use mesh::{slab_inverse, Bounds3, Mesh};
 pub use motion::Motion;
 pub use placed_quadric::{PlacedQuadric, QuadricSurface};
 pub use quadric::Quadric;
