@@ -3,7 +3,7 @@
 //! renderer's radiometry is checked against closed forms.
 
 use crate::geometry::Ray;
-use crate::integrator::{PathIntegrator, Stats};
+use crate::integrator::{Integrator, Stats};
 use crate::sampling::Sampler;
 use crate::scene::Scene;
 pub use crate::spectrum::K_M;
@@ -80,16 +80,18 @@ fn spectral_estimates(
 }
 
 /// Measures irradiance at `p` on a surface with unit normal `n` from `samples` independent
-/// estimates.
+/// estimates, by `integrator` as it renders `scene` ([`Integrator::for_scene`]); `p` is in the
+/// camera's medium.
 pub fn irradiance(
     scene: &Scene,
-    integrator: &PathIntegrator,
+    integrator: &Integrator,
     p: Vec3,
     n: Vec3,
     samples: u64,
     seed: u64,
 ) -> IrradianceMeasurement {
     let n = n.normalize();
+    let integrator = integrator.for_scene(scene);
     let (irradiance, illuminance) =
         spectral_estimates(samples, seed, |w, sampler, stats| integrator.irradiance(scene, p, n, w, sampler, stats));
     IrradianceMeasurement { irradiance, illuminance, samples }
@@ -97,16 +99,18 @@ pub fn irradiance(
 
 /// Measures the radiance travelling through `p + ε dir` in direction `dir` (ε = 10⁻⁴ (1 + ‖p‖∞),
 /// so for `p` on a surface that faces `dir` it is the radiance that surface sends toward `dir`)
-/// from `samples` independent path-traced estimates.
+/// from `samples` independent estimates by `integrator` as it renders `scene`
+/// ([`Integrator::for_scene`]); `p` is in the camera's medium.
 pub fn radiance(
     scene: &Scene,
-    integrator: &PathIntegrator,
+    integrator: &Integrator,
     p: Vec3,
     dir: Vec3,
     samples: u64,
     seed: u64,
 ) -> RadianceMeasurement {
     let dir = dir.normalize();
+    let integrator = integrator.for_scene(scene);
     let eps = 1e-4 * (1.0 + p.abs().max_element());
     let ray = Ray::new(p + dir * eps, -dir);
     let (radiance, luminance) =

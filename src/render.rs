@@ -3,18 +3,15 @@
 //! its samples in index order, so the image is bit-identical for any thread count, and a render
 //! can be split into disjoint sample ranges and merged.
 
-use crate::camera::CameraRay;
 use crate::film::{Film, FilmAllocError, FilmSettings};
 use crate::filter::Filter;
-use crate::geometry::Ray;
-use crate::integrator::lanes::{self, LaneTrace, LaneTracer};
-use crate::integrator::{PathIntegrator, Stats, VolPathIntegrator};
+use crate::integrator::{Integrator, Stats};
 use crate::material::Material;
 use crate::sampling::Sampler;
 use crate::scene::Scene;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 use crate::texture::TextureFootprint;
-use glam::{Vec2, Vec3};
+use glam::Vec2;
 use rayon::prelude::*;
 use std::ops::Range;
 use std::time::{Duration, Instant};
@@ -69,14 +66,10 @@ pub struct RenderSettings {
     pub sampler: SamplerKind,
     /// Pixel filter.
     pub filter: Filter,
-    /// Path tracer settings.
-    pub integrator: PathIntegrator,
+    /// The integrator and its settings.
+    pub integrator: Integrator,
     /// Stop after the pass during which this much time has passed.
     pub time_limit: Option<Duration>,
-    /// Advance [`lanes::LANES`] paths together ([`LaneTracer`], a prototype for Lambertian
-    /// scenes with area lights; others render one path at a time), tracing their rays as this
-    /// says; `None`: one path at a time.
-    pub lanes: Option<LaneTrace>,
 }
 
 impl Default for RenderSettings {
@@ -91,9 +84,8 @@ impl Default for RenderSettings {
             seed: 0,
             sampler: SamplerKind::Sobol,
             filter: Filter::by_name("gaussian").expect("built in"),
-            integrator: PathIntegrator::default(),
+            integrator: Integrator::default(),
             time_limit: None,
-            lanes: None,
         }
     }
 }
@@ -117,21 +109,16 @@ impl RenderSettings {
 pub fn render_pass(scene: &Scene, settings: &RenderSettings, film: &mut Film, range: Range<u64>) -> Stats {
     let camera = scene.camera.camera(settings.resolution);
     let integrator =
-        PathIntegrator { footprint: Some(TextureFootprint::new(&camera, settings.spp)), ..settings.integrator };
+        Integrator { footprint: Some(TextureFootprint::new(&camera, settings.spp)), ..settings.integrator }
+            .for_scene(scene);
     let width = film.width as usize;
     if width == 0 {
         return Stats::default(); // an empty film: nothing to render (and no chunk size of 0)
     }
     let (x0, y0) = settings.film_origin();
     let sensor = settings.film.sensor;
-    // A scene with media is rendered by the volumetric path tracer; one without never reaches it.
-    let volpath = scene.has_media().then(|| VolPathIntegrator::from_path(&integrator));
-    let tracer = settings.lanes.filter(|_| volpath.is_none()).and_then(|t| LaneTracer::new(integrator, scene, t).ok());
     // A camera ray's own differentials are only needed where a texture is filtered with them.
-    let differentials = integrator
-        .footprint
-        .as_ref()
-        .filter(|_| tracer.is_none() && scene.materials().iter().any(Material::is_textured));
+    let differentials = integrator.footprint.as_ref().filter(|_| scene.materials().iter().any(Material::is_textured));
     film.pixels
         .par_chunks_mut(width * BAND_ROWS)
         .enumerate()
@@ -182,45 +169,15 @@ pub fn render_pass(scene: &Scene, settings: &RenderSettings, film: &mut Film, ra
                 px.weight_sum += weight as f64;
                 px.samples += 1;
             };
-            if let Some(tracer) = &tracer {
-                let mut samplers: [Sampler; lanes::LANES] = std::array::from_fn(|_| settings.sampler.make());
-                for (group, pxs) in pixels.chunks_mut(lanes::LANES).enumerate() {
-                    let n = pxs.len();
-                    let at: [(u32, u32); lanes::LANES] =
-                        std::array::from_fn(|k| pixel_at(group * lanes::LANES + k.min(n - 1)));
-                    for s in range.clone() {
-                        let mut w = [SampledWavelengths::sample_uniform(0.0); lanes::LANES];
-                        let mut weights = [0.0; lanes::LANES];
-                        let mut ray_weights = [0.0; lanes::LANES];
-                        let rays = std::array::from_fn(|k| {
-                            let (lambdas, weight, ray, _) = start(&mut samplers[k], at[k], s);
-                            (w[k], weights[k]) = (lambdas, weight);
-                            let ray = ray.unwrap_or(CameraRay { ray: Ray::new(Vec3::ZERO, Vec3::Z), weight: 0.0 });
-                            ray_weights[k] = ray.weight;
-                            ray.ray
-                        });
-                        // Lanes whose camera ray the lens blocked bring back nothing.
-                        let active = crate::simd::LanesMask(std::array::from_fn(|k| k < n && ray_weights[k] != 0.0));
-                        let l = tracer.li(rays, &mut w, &mut samplers, active, &mut stats);
-                        for (k, px) in pxs.iter_mut().enumerate() {
-                            add(px, &mut stats, at[k], s, l[k] * ray_weights[k], w[k], weights[k]);
-                        }
-                    }
-                }
-                return stats;
-            }
             let mut sampler = settings.sampler.make();
             for (i, px) in pixels.iter_mut().enumerate() {
                 let (x, y) = pixel_at(i);
                 for s in range.clone() {
                     let (mut lambdas, weight, ray, diff) = start(&mut sampler, (x, y), s);
                     let diff = diff.as_ref();
-                    let l = match (ray, &volpath) {
-                        (None, _) => SampledSpectrum::splat(0.0),
-                        (Some(r), Some(v)) => {
-                            v.li_camera(scene, r.ray, diff, &mut lambdas, &mut sampler, &mut stats) * r.weight
-                        }
-                        (Some(r), None) => {
+                    let l = match ray {
+                        None => SampledSpectrum::splat(0.0),
+                        Some(r) => {
                             integrator.li_camera(scene, r.ray, diff, &mut lambdas, &mut sampler, &mut stats) * r.weight
                         }
                     };

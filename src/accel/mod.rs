@@ -24,15 +24,6 @@ pub trait Accel: Send + Sync {
     fn intersect(&self, ray: &Ray) -> Option<Hit>;
     /// True when anything is hit with t in (0, ray.t_max) (shadow rays).
     fn occluded(&self, ray: &Ray) -> bool;
-    /// Closest hits of eight rays traced together (`None` where `active` is false). The
-    /// default traces them one by one; Embree traces them as one packet (`rtcIntersect8`).
-    fn intersect8(&self, rays: &[Ray; 8], active: &[bool; 8]) -> [Option<Hit>; 8] {
-        std::array::from_fn(|i| if active[i] { self.intersect(&rays[i]) } else { None })
-    }
-    /// Occlusion of eight shadow rays traced together (false where `active` is false).
-    fn occluded8(&self, rays: &[Ray; 8], active: &[bool; 8]) -> [bool; 8] {
-        std::array::from_fn(|i| active[i] && self.occluded(&rays[i]))
-    }
     /// Bounds of the whole scene.
     fn bounds(&self) -> Bounds3;
     /// Bytes the accelerator holds (BVH nodes and its own copies of the geometry).

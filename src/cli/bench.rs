@@ -2,7 +2,7 @@
 
 use crate::accel::AccelKind;
 use crate::bench::{self, BenchConfig};
-use crate::integrator::PathIntegrator;
+use crate::integrator::Integrator;
 use crate::render::RenderSettings;
 use crate::settings::{self, parse_list};
 use anyhow::{bail, Context, Result};
@@ -66,7 +66,7 @@ pub fn run(a: &BenchArgs) -> Result<()> {
     let max_depth = a.max_depth.map(|d| settings::max_depth(d, "--max-depth")).transpose()?;
     let settings = RenderSettings {
         resolution: resolution.unwrap_or(base.resolution),
-        integrator: PathIntegrator { max_depth: max_depth.unwrap_or(base.integrator.max_depth), ..base.integrator },
+        integrator: Integrator { max_depth: max_depth.unwrap_or(base.integrator.max_depth), ..base.integrator },
         ..base
     };
     let cfg = BenchConfig {

@@ -1,8 +1,8 @@
 //! `prism measure irradiance|radiance`: the measuring instrument on the command line.
 
 use crate::accel::AccelKind;
-use crate::integrator::PathIntegrator;
 use crate::render::RenderSettings;
+use crate::scene::pbrt::FileSettings;
 use crate::scene::SceneBuilder;
 use crate::settings;
 use anyhow::{bail, Context, Result};
@@ -41,10 +41,11 @@ pub struct Instrument {
     /// Number of independent estimates.
     #[arg(long, default_value_t = 100_000)]
     pub samples: u64,
-    /// Seed [default: prism render's, 0].
+    /// Seed [default: the file's, else 0, as `prism render`].
     #[arg(long)]
     pub seed: Option<u64>,
-    /// Maximum path depth, or -1 for no limit [default: prism render's, 8].
+    /// Maximum path depth, or -1 for no limit [default: the file's, else pbrt-v4's 5 for a scene
+    /// file and 8 for the built-in Cornell box, as `prism render`].
     #[arg(long, allow_negative_numbers = true)]
     pub max_depth: Option<i64>,
     /// Print JSON instead of text.
@@ -80,13 +81,16 @@ pub fn run(cmd: &MeasureCommand) -> Result<()> {
     }
     let d = RenderSettings::default();
     let max_depth = a.max_depth.map(|m| settings::max_depth(m, "--max-depth")).transpose()?;
-    let integrator = PathIntegrator { max_depth: max_depth.unwrap_or(d.integrator.max_depth), ..d.integrator };
-    let seed = a.seed.unwrap_or(d.seed);
-    let builder = match &a.scene {
-        None => SceneBuilder::cornell_box(),
-        Some(path) => super::render::load_scene_file(path, false, Default::default())?.builder,
+    let (builder, file) = match &a.scene {
+        None => (SceneBuilder::cornell_box(), FileSettings::default()),
+        Some(path) => {
+            let loaded = super::render::load_scene_file(path, false, Default::default())?;
+            (loaded.builder, loaded.settings)
+        }
     };
+    let seed = a.seed.or(file.seed).unwrap_or(d.seed);
     let scene = builder.build(AccelKind::default_available()).context("building the scene")?;
+    let integrator = super::render::integrator_for(&scene, &file, None, max_depth, None);
     // (radiometric name, estimate, unit), (photometric ...), samples, JSON.
     let ((rn, re, ru), (pn, pe, pu), samples, json) = match cmd {
         MeasureCommand::Radiance { .. } => {

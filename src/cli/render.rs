@@ -3,7 +3,7 @@
 use crate::accel::AccelKind;
 use crate::film::{Crop, Film, FilmSettings};
 use crate::image::{CropWindow, ExrSample, WriteOptions};
-use crate::integrator::{PathIntegrator, Stats, SubsurfaceMethod};
+use crate::integrator::{Integrator, IntegratorKind, Stats, SubsurfaceMethod};
 use crate::light::LightSamplerKind;
 use crate::render::RenderSettings;
 use crate::scene::pbrt::{input_stamps, FileSettings, InputStamp, LoadedScene};
@@ -68,10 +68,10 @@ pub struct RenderArgs {
     /// uniform [default: the file's Integrator "lightsampler", else bvh].
     #[arg(long)]
     pub light_sampler: Option<String>,
-    /// Prototype: advance 8 paths together in SIMD lanes, tracing their rays as Embree packets
-    /// (`packet`) or one by one (`single`). Lambertian materials and area lights only.
+    /// Integrator, by pbrt-v4's name: path or volpath (either renders a scene's media when it
+    /// has any) [default: the file's Integrator, else path].
     #[arg(long)]
-    pub lanes: Option<String>,
+    pub integrator: Option<String>,
     /// Output colour space: srgb, rec2020, acescg, aces2065-1, display-p3 [default: srgb].
     #[arg(long)]
     pub color_space: Option<String>,
@@ -165,11 +165,12 @@ pub fn prepare(args: &RenderArgs) -> Result<Job> {
         _ => None,
     };
     let time_limit = args.time_limit.as_deref().map(settings::parse_duration).transpose()?;
-    let lanes = match args.lanes.as_deref() {
+    let integrator_kind = match args.integrator.as_deref() {
         None => None,
-        Some("packet") => Some(crate::integrator::lanes::LaneTrace::Packet),
-        Some("single") => Some(crate::integrator::lanes::LaneTrace::Single),
-        Some(other) => bail!("unknown --lanes '{other}' (valid: packet, single)"),
+        Some(name) => Some(
+            IntegratorKind::parse(name)
+                .with_context(|| format!("unknown --integrator '{name}' (valid: {})", IntegratorKind::valid_names()))?,
+        ),
     };
     let max_depth = args.max_depth.map(|d| settings::max_depth(d, "--max-depth")).transpose()?;
     let sss = args.sss.as_deref().map(SubsurfaceMethod::parse).transpose().map_err(anyhow::Error::msg)?;
@@ -219,12 +220,7 @@ pub fn prepare(args: &RenderArgs) -> Result<Job> {
     let t0 = Instant::now();
     let scene = builder.build(accel).context("building the scene")?;
     let build_s = t0.elapsed().as_secs_f64();
-    let integrator = PathIntegrator {
-        max_depth: max_depth.or(file.max_depth).unwrap_or(d.integrator.max_depth),
-        sss: sss.unwrap_or(d.integrator.sss),
-        regularize: file.regularize.unwrap_or(d.integrator.regularize),
-        ..d.integrator
-    };
+    let integrator = integrator_for(&scene, &file, integrator_kind, max_depth, sss);
     let resolution = resolution.or(file.resolution).unwrap_or(d.resolution);
     let crop = crop_arg.or(file.crop).map(|c| c.bounds(resolution)).transpose().map_err(anyhow::Error::msg)?;
     let sensor = Sensor::new(
@@ -243,13 +239,35 @@ pub fn prepare(args: &RenderArgs) -> Result<Job> {
         filter: filter.unwrap_or(d.filter),
         integrator,
         time_limit,
-        lanes,
     };
-    if let Some(trace) = lanes {
-        crate::integrator::lanes::LaneTracer::new(settings.integrator, &scene, trace)?;
-    }
     let exr_sample = if file.save_fp16 == Some(false) { ExrSample::Float } else { ExrSample::Half };
     Ok(Job { scene, settings, output, space, build_s, scene_name, inputs, exr_sample })
+}
+
+/// The integrator for `scene`: command-line values (`named`, `max_depth`, `sss`) over the
+/// file's, over prism's defaults, resolved against the scene ([`Integrator::for_scene`]). Every
+/// subcommand that renders or measures a scene takes its integrator from here.
+pub(crate) fn integrator_for(
+    scene: &Scene,
+    file: &FileSettings,
+    named: Option<IntegratorKind>,
+    max_depth: Option<u32>,
+    sss: Option<SubsurfaceMethod>,
+) -> Integrator {
+    let d = Integrator::default();
+    let named = named.or(file.integrator).unwrap_or(d.kind);
+    let integrator = Integrator {
+        kind: named,
+        max_depth: max_depth.or(file.max_depth).unwrap_or(d.max_depth),
+        sss: sss.unwrap_or(d.sss),
+        regularize: file.regularize.unwrap_or(d.regularize),
+        ..d
+    }
+    .for_scene(scene);
+    if named == IntegratorKind::Path && integrator.kind == IntegratorKind::VolPath {
+        log::info!("the scene has media: integrator \"path\" renders them as \"volpath\"");
+    }
+    integrator
 }
 
 /// Parses a pbrt-v4 file and maps it onto a builder, printing its warnings (in strict mode an

@@ -11,7 +11,7 @@ use crate::checkpoint::{self, FilmHeader};
 use crate::film::Film;
 use crate::filter::Filter;
 use crate::image::{metrics, Image};
-use crate::integrator::{PathIntegrator, SubsurfaceMethod};
+use crate::integrator::{Integrator, SubsurfaceMethod};
 use crate::render::{render, render_range, RenderSettings, SamplerKind};
 use crate::settings::{self, parse_list};
 use crate::spectrum::ColorSpace;
@@ -79,7 +79,7 @@ fn settings(size: u32, spp: u64, seed: u64, sss: SubsurfaceMethod) -> RenderSett
         seed,
         sampler: SamplerKind::Sobol,
         filter: Filter::by_name("box").expect("box filter"),
-        integrator: PathIntegrator { max_depth: 16, sss, ..d.integrator },
+        integrator: Integrator { max_depth: 16, sss, ..d.integrator },
         ..d
     }
 }

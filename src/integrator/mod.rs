@@ -1,18 +1,19 @@
-//! Integrators: estimators of the radiance arriving at the camera.
+//! Integrators: estimators of the radiance arriving at the camera, behind one interface
+//! ([`Integrator`]).
 
-pub mod lanes;
+mod interface;
 #[cfg(test)]
 mod nanovdb_tests;
 mod path;
+mod state;
 pub mod subsurface;
 mod transmittance;
 mod volpath;
 #[cfg(test)]
 mod volpath_tests;
 
-pub use path::{DirectStrategy, PathIntegrator, UNBOUNDED_DEPTH};
+pub use interface::{DirectStrategy, Integrator, IntegratorKind, UNBOUNDED_DEPTH};
 pub use subsurface::SubsurfaceMethod;
-pub use volpath::VolPathIntegrator;
 
 /// Counters gathered while rendering (summed over threads).
 #[derive(Clone, Debug, Default, PartialEq)]

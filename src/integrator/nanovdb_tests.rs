@@ -206,7 +206,7 @@ fn a_nanovdb_render_equals_the_uniformgrid_render_within_noise() {
         seed,
         sampler: crate::render::SamplerKind::Independent,
         filter: crate::filter::Filter::by_name("box").unwrap(),
-        integrator: super::PathIntegrator { max_depth: 6, ..Default::default() },
+        integrator: super::Integrator { max_depth: 6, ..Default::default() },
         ..Default::default()
     };
     let (nano, grid) = (build(&scene_text(&nanovdb_medium())), build(&scene_text(&uniformgrid_medium())));

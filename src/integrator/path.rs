@@ -1,153 +1,22 @@
 //! Unidirectional path tracing of the reflection equation L_o = L_e + ∫ f_r L_i cos θ_i dω_i
 //! (Kajiya 1986), with next-event estimation and BSDF sampling combined by multiple importance
-//! sampling (Veach 1997, power heuristic β = 2) and Russian roulette.
+//! sampling (Veach 1997, power heuristic β = 2) and Russian roulette: the surface loop of
+//! [`Integrator`], for scenes without media.
 
-use super::subsurface::{self, Exit, SubsurfaceMethod};
+use super::interface::{DirectStrategy, Integrator};
+use super::state::{AfterSubsurface, PathState};
+use super::subsurface;
 use super::Stats;
-use crate::bsdf::{Bsdf, Diffuse, TransportMode};
+use crate::bsdf::{Bsdf, TransportMode};
 use crate::geometry::Ray;
 use crate::light::LightSampleContext;
-use crate::math::PI;
 use crate::sampling::mis::power_heuristic;
 use crate::sampling::Sampler;
 use crate::scene::{Scene, SurfaceInteraction, MAX_INTERFACE_CROSSINGS};
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
-use crate::texture::{Footprint, RayDifferentials, TextureFootprint};
-use glam::Vec3;
+use crate::texture::RayDifferentials;
 
-/// Which estimators of direct light to use (for validating MIS: all three must agree).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum DirectStrategy {
-    /// NEE and BSDF sampling, weighted by the power heuristic.
-    Mis,
-    /// Only light sampling (emission found by BSDF sampling is ignored, except via delta lobes).
-    LightOnly,
-    /// Only BSDF sampling (no shadow rays).
-    BsdfOnly,
-}
-
-/// A `max_depth` of no limit: Russian roulette alone ends paths.
-pub const UNBOUNDED_DEPTH: u32 = u32::MAX;
-
-/// The path tracer's settings.
-#[derive(Clone, Copy, Debug)]
-pub struct PathIntegrator {
-    /// Maximum number of scattering events, or [`UNBOUNDED_DEPTH`].
-    pub max_depth: u32,
-    /// Depth from which Russian roulette may end paths.
-    pub rr_depth: u32,
-    /// Direct-light estimator.
-    pub strategy: DirectStrategy,
-    /// How paths entering subsurface materials continue.
-    pub sss: SubsurfaceMethod,
-    /// The camera's pixel footprint, for filtered texture lookups (`None`: unfiltered, the
-    /// finest texture detail everywhere).
-    pub footprint: Option<TextureFootprint>,
-    /// pbrt-v4's `regularize`: after the first non-specular bounce every microfacet lobe is
-    /// widened ([`crate::bsdf::TrowbridgeReitz::regularize`]), trading bias for caustics that
-    /// light sampling can find.
-    pub regularize: bool,
-}
-
-impl Default for PathIntegrator {
-    fn default() -> Self {
-        Self {
-            max_depth: 8,
-            rr_depth: 3,
-            strategy: DirectStrategy::Mis,
-            sss: SubsurfaceMethod::default(),
-            footprint: None,
-            regularize: false,
-        }
-    }
-}
-
-/// What the path loop carries from one vertex to the next (the locals of pbrt-v4's
-/// `PathIntegrator::Li`, §13.4).
-#[derive(Clone, Copy, Debug)]
-struct PathState {
-    /// Radiance gathered so far.
-    l: SampledSpectrum,
-    /// Throughput β: the path's weight per unit radiance arriving along the current ray.
-    beta: SampledSpectrum,
-    /// Product of η² over the refractions so far, undone for Russian roulette (pbrt-v4
-    /// `etaScale`): radiance scaled by refraction is not a reason to end a path.
-    eta_scale: f32,
-    /// The vertex the current ray left (point and shading normal): the reference of the light's
-    /// pdf when the ray finds emission, for MIS against next-event estimation.
-    prev: LightSampleContext,
-    /// Solid-angle pdf of the sample that made the current ray.
-    prev_pdf: f32,
-    /// The current ray came from a delta lobe (or is the camera ray): emission it finds was not
-    /// sampled by next-event estimation.
-    specular_bounce: bool,
-    /// Scattering vertices so far; every vertex counts, subsurface exits included.
-    depth: u32,
-    /// Some earlier vertex sampled a non-delta lobe (pbrt-v4 `anyNonSpecularBounces`).
-    any_non_specular: bool,
-}
-
-impl PathState {
-    fn new(origin: Vec3) -> Self {
-        Self {
-            l: SampledSpectrum::zero(),
-            beta: SampledSpectrum::one(),
-            eta_scale: 1.0,
-            prev: LightSampleContext::medium(origin),
-            prev_pdf: 0.0,
-            specular_bounce: true,
-            depth: 0,
-            any_non_specular: false,
-        }
-    }
-}
-
-impl PathIntegrator {
-    /// Radiance [W/(sr·m²·nm)] arriving along `ray` at its origin, at the wavelengths `w` (which a
-    /// dispersive interface may reduce to the hero wavelength).
-    pub fn li(
-        &self,
-        scene: &Scene,
-        ray: Ray,
-        w: &mut SampledWavelengths,
-        sampler: &mut Sampler,
-        stats: &mut Stats,
-    ) -> SampledSpectrum {
-        self.trace(scene, ray, None, None, w, sampler, stats)
-    }
-
-    /// [`Self::li`] for a camera ray with its differentials, which give the texture footprint
-    /// at its first hit.
-    pub fn li_camera(
-        &self,
-        scene: &Scene,
-        ray: Ray,
-        differentials: Option<&RayDifferentials>,
-        w: &mut SampledWavelengths,
-        sampler: &mut Sampler,
-        stats: &mut Stats,
-    ) -> SampledSpectrum {
-        self.trace(scene, ray, differentials, None, w, sampler, stats)
-    }
-
-    /// Irradiance E [W/(m²·nm)] at `p` on a surface with unit normal `n`, by the full integrator:
-    /// an ideal white Lambertian sensor at `p` reflects L_o = E/π (E = ∫ L_i cos θ dω), so
-    /// E = π L_o, with L_o estimated by NEE + BSDF sampling + MIS like any other surface.
-    pub fn irradiance(
-        &self,
-        scene: &Scene,
-        p: Vec3,
-        n: Vec3,
-        w: &mut SampledWavelengths,
-        sampler: &mut Sampler,
-        stats: &mut Stats,
-    ) -> SampledSpectrum {
-        let si = SurfaceInteraction::sensor(p, n);
-        let bsdf = Bsdf::new(n, Vec3::ZERO, n, Diffuse::new(SampledSpectrum::one()).into());
-        let probe = Ray::new(p + n, -n); // only its origin matters for MIS bookkeeping
-        self.trace(scene, probe, None, Some((si, bsdf)), w, sampler, stats) * PI
-    }
-
+impl Integrator {
     /// MIS weight of emission found by BSDF sampling, given the light's solid-angle pdf.
     fn emission_weight(&self, state: &PathState, p_light: f32) -> f32 {
         if state.specular_bounce || self.strategy == DirectStrategy::BsdfOnly {
@@ -159,10 +28,10 @@ impl PathIntegrator {
         }
     }
 
-    /// The path loop. `differentials` are the camera ray's, `pending` is a vertex found without
-    /// tracing the current ray (the irradiance sensor; a subsurface exit), whose BSDF is given.
+    /// The surface path loop. `differentials` are the camera ray's, `pending` is a vertex found
+    /// without tracing the current ray (the irradiance sensor), whose BSDF is given.
     #[allow(clippy::too_many_arguments)]
-    fn trace<'s>(
+    pub(super) fn path_trace<'s>(
         &self,
         scene: &'s Scene,
         mut ray: Ray,
@@ -209,22 +78,16 @@ impl PathIntegrator {
                     (si, None)
                 }
             };
-            // Every vertex counts toward the depth limit, a subsurface exit included.
-            if state.depth == self.max_depth {
+            if !self.next_vertex(&mut state) {
                 break;
             }
-            state.depth += 1;
             // The BSDF is borrowed where it was built, not moved (it is larger than the
             // compiler copies without a `memcpy` call).
-            let mut computed;
+            let computed;
             let bsdf = match &given_bsdf {
                 Some(b) => b,
                 None => {
-                    let footprint = Footprint::of_vertex(self.footprint.as_ref(), differentials, state.depth == 1);
-                    computed = si.bsdf(w, footprint);
-                    if let Some(b) = computed.as_mut().filter(|_| self.regularize && state.any_non_specular) {
-                        b.bxdf.regularize();
-                    }
+                    computed = self.vertex_bsdf(&si, w, differentials, &state);
                     match &computed {
                         Some(b) => b,
                         None => break,
@@ -242,17 +105,8 @@ impl PathIntegrator {
             }
 
             // Continue the path by sampling the BSDF.
-            let uc = sampler.get_1d();
-            let u = sampler.get_2d();
-            let Some(bs) = bsdf.sample_f(si.wo, uc, u, TransportMode::Radiance) else { break };
-            let cos = bs.wi.dot(bsdf.ns()).abs();
-            state.beta *= bs.f * (cos / bs.pdf);
-            state.prev_pdf =
-                if bs.pdf_is_proportional { bsdf.pdf(si.wo, bs.wi, TransportMode::Radiance) } else { bs.pdf };
-            state.specular_bounce = bs.is_specular();
-            state.any_non_specular |= !bs.is_specular();
+            let Some(bs) = self.sample_bsdf(&si, bsdf, sampler, &mut state) else { break };
             ray = si.spawn_ray(bs.wi);
-            state.prev = LightSampleContext::surface(si.p, bsdf.ns());
             if bs.is_transmission() {
                 // Refraction into a subsurface medium: continue where light leaves it. Entering and
                 // leaving scale radiance by 1/η² and η², so eta_scale is left alone.
@@ -261,55 +115,23 @@ impl PathIntegrator {
                     let mut light = |b: &SurfaceInteraction, bsdf: &Bsdf, sampler: &mut Sampler, stats: &mut Stats| {
                         self.sample_light(scene, b, bsdf, w, sampler, stats)
                     };
-                    match subsurface::enter(
-                        self.sss,
-                        use_nee.then_some(&mut light as subsurface::BoundaryNee),
-                        scene,
-                        m,
-                        &si,
-                        bs.wi,
-                        (&mut state.beta, &mut state.l),
-                        w,
-                        sampler,
-                        stats,
-                    ) {
-                        None => break,
-                        Some(Exit::Vertex(vsi, vbsdf)) => {
+                    let nee = use_nee.then_some(&mut light as subsurface::BoundaryNee);
+                    let (beta, l) = (&mut state.beta, &mut state.l);
+                    let exit = subsurface::enter(self.sss, nee, scene, m, &si, bs.wi, (beta, l), w, sampler, stats);
+                    match self.leave_subsurface(exit, &mut state) {
+                        AfterSubsurface::End => break,
+                        AfterSubsurface::Vertex(vsi, vbsdf) => {
                             pending = Some((vsi, vbsdf));
                             continue;
                         }
-                        Some(Exit::Ray(exit, origin, pdf)) => {
-                            // The walk's last boundary vertex did its own light sampling and
-                            // chose the way out: it counts as a vertex like the diffusion exit.
-                            if state.depth == self.max_depth {
-                                break;
-                            }
-                            state.depth += 1;
-                            (ray, state.prev, state.specular_bounce, state.prev_pdf) =
-                                (exit, origin, pdf.is_none(), pdf.unwrap_or(0.0));
-                        }
+                        AfterSubsurface::Ray(exit) => ray = exit,
                     }
                 } else {
                     state.eta_scale *= bs.eta * bs.eta;
                 }
             }
-            if state.beta.is_black() {
+            if state.beta.is_black() || !self.roulette(&mut state, sampler) {
                 break;
-            }
-
-            // Russian roulette on the throughput with the radiance-scaling of refraction undone:
-            // survival min(max β, 1) (pbrt-v4). With no depth limit, a path whose throughput
-            // stays ≥ 1 (a closed white room) must still end, so survival is at most 0.95 there
-            // (Mitsuba 3's rule).
-            let rr_beta = state.beta * state.eta_scale;
-            let cap = if self.max_depth == UNBOUNDED_DEPTH { 0.95 } else { 1.0 };
-            let survival = rr_beta.max_value().min(cap);
-            if state.depth >= self.rr_depth && survival < 1.0 {
-                let q = (1.0 - survival).max(0.0);
-                if sampler.get_1d() < q {
-                    break;
-                }
-                state.beta /= 1.0 - q;
             }
         }
         stats.last_depth = state.depth;

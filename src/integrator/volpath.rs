@@ -13,10 +13,14 @@
 //! ratio tracking (Novák et al. 2014) with Russian roulette once it is small, through any number
 //! of media and interface surfaces. Media emit σ_a L_e, gathered at every tentative collision.
 //! Paths that refract into a subsurface material continue by [`super::subsurface::enter`].
+//! The volumetric loop of [`Integrator`], for scenes with media; its surface vertices take the
+//! steps the surface loop takes ([`super::state`]).
 
-use super::subsurface::{self, Exit, SubsurfaceMethod};
+use super::interface::{DirectStrategy, Integrator};
+use super::state::{AfterSubsurface, PathState};
+use super::subsurface;
 use super::transmittance::{distance, ray_rng, transmittance};
-use super::{PathIntegrator, Stats};
+use super::Stats;
 use crate::bsdf::{Bsdf, TransportMode};
 use crate::geometry::Ray;
 use crate::light::LightSampleContext;
@@ -24,29 +28,8 @@ use crate::media::{sample_t_maj, HenyeyGreenstein};
 use crate::sampling::Sampler;
 use crate::scene::{Scene, SurfaceInteraction, MAX_INTERFACE_CROSSINGS};
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
-use crate::texture::{Footprint, RayDifferentials, TextureFootprint};
+use crate::texture::RayDifferentials;
 use glam::Vec3;
-
-/// The volumetric path tracer's settings.
-#[derive(Clone, Copy, Debug)]
-pub struct VolPathIntegrator {
-    /// Maximum number of scattering events (surface and medium).
-    pub max_depth: u32,
-    /// The camera's pixel footprint for filtered texture lookups.
-    pub footprint: Option<TextureFootprint>,
-    /// Widen microfacet lobes after the first non-specular bounce (`PathIntegrator::regularize`).
-    pub regularize: bool,
-    /// How paths entering subsurface materials continue.
-    pub sss: SubsurfaceMethod,
-}
-
-impl VolPathIntegrator {
-    /// The settings of the surface path tracer that apply (depth limit, texture footprint,
-    /// regularisation, subsurface method).
-    pub fn from_path(p: &PathIntegrator) -> Self {
-        Self { max_depth: p.max_depth, footprint: p.footprint, regularize: p.regularize, sss: p.sss }
-    }
-}
 
 /// Where a light sample is taken from.
 enum Scatterer<'a, 's> {
@@ -57,44 +40,27 @@ enum Scatterer<'a, 's> {
     Medium { p: Vec3, d: Vec3, phase: HenyeyGreenstein, time: f32 },
 }
 
-impl VolPathIntegrator {
-    /// Radiance arriving along `ray` (which starts in the camera's medium) at the wavelengths `w`.
-    pub fn li(
+impl Integrator {
+    /// The volumetric path loop: radiance arriving along `ray`, which starts in the camera's
+    /// medium. `differentials` are the camera ray's (the texture footprint at the first surface
+    /// vertex, through interfaces and null collisions, which do not scatter it); `pending` is a
+    /// first vertex found without tracing the ray (the irradiance sensor), whose BSDF is given.
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn volpath_trace<'s>(
         &self,
-        scene: &Scene,
-        ray: Ray,
-        w: &mut SampledWavelengths,
-        sampler: &mut Sampler,
-        stats: &mut Stats,
-    ) -> SampledSpectrum {
-        self.li_camera(scene, ray, None, w, sampler, stats)
-    }
-
-    /// [`Self::li`] for a camera ray with its differentials, which give the texture footprint
-    /// at its first surface vertex (through interfaces and null collisions, which do not
-    /// scatter it).
-    pub fn li_camera(
-        &self,
-        scene: &Scene,
+        scene: &'s Scene,
         ray: Ray,
         differentials: Option<&RayDifferentials>,
+        mut pending: Option<(SurfaceInteraction<'s>, Bsdf)>,
         w: &mut SampledWavelengths,
         sampler: &mut Sampler,
         stats: &mut Stats,
     ) -> SampledSpectrum {
-        let mut l = SampledSpectrum::zero();
-        let mut beta = SampledSpectrum::one();
-        let (mut r_u, mut r_l) = (SampledSpectrum::one(), SampledSpectrum::one());
-        let mut specular_bounce = true;
-        let mut any_non_specular = false;
-        let mut eta_scale = 1.0f32;
-        let mut depth = 0u32;
-        let mut prev = LightSampleContext::medium(ray.o);
+        let mut state = PathState::new(ray.o);
+        let use_nee = self.strategy != DirectStrategy::BsdfOnly;
         let mut ray = Ray::new(ray.o, ray.d.normalize()).at_time(ray.time);
         let mut medium = scene.camera_medium();
         let mut crossings = 0;
-        // A vertex found without tracing a ray (a subsurface exit) with its BSDF.
-        let mut pending: Option<(SurfaceInteraction, Bsdf)> = None;
         loop {
             let (si, given_bsdf) = match pending.take() {
                 Some((si, bsdf)) => (si, Some(bsdf)),
@@ -107,14 +73,15 @@ impl VolPathIntegrator {
                         let mut rng = ray_rng(sampler);
                         let u = sampler.get_1d();
                         let (mut scattered, mut terminated) = (None, false);
+                        let st = &mut state;
                         let t_maj = sample_t_maj(m, &uniform, ray.o, ray.d, t_hit, u, &mut rng, w, |c, rng| {
                             let s0 = c.sigma_maj[0];
                             // Emission σ_a L_e, estimated at every tentative collision.
-                            if depth < self.max_depth && !c.mp.le.is_black() {
+                            if st.depth < self.max_depth && !c.mp.le.is_black() {
                                 let pdf = s0 * c.t_maj[0];
-                                let r_e = r_u * c.sigma_maj * c.t_maj / pdf;
+                                let r_e = st.r_u * c.sigma_maj * c.t_maj / pdf;
                                 if !r_e.is_black() {
-                                    l += beta * c.t_maj / pdf * c.mp.sigma_a * c.mp.le / r_e.average();
+                                    st.l += st.beta * c.t_maj / pdf * c.mp.sigma_a * c.mp.le / r_e.average();
                                 }
                             }
                             let (p_absorb, p_scatter) = (c.mp.sigma_a[0] / s0, c.mp.sigma_s[0] / s0);
@@ -123,66 +90,72 @@ impl VolPathIntegrator {
                                 terminated = true;
                                 false
                             } else if um < p_absorb + p_scatter {
-                                if depth >= self.max_depth {
+                                if !self.next_vertex(st) {
                                     terminated = true;
                                     return false;
                                 }
-                                depth += 1;
                                 let pdf = c.t_maj[0] * c.mp.sigma_s[0];
-                                beta *= c.t_maj * c.mp.sigma_s / pdf;
-                                r_u *= c.t_maj * c.mp.sigma_s / pdf;
+                                st.beta *= c.t_maj * c.mp.sigma_s / pdf;
+                                st.r_u *= c.t_maj * c.mp.sigma_s / pdf;
                                 scattered = Some((c.p, c.mp.g));
                                 false
                             } else {
                                 let sigma_n = (c.sigma_maj - c.mp.sigma_a - c.mp.sigma_s).map(|x| x.max(0.0));
                                 let pdf = c.t_maj[0] * sigma_n[0];
                                 if pdf <= 0.0 {
-                                    beta = SampledSpectrum::zero();
+                                    st.beta = SampledSpectrum::zero();
                                 } else {
-                                    beta *= c.t_maj * sigma_n / pdf;
-                                    r_u *= c.t_maj * sigma_n / pdf;
-                                    r_l *= c.t_maj * c.sigma_maj / pdf;
+                                    st.beta *= c.t_maj * sigma_n / pdf;
+                                    st.r_u *= c.t_maj * sigma_n / pdf;
+                                    st.r_l *= c.t_maj * c.sigma_maj / pdf;
                                 }
-                                !beta.is_black() && !r_u.is_black()
+                                !st.beta.is_black() && !st.r_u.is_black()
                             }
                         });
-                        if terminated || beta.is_black() || r_u.is_black() || !beta.is_finite() {
+                        if terminated || state.beta.is_black() || state.r_u.is_black() || !state.beta.is_finite() {
                             break;
                         }
                         if let Some((p, g)) = scattered {
                             let phase = HenyeyGreenstein::new(g);
-                            let at = Scatterer::Medium { p, d: ray.d, phase, time: ray.time };
-                            l += self.sample_ld(scene, &at, medium, beta, r_u, w, sampler, stats);
+                            if use_nee {
+                                let at = Scatterer::Medium { p, d: ray.d, phase, time: ray.time };
+                                state.l += self.sample_ld(scene, &at, medium, state.beta, state.r_u, w, sampler, stats);
+                            }
                             let wi = phase.sample(ray.d, sampler.get_2d());
                             let pdf = phase.p(ray.d, wi);
                             // β ·= p/pdf = 1: HG is sampled exactly.
-                            r_l = r_u / pdf;
-                            prev = LightSampleContext::medium(p);
-                            specular_bounce = false;
-                            any_non_specular = true;
+                            state.r_l = state.r_u / pdf;
+                            state.prev = LightSampleContext::medium(p);
+                            state.prev_pdf = pdf;
+                            state.specular_bounce = false;
+                            state.any_non_specular = true;
                             ray = Ray::new(p, wi).at_time(ray.time);
+                            // A medium vertex is a vertex like any other: roulette applies.
+                            if !self.roulette(&mut state, sampler) {
+                                break;
+                            }
                             continue;
                         }
                         let t0 = t_maj[0];
                         if t0.is_nan() || t0 <= 0.0 {
                             break;
                         }
-                        beta *= t_maj / t0;
-                        r_u *= t_maj / t0;
-                        r_l *= t_maj / t0;
+                        state.beta *= t_maj / t0;
+                        state.r_u *= t_maj / t0;
+                        state.r_l *= t_maj / t0;
                     }
 
                     let Some(si) = si else {
                         for (id, light) in scene.infinite_lights() {
                             let le = light.escaped_radiance(ray.o, ray.d, w);
-                            l += self.found_emission(scene, id, le, beta, r_u, r_l, specular_bounce, &prev, ray.d);
+                            state.l += self.found_emission(scene, id, le, &state, ray.d);
                         }
                         break;
                     };
                     if let Some((id, _)) = si.area_light() {
                         let le = si.emitted(w);
                         if !le.is_black() {
-                            l += self.found_emission(scene, id, le, beta, r_u, r_l, specular_bounce, &prev, ray.d);
+                            state.l += self.found_emission(scene, id, le, &state, ray.d);
                         }
                     }
                     if si.is_passthrough() {
@@ -198,113 +171,84 @@ impl VolPathIntegrator {
                     (si, None)
                 }
             };
-            if depth >= self.max_depth {
+            if !self.next_vertex(&mut state) {
                 break;
             }
-            depth += 1;
             let bsdf = match given_bsdf {
                 Some(b) => b,
-                None => {
-                    let footprint = Footprint::of_vertex(self.footprint.as_ref(), differentials, depth == 1);
-                    let Some(mut b) = si.bsdf(w, footprint) else { break };
-                    if self.regularize && any_non_specular {
-                        b.bxdf.regularize();
-                    }
-                    b
-                }
+                None => match self.vertex_bsdf(&si, w, differentials, &state) {
+                    Some(b) => b,
+                    None => break,
+                },
             };
             let flags = bsdf.flags();
             if flags.is_empty() {
                 break;
             }
-            if flags.is_non_specular() {
-                l += self.sample_ld(scene, &Scatterer::Surface(&si, &bsdf), medium, beta, r_u, w, sampler, stats);
+            if use_nee && flags.is_non_specular() {
+                let at = Scatterer::Surface(&si, &bsdf);
+                state.l += self.sample_ld(scene, &at, medium, state.beta, state.r_u, w, sampler, stats);
             }
-            prev = LightSampleContext::surface(si.p, bsdf.ns());
-            let uc = sampler.get_1d();
-            let Some(bs) = bsdf.sample_f(si.wo, uc, sampler.get_2d(), TransportMode::Radiance) else { break };
-            beta *= bs.f * (bs.wi.dot(bsdf.ns()).abs() / bs.pdf);
-            let pdf = if bs.pdf_is_proportional { bsdf.pdf(si.wo, bs.wi, TransportMode::Radiance) } else { bs.pdf };
-            r_l = r_u / pdf;
-            specular_bounce = bs.is_specular();
-            any_non_specular |= !bs.is_specular();
+            let Some(bs) = self.sample_bsdf(&si, &bsdf, sampler, &mut state) else { break };
             let wi = bs.wi.normalize();
             // Refraction into a subsurface material: the path goes on where light leaves it, in
             // the medium it came from (entering and leaving scale radiance by 1/η² and η², so
             // eta_scale is left alone).
             if let Some(m) = subsurface::entered(&si, &bs, bsdf.ns()) {
                 let outside = si.medium_interface().medium_toward(si.wo, si.shading.ng, medium);
-                let (w, r_p): (&SampledWavelengths, _) = (w, r_u);
+                let (w, r_p): (&SampledWavelengths, _) = (w, state.r_u);
                 let mut light = |b: &SurfaceInteraction, b_bsdf: &Bsdf, sampler: &mut Sampler, stats: &mut Stats| {
                     let at = Scatterer::Surface(b, b_bsdf);
                     self.sample_ld(scene, &at, outside, SampledSpectrum::one(), r_p, w, sampler, stats)
                 };
-                let nee = Some(&mut light as subsurface::BoundaryNee);
+                let nee = use_nee.then_some(&mut light as subsurface::BoundaryNee);
                 medium = outside;
-                match subsurface::enter(self.sss, nee, scene, m, &si, wi, (&mut beta, &mut l), w, sampler, stats) {
-                    None => break,
-                    Some(Exit::Vertex(vsi, vbsdf)) => {
+                let (beta, l) = (&mut state.beta, &mut state.l);
+                let exit = subsurface::enter(self.sss, nee, scene, m, &si, wi, (beta, l), w, sampler, stats);
+                match self.leave_subsurface(exit, &mut state) {
+                    AfterSubsurface::End => break,
+                    AfterSubsurface::Vertex(vsi, vbsdf) => {
                         pending = Some((vsi, vbsdf));
                         continue;
                     }
-                    Some(Exit::Ray(exit, origin, pdf)) => {
-                        // The walk's last boundary vertex sampled light and chose the way out.
-                        if depth >= self.max_depth {
-                            break;
-                        }
-                        depth += 1;
-                        (ray, prev, specular_bounce) = (exit, origin, pdf.is_none());
-                        any_non_specular |= pdf.is_some();
-                        r_l = r_u / pdf.unwrap_or(1.0);
-                    }
+                    AfterSubsurface::Ray(exit) => ray = exit,
                 }
             } else {
                 if bs.is_transmission() {
-                    eta_scale *= bs.eta * bs.eta;
+                    state.eta_scale *= bs.eta * bs.eta;
                 }
                 medium = si.medium_interface().medium_toward(wi, si.shading.ng, medium);
                 ray = si.spawn_ray(wi);
             }
-            if beta.is_black() {
+            if state.beta.is_black() || !self.roulette(&mut state, sampler) {
                 break;
             }
-            // Russian roulette on β/avg(r_u) with refraction's radiance scaling undone (pbrt-v4).
-            let rr_beta = beta * eta_scale / r_u.average();
-            let u_rr = sampler.get_1d();
-            let m = rr_beta.max_value();
-            if m < 1.0 && depth > 1 {
-                let q = (1.0 - m).max(0.0);
-                if u_rr < q {
-                    break;
-                }
-                beta /= 1.0 - q;
-            }
         }
-        stats.last_depth = depth;
-        l
+        stats.last_depth = state.depth;
+        state.l
     }
 
-    /// Emission `le` of light `id` found by a path whose last sample had probabilities r_u,
-    /// r_l (r_l still without the light's density), MIS-weighted against next-event estimation.
-    #[allow(clippy::too_many_arguments)]
+    /// Emission `le` of light `id` found by the path in `state` (whose r_l does not yet hold
+    /// the light's density), MIS-weighted against next-event estimation as the strategy says.
     #[inline]
     fn found_emission(
         &self,
         scene: &Scene,
         id: u32,
         le: SampledSpectrum,
-        beta: SampledSpectrum,
-        r_u: SampledSpectrum,
-        r_l: SampledSpectrum,
-        specular_bounce: bool,
-        prev: &LightSampleContext,
+        state: &PathState,
         d: Vec3,
     ) -> SampledSpectrum {
-        if specular_bounce {
-            return beta * le / r_u.average();
+        let by_bsdf_alone = state.beta * le / state.r_u.average();
+        match self.strategy {
+            _ if state.specular_bounce => by_bsdf_alone,
+            DirectStrategy::BsdfOnly => by_bsdf_alone,
+            DirectStrategy::LightOnly => SampledSpectrum::zero(),
+            DirectStrategy::Mis => {
+                let r_l = state.r_l * scene.light_pdf(id, &state.prev, d);
+                state.beta * le / (state.r_u + r_l).average()
+            }
         }
-        let r_l = r_l * scene.light_pdf(id, prev, d);
-        beta * le / (r_u + r_l).average()
     }
 
     /// Next-event estimation from `at` (pbrt-v4 `VolPathIntegrator::SampleLd`): one light sample,
@@ -360,7 +304,7 @@ impl VolPathIntegrator {
         let p_l = pmf * ls.pdf;
         let r_l = r_l * r_p * p_l;
         let f = beta * f_hat * t_ray * ls.li;
-        if light.is_delta() {
+        if light.is_delta() || self.strategy == DirectStrategy::LightOnly {
             f / r_l.average()
         } else {
             f / (r_l + r_u * r_p * scatter_pdf).average()

@@ -4,7 +4,7 @@
 //! separately. Tolerances are 4 standard errors of the mean.
 
 use super::transmittance::transmittance;
-use super::{Stats, VolPathIntegrator};
+use super::{Integrator, IntegratorKind, Stats};
 use crate::accel::AccelKind;
 use crate::geometry::shapes::{axis_box, uv_sphere};
 use crate::geometry::Ray;
@@ -99,7 +99,7 @@ fn beer_lambert_through_an_absorbing_slab() {
     );
     let dir = Vec3::new(0.3, 0.0, 1.0).normalize();
     let ray = Ray::new(Vec3::new(0.1, 0.2, -1.0), dir);
-    let integ = VolPathIntegrator { max_depth: 5, footprint: None, regularize: false, sss: Default::default() };
+    let integ = Integrator { kind: IntegratorKind::VolPath, max_depth: 5, ..Default::default() };
     let got = per_wavelength(40_000, 1, |w, s, st| integ.li(&scene, ray, w, s, st));
     let path = d as f64 / dir.z as f64;
     assert_close(got, sigma_a.map(|a| 2.0 * (-(a as f64) * path).exp()), "L = L_sky exp(-σ_a ℓ)");
@@ -146,7 +146,7 @@ fn single_scattering_of_a_collimated_beam_in_a_thin_slab() {
         light,
     );
     let ray = Ray::new(Vec3::new(0.0, 0.0, -1.0), Vec3::Z);
-    let integ = VolPathIntegrator { max_depth: 1, footprint: None, regularize: false, sss: Default::default() };
+    let integ = Integrator { kind: IntegratorKind::VolPath, max_depth: 1, ..Default::default() };
     let got = per_wavelength(40_000, 3, |w, s, st| integ.li(&scene, ray, w, s, st));
     let mu = theta.cos();
     // Light propagates along ω_l = −to_light, the scattered light toward the camera along −z:
@@ -175,7 +175,7 @@ fn furnace_a_closed_emitter_filled_with_a_scattering_medium_gives_its_radiance()
     b.set_camera(Mat4::IDENTITY, 40.0);
     b.set_camera_medium(Some(m));
     let scene = b.build(AccelKind::Obvhs).unwrap();
-    let integ = VolPathIntegrator { max_depth: 1000, footprint: None, regularize: false, sss: Default::default() };
+    let integ = Integrator { kind: IntegratorKind::VolPath, max_depth: 1000, ..Default::default() };
     let ray = Ray::new(Vec3::new(0.2, -0.1, 0.3), Vec3::new(0.3, 0.5, -0.2).normalize());
     let got = per_wavelength(20_000, 4, |w, s, st| integ.li(&scene, ray, w, s, st));
     // A furnace has zero variance per path only up to MIS and the hero's choices; still, the
@@ -194,7 +194,7 @@ fn an_emissive_absorbing_sphere_seen_from_outside() {
         homogeneous(sigma_a, [0.0; 4], 0.0, Spectrum::constant(le)),
         uniform_sky(0.0),
     );
-    let integ = VolPathIntegrator { max_depth: 5, footprint: None, regularize: false, sss: Default::default() };
+    let integ = Integrator { kind: IntegratorKind::VolPath, max_depth: 5, ..Default::default() };
     // Near the pole, where the tessellation's chord is within 10⁻⁴ of the sphere's.
     let b = 1e-3f64;
     let ray = Ray::new(Vec3::new(b as f32, 0.0, -3.0), Vec3::Z);
@@ -242,7 +242,7 @@ fn subsurface_random_walk_and_volpath_agree_on_the_same_medium() {
     // the subsurface material's random walk and the volumetric path tracer with the medium
     // behind a dielectric boundary solve the same transport, so their means agree within noise.
     use crate::geometry::shapes::icosphere;
-    use crate::integrator::{PathIntegrator, SubsurfaceMethod};
+    use crate::integrator::{Integrator, SubsurfaceMethod};
     use crate::material::{Ior, Roughness, ScatteringSpec, SubsurfaceMaterial};
     let (sigma_a, sigma_s, g, eta) = ([0.3, 0.1, 0.6, 0.2], [2.0, 1.0, 3.0, 0.5], 0.3f32, 1.33f32);
     let sphere = || icosphere(Vec3::ZERO, 1.0, 4);
@@ -264,8 +264,8 @@ fn subsurface_random_walk_and_volpath_agree_on_the_same_medium() {
     let spec = ScatteringSpec::Coefficients { sigma_a: chromatic(sigma_a), sigma_s: chromatic(sigma_s), scale: 1.0 };
     let sss = SubsurfaceMaterial::new(spec, eta, g, Roughness::alpha(0.0));
     let walk_scene = build(Material::Subsurface(Box::new(sss)), None);
-    let volpath = VolPathIntegrator { max_depth: 10_000, footprint: None, regularize: false, sss: Default::default() };
-    let walk = PathIntegrator { max_depth: 10_000, sss: SubsurfaceMethod::RandomWalk, ..Default::default() };
+    let volpath = Integrator { kind: IntegratorKind::VolPath, max_depth: 10_000, ..Default::default() };
+    let walk = Integrator { max_depth: 10_000, sss: SubsurfaceMethod::RandomWalk, ..Default::default() };
     for (k, x) in [0.0f32, 0.5, 0.85].into_iter().enumerate() {
         let ray = Ray::new(Vec3::new(x, 0.1, 3.0), -Vec3::Z);
         let a = per_wavelength(40_000, 10 + k as u64, |w, s, st| volpath.li(&vol_scene, ray, w, s, st));
@@ -286,7 +286,7 @@ fn volpath_renders_subsurface_materials_as_the_path_tracer_does() {
     // under a sky and a sun, no media: volpath continues paths into it as the path tracer
     // does, by diffusion and by random walk, with its own light sampling and MIS.
     use crate::geometry::shapes::icosphere;
-    use crate::integrator::{PathIntegrator, SubsurfaceMethod};
+    use crate::integrator::{Integrator, SubsurfaceMethod};
     use crate::material::{Roughness, ScatteringSpec, SubsurfaceMaterial};
     let spec = ScatteringSpec::Coefficients {
         sigma_a: chromatic([0.2, 0.05, 0.4, 0.1]),
@@ -307,8 +307,8 @@ fn volpath_renders_subsurface_materials_as_the_path_tracer_does() {
     b.set_camera(Mat4::IDENTITY, 40.0);
     let scene = b.build(AccelKind::Obvhs).unwrap();
     for sss in [SubsurfaceMethod::RandomWalk, SubsurfaceMethod::Diffusion] {
-        let path = PathIntegrator { max_depth: 64, sss, ..Default::default() };
-        let volpath = VolPathIntegrator::from_path(&path);
+        let path = Integrator { max_depth: 64, sss, ..Default::default() };
+        let volpath = Integrator { kind: IntegratorKind::VolPath, ..path };
         for (k, x) in [0.0f32, 0.7].into_iter().enumerate() {
             let ray = Ray::new(Vec3::new(x, 0.1, 3.0), -Vec3::Z);
             let a = per_wavelength(40_000, 30 + k as u64, |w, s, st| volpath.li(&scene, ray, w, s, st));
@@ -350,7 +350,7 @@ fn an_emissive_rgb_grid_gives_the_quadrature_of_its_emission() {
     .unwrap()
     .with_emission(grid(e0, e1), le_scale);
     let scene = bounded_medium(axis_box(Vec3::ZERO, Vec3::ONE), Medium::RgbGrid(Box::new(medium)), uniform_sky(0.0));
-    let integ = VolPathIntegrator { max_depth: 5, footprint: None, regularize: false, sss: Default::default() };
+    let integ = Integrator { kind: IntegratorKind::VolPath, max_depth: 5, ..Default::default() };
     let ray = Ray::new(Vec3::new(0.375, 0.5, -2.0), Vec3::Z);
     let got = per_wavelength(40_000, 6, |w, s, st| integ.li(&scene, ray, w, s, st));
     let expect = std::array::from_fn(|c| {
@@ -368,4 +368,42 @@ fn an_emissive_rgb_grid_gives_the_quadrature_of_its_emission() {
         l
     });
     assert_close(got, expect, "emissive rgb grid");
+}
+
+/// Without media the volumetric loop and the surface loop estimate the same radiance, with each
+/// direct-light strategy: they share every surface step and differ in how emission found by
+/// BSDF sampling is weighted against light sampling (the balance heuristic on r_u, r_l against
+/// the power heuristic) and in the sample dimensions a shadow ray's transmittance draws, so their
+/// means agree within noise.
+#[test]
+fn the_volumetric_and_the_surface_loop_agree_on_a_scene_without_media() {
+    use crate::integrator::DirectStrategy;
+    let scene = SceneBuilder::cornell_box().build(AccelKind::Obvhs).unwrap();
+    assert!(!scene.has_media());
+    let base = Integrator { max_depth: 6, ..Default::default() };
+    let as_volpath = Integrator { kind: IntegratorKind::VolPath, ..base };
+    assert_eq!(as_volpath.for_scene(&scene).kind, IntegratorKind::Path, "a scene without media takes the surface loop");
+    let origin = Vec3::new(278.0, 273.0, -800.0);
+    for (k, target) in [Vec3::new(278.0, 273.0, 0.0), Vec3::new(100.0, 400.0, 300.0)].into_iter().enumerate() {
+        let ray = Ray::new(origin, (target - origin).normalize());
+        for (j, strategy) in
+            [DirectStrategy::Mis, DirectStrategy::LightOnly, DirectStrategy::BsdfOnly].into_iter().enumerate()
+        {
+            let path = Integrator { strategy, ..base };
+            let volpath = Integrator { kind: IntegratorKind::VolPath, ..path };
+            let seed = 50 + 10 * k as u64 + 2 * j as u64;
+            let a = per_wavelength(12_000, seed, |w, s, st| volpath.li(&scene, ray, w, s, st));
+            let b = per_wavelength(12_000, seed + 1, |w, s, st| path.li(&scene, ray, w, s, st));
+            for c in 0..4 {
+                let ((ma, sa), (mb, sb)) = (a[c], b[c]);
+                assert!(ma > 1e-3, "ray {k}: black ({ma})");
+                let tol = 4.0 * (sa * sa + sb * sb).sqrt();
+                let lambda = LAMBDAS[c];
+                assert!(
+                    (ma - mb).abs() < tol,
+                    "{strategy:?} ray {k} λ = {lambda} nm: volpath {ma} ± {sa}, path {mb} ± {sb}"
+                );
+            }
+        }
+    }
 }

@@ -49,6 +49,8 @@ pub struct FileSettings {
     pub spp: Option<u64>,
     /// Integrator "maxdepth" ([`PBRT_DEFAULT_MAX_DEPTH`] when the file gives none).
     pub max_depth: Option<u32>,
+    /// The Integrator's type, when prism renders it.
+    pub integrator: Option<crate::integrator::IntegratorKind>,
     /// Integrator "regularize" (pbrt-v4's default false).
     pub regularize: Option<bool>,
     /// PixelFilter with its parameters.
@@ -275,6 +277,7 @@ impl Ctx<'_> {
             spp: count(&d.sampler.params, "pixelsamples", &d.sampler.loc, 1)?.map(|n| n as u64),
             // pbrt-v4's default when the file gives none.
             max_depth: Some(self.max_depth()?.unwrap_or(PBRT_DEFAULT_MAX_DEPTH)),
+            integrator: crate::integrator::IntegratorKind::parse(&d.integrator.kind),
             regularize: d.integrator.params.bool("regularize"),
             filter: Some(filter),
             sampler: Some(sampler.to_string()),

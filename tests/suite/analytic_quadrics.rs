@@ -6,7 +6,7 @@
 use glam::{DVec3, Mat4, Quat, Vec3};
 use prism::accel::{self, ExtraShapes};
 use prism::geometry::{Mesh, PlacedQuadric, Quadric, Ray};
-use prism::integrator::{DirectStrategy, PathIntegrator};
+use prism::integrator::{DirectStrategy, Integrator};
 use prism::light::Light;
 use prism::measure::irradiance;
 use prism::sampling::Rng;
@@ -202,7 +202,7 @@ AttributeEnd
         let pi_l = (light.power() / light.area) as f64;
         let expected = pi_l * (form(1.0) - form(0.3));
         for strategy in [DirectStrategy::LightOnly, DirectStrategy::BsdfOnly, DirectStrategy::Mis] {
-            let integ = PathIntegrator { max_depth: 1, strategy, ..Default::default() };
+            let integ = Integrator { max_depth: 1, strategy, ..Default::default() };
             let e = irradiance(&s, &integ, at, normal, 40_000, 3).irradiance;
             let tol = 3.5 * e.std_err;
             eprintln!("{accel:?} {strategy:?}: {} ± {} vs {expected}", e.mean, e.std_err);

@@ -6,7 +6,7 @@ use crate::common::{pbrt_scene, test_settings, tmpdir};
 use glam::Vec3;
 use prism::accel::AccelKind;
 use prism::image::Image;
-use prism::integrator::{DirectStrategy, PathIntegrator};
+use prism::integrator::{DirectStrategy, Integrator};
 use prism::measure::irradiance;
 use prism::render::render;
 use std::path::Path;
@@ -105,7 +105,7 @@ Shape "bilinearmesh" "point3 P" [-1 -0.5 1  1 -0.5 1  -1 0.5 1  1 0.5 1] "point2
     // The bilinear image: 2 left of the first texel's centre (u = ¼), ½ right of the second's.
     let image = |u: f64| 2.0 + (0.5 - 2.0) * ((u - 0.25) / 0.5).clamp(0.0, 1.0);
     for strategy in [DirectStrategy::LightOnly, DirectStrategy::BsdfOnly] {
-        let integ = PathIntegrator { max_depth: 1, strategy, ..Default::default() };
+        let integ = Integrator { max_depth: 1, strategy, ..Default::default() };
         for p in [Vec3::new(-0.5, 0.0, 0.0), Vec3::ZERO, Vec3::new(0.6, 0.1, 0.0)] {
             let t = irradiance(&textured, &integ, p, Vec3::Z, 200_000, 11).irradiance;
             let u = irradiance(&plain, &integ, p, Vec3::Z, 200_000, 12).irradiance;

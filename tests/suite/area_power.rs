@@ -8,7 +8,7 @@
 use crate::common::{pbrt_scene, tmpdir};
 use glam::Vec3;
 use prism::accel::AccelKind;
-use prism::integrator::PathIntegrator;
+use prism::integrator::Integrator;
 use prism::light::photometry::lumens_per_unit_y;
 use prism::light::Light;
 use prism::measure::{radiance, Estimate};
@@ -43,7 +43,7 @@ fn emitter(shape: &str, light: &str) -> Scene {
 
 /// The luminance [cd/m²] the emitter sends along +z from `p`.
 fn luminance(scene: &Scene, p: Vec3, seed: u64) -> Estimate {
-    let integrator = PathIntegrator { max_depth: 0, ..Default::default() };
+    let integrator = Integrator { max_depth: 0, ..Default::default() };
     radiance(scene, &integrator, p, Vec3::Z, SAMPLES, seed).luminance
 }
 

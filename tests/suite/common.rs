@@ -2,7 +2,7 @@
 
 use prism::film::Film;
 use prism::filter::Filter;
-use prism::integrator::PathIntegrator;
+use prism::integrator::Integrator;
 use prism::render::{RenderSettings, SamplerKind};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
@@ -17,7 +17,7 @@ pub fn test_settings(resolution: (u32, u32), spp: u64, seed: u64, max_depth: u32
         seed,
         sampler: SamplerKind::Independent,
         filter: Filter::by_name("box").unwrap(),
-        integrator: PathIntegrator { max_depth, ..Default::default() },
+        integrator: Integrator { max_depth, ..Default::default() },
         ..Default::default()
     }
 }

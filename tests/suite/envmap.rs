@@ -6,7 +6,7 @@ use crate::common::test_settings;
 use glam::{Mat3, Vec3};
 use prism::accel::AccelKind;
 use prism::image::Image;
-use prism::integrator::{DirectStrategy, PathIntegrator};
+use prism::integrator::{DirectStrategy, Integrator};
 use prism::light::photometry::lumens_per_unit_y;
 use prism::light::{EnvMapLight, Light};
 use prism::math::PI;
@@ -111,7 +111,7 @@ fn constant_map_gives_e_equal_pi_l_with_every_strategy() {
         let layout = light.layout();
         let scene = builder_with(Light::EnvMap(light));
         for strategy in [DirectStrategy::Mis, DirectStrategy::LightOnly, DirectStrategy::BsdfOnly] {
-            let integ = PathIntegrator { max_depth: 1, strategy, ..Default::default() };
+            let integ = Integrator { max_depth: 1, strategy, ..Default::default() };
             for n in [Vec3::Z, Vec3::new(0.3, -0.8, 0.2)] {
                 let m = irradiance(&scene, &integ, Vec3::ZERO, n, 20_000, 11);
                 let e = m.illuminance;
@@ -149,7 +149,7 @@ fn illuminance_and_lux_set_the_upward_patch_as_pbrt_v4_and_si_say() {
             r#"Camera "perspective" WorldBegin
             LightSource "infinite" "string filename" "textures/sky.exr" "float {param}" 1500"#
         ));
-        let integ = PathIntegrator { max_depth: 1, ..Default::default() };
+        let integ = Integrator { max_depth: 1, ..Default::default() };
         let e = irradiance(&scene, &integ, Vec3::ZERO, Vec3::Z, 40_000, 2).illuminance;
         assert!((e.mean - lux).abs() <= 3.0 * e.std_err, "{param}: {} ± {} lux vs {lux}", e.mean, e.std_err);
     }

@@ -8,7 +8,7 @@ use crate::common::tmpdir;
 use glam::{Mat3, Vec2, Vec3};
 use prism::accel::AccelKind;
 use prism::image::Image;
-use prism::integrator::PathIntegrator;
+use prism::integrator::Integrator;
 use prism::light::photometry::lumens_per_unit_y;
 use prism::light::{EnvMapLight, MapLayout};
 use prism::math::equal_area::{sphere_to_square, square_to_sphere};
@@ -155,7 +155,7 @@ fn upward_y(world: &str, dir: &Path) -> (f64, f64) {
     let (b, _) = prism::scene::pbrt::build(&desc, &mut warnings).unwrap();
     assert!(warnings.is_empty(), "{warnings:?}");
     let scene = b.build(AccelKind::Obvhs).unwrap();
-    let integ = PathIntegrator { max_depth: 1, ..Default::default() };
+    let integ = Integrator { max_depth: 1, ..Default::default() };
     let e = irradiance(&scene, &integ, Vec3::ZERO, Vec3::Z, 40_000, 9).illuminance;
     let k = lumens_per_unit_y() as f64;
     (e.mean / k, e.std_err / k)

@@ -5,7 +5,7 @@
 use crate::common::pbrt_scene;
 use glam::Vec3;
 use prism::accel::AccelKind;
-use prism::integrator::{DirectStrategy, PathIntegrator};
+use prism::integrator::{DirectStrategy, Integrator};
 use prism::measure::irradiance;
 
 /// A 6 × 6 grid of small downward-facing emitters at height 1 over a floor, their radiance
@@ -29,7 +29,7 @@ fn scene(kind: &str) -> String {
 #[test]
 fn bvh_and_power_sampling_give_the_same_irradiance_and_the_bvh_less_noise() {
     let (bvh, power) = (pbrt_scene(&scene("bvh"), AccelKind::Obvhs), pbrt_scene(&scene("power"), AccelKind::Obvhs));
-    let integ = PathIntegrator { max_depth: 1, strategy: DirectStrategy::LightOnly, ..Default::default() };
+    let integ = Integrator { max_depth: 1, strategy: DirectStrategy::LightOnly, ..Default::default() };
     for p in [Vec3::new(0.0, 0.0, 0.001), Vec3::new(-2.2, 1.7, 0.001), Vec3::new(2.5, -2.5, 0.001)] {
         let a = irradiance(&bvh, &integ, p, Vec3::Z, 40_000, 4).illuminance;
         let b = irradiance(&power, &integ, p, Vec3::Z, 40_000, 5).illuminance;

@@ -17,6 +17,7 @@ mod equal_area_envmap;
 mod film;
 mod instanced_shapes;
 mod instancing;
+mod integrators;
 mod light_sampler;
 mod measured;
 mod media;

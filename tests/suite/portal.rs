@@ -8,7 +8,7 @@ use crate::common::tmpdir;
 use crate::equal_area_envmap::equal_area_map;
 use glam::{Vec2, Vec3};
 use prism::accel::AccelKind;
-use prism::integrator::{DirectStrategy, PathIntegrator};
+use prism::integrator::{DirectStrategy, Integrator};
 use prism::light::photometry::lumens_per_unit_y;
 use prism::light::{Light, LightSampleContext};
 use prism::math::PI;
@@ -93,7 +93,7 @@ fn a_constant_sky_through_the_portal_gives_the_rectangles_form_factor() {
     let f = 4.0 * corner_form_factor(HOLE.0 as f64, HOLE.1 as f64, c);
     let expected = PI as f64 * f * 0.5 * lumens_per_unit_y() as f64;
     for strategy in [DirectStrategy::Mis, DirectStrategy::LightOnly, DirectStrategy::BsdfOnly] {
-        let integ = PathIntegrator { max_depth: 1, strategy, ..Default::default() };
+        let integ = Integrator { max_depth: 1, strategy, ..Default::default() };
         let e = irradiance(&scene, &integ, p, Vec3::Z, 40_000, 5).illuminance;
         assert!(e.mean > 0.0);
         // The map is a constant sampled at texel centres: exact.
@@ -115,7 +115,7 @@ fn a_sky_with_a_sun_gives_the_plain_maps_light_with_less_noise() {
     });
     let rotate = "Rotate 20 0 0 1";
     let (plain, portal) = (room(&map, false, rotate), room(&map, true, rotate));
-    let integ = PathIntegrator { max_depth: 1, ..Default::default() };
+    let integ = Integrator { max_depth: 1, ..Default::default() };
     for p in [Vec3::new(0.0, 0.0, 0.01), Vec3::new(0.6, -0.3, 0.01)] {
         let a = irradiance(&plain, &integ, p, Vec3::Z, 40_000, 9).illuminance;
         let b = irradiance(&portal, &integ, p, Vec3::Z, 40_000, 9).illuminance;

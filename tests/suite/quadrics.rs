@@ -6,7 +6,7 @@
 
 use crate::common::{backends, pbrt_scene as scene, test_settings};
 use glam::Vec3;
-use prism::integrator::{DirectStrategy, PathIntegrator};
+use prism::integrator::{DirectStrategy, Integrator};
 use prism::light::{Light, SphereLight};
 use prism::math::PI;
 use prism::measure::{irradiance, Estimate};
@@ -36,7 +36,7 @@ fn assert_sphere_irradiance(
         let Light::Sphere(light) = &s.lights()[0] else { panic!("the sphere is one light sampled by solid angle") };
         assert_eq!(s.lights().len(), 1);
         for &strategy in strategies {
-            let integ = PathIntegrator { max_depth: 1, strategy, ..Default::default() };
+            let integ = Integrator { max_depth: 1, strategy, ..Default::default() };
             let m = irradiance(&s, &integ, at.0, at.1, samples, 3);
             assert_close(&format!("{accel:?} {strategy:?}"), m.irradiance, expected(light));
         }

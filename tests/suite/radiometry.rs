@@ -9,7 +9,7 @@ use prism::accel::AccelKind;
 use prism::camera::Camera;
 use prism::geometry::shapes::{icosphere, quad};
 use prism::geometry::Mesh;
-use prism::integrator::{DirectStrategy, PathIntegrator, Stats, UNBOUNDED_DEPTH};
+use prism::integrator::{DirectStrategy, Integrator, Stats, UNBOUNDED_DEPTH};
 use prism::light::photometry::{lumens_per_unit_y, radiant_flux_from_lumens};
 use prism::light::{AreaLight, DistantLight, Light, PointLight, SpotFalloff, SpotLight, UniformInfiniteLight};
 use prism::material::Material;
@@ -35,8 +35,8 @@ fn assert_close(what: &str, e: Estimate, expected: f64) {
     assert!((e.mean - expected).abs() <= tol, "{what}: measured {} ± {} vs closed form {expected}", e.mean, e.std_err);
 }
 
-fn direct() -> PathIntegrator {
-    PathIntegrator { max_depth: 1, ..Default::default() }
+fn direct() -> Integrator {
+    Integrator { max_depth: 1, ..Default::default() }
 }
 
 #[test]
@@ -162,7 +162,7 @@ fn lambertian_emitter_irradiance_matches_view_factor() {
         let mesh = quad(Vec3::new(-a / 2.0, -bb / 2.0, c), Vec3::new(0.0, bb, 0.0), Vec3::new(a, 0.0, 0.0));
         b.add_mesh(mesh, black, Some(Emission { spectrum: Spectrum::constant(1.0), scale: l, two_sided: false }));
         let scene = build(b);
-        let integ = PathIntegrator { max_depth: 1, strategy, ..Default::default() };
+        let integ = Integrator { max_depth: 1, strategy, ..Default::default() };
         let m = irradiance(&scene, &integ, Vec3::ZERO, Vec3::Z, 100_000, 3);
         let expected = rectangle_irradiance(l as f64, a as f64, bb as f64, c as f64) * 470.0;
         assert_close(&format!("view factor ({strategy:?})"), m.irradiance, expected);
@@ -188,7 +188,7 @@ fn a_rectangular_face_is_one_rectangle_light_that_meets_the_view_factor_with_les
             let scene = build(b);
             let rectangles = scene.lights().iter().filter(|l| matches!(l, Light::Rectangle(_))).count();
             assert_eq!((scene.lights().len(), rectangles), if one_face { (1, 1) } else { (2, 0) });
-            let integ = PathIntegrator { max_depth: 1, strategy, ..Default::default() };
+            let integ = Integrator { max_depth: 1, strategy, ..Default::default() };
             let m = irradiance(&scene, &integ, Vec3::ZERO, Vec3::Z, 100_000, 3);
             assert_close(&format!("view factor ({strategy:?}, one face: {one_face})"), m.irradiance, expected);
             std_errs.push(m.irradiance.std_err);
@@ -224,7 +224,7 @@ fn uniform_environment_gives_pi_l() {
             scale: l,
         }));
         let scene = build(b);
-        let integ = PathIntegrator { max_depth: 1, strategy, ..Default::default() };
+        let integ = Integrator { max_depth: 1, strategy, ..Default::default() };
         let m = irradiance(&scene, &integ, Vec3::ZERO, Vec3::Y, 50_000, 5);
         assert_close(&format!("environment ({strategy:?})"), m.irradiance, (PI * l) as f64 * 470.0);
     }
@@ -276,7 +276,7 @@ fn closed_glowing_room_sends_le_over_one_minus_rho_with_no_depth_limit() {
     let scene = build(b);
     let truncated = |d: i32| (1.0 - rho.powi(d + 1)) / (1.0 - rho);
     for (max_depth, sum) in [(1, truncated(1)), (8, truncated(8)), (UNBOUNDED_DEPTH, 1.0 / (1.0 - rho))] {
-        let integ = PathIntegrator { max_depth, ..Default::default() };
+        let integ = Integrator { max_depth, ..Default::default() };
         let m = prism::measure::radiance(&scene, &integ, Vec3::ZERO, Vec3::X, 20_000, 8);
         // Flat spectra: the measured radiance is integrated over 360–830 nm.
         assert_close(&format!("max depth {max_depth}"), m.radiance, le as f64 * sum * 470.0);
@@ -292,7 +292,7 @@ fn with_no_depth_limit_paths_in_a_closed_white_room_still_end() {
     let white = b.add_material(Material::diffuse(Spectrum::constant(1.0)));
     b.add_mesh(Mesh { normals: None, ..icosphere(Vec3::ZERO, 1.0, 1) }, white, None);
     let scene = build(b);
-    let integ = PathIntegrator { max_depth: UNBOUNDED_DEPTH, ..Default::default() };
+    let integ = Integrator { max_depth: UNBOUNDED_DEPTH, ..Default::default() };
     let (mut sampler, n) = (Sampler::independent(), 4000u64);
     let (mut sum, mut sum2) = (0.0f64, 0.0f64);
     for i in 0..n {

@@ -6,7 +6,7 @@
 use crate::common::pbrt_scene;
 use glam::Vec3;
 use prism::accel::AccelKind;
-use prism::integrator::PathIntegrator;
+use prism::integrator::Integrator;
 use prism::measure::irradiance;
 
 /// A point light at (1, 0, 0.2) and a perfect mirror (reflectance 1, roughness 0) filling the
@@ -25,7 +25,7 @@ fn regularization_finds_the_mirrored_point_light() {
     let e = |q: Vec3| ((q.z / q.length()) / q.length_squared()) as f64;
     let (direct, image) = (e(light), e(Vec3::new(1.0, 0.0, 3.8)));
     let measure = |regularize: bool| {
-        let integ = PathIntegrator { max_depth: 2, regularize, ..Default::default() };
+        let integ = Integrator { max_depth: 2, regularize, ..Default::default() };
         irradiance(&scene, &integ, p, Vec3::Z, 200_000, 3).illuminance
     };
     let (plain, widened) = (measure(false), measure(true));

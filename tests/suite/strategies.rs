@@ -9,7 +9,7 @@ use prism::accel::AccelKind;
 use prism::camera::Camera;
 use prism::film::Film;
 use prism::geometry::shapes::quad;
-use prism::integrator::{DirectStrategy, PathIntegrator};
+use prism::integrator::{DirectStrategy, Integrator};
 use prism::light::{Light, PointLight, SpotFalloff, SpotLight, UniformInfiniteLight};
 use prism::material::{
     CoatedConductorMaterial, CoatedDiffuseMaterial, ConductorIor, FloatTexture, Ior, LayerSpec, Material, Roughness,
@@ -95,7 +95,7 @@ fn render_with(material: &Material, light: LightKind, strategy: DirectStrategy, 
     b.set_camera(Camera::look_at(Vec3::new(0.0, 1.0, -2.5), Vec3::ZERO, Vec3::Y), 50.0);
     let scene = b.build(AccelKind::Obvhs).unwrap();
     let base = test_settings((16, 16), 64, seed, 3);
-    let s = RenderSettings { integrator: PathIntegrator { strategy, ..base.integrator }, ..base };
+    let s = RenderSettings { integrator: Integrator { strategy, ..base.integrator }, ..base };
     let (film, stats) = render(&scene, &s, |_| {}).unwrap();
     assert_eq!(stats.nonfinite, 0);
     film

@@ -72,39 +72,3 @@ fn no_byte_past_the_hit_record_is_written_flat_or_instanced_by_either_triangle_t
     // The watertight callbacks copy the same instance words Embree's own kernel writes.
     assert_eq!(instance_words[0], instance_words[1], "instance words: Embree's kernel vs the user geometry");
 }
-
-/// The eight-ray packets (`rtcIntersect8`/`rtcOccluded8`) report exactly the hits of one-ray
-/// queries, lane by lane, with inactive lanes and rays Embree would refuse left out.
-#[cfg(feature = "embree")]
-#[test]
-fn packets_of_eight_equal_eight_single_rays() {
-    use crate::geometry::Ray;
-    use crate::sampling::Rng;
-    use glam::Vec3;
-    let scene = crate::scene::SceneBuilder::cornell_box().build(crate::accel::AccelKind::Embree).unwrap();
-    let accel = scene.accel();
-    let mut rng = Rng::new(1, 2);
-    let mut u = || rng.uniform();
-    let (mut hits, mut blocked) = (0, 0);
-    for round in 0..2000 {
-        let rays: [Ray; 8] = std::array::from_fn(|i| {
-            let o = Vec3::new(u(), u(), u()) * 550.0;
-            let d = Vec3::new(u() - 0.5, u() - 0.5, u() - 0.5);
-            match (round + i) % 17 {
-                0 => Ray::new(Vec3::NAN, d),
-                1 => Ray::segment(o, d, 0.5),
-                _ => Ray::new(o, d),
-            }
-        });
-        let active: [bool; 8] = std::array::from_fn(|i| (round + i) % 5 != 0);
-        let (h8, o8) = (accel.intersect8(&rays, &active), accel.occluded8(&rays, &active));
-        for i in 0..8 {
-            let want = if active[i] { accel.intersect(&rays[i]) } else { None };
-            assert_eq!(h8[i], want, "round {round} lane {i}");
-            assert_eq!(o8[i], active[i] && accel.occluded(&rays[i]), "round {round} lane {i}");
-            hits += h8[i].is_some() as u32;
-            blocked += o8[i] as u32;
-        }
-    }
-    assert!(hits > 5000 && blocked > 5000, "{hits} {blocked}");
-}

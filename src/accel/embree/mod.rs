@@ -176,20 +176,6 @@ impl Accel for EmbreeAccel {
             Levels::Instanced(s) => s.occluded(ray),
         }
     }
-    #[cfg(feature = "embree")]
-    fn intersect8(&self, rays: &[Ray; 8], active: &[bool; 8]) -> [Option<Hit>; 8] {
-        match (&self.scene, self.test) {
-            (Levels::Flat(s), TriangleTest::Embree) => s.intersect8(rays, active),
-            _ => std::array::from_fn(|i| if active[i] { self.intersect(&rays[i]) } else { None }),
-        }
-    }
-    #[cfg(feature = "embree")]
-    fn occluded8(&self, rays: &[Ray; 8], active: &[bool; 8]) -> [bool; 8] {
-        match (&self.scene, self.test) {
-            (Levels::Flat(s), TriangleTest::Embree) => s.occluded8(rays, active),
-            _ => std::array::from_fn(|i| active[i] && self.occluded(&rays[i])),
-        }
-    }
     fn bounds(&self) -> Bounds3 {
         match &self.scene {
             Levels::Flat(s) => s.bounds(),

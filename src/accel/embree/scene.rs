@@ -349,60 +349,6 @@ impl Scene {
         r.tfar == f32::NEG_INFINITY
     }
 
-    /// The rays of a packet of eight in Embree's layout, and which lanes to trace (−1) or
-    /// skip (0: inactive, or a ray Embree would refuse).
-    #[cfg(feature = "embree")]
-    #[inline]
-    fn rtc_ray8(rays: &[Ray; 8], active: &[bool; 8]) -> (ffi::RTCRay8, ffi::Valid8) {
-        let mut r = ffi::RTCRay8 { mask: [u32::MAX; 8], ..Default::default() };
-        let mut valid = ffi::Valid8::default();
-        for (i, ray) in rays.iter().enumerate() {
-            let one = Self::rtc_ray(ray);
-            (r.org_x[i], r.org_y[i], r.org_z[i], r.tnear[i]) = (one.org_x, one.org_y, one.org_z, one.tnear);
-            (r.dir_x[i], r.dir_y[i], r.dir_z[i], r.tfar[i]) = (one.dir_x, one.dir_y, one.dir_z, one.tfar);
-            valid.0[i] = if active[i] && Self::accepts(ray) { -1 } else { 0 };
-        }
-        (r, valid)
-    }
-
-    /// Closest hits of eight rays traced as one packet (`rtcIntersect8`); only for Embree's own
-    /// triangle kernel, since the user-geometry callbacks trace one ray at a time.
-    #[cfg(feature = "embree")]
-    #[inline]
-    pub fn intersect8(&self, rays: &[Ray; 8], active: &[bool; 8]) -> [Option<Hit>; 8] {
-        let (ray, valid) = Self::rtc_ray8(rays, active);
-        let mut rh = ffi::RTCRayHit8 {
-            ray,
-            hit: ffi::RTCHit8 { geomID: [ffi::RTC_INVALID_GEOMETRY_ID; 8], ..Default::default() },
-        };
-        let mut ctx = Self::context();
-        // SAFETY: committed scene; ctx and rh are valid locals, RTCRayHit8 is 32-byte aligned.
-        unsafe { ffi::intersect8(&valid, self.raw.raw, ctx.as_mut_ptr(), &mut rh) };
-        std::array::from_fn(|i| {
-            let h = &rh.hit;
-            (valid.0[i] != 0 && h.geomID[i] != ffi::RTC_INVALID_GEOMETRY_ID).then(|| Hit {
-                t: rh.ray.tfar[i],
-                geom_id: h.geomID[i],
-                prim_id: h.primID[i],
-                u: h.u[i],
-                v: h.v[i],
-                ng: Vec3::new(h.Ng_x[i], h.Ng_y[i], h.Ng_z[i]),
-                inst_id: Hit::NO_INSTANCE,
-            })
-        })
-    }
-
-    /// Occlusion of eight rays traced as one packet (`rtcOccluded8`).
-    #[cfg(feature = "embree")]
-    #[inline]
-    pub fn occluded8(&self, rays: &[Ray; 8], active: &[bool; 8]) -> [bool; 8] {
-        let (mut ray, valid) = Self::rtc_ray8(rays, active);
-        let mut ctx = Self::context();
-        // SAFETY: committed scene; ctx and ray are valid locals, RTCRay8 is 32-byte aligned.
-        unsafe { ffi::occluded8(&valid, self.raw.raw, ctx.as_mut_ptr(), &mut ray) };
-        std::array::from_fn(|i| valid.0[i] != 0 && ray.tfar[i] == f32::NEG_INFINITY)
-    }
-
     /// Raw closest-hit call on a prepared RTCRayHit, for the wrapper-overhead benchmark.
     #[doc(hidden)]
     pub fn raw_intersect(&self, rh: &mut ffi::RTCRayHit) {

@@ -55,30 +55,3 @@ pub unsafe fn occluded1(scene: RTCScene, ctx: *mut QueryContext, ray: *mut RTCRa
     // SAFETY: by the caller's contract.
     unsafe { rtcOccluded1(scene, ctx, ray) }
 }
-
-/// Which lanes of a packet of eight to trace (−1) or skip (0); Embree loads it as one vector,
-/// so it is aligned as the packet.
-#[repr(C, align(32))]
-#[derive(Clone, Copy, Debug, Default)]
-pub struct Valid8(pub [i32; 8]);
-
-/// Closest hits of a packet of eight rays.
-///
-/// # Safety
-/// `scene` is committed; `ctx` and `rayhit` point to valid, writable structs, `rayhit` 32-byte
-/// aligned (`RTCRayHit8` is).
-#[inline(always)]
-pub unsafe fn intersect8(valid: &Valid8, scene: RTCScene, ctx: *mut QueryContext, rayhit: *mut RTCRayHit8) {
-    // SAFETY: by the caller's contract; `valid` is 8 ints, 32-byte aligned.
-    unsafe { rtcIntersect8(valid.0.as_ptr(), scene, ctx, rayhit) }
-}
-
-/// Any hits of a packet of eight rays (Embree sets `tfar = −∞` in the lanes that have one).
-///
-/// # Safety
-/// As [`intersect8`].
-#[inline(always)]
-pub unsafe fn occluded8(valid: &Valid8, scene: RTCScene, ctx: *mut QueryContext, ray: *mut RTCRay8) {
-    // SAFETY: by the caller's contract.
-    unsafe { rtcOccluded8(valid.0.as_ptr(), scene, ctx, ray) }
-}

@@ -1,0 +1,171 @@
+//! The one integrator interface: which estimator renders the scene and the settings every
+//! estimator shares (depth limit, Russian roulette, direct-light strategy, subsurface method,
+//! texture footprint, regularisation). `render`, `measure`, `bench` and the reports all take an
+//! [`Integrator`] from the render settings and call [`Integrator::li_camera`],
+//! [`Integrator::li`] or [`Integrator::irradiance`]; which loop runs is decided here.
+
+use super::subsurface::SubsurfaceMethod;
+use super::Stats;
+use crate::bsdf::{Bsdf, Diffuse};
+use crate::geometry::Ray;
+use crate::math::PI;
+use crate::sampling::Sampler;
+use crate::scene::{Scene, SurfaceInteraction};
+use crate::spectrum::{SampledSpectrum, SampledWavelengths};
+use crate::texture::{RayDifferentials, TextureFootprint};
+use glam::Vec3;
+
+/// A `max_depth` of no limit: Russian roulette alone ends paths (its survival probability is
+/// then capped, see [`Integrator::rr_depth`]).
+pub const UNBOUNDED_DEPTH: u32 = u32::MAX;
+
+/// The estimators prism renders with, by pbrt-v4's `Integrator` names.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum IntegratorKind {
+    /// `path`: unidirectional path tracing of surfaces (pbrt-v4 `Integrator`).
+    #[default]
+    Path,
+    /// `volpath`: path tracing with participating media by null scattering (pbrt-v4
+    /// `VolPathIntegrator`).
+    VolPath,
+}
+
+impl IntegratorKind {
+    /// Every kind with its pbrt-v4 name: the one table names are parsed from and printed with.
+    pub const NAMES: &'static [(&'static str, Self)] = &[("path", Self::Path), ("volpath", Self::VolPath)];
+
+    /// The kind named `name` (pbrt-v4's names).
+    pub fn parse(name: &str) -> Option<Self> {
+        Self::NAMES.iter().find(|(n, _)| *n == name).map(|&(_, k)| k)
+    }
+
+    /// The pbrt-v4 name.
+    pub fn name(self) -> &'static str {
+        Self::NAMES.iter().find(|(_, k)| *k == self).map_or("?", |(n, _)| n)
+    }
+
+    /// The names, comma-separated (for messages).
+    pub fn valid_names() -> String {
+        Self::NAMES.iter().map(|(n, _)| *n).collect::<Vec<_>>().join(", ")
+    }
+}
+
+/// Which estimators of direct light to use (for validating MIS: all three must agree).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum DirectStrategy {
+    /// NEE and BSDF sampling, weighted by MIS.
+    Mis,
+    /// Only light sampling (emission found by BSDF sampling is ignored, except via delta lobes).
+    LightOnly,
+    /// Only BSDF sampling (no shadow rays).
+    BsdfOnly,
+}
+
+/// An integrator: the estimator and the settings all estimators share.
+#[derive(Clone, Copy, Debug)]
+pub struct Integrator {
+    /// The estimator. [`Self::for_scene`] resolves it against the scene.
+    pub kind: IntegratorKind,
+    /// Maximum number of scattering events (surface, medium and subsurface exits alike), or
+    /// [`UNBOUNDED_DEPTH`].
+    pub max_depth: u32,
+    /// Depth from which Russian roulette may end paths. The survival probability is
+    /// min(max β', 1), β' the throughput with refraction's radiance scaling (and, in media,
+    /// the spectral MIS normalisation) undone, as pbrt-v4; with [`UNBOUNDED_DEPTH`] it is at
+    /// most 0.95, so a path whose throughput stays ≥ 1 (a closed white room) still ends
+    /// (Mitsuba 3's rule).
+    pub rr_depth: u32,
+    /// Direct-light estimator.
+    pub strategy: DirectStrategy,
+    /// How paths entering subsurface materials continue.
+    pub sss: SubsurfaceMethod,
+    /// The camera's pixel footprint, for filtered texture lookups (`None`: unfiltered, the
+    /// finest texture detail everywhere).
+    pub footprint: Option<TextureFootprint>,
+    /// pbrt-v4's `regularize`: after the first non-specular bounce every microfacet lobe is
+    /// widened ([`crate::bsdf::TrowbridgeReitz::regularize`]), trading bias for caustics that
+    /// light sampling can find.
+    pub regularize: bool,
+}
+
+impl Default for Integrator {
+    fn default() -> Self {
+        Self {
+            kind: IntegratorKind::Path,
+            max_depth: 8,
+            rr_depth: 3,
+            strategy: DirectStrategy::Mis,
+            sss: SubsurfaceMethod::default(),
+            footprint: None,
+            regularize: false,
+        }
+    }
+}
+
+impl Integrator {
+    /// The estimator that renders `scene` as the named one would: `path` and `volpath` are one
+    /// estimator family, whose volumetric loop is taken exactly when the scene has media (a
+    /// scene without media gives `volpath` nothing to do but the path tracer's work, and
+    /// `path` cannot see media; pbrt-v4's `path` ignores them).
+    pub fn for_scene(self, scene: &Scene) -> Self {
+        let kind = match self.kind {
+            IntegratorKind::Path | IntegratorKind::VolPath if scene.has_media() => IntegratorKind::VolPath,
+            IntegratorKind::Path | IntegratorKind::VolPath => IntegratorKind::Path,
+        };
+        Self { kind, ..self }
+    }
+
+    /// Radiance [W/(sr·m²·nm)] arriving along `ray` at its origin (in the camera's medium), at
+    /// the wavelengths `w` (which a dispersive interface may reduce to the hero wavelength).
+    pub fn li(
+        &self,
+        scene: &Scene,
+        ray: Ray,
+        w: &mut SampledWavelengths,
+        sampler: &mut Sampler,
+        stats: &mut Stats,
+    ) -> SampledSpectrum {
+        self.li_camera(scene, ray, None, w, sampler, stats)
+    }
+
+    /// [`Self::li`] for a camera ray with its differentials, which give the texture footprint
+    /// at its first surface vertex.
+    pub fn li_camera(
+        &self,
+        scene: &Scene,
+        ray: Ray,
+        differentials: Option<&RayDifferentials>,
+        w: &mut SampledWavelengths,
+        sampler: &mut Sampler,
+        stats: &mut Stats,
+    ) -> SampledSpectrum {
+        match self.kind {
+            IntegratorKind::Path => self.path_trace(scene, ray, differentials, None, w, sampler, stats),
+            IntegratorKind::VolPath => self.volpath_trace(scene, ray, differentials, None, w, sampler, stats),
+        }
+    }
+
+    /// Irradiance E [W/(m²·nm)] at `p` (in the camera's medium) on a surface with unit normal
+    /// `n`, by the full integrator: an ideal white Lambertian sensor at `p` reflects
+    /// L_o = E/π (E = ∫ L_i cos θ dω), so E = π L_o, with L_o estimated by NEE + BSDF sampling +
+    /// MIS like any other surface.
+    pub fn irradiance(
+        &self,
+        scene: &Scene,
+        p: Vec3,
+        n: Vec3,
+        w: &mut SampledWavelengths,
+        sampler: &mut Sampler,
+        stats: &mut Stats,
+    ) -> SampledSpectrum {
+        let si = SurfaceInteraction::sensor(p, n);
+        let bsdf = Bsdf::new(n, Vec3::ZERO, n, Diffuse::new(SampledSpectrum::one()).into());
+        let probe = Ray::new(p + n, -n); // only its origin matters for MIS bookkeeping
+        let sensor = Some((si, bsdf));
+        let lo = match self.kind {
+            IntegratorKind::Path => self.path_trace(scene, probe, None, sensor, w, sampler, stats),
+            IntegratorKind::VolPath => self.volpath_trace(scene, probe, None, sensor, w, sampler, stats),
+        };
+        lo * PI
+    }
+}
