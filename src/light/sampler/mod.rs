@@ -42,7 +42,7 @@ impl LightSampleContext {
 /// Which light sampler to build (pbrt-v4's Integrator "lightsampler"). pbrt-v4 files get
 /// pbrt-v4's default, the BVH; scenes built in code (the built-in Cornell box, tests) get the
 /// power sampler, which costs a scene of one or two emitters nothing (the BVH costs the Cornell
-/// box 10% per sample: docs/benchmarks.md).
+/// box 1% per sample, 10% before its rectangle shortcut: docs/benchmarks.md, "Light samplers").
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum LightSamplerKind {
     /// Every light with the same probability.
