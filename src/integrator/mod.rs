@@ -1,6 +1,7 @@
 //! Integrators: estimators of the radiance arriving at the camera, behind one interface
 //! ([`Integrator`]).
 
+mod collision;
 mod interface;
 #[cfg(test)]
 mod nanovdb_tests;

@@ -112,12 +112,22 @@ impl Integrator {
                 // leaving scale radiance by 1/η² and η², so eta_scale is left alone.
                 if let Some(m) = subsurface::entered(&si, &bs, bsdf.ns()) {
                     let w: &SampledWavelengths = w;
-                    let mut light = |b: &SurfaceInteraction, bsdf: &Bsdf, sampler: &mut Sampler, stats: &mut Stats| {
-                        self.sample_light(scene, b, bsdf, w, sampler, stats)
+                    let mut light = |b: &SurfaceInteraction,
+                                     bsdf: &Bsdf,
+                                     r_u: SampledSpectrum,
+                                     sampler: &mut Sampler,
+                                     stats: &mut Stats| {
+                        self.sample_light(scene, b, bsdf, w, sampler, stats) / r_u.average()
                     };
                     let nee = use_nee.then_some(&mut light as subsurface::BoundaryNee);
-                    let (beta, l) = (&mut state.beta, &mut state.l);
-                    let exit = subsurface::enter(self.sss, nee, scene, m, &si, bs.wi, (beta, l), w, sampler, stats);
+                    let weights = (&mut state.beta, &mut state.r_u, &mut state.l);
+                    let exit = subsurface::enter(self.sss, nee, scene, m, &si, bs.wi, weights, w, sampler, stats);
+                    // The surface loop weighs no wavelength against another: the walk's
+                    // spectral MIS is folded into β here.
+                    if state.r_u != SampledSpectrum::one() {
+                        state.beta /= state.r_u.average();
+                        state.r_u = SampledSpectrum::one();
+                    }
                     match self.leave_subsurface(exit, &mut state) {
                         AfterSubsurface::End => break,
                         AfterSubsurface::Vertex(vsi, vbsdf) => {

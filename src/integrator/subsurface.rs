@@ -6,10 +6,12 @@
 //!   S_p(p_i) / (pdf(p_i) / n_hits), and the path continues from p_i with the S_ω lobe
 //!   (L_o = ∫_A ∫_{H²} S L_i cos θ_i dω_i dA, Jensen et al., "A Practical Model for Subsurface
 //!   Light Transport", SIGGRAPH 2001; estimated with one area sample).
-//! - [`SubsurfaceMethod::RandomWalk`]: the reference. Volumetric path tracing inside the object:
-//!   free-flight sampling with spectral MIS ([`crate::media::HomogeneousMedium`]),
-//!   Henyey–Greenstein scattering, and the dielectric boundary sampled at every surface hit
-//!   (reflection stays inside, refraction leaves). Unbiased up to [`MAX_WALK_EVENTS`].
+//! - [`SubsurfaceMethod::RandomWalk`]: the reference. Volumetric path tracing inside the object
+//!   on the media engine: delta tracking in the material's homogeneous interior
+//!   ([`crate::media::sample_t_maj_homogeneous`], the collisions of [`super::collision`]) with
+//!   the path's spectral MIS (β and r_u carried through), Henyey–Greenstein scattering, and the
+//!   dielectric boundary sampled at every surface hit (reflection stays inside, refraction
+//!   leaves). Unbiased up to [`MAX_WALK_EVENTS`].
 //!
 //! With `Diffusion`, media whose longest mean free path exceeds the object's bounding radius
 //! (optically thin objects, where PBD's semi-infinite assumption loses most of the light) are
@@ -18,6 +20,8 @@
 //! Both assume the subsurface object does not intersect other geometry: a hit inside the medium
 //! is treated as its boundary.
 
+use super::collision::{self, Event};
+use super::transmittance::ray_rng;
 use super::Stats;
 use crate::bsdf::{Bsdf, BsdfSample, TransportMode};
 use crate::bssrdf::TabulatedBssrdf;
@@ -25,7 +29,7 @@ use crate::geometry::{Hit, Ray};
 use crate::light::LightSampleContext;
 use crate::material::{Material, SubsurfaceMaterial};
 use crate::math::Frame;
-use crate::media::{FreeFlight, HomogeneousMedium};
+use crate::media::{sample_t_maj_homogeneous, HenyeyGreenstein, MediumPoint};
 use crate::sampling::Sampler;
 use crate::scene::{Scene, SurfaceInteraction};
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
@@ -91,13 +95,15 @@ pub(super) fn entered<'s>(si: &SurfaceInteraction<'s>, bs: &BsdfSample, ns: Vec3
 
 /// Next-event estimation at a boundary vertex of a random walk: the light sampled from the
 /// vertex through its BSDF, MIS-weighted the way the calling integrator weights the emission
-/// its BSDF-sampled rays find (per unit throughput).
+/// its BSDF-sampled rays find, per unit throughput, for a path whose rescaled unidirectional
+/// probabilities are the given r_u.
 pub(super) type BoundaryNee<'n> =
-    &'n mut dyn FnMut(&SurfaceInteraction, &Bsdf, &mut Sampler, &mut Stats) -> SampledSpectrum;
+    &'n mut dyn FnMut(&SurfaceInteraction, &Bsdf, SampledSpectrum, &mut Sampler, &mut Stats) -> SampledSpectrum;
 
 /// Continues a path that refracted at `si` into the material along `wi`, multiplying `beta`
-/// by the transport inside, by `method`. `nee` (none: no light sampling) estimates direct light
-/// at the walk's boundary vertices. `None`: the path ends (absorbed, or no entry point found).
+/// (and, for the walk's wavelength-dependent distances, `r_u`) by the transport inside, by
+/// `method`. `nee` (none: no light sampling) estimates direct light at the walk's boundary
+/// vertices, added to `l`. `None`: the path ends (absorbed, or no entry point found).
 #[allow(clippy::too_many_arguments)]
 pub(super) fn enter<'s>(
     method: SubsurfaceMethod,
@@ -106,7 +112,7 @@ pub(super) fn enter<'s>(
     material: &SubsurfaceMaterial,
     si: &SurfaceInteraction<'s>,
     wi: Vec3,
-    (beta, l): (&mut SampledSpectrum, &mut SampledSpectrum),
+    (beta, r_u, l): (&mut SampledSpectrum, &mut SampledSpectrum, &mut SampledSpectrum),
     w: &SampledWavelengths,
     sampler: &mut Sampler,
     stats: &mut Stats,
@@ -117,13 +123,13 @@ pub(super) fn enter<'s>(
     // and a walk needs only a few events: take the walk.
     let thin = || {
         let mfp = medium.sigma_t().min_value().recip();
-        mfp > material.object_radius(|| si.material_radius(scene))
+        mfp > si.material_radius(scene)
     };
     match method {
         SubsurfaceMethod::Diffusion if !thin() => diffusion(scene, material, &medium, si, beta, sampler, stats),
         _ => {
             let walk = Walk { scene, material, medium: &medium };
-            walk.run(si, wi, (beta, l), nee, sampler, stats)
+            walk.run(si, wi, (beta, r_u, l), nee, sampler, stats)
         }
     }
 }
@@ -131,7 +137,7 @@ pub(super) fn enter<'s>(
 fn diffusion<'s>(
     scene: &'s Scene,
     material: &SubsurfaceMaterial,
-    medium: &HomogeneousMedium,
+    medium: &MediumPoint,
     si: &SurfaceInteraction<'s>,
     beta: &mut SampledSpectrum,
     sampler: &mut Sampler,
@@ -173,7 +179,7 @@ fn diffusion<'s>(
 struct Walk<'a> {
     scene: &'a Scene,
     material: &'a SubsurfaceMaterial,
-    medium: &'a HomogeneousMedium,
+    medium: &'a MediumPoint,
 }
 
 impl Walk<'_> {
@@ -184,55 +190,80 @@ impl Walk<'_> {
         &self,
         si: &SurfaceInteraction<'_>,
         wi: Vec3,
-        (beta, l): (&mut SampledSpectrum, &mut SampledSpectrum),
+        (beta, r_u, l): (&mut SampledSpectrum, &mut SampledSpectrum, &mut SampledSpectrum),
         mut nee: Option<BoundaryNee>,
         sampler: &mut Sampler,
         stats: &mut Stats,
     ) -> Option<Exit<'s>> {
         let scene = self.scene;
-        let phase = self.material.phase();
+        let phase = HenyeyGreenstein::new(self.medium.g);
         let mut ray = si.spawn_ray(wi.normalize());
         let mut scatterings = 0u32;
+        // The light-sampling probabilities of null collisions, which a homogeneous interior
+        // (σ_maj = σ_t) has only by rounding: the walk's exit sets the path's anew.
+        let mut r_l = SampledSpectrum::one();
         for _ in 0..MAX_WALK_EVENTS {
             stats.rays += 1;
             let hit = scene.closest_hit(&ray);
             let t_hit = hit.map_or(f32::INFINITY, |h| h.t);
-            let (uc, ud) = (sampler.get_1d(), sampler.get_1d());
-            match self.medium.sample_free_flight(t_hit, uc, ud) {
-                FreeFlight::Scatter { t, weight } => {
-                    *beta *= weight;
-                    scatterings += 1;
-                    let p = ray.at(t);
-                    ray = Ray::new(p, phase.sample(ray.d, sampler.get_2d())).at_time(ray.time);
-                }
-                FreeFlight::Pass { weight } => {
-                    *beta *= weight;
-                    let h = hit?;
-                    let b = scene.interaction(&ray, &h);
-                    let bsdf = self.material.boundary_bsdf(&b.shading_point(None));
-                    if let Some(nee) = nee.as_mut().filter(|_| bsdf.flags().is_non_specular()) {
-                        *l += *beta * nee(&b, &bsdf, sampler, stats);
+            let mut rng = ray_rng(sampler);
+            let u = sampler.get_1d();
+            let (mut scattered, mut absorbed) = (None, false);
+            let t_maj = sample_t_maj_homogeneous(self.medium, ray.o, ray.d, t_hit, u, &mut rng, |c, rng| {
+                match Event::choose(&c, rng.uniform()) {
+                    Event::Absorb => {
+                        absorbed = true;
+                        false
                     }
-                    let bs = bsdf.sample_f(b.wo, sampler.get_1d(), sampler.get_2d(), TransportMode::Radiance)?;
-                    *beta *= bs.f * (bs.wi.dot(b.shading.ns).abs() / bs.pdf);
-                    let next = b.spawn_ray(bs.wi);
-                    if bs.wi.dot(b.shading.ns) > 0.0 {
-                        let pdf = if bs.is_specular() { None } else { Some(bs.pdf) };
-                        return (!beta.is_black()).then_some(Exit::Ray(
-                            next,
-                            LightSampleContext::surface(b.p, bsdf.ns()),
-                            pdf,
-                        ));
+                    Event::Scatter => {
+                        collision::scatter(&c, beta, r_u);
+                        scattered = Some(c.p);
+                        false
                     }
-                    ray = next;
+                    Event::Null => collision::null(&c, beta, r_u, &mut r_l),
                 }
+            });
+            if absorbed || beta.is_black() || r_u.is_black() {
+                return None;
+            }
+            if let Some(p) = scattered {
+                scatterings += 1;
+                ray = Ray::new(p, phase.sample(ray.d, sampler.get_2d())).at_time(ray.time);
+            } else {
+                // No collision before the boundary: β, r_u ·= T_maj / T_maj,hero.
+                let t0 = t_maj[0];
+                if t0.is_nan() || t0 <= 0.0 {
+                    return None;
+                }
+                *beta *= t_maj / t0;
+                *r_u *= t_maj / t0;
+                let h = hit?;
+                let b = scene.interaction(&ray, &h);
+                let bsdf = self.material.boundary_bsdf(&b.shading_point(None));
+                if let Some(nee) = nee.as_mut().filter(|_| bsdf.flags().is_non_specular()) {
+                    *l += *beta * nee(&b, &bsdf, *r_u, sampler, stats);
+                }
+                let bs = bsdf.sample_f(b.wo, sampler.get_1d(), sampler.get_2d(), TransportMode::Radiance)?;
+                *beta *= bs.f * (bs.wi.dot(b.shading.ns).abs() / bs.pdf);
+                let next = b.spawn_ray(bs.wi);
+                if bs.wi.dot(b.shading.ns) > 0.0 {
+                    let pdf = if bs.is_specular() { None } else { Some(bs.pdf) };
+                    return (!beta.is_black()).then_some(Exit::Ray(
+                        next,
+                        LightSampleContext::surface(b.p, bsdf.ns()),
+                        pdf,
+                    ));
+                }
+                ray = next;
             }
             if beta.is_black() {
                 return None;
             }
-            // Russian roulette once the walk is long and dim (pbrt-v4 volpath's rule).
-            if scatterings >= WALK_RR_EVENTS && beta.max_value() < 1.0 {
-                let q = (1.0 - beta.max_value()).max(0.0);
+            // Russian roulette once the walk is long and dim, on β with spectral MIS's
+            // normalisation undone (pbrt-v4 volpath's rule).
+            let survival = (*beta / r_u.average()).max_value();
+            if scatterings >= WALK_RR_EVENTS && survival < 1.0 {
+                let q = (1.0 - survival).max(0.0);
                 if sampler.get_1d() < q {
                     return None;
                 }

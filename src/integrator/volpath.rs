@@ -16,6 +16,7 @@
 //! The volumetric loop of [`Integrator`], for scenes with media; its surface vertices take the
 //! steps the surface loop takes ([`super::state`]).
 
+use super::collision::{self, Event};
 use super::interface::{DirectStrategy, Integrator};
 use super::state::{AfterSubsurface, PathState};
 use super::subsurface;
@@ -84,32 +85,21 @@ impl Integrator {
                                     st.l += st.beta * c.t_maj / pdf * c.mp.sigma_a * c.mp.le / r_e.average();
                                 }
                             }
-                            let (p_absorb, p_scatter) = (c.mp.sigma_a[0] / s0, c.mp.sigma_s[0] / s0);
-                            let um = rng.uniform();
-                            if um < p_absorb {
-                                terminated = true;
-                                false
-                            } else if um < p_absorb + p_scatter {
-                                if !self.next_vertex(st) {
+                            match Event::choose(&c, rng.uniform()) {
+                                Event::Absorb => {
                                     terminated = true;
-                                    return false;
+                                    false
                                 }
-                                let pdf = c.t_maj[0] * c.mp.sigma_s[0];
-                                st.beta *= c.t_maj * c.mp.sigma_s / pdf;
-                                st.r_u *= c.t_maj * c.mp.sigma_s / pdf;
-                                scattered = Some((c.p, c.mp.g));
-                                false
-                            } else {
-                                let sigma_n = (c.sigma_maj - c.mp.sigma_a - c.mp.sigma_s).map(|x| x.max(0.0));
-                                let pdf = c.t_maj[0] * sigma_n[0];
-                                if pdf <= 0.0 {
-                                    st.beta = SampledSpectrum::zero();
-                                } else {
-                                    st.beta *= c.t_maj * sigma_n / pdf;
-                                    st.r_u *= c.t_maj * sigma_n / pdf;
-                                    st.r_l *= c.t_maj * c.sigma_maj / pdf;
+                                Event::Scatter => {
+                                    if !self.next_vertex(st) {
+                                        terminated = true;
+                                        return false;
+                                    }
+                                    collision::scatter(&c, &mut st.beta, &mut st.r_u);
+                                    scattered = Some((c.p, c.mp.g));
+                                    false
                                 }
-                                !st.beta.is_black() && !st.r_u.is_black()
+                                Event::Null => collision::null(&c, &mut st.beta, &mut st.r_u, &mut st.r_l),
                             }
                         });
                         if terminated || state.beta.is_black() || state.r_u.is_black() || !state.beta.is_finite() {
@@ -196,15 +186,19 @@ impl Integrator {
             // eta_scale is left alone).
             if let Some(m) = subsurface::entered(&si, &bs, bsdf.ns()) {
                 let outside = si.medium_interface().medium_toward(si.wo, si.shading.ng, medium);
-                let (w, r_p): (&SampledWavelengths, _) = (w, state.r_u);
-                let mut light = |b: &SurfaceInteraction, b_bsdf: &Bsdf, sampler: &mut Sampler, stats: &mut Stats| {
+                let w: &SampledWavelengths = w;
+                let mut light = |b: &SurfaceInteraction,
+                                 b_bsdf: &Bsdf,
+                                 r_u: SampledSpectrum,
+                                 sampler: &mut Sampler,
+                                 stats: &mut Stats| {
                     let at = Scatterer::Surface(b, b_bsdf);
-                    self.sample_ld(scene, &at, outside, SampledSpectrum::one(), r_p, w, sampler, stats)
+                    self.sample_ld(scene, &at, outside, SampledSpectrum::one(), r_u, w, sampler, stats)
                 };
                 let nee = use_nee.then_some(&mut light as subsurface::BoundaryNee);
                 medium = outside;
-                let (beta, l) = (&mut state.beta, &mut state.l);
-                let exit = subsurface::enter(self.sss, nee, scene, m, &si, wi, (beta, l), w, sampler, stats);
+                let weights = (&mut state.beta, &mut state.r_u, &mut state.l);
+                let exit = subsurface::enter(self.sss, nee, scene, m, &si, wi, weights, w, sampler, stats);
                 match self.leave_subsurface(exit, &mut state) {
                     AfterSubsurface::End => break,
                     AfterSubsurface::Vertex(vsi, vbsdf) => {

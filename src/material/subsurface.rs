@@ -7,7 +7,7 @@
 use super::{clamp01, Roughness, ShadingPoint, SpectrumTexture};
 use crate::bsdf::{Bsdf, Dielectric, NormalizedFresnel};
 use crate::bssrdf::BssrdfTable;
-use crate::media::{HenyeyGreenstein, HomogeneousMedium};
+use crate::media::{HenyeyGreenstein, MediumPoint};
 use crate::spectrum::{SampledSpectrum, SampledWavelengths, Spectrum};
 use std::sync::{Arc, OnceLock};
 
@@ -47,7 +47,6 @@ pub struct SubsurfaceMaterial {
     pub roughness: Roughness,
     sw_norm: f32,
     table: OnceLock<Arc<BssrdfTable>>,
-    object_radius: OnceLock<f32>,
 }
 
 impl SubsurfaceMaterial {
@@ -55,26 +54,12 @@ impl SubsurfaceMaterial {
     pub fn new(spec: ScatteringSpec, eta: f32, g: f32, roughness: Roughness) -> Self {
         let eta = if eta.is_finite() && eta > 0.0 { eta } else { 1.33 };
         let g = HenyeyGreenstein::new(g).g;
-        Self {
-            spec,
-            eta,
-            g,
-            roughness,
-            sw_norm: NormalizedFresnel::normalization(eta),
-            table: OnceLock::new(),
-            object_radius: OnceLock::new(),
-        }
+        Self { spec, eta, g, roughness, sw_norm: NormalizedFresnel::normalization(eta), table: OnceLock::new() }
     }
 
     /// The PBD table for this material's (g, η), built on first call.
     pub fn table(&self) -> &BssrdfTable {
         self.table.get_or_init(|| Arc::new(BssrdfTable::new(self.g, self.eta)))
-    }
-
-    /// Bounding radius of the objects made of this material [scene units], computed by `f` on
-    /// first call (the integrator passes a scan of the scene's meshes).
-    pub fn object_radius(&self, f: impl FnOnce() -> f32) -> f32 {
-        *self.object_radius.get_or_init(f)
     }
 
     /// True once [`Self::table`] has been built.
@@ -92,17 +77,13 @@ impl SubsurfaceMaterial {
         Bsdf::new(sp.ns, sp.dpdu, sp.ng, NormalizedFresnel::new(self.eta, self.sw_norm).into())
     }
 
-    /// The phase function of the medium.
-    pub fn phase(&self) -> HenyeyGreenstein {
-        HenyeyGreenstein::new(self.g)
-    }
-
-    /// σ_a, σ_s at the path's wavelengths [1/scene unit]. The reflectance form builds the table
-    /// (for the albedo inversion).
-    pub fn medium(&self, sp: &ShadingPoint, w: &SampledWavelengths) -> HomogeneousMedium {
-        match &self.spec {
+    /// The homogeneous medium inside, at the path's wavelengths: σ_a, σ_s [1/scene unit] (negative
+    /// or non-finite values taken as 0), no emission, the phase function's g. The reflectance form
+    /// builds the table (for the albedo inversion).
+    pub fn medium(&self, sp: &ShadingPoint, w: &SampledWavelengths) -> MediumPoint {
+        let (sigma_a, sigma_s) = match &self.spec {
             ScatteringSpec::Coefficients { sigma_a, sigma_s, scale } => {
-                HomogeneousMedium::new(sigma_a.sample(w) * *scale, sigma_s.sample(w) * *scale)
+                (sigma_a.sample(w) * *scale, sigma_s.sample(w) * *scale)
             }
             ScatteringSpec::Reflectance { reflectance, mfp, scale } => {
                 let r = clamp01(reflectance.eval(&sp.tex, w));
@@ -117,8 +98,10 @@ impl SubsurfaceMaterial {
                         sigma_a[c] = (1.0 - rho) / mfp[c];
                     }
                 }
-                HomogeneousMedium::new(sigma_a, sigma_s)
+                (sigma_a, sigma_s)
             }
-        }
+        };
+        let clean = |s: SampledSpectrum| s.map(|x| if x.is_finite() { x.max(0.0) } else { 0.0 });
+        MediumPoint { sigma_a: clean(sigma_a), sigma_s: clean(sigma_s), le: SampledSpectrum::zero(), g: self.g }
     }
 }

@@ -220,23 +220,57 @@ pub struct Collision {
 
 /// Samples tentative collisions along `o + t d` (`d` unit) for t in [0, t_max] from the
 /// majorant's exponential distribution at the hero wavelength (pbrt-v4 `SampleT_maj`): each is
-/// handed to `collide` with the generator, which returns false to stop. Returns the majorant transmittance from the
-/// last collision to `t_max`, or 1 when `collide` stopped the walk. `u` is the first distance's
-/// uniform, `rng` supplies the rest.
+/// handed to `collide` with the generator, which returns false to stop. Returns the majorant
+/// transmittance from the last collision to `t_max`, or 1 when `collide` stopped the walk. `u` is
+/// the first distance's uniform, `rng` supplies the rest.
 #[allow(clippy::too_many_arguments)]
+#[inline]
 pub fn sample_t_maj(
     medium: &Medium,
     uniform: &MediumPoint,
     o: Vec3,
     d: Vec3,
     t_max: f32,
-    mut u: f32,
+    u: f32,
     rng: &mut Rng,
     w: &SampledWavelengths,
+    collide: impl FnMut(Collision, &mut Rng) -> bool,
+) -> SampledSpectrum {
+    let segments = medium.majorant_segments(o, d, t_max, uniform, w);
+    sample_collisions(segments, |p| medium.point_at(p, uniform, w), o, d, u, rng, collide)
+}
+
+/// [`sample_t_maj`] in a homogeneous medium of coefficients `medium` along t in [0, t_max]:
+/// σ_maj = σ_t, so every tentative collision is a real one.
+#[allow(clippy::too_many_arguments)]
+#[inline]
+pub fn sample_t_maj_homogeneous(
+    medium: &MediumPoint,
+    o: Vec3,
+    d: Vec3,
+    t_max: f32,
+    u: f32,
+    rng: &mut Rng,
+    collide: impl FnMut(Collision, &mut Rng) -> bool,
+) -> SampledSpectrum {
+    let segments = MajorantSegments::single(0.0, t_max, medium.sigma_a + medium.sigma_s);
+    sample_collisions(segments, |_| *medium, o, d, u, rng, collide)
+}
+
+/// The delta-tracking loop of [`sample_t_maj`] over the majorant `segments`, with the
+/// coefficients at a point given by `point_at`.
+#[inline(always)]
+fn sample_collisions<'g>(
+    segments: MajorantSegments<'g>,
+    point_at: impl Fn(Vec3) -> MediumPoint,
+    o: Vec3,
+    d: Vec3,
+    mut u: f32,
+    rng: &mut Rng,
     mut collide: impl FnMut(Collision, &mut Rng) -> bool,
 ) -> SampledSpectrum {
     let mut t_maj = SampledSpectrum::one();
-    for seg in medium.majorant_segments(o, d, t_max, uniform, w) {
+    for seg in segments {
         let s0 = seg.sigma_maj[0];
         if s0 == 0.0 {
             t_maj *= beer_lambert(seg.sigma_maj, finite_length(seg.t_max - seg.t_min));
@@ -249,7 +283,7 @@ pub fn sample_t_maj(
             if t < seg.t_max {
                 t_maj *= beer_lambert(seg.sigma_maj, t - t_min);
                 let p = o + d * t;
-                let mp = medium.point_at(p, uniform, w);
+                let mp = point_at(p);
                 if !collide(Collision { p, mp, sigma_maj: seg.sigma_maj, t_maj }, rng) {
                     return SampledSpectrum::one();
                 }

@@ -25,6 +25,19 @@ pub struct MediumPoint {
     pub g: f32,
 }
 
+impl MediumPoint {
+    /// Extinction σ_t = σ_a + σ_s.
+    #[inline]
+    pub fn sigma_t(&self) -> SampledSpectrum {
+        self.sigma_a + self.sigma_s
+    }
+
+    /// Single-scattering albedo σ_s/σ_t (0 where σ_t = 0).
+    pub fn albedo(&self) -> SampledSpectrum {
+        self.sigma_s.safe_div(self.sigma_t())
+    }
+}
+
 /// A medium with the same coefficients everywhere (pbrt-v4 `HomogeneousMedium`).
 #[derive(Clone, Debug)]
 pub struct Homogeneous {

@@ -1,13 +1,12 @@
 //! Participating media: homogeneous media, density and RGB grids, pbrt-v4's procedural
 //! cloud and NanoVDB grids ([`Medium`]), majorants and
 //! free-flight sampling against them ([`sample_t_maj`]), the measured media table, and the
-//! Henyey–Greenstein phase function. The random-walk subsurface reference
-//! (`integrator::subsurface`) uses [`HomogeneousMedium`]'s spectral-MIS free flights; the
-//! volumetric path tracer (`integrator::volpath`) uses [`Medium`].
+//! Henyey–Greenstein phase function. The volumetric path tracer (`integrator::volpath`) samples
+//! free flights in a scene's [`Medium`], the random-walk subsurface method in a subsurface
+//! material's homogeneous interior ([`sample_t_maj_homogeneous`]): one free-flight sampler.
 
 mod cloud;
 pub mod grid;
-mod homogeneous;
 pub mod majorant;
 mod medium;
 pub mod nanovdb;
@@ -18,8 +17,7 @@ mod rgb_grid;
 
 pub use cloud::{CloudMedium, CloudShape};
 pub use grid::{DensityGrid, EmissionSource, GridEmission, GridMedium};
-pub use homogeneous::{FreeFlight, HomogeneousMedium};
-pub use majorant::{sample_t_maj, Collision, MajorantSegment};
+pub use majorant::{sample_t_maj, sample_t_maj_homogeneous, Collision, MajorantSegment};
 pub use medium::{Homogeneous, Medium, MediumPoint};
 pub use nanovdb_medium::{NanoVdbMedium, TemperatureEmission, NANOVDB_MAJORANT_RES};
 pub use phase::{hg_density, HenyeyGreenstein};

@@ -558,6 +558,7 @@ impl SceneBuilder {
         let has_interfaces = self.materials.iter().any(Material::may_be_interface);
         let moves = quadric_moves || set.instances.iter().any(|i| i.motion.is_some()) || camera.moves();
         let shutter = moves.then(|| self.shutter.unwrap_or((0.0, 1.0)));
+        let object_radii = object_radii(&self.materials, &primitives);
         Ok(Scene {
             has_interfaces,
             has_alpha,
@@ -574,8 +575,27 @@ impl SceneBuilder {
             media: self.media,
             camera_medium: self.camera_medium,
             shutter,
+            object_radii,
         })
     }
+}
+
+/// Per material, the largest bounding-sphere radius of the primitives made of it; computed for
+/// subsurface materials only (whose method choice needs it), 0 for the others.
+fn object_radii(materials: &[Material], primitives: &[Primitive]) -> Vec<f32> {
+    let mut radii = vec![0.0f32; materials.len()];
+    if !materials.iter().any(|m| m.subsurface().is_some()) {
+        return radii;
+    }
+    for p in primitives.iter().filter(|p| materials.get(p.material as usize).is_some_and(|m| m.subsurface().is_some()))
+    {
+        let b = p.quadric.as_ref().map_or_else(|| p.mesh.bounds(), |q| q.bounds());
+        if !b.is_empty() {
+            let r = &mut radii[p.material as usize];
+            *r = r.max(b.radius());
+        }
+    }
+    radii
 }
 
 /// The light of radiance `scale · spectrum` on an emissive quadric: a [`SphereLight`] for a
@@ -624,6 +644,9 @@ pub struct Scene {
     /// (`None`: every ray
     /// is at time 0 and the camera draws no time sample).
     pub shutter: Option<(f32, f32)>,
+    /// Per material, the largest bounding-sphere radius of the primitives made of it, for
+    /// subsurface materials (0 for the others) [scene units].
+    object_radii: Vec<f32>,
 }
 
 /// Most interfaces a ray passes through before it is taken as blocked (a guard against
@@ -763,15 +786,10 @@ impl Scene {
         self.infinite_lights.iter().map(|&i| (i, &self.lights[i as usize]))
     }
 
-    /// The largest bounding-sphere radius of the primitives made of `material`.
+    /// The largest bounding-sphere radius of the primitives made of subsurface material
+    /// `material` [scene units], computed when the scene was built (0 for other materials).
     pub fn material_radius(&self, material: u32) -> f32 {
-        self.primitives
-            .iter()
-            .filter(|p| p.material == material)
-            .map(|p| p.quadric.as_ref().map_or_else(|| p.mesh.bounds(), |q| q.bounds()))
-            .filter(|b| !b.is_empty())
-            .map(|b| b.radius())
-            .fold(0.0, f32::max)
+        self.object_radii.get(material as usize).copied().unwrap_or(0.0)
     }
 
     /// The participating media (a [`MediumInterface`] indexes them).
