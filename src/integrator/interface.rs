@@ -104,12 +104,16 @@ impl Default for Integrator {
 
 impl Integrator {
     /// The estimator that renders `scene` as the named one would: `path` and `volpath` are one
-    /// estimator family, whose volumetric loop is taken exactly when the scene has media (a
-    /// scene without media gives `volpath` nothing to do but the path tracer's work, and
-    /// `path` cannot see media; pbrt-v4's `path` ignores them).
+    /// estimator family, whose volumetric loop is taken exactly when the scene has a medium to
+    /// step through — participating media, or a subsurface material a path may walk (the random
+    /// walk, or diffusion on an optically thin object). A scene without either gives `volpath`
+    /// nothing to do but the path tracer's work; `path` cannot step through media (pbrt-v4's
+    /// `path` ignores them).
     pub fn for_scene(self, scene: &Scene) -> Self {
+        let walks =
+            scene.has_subsurface() && (self.sss == SubsurfaceMethod::RandomWalk || scene.may_have_thin_subsurface());
         let kind = match self.kind {
-            IntegratorKind::Path | IntegratorKind::VolPath if scene.has_media() => IntegratorKind::VolPath,
+            IntegratorKind::Path | IntegratorKind::VolPath if scene.has_media() || walks => IntegratorKind::VolPath,
             IntegratorKind::Path | IntegratorKind::VolPath => IntegratorKind::Path,
         };
         Self { kind, ..self }

@@ -4,7 +4,7 @@
 //! [`Integrator`], for scenes without media.
 
 use super::interface::{DirectStrategy, Integrator};
-use super::state::{AfterSubsurface, PathState};
+use super::state::PathState;
 use super::subsurface;
 use super::Stats;
 use crate::bsdf::{Bsdf, TransportMode};
@@ -29,7 +29,8 @@ impl Integrator {
     }
 
     /// The surface path loop. `differentials` are the camera ray's, `pending` is a vertex found
-    /// without tracing the current ray (the irradiance sensor), whose BSDF is given.
+    /// without tracing the current ray (the irradiance sensor; a diffusion exit), whose BSDF is
+    /// given.
     #[allow(clippy::too_many_arguments)]
     pub(super) fn path_trace<'s>(
         &self,
@@ -111,30 +112,19 @@ impl Integrator {
                 // Refraction into a subsurface medium: continue where light leaves it. Entering and
                 // leaving scale radiance by 1/η² and η², so eta_scale is left alone.
                 if let Some(m) = subsurface::entered(&si, &bs, bsdf.ns()) {
-                    let w: &SampledWavelengths = w;
-                    let mut light = |b: &SurfaceInteraction,
-                                     bsdf: &Bsdf,
-                                     r_u: SampledSpectrum,
-                                     sampler: &mut Sampler,
-                                     stats: &mut Stats| {
-                        self.sample_light(scene, b, bsdf, w, sampler, stats) / r_u.average()
-                    };
-                    let nee = use_nee.then_some(&mut light as subsurface::BoundaryNee);
-                    let weights = (&mut state.beta, &mut state.r_u, &mut state.l);
-                    let exit = subsurface::enter(self.sss, nee, scene, m, &si, bs.wi, weights, w, sampler, stats);
-                    // The surface loop weighs no wavelength against another: the walk's
-                    // spectral MIS is folded into β here.
-                    if state.r_u != SampledSpectrum::one() {
-                        state.beta /= state.r_u.average();
-                        state.r_u = SampledSpectrum::one();
+                    let (interior, walks) = subsurface::interior(self.sss, scene, m, &si, w);
+                    // The surface loop has no medium step: `Integrator::for_scene` gives scenes
+                    // whose subsurface objects may be walked to the volumetric loop.
+                    debug_assert!(!walks, "a random walk in the surface loop");
+                    if walks {
+                        break;
                     }
-                    match self.leave_subsurface(exit, &mut state) {
-                        AfterSubsurface::End => break,
-                        AfterSubsurface::Vertex(vsi, vbsdf) => {
-                            pending = Some((vsi, vbsdf));
+                    match subsurface::diffusion(scene, m, &interior, &si, &mut state.beta, sampler, stats) {
+                        Some(vertex) => {
+                            pending = Some(vertex);
                             continue;
                         }
-                        AfterSubsurface::Ray(exit) => ray = exit,
+                        None => break,
                     }
                 } else {
                     state.eta_scale *= bs.eta * bs.eta;

@@ -1,14 +1,12 @@
-//! The path state both path loops carry, and the per-vertex steps they share: the vertex's
-//! BSDF, continuing by BSDF sampling, leaving a subsurface material, and Russian roulette. The
+//! The path state both path loops carry, and the per-vertex steps they share: counting a
+//! vertex, the vertex's BSDF, continuing by BSDF sampling, and Russian roulette. The
 //! surface loop ([`super::path`]) and the volumetric loop ([`super::volpath`]) differ only in
 //! the medium step and in how they weight emission against light sampling (the power heuristic
 //! on solid-angle densities, or the balance heuristic on the rescaled path probabilities of
 //! spectral MIS).
 
 use super::interface::{Integrator, UNBOUNDED_DEPTH};
-use super::subsurface::Exit;
 use crate::bsdf::{Bsdf, BsdfSample, TransportMode};
-use crate::geometry::Ray;
 use crate::light::LightSampleContext;
 use crate::sampling::Sampler;
 use crate::scene::SurfaceInteraction;
@@ -66,18 +64,6 @@ impl PathState {
     }
 }
 
-/// Where a path goes after a subsurface material. Returned by value once per event and taken
-/// apart at once, as [`Exit`], so the size gap between the variants costs a copy, not memory held.
-#[allow(clippy::large_enum_variant)]
-pub(super) enum AfterSubsurface<'s> {
-    /// Absorbed, out of depth, or no way out found.
-    End,
-    /// A vertex found without tracing a ray (the diffusion exit), with its BSDF.
-    Vertex(SurfaceInteraction<'s>, Bsdf),
-    /// A ray leaving the object (the random walk's exit); the state refers to its origin.
-    Ray(Ray),
-}
-
 impl Integrator {
     /// Counts a new scattering vertex; false when the depth limit ends the path there.
     #[inline(always)]
@@ -130,28 +116,6 @@ impl Integrator {
         state.any_non_specular |= !bs.is_specular();
         state.prev = LightSampleContext::surface(si.p, bsdf.ns());
         Some(bs)
-    }
-
-    /// Where the path goes after a subsurface material answered `exit`. The random walk's last
-    /// boundary vertex sampled light and chose the way out: it counts as a vertex like the
-    /// diffusion exit, and the state refers to it.
-    #[inline]
-    pub(super) fn leave_subsurface<'s>(&self, exit: Option<Exit<'s>>, state: &mut PathState) -> AfterSubsurface<'s> {
-        match exit {
-            None => AfterSubsurface::End,
-            Some(Exit::Vertex(si, bsdf)) => AfterSubsurface::Vertex(si, bsdf),
-            Some(Exit::Ray(ray, origin, pdf)) => {
-                if !self.next_vertex(state) {
-                    return AfterSubsurface::End;
-                }
-                state.prev = origin;
-                state.specular_bounce = pdf.is_none();
-                state.any_non_specular |= pdf.is_some();
-                state.prev_pdf = pdf.unwrap_or(0.0);
-                state.r_l = state.r_u / pdf.unwrap_or(1.0);
-                AfterSubsurface::Ray(ray)
-            }
-        }
     }
 
     /// Russian roulette: true when the path survives (its throughput then divided by the

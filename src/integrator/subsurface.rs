@@ -6,12 +6,12 @@
 //!   S_p(p_i) / (pdf(p_i) / n_hits), and the path continues from p_i with the S_ω lobe
 //!   (L_o = ∫_A ∫_{H²} S L_i cos θ_i dω_i dA, Jensen et al., "A Practical Model for Subsurface
 //!   Light Transport", SIGGRAPH 2001; estimated with one area sample).
-//! - [`SubsurfaceMethod::RandomWalk`]: the reference. Volumetric path tracing inside the object
-//!   on the media engine: delta tracking in the material's homogeneous interior
-//!   ([`crate::media::sample_t_maj_homogeneous`], the collisions of [`super::collision`]) with
-//!   the path's spectral MIS (β and r_u carried through), Henyey–Greenstein scattering, and the
-//!   dielectric boundary sampled at every surface hit (reflection stays inside, refraction
-//!   leaves). Unbiased up to [`MAX_WALK_EVENTS`].
+//! - [`SubsurfaceMethod::RandomWalk`]: the reference. The volumetric loop goes on inside the
+//!   object with the material's homogeneous interior ([`Interior`]) as its medium: delta
+//!   tracking ([`crate::media::sample_t_maj_homogeneous`], the collisions of
+//!   [`super::collision`]) with the path's spectral MIS, Henyey–Greenstein scattering, and the
+//!   dielectric boundary sampled at every surface hit, light sampled through it (reflection
+//!   stays inside, refraction leaves). Unbiased up to [`MAX_WALK_EVENTS`].
 //!
 //! With `Diffusion`, media whose longest mean free path exceeds the object's bounding radius
 //! (optically thin objects, where PBD's semi-infinite assumption loses most of the light) are
@@ -20,16 +20,13 @@
 //! Both assume the subsurface object does not intersect other geometry: a hit inside the medium
 //! is treated as its boundary.
 
-use super::collision::{self, Event};
-use super::transmittance::ray_rng;
 use super::Stats;
-use crate::bsdf::{Bsdf, BsdfSample, TransportMode};
+use crate::bsdf::{Bsdf, BsdfSample};
 use crate::bssrdf::TabulatedBssrdf;
 use crate::geometry::{Hit, Ray};
-use crate::light::LightSampleContext;
 use crate::material::{Material, SubsurfaceMaterial};
 use crate::math::Frame;
-use crate::media::{sample_t_maj_homogeneous, HenyeyGreenstein, MediumPoint};
+use crate::media::MediumPoint;
 use crate::sampling::Sampler;
 use crate::scene::{Scene, SurfaceInteraction};
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
@@ -38,8 +35,9 @@ use glam::Vec3;
 /// Scattering events after which a random walk is abandoned (a bias only for media so thick
 /// and white that a walk this long has non-negligible probability).
 pub const MAX_WALK_EVENTS: u32 = 100_000;
-/// Events after which Russian roulette may end a walk.
-const WALK_RR_EVENTS: u32 = 8;
+/// Scatterings after which Russian roulette may end a walk (the walk's events are not path
+/// vertices: a walk of any length is one subsurface event of the path).
+pub(super) const WALK_RR_EVENTS: u32 = 8;
 
 /// How paths entering a subsurface material are continued (`prism render --sss`).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -70,19 +68,6 @@ impl SubsurfaceMethod {
     }
 }
 
-/// Where the path goes on after the subsurface event. Returned by value once per event and
-/// taken apart at once, so the size gap between the variants costs a copy, not memory held.
-#[allow(clippy::large_enum_variant)]
-pub(super) enum Exit<'s> {
-    /// A new vertex at p_i with its BSDF (diffusion): light sampling and BSDF sampling go on
-    /// from there.
-    Vertex(SurfaceInteraction<'s>, Bsdf),
-    /// A ray leaving the object from the exit point (random walk; with its shading normal),
-    /// sampled from the boundary's lobe with this solid-angle density (`None`: a delta lobe), for
-    /// MIS with the light sampling done there.
-    Ray(Ray, LightSampleContext, Option<f32>),
-}
-
 /// The subsurface material a path enters when its sample `bs` at `si` (with BSDF shading normal
 /// `ns`) refracts into the surface; `None` for any other sample or material. The material is
 /// resolved only for inward transmissions, so other bounces pay nothing.
@@ -93,48 +78,45 @@ pub(super) fn entered<'s>(si: &SurfaceInteraction<'s>, bs: &BsdfSample, ns: Vec3
     si.material().and_then(Material::subsurface)
 }
 
-/// Next-event estimation at a boundary vertex of a random walk: the light sampled from the
-/// vertex through its BSDF, MIS-weighted the way the calling integrator weights the emission
-/// its BSDF-sampled rays find, per unit throughput, for a path whose rescaled unidirectional
-/// probabilities are the given r_u.
-pub(super) type BoundaryNee<'n> =
-    &'n mut dyn FnMut(&SurfaceInteraction, &Bsdf, SampledSpectrum, &mut Sampler, &mut Stats) -> SampledSpectrum;
-
-/// Continues a path that refracted at `si` into the material along `wi`, multiplying `beta`
-/// (and, for the walk's wavelength-dependent distances, `r_u`) by the transport inside, by
-/// `method`. `nee` (none: no light sampling) estimates direct light at the walk's boundary
-/// vertices, added to `l`. `None`: the path ends (absorbed, or no entry point found).
-#[allow(clippy::too_many_arguments)]
-pub(super) fn enter<'s>(
-    method: SubsurfaceMethod,
-    nee: Option<BoundaryNee>,
-    scene: &'s Scene,
-    material: &SubsurfaceMaterial,
-    si: &SurfaceInteraction<'s>,
-    wi: Vec3,
-    (beta, r_u, l): (&mut SampledSpectrum, &mut SampledSpectrum, &mut SampledSpectrum),
-    w: &SampledWavelengths,
-    sampler: &mut Sampler,
-    stats: &mut Stats,
-) -> Option<Exit<'s>> {
-    let medium = material.medium(&si.shading_point(None), w);
-    // Diffusion assumes an optically thick object; where the longest mean free path exceeds the
-    // object's bounding radius, the medium is nearly clear, PBD would lose most of the light,
-    // and a walk needs only a few events: take the walk.
-    let thin = || {
-        let mfp = medium.sigma_t().min_value().recip();
-        mfp > si.material_radius(scene)
-    };
-    match method {
-        SubsurfaceMethod::Diffusion if !thin() => diffusion(scene, material, &medium, si, beta, sampler, stats),
-        _ => {
-            let walk = Walk { scene, material, medium: &medium };
-            walk.run(si, wi, (beta, r_u, l), nee, sampler, stats)
-        }
-    }
+/// The homogeneous interior of a subsurface object a random walk is in: the volumetric loop's
+/// medium while the path is inside ([`crate::integrator::Integrator`]'s walk step).
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Interior<'s> {
+    /// The coefficients at the path's wavelengths, as at the entry point.
+    pub medium: MediumPoint,
+    /// The material, whose boundary BSDF every surface hit inside samples.
+    pub material: &'s SubsurfaceMaterial,
+    /// The scene medium outside, where the path goes on when it leaves.
+    pub outside: Option<u32>,
+    /// Real scatterings so far.
+    pub scatterings: u32,
+    /// Events (scatterings and boundary hits) so far.
+    pub events: u32,
 }
 
-fn diffusion<'s>(
+/// How a path that refracted at `si` into `material` goes on: its interior at the path's
+/// wavelengths, and whether the path walks through it (`true`) or takes the diffusion BSSRDF.
+/// Diffusion assumes an optically thick object; where the longest mean free path exceeds the
+/// object's bounding radius, the medium is nearly clear, PBD would lose most of the light, and
+/// a walk needs only a few events: `Diffusion` walks there too.
+pub(super) fn interior(
+    method: SubsurfaceMethod,
+    scene: &Scene,
+    material: &SubsurfaceMaterial,
+    si: &SurfaceInteraction,
+    w: &SampledWavelengths,
+) -> (MediumPoint, bool) {
+    let medium = material.medium(&si.shading_point(None), w);
+    let walks = match method {
+        SubsurfaceMethod::RandomWalk => true,
+        SubsurfaceMethod::Diffusion => medium.sigma_t().min_value().recip() > si.material_radius(scene),
+    };
+    (medium, walks)
+}
+
+/// The diffusion BSSRDF: the throughput `beta` is multiplied by S_p(p_i) / pdf(p_i), and the
+/// path goes on from the entry point p_i with its S_ω lobe. `None`: no entry point was found.
+pub(super) fn diffusion<'s>(
     scene: &'s Scene,
     material: &SubsurfaceMaterial,
     medium: &MediumPoint,
@@ -142,7 +124,7 @@ fn diffusion<'s>(
     beta: &mut SampledSpectrum,
     sampler: &mut Sampler,
     stats: &mut Stats,
-) -> Option<Exit<'s>> {
+) -> Option<(SurfaceInteraction<'s>, Bsdf)> {
     let frame = Frame::from_normal_tangent(si.shading.ns, si.dpdu);
     let bssrdf = TabulatedBssrdf::new(material.table(), si.p, frame, medium.sigma_t(), medium.albedo());
     let u1 = sampler.get_1d();
@@ -172,106 +154,7 @@ fn diffusion<'s>(
     // S_ω ignores ωo except for its side: pbrt sets it to the normal.
     pi.wo = pi.shading.ns;
     let bsdf = material.entry_bsdf(&pi.shading_point(None));
-    Some(Exit::Vertex(pi, bsdf))
-}
-
-/// What a random walk needs besides the path state.
-struct Walk<'a> {
-    scene: &'a Scene,
-    material: &'a SubsurfaceMaterial,
-    medium: &'a MediumPoint,
-}
-
-impl Walk<'_> {
-    /// Walks from `si` along `wi` (into the medium) until the path refracts out. At every
-    /// boundary hit with a non-delta lobe, light is sampled through the boundary (next-event
-    /// estimation, MIS against the lobe) and added to `l`.
-    fn run<'s>(
-        &self,
-        si: &SurfaceInteraction<'_>,
-        wi: Vec3,
-        (beta, r_u, l): (&mut SampledSpectrum, &mut SampledSpectrum, &mut SampledSpectrum),
-        mut nee: Option<BoundaryNee>,
-        sampler: &mut Sampler,
-        stats: &mut Stats,
-    ) -> Option<Exit<'s>> {
-        let scene = self.scene;
-        let phase = HenyeyGreenstein::new(self.medium.g);
-        let mut ray = si.spawn_ray(wi.normalize());
-        let mut scatterings = 0u32;
-        // The light-sampling probabilities of null collisions, which a homogeneous interior
-        // (σ_maj = σ_t) has only by rounding: the walk's exit sets the path's anew.
-        let mut r_l = SampledSpectrum::one();
-        for _ in 0..MAX_WALK_EVENTS {
-            stats.rays += 1;
-            let hit = scene.closest_hit(&ray);
-            let t_hit = hit.map_or(f32::INFINITY, |h| h.t);
-            let mut rng = ray_rng(sampler);
-            let u = sampler.get_1d();
-            let (mut scattered, mut absorbed) = (None, false);
-            let t_maj = sample_t_maj_homogeneous(self.medium, ray.o, ray.d, t_hit, u, &mut rng, |c, rng| {
-                match Event::choose(&c, rng.uniform()) {
-                    Event::Absorb => {
-                        absorbed = true;
-                        false
-                    }
-                    Event::Scatter => {
-                        collision::scatter(&c, beta, r_u);
-                        scattered = Some(c.p);
-                        false
-                    }
-                    Event::Null => collision::null(&c, beta, r_u, &mut r_l),
-                }
-            });
-            if absorbed || beta.is_black() || r_u.is_black() {
-                return None;
-            }
-            if let Some(p) = scattered {
-                scatterings += 1;
-                ray = Ray::new(p, phase.sample(ray.d, sampler.get_2d())).at_time(ray.time);
-            } else {
-                // No collision before the boundary: β, r_u ·= T_maj / T_maj,hero.
-                let t0 = t_maj[0];
-                if t0.is_nan() || t0 <= 0.0 {
-                    return None;
-                }
-                *beta *= t_maj / t0;
-                *r_u *= t_maj / t0;
-                let h = hit?;
-                let b = scene.interaction(&ray, &h);
-                let bsdf = self.material.boundary_bsdf(&b.shading_point(None));
-                if let Some(nee) = nee.as_mut().filter(|_| bsdf.flags().is_non_specular()) {
-                    *l += *beta * nee(&b, &bsdf, *r_u, sampler, stats);
-                }
-                let bs = bsdf.sample_f(b.wo, sampler.get_1d(), sampler.get_2d(), TransportMode::Radiance)?;
-                *beta *= bs.f * (bs.wi.dot(b.shading.ns).abs() / bs.pdf);
-                let next = b.spawn_ray(bs.wi);
-                if bs.wi.dot(b.shading.ns) > 0.0 {
-                    let pdf = if bs.is_specular() { None } else { Some(bs.pdf) };
-                    return (!beta.is_black()).then_some(Exit::Ray(
-                        next,
-                        LightSampleContext::surface(b.p, bsdf.ns()),
-                        pdf,
-                    ));
-                }
-                ray = next;
-            }
-            if beta.is_black() {
-                return None;
-            }
-            // Russian roulette once the walk is long and dim, on β with spectral MIS's
-            // normalisation undone (pbrt-v4 volpath's rule).
-            let survival = (*beta / r_u.average()).max_value();
-            if scatterings >= WALK_RR_EVENTS && survival < 1.0 {
-                let q = (1.0 - survival).max(0.0);
-                if sampler.get_1d() < q {
-                    return None;
-                }
-                *beta /= 1.0 - q;
-            }
-        }
-        None
-    }
+    Some((pi, bsdf))
 }
 
 #[cfg(test)]

@@ -44,7 +44,7 @@ fn furnace(meshes: Vec<Mesh>, m: SubsurfaceMaterial, accel: AccelKind) -> Scene 
 /// Mean and standard error of L along `ray` (channel average: the spectra are constant), and
 /// the largest single-sample value.
 fn estimate(scene: &Scene, ray: Ray, sss: SubsurfaceMethod, n: u64, seed: u64) -> (f64, f64, f64, Stats) {
-    let integ = Integrator { max_depth: 64, sss, ..Default::default() };
+    let integ = Integrator { max_depth: 64, sss, ..Default::default() }.for_scene(scene);
     let mut sampler = Sampler::independent();
     let mut stats = Stats::default();
     let (mut s, mut s2, mut max) = (0.0f64, 0.0f64, 0.0f64);
@@ -159,7 +159,8 @@ fn walk_light_sampling_through_a_rough_boundary_agrees_with_bsdf_sampling() {
     let scene = furnace(vec![icosphere(Vec3::ZERO, 1.0, 3)], m, AccelKind::Obvhs);
     let ray = Ray::new(Vec3::new(0.2, -0.3, 3.0), -Vec3::Z);
     let run = |strategy, seed| {
-        let integ = Integrator { max_depth: 64, sss: SubsurfaceMethod::RandomWalk, strategy, ..Default::default() };
+        let integ = Integrator { max_depth: 64, sss: SubsurfaceMethod::RandomWalk, strategy, ..Default::default() }
+            .for_scene(&scene);
         let mut sampler = Sampler::independent();
         let mut stats = Stats::default();
         let n = 8000;
@@ -295,7 +296,7 @@ fn the_depth_limit_holds_after_a_subsurface_exit() {
         for max_depth in [1u32, 2, 3] {
             let (meshes, ray) = slab();
             let scene = furnace(meshes, material(coefficients(0.05, 0.95), eta), AccelKind::Obvhs);
-            let integ = Integrator { max_depth, sss, ..Default::default() };
+            let integ = Integrator { max_depth, sss, ..Default::default() }.for_scene(&scene);
             let mut sampler = Sampler::independent();
             let mut stats = Stats::default();
             let (n, mut sum, mut deepest) = (20_000u64, 0.0f64, 0u32);

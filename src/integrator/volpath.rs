@@ -18,19 +18,29 @@
 
 use super::collision::{self, Event};
 use super::interface::{DirectStrategy, Integrator};
-use super::state::{AfterSubsurface, PathState};
-use super::subsurface;
+use super::state::PathState;
+use super::subsurface::{self, Interior};
 use super::transmittance::{distance, ray_rng, transmittance};
 use super::Stats;
 use crate::bsdf::{Bsdf, TransportMode};
 use crate::geometry::Ray;
 use crate::light::LightSampleContext;
-use crate::media::{sample_t_maj, HenyeyGreenstein};
+use crate::media::{sample_t_maj, sample_t_maj_homogeneous, HenyeyGreenstein};
 use crate::sampling::Sampler;
 use crate::scene::{Scene, SurfaceInteraction, MAX_INTERFACE_CROSSINGS};
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 use crate::texture::RayDifferentials;
 use glam::Vec3;
+
+/// Where a random walk's step leaves the path.
+enum WalkStep {
+    /// Absorbed, rouletted, or out of depth or events.
+    End,
+    /// Still inside, along this ray.
+    Inside(Ray),
+    /// Refracted out along this ray.
+    Left(Ray),
+}
 
 /// Where a light sample is taken from.
 enum Scatterer<'a, 's> {
@@ -45,7 +55,8 @@ impl Integrator {
     /// The volumetric path loop: radiance arriving along `ray`, which starts in the camera's
     /// medium. `differentials` are the camera ray's (the texture footprint at the first surface
     /// vertex, through interfaces and null collisions, which do not scatter it); `pending` is a
-    /// first vertex found without tracing the ray (the irradiance sensor), whose BSDF is given.
+    /// vertex found without tracing the ray (the irradiance sensor; a diffusion exit), whose BSDF
+    /// is given.
     #[allow(clippy::too_many_arguments)]
     pub(super) fn volpath_trace<'s>(
         &self,
@@ -61,12 +72,27 @@ impl Integrator {
         let use_nee = self.strategy != DirectStrategy::BsdfOnly;
         let mut ray = Ray::new(ray.o, ray.d.normalize()).at_time(ray.time);
         let mut medium = scene.camera_medium();
+        // The subsurface object a random walk is in; its interior is the medium then.
+        let mut interior: Option<Interior> = None;
         let mut crossings = 0;
         loop {
             let (si, given_bsdf) = match pending.take() {
                 Some((si, bsdf)) => (si, Some(bsdf)),
                 None => {
                     stats.rays += 1;
+                    if let Some(inside) = &mut interior {
+                        match self.walk_step(scene, inside, &ray, &mut state, use_nee, w, sampler, stats) {
+                            WalkStep::End => break,
+                            WalkStep::Inside(next) => ray = next,
+                            WalkStep::Left(next) => {
+                                (ray, medium, interior) = (next, inside.outside, None);
+                                if state.beta.is_black() || !self.roulette(&mut state, sampler) {
+                                    break;
+                                }
+                            }
+                        }
+                        continue;
+                    }
                     let si = scene.intersect(&ray);
                     if let Some(m) = medium.and_then(|i| scene.media().get(i as usize)) {
                         let t_hit = si.as_ref().map_or(f32::INFINITY, |s| distance(&ray, s.p));
@@ -186,26 +212,19 @@ impl Integrator {
             // eta_scale is left alone).
             if let Some(m) = subsurface::entered(&si, &bs, bsdf.ns()) {
                 let outside = si.medium_interface().medium_toward(si.wo, si.shading.ng, medium);
-                let w: &SampledWavelengths = w;
-                let mut light = |b: &SurfaceInteraction,
-                                 b_bsdf: &Bsdf,
-                                 r_u: SampledSpectrum,
-                                 sampler: &mut Sampler,
-                                 stats: &mut Stats| {
-                    let at = Scatterer::Surface(b, b_bsdf);
-                    self.sample_ld(scene, &at, outside, SampledSpectrum::one(), r_u, w, sampler, stats)
-                };
-                let nee = use_nee.then_some(&mut light as subsurface::BoundaryNee);
                 medium = outside;
-                let weights = (&mut state.beta, &mut state.r_u, &mut state.l);
-                let exit = subsurface::enter(self.sss, nee, scene, m, &si, wi, weights, w, sampler, stats);
-                match self.leave_subsurface(exit, &mut state) {
-                    AfterSubsurface::End => break,
-                    AfterSubsurface::Vertex(vsi, vbsdf) => {
-                        pending = Some((vsi, vbsdf));
-                        continue;
+                let (inside, walks) = subsurface::interior(self.sss, scene, m, &si, w);
+                if walks {
+                    interior = Some(Interior { medium: inside, material: m, outside, scatterings: 0, events: 0 });
+                    ray = si.spawn_ray(wi);
+                } else {
+                    match subsurface::diffusion(scene, m, &inside, &si, &mut state.beta, sampler, stats) {
+                        Some(vertex) => {
+                            pending = Some(vertex);
+                            continue;
+                        }
+                        None => break,
                     }
-                    AfterSubsurface::Ray(exit) => ray = exit,
                 }
             } else {
                 if bs.is_transmission() {
@@ -220,6 +239,91 @@ impl Integrator {
         }
         stats.last_depth = state.depth;
         state.l
+    }
+
+    /// One event of a random walk through the subsurface object `inside` along `ray` (unit
+    /// direction): delta tracking in its interior up to the object's surface, then either a
+    /// real scattering (the phase function's new ray) or the boundary, where light is sampled
+    /// through it and its BSDF sampled: reflection stays inside, refraction leaves, and leaving
+    /// counts as one vertex of the path. A hit inside the object is taken as its boundary. The
+    /// walk's scatterings are not path vertices: after [`subsurface::WALK_RR_EVENTS`] of them
+    /// roulette may end a dim walk, and [`subsurface::MAX_WALK_EVENTS`] events end any.
+    #[allow(clippy::too_many_arguments)]
+    fn walk_step(
+        &self,
+        scene: &Scene,
+        inside: &mut Interior,
+        ray: &Ray,
+        state: &mut PathState,
+        use_nee: bool,
+        w: &SampledWavelengths,
+        sampler: &mut Sampler,
+        stats: &mut Stats,
+    ) -> WalkStep {
+        inside.events += 1;
+        if inside.events > subsurface::MAX_WALK_EVENTS {
+            return WalkStep::End;
+        }
+        let hit = scene.closest_hit(ray);
+        let t_hit = hit.map_or(f32::INFINITY, |h| h.t);
+        let mut rng = ray_rng(sampler);
+        let u = sampler.get_1d();
+        let (mut scattered, mut absorbed) = (None, false);
+        let st = &mut *state;
+        let t_maj = sample_t_maj_homogeneous(&inside.medium, ray.o, ray.d, t_hit, u, &mut rng, |c, rng| {
+            match Event::choose(&c, rng.uniform()) {
+                Event::Absorb => {
+                    absorbed = true;
+                    false
+                }
+                Event::Scatter => {
+                    collision::scatter(&c, &mut st.beta, &mut st.r_u);
+                    scattered = Some(c.p);
+                    false
+                }
+                Event::Null => collision::null(&c, &mut st.beta, &mut st.r_u, &mut st.r_l),
+            }
+        });
+        if absorbed || state.beta.is_black() || state.r_u.is_black() {
+            return WalkStep::End;
+        }
+        let next = if let Some(p) = scattered {
+            inside.scatterings += 1;
+            let phase = HenyeyGreenstein::new(inside.medium.g);
+            Ray::new(p, phase.sample(ray.d, sampler.get_2d())).at_time(ray.time)
+        } else {
+            // No collision before the boundary: β, r_u ·= T_maj / T_maj,hero.
+            let t0 = t_maj[0];
+            let Some(h) = hit.filter(|_| t0 > 0.0) else { return WalkStep::End };
+            state.beta *= t_maj / t0;
+            state.r_u *= t_maj / t0;
+            let b = scene.interaction(ray, &h);
+            let bsdf = inside.material.boundary_bsdf(&b.shading_point(None));
+            if use_nee && bsdf.flags().is_non_specular() {
+                let at = Scatterer::Surface(&b, &bsdf);
+                state.l += self.sample_ld(scene, &at, inside.outside, state.beta, state.r_u, w, sampler, stats);
+            }
+            let Some(bs) = self.sample_bsdf(&b, &bsdf, sampler, state) else { return WalkStep::End };
+            let next = b.spawn_ray(bs.wi);
+            if bs.wi.dot(b.shading.ns) > 0.0 {
+                return if self.next_vertex(state) { WalkStep::Left(next) } else { WalkStep::End };
+            }
+            next
+        };
+        if state.beta.is_black() {
+            return WalkStep::End;
+        }
+        // Russian roulette once the walk is long and dim, on β with spectral MIS's
+        // normalisation undone.
+        let survival = (state.beta / state.r_u.average()).max_value();
+        if inside.scatterings >= subsurface::WALK_RR_EVENTS && survival < 1.0 {
+            let q = (1.0 - survival).max(0.0);
+            if sampler.get_1d() < q {
+                return WalkStep::End;
+            }
+            state.beta /= 1.0 - q;
+        }
+        WalkStep::Inside(next)
     }
 
     /// Emission `le` of light `id` found by the path in `state` (whose r_l does not yet hold

@@ -77,6 +77,31 @@ impl SubsurfaceMaterial {
         Bsdf::new(sp.ns, sp.dpdu, sp.ng, NormalizedFresnel::new(self.eta, self.sw_norm).into())
     }
 
+    /// The longest mean free path 1/σ_t of the interior over 360–830 nm [scene units] (∞ where
+    /// σ_t is 0), from its values every nanometre: where it exceeds an object's size, the object
+    /// is optically thin.
+    pub fn longest_mean_free_path(&self) -> f32 {
+        let clean = |x: f32| if x.is_finite() { x.max(0.0) } else { 0.0 };
+        (360..=830)
+            .map(|nm| {
+                let lambda = nm as f32;
+                match &self.spec {
+                    ScatteringSpec::Coefficients { sigma_a, sigma_s, scale } => {
+                        (clean(sigma_a.eval(lambda) * scale) + clean(sigma_s.eval(lambda) * scale)).recip()
+                    }
+                    ScatteringSpec::Reflectance { mfp, scale, .. } => {
+                        let m = mfp.eval(lambda) * scale;
+                        if m > 0.0 && m.is_finite() {
+                            m
+                        } else {
+                            f32::INFINITY
+                        }
+                    }
+                }
+            })
+            .fold(0.0, f32::max)
+    }
+
     /// The homogeneous medium inside, at the path's wavelengths: σ_a, σ_s [1/scene unit] (negative
     /// or non-finite values taken as 0), no emission, the phase function's g. The reflectance form
     /// builds the table (for the albedo inversion).

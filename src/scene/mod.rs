@@ -559,6 +559,11 @@ impl SceneBuilder {
         let moves = quadric_moves || set.instances.iter().any(|i| i.motion.is_some()) || camera.moves();
         let shutter = moves.then(|| self.shutter.unwrap_or((0.0, 1.0)));
         let object_radii = object_radii(&self.materials, &primitives);
+        let thin_subsurface = self
+            .materials
+            .iter()
+            .zip(&object_radii)
+            .any(|(m, &r)| m.subsurface().is_some_and(|s| s.longest_mean_free_path() > 0.5 * r));
         Ok(Scene {
             has_interfaces,
             has_alpha,
@@ -576,6 +581,7 @@ impl SceneBuilder {
             camera_medium: self.camera_medium,
             shutter,
             object_radii,
+            thin_subsurface,
         })
     }
 }
@@ -647,6 +653,9 @@ pub struct Scene {
     /// Per material, the largest bounding-sphere radius of the primitives made of it, for
     /// subsurface materials (0 for the others) [scene units].
     object_radii: Vec<f32>,
+    /// Some subsurface object may be optically thin: its material's longest mean free path
+    /// exceeds half its radius.
+    thin_subsurface: bool,
 }
 
 /// Most interfaces a ray passes through before it is taken as blocked (a guard against
@@ -790,6 +799,17 @@ impl Scene {
     /// `material` [scene units], computed when the scene was built (0 for other materials).
     pub fn material_radius(&self, material: u32) -> f32 {
         self.object_radii.get(material as usize).copied().unwrap_or(0.0)
+    }
+
+    /// True when some material scatters below its surface.
+    pub fn has_subsurface(&self) -> bool {
+        self.materials.iter().any(|m| m.subsurface().is_some())
+    }
+
+    /// True when some subsurface object may be optically thin (its material's longest mean free
+    /// path exceeds half its bounding radius), so that even the diffusion method may walk it.
+    pub fn may_have_thin_subsurface(&self) -> bool {
+        self.thin_subsurface
     }
 
     /// The participating media (a [`MediumInterface`] indexes them).
