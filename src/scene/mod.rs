@@ -504,7 +504,8 @@ impl SceneBuilder {
                 Shape::Curves(_) | Shape::Quadric(_) => Mesh::default(),
             })
             .collect();
-        let (mut curves, mut placed): (Vec<(u32, &Curves)>, Vec<(u32, &PlacedQuadric)>) = (Vec::new(), Vec::new());
+        let mut curves: Vec<(u32, &Curves)> = Vec::new();
+        let mut placed: Vec<(u32, &PlacedQuadric)> = Vec::new();
         for (id, p) in pending.iter().enumerate() {
             match &p.shape {
                 Shape::Mesh(_) => {}
