@@ -31,7 +31,7 @@ pub use portal::{is_rectangle, PortalLight};
 pub use projection::ProjectionLight;
 pub use quadric::QuadricLight;
 pub use rectangle::RectangleLight;
-pub use sampler::{LightSampleContext, LightSampler, LightSamplerKind};
+pub use sampler::{LightBounds, LightSampleContext, LightSampler, LightSamplerKind};
 pub use sphere::SphereLight;
 
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
@@ -147,6 +147,24 @@ impl Light {
             Light::EnvMap(l) => l.power(scene_radius),
             Light::Portal(l) => l.power(),
         }
+    }
+
+    /// Bounds for many-light sampling of this light emitting `power` (as [`Light::power`]): its
+    /// box, normal cone and emission angle, each light working out its own. `None` for lights at
+    /// infinity (sampled apart from the tree) and for lights without finite flux (never chosen).
+    pub fn bounds(&self, power: f32) -> Option<LightBounds> {
+        let bounds = match self {
+            Light::Point(l) => l.bounds(power),
+            Light::Spot(l) => l.bounds(power),
+            Light::Goniometric(l) => l.bounds(power),
+            Light::Projection(l) => l.bounds(power),
+            Light::Area(l) => l.bounds(power),
+            Light::Rectangle(l) => l.bounds(power),
+            Light::Sphere(l) => l.bounds(power),
+            Light::Quadric(l) => l.bounds(power),
+            Light::Distant(_) | Light::UniformInfinite(_) | Light::EnvMap(_) | Light::Portal(_) => return None,
+        };
+        (bounds.phi > 0.0 && bounds.phi.is_finite()).then_some(bounds)
     }
 
     /// Radiance L_e an area light's surface with normal `n` (its emitting side) sends toward

@@ -93,7 +93,7 @@ impl LightSampler {
                     .iter()
                     .zip(powers)
                     .map(|(l, power)| bvh::BoundedLight {
-                        bounds: LightBounds::of_light(l, LightBounds::flux_for(l, power)),
+                        bounds: l.bounds(power),
                         infinite: l.is_infinite() || matches!(l, Light::Distant(_)),
                     })
                     .collect();
