@@ -186,6 +186,12 @@ impl Light {
         matches!(self, Light::UniformInfinite(_) | Light::EnvMap(_) | Light::Portal(_))
     }
 
+    /// True for lights at infinity: those escaping rays see and directional ones. They have no
+    /// bounds, and a light sampler that chooses by bounds chooses them apart.
+    pub fn is_at_infinity(&self) -> bool {
+        self.is_infinite() || matches!(self, Light::Distant(_))
+    }
+
     /// Radiance arriving along an escaping ray from `o` with direction `d` (0 for other lights).
     pub fn escaped_radiance(&self, o: Vec3, d: Vec3, w: &SampledWavelengths) -> SampledSpectrum {
         match self {

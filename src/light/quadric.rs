@@ -106,7 +106,7 @@ impl QuadricLight {
     pub(super) fn bounds(&self, phi: f32) -> LightBounds {
         let (w, cos_theta_o) = match self.shape.quadric {
             Quadric::Disk { .. } => (self.shape.point(0.0, 0.5).1, 1.0),
-            _ => (Vec3::Z, -1.0),
+            Quadric::Sphere { .. } | Quadric::Cylinder { .. } => (Vec3::Z, -1.0),
         };
         LightBounds { bounds: self.shape.bounds(), w, phi, cos_theta_o, cos_theta_e: 0.0, two_sided: self.two_sided }
     }
