@@ -73,7 +73,7 @@ fn main() -> ExitCode {
 fn export(dir: &Path) -> Result<(), String> {
     std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
     let builtin = terrain_scene().build(AccelKind::Obvhs).map_err(|e| e.to_string())?;
-    let meshes: Vec<&Mesh> = builtin.primitives().iter().map(|p| &p.mesh).collect();
+    let meshes: Vec<&Mesh> = builtin.primitives().iter().filter_map(|p| p.shape.mesh()).collect();
     if meshes.len() != MESH_FILES.len() {
         return Err(format!("the built-in terrain has {} meshes, expected {}", meshes.len(), MESH_FILES.len()));
     }
@@ -103,8 +103,11 @@ fn same_scene(a: &Scene, b: &Scene) -> Result<(), String> {
     if pa.len() != pb.len() {
         return Err(format!("{} meshes read back, {} built in", pb.len(), pa.len()));
     }
-    for (i, (ma, mb)) in pa.iter().map(|p| &p.mesh).zip(pb.iter().map(|p| &p.mesh)).enumerate() {
+    for (i, (a_prim, b_prim)) in pa.iter().zip(pb).enumerate() {
         let what = MESH_FILES[i];
+        let (Some(ma), Some(mb)) = (a_prim.shape.mesh(), b_prim.shape.mesh()) else {
+            return Err(format!("{what}: not a triangle mesh"));
+        };
         if ma.positions != mb.positions || ma.indices != mb.indices {
             return Err(format!("{what}: the triangles read back differ from the built-in ones"));
         }

@@ -12,6 +12,7 @@ pub mod placed_quadric;
 pub mod quadric;
 pub mod quadric_hit;
 mod ray;
+mod shape;
 pub mod shapes;
 pub mod weingarten;
 
@@ -23,3 +24,4 @@ pub use motion::Motion;
 pub use placed_quadric::{PlacedQuadric, QuadricSurface};
 pub use quadric::Quadric;
 pub use ray::{Hit, Ray};
+pub use shape::Shape;

@@ -4,7 +4,9 @@
 
 use super::emission_image::ImageEmission;
 use super::point::spectral_integral;
+use super::sampler::LightBounds;
 use super::LightSample;
+use crate::geometry::Bounds3;
 use crate::math::PI;
 use crate::sampling::warp::uniform_triangle;
 use crate::simd::{Mask, Real, V3};
@@ -115,6 +117,12 @@ impl AreaLight {
         let sides = if self.two_sided { 2.0 } else { 1.0 };
         let image = self.image.as_ref().map_or(1.0, |i| i.image.mean_luminance());
         PI * self.area * sides * self.scale * spectral_integral * image
+    }
+
+    /// Bounds for many-light sampling, emitting flux `phi`: its box, its normal and θ_e = π/2.
+    pub(super) fn bounds(&self, phi: f32) -> LightBounds {
+        let bounds = self.p.iter().fold(Bounds3::EMPTY, |b, &q| b.union_point(q));
+        LightBounds { bounds, w: self.n, phi, cos_theta_o: 1.0, cos_theta_e: 0.0, two_sided: self.two_sided }
     }
 
     /// The radiance scale that makes a set of triangles of total area `area` emit `flux` [W]

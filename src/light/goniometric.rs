@@ -4,6 +4,7 @@
 //! swapped, as pbrt-v4 lays the image out.
 
 use super::point::{delta_sample, spectral_integral};
+use super::sampler::LightBounds;
 use super::LightSample;
 use crate::image::Image;
 use crate::math::{equal_area, PI};
@@ -68,6 +69,12 @@ impl GoniometricLight {
 
     pub(super) fn power(&self) -> f32 {
         4.0 * PI * self.scale * self.mean_value() * spectral_integral(&self.spectrum)
+    }
+
+    /// Bounds for many-light sampling, emitting flux `phi`: a point emitting over the whole
+    /// sphere.
+    pub(super) fn bounds(&self, phi: f32) -> LightBounds {
+        LightBounds::isotropic_point(self.position, phi)
     }
 }
 

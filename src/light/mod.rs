@@ -31,7 +31,7 @@ pub use portal::{is_rectangle, PortalLight};
 pub use projection::ProjectionLight;
 pub use quadric::QuadricLight;
 pub use rectangle::RectangleLight;
-pub use sampler::{LightSampleContext, LightSampler, LightSamplerKind};
+pub use sampler::{LightBounds, LightSampleContext, LightSampler, LightSamplerKind};
 pub use sphere::SphereLight;
 
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
@@ -149,6 +149,24 @@ impl Light {
         }
     }
 
+    /// Bounds for many-light sampling of this light emitting `power` (as [`Light::power`]): its
+    /// box, normal cone and emission angle, each light working out its own. `None` for lights at
+    /// infinity (sampled apart from the tree) and for lights without finite flux (never chosen).
+    pub fn bounds(&self, power: f32) -> Option<LightBounds> {
+        let bounds = match self {
+            Light::Point(l) => l.bounds(power),
+            Light::Spot(l) => l.bounds(power),
+            Light::Goniometric(l) => l.bounds(power),
+            Light::Projection(l) => l.bounds(power),
+            Light::Area(l) => l.bounds(power),
+            Light::Rectangle(l) => l.bounds(power),
+            Light::Sphere(l) => l.bounds(power),
+            Light::Quadric(l) => l.bounds(power),
+            Light::Distant(_) | Light::UniformInfinite(_) | Light::EnvMap(_) | Light::Portal(_) => return None,
+        };
+        (bounds.phi > 0.0 && bounds.phi.is_finite()).then_some(bounds)
+    }
+
     /// Radiance L_e an area light's surface with normal `n` (its emitting side) sends toward
     /// `wo` from the point with texture coordinates `uv` (pbrt-v4 `DiffuseAreaLight::L`); 0 for
     /// lights without a surface.
@@ -166,6 +184,12 @@ impl Light {
     /// True for lights at infinity that rays escaping the scene see.
     pub fn is_infinite(&self) -> bool {
         matches!(self, Light::UniformInfinite(_) | Light::EnvMap(_) | Light::Portal(_))
+    }
+
+    /// True for lights at infinity: those escaping rays see and directional ones. They have no
+    /// bounds, and a light sampler that chooses by bounds chooses them apart.
+    pub fn is_at_infinity(&self) -> bool {
+        self.is_infinite() || matches!(self, Light::Distant(_))
     }
 
     /// Radiance arriving along an escaping ray from `o` with direction `d` (0 for other lights).

@@ -2,7 +2,9 @@
 //! (isotropic point light I = Φ/4π, E = Φ/(4πr²); Warn's spotlight I(ω) = I₀ cos^s θ, D. R. Warn,
 //! "Lighting Controls for Synthetic Images", SIGGRAPH 1983).
 
+use super::sampler::LightBounds;
 use super::LightSample;
+use crate::geometry::Bounds3;
 use crate::math::{Frame, PI};
 use crate::spectrum::{SampledSpectrum, SampledWavelengths, Spectrum};
 use glam::Vec3;
@@ -37,6 +39,12 @@ impl PointLight {
 
     pub(super) fn power(&self) -> f32 {
         4.0 * PI * self.scale * spectral_integral(&self.spectrum)
+    }
+
+    /// Bounds for many-light sampling, emitting flux `phi`: a point emitting over the whole
+    /// sphere.
+    pub(super) fn bounds(&self, phi: f32) -> LightBounds {
+        LightBounds::isotropic_point(self.position, phi)
     }
 }
 
@@ -135,6 +143,24 @@ impl SpotLight {
 
     pub(super) fn power(&self) -> f32 {
         self.scale * self.falloff.solid_angle_integral() * spectral_integral(&self.spectrum)
+    }
+
+    /// Bounds for many-light sampling, emitting `power`: a point emitting over a cone about the
+    /// axis, full within θ_start and falling to 0 at θ_end (Warn's cos^s lobe: all of the
+    /// forward hemisphere). The flux they carry is not the power but 4π I₀, so that the
+    /// importance inside the cone is that of an isotropic point light of the same on-axis
+    /// intensity (as pbrt-v4's `SpotLight::Bounds`).
+    pub(super) fn bounds(&self, power: f32) -> LightBounds {
+        let phi = power * 4.0 * PI / self.falloff.solid_angle_integral();
+        let (cos_theta_o, cos_theta_e) = match self.falloff {
+            SpotFalloff::Cone { cos_start, cos_end } => {
+                let (start, end) = (cos_start.clamp(-1.0, 1.0).acos(), cos_end.clamp(-1.0, 1.0).acos());
+                (cos_start, (end - start).max(0.0).cos())
+            }
+            SpotFalloff::Warn { .. } => (1.0, 0.0),
+        };
+        let bounds = Bounds3::EMPTY.union_point(self.position);
+        LightBounds { bounds, w: self.frame.n, phi, cos_theta_o, cos_theta_e, two_sided: false }
     }
 }
 

@@ -5,6 +5,7 @@
 //! Row 0 of the image is at the top (light-space +y), as pbrt-v4 flips y.
 
 use super::point::{delta_sample, spectral_integral};
+use super::sampler::LightBounds;
 use super::texel_spectrum::TexelSpectrum;
 use super::LightSample;
 use crate::image::Image;
@@ -121,6 +122,12 @@ impl ProjectionLight {
     pub(super) fn power(&self) -> f32 {
         // Y integrates the white to 1; ∫ W dλ puts the flux in the unit the other lights use.
         self.scale * self.k_e() * spectral_integral(&self.white)
+    }
+
+    /// Bounds for many-light sampling, emitting flux `phi`: a point emitting over the whole
+    /// sphere.
+    pub(super) fn bounds(&self, phi: f32) -> LightBounds {
+        LightBounds::isotropic_point(self.position, phi)
     }
 }
 

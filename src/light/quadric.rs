@@ -11,6 +11,7 @@
 //! world area per unit object area at the point, so the density stays exact in world space.
 
 use super::point::spectral_integral;
+use super::sampler::LightBounds;
 use super::LightSample;
 use crate::geometry::{PlacedQuadric, Quadric, Ray};
 use crate::math::PI;
@@ -98,6 +99,16 @@ impl QuadricLight {
     pub fn power(&self) -> f32 {
         let sides = if self.two_sided { 2.0 } else { 1.0 };
         PI * self.area * sides * self.scale * spectral_integral(&self.spectrum)
+    }
+
+    /// Bounds for many-light sampling, emitting flux `phi`: the placed shape's box and θ_e =
+    /// π/2; a disk's normal is one direction (θ_o = 0), the other shapes' span every direction.
+    pub(super) fn bounds(&self, phi: f32) -> LightBounds {
+        let (w, cos_theta_o) = match self.shape.quadric {
+            Quadric::Disk { .. } => (self.shape.point(0.0, 0.5).1, 1.0),
+            Quadric::Sphere { .. } | Quadric::Cylinder { .. } => (Vec3::Z, -1.0),
+        };
+        LightBounds { bounds: self.shape.bounds(), w, phi, cos_theta_o, cos_theta_e: 0.0, two_sided: self.two_sided }
     }
 }
 

@@ -7,7 +7,9 @@
 
 use super::area::AreaLight;
 use super::point::spectral_integral;
+use super::sampler::LightBounds;
 use super::{LightSample, LightSampleContext};
+use crate::geometry::Bounds3;
 use crate::math::PI;
 use crate::sampling::warp::{bilinear_pdf, sample_bilinear};
 use crate::sampling::SphericalRectangle;
@@ -50,6 +52,12 @@ impl RectangleLight {
     pub fn power(&self) -> f32 {
         let sides = if self.two_sided { 2.0 } else { 1.0 };
         PI * self.area() * sides * self.scale * spectral_integral(&self.spectrum)
+    }
+
+    /// Bounds for many-light sampling, emitting flux `phi`: its box, its normal and θ_e = π/2.
+    pub(super) fn bounds(&self, phi: f32) -> LightBounds {
+        let bounds = self.corners().iter().fold(Bounds3::EMPTY, |b, &q| b.union_point(q));
+        LightBounds { bounds, w: self.n, phi, cos_theta_o: 1.0, cos_theta_e: 0.0, two_sided: self.two_sided }
     }
 
     /// The four corners p₀₀, p₁₀, p₀₁, p₁₁.

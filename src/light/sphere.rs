@@ -8,7 +8,9 @@
 //! from inside alike.
 
 use super::point::spectral_integral;
+use super::sampler::LightBounds;
 use super::LightSample;
+use crate::geometry::Bounds3;
 use crate::math::{Frame, PI};
 use crate::sampling::warp::{sample_uniform_sphere, sin_cos_turn};
 use crate::spectrum::{SampledSpectrum, SampledWavelengths, Spectrum};
@@ -156,6 +158,14 @@ impl SphereLight {
     pub fn power(&self) -> f32 {
         let sides = if self.two_sided { 2.0 } else { 1.0 };
         PI * self.area() * sides * self.scale * spectral_integral(&self.spectrum)
+    }
+
+    /// Bounds for many-light sampling, emitting flux `phi`: the sphere's box, emitting along
+    /// every normal (θ_o = π) up to θ_e = π/2.
+    pub(super) fn bounds(&self, phi: f32) -> LightBounds {
+        let bounds =
+            Bounds3 { min: self.center - Vec3::splat(self.radius), max: self.center + Vec3::splat(self.radius) };
+        LightBounds { bounds, w: Vec3::Z, phi, cos_theta_o: -1.0, cos_theta_e: 0.0, two_sided: self.two_sided }
     }
 }
 

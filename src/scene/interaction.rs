@@ -4,7 +4,7 @@
 
 use super::{LightId, MediumInterface, Primitive, Scene};
 use crate::bsdf::Bsdf;
-use crate::geometry::{Hit, Ray};
+use crate::geometry::{Hit, Mesh, Ray, Shape};
 use crate::light::Light;
 use crate::material::{hit_key, Material, ShadingDerivatives, ShadingPoint};
 use crate::math::{offset_ray_origin, triangle_point};
@@ -80,14 +80,12 @@ impl<'s> SurfaceInteraction<'s> {
     /// Builds the interaction for `hit` of `ray` in `scene`.
     pub(super) fn new(scene: &'s Scene, ray: &Ray, hit: &Hit) -> Self {
         let primitive = &scene.primitives[hit.geom_id as usize];
-        if let Some(curves) = &primitive.curves {
-            return Self::on_curve(scene, primitive, curves, ray, hit);
-        }
-        if let Some(quadric) = &primitive.quadric {
-            return Self::on_quadric(scene, primitive, quadric, ray, hit);
-        }
+        let mesh = match &primitive.shape {
+            Shape::Mesh(mesh) => mesh,
+            Shape::Curves(curves) => return Self::on_curve(scene, primitive, curves, ray, hit),
+            Shape::Quadric(quadric) => return Self::on_quadric(scene, primitive, quadric, ray, hit),
+        };
         let bound = Bound { scene, primitive };
-        let mesh = &primitive.mesh;
         let tri = mesh.indices[hit.prim_id as usize];
         let p = mesh.triangle(hit.prim_id as usize);
         let b = [1.0 - hit.u - hit.v, hit.u, hit.v];
@@ -201,12 +199,13 @@ impl<'s> SurfaceInteraction<'s> {
     /// perpendicular to the shading normal n, ∂p/∂v = n × ∂p/∂u, and ∂n/∂u, ∂n/∂v from the
     /// corners' normals and (u, v) as ∂p/∂u and ∂p/∂v are found from their positions.
     fn shading_derivatives(&self, b: Bound<'s>) -> ShadingDerivatives {
-        if let Some(q) = &b.primitive.quadric {
-            return self.quadric_derivatives(b.scene, q);
-        }
-        let mesh = &b.primitive.mesh;
-        let Some(normals) = &mesh.normals else {
-            return ShadingDerivatives { dpdu: self.dpdu, dpdv: self.dpdv, ..Default::default() };
+        let (mesh, normals) = match &b.primitive.shape {
+            Shape::Mesh(mesh @ Mesh { normals: Some(normals), .. }) => (mesh, normals),
+            Shape::Quadric(q) => return self.quadric_derivatives(b.scene, q),
+            // Curves, and triangles without vertex normals.
+            Shape::Mesh(_) | Shape::Curves(_) => {
+                return ShadingDerivatives { dpdu: self.dpdu, dpdv: self.dpdv, ..Default::default() }
+            }
         };
         let ns = self.shading.ns;
         let ts = ns.cross(self.dpdu);

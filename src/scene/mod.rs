@@ -34,7 +34,7 @@ pub use primitive::{MediumInterface, Primitive};
 use crate::accel::{self, Accel, AccelKind};
 use crate::camera::{Camera, Projection, RealisticLens};
 use crate::geometry::{
-    AnimatedTransform, Curves, Hit, Instance, InstanceSet, Mesh, Motion, PlacedQuadric, Prototype, Ray,
+    AnimatedTransform, Bounds3, Curves, Hit, Instance, InstanceSet, Mesh, Motion, PlacedQuadric, Prototype, Ray, Shape,
 };
 use crate::light::{
     EmissionImage, Light, LightSampleContext, LightSampler, LightSamplerKind, QuadricLight, SphereLight,
@@ -138,11 +138,8 @@ pub enum BuildError {
 /// One primitive while the scene is collected: geometry, material and emission, and the
 /// prototype it belongs to when it is instanced.
 struct PendingPrimitive {
-    mesh: Mesh,
-    /// Curves (world space) instead of triangles.
-    curves: Option<Arc<Curves>>,
-    /// A quadric with its placement instead of triangles.
-    quadric: Option<Arc<PlacedQuadric>>,
+    /// Triangles, curves or a quadric with its placement.
+    shape: Shape,
     material: u32,
     emission: Option<Emission>,
     /// Cut-out mask (`None`: opaque).
@@ -208,10 +205,14 @@ impl SceneBuilder {
             self.warnings
                 .push(format!("mesh {id}: skipped {dropped} degenerate triangle(s) (zero area or NaN/Inf vertices)"));
         }
+        self.push_primitive(Shape::Mesh(mesh), material, emission)
+    }
+
+    /// Adds `shape` with a material and optional area emission as a primitive, returning its id.
+    fn push_primitive(&mut self, shape: Shape, material: u32, emission: Option<Emission>) -> u32 {
+        let id = self.primitives.len() as u32;
         self.primitives.push(PendingPrimitive {
-            mesh,
-            curves: None,
-            quadric: None,
+            shape,
             material,
             emission,
             alpha: None,
@@ -226,9 +227,7 @@ impl SceneBuilder {
     /// Adds curves (world space) with a material as a primitive, returning its id. Curves do not
     /// emit.
     pub fn add_curves(&mut self, curves: Curves, material: u32) -> u32 {
-        let id = self.add_mesh(Mesh::default(), material, None);
-        self.primitives[id as usize].curves = Some(Arc::new(curves));
-        id
+        self.push_primitive(Shape::Curves(Arc::new(curves)), material, None)
     }
 
     /// Adds a quadric with its placement, a material and optional area emission as a
@@ -237,9 +236,7 @@ impl SceneBuilder {
     /// [`QuadricLight`] sampled by area. (Emission images and moving emitters are not
     /// supported on quadrics: give those as meshes.)
     pub fn add_quadric(&mut self, quadric: PlacedQuadric, material: u32, emission: Option<Emission>) -> u32 {
-        let id = self.add_mesh(Mesh::default(), material, emission);
-        self.primitives[id as usize].quadric = Some(Arc::new(quadric));
-        id
+        self.push_primitive(Shape::Quadric(Arc::new(quadric)), material, emission)
     }
 
     /// Gives primitive `id` a cut-out mask (pbrt-v4's shape `alpha`): where it evaluates to a < 1
@@ -321,7 +318,7 @@ impl SceneBuilder {
             _ if proto as usize >= self.prototypes.len() => Some("unknown prototype"),
             None => Some("unknown primitive"),
             Some(p) if p.emission.is_some() => Some("it emits"),
-            Some(p) if p.quadric.as_ref().is_some_and(|q| q.moves()) => Some("it moves"),
+            Some(p) if matches!(&p.shape, Shape::Quadric(q) if q.moves()) => Some("it moves"),
             Some(p) if p.prototype.is_some() => Some("it is in a prototype already"),
             Some(_) => None,
         };
@@ -381,7 +378,7 @@ impl SceneBuilder {
         let ids: Vec<u32> = (0..self.primitives.len() as u32)
             .filter(|&m| {
                 let p = &self.primitives[m as usize];
-                p.prototype.is_none() && p.emission.is_none() && p.quadric.is_none() && p.curves.is_none()
+                p.prototype.is_none() && p.emission.is_none() && matches!(p.shape, Shape::Mesh(_))
             })
             .collect();
         if ids.is_empty() {
@@ -409,16 +406,19 @@ impl SceneBuilder {
             for &id in &self.prototypes[inst.prototype as usize].meshes.clone() {
                 let p = &self.primitives[id as usize];
                 let (material, mi, alpha) = (p.material, p.medium_interface, p.alpha.clone());
-                let curves = p.curves.as_ref().map(|c| c.transformed(&m));
-                let quadric = p.quadric.as_ref().map(|q| q.placed_by(&m));
-                let copy = match (curves, quadric) {
-                    (Some(c), _) => self.add_curves(c, material),
-                    (_, Some(Some(q))) => self.add_quadric(q, material, None),
-                    (_, Some(None)) => continue,
-                    _ => {
-                        let mesh = self.primitives[id as usize].mesh.transformed(&m);
+                let copy = match &p.shape {
+                    Shape::Mesh(mesh) => {
+                        let mesh = mesh.transformed(&m);
                         self.add_mesh(mesh, material, None)
                     }
+                    Shape::Curves(c) => {
+                        let c = c.transformed(&m);
+                        self.add_curves(c, material)
+                    }
+                    Shape::Quadric(q) => match q.placed_by(&m) {
+                        Some(q) => self.add_quadric(q, material, None),
+                        None => continue,
+                    },
                 };
                 self.set_medium_interface(copy, mi);
                 self.primitives[copy as usize].alpha = alpha;
@@ -427,7 +427,7 @@ impl SceneBuilder {
         for proto in std::mem::take(&mut self.prototypes) {
             for m in proto.meshes {
                 let p = &mut self.primitives[m as usize];
-                (p.mesh, p.curves, p.quadric) = (Mesh::default(), None, None);
+                p.shape = Shape::default();
                 p.prototype = None;
             }
         }
@@ -462,14 +462,14 @@ impl SceneBuilder {
     pub fn transform(&mut self, m: Mat4) {
         let scale = m.transform_vector3(Vec3::X).length();
         for p in self.primitives.iter_mut().filter(|p| p.prototype.is_none()) {
-            p.mesh = p.mesh.transformed(&m);
-            if let Some(c) = p.curves.as_mut() {
-                *c = Arc::new(c.transformed(&m));
-            }
-            if let Some(q) = p.quadric.as_mut() {
-                let mut placed = PlacedQuadric::clone(q);
-                placed.placement = placed.placement.then(m).expect("a similarity keeps it invertible");
-                *q = Arc::new(placed);
+            match &mut p.shape {
+                Shape::Mesh(mesh) => *mesh = mesh.transformed(&m),
+                Shape::Curves(c) => *c = Arc::new(c.transformed(&m)),
+                Shape::Quadric(q) => {
+                    let mut placed = PlacedQuadric::clone(q);
+                    placed.placement = placed.placement.then(m).expect("a similarity keeps it invertible");
+                    *q = Arc::new(placed);
+                }
             }
         }
         for inst in self.instances.iter_mut() {
@@ -491,56 +491,74 @@ impl SceneBuilder {
     /// Builds the accelerator, the area lights and the primitives.
     pub fn build(self, accel_kind: AccelKind) -> Result<Scene, BuildError> {
         let camera = self.camera.ok_or(BuildError::NoCamera)?;
-        // The accelerator reads the meshes as one slice; they then move into their primitives.
         let world_meshes =
             (0..self.primitives.len() as u32).filter(|&m| self.primitives[m as usize].prototype.is_none()).collect();
-        // An emission with its image and whether its scale is per unit area.
-        type Emitting = (Emission, Option<Arc<EmissionImage>>, bool);
-        type Parts = (u32, Option<Emitting>, Option<FloatTexture>, MediumInterface, Option<Arc<Curves>>);
-        type Quadrics = Vec<Option<Arc<PlacedQuadric>>>;
-        let (meshes, (parts, quadrics)): (Vec<Mesh>, (Vec<Parts>, Quadrics)) = self
-            .primitives
-            .into_iter()
-            .map(|p| {
-                let emission = p.emission.map(|e| (e, p.emission_image, p.emission_per_area));
-                (p.mesh, ((p.material, emission, p.alpha, p.medium_interface, p.curves), p.quadric))
+        // The accelerator reads the triangles as one slice indexed by primitive id (empty for
+        // curves and quadrics) and the curves and quadrics as lists by the same ids; the meshes
+        // then move back into their shapes.
+        let mut pending = self.primitives;
+        let meshes: Vec<Mesh> = pending
+            .iter_mut()
+            .map(|p| match &mut p.shape {
+                Shape::Mesh(mesh) => std::mem::take(mesh),
+                Shape::Curves(_) | Shape::Quadric(_) => Mesh::default(),
             })
-            .unzip();
-        let curves: Vec<(u32, &Curves)> =
-            parts.iter().enumerate().filter_map(|(id, p)| Some((id as u32, p.4.as_deref()?))).collect();
-        let placed: Vec<(u32, &PlacedQuadric)> =
-            quadrics.iter().enumerate().filter_map(|(id, q)| Some((id as u32, q.as_deref()?))).collect();
+            .collect();
+        let mut curves: Vec<(u32, &Curves)> = Vec::new();
+        let mut placed: Vec<(u32, &PlacedQuadric)> = Vec::new();
+        for (id, p) in pending.iter().enumerate() {
+            match &p.shape {
+                Shape::Mesh(_) => {}
+                Shape::Curves(c) => curves.push((id as u32, c)),
+                Shape::Quadric(q) => placed.push((id as u32, q)),
+            }
+        }
         let extra = accel::ExtraShapes { curves: &curves, quadrics: &placed };
         let set = InstanceSet { world_meshes, prototypes: self.prototypes, instances: self.instances };
         let accel = accel::build_scene(accel_kind, &meshes, extra, &set).map_err(BuildError::Accel)?;
         let quadric_moves = placed.iter().any(|(_, q)| q.moves());
         let mut lights = self.lights;
         let mut primitives = Vec::with_capacity(meshes.len());
-        for ((mut mesh, (material, emission, alpha, medium_interface, curves)), quadric) in
-            meshes.into_iter().zip(parts).zip(quadrics)
-        {
+        for (p, mesh) in pending.into_iter().zip(meshes) {
+            let PendingPrimitive {
+                mut shape,
+                material,
+                emission,
+                alpha,
+                medium_interface,
+                emission_image,
+                emission_per_area,
+                ..
+            } = p;
+            if let Shape::Mesh(m) = &mut shape {
+                *m = mesh;
+            }
             let mut lights_of = LightsOf::Triangles;
-            let area_lights = emission.map(|(em, em_image, per_area)| {
+            let area_lights = emission.and_then(|em| {
                 let first = lights.len() as u32;
-                lights_of = match &quadric {
+                lights_of = match &shape {
+                    Shape::Mesh(mesh) => {
+                        push_mesh_lights(mesh, &em, emission_image.as_ref(), emission_per_area, &mut lights)
+                    }
                     // A quadric is one light: a sphere light for a full sphere, else sampled by area.
-                    Some(q) => {
+                    Shape::Quadric(q) => {
                         lights.push(quadric_light(q, Arc::new(em.spectrum), em.scale, em.two_sided));
                         LightsOf::Whole
                     }
-                    None => push_mesh_lights(&mesh, &em, em_image.as_ref(), per_area, &mut lights),
+                    // Curves never emit (`add_curves` gives them no emission).
+                    Shape::Curves(_) => return None,
                 };
-                first
+                Some(first)
             });
-            // Faces matter only to the emission above.
-            mesh.faces = None;
+            if let Shape::Mesh(mesh) = &mut shape {
+                // Faces matter only to the emission above.
+                mesh.faces = None;
+            }
             let bare_boundary = matches!(self.materials[material as usize], Material::Interface)
                 && area_lights.is_none()
                 && alpha.is_none();
             primitives.push(Primitive {
-                mesh,
-                curves,
-                quadric,
+                shape,
                 material,
                 area_lights,
                 lights_of,
@@ -595,7 +613,12 @@ fn object_radii(materials: &[Material], primitives: &[Primitive]) -> Vec<f32> {
     }
     for p in primitives.iter().filter(|p| materials.get(p.material as usize).is_some_and(|m| m.subsurface().is_some()))
     {
-        let b = p.quadric.as_ref().map_or_else(|| p.mesh.bounds(), |q| q.bounds());
+        let b = match &p.shape {
+            Shape::Mesh(mesh) => mesh.bounds(),
+            Shape::Quadric(q) => q.bounds(),
+            // Curves count for nothing here.
+            Shape::Curves(_) => Bounds3::EMPTY,
+        };
         if !b.is_empty() {
             let r = &mut radii[p.material as usize];
             *r = r.max(b.radius());
@@ -765,7 +788,7 @@ impl Scene {
 
     /// Number of distinct triangles (instanced ones counted once).
     pub fn triangle_count(&self) -> u64 {
-        self.primitives.iter().map(|p| p.mesh.len() as u64).sum()
+        self.primitives.iter().map(|p| p.shape.triangle_count() as u64).sum()
     }
 
     /// Chooses a light for next-event estimation at `ctx` with the 2D uniform `u`: the light,

@@ -3,10 +3,8 @@
 //! Humphreys, *Physically Based Rendering*, 4th ed., §7.1.1) and Mitsuba 3's `Shape` do. The
 //! integrator asks the hit ([`super::SurfaceInteraction`]) for these, never the scene's lists.
 
-use std::sync::Arc;
-
 use super::mesh_lights::LightsOf;
-use crate::geometry::{Curves, Mesh, PlacedQuadric};
+use crate::geometry::Shape;
 use crate::material::FloatTexture;
 
 /// The participating media on the two sides of a surface (pbrt-v4 `MediumInterface`): indices
@@ -43,18 +41,13 @@ impl MediumInterface {
     }
 }
 
-/// A triangle mesh, or curves, with its material, area emission, medium interface and alpha. A
-/// hit's `geom_id` names its primitive; primitives of object instances are in object space.
+/// A shape — triangles, curves or a quadric — with its material, area emission, medium
+/// interface and alpha. A hit's `geom_id` names its primitive; primitives of object instances
+/// are in object space.
 #[derive(Clone, Debug, Default)]
 pub struct Primitive {
-    /// The geometry (empty for curves).
-    pub mesh: Mesh,
-    /// The curves, when the primitive is a curve shape (a hit's `prim_id` is a segment, its `u`
-    /// the curve parameter along it).
-    pub curves: Option<Arc<Curves>>,
-    /// The quadric, when the primitive is a sphere, disk or cylinder (a hit's t is all the
-    /// backends report: the surface is recomputed from the ray).
-    pub quadric: Option<Arc<PlacedQuadric>>,
+    /// The geometry.
+    pub shape: Shape,
     /// Index of its material in the scene's materials.
     pub material: u32,
     /// Index in the scene's lights of the primitive's first light, when it emits.

@@ -11,7 +11,7 @@
 use crate::common::{film_difference, pbrt_scene, test_settings};
 use glam::{DVec3, Mat4, Quat, Vec3};
 use prism::accel::AccelKind;
-use prism::geometry::{AnimatedTransform, Hit, Ray};
+use prism::geometry::{AnimatedTransform, Hit, Ray, Shape};
 use prism::render::render;
 use prism::sampling::Rng;
 use prism::scene::{Scene, SurfaceInteraction};
@@ -129,7 +129,7 @@ fn rays(n: usize, seed: u64) -> Vec<Ray> {
 /// materials in different orders) and whether it is on a curve.
 fn material_of(s: &Scene, h: &Hit) -> (String, bool) {
     let p = &s.primitives()[h.geom_id as usize];
-    (format!("{:?}", s.materials()[p.material as usize]), p.curves.is_some())
+    (format!("{:?}", s.materials()[p.material as usize]), matches!(p.shape, Shape::Curves(_)))
 }
 
 /// Counts of [`assert_same_surfaces`].
@@ -195,7 +195,7 @@ fn assert_same_surfaces(what: &str, a: &Scene, b: &Scene, rays: &[Ray], t_abs: f
         let (sa, sb): (SurfaceInteraction, SurfaceInteraction) = (a.interaction(ray, &ha), b.interaction(ray, &hb));
         let on_curve = ma.1;
         n.curve_hits += on_curve as usize;
-        n.quadric_hits += a.primitives()[ha.geom_id as usize].quadric.is_some() as usize;
+        n.quadric_hits += matches!(a.primitives()[ha.geom_id as usize].shape, Shape::Quadric(_)) as usize;
         let slack = Vec3::splat(tol * ray.d.length());
         let off = (sa.p - sb.p).abs();
         assert!(
@@ -215,7 +215,7 @@ fn assert_same_surfaces(what: &str, a: &Scene, b: &Scene, rays: &[Ray], t_abs: f
         assert!(sa.shading.ns.dot(sb.shading.ns) > n_min, "{what}: shading normals at {}", sa.p);
         let mirrored = |s: &Scene, h: &Hit| s.instances().get(h.inst_id as usize).is_some_and(|i| i.handedness < 0.0);
         let flipped = mirrored(a, &ha) != mirrored(b, &hb);
-        if flipped && !on_curve && a.primitives()[ha.geom_id as usize].quadric.is_none() {
+        if flipped && !on_curve && !matches!(a.primitives()[ha.geom_id as usize].shape, Shape::Quadric(_)) {
             // A mirrored flat mesh is re-wound: its triangles' default (u, v) corners move.
             continue;
         }

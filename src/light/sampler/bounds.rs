@@ -4,12 +4,11 @@
 //! they still emit (π/2 for diffuse surfaces), their total flux Φ and whether they emit from both
 //! sides. The importance of bounds at a point p (with normal n) bounds the contribution
 //! Φ cos θ' / d² of any light inside, θ' the smallest angle between a normal in the cone and the
-//! direction to p, shrunk by the angle the box subtends from p.
+//! direction to p, shrunk by the angle the box subtends from p. Each light works out its own
+//! bounds (`Light::bounds`, in the light's file); this file holds what they have in common.
 
 use super::cone::DirectionCone;
 use crate::geometry::Bounds3;
-use crate::light::{Light, SpotFalloff};
-use crate::math::PI;
 use glam::Vec3;
 
 /// Spatial and directional bounds of a set of emitters.
@@ -240,73 +239,18 @@ impl LightBounds {
             && self.two_sided == o.two_sided
     }
 
-    /// Bounds of one light with flux `phi`: `None` for lights at infinity (sampled apart from
-    /// the tree) and for lights without flux (never chosen). Point-like lights are a point box
-    /// emitting over the whole sphere (a spotlight over its cone); a triangle is its box, its
-    /// normal and θ_e = π/2; a sphere emits along every normal.
-    pub fn of_light(light: &Light, phi: f32) -> Option<Self> {
-        if !(phi > 0.0 && phi.is_finite()) {
-            return None;
-        }
-        let point = |p: Vec3| Bounds3::EMPTY.union_point(p);
-        let cos_half_pi = 0.0;
-        let b = |bounds, w, cos_theta_o, cos_theta_e, two_sided| {
-            Some(Self { bounds, w, phi, cos_theta_o, cos_theta_e, two_sided })
-        };
-        match light {
-            Light::Point(l) => b(point(l.position), Vec3::Z, -1.0, cos_half_pi, false),
-            Light::Goniometric(l) => b(point(l.position), Vec3::Z, -1.0, cos_half_pi, false),
-            Light::Projection(l) => b(point(l.position), Vec3::Z, -1.0, cos_half_pi, false),
-            Light::Spot(l) => {
-                // Full intensity within θ_start of the axis, falling to 0 at θ_end (Warn's
-                // cos^s lobe: all of the forward hemisphere).
-                let (cos_o, cos_e) = match l.falloff {
-                    SpotFalloff::Cone { cos_start, cos_end } => {
-                        let (start, end) = (cos_start.clamp(-1.0, 1.0).acos(), cos_end.clamp(-1.0, 1.0).acos());
-                        (cos_start, (end - start).max(0.0).cos())
-                    }
-                    SpotFalloff::Warn { .. } => (1.0, cos_half_pi),
-                };
-                b(point(l.position), l.frame.n, cos_o, cos_e, false)
-            }
-            Light::Area(a) => {
-                let bounds = a.p.iter().fold(Bounds3::EMPTY, |bb, &q| bb.union_point(q));
-                b(bounds, a.n, 1.0, cos_half_pi, a.two_sided)
-            }
-            Light::Rectangle(r) => {
-                let bounds = r.corners().iter().fold(Bounds3::EMPTY, |bb, &q| bb.union_point(q));
-                b(bounds, r.n, 1.0, cos_half_pi, r.two_sided)
-            }
-            Light::Sphere(s) => {
-                let bounds = Bounds3 { min: s.center - Vec3::splat(s.radius), max: s.center + Vec3::splat(s.radius) };
-                b(bounds, Vec3::Z, -1.0, cos_half_pi, s.two_sided)
-            }
-            Light::Quadric(q) => match q.shape.quadric {
-                // A disk's normal is one direction; the other shapes' span every direction.
-                crate::geometry::Quadric::Disk { .. } => {
-                    b(q.shape.bounds(), q.shape.point(0.0, 0.5).1, 1.0, cos_half_pi, q.two_sided)
-                }
-                _ => b(q.shape.bounds(), Vec3::Z, -1.0, cos_half_pi, q.two_sided),
-            },
-            Light::Distant(_) | Light::UniformInfinite(_) | Light::EnvMap(_) | Light::Portal(_) => None,
-        }
-    }
-
-    /// The flux the bounds of `light` carry given its emitted `power`: the power itself, except
-    /// for a spotlight, whose importance inside its cone is that of an isotropic point light of
-    /// the same on-axis intensity (4π I₀, as pbrt-v4's `SpotLight::Bounds`).
-    pub fn flux_for(light: &Light, power: f32) -> f32 {
-        match light {
-            Light::Spot(l) => power * 4.0 * PI / l.falloff.solid_angle_integral(),
-            _ => power,
-        }
+    /// A point at `position` emitting flux `phi` over the whole sphere (θ_o = π, θ_e = π/2):
+    /// the bounds of point, goniometric and projection lights.
+    pub fn isotropic_point(position: Vec3, phi: f32) -> Self {
+        let bounds = Bounds3::EMPTY.union_point(position);
+        Self { bounds, w: Vec3::Z, phi, cos_theta_o: -1.0, cos_theta_e: 0.0, two_sided: false }
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::light::AreaLight;
+    use crate::light::{AreaLight, Light};
     use crate::spectrum::Spectrum;
     use std::sync::Arc;
 
@@ -328,8 +272,8 @@ mod tests {
     /// see it.
     #[test]
     fn a_point_behind_a_one_sided_emitter_gets_no_importance() {
-        let one = LightBounds::of_light(&triangle(0.0, false), 1.0).unwrap();
-        let two = LightBounds::of_light(&triangle(0.0, true), 1.0).unwrap();
+        let one = triangle(0.0, false).bounds(1.0).unwrap();
+        let two = triangle(0.0, true).bounds(1.0).unwrap();
         for p in [Vec3::new(0.3, 0.3, -1.0), Vec3::new(2.0, -1.0, -3.0), Vec3::new(0.2, 0.2, -20.0)] {
             assert_eq!(one.importance(p, Vec3::ZERO), 0.0, "behind at {p}");
             assert_eq!(one.importance(p, Vec3::Z), 0.0, "behind at {p} with a normal");
@@ -344,7 +288,7 @@ mod tests {
     /// negligible.
     #[test]
     fn far_away_the_importance_is_flux_times_cosine_over_distance_squared() {
-        let b = LightBounds::of_light(&triangle(0.0, false), 3.0).unwrap();
+        let b = triangle(0.0, false).bounds(3.0).unwrap();
         let pc = b.centroid();
         let dir = Vec3::new(0.6, 0.0, 0.8);
         let p = pc + 1000.0 * dir;
@@ -365,7 +309,7 @@ mod tests {
         use crate::sampling::rng::Rng;
         let c = Vec3::new(0.5, -2.0, 3.0);
         let point = Light::Point(PointLight::new(c, Arc::new(Spectrum::constant(1.0)), 1.0));
-        let b = LightBounds::of_light(&point, 7.0).unwrap();
+        let b = point.bounds(7.0).unwrap();
         let mut rng = Rng::new(5, 11);
         for _ in 0..1000 {
             let p = Vec3::new(rng.uniform(), rng.uniform(), rng.uniform()) * 8.0 - 4.0;
@@ -386,8 +330,8 @@ mod tests {
     /// emission angle and two-sidedness.
     #[test]
     fn the_union_keeps_both_boxes_cones_and_the_summed_flux() {
-        let a = LightBounds::of_light(&triangle(0.0, false), 1.0).unwrap();
-        let mut b = LightBounds::of_light(&triangle(2.0, true), 2.0).unwrap();
+        let a = triangle(0.0, false).bounds(1.0).unwrap();
+        let mut b = triangle(2.0, true).bounds(2.0).unwrap();
         b.w = Vec3::X;
         let u = LightBounds::union(&a, &b);
         assert_eq!(u.phi, 3.0);
@@ -431,7 +375,7 @@ mod tests {
                 1 => (Vec3::Z * (0.1 + rng.uniform()), Vec3::X * (0.1 + rng.uniform())),
                 _ => (unit(&mut rng), unit(&mut rng)),
             };
-            let of = |l: &Light| LightBounds::of_light(l, 1.0).unwrap();
+            let of = |l: &Light| l.bounds(1.0).unwrap();
             let a = of(&light([c, c + e1, c + e1 + e2], two_sided));
             let b = of(&light([c, c + e1 + e2, c + e2], two_sided));
             let point = of(&Light::Point(PointLight::new(c, Arc::new(Spectrum::constant(1.0)), 1.0)));

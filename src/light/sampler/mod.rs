@@ -92,10 +92,7 @@ impl LightSampler {
                 let bounded: Vec<bvh::BoundedLight> = lights
                     .iter()
                     .zip(powers)
-                    .map(|(l, power)| bvh::BoundedLight {
-                        bounds: LightBounds::of_light(l, LightBounds::flux_for(l, power)),
-                        infinite: l.is_infinite() || matches!(l, Light::Distant(_)),
-                    })
+                    .map(|(l, power)| bvh::BoundedLight { bounds: l.bounds(power), infinite: l.is_at_infinity() })
                     .collect();
                 Self::Bvh(Box::new(BvhLightSampler::new(&bounded)))
             }
