@@ -34,6 +34,7 @@ pub mod light;
 pub mod material;
 pub mod math;
 pub mod measure;
+pub mod pbrt;
 pub mod media;
 pub mod progress;
 pub mod render;

@@ -15,8 +15,8 @@ pub use time_to_error::{default_target, time_to, times_to_rmse, Reading, TimeToR
 use crate::accel::AccelKind;
 use crate::filter::Filter;
 use crate::image::{metrics, Image};
+use crate::pbrt::InputStamp;
 use crate::render::{render_range, RenderSettings, SamplerKind};
-use crate::scene::pbrt::InputStamp;
 use crate::scene::{Scene, SceneBuilder};
 use crate::spectrum::ColorSpace;
 use anyhow::{Context, Result};
@@ -127,7 +127,7 @@ fn load(cfg: &BenchConfig) -> Result<SceneBuilder> {
         Some("builtin:terrain") => terrain_scene(),
         Some(_) => {
             let path = cfg.scene.as_deref().expect("matched Some");
-            let loaded = crate::scene::pbrt::load_file(path, &Default::default())?;
+            let loaded = crate::pbrt::load_file(path, &Default::default())?;
             for w in &loaded.warnings {
                 log::warn!("{w}");
             }
@@ -162,8 +162,8 @@ fn render_image(
 /// the old reference.
 fn input_stamps(cfg: &BenchConfig) -> Result<Vec<InputStamp>> {
     let Some(path) = cfg.scene.as_ref().filter(|p| p.exists()) else { return Ok(Vec::new()) };
-    let (desc, _) = crate::scene::parse_file(path, &Default::default())?;
-    Ok(crate::scene::pbrt::input_stamps(&desc.input_files(), path.parent().unwrap_or(Path::new(""))))
+    let (desc, _) = crate::pbrt::parse_file(path, &Default::default())?;
+    Ok(crate::pbrt::input_stamps(&desc.input_files(), path.parent().unwrap_or(Path::new(""))))
 }
 
 /// The reference: the given image, or a cached render whose settings match, or a new render.

@@ -6,7 +6,7 @@ use crate::image::{CropWindow, ExrSample, WriteOptions};
 use crate::integrator::{PathIntegrator, Stats, SubsurfaceMethod};
 use crate::light::LightSamplerKind;
 use crate::render::RenderSettings;
-use crate::scene::pbrt::{input_stamps, FileSettings, InputStamp, LoadedScene};
+use crate::pbrt::{input_stamps, FileSettings, InputStamp, LoadedScene};
 use crate::scene::{QuadricMode, Scene, SceneBuilder};
 use crate::sensor::Sensor;
 use crate::settings;
@@ -258,8 +258,8 @@ pub(crate) fn load_scene_file(path: &Path, strict: bool, quadrics: QuadricMode) 
     if !path.exists() {
         bail!("scene file '{}' does not exist", path.display());
     }
-    let opts = crate::scene::ParseOptions { strict, quadrics, ..Default::default() };
-    let loaded = crate::scene::pbrt::load_file(path, &opts)?;
+    let opts = crate::pbrt::ParseOptions { strict, quadrics, ..Default::default() };
+    let loaded = crate::pbrt::load_file(path, &opts)?;
     for w in &loaded.warnings {
         log::warn!("{w}");
     }

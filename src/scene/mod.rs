@@ -1,34 +1,14 @@
 //! Scenes: a builder that collects meshes, materials and lights (from the built-in Cornell box or
-//! a pbrt-v4 file), and the render-ready [`Scene`]: its accelerator over [`Primitive`]s, which
-//! bind geometry to material, emission and media.
+//! a pbrt-v4 file read by [`crate::pbrt`]), and the render-ready [`Scene`]: its accelerator over
+//! [`Primitive`]s, which bind geometry to material, emission and media.
 
 mod cornell;
-mod curve_params;
-pub mod desc;
-pub mod error;
-pub mod input;
 mod interaction;
-pub mod mesh_io;
 mod mesh_lights;
-pub mod names;
-pub mod params;
-pub mod parser;
-pub mod pbrt;
 mod primitive;
-mod quadric_params;
-pub mod shapes;
-mod source;
-pub mod tokenizer;
 
 pub use cornell::add_cornell_box;
-pub use desc::{
-    AreaLightDesc, Directive, InstanceDesc, LightDesc, MaterialDesc, MaterialRef, MediumDesc, MediumNames,
-    NamedMaterial, ObjectDesc, SceneDesc, ShapeDesc, ShapeGeometry, TextureClass, TextureDesc,
-};
-pub use error::{Location, SceneError, Warning};
 pub use interaction::SurfaceInteraction;
-pub use params::{FloatOrTexture, ParamSet, ParamValue, SpectrumOrTexture, SpectrumParam};
-pub use parser::{look_at, parse_file, parse_str, ParseOptions};
 pub use primitive::{MediumInterface, Primitive};
 
 use crate::accel::{self, Accel, AccelKind};

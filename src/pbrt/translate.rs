@@ -25,7 +25,7 @@ use lights::{brightness_factor, FLUX};
 use super::desc::{MaterialDesc, ObjectDesc, SceneDesc, ShapeDesc, ShapeGeometry};
 use super::error::{Location, SceneError, Warning};
 use super::params::{ParamSet, SpectrumParam};
-use super::{CameraDesc, Emission, QuadricMode, SceneBuilder};
+use crate::scene::{CameraDesc, Emission, QuadricMode, SceneBuilder};
 use crate::bsdf::{ior, metals};
 use crate::camera::Projection;
 use crate::film::Crop;

@@ -512,7 +512,7 @@ impl ParamSet {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene::tokenizer::Tokenizer;
+    use crate::pbrt::tokenizer::Tokenizer;
     use std::path::Path;
     use std::sync::Arc;
 
