@@ -72,32 +72,19 @@ pub enum AccelKind {
     Obvhs,
 }
 
-impl AccelKind {
-    /// Parses "embree", "embree-watertight" or "obvhs".
-    pub fn parse(name: &str) -> Result<Self, String> {
-        match name {
-            "embree" => Ok(AccelKind::Embree),
-            "embree-watertight" => Ok(AccelKind::EmbreeWatertight),
-            "obvhs" => Ok(AccelKind::Obvhs),
-            other => Err(format!("unknown accelerator '{other}' (valid: embree, embree-watertight, obvhs)")),
-        }
-    }
+crate::named::name_table!(AccelKind, "accelerator", {
+    "embree" => AccelKind::Embree,
+    "embree-watertight" => AccelKind::EmbreeWatertight,
+    "obvhs" => AccelKind::Obvhs,
+});
 
+impl AccelKind {
     /// The default: Embree when compiled in, else obvhs.
     pub fn default_available() -> Self {
         if cfg!(embree) {
             AccelKind::Embree
         } else {
             AccelKind::Obvhs
-        }
-    }
-
-    /// The name.
-    pub fn name(self) -> &'static str {
-        match self {
-            AccelKind::Embree => "embree",
-            AccelKind::EmbreeWatertight => "embree-watertight",
-            AccelKind::Obvhs => "obvhs",
         }
     }
 }

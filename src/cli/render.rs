@@ -5,9 +5,10 @@ use crate::film::{Crop, Film, FilmSettings};
 use crate::image::{CropWindow, ExrSample, WriteOptions};
 use crate::integrator::{PathIntegrator, Stats, SubsurfaceMethod};
 use crate::light::LightSamplerKind;
+use crate::named::UnknownName;
+use crate::pbrt::{input_stamps, FileSettings, InputStamp, LoadedScene, QuadricMode};
 use crate::render::RenderSettings;
-use crate::pbrt::{input_stamps, FileSettings, InputStamp, LoadedScene};
-use crate::scene::{QuadricMode, Scene, SceneBuilder};
+use crate::scene::{Scene, SceneBuilder};
 use crate::sensor::Sensor;
 use crate::settings;
 use crate::spectrum::ColorSpace;
@@ -155,7 +156,7 @@ pub struct Job {
 pub fn prepare(args: &RenderArgs) -> Result<Job> {
     let spp = args.spp.map(|n| settings::count(n, "--spp")).transpose()?;
     let accel = match &args.accel {
-        Some(a) => AccelKind::parse(a).map_err(anyhow::Error::msg)?,
+        Some(a) => AccelKind::parse(a)?,
         None => AccelKind::default_available(),
     };
     let resolution = args.resolution.as_deref().map(settings::parse_resolution).transpose()?;
@@ -172,19 +173,16 @@ pub fn prepare(args: &RenderArgs) -> Result<Job> {
         Some(other) => bail!("unknown --lanes '{other}' (valid: packet, single)"),
     };
     let max_depth = args.max_depth.map(|d| settings::max_depth(d, "--max-depth")).transpose()?;
-    let sss = args.sss.as_deref().map(SubsurfaceMethod::parse).transpose().map_err(anyhow::Error::msg)?;
+    let sss = args.sss.as_deref().map(SubsurfaceMethod::parse).transpose()?;
     let light_sampler = match args.light_sampler.as_deref() {
         None => None,
-        Some(name) => Some(
-            LightSamplerKind::parse(name)
-                .with_context(|| format!("unknown --light-sampler '{name}' (valid: {})", LightSamplerKind::NAMES))?,
-        ),
+        Some(name) => Some(LightSamplerKind::parse(name).map_err(|e| UnknownName { what: "--light-sampler", ..e })?),
     };
 
     let (mut builder, file, scene_name, inputs) = match &args.scene {
         None => (SceneBuilder::cornell_box(), FileSettings::default(), "builtin:cornell".to_string(), Vec::new()),
         Some(path) => {
-            let quadrics = args.quadrics.as_deref().map(QuadricMode::parse).transpose().map_err(anyhow::Error::msg)?;
+            let quadrics = args.quadrics.as_deref().map(QuadricMode::parse).transpose()?;
             let loaded = load_scene_file(path, args.strict, quadrics.unwrap_or_default())?;
             let base = path.parent().unwrap_or(Path::new(""));
             let name = path.file_name().map_or(String::new(), |n| n.to_string_lossy().into_owned());
@@ -313,8 +311,8 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         bail!("--part writes a share of the samples: give a .film output and combine with `prism merge`");
     }
     // Tessellated quadrics change the image: the backend's name carries the choice.
-    let accel = match args.quadrics.as_deref() {
-        Some("tessellated") => format!("{} (tessellated quadrics)", job.scene.accel().name()),
+    let accel = match args.quadrics.as_deref().map(QuadricMode::parse) {
+        Some(Ok(QuadricMode::Tessellated)) => format!("{} (tessellated quadrics)", job.scene.accel().name()),
         _ => job.scene.accel().name().to_string(),
     };
     let fp = crate::fingerprint::fingerprint(&job.scene_name, &job.inputs, &job.settings, job.space.name, &accel);

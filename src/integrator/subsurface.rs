@@ -47,24 +47,11 @@ pub enum SubsurfaceMethod {
     RandomWalk,
 }
 
-impl SubsurfaceMethod {
-    /// Parses "diffusion" or "randomwalk".
-    pub fn parse(name: &str) -> Result<Self, String> {
-        match name {
-            "diffusion" => Ok(Self::Diffusion),
-            "randomwalk" | "random-walk" => Ok(Self::RandomWalk),
-            other => Err(format!("unknown subsurface method '{other}' (valid: diffusion, randomwalk)")),
-        }
-    }
-
-    /// The name, as on the command line.
-    pub fn name(self) -> &'static str {
-        match self {
-            Self::Diffusion => "diffusion",
-            Self::RandomWalk => "randomwalk",
-        }
-    }
-}
+crate::named::name_table!(SubsurfaceMethod, "subsurface method", {
+    "diffusion" => SubsurfaceMethod::Diffusion,
+    "randomwalk" => SubsurfaceMethod::RandomWalk,
+    "random-walk" => SubsurfaceMethod::RandomWalk,
+});
 
 /// Where the path goes on after the subsurface event. Returned by value once per event and
 /// taken apart at once, so the size gap between the variants costs a copy, not memory held.

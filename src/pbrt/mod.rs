@@ -10,6 +10,7 @@ pub mod mesh_io;
 pub mod names;
 pub mod params;
 pub mod parser;
+mod quadric_mode;
 mod quadric_params;
 pub mod shapes;
 mod source;
@@ -23,6 +24,7 @@ pub use desc::{
 pub use error::{Location, SceneError, Warning};
 pub use params::{FloatOrTexture, ParamSet, ParamValue, SpectrumOrTexture, SpectrumParam};
 pub use parser::{look_at, parse_file, parse_str, ParseOptions};
+pub use quadric_mode::QuadricMode;
 pub use translate::{
     build, build_with, input_stamps, load_file, named_spectrum, FileSettings, InputStamp, LoadedScene,
     PBRT_DEFAULT_MAX_DEPTH,

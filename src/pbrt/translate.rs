@@ -25,7 +25,7 @@ use lights::{brightness_factor, FLUX};
 use super::desc::{MaterialDesc, ObjectDesc, SceneDesc, ShapeDesc, ShapeGeometry};
 use super::error::{Location, SceneError, Warning};
 use super::params::{ParamSet, SpectrumParam};
-use crate::scene::{CameraDesc, Emission, QuadricMode, SceneBuilder};
+use super::QuadricMode;
 use crate::bsdf::{ior, metals};
 use crate::camera::Projection;
 use crate::film::Crop;
@@ -33,6 +33,7 @@ use crate::geometry::quadric::similarity_scale;
 use crate::geometry::{AnimatedTransform, Curves, Mesh, Motion, PlacedQuadric, Quadric};
 use crate::light::{EmissionImage, LightSamplerKind};
 use crate::material::{BumpedMaterial, Ior, Material, Roughness};
+use crate::scene::{CameraDesc, Emission, SceneBuilder};
 use crate::spectrum::{ColorSpace, RgbKind, Spectrum};
 use glam::Mat4;
 use std::collections::HashMap;
@@ -176,8 +177,8 @@ impl Ctx<'_> {
     fn light_sampler(&self) -> Result<LightSamplerKind, SceneError> {
         let (params, loc) = (&self.desc.integrator.params, &self.desc.integrator.loc);
         let Some(name) = params.string("lightsampler") else { return Ok(LightSamplerKind::Bvh) };
-        LightSamplerKind::parse(name).ok_or_else(|| {
-            let message = format!("unknown \"lightsampler\" \"{name}\" (valid: {})", LightSamplerKind::NAMES);
+        LightSamplerKind::parse(name).map_err(|e| {
+            let message = format!("unknown \"lightsampler\" \"{name}\" (valid: {})", e.valid);
             param_error(params, "lightsampler", loc, message)
         })
     }

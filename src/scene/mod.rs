@@ -39,27 +39,6 @@ pub struct Emission {
     pub two_sided: bool,
 }
 
-/// How pbrt-v4's sphere, disk and cylinder shapes are built.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum QuadricMode {
-    /// Intersected exactly in object space by both backends.
-    #[default]
-    Analytic,
-    /// Inscribed triangle meshes with analytic normals and (u, v) ([`crate::geometry::quadric`]).
-    Tessellated,
-}
-
-impl QuadricMode {
-    /// Parses "analytic" or "tessellated".
-    pub fn parse(name: &str) -> Result<Self, String> {
-        match name {
-            "analytic" => Ok(QuadricMode::Analytic),
-            "tessellated" => Ok(QuadricMode::Tessellated),
-            other => Err(format!("unknown quadric mode '{other}' (valid: analytic, tessellated)")),
-        }
-    }
-}
-
 /// Camera parameters independent of the image resolution.
 #[derive(Clone, Debug)]
 pub struct CameraDesc {

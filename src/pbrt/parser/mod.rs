@@ -37,7 +37,7 @@ pub struct ParseOptions {
     /// current directory).
     pub base_dir: Option<PathBuf>,
     /// How quadrics are built ([`crate::pbrt::build_with`]).
-    pub quadrics: crate::scene::QuadricMode,
+    pub quadrics: super::QuadricMode,
 }
 
 /// Include/Import nesting deeper than this is an error (guards against runaway recursion that is
