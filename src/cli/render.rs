@@ -224,7 +224,7 @@ pub fn prepare(args: &RenderArgs) -> Result<Job> {
         ..d.integrator
     };
     let resolution = resolution.or(file.resolution).unwrap_or(d.resolution);
-    let crop = crop_arg.or(file.crop).map(|c| c.bounds(resolution)).transpose().map_err(anyhow::Error::msg)?;
+    let crop = crop_arg.or(file.crop).map(|c| c.bounds(resolution)).transpose()?;
     let sensor = Sensor::new(
         file.iso.unwrap_or(100.0),
         file.exposure_time.unwrap_or(1.0),

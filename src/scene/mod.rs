@@ -87,8 +87,8 @@ impl CameraDesc {
 #[derive(Debug, thiserror::Error)]
 pub enum BuildError {
     /// The accelerator failed (e.g. Embree device creation).
-    #[error("{0}")]
-    Accel(String),
+    #[error(transparent)]
+    Accel(#[from] accel::AccelError),
     /// No camera was given.
     #[error("the scene has no camera")]
     NoCamera,
@@ -471,7 +471,7 @@ impl SceneBuilder {
             quadrics.iter().enumerate().filter_map(|(id, q)| Some((id as u32, q.as_deref()?))).collect();
         let extra = accel::ExtraShapes { curves: &curves, quadrics: &placed };
         let set = InstanceSet { world_meshes, prototypes: self.prototypes, instances: self.instances };
-        let accel = accel::build_scene(accel_kind, &meshes, extra, &set).map_err(BuildError::Accel)?;
+        let accel = accel::build_scene(accel_kind, &meshes, extra, &set)?;
         let quadric_moves = placed.iter().any(|(_, q)| q.moves());
         let mut lights = self.lights;
         let mut primitives = Vec::with_capacity(meshes.len());
