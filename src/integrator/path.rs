@@ -26,8 +26,7 @@ pub enum DirectStrategy {
     BsdfOnly,
 }
 
-/// A `max_depth` of no limit: Russian roulette alone ends paths.
-pub const UNBOUNDED_DEPTH: u32 = u32::MAX;
+pub use crate::settings::UNBOUNDED_DEPTH;
 
 /// The path tracer's settings.
 #[derive(Clone, Copy, Debug)]

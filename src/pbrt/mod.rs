@@ -17,6 +17,7 @@ mod source;
 pub mod tokenizer;
 mod translate;
 
+pub use crate::bsdf::named_spectra::named_spectrum;
 pub use desc::{
     AreaLightDesc, Directive, InstanceDesc, LightDesc, MaterialDesc, MaterialRef, MediumDesc, MediumNames,
     NamedMaterial, ObjectDesc, SceneDesc, ShapeDesc, ShapeGeometry, TextureClass, TextureDesc,
@@ -26,6 +27,5 @@ pub use params::{FloatOrTexture, ParamSet, ParamValue, SpectrumOrTexture, Spectr
 pub use parser::{look_at, parse_file, parse_str, ParseOptions};
 pub use quadric_mode::QuadricMode;
 pub use translate::{
-    build, build_with, input_stamps, load_file, named_spectrum, FileSettings, InputStamp, LoadedScene,
-    PBRT_DEFAULT_MAX_DEPTH,
+    build, build_with, input_stamps, load_file, FileSettings, InputStamp, LoadedScene, PBRT_DEFAULT_MAX_DEPTH,
 };

@@ -26,7 +26,7 @@ use super::desc::{MaterialDesc, ObjectDesc, SceneDesc, ShapeDesc, ShapeGeometry}
 use super::error::{Location, SceneError, Warning};
 use super::params::{ParamSet, SpectrumParam};
 use super::QuadricMode;
-use crate::bsdf::{ior, metals};
+use crate::bsdf::named_spectra::named_spectrum;
 use crate::camera::Projection;
 use crate::film::Crop;
 use crate::geometry::quadric::similarity_scale;
@@ -684,20 +684,4 @@ fn orient(mut mesh: Mesh, reverse: bool) -> Mesh {
         }
     }
     mesh
-}
-
-/// pbrt-v4's named spectra that prism knows: illuminants, metals' η and k, glasses' η.
-pub fn named_spectrum(name: &str) -> Option<Spectrum> {
-    if let Some(s) = Spectrum::named(name) {
-        return Some(s);
-    }
-    if let Some(data) = metals::named_spectrum(name) {
-        let (l, x): (Vec<f32>, Vec<f32>) = data.iter().copied().unzip();
-        return Spectrum::piecewise_linear(&l, &x);
-    }
-    let glass = name.strip_prefix("glass-").map(|g| g.to_string())?;
-    ior::eta(&glass, 550.0)?;
-    let l: Vec<f32> = (360..=830).step_by(5).map(|x| x as f32).collect();
-    let v: Vec<f32> = l.iter().map(|&x| ior::eta(&glass, x).unwrap_or(1.5)).collect();
-    Spectrum::piecewise_linear(&l, &v)
 }

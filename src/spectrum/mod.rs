@@ -8,6 +8,7 @@ mod data;
 pub mod display;
 mod illuminant;
 mod jakob_hanika;
+mod named;
 pub mod projection;
 mod rgb_spectrum;
 pub mod roundtrip;
@@ -21,6 +22,7 @@ pub use blackbody::{blackbody_peak_radiance, blackbody_radiance};
 pub use cie::{xyz_bar, CIE_Y_INTEGRAL, K_M};
 pub use color_space::{rgb_to_xyz_from_chromaticities, ColorSpace};
 pub use illuminant::{daylight, normalise_luminance, NAMED_ILLUMINANTS};
+pub use named::NAMED_SPECTRA;
 pub use jakob_hanika::{
     fit_albedo, fit_albedo_fast, normalised_wavelengths, Fit, RgbToSpectrumTable, ScaledSigmoid, SigmoidPolynomial,
 };
