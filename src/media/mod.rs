@@ -6,6 +6,8 @@
 //! volumetric path tracer (`integrator::volpath`) uses [`Medium`].
 
 mod cloud;
+mod coefficients;
+mod delta_tracking;
 pub mod grid;
 mod homogeneous;
 pub mod majorant;
@@ -17,10 +19,12 @@ pub mod presets;
 mod rgb_grid;
 
 pub use cloud::{CloudMedium, CloudShape};
+pub use coefficients::{Homogeneous, MediumPoint};
+pub use delta_tracking::{sample_t_maj, Collision};
 pub use grid::{DensityGrid, EmissionSource, GridEmission, GridMedium};
 pub use homogeneous::{FreeFlight, HomogeneousMedium};
-pub use majorant::{sample_t_maj, Collision, MajorantSegment};
-pub use medium::{Homogeneous, Medium, MediumPoint};
+pub use majorant::MajorantSegment;
+pub use medium::Medium;
 pub use nanovdb_medium::{NanoVdbMedium, TemperatureEmission, NANOVDB_MAJORANT_RES};
 pub use phase::{hg_density, HenyeyGreenstein};
 pub use rgb_grid::{RgbGridMedium, SpectrumGrid};
