@@ -14,8 +14,9 @@ use prism::bench::terrain_scene;
 use prism::geometry::Mesh;
 use prism::light::Light;
 use prism::material::{Material, SpectrumTexture};
-use prism::scene::mesh_io::ply;
-use prism::scene::{parse_file, pbrt, ParseOptions, Scene};
+use prism::pbrt::mesh_io::ply;
+use prism::pbrt::{self, parse_file, ParseOptions};
+use prism::scene::Scene;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 

@@ -32,12 +32,12 @@ impl Crop {
     /// The pixels this crop selects from an image of `resolution`, as pbrt-v4 computes them
     /// (a window's corners are sorted, clamped to [0, 1] and rounded up to pixels; pixel bounds
     /// are clipped to the image). An empty selection is an error.
-    pub fn bounds(&self, resolution: (u32, u32)) -> Result<PixelBounds, String> {
+    pub fn bounds(&self, resolution: (u32, u32)) -> Result<PixelBounds, CropError> {
         let (w, h) = (resolution.0 as i64, resolution.1 as i64);
         let [x0, x1, y0, y1] = match *self {
             Crop::Window(c) => {
                 if c.iter().any(|v| !v.is_finite()) {
-                    return Err(format!("{self} is not finite"));
+                    return Err(CropError::NotFinite(*self));
                 }
                 // In f32 as pbrt-v4 computes it, so the same window selects the same pixels.
                 let px = |v: f32, n: i64| (v.clamp(0.0, 1.0) * n as f32).ceil() as i64;
@@ -46,10 +46,28 @@ impl Crop {
             Crop::Pixels(p) => [p[0].clamp(0, w), p[1].clamp(0, w), p[2].clamp(0, h), p[3].clamp(0, h)],
         };
         if x0 >= x1 || y0 >= y1 {
-            return Err(format!("{self} selects no pixels of a {w}x{h} image"));
+            return Err(CropError::Empty { crop: *self, width: w, height: h });
         }
         Ok(PixelBounds { x0: x0 as u32, x1: x1 as u32, y0: y0 as u32, y1: y1 as u32 })
     }
+}
+
+/// A crop that selects no pixels.
+#[derive(Clone, Copy, Debug, PartialEq, thiserror::Error)]
+pub enum CropError {
+    /// A window with a NaN or infinite corner.
+    #[error("{0} is not finite")]
+    NotFinite(Crop),
+    /// Nothing of the image lies inside it.
+    #[error("{crop} selects no pixels of a {width}x{height} image")]
+    Empty {
+        /// The crop as asked for.
+        crop: Crop,
+        /// The image's width [pixels].
+        width: i64,
+        /// The image's height [pixels].
+        height: i64,
+    },
 }
 
 impl std::fmt::Display for Crop {

@@ -2,8 +2,8 @@
 //! line. Checkpoints (`--resume`) and parts (`prism merge`) combine only when their fingerprints
 //! are equal, so samples of unlike renders are never summed into one image.
 
+use crate::pbrt::InputStamp;
 use crate::render::{RenderSettings, SAMPLE_STREAM_VERSION};
-use crate::scene::pbrt::InputStamp;
 
 /// The fingerprint of rendering `scene` (a built-in scene's name, or the scene file's name),
 /// whose files are `inputs` (none for a built-in scene), with `settings`, written in the colour

@@ -35,6 +35,8 @@ pub mod material;
 pub mod math;
 pub mod measure;
 pub mod media;
+pub mod named;
+pub mod pbrt;
 pub mod progress;
 pub mod render;
 pub mod sampling;

@@ -8,6 +8,7 @@ use crate::filter::Filter;
 use crate::integrator::{Integrator, Stats};
 use crate::material::Material;
 use crate::sampling::Sampler;
+pub use crate::sampling::SamplerKind;
 use crate::scene::Scene;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 use crate::texture::TextureFootprint;
@@ -24,32 +25,6 @@ pub const SAMPLE_STREAM_VERSION: u32 = 3;
 
 /// Rows per parallel work item.
 const BAND_ROWS: usize = 4;
-
-/// Which sampler generates the sample dimensions.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum SamplerKind {
-    /// Independent uniform random numbers.
-    Independent,
-    /// Owen-scrambled Sobol (low discrepancy).
-    Sobol,
-}
-
-impl SamplerKind {
-    /// The name [`crate::settings::parse_sampler`] reads.
-    pub fn name(self) -> &'static str {
-        match self {
-            SamplerKind::Independent => "independent",
-            SamplerKind::Sobol => "sobol",
-        }
-    }
-
-    fn make(self) -> Sampler {
-        match self {
-            SamplerKind::Independent => Sampler::independent(),
-            SamplerKind::Sobol => Sampler::sobol(),
-        }
-    }
-}
 
 /// Everything about a render that is not the scene.
 #[derive(Clone, Debug)]

@@ -4,9 +4,12 @@
 //! `"maxdepth"`).
 
 use crate::filter::Filter;
-use crate::integrator::UNBOUNDED_DEPTH;
-use crate::render::SamplerKind;
+use crate::named::UnknownName;
+use crate::sampling::SamplerKind;
 use std::time::Duration;
+
+/// A `max_depth` of no limit: Russian roulette alone ends paths.
+pub const UNBOUNDED_DEPTH: u32 = u32::MAX;
 
 /// The largest image side accepted [pixels].
 pub const MAX_RESOLUTION: u32 = 32768;
@@ -48,8 +51,8 @@ pub enum SettingsError {
         depth: i64,
     },
     /// A sampler name prism does not have.
-    #[error("unknown sampler '{0}' (valid: independent, sobol)")]
-    UnknownSampler(String),
+    #[error(transparent)]
+    UnknownSampler(#[from] UnknownName),
     /// A pixel filter name prism does not have.
     #[error("unknown filter '{0}' (valid: box, gaussian, mitchell, sinc, triangle)")]
     UnknownFilter(String),
@@ -104,11 +107,7 @@ pub fn max_depth(depth: i64, what: &str) -> Result<u32, SettingsError> {
 
 /// A sampler: "independent", or "sobol" (also pbrt-v4's "zsobol" and "paddedsobol").
 pub fn parse_sampler(name: &str) -> Result<SamplerKind, SettingsError> {
-    match name {
-        "independent" => Ok(SamplerKind::Independent),
-        "sobol" | "zsobol" | "paddedsobol" => Ok(SamplerKind::Sobol),
-        other => Err(SettingsError::UnknownSampler(other.into())),
-    }
+    Ok(SamplerKind::parse(name)?)
 }
 
 /// A pixel filter by name ([`Filter::by_name`]).

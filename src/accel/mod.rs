@@ -3,12 +3,14 @@
 
 #[cfg(embree)]
 pub mod embree;
+mod error;
 mod extra;
 pub mod huge_array;
 pub mod obvhs;
 pub mod obvhs_instanced;
 pub mod watertight;
 
+pub use self::error::AccelError;
 pub use self::extra::WithExtra;
 pub use self::obvhs::curves::CurveBvh;
 pub use self::obvhs::quadrics::QuadricBvh;
@@ -63,17 +65,13 @@ pub enum AccelKind {
     Obvhs,
 }
 
-impl AccelKind {
-    /// Parses "embree", "embree-watertight" or "obvhs".
-    pub fn parse(name: &str) -> Result<Self, String> {
-        match name {
-            "embree" => Ok(AccelKind::Embree),
-            "embree-watertight" => Ok(AccelKind::EmbreeWatertight),
-            "obvhs" => Ok(AccelKind::Obvhs),
-            other => Err(format!("unknown accelerator '{other}' (valid: embree, embree-watertight, obvhs)")),
-        }
-    }
+crate::named::name_table!(AccelKind, "accelerator", {
+    "embree" => AccelKind::Embree,
+    "embree-watertight" => AccelKind::EmbreeWatertight,
+    "obvhs" => AccelKind::Obvhs,
+});
 
+impl AccelKind {
     /// The default: Embree when compiled in, else obvhs.
     pub fn default_available() -> Self {
         if cfg!(embree) {
@@ -82,31 +80,17 @@ impl AccelKind {
             AccelKind::Obvhs
         }
     }
-
-    /// The name.
-    pub fn name(self) -> &'static str {
-        match self {
-            AccelKind::Embree => "embree",
-            AccelKind::EmbreeWatertight => "embree-watertight",
-            AccelKind::Obvhs => "obvhs",
-        }
-    }
 }
 
-#[cfg(not(embree))]
-const NO_EMBREE: &str = "this prism was built without Embree (feature `embree` or `embree4`); use --accel obvhs";
-
 /// Builds the chosen backend over `meshes` (geometry id = mesh index).
-pub fn build(kind: AccelKind, meshes: &[Mesh]) -> Result<Box<dyn Accel>, String> {
+pub fn build(kind: AccelKind, meshes: &[Mesh]) -> Result<Box<dyn Accel>, AccelError> {
     match kind {
         #[cfg(embree)]
-        AccelKind::Embree => Ok(Box::new(embree::EmbreeAccel::new(meshes).map_err(|e| e.to_string())?)),
+        AccelKind::Embree => Ok(Box::new(embree::EmbreeAccel::new(meshes)?)),
         #[cfg(embree)]
-        AccelKind::EmbreeWatertight => {
-            Ok(Box::new(embree::EmbreeAccel::watertight(meshes).map_err(|e| e.to_string())?))
-        }
+        AccelKind::EmbreeWatertight => Ok(Box::new(embree::EmbreeAccel::watertight(meshes)?)),
         #[cfg(not(embree))]
-        AccelKind::Embree | AccelKind::EmbreeWatertight => Err(NO_EMBREE.into()),
+        AccelKind::Embree | AccelKind::EmbreeWatertight => Err(AccelError::NoEmbree),
         AccelKind::Obvhs => Ok(Box::new(obvhs::ObvhsAccel::new(meshes))),
     }
 }
@@ -196,19 +180,19 @@ pub fn build_with_curves(
     kind: AccelKind,
     meshes: &[Mesh],
     curves: &[(u32, &Curves)],
-) -> Result<Box<dyn Accel>, String> {
+) -> Result<Box<dyn Accel>, AccelError> {
     build_with_extra(kind, meshes, ExtraShapes { curves, quadrics: &[] })
 }
 
 /// Builds the chosen backend over `meshes` and the curves and quadrics of `extra`, no
 /// instances: [`build_scene`] with an empty [`InstanceSet`].
-pub fn build_with_extra(kind: AccelKind, meshes: &[Mesh], extra: ExtraShapes) -> Result<Box<dyn Accel>, String> {
+pub fn build_with_extra(kind: AccelKind, meshes: &[Mesh], extra: ExtraShapes) -> Result<Box<dyn Accel>, AccelError> {
     build_scene(kind, meshes, extra, &InstanceSet::default())
 }
 
 /// Builds the chosen backend over a scene with object instances of triangle meshes:
 /// [`build_scene`] without curves and quadrics.
-pub fn build_instanced(kind: AccelKind, meshes: &[Mesh], set: &InstanceSet) -> Result<Box<dyn Accel>, String> {
+pub fn build_instanced(kind: AccelKind, meshes: &[Mesh], set: &InstanceSet) -> Result<Box<dyn Accel>, AccelError> {
     build_scene(kind, meshes, ExtraShapes::default(), set)
 }
 
@@ -230,7 +214,7 @@ pub fn build_scene(
     meshes: &[Mesh],
     extra: ExtraShapes,
     set: &InstanceSet,
-) -> Result<Box<dyn Accel>, String> {
+) -> Result<Box<dyn Accel>, AccelError> {
     let instanced = !set.prototypes.is_empty();
     if extra.is_empty() && !instanced {
         return build(kind, meshes);
@@ -252,12 +236,11 @@ pub fn build_scene(
                 embree::EmbreeAccel::instanced_with_shapes(meshes, &table, set, test)
             } else {
                 embree::EmbreeAccel::with_extra(meshes, &curves, &fixed, test)
-            }
-            .map_err(|e| e.to_string())?;
+            }?;
             Ok(ExtraShapes { curves: &[], quadrics: &moving }.beside(Box::new(scene)))
         }
         #[cfg(not(embree))]
-        AccelKind::Embree | AccelKind::EmbreeWatertight => Err(NO_EMBREE.into()),
+        AccelKind::Embree | AccelKind::EmbreeWatertight => Err(AccelError::NoEmbree),
         AccelKind::Obvhs => {
             let triangles: Box<dyn Accel> = if instanced {
                 Box::new(obvhs_instanced::ObvhsInstancedAccel::new(meshes, &table, set))

@@ -2,11 +2,13 @@
 //! sample counts, measures time, throughput and memory, and the error of each image against a
 //! converged reference; writes CSV, JSON and plots.
 
+mod error;
 mod plot;
 mod run_info;
 mod terrain;
 mod time_to_error;
 
+pub use error::BenchError;
 pub use plot::{plot_error_vs_time, plot_rays_per_s};
 pub use run_info::RunInfo;
 pub use terrain::{terrain_scene, TERRAIN_TRIANGLES};
@@ -15,11 +17,11 @@ pub use time_to_error::{default_target, time_to, times_to_rmse, Reading, TimeToR
 use crate::accel::AccelKind;
 use crate::filter::Filter;
 use crate::image::{metrics, Image};
+use crate::named::UnknownName;
+use crate::pbrt::InputStamp;
 use crate::render::{render_range, RenderSettings, SamplerKind};
-use crate::scene::pbrt::InputStamp;
 use crate::scene::{Scene, SceneBuilder};
 use crate::spectrum::ColorSpace;
-use anyhow::{Context, Result};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -121,13 +123,13 @@ impl BenchConfig {
     }
 }
 
-fn load(cfg: &BenchConfig) -> Result<SceneBuilder> {
+fn load(cfg: &BenchConfig) -> Result<SceneBuilder, BenchError> {
     Ok(match cfg.scene.as_deref().and_then(|p| p.to_str()) {
         None | Some("builtin:cornell") => SceneBuilder::cornell_box(),
         Some("builtin:terrain") => terrain_scene(),
         Some(_) => {
             let path = cfg.scene.as_deref().expect("matched Some");
-            let loaded = crate::scene::pbrt::load_file(path, &Default::default())?;
+            let loaded = crate::pbrt::load_file(path, &Default::default())?;
             for w in &loaded.warnings {
                 log::warn!("{w}");
             }
@@ -146,7 +148,7 @@ fn render_image(
     scene: &Scene,
     s: &RenderSettings,
     mut progress: impl FnMut(u64),
-) -> Result<(Image, f64, crate::integrator::Stats)> {
+) -> Result<(Image, f64, crate::integrator::Stats), BenchError> {
     let t0 = Instant::now();
     let (w, h) = s.film_size();
     let mut film = crate::film::Film::try_new(w, h)?;
@@ -160,25 +162,20 @@ fn render_image(
 /// The stamps (size, hash of the contents) of every file the scene reads (none for a built-in
 /// scene), so that an edited scene file, or a file it includes or loads, is not rendered against
 /// the old reference.
-fn input_stamps(cfg: &BenchConfig) -> Result<Vec<InputStamp>> {
+fn input_stamps(cfg: &BenchConfig) -> Result<Vec<InputStamp>, BenchError> {
     let Some(path) = cfg.scene.as_ref().filter(|p| p.exists()) else { return Ok(Vec::new()) };
-    let (desc, _) = crate::scene::parse_file(path, &Default::default())?;
-    Ok(crate::scene::pbrt::input_stamps(&desc.input_files(), path.parent().unwrap_or(Path::new(""))))
+    let (desc, _) = crate::pbrt::parse_file(path, &Default::default())?;
+    Ok(crate::pbrt::input_stamps(&desc.input_files(), path.parent().unwrap_or(Path::new(""))))
 }
 
 /// The reference: the given image, or a cached render whose settings match, or a new render.
-fn reference(cfg: &BenchConfig) -> Result<Image> {
+fn reference(cfg: &BenchConfig) -> Result<Image, BenchError> {
     if let Some(p) = &cfg.reference {
-        let img = crate::image::read(p).with_context(|| format!("reading the reference {}", p.display()))?;
+        let img = crate::image::read(p).map_err(|source| BenchError::ReadReference { path: p.clone(), source })?;
         // Checked before rendering anything: every point is compared with it pixel by pixel.
         let (w, h) = cfg.settings.resolution;
         if (img.width, img.height) != (w, h) {
-            anyhow::bail!(
-                "the reference {} is {}x{}, but the bench renders {w}x{h} (--resolution)",
-                p.display(),
-                img.width,
-                img.height
-            );
+            return Err(BenchError::ReferenceSize { path: p.clone(), size: (img.width, img.height), renders: (w, h) });
         }
         return Ok(img);
     }
@@ -212,13 +209,14 @@ fn reference(cfg: &BenchConfig) -> Result<Image> {
 }
 
 /// Runs the whole ladder for every backend and sampler.
-pub fn run(cfg: &BenchConfig) -> Result<Vec<BenchPoint>> {
+pub fn run(cfg: &BenchConfig) -> Result<Vec<BenchPoint>, BenchError> {
     if let Some(name) = cfg.scene.as_ref().and_then(|p| p.to_str()).filter(|n| n.starts_with("builtin:")) {
         if !BUILTIN_SCENES.contains(&name) {
-            anyhow::bail!("unknown built-in scene '{name}' (valid: {})", BUILTIN_SCENES.join(", "));
+            let valid = BUILTIN_SCENES.join(", ");
+            return Err(BenchError::UnknownScene(UnknownName { what: "built-in scene", name: name.into(), valid }));
         }
     }
-    std::fs::create_dir_all(&cfg.out).with_context(|| format!("creating {}", cfg.out.display()))?;
+    std::fs::create_dir_all(&cfg.out).map_err(|source| BenchError::CreateDir { path: cfg.out.clone(), source })?;
     let info = RunInfo::collect(cfg);
     let reference = reference(cfg)?;
     let mut points = Vec::new();
@@ -325,7 +323,7 @@ pub fn markdown_table(points: &[BenchPoint]) -> String {
 
 /// Writes bench.csv, bench.json, time_to_rmse.json (each curve's time to each of `targets`),
 /// bench.md (headed by `info`), run.json and the plots into `dir`.
-pub fn write_outputs(dir: &Path, points: &[BenchPoint], targets: &[f64], info: &RunInfo) -> Result<()> {
+pub fn write_outputs(dir: &Path, points: &[BenchPoint], targets: &[f64], info: &RunInfo) -> Result<(), BenchError> {
     let mut csv = String::from(
         "accel,sampler,spp,time_s,samples_per_s,rays_per_s,build_s,scene_bytes,triangles,accel_bytes,accel_own_bytes,build_peak_bytes,peak_rss_bytes,rmse,rel_mse,mae\n",
     );

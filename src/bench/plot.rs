@@ -2,8 +2,8 @@
 //! bar chart of rays per second. PNG or SVG by extension (plotters; DejaVu Sans embedded, so no
 //! system fonts are needed).
 
+use super::BenchError;
 use super::BenchPoint;
-use anyhow::{anyhow, Result};
 use plotters::coord::combinators::WithKeyPoints;
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -46,9 +46,9 @@ fn series(points: &[BenchPoint]) -> Vec<(String, Vec<&BenchPoint>)> {
 fn with_backend(
     path: &Path,
     size: (u32, u32),
-    draw: impl Fn(DrawingArea<SVGBackend, Shift>) -> Result<()>,
-    draw_png: impl Fn(DrawingArea<BitMapBackend, Shift>) -> Result<()>,
-) -> Result<()> {
+    draw: impl Fn(DrawingArea<SVGBackend, Shift>) -> Result<(), BenchError>,
+    draw_png: impl Fn(DrawingArea<BitMapBackend, Shift>) -> Result<(), BenchError>,
+) -> Result<(), BenchError> {
     register_font();
     // Draw into a temporary file and rename, like every other output.
     let temp = crate::io::TempFile::create(path)?;
@@ -60,11 +60,11 @@ fn with_backend(
     Ok(temp.commit()?)
 }
 
-fn error_chart<DB: DrawingBackend>(root: DrawingArea<DB, Shift>, points: &[BenchPoint]) -> Result<()>
+fn error_chart<DB: DrawingBackend>(root: DrawingArea<DB, Shift>, points: &[BenchPoint]) -> Result<(), BenchError>
 where
     DB::ErrorType: 'static,
 {
-    let err = |e: DrawingAreaErrorKind<DB::ErrorType>| anyhow!("plotting: {e:?}");
+    let err = |e: DrawingAreaErrorKind<DB::ErrorType>| BenchError::Plot(format!("{e:?}"));
     root.fill(&WHITE).map_err(err)?;
     let pts: Vec<&BenchPoint> = points.iter().filter(|p| p.time_s > 0.0 && p.rmse > 0.0).collect();
     if pts.is_empty() {
@@ -147,11 +147,11 @@ fn tick_label(v: f64) -> String {
     format!("{v:.decimals$}")
 }
 
-fn rays_chart<DB: DrawingBackend>(root: DrawingArea<DB, Shift>, points: &[BenchPoint]) -> Result<()>
+fn rays_chart<DB: DrawingBackend>(root: DrawingArea<DB, Shift>, points: &[BenchPoint]) -> Result<(), BenchError>
 where
     DB::ErrorType: 'static,
 {
-    let err = |e: DrawingAreaErrorKind<DB::ErrorType>| anyhow!("plotting: {e:?}");
+    let err = |e: DrawingAreaErrorKind<DB::ErrorType>| BenchError::Plot(format!("{e:?}"));
     root.fill(&WHITE).map_err(err)?;
     // Throughput of each curve at its largest sample count (the steadiest figure).
     let bars: Vec<(String, f64)> = series(points)
@@ -194,12 +194,12 @@ where
 }
 
 /// Error against time, one curve per backend/sampler, with the ideal 1/√t slope.
-pub fn plot_error_vs_time(points: &[BenchPoint], path: &Path) -> Result<()> {
+pub fn plot_error_vs_time(points: &[BenchPoint], path: &Path) -> Result<(), BenchError> {
     with_backend(path, (SIZE.0 + KEY_WIDTH, SIZE.1), |a| error_chart(a, points), |a| error_chart(a, points))
 }
 
 /// Rays per second per backend/sampler.
-pub fn plot_rays_per_s(points: &[BenchPoint], path: &Path) -> Result<()> {
+pub fn plot_rays_per_s(points: &[BenchPoint], path: &Path) -> Result<(), BenchError> {
     with_backend(path, SIZE, |a| rays_chart(a, points), |a| rays_chart(a, points))
 }
 

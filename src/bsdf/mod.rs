@@ -21,6 +21,7 @@ pub mod local;
 pub mod measured;
 pub mod metals;
 mod microfacet;
+pub mod named_spectra;
 mod normalized_fresnel;
 mod sample;
 mod thin_dielectric;

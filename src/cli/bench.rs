@@ -49,7 +49,7 @@ pub struct BenchArgs {
 
 /// Runs `prism bench`.
 pub fn run(a: &BenchArgs) -> Result<()> {
-    let accels = parse_list(&a.accel, "--accel", |s| AccelKind::parse(s).map_err(anyhow::Error::msg))?;
+    let accels = parse_list(&a.accel, "--accel", |s| AccelKind::parse(s).map_err(anyhow::Error::from))?;
     let samplers = parse_list(&a.sampler, "--sampler", settings::parse_sampler)?;
     let ladder = parse_list(&a.spp_ladder, "--spp-ladder", |s| settings::parse_count(s, "--spp-ladder"))?;
     settings::count(a.reference_spp.min(i64::MAX as u64) as i64, "--reference-spp")?;

@@ -8,6 +8,7 @@
 //! reference named `NAME-N` belongs to scene `NAME` rendered at N×N. `ref/REFERENCES*.json`, when
 //! present, give pbrt-v4's wall times.
 
+pub use super::compat_case::CompatCase;
 use super::compat_report::{self, SceneReport};
 use crate::image::{self, compose, metrics, Image};
 use anyhow::{bail, Context, Result};
@@ -49,21 +50,6 @@ pub struct CompatArgs {
     /// Write the report here (side-by-side images go to `images/compat/` beside it).
     #[arg(long)]
     pub doc: Option<PathBuf>,
-}
-
-/// One scene with pbrt-v4's images of it.
-#[derive(Clone, Debug)]
-pub struct CompatCase {
-    /// Reference stem, e.g. `envmap` or `killeroo-simple-350`.
-    pub name: String,
-    /// The scene file.
-    pub scene: PathBuf,
-    /// pbrt-v4's high-spp image.
-    pub reference: PathBuf,
-    /// pbrt-v4's second-seed image and its spp.
-    pub second: Option<(PathBuf, u64)>,
-    /// pbrt-v4's wall time for the second-seed image [s], from REFERENCES*.json.
-    pub pbrt_wall_s: Option<f64>,
 }
 
 /// Finds the cases of `dir`: every `ref/*.pbrt-v4.exr` whose scene exists.

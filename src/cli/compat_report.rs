@@ -1,7 +1,7 @@
 //! The measurements of one `prism compat` scene, the rule that decides whether it matches
 //! pbrt-v4, and the markdown report.
 
-use super::compat::CompatCase;
+use super::compat_case::CompatCase;
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 use std::path::PathBuf;

@@ -2,7 +2,7 @@
 
 use crate::accel::AccelKind;
 use crate::render::RenderSettings;
-use crate::scene::pbrt::FileSettings;
+use crate::pbrt::FileSettings;
 use crate::scene::SceneBuilder;
 use crate::settings;
 use anyhow::{bail, Context, Result};

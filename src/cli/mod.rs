@@ -5,6 +5,7 @@ pub mod bench;
 pub mod color;
 mod color_report;
 pub mod compat;
+mod compat_case;
 mod compat_report;
 pub mod measure;
 pub mod merge;

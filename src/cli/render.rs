@@ -5,9 +5,10 @@ use crate::film::{Crop, Film, FilmSettings};
 use crate::image::{CropWindow, ExrSample, WriteOptions};
 use crate::integrator::{Integrator, IntegratorKind, Stats, SubsurfaceMethod};
 use crate::light::LightSamplerKind;
+use crate::named::UnknownName;
+use crate::pbrt::{input_stamps, FileSettings, InputStamp, LoadedScene, QuadricMode};
 use crate::render::RenderSettings;
-use crate::scene::pbrt::{input_stamps, FileSettings, InputStamp, LoadedScene};
-use crate::scene::{QuadricMode, Scene, SceneBuilder};
+use crate::scene::{Scene, SceneBuilder};
 use crate::sensor::Sensor;
 use crate::settings;
 use crate::spectrum::ColorSpace;
@@ -155,7 +156,7 @@ pub struct Job {
 pub fn prepare(args: &RenderArgs) -> Result<Job> {
     let spp = args.spp.map(|n| settings::count(n, "--spp")).transpose()?;
     let accel = match &args.accel {
-        Some(a) => AccelKind::parse(a).map_err(anyhow::Error::msg)?,
+        Some(a) => AccelKind::parse(a)?,
         None => AccelKind::default_available(),
     };
     let resolution = args.resolution.as_deref().map(settings::parse_resolution).transpose()?;
@@ -165,27 +166,18 @@ pub fn prepare(args: &RenderArgs) -> Result<Job> {
         _ => None,
     };
     let time_limit = args.time_limit.as_deref().map(settings::parse_duration).transpose()?;
-    let integrator_kind = match args.integrator.as_deref() {
-        None => None,
-        Some(name) => Some(
-            IntegratorKind::parse(name)
-                .with_context(|| format!("unknown --integrator '{name}' (valid: {})", IntegratorKind::valid_names()))?,
-        ),
-    };
+    let integrator_kind = args.integrator.as_deref().map(IntegratorKind::parse).transpose()?;
     let max_depth = args.max_depth.map(|d| settings::max_depth(d, "--max-depth")).transpose()?;
-    let sss = args.sss.as_deref().map(SubsurfaceMethod::parse).transpose().map_err(anyhow::Error::msg)?;
+    let sss = args.sss.as_deref().map(SubsurfaceMethod::parse).transpose()?;
     let light_sampler = match args.light_sampler.as_deref() {
         None => None,
-        Some(name) => Some(
-            LightSamplerKind::parse(name)
-                .with_context(|| format!("unknown --light-sampler '{name}' (valid: {})", LightSamplerKind::NAMES))?,
-        ),
+        Some(name) => Some(LightSamplerKind::parse(name).map_err(|e| UnknownName { what: "--light-sampler", ..e })?),
     };
 
     let (mut builder, file, scene_name, inputs) = match &args.scene {
         None => (SceneBuilder::cornell_box(), FileSettings::default(), "builtin:cornell".to_string(), Vec::new()),
         Some(path) => {
-            let quadrics = args.quadrics.as_deref().map(QuadricMode::parse).transpose().map_err(anyhow::Error::msg)?;
+            let quadrics = args.quadrics.as_deref().map(QuadricMode::parse).transpose()?;
             let loaded = load_scene_file(path, args.strict, quadrics.unwrap_or_default())?;
             let base = path.parent().unwrap_or(Path::new(""));
             let name = path.file_name().map_or(String::new(), |n| n.to_string_lossy().into_owned());
@@ -222,7 +214,7 @@ pub fn prepare(args: &RenderArgs) -> Result<Job> {
     let build_s = t0.elapsed().as_secs_f64();
     let integrator = integrator_for(&scene, &file, integrator_kind, max_depth, sss);
     let resolution = resolution.or(file.resolution).unwrap_or(d.resolution);
-    let crop = crop_arg.or(file.crop).map(|c| c.bounds(resolution)).transpose().map_err(anyhow::Error::msg)?;
+    let crop = crop_arg.or(file.crop).map(|c| c.bounds(resolution)).transpose()?;
     let sensor = Sensor::new(
         file.iso.unwrap_or(100.0),
         file.exposure_time.unwrap_or(1.0),
@@ -255,7 +247,8 @@ pub(crate) fn integrator_for(
     sss: Option<SubsurfaceMethod>,
 ) -> Integrator {
     let d = Integrator::default();
-    let named = named.or(file.integrator).unwrap_or(d.kind);
+    let from_file = file.integrator.as_deref().and_then(|n| IntegratorKind::parse(n).ok());
+    let named = named.or(from_file).unwrap_or(d.kind);
     let integrator = Integrator {
         kind: named,
         max_depth: max_depth.or(file.max_depth).unwrap_or(d.max_depth),
@@ -276,8 +269,8 @@ pub(crate) fn load_scene_file(path: &Path, strict: bool, quadrics: QuadricMode) 
     if !path.exists() {
         bail!("scene file '{}' does not exist", path.display());
     }
-    let opts = crate::scene::ParseOptions { strict, quadrics, ..Default::default() };
-    let loaded = crate::scene::pbrt::load_file(path, &opts)?;
+    let opts = crate::pbrt::ParseOptions { strict, quadrics, ..Default::default() };
+    let loaded = crate::pbrt::load_file(path, &opts)?;
     for w in &loaded.warnings {
         log::warn!("{w}");
     }
@@ -331,8 +324,8 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         bail!("--part writes a share of the samples: give a .film output and combine with `prism merge`");
     }
     // Tessellated quadrics change the image: the backend's name carries the choice.
-    let accel = match args.quadrics.as_deref() {
-        Some("tessellated") => format!("{} (tessellated quadrics)", job.scene.accel().name()),
+    let accel = match args.quadrics.as_deref().map(QuadricMode::parse) {
+        Some(Ok(QuadricMode::Tessellated)) => format!("{} (tessellated quadrics)", job.scene.accel().name()),
         _ => job.scene.accel().name().to_string(),
     };
     let fp = crate::fingerprint::fingerprint(&job.scene_name, &job.inputs, &job.settings, job.space.name, &accel);

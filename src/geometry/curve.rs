@@ -132,20 +132,40 @@ pub enum CurveBasis {
     BSpline,
 }
 
+/// Control points that make no curve.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum CurveError {
+    /// A degree other than 2 or 3.
+    #[error("degree {0}: only degree 2 and 3 curves are supported")]
+    Degree(usize),
+    /// A Bézier curve's point count that is not degree + 1 + n·degree.
+    #[error("{points} control points: a degree {degree} Bézier curve needs {} + n·{degree}", .degree + 1)]
+    BezierPoints {
+        /// Control points given.
+        points: usize,
+        /// The curve's degree.
+        degree: usize,
+    },
+    /// Fewer than degree + 1 points of a B-spline.
+    #[error("{points} control points: a degree {degree} B-spline needs at least {}", .degree + 1)]
+    BSplinePoints {
+        /// Control points given.
+        points: usize,
+        /// The curve's degree.
+        degree: usize,
+    },
+}
+
 /// The cubic Bézier segments of a curve of `degree` 2 or 3 through control points `p` in
-/// `basis` (pbrt-v4 `Curve::Create`); an error message when the count does not fit.
-pub fn bezier_segments(p: &[Vec3], basis: CurveBasis, degree: usize) -> Result<Vec<[Vec3; 4]>, String> {
+/// `basis` (pbrt-v4 `Curve::Create`); an error when the count does not fit.
+pub fn bezier_segments(p: &[Vec3], basis: CurveBasis, degree: usize) -> Result<Vec<[Vec3; 4]>, CurveError> {
     if degree != 2 && degree != 3 {
-        return Err(format!("degree {degree}: only degree 2 and 3 curves are supported"));
+        return Err(CurveError::Degree(degree));
     }
     match basis {
         CurveBasis::Bezier => {
             if p.len() < degree + 1 || !(p.len() - 1 - degree).is_multiple_of(degree) {
-                return Err(format!(
-                    "{} control points: a degree {degree} Bézier curve needs {} + n·{degree}",
-                    p.len(),
-                    degree + 1
-                ));
+                return Err(CurveError::BezierPoints { points: p.len(), degree });
             }
             Ok((0..(p.len() - 1) / degree)
                 .map(|s| {
@@ -160,11 +180,7 @@ pub fn bezier_segments(p: &[Vec3], basis: CurveBasis, degree: usize) -> Result<V
         }
         CurveBasis::BSpline => {
             if p.len() < degree + 1 {
-                return Err(format!(
-                    "{} control points: a degree {degree} B-spline needs at least {}",
-                    p.len(),
-                    degree + 1
-                ));
+                return Err(CurveError::BSplinePoints { points: p.len(), degree });
             }
             Ok((0..p.len() - degree)
                 .map(|s| {

@@ -15,9 +15,7 @@ use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 use crate::texture::{RayDifferentials, TextureFootprint};
 use glam::Vec3;
 
-/// A `max_depth` of no limit: Russian roulette alone ends paths (its survival probability is
-/// then capped, see [`Integrator::rr_depth`]).
-pub const UNBOUNDED_DEPTH: u32 = u32::MAX;
+pub use crate::settings::UNBOUNDED_DEPTH;
 
 /// The estimators prism renders with, by pbrt-v4's `Integrator` names.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -30,25 +28,10 @@ pub enum IntegratorKind {
     VolPath,
 }
 
-impl IntegratorKind {
-    /// Every kind with its pbrt-v4 name: the one table names are parsed from and printed with.
-    pub const NAMES: &'static [(&'static str, Self)] = &[("path", Self::Path), ("volpath", Self::VolPath)];
-
-    /// The kind named `name` (pbrt-v4's names).
-    pub fn parse(name: &str) -> Option<Self> {
-        Self::NAMES.iter().find(|(n, _)| *n == name).map(|&(_, k)| k)
-    }
-
-    /// The pbrt-v4 name.
-    pub fn name(self) -> &'static str {
-        Self::NAMES.iter().find(|(_, k)| *k == self).map_or("?", |(n, _)| n)
-    }
-
-    /// The names, comma-separated (for messages).
-    pub fn valid_names() -> String {
-        Self::NAMES.iter().map(|(n, _)| *n).collect::<Vec<_>>().join(", ")
-    }
-}
+crate::named::name_table!(IntegratorKind, "integrator", {
+    "path" => IntegratorKind::Path,
+    "volpath" => IntegratorKind::VolPath,
+});
 
 /// Which estimators of direct light to use (for validating MIS: all three must agree).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

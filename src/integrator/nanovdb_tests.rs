@@ -154,8 +154,8 @@ fn uniformgrid_medium() -> String {
 }
 
 fn build(text: &str) -> crate::scene::Scene {
-    let (desc, mut warnings) = crate::scene::parse_str(text, &Default::default()).unwrap();
-    let (b, _) = crate::scene::pbrt::build(&desc, &mut warnings).unwrap();
+    let (desc, mut warnings) = crate::pbrt::parse_str(text, &Default::default()).unwrap();
+    let (b, _) = crate::pbrt::build(&desc, &mut warnings).unwrap();
     warnings.extend(desc.report_unused());
     assert!(warnings.is_empty(), "{warnings:?}");
     b.build(crate::accel::AccelKind::Obvhs).unwrap()

@@ -49,24 +49,11 @@ pub enum SubsurfaceMethod {
     RandomWalk,
 }
 
-impl SubsurfaceMethod {
-    /// Parses "diffusion" or "randomwalk".
-    pub fn parse(name: &str) -> Result<Self, String> {
-        match name {
-            "diffusion" => Ok(Self::Diffusion),
-            "randomwalk" | "random-walk" => Ok(Self::RandomWalk),
-            other => Err(format!("unknown subsurface method '{other}' (valid: diffusion, randomwalk)")),
-        }
-    }
-
-    /// The name, as on the command line.
-    pub fn name(self) -> &'static str {
-        match self {
-            Self::Diffusion => "diffusion",
-            Self::RandomWalk => "randomwalk",
-        }
-    }
-}
+crate::named::name_table!(SubsurfaceMethod, "subsurface method", {
+    "diffusion" => SubsurfaceMethod::Diffusion,
+    "randomwalk" => SubsurfaceMethod::RandomWalk,
+    "random-walk" => SubsurfaceMethod::RandomWalk,
+});
 
 /// The subsurface material a path enters when its sample `bs` at `si` (with BSDF shading normal
 /// `ns`) refracts into the surface; `None` for any other sample or material. The material is

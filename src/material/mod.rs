@@ -284,7 +284,7 @@ fn clamp01(s: SampledSpectrum) -> SampledSpectrum {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene::pbrt::named_spectrum;
+    use crate::bsdf::named_spectra::named_spectrum;
 
     fn point() -> ShadingPoint {
         ShadingPoint { ns: Vec3::Z, ng: Vec3::Z, dpdu: Vec3::X, tex: TextureEvalContext::uv(glam::Vec2::ZERO) }

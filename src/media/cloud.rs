@@ -3,9 +3,9 @@
 //! height y and filling the box's lower half, clamped to [0, 1]; σ_a and σ_s are scaled by it.
 //! Its majorant is σ_t over the whole box (the density never exceeds 1).
 
+use super::coefficients::{Homogeneous, MediumPoint};
 use super::grid::{clip_to_unit_cube, unit_cube_from_world};
 use super::majorant::MajorantSegments;
-use super::medium::{Homogeneous, MediumPoint};
 use crate::spectrum::SampledSpectrum;
 use crate::texture::noise::noise;
 use glam::{Mat4, Vec3};

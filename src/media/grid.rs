@@ -2,8 +2,8 @@
 //! box (pbrt-v4 `GridMedium`, the scene format's "uniformgrid"): density d(p) is the trilinear
 //! interpolation of the samples, which sit at cell centres, and is 0 outside the box.
 
+use super::coefficients::{Homogeneous, MediumPoint};
 use super::majorant::{Dda, MajorantGrid, MajorantSegments};
-use super::medium::{Homogeneous, MediumPoint};
 use crate::spectrum::{SampledSpectrum, SampledWavelengths, Spectrum};
 use glam::{IVec3, Mat4, UVec3, Vec3};
 
@@ -280,7 +280,7 @@ pub fn clip_to_unit_cube(o: Vec3, d: Vec3, t_max: f32) -> Option<(f32, f32)> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::media::majorant::first_collision_p_value;
+    use crate::media::delta_tracking::first_collision_p_value;
     use crate::media::Medium;
     use crate::sampling::Rng;
     use crate::spectrum::Spectrum;

@@ -14,10 +14,8 @@
 //! wavelength is allowed by the hero-wavelength estimators (Miller, Georgiev & Jarosz 2019), but
 //! on an RGB grid it raised the colour noise more than it saved in collisions.
 
-use super::medium::{Medium, MediumPoint};
-use crate::sampling::Rng;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths, LAMBDA_MAX, LAMBDA_MIN};
-use glam::{UVec3, Vec3, Vec4};
+use glam::{UVec3, Vec3};
 
 /// Wavelength bands of a spectral majorant grid: [360, 830] nm in equal parts.
 pub const BANDS: usize = 8;
@@ -205,160 +203,12 @@ impl Iterator for Dda<'_> {
     }
 }
 
-/// What a collision callback of [`sample_t_maj`] is given: the point, the medium's coefficients
-/// there, the majorant and the majorant transmittance T_maj since the previous collision.
-pub struct Collision {
-    /// World-space point.
-    pub p: Vec3,
-    /// Coefficients at `p`.
-    pub mp: MediumPoint,
-    /// σ_maj at `p`.
-    pub sigma_maj: SampledSpectrum,
-    /// exp(−∫σ_maj) from the previous collision (or the ray origin) to `p`.
-    pub t_maj: SampledSpectrum,
-}
-
-/// Samples tentative collisions along `o + t d` (`d` unit) for t in [0, t_max] from the
-/// majorant's exponential distribution at the hero wavelength (pbrt-v4 `SampleT_maj`): each is
-/// handed to `collide` with the generator, which returns false to stop. Returns the majorant
-/// transmittance from the last collision to `t_max`, or 1 when `collide` stopped the walk. `u` is
-/// the first distance's uniform, `rng` supplies the rest.
-#[allow(clippy::too_many_arguments)]
-#[inline]
-pub fn sample_t_maj(
-    medium: &Medium,
-    uniform: &MediumPoint,
-    o: Vec3,
-    d: Vec3,
-    t_max: f32,
-    u: f32,
-    rng: &mut Rng,
-    w: &SampledWavelengths,
-    collide: impl FnMut(Collision, &mut Rng) -> bool,
-) -> SampledSpectrum {
-    let segments = medium.majorant_segments(o, d, t_max, uniform, w);
-    sample_collisions(segments, |p| medium.point_at(p, uniform, w), o, d, u, rng, collide)
-}
-
-/// [`sample_t_maj`] in a homogeneous medium of coefficients `medium` along t in [0, t_max]:
-/// σ_maj = σ_t, so every tentative collision is a real one.
-#[allow(clippy::too_many_arguments)]
-#[inline]
-pub fn sample_t_maj_homogeneous(
-    medium: &MediumPoint,
-    o: Vec3,
-    d: Vec3,
-    t_max: f32,
-    u: f32,
-    rng: &mut Rng,
-    collide: impl FnMut(Collision, &mut Rng) -> bool,
-) -> SampledSpectrum {
-    let segments = MajorantSegments::single(0.0, t_max, medium.sigma_a + medium.sigma_s);
-    sample_collisions(segments, |_| *medium, o, d, u, rng, collide)
-}
-
-/// The delta-tracking loop of [`sample_t_maj`] over the majorant `segments`, with the
-/// coefficients at a point given by `point_at`.
-#[inline(always)]
-fn sample_collisions<'g>(
-    segments: MajorantSegments<'g>,
-    point_at: impl Fn(Vec3) -> MediumPoint,
-    o: Vec3,
-    d: Vec3,
-    mut u: f32,
-    rng: &mut Rng,
-    mut collide: impl FnMut(Collision, &mut Rng) -> bool,
-) -> SampledSpectrum {
-    let mut t_maj = SampledSpectrum::one();
-    for seg in segments {
-        let s0 = seg.sigma_maj[0];
-        if s0 == 0.0 {
-            t_maj *= beer_lambert(seg.sigma_maj, finite_length(seg.t_max - seg.t_min));
-            continue;
-        }
-        let mut t_min = seg.t_min;
-        loop {
-            let t = t_min - (1.0 - u).ln() / s0;
-            u = rng.uniform();
-            if t < seg.t_max {
-                t_maj *= beer_lambert(seg.sigma_maj, t - t_min);
-                let p = o + d * t;
-                let mp = point_at(p);
-                if !collide(Collision { p, mp, sigma_maj: seg.sigma_maj, t_maj }, rng) {
-                    return SampledSpectrum::one();
-                }
-                t_maj = SampledSpectrum::one();
-                t_min = t;
-            } else {
-                t_maj *= beer_lambert(seg.sigma_maj, finite_length(seg.t_max - t_min));
-                break;
-            }
-        }
-    }
-    t_maj
-}
-
-/// exp(−σ d) at the four wavelengths: one exponential when σ is the same at all four, as a
-/// grid's majorant is.
-#[inline]
-fn beer_lambert(sigma: SampledSpectrum, d: f32) -> SampledSpectrum {
-    if sigma.0 == Vec4::splat(sigma[0]) {
-        SampledSpectrum::splat((sigma[0] * -d).exp())
-    } else {
-        (sigma * -d).exp()
-    }
-}
-
-/// An infinite length is taken as the largest float, so that exp(−σ·len) is 0 for σ > 0 and 1
-/// (not NaN) for σ = 0.
-#[inline]
-fn finite_length(dt: f32) -> f32 {
-    if dt.is_finite() {
-        dt
-    } else {
-        f32::MAX
-    }
-}
-
-/// The χ² p-value of `n` first tentative collisions of [`sample_t_maj`] along `o + t d`
-/// against their CDF `cdf` (which reaches 1 − `escape` at `t_max`), in `bins` bins of equal
-/// probability plus one for no collision.
-#[cfg(test)]
-#[allow(clippy::too_many_arguments)]
-pub(crate) fn first_collision_p_value(
-    medium: &Medium,
-    (o, d, t_max): (Vec3, Vec3, f32),
-    cdf: impl Fn(f32) -> f64,
-    escape: f64,
-    bins: usize,
-    n: usize,
-    seed: u64,
-) -> f64 {
-    let w = SampledWavelengths::sample_uniform(0.37);
-    let uniform = medium.uniform_point(&w);
-    let mut counts = vec![0f64; bins + 1];
-    let mut rng = Rng::new(seed, 0);
-    for _ in 0..n {
-        let mut first = None;
-        let u = rng.uniform();
-        sample_t_maj(medium, &uniform, o, d, t_max, u, &mut rng, &w, |c, _| {
-            first = Some((c.p - o).dot(d));
-            false
-        });
-        match first {
-            Some(t) => counts[((cdf(t) / (1.0 - escape) * bins as f64) as usize).min(bins - 1)] += 1.0,
-            None => counts[bins] += 1.0,
-        }
-    }
-    let expect = |b: usize| if b < bins { (1.0 - escape) / bins as f64 } else { escape } * n as f64;
-    let chi2: f64 = counts.iter().enumerate().map(|(b, o)| (o - expect(b)).powi(2) / expect(b)).sum();
-    crate::sampling::chi2::chi2_survival(chi2, bins as f64)
-}
-
 #[cfg(test)]
 mod tests {
+    use super::super::delta_tracking::first_collision_p_value;
     use super::*;
     use crate::media::Homogeneous;
+    use crate::media::Medium;
     use crate::spectrum::Spectrum;
 
     #[test]

@@ -6,6 +6,8 @@
 //! material's homogeneous interior ([`sample_t_maj_homogeneous`]): one free-flight sampler.
 
 mod cloud;
+mod coefficients;
+mod delta_tracking;
 pub mod grid;
 pub mod majorant;
 mod medium;
@@ -16,9 +18,11 @@ pub mod presets;
 mod rgb_grid;
 
 pub use cloud::{CloudMedium, CloudShape};
+pub use coefficients::{Homogeneous, MediumPoint};
+pub use delta_tracking::{sample_t_maj, sample_t_maj_homogeneous, Collision};
 pub use grid::{DensityGrid, EmissionSource, GridEmission, GridMedium};
-pub use majorant::{sample_t_maj, sample_t_maj_homogeneous, Collision, MajorantSegment};
-pub use medium::{Homogeneous, Medium, MediumPoint};
+pub use majorant::MajorantSegment;
+pub use medium::Medium;
 pub use nanovdb_medium::{NanoVdbMedium, TemperatureEmission, NANOVDB_MAJORANT_RES};
 pub use phase::{hg_density, HenyeyGreenstein};
 pub use rgb_grid::{RgbGridMedium, SpectrumGrid};

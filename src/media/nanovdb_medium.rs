@@ -11,8 +11,8 @@
 //! - Majorants: a 64³ grid over the bounds, each cell the largest value any voxel whose trilinear
 //!   support (its index ± 1) meets the cell can contribute.
 
+use super::coefficients::{Homogeneous, MediumPoint};
 use super::majorant::{Dda, MajorantGrid, MajorantSegments};
-use super::medium::{Homogeneous, MediumPoint};
 use super::nanovdb::grid::Node;
 use super::nanovdb::FloatGrid;
 use crate::media::grid::{clip_to_unit_cube, unit_cube_from_world};

@@ -6,9 +6,9 @@
 //! illuminant spectra (the colour space's white times each voxel's colour) emits
 //! L_e(p) = `Lescale` · trilinear(Le)(p), unscaled by `scale` and not normalised, as pbrt-v4's.
 
+use super::coefficients::MediumPoint;
 use super::grid::{clip_to_unit_cube, interior_rows, lattice_point, unit_cube_from_world, DensityGrid, MAJORANT_RES};
 use super::majorant::{band_range, Dda, MajorantGrid, MajorantSegments, BANDS};
-use super::medium::MediumPoint;
 use crate::spectrum::{normalised_wavelengths, SampledSpectrum, SampledWavelengths, ScaledSigmoid, Spectrum};
 use glam::{IVec3, Mat4, UVec3, Vec3, Vec4};
 

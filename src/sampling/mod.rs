@@ -3,6 +3,7 @@
 pub mod alias;
 pub mod chi2;
 pub mod distribution;
+mod kind;
 pub mod mis;
 pub mod piecewise_linear;
 pub mod rng;
@@ -14,6 +15,7 @@ pub mod windowed;
 
 pub use alias::AliasTable;
 pub use distribution::{Distribution1D, Distribution2D, Sample1D};
+pub use kind::SamplerKind;
 pub use piecewise_linear::PiecewiseLinear2D;
 pub use rng::Rng;
 pub use sampler::Sampler;

@@ -1,34 +1,14 @@
 //! Scenes: a builder that collects meshes, materials and lights (from the built-in Cornell box or
-//! a pbrt-v4 file), and the render-ready [`Scene`]: its accelerator over [`Primitive`]s, which
-//! bind geometry to material, emission and media.
+//! a pbrt-v4 file read by [`crate::pbrt`]), and the render-ready [`Scene`]: its accelerator over
+//! [`Primitive`]s, which bind geometry to material, emission and media.
 
 mod cornell;
-mod curve_params;
-pub mod desc;
-pub mod error;
-pub mod input;
 mod interaction;
-pub mod mesh_io;
 mod mesh_lights;
-pub mod names;
-pub mod params;
-pub mod parser;
-pub mod pbrt;
 mod primitive;
-mod quadric_params;
-pub mod shapes;
-mod source;
-pub mod tokenizer;
 
 pub use cornell::add_cornell_box;
-pub use desc::{
-    AreaLightDesc, Directive, InstanceDesc, LightDesc, MaterialDesc, MaterialRef, MediumDesc, MediumNames,
-    NamedMaterial, ObjectDesc, SceneDesc, ShapeDesc, ShapeGeometry, TextureClass, TextureDesc,
-};
-pub use error::{Location, SceneError, Warning};
 pub use interaction::SurfaceInteraction;
-pub use params::{FloatOrTexture, ParamSet, ParamValue, SpectrumOrTexture, SpectrumParam};
-pub use parser::{look_at, parse_file, parse_str, ParseOptions};
 pub use primitive::{MediumInterface, Primitive};
 
 use crate::accel::{self, Accel, AccelKind};
@@ -57,27 +37,6 @@ pub struct Emission {
     pub scale: f32,
     /// Emits from both sides.
     pub two_sided: bool,
-}
-
-/// How pbrt-v4's sphere, disk and cylinder shapes are built.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum QuadricMode {
-    /// Intersected exactly in object space by both backends.
-    #[default]
-    Analytic,
-    /// Inscribed triangle meshes with analytic normals and (u, v) ([`crate::geometry::quadric`]).
-    Tessellated,
-}
-
-impl QuadricMode {
-    /// Parses "analytic" or "tessellated".
-    pub fn parse(name: &str) -> Result<Self, String> {
-        match name {
-            "analytic" => Ok(QuadricMode::Analytic),
-            "tessellated" => Ok(QuadricMode::Tessellated),
-            other => Err(format!("unknown quadric mode '{other}' (valid: analytic, tessellated)")),
-        }
-    }
 }
 
 /// Camera parameters independent of the image resolution.
@@ -128,8 +87,8 @@ impl CameraDesc {
 #[derive(Debug, thiserror::Error)]
 pub enum BuildError {
     /// The accelerator failed (e.g. Embree device creation).
-    #[error("{0}")]
-    Accel(String),
+    #[error(transparent)]
+    Accel(#[from] accel::AccelError),
     /// No camera was given.
     #[error("the scene has no camera")]
     NoCamera,
@@ -515,7 +474,7 @@ impl SceneBuilder {
         }
         let extra = accel::ExtraShapes { curves: &curves, quadrics: &placed };
         let set = InstanceSet { world_meshes, prototypes: self.prototypes, instances: self.instances };
-        let accel = accel::build_scene(accel_kind, &meshes, extra, &set).map_err(BuildError::Accel)?;
+        let accel = accel::build_scene(accel_kind, &meshes, extra, &set)?;
         let quadric_moves = placed.iter().any(|(_, q)| q.moves());
         let mut lights = self.lights;
         let mut primitives = Vec::with_capacity(meshes.len());

@@ -101,7 +101,7 @@ impl ColorSpace {
 
     /// The Gauss–Newton fitter of sigmoid polynomials for this space (built on first use).
     pub(crate) fn fitter(&self) -> &SigmoidFitter {
-        self.fitter.get_or_init(|| SigmoidFitter::new(self))
+        self.fitter.get_or_init(|| SigmoidFitter::new(&self.illuminant, self.xyz_to_rgb_f64))
     }
 
     /// The Jakob–Hanika coefficient table for this space (built on first use, see

@@ -11,113 +11,13 @@
 //! makes the round trip exact to the optimiser tolerance.
 
 use super::cie::{for_each_node, xyz_bar_f64, CIE_LAMBDA_MAX, CIE_LAMBDA_MIN};
-use super::color_space::ColorSpace;
-use glam::{DMat3, DVec3, Vec4};
+use super::sigmoid::{sigmoid, sigmoid_derivative, SigmoidPolynomial, X_SPAN};
+use super::spd::Spectrum;
+use glam::{DMat3, DVec3};
 use rayon::prelude::*;
-
-const X_SPAN: f64 = CIE_LAMBDA_MAX - CIE_LAMBDA_MIN;
 
 /// Bound on |cᵢ| during fitting (normalised-wavelength units).
 const MAX_COEFF: f64 = 1e5;
-
-/// σ(t) = ½ + t / (2√(1 + t²)), with the limits 0 and 1 at ∓∞.
-#[inline]
-fn sigmoid(t: f64) -> f64 {
-    if t.is_infinite() {
-        return if t > 0.0 { 1.0 } else { 0.0 };
-    }
-    0.5 + t / (2.0 * (1.0 + t * t).sqrt())
-}
-
-/// x = (λ − 360 nm) / 470 nm of four wavelengths λ [nm].
-#[inline]
-pub fn normalised_wavelengths(lambda: [f32; 4]) -> Vec4 {
-    (Vec4::from_array(lambda) - Vec4::splat(CIE_LAMBDA_MIN as f32)) * (1.0 / X_SPAN as f32)
-}
-
-/// σ(c₀x² + c₁x + c₂) at four normalised wavelengths x in single precision. t is clamped to
-/// ±10¹⁸ (where σ rounds to 0 or 1) so that t² stays finite and ±∞ give the limits.
-#[inline]
-pub fn sigmoid4(c: [f32; 3], x: Vec4) -> Vec4 {
-    let t = (Vec4::splat(c[0]) * x + Vec4::splat(c[1])) * x + Vec4::splat(c[2]);
-    let t = t.clamp(Vec4::splat(-1e18), Vec4::splat(1e18));
-    Vec4::splat(0.5) + Vec4::splat(0.5) * t / (Vec4::ONE + t * t).sqrt()
-}
-
-/// `scale · σ(c₀x² + c₁x + c₂)` with single-precision coefficients, evaluated at four
-/// normalised wavelengths at a time ([`normalised_wavelengths`]): the compact form of a sigmoid
-/// spectrum kept per voxel or texel. A zero scale gives 0 without evaluating σ (a sparse grid's
-/// empty voxels, a black texel).
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct ScaledSigmoid {
-    /// Polynomial coefficients in the normalised wavelength (highest degree first).
-    pub c: [f32; 3],
-    /// Multiplier.
-    pub scale: f32,
-}
-
-impl ScaledSigmoid {
-    /// The values at the normalised wavelengths `x`.
-    #[inline]
-    pub fn sample(&self, x: Vec4) -> Vec4 {
-        if self.scale == 0.0 {
-            Vec4::ZERO
-        } else {
-            self.scale * sigmoid4(self.c, x)
-        }
-    }
-}
-
-/// dσ/dt = ½ (1 + t²)^(−3/2).
-#[inline]
-fn sigmoid_derivative(t: f64) -> f64 {
-    let s = 1.0 / (1.0 + t * t);
-    0.5 * s * s.sqrt()
-}
-
-/// A spectrum σ(c₀x² + c₁x + c₂) with x = (λ − 360 nm) / 470 nm; values in (0, 1).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct SigmoidPolynomial {
-    /// Polynomial coefficients in the normalised wavelength x (highest degree first).
-    pub c: [f64; 3],
-}
-
-impl SigmoidPolynomial {
-    /// The value at `lambda` [nm].
-    #[inline]
-    pub fn eval_f64(&self, lambda: f64) -> f64 {
-        let x = (lambda - CIE_LAMBDA_MIN) / X_SPAN;
-        sigmoid((self.c[0] * x + self.c[1]) * x + self.c[2])
-    }
-
-    /// The values at four wavelengths whose normalised x are `x`
-    /// ([`normalised_wavelengths`]), in single precision, as pbrt-v4 evaluates its sigmoid
-    /// polynomials.
-    #[inline]
-    pub fn sample(&self, x: Vec4) -> Vec4 {
-        sigmoid4(self.c.map(|c| c as f32), x)
-    }
-
-    /// The wavelength [nm] of the polynomial's vertex (its extremum), if it is not linear.
-    pub fn vertex_lambda(&self) -> Option<f64> {
-        (self.c[0] != 0.0).then(|| CIE_LAMBDA_MIN - self.c[1] / (2.0 * self.c[0]) * X_SPAN)
-    }
-
-    /// The same polynomial in λ [nm] (c₀λ² + c₁λ + c₂), the form pbrt-v4 and colour-science
-    /// store.
-    pub fn coefficients_nm(&self) -> [f64; 3] {
-        let (a, b, c) = (self.c[0], self.c[1], self.c[2]);
-        let (s, o) = (1.0 / X_SPAN, -CIE_LAMBDA_MIN / X_SPAN);
-        // x = sλ + o.
-        [a * s * s, 2.0 * a * s * o + b * s, a * o * o + b * o + c]
-    }
-
-    /// The constant σ⁻¹(v) polynomial (flat spectrum of value `v` in (0, 1)).
-    pub fn flat(v: f64) -> Self {
-        let v = v.clamp(1e-9, 1.0 - 1e-9);
-        Self { c: [0.0, 0.0, (v - 0.5) / (v * (1.0 - v)).sqrt()] }
-    }
-}
 
 /// Quadrature for RGB(c): RGB = Σₖ Wₖ σ(t(xₖ)), with Wₖ = M_XYZ→RGB x̄ȳz̄(λₖ) I(λₖ) wₖ / ∫ I ȳ.
 #[derive(Debug)]
@@ -174,15 +74,15 @@ impl SigmoidFitter {
     /// Target accuracy of a fit (max abs linear RGB).
     pub const TOLERANCE: f64 = 1e-7;
 
-    pub(crate) fn new(cs: &ColorSpace) -> Self {
-        let illum = &cs.illuminant;
+    /// The fitter for colours lit by `illum` and taken to RGB by `xyz_to_rgb`.
+    pub(crate) fn new(illum: &Spectrum, xyz_to_rgb: DMat3) -> Self {
         let (mut x, mut w) = (Vec::new(), Vec::new());
         let mut y = 0.0;
         for_each_node(CIE_LAMBDA_MIN, CIE_LAMBDA_MAX, &illum.knots(), |l, wt| {
             let xyz = xyz_bar_f64(l) * (illum.eval_f64(l) * wt);
             y += xyz.y;
             x.push((l - CIE_LAMBDA_MIN) / X_SPAN);
-            w.push(cs.xyz_to_rgb_f64 * xyz);
+            w.push(xyz_to_rgb * xyz);
         });
         w.iter_mut().for_each(|w| *w /= y);
         let (hat_x, hat_w) = hat_rule(&x, &w, (X_SPAN / Self::HAT_STEP_NM).round() as usize);
@@ -410,35 +310,10 @@ impl RgbToSpectrumTable {
     }
 }
 
-/// Jakob–Hanika reflectance for `rgb` ∈ [0, 1]³ in `cs`: table start, then Newton refinement
-/// to [`SigmoidFitter::TOLERANCE`] where the model can reach the colour.
-pub fn fit_albedo(rgb: [f64; 3], cs: &ColorSpace) -> Fit {
-    let rgb = rgb.map(|v| if v.is_finite() { v.clamp(0.0, 1.0) } else { 0.0 });
-    let init = cs.rgb_to_spectrum_table().lookup(rgb);
-    cs.fitter().fit(DVec3::from_array(rgb), init)
-}
-
-/// [`fit_albedo`] for many colours (each texel of an image): the table's start refined by
-/// Newton on the fitter's 5 nm product rule. Many times faster than [`fit_albedo`]; on a 9³ grid
-/// of the sRGB cube its round trip is within 7.6e-4 (the steep sigmoids of saturated colours)
-/// where the table alone is off by up to 1.3e-2 (`fast_fit_round_trip_is_close_to_the_full_fit`).
-pub fn fit_albedo_fast(rgb: [f64; 3], cs: &ColorSpace) -> SigmoidPolynomial {
-    let rgb = rgb.map(|v| if v.is_finite() { v.clamp(0.0, 1.0) } else { 0.0 });
-    let init = cs.rgb_to_spectrum_table().lookup(rgb);
-    if rgb[0] == rgb[1] && rgb[1] == rgb[2] {
-        return init;
-    }
-    let fit = cs.fitter().fit_fast(DVec3::from_array(rgb), init);
-    if fit.poly.c.iter().all(|c| c.is_finite()) {
-        fit.poly
-    } else {
-        init
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::spectrum::{fit_albedo_fast, ColorSpace};
 
     /// Linear RGB of σ(poly) under the space's white, by the fine rule.
     fn round_trip(poly: SigmoidPolynomial, cs: &ColorSpace) -> DVec3 {

@@ -1,8 +1,8 @@
 //! `Spectrum::from_rgb`: RGB → spectrum with Jakob–Hanika (the default) for the three kinds
 //! pbrt-v4 has (`RGBAlbedoSpectrum`, `RGBUnboundedSpectrum`, `RGBIlluminantSpectrum`).
 
+use super::albedo_fit::fit_albedo;
 use super::color_space::ColorSpace;
-use super::jakob_hanika::fit_albedo;
 use super::spd::{RgbKind, Spectrum};
 
 impl Spectrum {

@@ -4,8 +4,8 @@
 
 use super::blackbody::{blackbody_normalised, blackbody_peak_radiance};
 use super::cie::{xyz_of, CIE_LAMBDA_MAX, CIE_LAMBDA_MIN};
-use super::jakob_hanika::{normalised_wavelengths, SigmoidPolynomial};
 use super::sampled::{SampledSpectrum, SampledWavelengths};
+use super::sigmoid::{normalised_wavelengths, SigmoidPolynomial};
 use glam::{DVec3, Vec3, Vec4};
 use std::sync::Arc;
 

@@ -138,8 +138,8 @@ fn an_emitter_given_both_l_and_an_image_or_a_missing_image_is_an_error() {
             "LookAt 0 0 -3  0 0 0  0 1 0\nCamera \"perspective\"\nWorldBegin\nAreaLightSource \"diffuse\" {light}\n\
              Shape \"trianglemesh\" \"point3 P\" [0 0 0  1 0 0  0 1 0] \"integer indices\" [0 1 2]\n"
         );
-        let (desc, mut warnings) = prism::scene::parse_str(&text, &Default::default()).unwrap();
-        let err = prism::scene::pbrt::build(&desc, &mut warnings).err().map(|e| e.to_string());
+        let (desc, mut warnings) = prism::pbrt::parse_str(&text, &Default::default()).unwrap();
+        let err = prism::pbrt::build(&desc, &mut warnings).err().map(|e| e.to_string());
         assert!(err.as_deref().is_some_and(|e| e.contains(what)), "{light}: {err:?}");
     }
     std::fs::remove_dir_all(&dir).ok();

@@ -67,8 +67,8 @@ pub fn pixels_far_off(a: &Film, b: &Film) -> usize {
 /// The scene of the pbrt-v4 file `text` on `accel`, which must read without an unsupported
 /// feature or an unused parameter.
 pub fn pbrt_scene(text: &str, accel: prism::accel::AccelKind) -> prism::scene::Scene {
-    let (desc, mut warnings) = prism::scene::parse_str(text, &Default::default()).unwrap();
-    let (builder, _) = prism::scene::pbrt::build(&desc, &mut warnings).unwrap();
+    let (desc, mut warnings) = prism::pbrt::parse_str(text, &Default::default()).unwrap();
+    let (builder, _) = prism::pbrt::build(&desc, &mut warnings).unwrap();
     let unsupported: Vec<_> =
         warnings.iter().filter(|w| w.strict_error().is_some() || w.message.contains("not used")).collect();
     assert!(unsupported.is_empty(), "{unsupported:?}");

@@ -11,8 +11,9 @@ use prism::light::photometry::lumens_per_unit_y;
 use prism::light::{EnvMapLight, Light};
 use prism::math::PI;
 use prism::measure::irradiance;
+use prism::pbrt::{parse_file, parse_str};
 use prism::sampling::chi2::{Chi2Test, Domain};
-use prism::scene::{parse_file, parse_str, Scene, SceneBuilder};
+use prism::scene::{Scene, SceneBuilder};
 use prism::spectrum::ColorSpace;
 use std::path::{Path, PathBuf};
 
@@ -131,9 +132,9 @@ fn scenes() -> PathBuf {
 }
 
 fn load(text: &str) -> Scene {
-    let opts = prism::scene::ParseOptions { base_dir: Some(scenes()), ..Default::default() };
+    let opts = prism::pbrt::ParseOptions { base_dir: Some(scenes()), ..Default::default() };
     let (desc, mut warnings) = parse_str(text, &opts).unwrap();
-    let (b, _) = prism::scene::pbrt::build(&desc, &mut warnings).unwrap();
+    let (b, _) = prism::pbrt::build(&desc, &mut warnings).unwrap();
     assert!(warnings.is_empty(), "{warnings:?}");
     b.build(AccelKind::Obvhs).unwrap()
 }
@@ -173,7 +174,7 @@ fn committed_sky_map_is_the_generated_one() {
 fn envmap_scene_renders_without_nans_and_shows_the_sky() {
     let path = scenes().join("envmap.pbrt");
     let (desc, mut warnings) = parse_file(&path, &Default::default()).unwrap();
-    let (b, _) = prism::scene::pbrt::build(&desc, &mut warnings).unwrap();
+    let (b, _) = prism::pbrt::build(&desc, &mut warnings).unwrap();
     assert!(warnings.is_empty(), "{warnings:?}");
     let scene = b.build(AccelKind::Obvhs).unwrap();
     let s = test_settings((48, 32), 8, 1, 3);

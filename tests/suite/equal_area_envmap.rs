@@ -14,9 +14,9 @@ use prism::light::{EnvMapLight, MapLayout};
 use prism::math::equal_area::{sphere_to_square, square_to_sphere};
 use prism::math::PI;
 use prism::measure::irradiance;
+use prism::pbrt::parse_str;
 use prism::sampling::chi2::{Chi2Test, Domain};
 use prism::sampling::Rng;
-use prism::scene::parse_str;
 use prism::spectrum::ColorSpace;
 use std::path::Path;
 
@@ -150,9 +150,9 @@ fn sampled_pdf_is_pdf_li_and_integrates_to_one() {
 /// Irradiance, in film units Y, of a patch facing +z under the lights of `world` (files
 /// relative to `dir`), with its standard error.
 fn upward_y(world: &str, dir: &Path) -> (f64, f64) {
-    let opts = prism::scene::ParseOptions { base_dir: Some(dir.to_path_buf()), ..Default::default() };
+    let opts = prism::pbrt::ParseOptions { base_dir: Some(dir.to_path_buf()), ..Default::default() };
     let (desc, mut warnings) = parse_str(&format!("Camera \"perspective\" WorldBegin\n{world}"), &opts).unwrap();
-    let (b, _) = prism::scene::pbrt::build(&desc, &mut warnings).unwrap();
+    let (b, _) = prism::pbrt::build(&desc, &mut warnings).unwrap();
     assert!(warnings.is_empty(), "{warnings:?}");
     let scene = b.build(AccelKind::Obvhs).unwrap();
     let integ = Integrator { max_depth: 1, ..Default::default() };

@@ -230,9 +230,9 @@ const MIN_ORCHARD_Y: f64 = 0.3;
 fn pbrt_object_instances_are_real_instances() {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/instanced_orchard.pbrt");
     let load = || {
-        let (desc, _) = prism::scene::parse_file(&path, &Default::default()).unwrap();
+        let (desc, _) = prism::pbrt::parse_file(&path, &Default::default()).unwrap();
         let mut warnings = Vec::new();
-        prism::scene::pbrt::build(&desc, &mut warnings).unwrap().0
+        prism::pbrt::build(&desc, &mut warnings).unwrap().0
     };
     assert_eq!(load().instance_count(), 13);
     let settings = test_settings((64, 36), 8, 2, 3);

@@ -7,7 +7,7 @@ use crate::common::{film, prism, stderr, tmpdir};
 use prism::accel::AccelKind;
 use prism::bsdf::measured::tabulate::{tabulate, GgxConductor, Grid};
 use prism::material::Material;
-use prism::scene::{parse_str, pbrt, ParseOptions};
+use prism::pbrt::{self, parse_str, ParseOptions};
 use std::path::Path;
 
 /// The unit tests' conductor (src/bsdf/tests/measured.rs): α = 0.3, η and k linear in λ.

@@ -7,7 +7,7 @@
 use crate::common::test_settings;
 use prism::accel::AccelKind;
 use prism::light::{Light, UniformInfiniteLight};
-use prism::scene::{parse_file, pbrt, ParseOptions};
+use prism::pbrt::{self, parse_file, ParseOptions};
 use prism::spectrum::Spectrum;
 use std::path::Path;
 use std::sync::Arc;

@@ -6,9 +6,9 @@
 use crate::common::{film_difference, test_settings};
 use prism::accel::AccelKind;
 use prism::filter::FilterKind;
+use prism::pbrt::{build, FileSettings};
+use prism::pbrt::{parse_str, Warning};
 use prism::render::render;
-use prism::scene::pbrt::{build, FileSettings};
-use prism::scene::{parse_str, Warning};
 
 const HEADER: &str = r#"
 LookAt 0 4 0  0 0 0  0 0 1

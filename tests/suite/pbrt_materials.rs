@@ -3,7 +3,7 @@
 
 use prism::accel::AccelKind;
 use prism::material::{ConductorIor, FloatTexture, Ior, Material};
-use prism::scene::*;
+use prism::pbrt::{self, *};
 
 const TRI: &str = r#"Shape "trianglemesh" "point3 P" [0 0 0 1 0 0 0 1 0] "integer indices" [0 1 2]"#;
 

@@ -13,8 +13,9 @@ use prism::light::photometry::lumens_per_unit_y;
 use prism::light::{Light, LightSampleContext};
 use prism::math::PI;
 use prism::measure::irradiance;
+use prism::pbrt::parse_str;
 use prism::sampling::chi2::{Chi2Test, Domain};
-use prism::scene::{parse_str, Scene};
+use prism::scene::Scene;
 use prism::spectrum::SampledWavelengths;
 use std::path::Path;
 
@@ -59,7 +60,7 @@ fn room(map: &Path, portal: bool, rotate: &str) -> Scene {
         map.display()
     );
     let (desc, mut warnings) = parse_str(&text, &Default::default()).unwrap();
-    let (builder, _) = prism::scene::pbrt::build(&desc, &mut warnings).unwrap();
+    let (builder, _) = prism::pbrt::build(&desc, &mut warnings).unwrap();
     assert!(warnings.is_empty(), "{warnings:?}");
     builder.build(AccelKind::Obvhs).unwrap()
 }
@@ -186,7 +187,7 @@ fn a_bad_portal_is_an_error_at_its_parameter() {
     for (params, message) in cases {
         let text = format!("WorldBegin\nLightSource \"infinite\"\n  {params}\n");
         let (desc, mut warnings) = parse_str(&text, &Default::default()).unwrap();
-        let e = prism::scene::pbrt::build(&desc, &mut warnings).err().expect("an error").to_string();
+        let e = prism::pbrt::build(&desc, &mut warnings).err().expect("an error").to_string();
         assert!(e.contains(message) && e.contains(":3:"), "{e}");
     }
 }

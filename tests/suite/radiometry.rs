@@ -316,8 +316,8 @@ fn with_no_depth_limit_paths_in_a_closed_white_room_still_end() {
 // that is the same Y = q, i.e. K_m ∫ȳ dλ · q lumens. `lumens`/`lux` are SI.
 
 fn load_pbrt(text: &str) -> Scene {
-    let (desc, mut warnings) = prism::scene::parse_str(text, &Default::default()).unwrap();
-    let (b, _) = prism::scene::pbrt::build(&desc, &mut warnings).unwrap();
+    let (desc, mut warnings) = prism::pbrt::parse_str(text, &Default::default()).unwrap();
+    let (b, _) = prism::pbrt::build(&desc, &mut warnings).unwrap();
     assert!(warnings.is_empty(), "{warnings:?}");
     build(b)
 }
@@ -428,8 +428,8 @@ fn watts_and_irradiance_are_radiometric_si() {
 #[test]
 fn a_light_given_two_brightness_targets_is_an_error() {
     let text = r#"WorldBegin LightSource "point" "float power" 1 "float lumens" 683"#;
-    let (desc, mut warnings) = prism::scene::parse_str(text, &Default::default()).unwrap();
-    let err = prism::scene::pbrt::build(&desc, &mut warnings).err().expect("must fail").to_string();
+    let (desc, mut warnings) = prism::pbrt::parse_str(text, &Default::default()).unwrap();
+    let err = prism::pbrt::build(&desc, &mut warnings).err().expect("must fail").to_string();
     assert!(err.contains("give one of \"power\" and \"lumens\", not both"), "{err}");
     assert!(err.contains("1:"), "no location: {err}");
 }

@@ -44,8 +44,8 @@ fn regularization_finds_the_mirrored_point_light() {
 fn the_integrator_reads_regularize() {
     for (text, want) in [("", None), ("\"bool regularize\" true", Some(true))] {
         let scene = format!("Integrator \"path\" {text}\n{SCENE}");
-        let (desc, mut warnings) = prism::scene::parse_str(&scene, &Default::default()).unwrap();
-        let (_, file) = prism::scene::pbrt::build(&desc, &mut warnings).unwrap();
+        let (desc, mut warnings) = prism::pbrt::parse_str(&scene, &Default::default()).unwrap();
+        let (_, file) = prism::pbrt::build(&desc, &mut warnings).unwrap();
         assert_eq!(file.regularize, want);
     }
 }

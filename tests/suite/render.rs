@@ -135,8 +135,8 @@ fn embree_and_obvhs_render_the_same_image_within_noise() {
 #[test]
 fn cornell_box_pbrt_file_renders_like_the_built_in_scene() {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/cornell-box.pbrt");
-    let (desc, mut warnings) = prism::scene::parse_file(&path, &Default::default()).unwrap();
-    let (builder, _) = prism::scene::pbrt::build(&desc, &mut warnings).unwrap();
+    let (desc, mut warnings) = prism::pbrt::parse_file(&path, &Default::default()).unwrap();
+    let (builder, _) = prism::pbrt::build(&desc, &mut warnings).unwrap();
     assert!(warnings.is_empty(), "{warnings:?}");
     let s = settings(24, 16, 5);
     let (a, sa) = render(&builder.build(AccelKind::Obvhs).unwrap(), &s, |_| {}).unwrap();

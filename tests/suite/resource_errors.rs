@@ -5,7 +5,7 @@
 use std::path::PathBuf;
 use std::process::Command;
 
-use prism::scene::mesh_io::ply;
+use prism::pbrt::mesh_io::ply;
 
 fn tmpdir(name: &str) -> PathBuf {
     let d = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("prism-resource-{name}"));

@@ -7,8 +7,8 @@ use std::path::{Path, PathBuf};
 
 use glam::{Vec2, Vec3};
 use prism::geometry::{Mesh, Quadric};
-use prism::scene::mesh_io::ply;
-use prism::scene::*;
+use prism::pbrt::mesh_io::ply;
+use prism::pbrt::{self, *};
 
 fn scenes() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes")

@@ -5,9 +5,9 @@
 use std::path::Path;
 use std::time::{Duration, Instant};
 
+use prism::pbrt::mesh_io::{obj, ply};
+use prism::pbrt::{parse_str, ParseOptions};
 use prism::sampling::Rng;
-use prism::scene::mesh_io::{obj, ply};
-use prism::scene::{parse_str, ParseOptions};
 
 const BUDGET: Duration = Duration::from_millis(1500);
 

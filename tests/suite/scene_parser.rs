@@ -4,7 +4,7 @@ use std::path::{Path, PathBuf};
 
 use glam::{Mat4, Vec3};
 use prism::geometry::Quadric;
-use prism::scene::*;
+use prism::pbrt::{self, *};
 
 fn parse(s: &str) -> (SceneDesc, Vec<Warning>) {
     parse_str(s, &ParseOptions::default()).unwrap_or_else(|e| panic!("{e}"))
@@ -575,7 +575,7 @@ fn area_light_parameters_unused_are_reported_once_per_directive() {
          AttributeBegin\nAreaLightSource \"diffuse\" \"float other\" 2\n{TRI}\n{TRI}\nAttributeEnd"
     ));
     let mut warnings = Vec::new();
-    let _ = prism::scene::pbrt::build(&d, &mut warnings).unwrap();
+    let _ = prism::pbrt::build(&d, &mut warnings).unwrap();
     let w: Vec<String> = d.report_unused().iter().map(|w| w.to_string()).collect();
     assert_eq!(
         w,
@@ -617,7 +617,7 @@ fn plymesh_and_objmesh_load_relative_to_the_scene() {
     let mut quad = prism::geometry::Mesh::new(vec![Vec3::ZERO, Vec3::X, Vec3::new(1., 1., 0.), Vec3::Y], vec![]);
     quad.normals = Some(vec![Vec3::Z; 4]);
     std::fs::create_dir_all(d.join("geo")).unwrap();
-    std::fs::write(d.join("geo/q.ply"), prism::scene::mesh_io::ply::write(&quad, &[vec![0, 1, 2, 3]], true)).unwrap();
+    std::fs::write(d.join("geo/q.ply"), prism::pbrt::mesh_io::ply::write(&quad, &[vec![0, 1, 2, 3]], true)).unwrap();
     std::fs::write(d.join("geo/t.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
     std::fs::write(
         d.join("s.pbrt"),
@@ -682,7 +682,7 @@ fn bspline_curves_become_bezier_segments_with_widths_linear_along_the_curve() {
         "WorldBegin\nShape \"curve\" \"string basis\" \"bspline\" \"point3 P\" [0 0 0 1 0 0 3 0 0 6 0 0 10 0 0]\n  \"float width0\" 0.3 \"float width1\" 0.1 \"integer splitdepth\" 2",
     );
     assert!(w.is_empty(), "{w:?}");
-    let prism::scene::desc::ShapeGeometry::Curves(c) = &d.shapes[0].geometry else { panic!("not curves") };
+    let prism::pbrt::desc::ShapeGeometry::Curves(c) = &d.shapes[0].geometry else { panic!("not curves") };
     assert_eq!((c.segments.len(), c.split_depth), (2, 2));
     // The first four B-spline points 0, 1, 3, 6 give the Bézier points (p0 + 4p1 + p2)/6,
     // (2p1 + p2)/3, (p1 + 2p2)/3, (p1 + 4p2 + p3)/6.

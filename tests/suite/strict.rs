@@ -3,9 +3,9 @@
 //! the scene builder's films, filters, spectra, textures, materials and lights).
 
 use crate::common::{prism, stderr, tmpdir};
-use prism::scene::error::WarningKind;
-use prism::scene::pbrt::load_file;
-use prism::scene::{ParseOptions, SceneError};
+use prism::pbrt::error::WarningKind;
+use prism::pbrt::load_file;
+use prism::pbrt::{ParseOptions, SceneError};
 use std::path::{Path, PathBuf};
 
 fn repo() -> PathBuf {

@@ -80,16 +80,10 @@ pub fn error_name(code: u32) -> &'static str {
 }
 
 impl Device {
-    /// Creates a device with the configuration in [`CONFIG_ENV`] (Embree's defaults if unset).
-    pub fn new() -> Result<Self, EmbreeError> {
-        Self::with_config(&std::env::var(CONFIG_ENV).unwrap_or_default())
-    }
-
-    /// Creates a device from an Embree configuration string. A failure (an unknown option, an
-    /// unsupported CPU, no memory) is an error carrying Embree's code and message; so is a
-    /// library other than the one this build's declarations describe (checked once per process
-    /// by `library_check`).
-    pub fn with_config(config: &str) -> Result<Self, EmbreeError> {
+    /// Creates a device from an Embree configuration string, without the library check
+    /// ([`Device::with_config`] runs it). A failure (an unknown option, an unsupported CPU, no
+    /// memory) is an error carrying Embree's code and message.
+    pub(super) fn unchecked(config: &str) -> Result<Self, EmbreeError> {
         let c = std::ffi::CString::new(config)
             .map_err(|_| EmbreeError::Device(format!("configuration {config:?} contains a NUL byte")))?;
         // SAFETY: `c` is a valid NUL-terminated string for the duration of the call.
@@ -117,9 +111,7 @@ impl Device {
         let counter = &*bytes as *const AtomicI64 as *mut c_void;
         // SAFETY: as above; the counter outlives the device.
         unsafe { ffi::rtcSetDeviceMemoryMonitorFunction(raw, Some(on_memory), counter) };
-        let device = Self { raw, last_error, bytes };
-        super::library_check::check_once(&device)?;
-        Ok(device)
+        Ok(Self { raw, last_error, bytes })
     }
 
     /// The raw handle, for the scene module.

@@ -13,7 +13,7 @@ use std::sync::OnceLock;
 
 use glam::Vec3;
 
-use super::device::{Device, EmbreeError};
+use super::device::{Device, EmbreeError, CONFIG_ENV};
 use super::ffi;
 use super::scene::{Scene, SceneHandle};
 use super::TriangleTest;
@@ -68,6 +68,24 @@ impl GuardedRayHit {
     /// The instance words of the hit (after geomID).
     pub(super) fn instance_words(&self) -> Vec<u32> {
         self.words()[HIT_HEAD_WORDS..HIT_HEAD_WORDS + ffi::HIT_INSTANCE_WORDS].to_vec()
+    }
+}
+
+// The checked constructors live beside the check: it builds a scene, which needs a device.
+impl Device {
+    /// Creates a device with the configuration in [`CONFIG_ENV`] (Embree's defaults if unset).
+    pub fn new() -> Result<Self, EmbreeError> {
+        Self::with_config(&std::env::var(CONFIG_ENV).unwrap_or_default())
+    }
+
+    /// Creates a device from an Embree configuration string. A failure (an unknown option, an
+    /// unsupported CPU, no memory) is an error carrying Embree's code and message; so is a
+    /// library other than the one this build's declarations describe (checked once per process,
+    /// module docs).
+    pub fn with_config(config: &str) -> Result<Self, EmbreeError> {
+        let device = Self::unchecked(config)?;
+        check_once(&device)?;
+        Ok(device)
     }
 }
 

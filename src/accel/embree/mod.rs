@@ -17,6 +17,7 @@ mod instanced;
 mod library_check;
 mod motion;
 mod quadrics;
+mod ray_context;
 mod ribbons;
 mod scene;
 mod user_triangles;

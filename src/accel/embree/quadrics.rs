@@ -16,7 +16,7 @@ use glam::Vec3;
 
 use super::device::{Device, EmbreeError};
 use super::ffi;
-use super::scene::RayContext;
+use super::ray_context::RayContext;
 use super::user_triangles::{for_each_valid_lane, new_user_geometry, UserCallbacks};
 use crate::geometry::{Bounds3, PlacedQuadric, Ray};
 use crate::math::offset::next_float_up;

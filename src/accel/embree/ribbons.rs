@@ -20,7 +20,7 @@
 
 use super::device::{Device, EmbreeError};
 use super::ffi;
-use super::scene::RayContext;
+use super::ray_context::RayContext;
 use super::user_triangles::{for_each_valid_lane, new_user_geometry, UserCallbacks};
 use crate::geometry::curve_hit::intersect_curve;
 use crate::geometry::{CurveSegment, Curves, Ray};

@@ -2,8 +2,9 @@
 
 use super::device::{Device, EmbreeError};
 use super::ffi;
+use super::ray_context::{RayContext, ShearCache};
 use super::ribbons::UserRibbons;
-use super::user_triangles::{self, ShearCache, UserMesh};
+use super::user_triangles::{self, UserMesh};
 use super::TriangleTest;
 use crate::geometry::{Bounds3, CurveKind, Curves, Hit, Mesh, PlacedQuadric, Ray};
 use glam::Vec3;
@@ -168,25 +169,6 @@ impl Drop for SceneHandle {
         // SAFETY: the handle came from rtcNewScene and is released exactly once; owners drop it
         // before their device.
         unsafe { ffi::rtcReleaseScene(self.raw) };
-    }
-}
-
-/// The context of every query: Embree's, extended with per-ray data for the user-geometry
-/// callbacks (Embree passes the caller's context pointer through to them, so it may start a
-/// larger struct; `RTCIntersectContext` in Embree 3, `RTCRayQueryContext` in Embree 4).
-#[repr(C)]
-pub(super) struct RayContext {
-    pub(super) rtc: ffi::QueryContext,
-    /// The watertight test's per-ray constants, computed by the first triangle test of a ray.
-    pub(super) shear: ShearCache,
-}
-
-impl RayContext {
-    /// The pointer to hand to `rtcIntersect1`/`rtcOccluded1` (to the whole struct, so the
-    /// callbacks may read `shear` through it).
-    #[inline]
-    pub(super) fn as_mut_ptr(&mut self) -> *mut ffi::QueryContext {
-        (self as *mut Self).cast()
     }
 }
 

@@ -28,15 +28,14 @@
 //! `RTCRayN_*`/`RTCHitN_*`: field k of ray i at float index k·N + i); `rtcIntersect1` passes
 //! N = 1, whose layout is `RTCRayHit`'s.
 
-use std::cell::Cell;
 use std::os::raw::{c_int, c_uint};
 
 use glam::Vec3;
 
 use super::device::{Device, EmbreeError};
 use super::ffi;
-use super::scene::RayContext;
-use crate::accel::watertight::{LaneRay, TriangleLanes};
+use super::ray_context::RayContext;
+use crate::accel::watertight::TriangleLanes;
 use crate::geometry::Mesh;
 
 /// Margin by which primitive boxes are grown, relative to the mesh's largest coordinate
@@ -160,28 +159,6 @@ unsafe extern "C" fn bounds(args: *const ffi::RTCBoundsFunctionArguments) {
         let args = &*args;
         let mesh = &*(args.geometryUserPtr as *const UserMesh);
         *args.bounds_o = padded_bounds(&mesh.triangles[args.primID as usize], mesh.pad);
-    }
-}
-
-/// The watertight test's per-ray constants for the last ray seen (keyed by the bits of its
-/// origin and direction, which differ under each instance's transform), so that the shear's
-/// three divisions are done once per ray and not once per triangle.
-#[derive(Default)]
-pub(super) struct ShearCache(Cell<Option<([u32; 6], Option<LaneRay>)>>);
-
-impl ShearCache {
-    /// [`LaneRay::new`]`(o, d)`, computed at most once per (o, d) in a row.
-    #[inline(always)]
-    fn get(&self, o: Vec3, d: Vec3) -> Option<LaneRay> {
-        let key = [o.x, o.y, o.z, d.x, d.y, d.z].map(f32::to_bits);
-        match self.0.get() {
-            Some((k, ray)) if k == key => ray,
-            _ => {
-                let ray = LaneRay::new(o, d);
-                self.0.set(Some((key, ray)));
-                ray
-            }
-        }
     }
 }
 

@@ -54,20 +54,11 @@ pub enum LightSamplerKind {
     Bvh,
 }
 
-impl LightSamplerKind {
-    /// The names pbrt-v4 reads.
-    pub const NAMES: &'static str = "bvh, power, uniform";
-
-    /// The kind named `name` ("bvh", "power" or "uniform").
-    pub fn parse(name: &str) -> Option<Self> {
-        match name {
-            "bvh" => Some(Self::Bvh),
-            "power" => Some(Self::Power),
-            "uniform" => Some(Self::Uniform),
-            _ => None,
-        }
-    }
-}
+crate::named::name_table!(LightSamplerKind, "light sampler", {
+    "bvh" => LightSamplerKind::Bvh,
+    "power" => LightSamplerKind::Power,
+    "uniform" => LightSamplerKind::Uniform,
+});
 
 /// A light sampler over a scene's lights.
 #[derive(Clone, Debug)]

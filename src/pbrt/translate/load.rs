@@ -2,8 +2,9 @@
 //! used, and in strict mode refuse every feature prism does not render.
 
 use super::{build_with, FileSettings};
-use crate::scene::error::{check_strict, SceneError, Warning};
-use crate::scene::{parse_file, ParseOptions, SceneBuilder};
+use crate::pbrt::error::{check_strict, SceneError, Warning};
+use crate::pbrt::{parse_file, ParseOptions};
+use crate::scene::SceneBuilder;
 use std::path::{Path, PathBuf};
 
 /// A scene file read and mapped onto a builder.
@@ -15,7 +16,7 @@ pub struct LoadedScene {
     /// Every warning, in order: the parser's, the builder's, then parameters nothing read.
     pub warnings: Vec<Warning>,
     /// Every file the scene reads: the scene files, then meshes, images and spectra
-    /// ([`crate::scene::SceneDesc::input_files`]).
+    /// ([`crate::pbrt::SceneDesc::input_files`]).
     pub inputs: Vec<PathBuf>,
 }
 

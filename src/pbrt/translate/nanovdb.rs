@@ -6,8 +6,8 @@
 use super::{param_error, Ctx};
 use crate::media::nanovdb::{read_float_grids, FloatGrid};
 use crate::media::{Homogeneous, Medium, NanoVdbMedium, TemperatureEmission};
-use crate::scene::desc::MediumDesc;
-use crate::scene::error::SceneError;
+use crate::pbrt::desc::MediumDesc;
+use crate::pbrt::error::SceneError;
 use crate::spectrum::Spectrum;
 
 impl Ctx<'_> {
@@ -73,7 +73,7 @@ fn check_class(grid: &FloatGrid) -> Result<(), String> {
 #[cfg(test)]
 mod tests {
     use crate::media::Medium;
-    use crate::scene::{parse_str, ParseOptions};
+    use crate::pbrt::{parse_str, ParseOptions};
 
     fn build(medium: &str) -> Result<crate::scene::Scene, String> {
         let text = format!("{medium}\nCamera \"perspective\"\nWorldBegin\n");

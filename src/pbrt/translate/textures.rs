@@ -5,9 +5,9 @@
 //! and every parameter is read).
 
 use super::{param_error, Ctx};
-use crate::scene::desc::{TextureClass, TextureDesc};
-use crate::scene::error::{Location, SceneError};
-use crate::scene::params::{FloatOrTexture, ParamSet, SpectrumOrTexture};
+use crate::pbrt::desc::{TextureClass, TextureDesc};
+use crate::pbrt::error::{Location, SceneError};
+use crate::pbrt::params::{FloatOrTexture, ParamSet, SpectrumOrTexture};
 use crate::spectrum::{ColorSpace, RgbKind, Spectrum};
 use crate::texture::{
     rgb_texels, Checkerboard, ColorEncoding, FilterFunction, FloatImage, FloatSource, FloatTexture, Mapping2D,
@@ -387,7 +387,7 @@ impl Ctx<'_> {
 #[cfg(test)]
 mod tests {
     use crate::material::Material;
-    use crate::scene::{parse_file, parse_str, ParseOptions};
+    use crate::pbrt::{parse_file, parse_str, ParseOptions};
     use crate::spectrum::SampledWavelengths;
     use crate::texture::{inside_polka_dot, SpectrumTexture, TextureEvalContext};
     use glam::{Vec2, Vec3};
@@ -398,7 +398,7 @@ mod tests {
         let (b, _) = super::super::build(&desc, &mut w).map_err(|e| e.to_string())?;
         w.extend(desc.report_unused());
         let scene = b.build(crate::accel::AccelKind::Obvhs).map_err(|e| e.to_string())?;
-        Ok((scene.materials, w.iter().map(|w| w.to_string()).collect()))
+        Ok((scene.materials().to_vec(), w.iter().map(|w| w.to_string()).collect()))
     }
 
     /// The diffuse reflectance of a scene's one textured quad.

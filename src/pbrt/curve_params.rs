@@ -32,7 +32,7 @@ pub fn load(ps: &ParamSet, notes: &mut Vec<String>) -> Result<Curves, String> {
     };
     let Some(p) = ps.point3s("P") else { return Err("curve needs a \"point3 P\" parameter".into()) };
     let degree = usize::try_from(degree).map_err(|_| format!("degree {degree}: only 2 and 3 are supported"))?;
-    let cps = bezier_segments(p, basis, degree)?;
+    let cps = bezier_segments(p, basis, degree).map_err(|e| e.to_string())?;
     let n = ps.normals("N").unwrap_or(&[]);
     let normals = match kind {
         CurveKind::Ribbon if n.len() != cps.len() + 1 => {

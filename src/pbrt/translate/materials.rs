@@ -8,9 +8,9 @@ use crate::material::{
     melanin_sigma_a, CoatedConductorMaterial, CoatedDiffuseMaterial, ConductorIor, HairAbsorption, HairMaterial, Ior,
     LayerSpec, Material, MixMaterial, NormalMap, NormalPerturbation, Roughness,
 };
-use crate::scene::desc::MaterialDesc;
-use crate::scene::error::{Location, SceneError};
-use crate::scene::params::ParamSet;
+use crate::pbrt::desc::MaterialDesc;
+use crate::pbrt::error::{Location, SceneError};
+use crate::pbrt::params::ParamSet;
 use crate::spectrum::RgbKind;
 use crate::texture::Texture;
 use crate::texture::{rgb_texels, ColorEncoding};
@@ -242,14 +242,14 @@ impl Ctx<'_> {
 #[cfg(test)]
 mod tests {
     use crate::material::{HairAbsorption, Material};
-    use crate::scene::{parse_str, ParseOptions};
+    use crate::pbrt::{parse_str, ParseOptions};
 
     fn hair(params: &str) -> (HairAbsorption, usize) {
         let text = format!("Camera \"perspective\"\nWorldBegin\nMaterial \"hair\" {params}\nShape \"sphere\"\n");
         let (desc, mut w) = parse_str(&text, &ParseOptions::default()).unwrap();
         let (b, _) = super::super::build(&desc, &mut w).unwrap();
         let scene = b.build(crate::accel::AccelKind::Obvhs).unwrap();
-        let Material::Hair(m) = &scene.materials[0] else { panic!("{:?}", scene.materials[0]) };
+        let Material::Hair(m) = &scene.materials()[0] else { panic!("{:?}", scene.materials()[0]) };
         (m.absorption.clone(), w.len())
     }
 

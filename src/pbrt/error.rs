@@ -10,7 +10,7 @@ use std::sync::Arc;
 /// A position in a scene file: 1-based line and column (columns count characters).
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Location {
-    /// The file the token came from (`<string>` for [`crate::scene::parse_str`]).
+    /// The file the token came from (`<string>` for [`crate::pbrt::parse_str`]).
     pub file: Arc<Path>,
     /// Line, starting at 1.
     pub line: u32,

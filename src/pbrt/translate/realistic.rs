@@ -6,7 +6,7 @@
 use super::{param_error, Ctx};
 use crate::camera::lens::parse_lens_file;
 use crate::camera::RealisticLens;
-use crate::scene::error::{Location, SceneError};
+use crate::pbrt::error::{Location, SceneError};
 use std::path::Path;
 use std::sync::Arc;
 
@@ -29,7 +29,7 @@ impl Ctx<'_> {
             let file: Arc<Path> = path.as_path().into();
             SceneError::syntax(&Location::new(file, line, col), "lensfile", e.to_string())
         })?;
-        let positive = |params: &crate::scene::ParamSet, name: &str, default: f32, loc: &Location| {
+        let positive = |params: &crate::pbrt::ParamSet, name: &str, default: f32, loc: &Location| {
             let v = params.float_or(name, default);
             if v > 0.0 && v.is_finite() {
                 Ok(v)
@@ -58,7 +58,7 @@ impl Ctx<'_> {
 
 #[cfg(test)]
 mod tests {
-    use crate::scene::{parse_str, ParseOptions};
+    use crate::pbrt::{parse_str, ParseOptions};
     use std::path::PathBuf;
 
     /// The error text of building a scene whose camera is `camera`, read from `dir`.

@@ -2,13 +2,13 @@
 //! shapes.
 
 use super::{Parser, Pushed};
-use crate::scene::desc::*;
-use crate::scene::error::SceneError;
-use crate::scene::names;
-use crate::scene::params::{Param, ParamSet, ParamValue};
-use crate::scene::shapes;
-use crate::scene::source::Source;
-use crate::scene::tokenizer::{Token, TokenKind};
+use crate::pbrt::desc::*;
+use crate::pbrt::error::SceneError;
+use crate::pbrt::names;
+use crate::pbrt::params::{Param, ParamSet, ParamValue};
+use crate::pbrt::shapes;
+use crate::pbrt::source::Source;
+use crate::pbrt::tokenizer::{Token, TokenKind};
 
 impl Parser<'_> {
     /// AttributeBegin/End, TransformBegin/End, Attribute, ObjectBegin/End, ObjectInstance,

@@ -5,11 +5,11 @@ use glam::Mat4;
 
 use super::Parser;
 use crate::geometry::AnimatedTransform;
-use crate::scene::desc::*;
-use crate::scene::error::SceneError;
-use crate::scene::names;
-use crate::scene::source::Source;
-use crate::scene::tokenizer::{Token, TokenKind};
+use crate::pbrt::desc::*;
+use crate::pbrt::error::SceneError;
+use crate::pbrt::names;
+use crate::pbrt::source::Source;
+use crate::pbrt::tokenizer::{Token, TokenKind};
 
 impl Parser<'_> {
     /// Camera, Film, Integrator, Sampler, PixelFilter, Accelerator, Option, ColorSpace,

@@ -36,8 +36,8 @@ pub struct ParseOptions {
     /// Directory that relative paths in [`parse_str`] text resolve against (default: the
     /// current directory).
     pub base_dir: Option<PathBuf>,
-    /// How quadrics are built ([`crate::scene::pbrt::build_with`]).
-    pub quadrics: crate::scene::QuadricMode,
+    /// How quadrics are built ([`crate::pbrt::build_with`]).
+    pub quadrics: super::QuadricMode,
 }
 
 /// Include/Import nesting deeper than this is an error (guards against runaway recursion that is
@@ -72,7 +72,7 @@ fn canonical(path: &Path) -> PathBuf {
 }
 
 fn read_text(path: &Path, loc: &Location) -> Result<String, SceneError> {
-    crate::scene::input::read_text(path).map_err(|e| SceneError::Io {
+    crate::pbrt::input::read_text(path).map_err(|e| SceneError::Io {
         loc: loc.clone(),
         path: path.to_path_buf(),
         reason: e.to_string(),

@@ -12,9 +12,9 @@ use crate::media::{
     CloudMedium, CloudShape, DensityGrid, EmissionSource, GridEmission, GridMedium, Homogeneous, Medium, RgbGridMedium,
     SpectrumGrid,
 };
-use crate::scene::desc::{MediumDesc, MediumNames};
-use crate::scene::error::SceneError;
-use crate::scene::params::{ParamSet, SpectrumParam};
+use crate::pbrt::desc::{MediumDesc, MediumNames};
+use crate::pbrt::error::SceneError;
+use crate::pbrt::params::{ParamSet, SpectrumParam};
 use crate::scene::MediumInterface;
 use crate::spectrum::{RgbKind, Spectrum};
 use glam::{UVec3, Vec3};
@@ -200,7 +200,7 @@ impl Ctx<'_> {
                         "unknown measured medium preset \"{name}\": sigma_a and sigma_s are used (known: {})",
                         measured_media_names().join(", ")
                     );
-                    self.warnings.push(crate::scene::error::Warning::note(&m.loc, message));
+                    self.warnings.push(crate::pbrt::error::Warning::note(&m.loc, message));
                 }
             }
         }
@@ -215,7 +215,7 @@ impl Ctx<'_> {
     }
 
     /// `Le` normalised to unit luminance times `Lescale` (zero without `Le`).
-    fn emission(&mut self, p: &ParamSet, loc: &crate::scene::error::Location) -> Result<Spectrum, SceneError> {
+    fn emission(&mut self, p: &ParamSet, loc: &crate::pbrt::error::Location) -> Result<Spectrum, SceneError> {
         let le_scale = p.float_or("Lescale", 1.0);
         if !p.has("Le") {
             return Ok(Spectrum::constant(0.0));
@@ -236,7 +236,8 @@ pub(super) fn interface(ids: &MediumIds, names: &MediumNames) -> MediumInterface
 #[cfg(test)]
 mod tests {
     use crate::media::Medium;
-    use crate::scene::{parse_str, MediumInterface, ParseOptions, Scene};
+    use crate::pbrt::{parse_str, ParseOptions};
+    use crate::scene::{MediumInterface, Scene};
 
     fn scene(text: &str) -> Result<(Scene, Vec<String>), String> {
         let (desc, mut w) = parse_str(text, &ParseOptions::default()).map_err(|e| e.to_string())?;

@@ -8,9 +8,9 @@ use crate::light::{
     image_upper_hemisphere_y, is_rectangle, DistantLight, EnvMapLight, GoniometricLight, Light, MapLayout, PointLight,
     PortalLight, ProjectionLight, SpotFalloff, SpotLight, UniformInfiniteLight,
 };
-use crate::scene::desc::LightDesc;
-use crate::scene::error::{Location, SceneError};
-use crate::scene::params::{ParamSet, SpectrumParam};
+use crate::pbrt::desc::LightDesc;
+use crate::pbrt::error::{Location, SceneError};
+use crate::pbrt::params::{ParamSet, SpectrumParam};
 use crate::spectrum::{RgbKind, Spectrum};
 use glam::Vec3;
 use std::sync::Arc;

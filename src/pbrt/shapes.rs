@@ -168,7 +168,7 @@ fn loop_subdivision(ps: &ParamSet, loc: &Location, warnings: &mut Vec<Warning>) 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene::{parse_str, ParseOptions};
+    use crate::pbrt::{parse_str, ParseOptions};
     use glam::Vec3;
 
     /// The geometry and warnings of the one shape in `world`, or the error as text.

@@ -7,8 +7,8 @@
 
 use super::Ctx;
 use crate::material::{Material, ScatteringSpec, SubsurfaceMaterial};
-use crate::scene::desc::MaterialDesc;
-use crate::scene::error::{SceneError, Warning};
+use crate::pbrt::desc::MaterialDesc;
+use crate::pbrt::error::{SceneError, Warning};
 use crate::spectrum::{RgbKind, Spectrum};
 
 impl Ctx<'_> {
@@ -50,10 +50,10 @@ impl Ctx<'_> {
     /// An unbounded spectrum parameter (RGB, spectrum or a float), else RGB `default`.
     pub(super) fn unbounded_or(
         &mut self,
-        p: &crate::scene::params::ParamSet,
+        p: &crate::pbrt::params::ParamSet,
         name: &str,
         default: [f32; 3],
-        loc: &crate::scene::error::Location,
+        loc: &crate::pbrt::error::Location,
     ) -> Result<Spectrum, SceneError> {
         match p.spectrum(name) {
             Some(s) => {
@@ -70,13 +70,13 @@ impl Ctx<'_> {
 
 #[cfg(test)]
 mod tests {
-    use crate::scene::{parse_file, parse_str, ParseOptions};
+    use crate::pbrt::{parse_file, parse_str, ParseOptions};
 
     fn materials(text: &str) -> Result<(Vec<crate::material::Material>, usize), String> {
         let (desc, mut w) = parse_str(text, &ParseOptions::default()).map_err(|e| e.to_string())?;
         let (b, _) = super::super::build(&desc, &mut w).map_err(|e| e.to_string())?;
         let scene = b.build(crate::accel::AccelKind::Obvhs).map_err(|e| e.to_string())?;
-        Ok((scene.materials, w.len()))
+        Ok((scene.materials().to_vec(), w.len()))
     }
 
     const HEAD: &str = "Camera \"perspective\"\nWorldBegin\n";
@@ -130,7 +130,7 @@ mod tests {
             let (b, _) = super::super::build(&desc, &mut w).unwrap();
             assert!(w.is_empty(), "{name}: {w:?}");
             let scene = b.build(crate::accel::AccelKind::Obvhs).unwrap();
-            assert!(scene.materials.iter().any(|m| matches!(m, crate::material::Material::Subsurface(_))), "{name}");
+            assert!(scene.materials().iter().any(|m| matches!(m, crate::material::Material::Subsurface(_))), "{name}");
         }
     }
 }

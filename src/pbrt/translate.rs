@@ -25,14 +25,15 @@ use lights::{brightness_factor, FLUX};
 use super::desc::{MaterialDesc, ObjectDesc, SceneDesc, ShapeDesc, ShapeGeometry};
 use super::error::{Location, SceneError, Warning};
 use super::params::{ParamSet, SpectrumParam};
-use super::{CameraDesc, Emission, QuadricMode, SceneBuilder};
-use crate::bsdf::{ior, metals};
+use super::QuadricMode;
+use crate::bsdf::named_spectra::named_spectrum;
 use crate::camera::Projection;
 use crate::film::Crop;
 use crate::geometry::quadric::similarity_scale;
 use crate::geometry::{AnimatedTransform, Curves, Mesh, Motion, PlacedQuadric, Quadric};
 use crate::light::{EmissionImage, LightSamplerKind};
 use crate::material::{BumpedMaterial, Ior, Material, Roughness};
+use crate::scene::{CameraDesc, Emission, SceneBuilder};
 use crate::spectrum::{ColorSpace, RgbKind, Spectrum};
 use glam::Mat4;
 use std::collections::HashMap;
@@ -49,8 +50,8 @@ pub struct FileSettings {
     pub spp: Option<u64>,
     /// Integrator "maxdepth" ([`PBRT_DEFAULT_MAX_DEPTH`] when the file gives none).
     pub max_depth: Option<u32>,
-    /// The Integrator's type, when prism renders it.
-    pub integrator: Option<crate::integrator::IntegratorKind>,
+    /// The Integrator's type, one prism renders (the parser substitutes the others).
+    pub integrator: Option<String>,
     /// Integrator "regularize" (pbrt-v4's default false).
     pub regularize: Option<bool>,
     /// PixelFilter with its parameters.
@@ -178,8 +179,8 @@ impl Ctx<'_> {
     fn light_sampler(&self) -> Result<LightSamplerKind, SceneError> {
         let (params, loc) = (&self.desc.integrator.params, &self.desc.integrator.loc);
         let Some(name) = params.string("lightsampler") else { return Ok(LightSamplerKind::Bvh) };
-        LightSamplerKind::parse(name).ok_or_else(|| {
-            let message = format!("unknown \"lightsampler\" \"{name}\" (valid: {})", LightSamplerKind::NAMES);
+        LightSamplerKind::parse(name).map_err(|e| {
+            let message = format!("unknown \"lightsampler\" \"{name}\" (valid: {})", e.valid);
             param_error(params, "lightsampler", loc, message)
         })
     }
@@ -277,7 +278,7 @@ impl Ctx<'_> {
             spp: count(&d.sampler.params, "pixelsamples", &d.sampler.loc, 1)?.map(|n| n as u64),
             // pbrt-v4's default when the file gives none.
             max_depth: Some(self.max_depth()?.unwrap_or(PBRT_DEFAULT_MAX_DEPTH)),
-            integrator: crate::integrator::IntegratorKind::parse(&d.integrator.kind),
+            integrator: Some(d.integrator.kind.clone()),
             regularize: d.integrator.params.bool("regularize"),
             filter: Some(filter),
             sampler: Some(sampler.to_string()),
@@ -686,20 +687,4 @@ fn orient(mut mesh: Mesh, reverse: bool) -> Mesh {
         }
     }
     mesh
-}
-
-/// pbrt-v4's named spectra that prism knows: illuminants, metals' η and k, glasses' η.
-pub fn named_spectrum(name: &str) -> Option<Spectrum> {
-    if let Some(s) = Spectrum::named(name) {
-        return Some(s);
-    }
-    if let Some(data) = metals::named_spectrum(name) {
-        let (l, x): (Vec<f32>, Vec<f32>) = data.iter().copied().unzip();
-        return Spectrum::piecewise_linear(&l, &x);
-    }
-    let glass = name.strip_prefix("glass-").map(|g| g.to_string())?;
-    ior::eta(&glass, 550.0)?;
-    let l: Vec<f32> = (360..=830).step_by(5).map(|x| x as f32).collect();
-    let v: Vec<f32> = l.iter().map(|&x| ior::eta(&glass, x).unwrap_or(1.5)).collect();
-    Spectrum::piecewise_linear(&l, &v)
 }

@@ -8,9 +8,9 @@ use glam::{Mat4, Vec3, Vec4};
 
 use super::{Active, Parser};
 use crate::geometry::AnimatedTransform;
-use crate::scene::error::SceneError;
-use crate::scene::source::Source;
-use crate::scene::tokenizer::Token;
+use crate::pbrt::error::SceneError;
+use crate::pbrt::source::Source;
+use crate::pbrt::tokenizer::Token;
 
 impl Parser<'_> {
     /// Replaces each CTM the active transform selects by `f` of it.

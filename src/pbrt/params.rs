@@ -9,8 +9,8 @@ use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use glam::{Vec2, Vec3};
 
 use super::error::{Location, SceneError, Warning};
-use super::names::NAMED_SPECTRA;
 use super::tokenizer::{Token, TokenKind};
+use crate::spectrum::NAMED_SPECTRA;
 
 /// A spectrum as written; the scene builder turns it into a `Spectrum`.
 #[derive(Clone, Debug, PartialEq)]
@@ -512,7 +512,7 @@ impl ParamSet {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene::tokenizer::Tokenizer;
+    use crate::pbrt::tokenizer::Tokenizer;
     use std::path::Path;
     use std::sync::Arc;
 
