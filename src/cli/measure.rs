@@ -1,8 +1,8 @@
 //! `prism measure irradiance|radiance`: the measuring instrument on the command line.
 
 use crate::accel::AccelKind;
-use crate::render::RenderSettings;
 use crate::pbrt::FileSettings;
+use crate::render::RenderSettings;
 use crate::scene::SceneBuilder;
 use crate::settings;
 use anyhow::{bail, Context, Result};
