@@ -1,7 +1,8 @@
 # prism: two commands on a fresh Debian 12 machine (see README).
 #   make render   installs what is missing, builds, renders the default scene to prism.png
 #   make test     runs the whole test suite (both feature sets)
-#   make lint     rustfmt and clippy (-D warnings) on both feature sets; CI runs it before make test
+#   make lint     the module layering (no import cycles, no upward imports), rustfmt and clippy
+#                 (-D warnings) on both feature sets; CI runs it before make test
 #   make test-embree4  installs Embree 4 and runs the whole suite against it (not part of make test)
 #   make compat   renders the pbrt-v4 compatibility scenes beside the repository, writes docs/compatibility.md
 
@@ -39,6 +40,7 @@ compat:
 	./target/release/prism compat --repeat 3 --doc docs/compatibility.md
 
 lint: deps
+	python3 scripts/layering.py src
 	$(CARGO) fmt --check
 	$(CARGO) clippy --all-targets -- -D warnings
 	$(CARGO) clippy --all-targets --no-default-features -- -D warnings

@@ -28,7 +28,7 @@ use super::layer_interface::LayerInterface;
 use super::local::same_hemisphere;
 use super::{BsdfSample, BxdfFlags, Conductor, Dielectric, Diffuse, Lobes, TransportMode};
 use crate::math::{Vec2, Vec3, PI};
-use crate::media::HenyeyGreenstein;
+use super::HenyeyGreenstein;
 use crate::sampling::mis::power_heuristic;
 use crate::sampling::rng::hash64;
 use crate::sampling::Rng;

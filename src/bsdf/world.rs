@@ -4,7 +4,8 @@
 use super::{BsdfSample, Bxdf, BxdfFlags, DiffuseLanes, LaneSample, TransportMode};
 use crate::math::FrameLanes;
 use crate::math::{Frame, Vec2, Vec3};
-use crate::simd::{Real, S4, V3};
+use crate::simd::{Real, V3};
+use crate::spectrum::S4;
 use crate::spectrum::SampledSpectrum;
 
 /// A [`Bxdf`] placed in the world. Rejects `wo` in the shading tangent plane, zero pdfs and

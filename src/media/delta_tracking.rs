@@ -4,7 +4,7 @@
 
 use super::coefficients::MediumPoint;
 use super::majorant::MajorantSegments;
-use super::medium::Medium;
+use super::Medium;
 use crate::sampling::Rng;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 use glam::{Vec3, Vec4};

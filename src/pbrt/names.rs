@@ -1,8 +1,9 @@
 //! The type names prism renders, and pbrt-v4's other names with what prism substitutes.
 //!
 //! One place to extend as shapes, cameras and the rest land: move a name from a `PBRT_ONLY_*`
-//! table into the matching `PRISM_*` list. Material and light names live beside their enums
-//! (`material::PBRT_NAMES`, `light::PBRT_NAMES`), so a new one is added where it is implemented.
+//! table into the matching `PRISM_*` list. Material, light and medium names live beside their
+//! enums (`material::PBRT_NAMES`, `light::PBRT_NAMES`, `media::PBRT_NAMES`), so a new one is
+//! added where it is implemented.
 
 /// Shapes prism renders. "objmesh" is prism's extension (docs/scene-format.md).
 pub const PRISM_SHAPES: &[&str] =
@@ -33,7 +34,7 @@ pub const PRISM_FILMS: &[&str] = &["rgb", "spectral"];
 pub const PBRT_ONLY_FILMS: &[(&str, &str)] = &[("gbuffer", "rgb")];
 
 /// Medium types prism renders (MakeNamedMedium "string type").
-pub const MEDIA: &[&str] = &["homogeneous", "uniformgrid", "rgbgrid", "cloud", "nanovdb"];
+pub const MEDIA: &[&str] = crate::media::PBRT_NAMES;
 
 /// Integrators prism runs.
 /// A scene with media is rendered by the volumetric path tracer whichever is named; without

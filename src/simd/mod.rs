@@ -7,10 +7,8 @@
 
 mod lanes;
 mod real;
-mod spectrum;
 mod vec3;
 
 pub use lanes::{Lanes, LanesMask};
 pub use real::{Mask, Real};
-pub use spectrum::S4;
 pub use vec3::V3;

@@ -9,6 +9,7 @@ mod data;
 pub mod display;
 mod illuminant;
 mod jakob_hanika;
+mod lanes;
 mod named;
 pub mod projection;
 mod rgb_spectrum;
@@ -26,6 +27,7 @@ pub use cie::{xyz_bar, CIE_Y_INTEGRAL, K_M};
 pub use color_space::{rgb_to_xyz_from_chromaticities, ColorSpace};
 pub use illuminant::{daylight, normalise_luminance, NAMED_ILLUMINANTS};
 pub use jakob_hanika::{Fit, RgbToSpectrumTable};
+pub use lanes::S4;
 pub use named::NAMED_SPECTRA;
 pub use sampled::{
     sample_visible_wavelength, uniform_wavelength_pdf, visible_wavelength_pdf, SampledSpectrum, SampledWavelengths,

@@ -1,8 +1,8 @@
 //! A sampled spectrum per lane: the values at a path's four wavelengths, for every path of the
 //! lanes (the lane-generic form of [`crate::spectrum::SampledSpectrum`]).
 
-use super::Real;
-use crate::spectrum::SampledSpectrum;
+use super::SampledSpectrum;
+use crate::simd::Real;
 use std::ops::{Add, AddAssign, Mul, MulAssign};
 
 /// Values at the four wavelengths of each lane's path.
