@@ -4,8 +4,8 @@ use super::{BsdfSample, BxdfFlags, TransportMode};
 use crate::math::{Vec2, Vec3, INV_PI};
 use crate::sampling::warp::cosine_hemisphere;
 use crate::simd::{Real, V3};
-use crate::spectrum::S4;
 use crate::spectrum::SampledSpectrum;
+use crate::spectrum::S4;
 
 /// Lambertian BRDF with reflectance `r` ∈ [0, 1] per wavelength.
 #[derive(Clone, Copy, Debug, PartialEq)]

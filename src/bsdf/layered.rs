@@ -26,9 +26,9 @@
 
 use super::layer_interface::LayerInterface;
 use super::local::same_hemisphere;
+use super::HenyeyGreenstein;
 use super::{BsdfSample, BxdfFlags, Conductor, Dielectric, Diffuse, Lobes, TransportMode};
 use crate::math::{Vec2, Vec3, PI};
-use super::HenyeyGreenstein;
 use crate::sampling::mis::power_heuristic;
 use crate::sampling::rng::hash64;
 use crate::sampling::Rng;

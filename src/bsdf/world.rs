@@ -5,8 +5,8 @@ use super::{BsdfSample, Bxdf, BxdfFlags, DiffuseLanes, LaneSample, TransportMode
 use crate::math::FrameLanes;
 use crate::math::{Frame, Vec2, Vec3};
 use crate::simd::{Real, V3};
-use crate::spectrum::S4;
 use crate::spectrum::SampledSpectrum;
+use crate::spectrum::S4;
 
 /// A [`Bxdf`] placed in the world. Rejects `wo` in the shading tangent plane, zero pdfs and
 /// non-finite values, so the integrator never sees a NaN from here.

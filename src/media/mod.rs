@@ -21,13 +21,13 @@ mod nanovdb_medium;
 pub mod presets;
 mod rgb_grid;
 
+pub use crate::bsdf::{hg_density, HenyeyGreenstein};
 pub use cloud::{CloudMedium, CloudShape};
 pub use coefficients::{Homogeneous, MediumPoint};
 pub use delta_tracking::{sample_t_maj, sample_t_maj_homogeneous, Collision};
 pub use grid::{DensityGrid, EmissionSource, GridEmission, GridMedium};
 pub use majorant::MajorantSegment;
 pub use nanovdb_medium::{NanoVdbMedium, TemperatureEmission, NANOVDB_MAJORANT_RES};
-pub use crate::bsdf::{hg_density, HenyeyGreenstein};
 pub use rgb_grid::{RgbGridMedium, SpectrumGrid};
 
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
