@@ -117,6 +117,32 @@ impl Quadric {
         }
     }
 
+    /// pbrt-v4's (u, v) of the point drawn uniformly by area from `u` ∈ [0, 1)² (its `Sample`:
+    /// φ uniform; z uniform on a sphere's zone or a cylinder; r² uniform on a disk's annulus).
+    pub fn uniform_area_uv(&self, u: Vec2) -> Vec2 {
+        let v = match *self {
+            Quadric::Sphere { radius, z_min, z_max, .. } => {
+                let z = z_min + u.x * (z_max - z_min);
+                let theta = (z / radius).clamp(-1.0, 1.0).acos();
+                let (t_min, t_max) =
+                    ((z_min / radius).clamp(-1.0, 1.0).acos(), (z_max / radius).clamp(-1.0, 1.0).acos());
+                (theta - t_min) / (t_max - t_min)
+            }
+            Quadric::Cylinder { .. } => u.x,
+            Quadric::Disk { radius, inner_radius, .. } => {
+                let rho = (inner_radius * inner_radius + u.x * (radius * radius - inner_radius * inner_radius)).sqrt();
+                (radius - rho) / (radius - inner_radius)
+            }
+        };
+        Vec2::new(u.y, v.clamp(0.0, 1.0))
+    }
+
+    /// True when every point has the same normal (a disk), so the normals are one direction; the
+    /// other quadrics' normals span every direction.
+    pub fn is_planar(&self) -> bool {
+        matches!(self, Quadric::Disk { .. })
+    }
+
     /// Grid resolution (segments in u, bands in v) of [`Quadric::tessellate`].
     pub fn grid_size(&self) -> (u32, u32) {
         let turn = |phi_max: f32| ((SEGMENTS_PER_TURN as f32 * phi_max / 360.0).ceil() as u32).max(3);

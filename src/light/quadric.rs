@@ -13,7 +13,7 @@
 use super::point::spectral_integral;
 use super::sampler::LightBounds;
 use super::LightSample;
-use crate::geometry::{PlacedQuadric, Quadric, Ray};
+use crate::geometry::{PlacedQuadric, Ray};
 use crate::math::PI;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths, Spectrum};
 use glam::{Vec2, Vec3};
@@ -44,27 +44,8 @@ impl QuadricLight {
         self.spectrum.sample(lambdas) * self.scale
     }
 
-    /// pbrt-v4's (u, v) of the point drawn uniformly by object area from `u` ∈ [0, 1)².
-    fn uniform_uv(&self, u: Vec2) -> Vec2 {
-        let v = match self.shape.quadric {
-            Quadric::Sphere { radius, z_min, z_max, .. } => {
-                let z = z_min + u.x * (z_max - z_min);
-                let theta = (z / radius).clamp(-1.0, 1.0).acos();
-                let (t_min, t_max) =
-                    ((z_min / radius).clamp(-1.0, 1.0).acos(), (z_max / radius).clamp(-1.0, 1.0).acos());
-                (theta - t_min) / (t_max - t_min)
-            }
-            Quadric::Cylinder { .. } => u.x,
-            Quadric::Disk { radius, inner_radius, .. } => {
-                let rho = (inner_radius * inner_radius + u.x * (radius * radius - inner_radius * inner_radius)).sqrt();
-                (radius - rho) / (radius - inner_radius)
-            }
-        };
-        Vec2::new(u.y, v.clamp(0.0, 1.0))
-    }
-
     pub(super) fn sample_li(&self, p: Vec3, u: Vec2, w: &SampledWavelengths) -> Option<LightSample> {
-        let uv = self.uniform_uv(u);
+        let uv = self.shape.quadric.uniform_area_uv(u);
         let (q, n, area_scale) = self.shape.point(uv.x, uv.y);
         let d = q - p;
         let dist2 = d.length_squared();
@@ -104,10 +85,8 @@ impl QuadricLight {
     /// Bounds for many-light sampling, emitting flux `phi`: the placed shape's box and θ_e =
     /// π/2; a disk's normal is one direction (θ_o = 0), the other shapes' span every direction.
     pub(super) fn bounds(&self, phi: f32) -> LightBounds {
-        let (w, cos_theta_o) = match self.shape.quadric {
-            Quadric::Disk { .. } => (self.shape.point(0.0, 0.5).1, 1.0),
-            Quadric::Sphere { .. } | Quadric::Cylinder { .. } => (Vec3::Z, -1.0),
-        };
+        let (w, cos_theta_o) =
+            if self.shape.quadric.is_planar() { (self.shape.point(0.0, 0.5).1, 1.0) } else { (Vec3::Z, -1.0) };
         LightBounds { bounds: self.shape.bounds(), w, phi, cos_theta_o, cos_theta_e: 0.0, two_sided: self.two_sided }
     }
 }
@@ -115,6 +94,7 @@ impl QuadricLight {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::geometry::Quadric;
     use crate::sampling::chi2::Chi2Test;
     use glam::{Mat4, Quat};
 

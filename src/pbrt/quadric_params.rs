@@ -4,6 +4,9 @@
 use super::params::ParamSet;
 use crate::geometry::Quadric;
 
+/// The pbrt-v4 shape names that are quadrics.
+pub const KINDS: &[&str] = &["sphere", "disk", "cylinder"];
+
 /// Reads the quadric `kind` ("sphere", "disk" or "cylinder") from `ps`, marking its parameters
 /// used; an empty or non-finite shape is an error message.
 pub fn load(kind: &str, ps: &ParamSet) -> Result<Quadric, String> {

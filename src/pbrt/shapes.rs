@@ -20,7 +20,7 @@ pub fn load(
 ) -> Result<ShapeGeometry, SceneError> {
     let err = |m: String| SceneError::syntax(loc, &format!("Shape \"{kind}\""), m);
     match kind {
-        "sphere" | "disk" | "cylinder" => {
+        k if super::quadric_params::KINDS.contains(&k) => {
             super::quadric_params::load(kind, ps).map(ShapeGeometry::Quadric).map_err(err)
         }
         "curve" => {
