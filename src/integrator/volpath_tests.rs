@@ -412,3 +412,48 @@ fn the_volumetric_and_the_surface_loop_agree_on_a_scene_without_media() {
         }
     }
 }
+
+/// A closed grey box (reflectance 0.5, flat faces, seen from inside) lit by a point light
+/// inside: no path escapes and every diffuse bounce succeeds, so a path ends only by its depth
+/// limit or roulette.
+fn grey_room() -> Scene {
+    use crate::light::PointLight;
+    let mut b = SceneBuilder::new();
+    let m = b.add_material(Material::diffuse(Spectrum::constant(0.5)));
+    b.add_mesh(axis_box(Vec3::splat(-5.0), Vec3::splat(5.0)), m, None);
+    b.add_light(Light::Point(PointLight::new(Vec3::new(0.0, 1.0, 0.0), Arc::new(Spectrum::constant(1.0)), 1.0)));
+    b.set_camera(Mat4::IDENTITY, 40.0);
+    b.build(AccelKind::Obvhs).unwrap()
+}
+
+/// Both loops honour `rr_depth` and the direct-light strategy, the settings they share: with
+/// roulette beyond the depth limit every path of the grey room reaches the limit, and BSDF
+/// sampling alone never finds a point light.
+#[test]
+fn both_loops_take_the_shared_roulette_depth_and_strategy() {
+    use crate::integrator::DirectStrategy;
+    let scene = grey_room();
+    let ray = Ray::new(Vec3::ZERO, Vec3::new(0.3, -0.2, 1.0).normalize());
+    for kind in [IntegratorKind::Path, IntegratorKind::VolPath] {
+        let no_roulette = Integrator { kind, max_depth: 12, rr_depth: 100, ..Default::default() };
+        let early_roulette = Integrator { rr_depth: 1, ..no_roulette };
+        let bsdf_only = Integrator { strategy: DirectStrategy::BsdfOnly, ..no_roulette };
+        let mut sampler = Sampler::independent();
+        let (mut stats, mut shallow, mut lit) = (Stats::default(), [0u32; 2], 0.0f32);
+        for i in 0..400 {
+            for (k, integ) in [no_roulette, early_roulette].into_iter().enumerate() {
+                sampler.start_pixel_sample((0, 0), i, 3);
+                let mut w = SampledWavelengths::sample_visible(sampler.get_1d());
+                integ.li(&scene, ray, &mut w, &mut sampler, &mut stats);
+                shallow[k] += (stats.last_depth < 12) as u32;
+            }
+            sampler.start_pixel_sample((0, 0), i, 4);
+            let mut w = SampledWavelengths::sample_visible(sampler.get_1d());
+            lit += bsdf_only.li(&scene, ray, &mut w, &mut sampler, &mut stats).average();
+        }
+        assert_eq!(shallow[0], 0, "{kind:?}: a path ended before depth 12 with roulette from depth 100");
+        // Survival is at most 0.5 per bounce from depth 1: nearly every path ends early.
+        assert!(shallow[1] > 350, "{kind:?}: roulette from depth 1 ended only {} of 400 paths early", shallow[1]);
+        assert_eq!(lit, 0.0, "{kind:?}: BSDF sampling alone found the point light");
+    }
+}
