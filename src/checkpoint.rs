@@ -153,7 +153,9 @@ pub fn merge(mut parts: Vec<(Film, FilmHeader)>) -> Result<(Film, FilmHeader), F
 
 /// The sample range of part `i` (1-based) of `n` of a render with `spp` samples per pixel.
 pub fn part_range(i: u64, n: u64, spp: u64) -> Range<u64> {
-    ((i - 1) * spp / n)..(i * spp / n)
+    // In 128 bits: i · spp overflows 64 for large i and spp.
+    let at = |k: u64| (k as u128 * spp as u128 / n as u128) as u64;
+    at(i - 1)..at(i)
 }
 
 #[cfg(test)]
@@ -211,5 +213,13 @@ mod tests {
             }
             assert_eq!(next, spp);
         }
+    }
+
+    #[test]
+    fn parts_of_huge_counts_do_not_overflow() {
+        // i · spp exceeds 64 bits here: the last of 2⁶⁴ − 1 parts of 16 samples is the 16th.
+        assert_eq!(part_range(u64::MAX, u64::MAX, 16), 15..16);
+        assert_eq!(part_range(u64::MAX, u64::MAX, u64::MAX), (u64::MAX - 1)..u64::MAX);
+        assert_eq!(part_range(1, 3, u64::MAX), 0..u64::MAX / 3);
     }
 }

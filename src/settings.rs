@@ -62,6 +62,9 @@ pub enum SettingsError {
     /// A duration that is not positive.
     #[error("duration '{0}' must be positive")]
     DurationNotPositive(String),
+    /// A duration longer than a `Duration` holds (about 5.8·10¹¹ years).
+    #[error("duration '{0}' is too long")]
+    DurationTooLong(String),
     /// A comma-separated list with nothing in it.
     #[error("{0} is empty")]
     EmptyList(String),
@@ -128,7 +131,7 @@ pub fn parse_duration(text: &str) -> Result<Duration, SettingsError> {
     if !(v.is_finite() && v > 0.0) {
         return Err(SettingsError::DurationNotPositive(s.into()));
     }
-    Ok(Duration::from_secs_f64(v * seconds))
+    Duration::try_from_secs_f64(v * seconds).map_err(|_| SettingsError::DurationTooLong(s.into()))
 }
 
 /// A comma-separated list, each item read by `parse`; an empty list is an error.
@@ -172,6 +175,9 @@ mod tests {
         assert_eq!(parse_duration("2m"), Ok(Duration::from_secs(120)));
         assert_eq!(parse_duration("1.5"), Ok(Duration::from_millis(1500)));
         assert!(parse_duration("-1").is_err() && parse_duration("soon").is_err());
+        // Longer than a Duration holds: an error, not a panic.
+        assert_eq!(parse_duration("1e30s"), Err(SettingsError::DurationTooLong("1e30s".into())));
+        assert_eq!(parse_duration("1e300h"), Err(SettingsError::DurationTooLong("1e300h".into())));
         let list = |s: &str| parse_list(s, "--spp-ladder", |x| parse_count(x, "--spp-ladder"));
         assert_eq!(list("1, 4,16"), Ok(vec![1, 4, 16]));
         assert_eq!(list(""), Err(SettingsError::EmptyList("--spp-ladder".into())));

@@ -315,11 +315,18 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     let range = match &args.part {
         Some(p) => {
             let (i, n) = parse_part(p)?;
-            crate::checkpoint::part_range(i, n, spp)
+            let range = crate::checkpoint::part_range(i, n, spp);
+            if range.is_empty() {
+                bail!("--part {p}: {spp} samples per pixel in {n} parts leave this part none (use N <= {spp})");
+            }
+            range
         }
         None => 0..spp,
     };
     let film_output = job.output.extension().is_some_and(|e| e == "film");
+    if let Some(p) = &args.stats_json {
+        crate::io::check_dir_writable(p).with_context(|| format!("cannot write {}", p.display()))?;
+    }
     if args.part.is_some() && !film_output {
         bail!("--part writes a share of the samples: give a .film output and combine with `prism merge`");
     }

@@ -54,9 +54,9 @@ pub struct Integrator {
     pub max_depth: u32,
     /// Depth from which Russian roulette may end paths. The survival probability is
     /// min(max β', 1), β' the throughput with refraction's radiance scaling (and, in media,
-    /// the spectral MIS normalisation) undone, as pbrt-v4; with [`UNBOUNDED_DEPTH`] it is at
-    /// most 0.95, so a path whose throughput stays ≥ 1 (a closed white room) still ends
-    /// (Mitsuba 3's rule).
+    /// the spectral MIS normalisation) undone, as pbrt-v4; with [`UNBOUNDED_DEPTH`], or any depth
+    /// limit of 1024 or more, it is at most 0.95, so a path whose throughput stays ≥ 1 (a closed
+    /// white room) still ends (Mitsuba 3's rule).
     pub rr_depth: u32,
     /// Direct-light estimator.
     pub strategy: DirectStrategy,

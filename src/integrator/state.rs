@@ -5,7 +5,7 @@
 //! on solid-angle densities, or the balance heuristic on the rescaled path probabilities of
 //! spectral MIS).
 
-use super::interface::{Integrator, UNBOUNDED_DEPTH};
+use super::interface::Integrator;
 use crate::bsdf::{Bsdf, BsdfSample, TransportMode};
 use crate::light::LightSampleContext;
 use crate::sampling::Sampler;
@@ -64,6 +64,11 @@ impl PathState {
     }
 }
 
+/// A depth limit from which a path's survival probability is capped at 0.95, as without a
+/// limit: a path whose throughput stays ≥ 1 (a closed lossless room) would otherwise run to the
+/// limit, and no estimate needs paths this long (0.95^1024 ≈ 10⁻²³).
+pub(super) const ROULETTE_CAP_DEPTH: u32 = 1024;
+
 impl Integrator {
     /// Counts a new scattering vertex; false when the depth limit ends the path there.
     #[inline(always)]
@@ -120,12 +125,12 @@ impl Integrator {
 
     /// Russian roulette: true when the path survives (its throughput then divided by the
     /// survival probability), false when it ends. The survival probability is
-    /// min(max(β η_scale / avg r_u), 1), at most 0.95 without a depth limit; paths shallower
-    /// than `rr_depth` always survive.
+    /// min(max(β η_scale / avg r_u), 1), at most 0.95 without a depth limit or with one of at
+    /// least [`ROULETTE_CAP_DEPTH`]; paths shallower than `rr_depth` always survive.
     #[inline(always)]
     pub(super) fn roulette(&self, state: &mut PathState, sampler: &mut Sampler) -> bool {
         let rr_beta = state.beta * state.eta_scale / state.r_u.average();
-        let cap = if self.max_depth == UNBOUNDED_DEPTH { 0.95 } else { 1.0 };
+        let cap = if self.max_depth >= ROULETTE_CAP_DEPTH { 0.95 } else { 1.0 };
         let survival = rr_beta.max_value().min(cap);
         if state.depth >= self.rr_depth && survival < 1.0 {
             let q = (1.0 - survival).max(0.0);

@@ -457,3 +457,33 @@ fn both_loops_take_the_shared_roulette_depth_and_strategy() {
         assert_eq!(lit, 0.0, "{kind:?}: BSDF sampling alone found the point light");
     }
 }
+
+/// A depth limit of 2³¹ − 1 in a closed white room (every bounce keeps the throughput at 1)
+/// ends every path, as no limit does: from a limit of 1024 the survival probability is capped.
+#[test]
+fn a_huge_depth_limit_in_a_lossless_room_ends_like_no_limit() {
+    let (tx, rx) = std::sync::mpsc::channel();
+    std::thread::spawn(move || {
+        use crate::light::PointLight;
+        let mut b = SceneBuilder::new();
+        let m = b.add_material(Material::diffuse(Spectrum::constant(1.0)));
+        b.add_mesh(axis_box(Vec3::splat(-5.0), Vec3::splat(5.0)), m, None);
+        b.add_light(Light::Point(PointLight::new(Vec3::Y, Arc::new(Spectrum::constant(1.0)), 1.0)));
+        b.set_camera(Mat4::IDENTITY, 40.0);
+        let scene = b.build(AccelKind::Obvhs).unwrap();
+        let ray = Ray::new(Vec3::ZERO, Vec3::new(0.3, -0.2, 1.0).normalize());
+        for kind in [IntegratorKind::Path, IntegratorKind::VolPath] {
+            let integ = Integrator { kind, max_depth: i32::MAX as u32, ..Default::default() };
+            let mut sampler = Sampler::independent();
+            let mut stats = Stats::default();
+            for i in 0..200 {
+                sampler.start_pixel_sample((0, 0), i, 5);
+                let mut w = SampledWavelengths::sample_visible(sampler.get_1d());
+                integ.li(&scene, ray, &mut w, &mut sampler, &mut stats);
+            }
+        }
+        tx.send(()).unwrap();
+    });
+    let ended = rx.recv_timeout(std::time::Duration::from_secs(60));
+    assert!(ended.is_ok(), "200 paths with a depth limit of 2^31 - 1 did not end in 60 s");
+}

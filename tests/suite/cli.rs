@@ -33,6 +33,18 @@ fn bad_input_gets_one_clear_line() {
     assert_clean_error(&["render", "--resolution", "0x64", "-o", out], "resolution must be positive");
     assert_clean_error(&["render", "--resolution", "-4x64", "-o", out], "resolution must be positive");
     assert_clean_error(&["render", "--threads", "0", "-o", out], "--threads must be at least 1");
+    // Too long a duration, a part of no samples, a statistics file that cannot be written: all
+    // refused before rendering.
+    assert_clean_error(&["render", "--time-limit", "1e30s", "-o", out], "duration '1e30s' is too long");
+    assert_clean_error(&["render", "--checkpoint-every", "1e300s", "-o", out], "duration '1e300s' is too long");
+    let film = d.join("part.film");
+    let film = film.to_str().unwrap();
+    assert_clean_error(&["render", "--spp", "4", "--part", "3/8", "-o", film], "leave this part none");
+    assert_clean_error(
+        &["render", "--stats-json", "/no/such/dir/s.json", "-o", out],
+        "cannot write /no/such/dir/s.json",
+    );
+    assert!(!Path::new(film).exists(), "no part may be written on error");
     let depth = "--max-depth must be at least 0, or -1 for no limit";
     assert_clean_error(&["render", "--max-depth", "-2", "-o", out], depth);
     assert_clean_error(&["measure", "radiance", "--at", "0,0,0", "--dir", "0,0,0"], "--dir must not be zero");
