@@ -104,12 +104,22 @@ pub fn load(path: &Path) -> Result<(Film, FilmHeader), FilmFileError> {
     if n == 0 || n > MAX_PIXELS {
         return Err(bad("absurd image size"));
     }
+    if header.samples.start > header.samples.end || header.samples.end > header.spp_total {
+        return Err(bad("its sample range does not lie within its samples per pixel"));
+    }
+    if let Some(w) = &header.window {
+        let inside = |at: u32, len: u32, full: u32| at as u64 + len as u64 <= full as u64;
+        if !inside(w.x0, header.width, w.full_width) || !inside(w.y0, header.height, w.full_height) {
+            return Err(bad("its crop window does not lie within its full image"));
+        }
+    }
     let mut data = Vec::new();
     f.read_to_end(&mut data).map_err(io)?;
     if data.len() as u64 != n * 40 {
         return Err(bad("pixel data has the wrong length"));
     }
     let mut film = Film::try_new(header.width, header.height)?;
+    let range_len = header.samples.end - header.samples.start;
     for (p, c) in film.pixels.iter_mut().zip(data.chunks_exact(40)) {
         let f64_at = |i: usize| f64::from_le_bytes(c[i * 8..i * 8 + 8].try_into().expect("8 bytes"));
         *p = Pixel {
@@ -117,6 +127,10 @@ pub fn load(path: &Path) -> Result<(Film, FilmHeader), FilmFileError> {
             weight_sum: f64_at(3),
             samples: u64::from_le_bytes(c[32..40].try_into().expect("8 bytes")),
         };
+        // A render keeps no non-finite sample, and a pixel holds at most the range's samples.
+        if !p.xyz_sum.is_finite() || !p.weight_sum.is_finite() || p.samples > range_len {
+            return Err(bad("a pixel holds a non-finite sum or more samples than its range"));
+        }
     }
     Ok((film, header))
 }
@@ -213,6 +227,39 @@ mod tests {
             }
             assert_eq!(next, spp);
         }
+    }
+
+    #[test]
+    fn films_with_non_finite_pixels_or_inconsistent_headers_are_refused() {
+        let dir = std::env::temp_dir().join(format!("prism-film-validate-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let header = |samples: Range<u64>, spp_total: u64, window: Option<CropWindow>| FilmHeader {
+            width: 3,
+            height: 2,
+            samples,
+            spp_total,
+            fingerprint: "f".into(),
+            window,
+            color_space: None,
+        };
+        let check = |name: &str, film: &Film, h: &FilmHeader, needle: &str| {
+            let path = dir.join(name);
+            save(&path, film, h).unwrap();
+            let e = load(&path).err().map(|e| e.to_string()).unwrap_or_default();
+            assert!(e.contains(needle), "{name}: {e:?} should say {needle:?}");
+        };
+        let good = film(1.0);
+        let ok = header(0..1, 4, None);
+        save(&dir.join("ok.film"), &good, &ok).unwrap();
+        assert!(load(&dir.join("ok.film")).is_ok());
+        let mut nan = good.clone();
+        nan.pixels[4].xyz_sum.y = f64::NAN;
+        check("nan.film", &nan, &ok, "non-finite");
+        check("range.film", &good, &header(3..2, 4, None), "sample range");
+        check("spp.film", &good, &header(0..5, 4, None), "sample range");
+        let outside = CropWindow { x0: 2, y0: 0, full_width: 4, full_height: 2 };
+        check("window.film", &good, &header(0..1, 4, Some(outside)), "crop window");
+        let _ = std::fs::remove_dir_all(&dir);
     }
 
     #[test]
