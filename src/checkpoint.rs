@@ -255,7 +255,7 @@ mod tests {
         let mut nan = good.clone();
         nan.pixels[4].xyz_sum.y = f64::NAN;
         check("nan.film", &nan, &ok, "non-finite");
-        check("range.film", &good, &header(3..2, 4, None), "sample range");
+        check("range.film", &good, &header(Range { start: 3, end: 2 }, 4, None), "sample range");
         check("spp.film", &good, &header(0..5, 4, None), "sample range");
         let outside = CropWindow { x0: 2, y0: 0, full_width: 4, full_height: 2 };
         check("window.film", &good, &header(0..1, 4, Some(outside)), "crop window");
