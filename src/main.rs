@@ -22,10 +22,22 @@ impl log::Log for StderrLog {
 fn main() {
     static LOGGER: StderrLog = StderrLog;
     let _ = log::set_logger(&LOGGER).map(|_| log::set_max_level(log::LevelFilter::Warn));
-    if let Err(e) = Cli::parse().run() {
-        // One line: the chain of causes joined by ": ".
-        let msg = e.chain().map(|c| c.to_string()).collect::<Vec<_>>().join(": ");
-        eprintln!("prism: error: {msg}");
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) if !e.use_stderr() => e.exit(), // --help, --version
+        Err(e) => {
+            // clap's message, without its usage and tips.
+            let text = e.to_string();
+            let first = text.lines().next().unwrap_or_default();
+            eprintln!("prism: error: {}", first.trim_start_matches("error: "));
+            std::process::exit(2);
+        }
+    };
+    if let Err(e) = cli.run() {
+        // One line: the chain of causes joined by ": ", each cause's own lines joined by spaces
+        // (some decoders end their messages in a newline).
+        let causes = e.chain().map(|c| c.to_string().split_whitespace().collect::<Vec<_>>().join(" "));
+        eprintln!("prism: error: {}", causes.collect::<Vec<_>>().join(": "));
         std::process::exit(1);
     }
 }

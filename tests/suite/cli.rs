@@ -17,6 +17,8 @@ fn assert_clean_error(args: &[&str], needle: &str) {
     assert!(!e.contains("panicked"), "{args:?} panicked: {e}");
     let line = e.lines().find(|l| l.starts_with("prism: error:")).unwrap_or_else(|| panic!("{args:?}: {e}"));
     assert!(line.contains(needle), "{args:?}: '{line}' lacks '{needle}'");
+    let others: Vec<&str> = e.lines().filter(|l| !l.starts_with("prism: warn") && *l != line).collect();
+    assert!(others.is_empty(), "{args:?}: the error is more than one line: {e}");
 }
 
 #[test]
@@ -45,6 +47,9 @@ fn bad_input_gets_one_clear_line() {
         "cannot write /no/such/dir/s.json",
     );
     assert!(!Path::new(film).exists(), "no part may be written on error");
+    // clap's own errors (a value out of range, an unknown flag) are one line too.
+    assert_clean_error(&["compat", "--repeat", "0", "--out", d.to_str().unwrap()], "--repeat");
+    assert_clean_error(&["render", "--no-such-flag"], "unexpected argument '--no-such-flag'");
     let depth = "--max-depth must be at least 0, or -1 for no limit";
     assert_clean_error(&["render", "--max-depth", "-2", "-o", out], depth);
     assert_clean_error(&["measure", "radiance", "--at", "0,0,0", "--dir", "0,0,0"], "--dir must not be zero");
