@@ -104,7 +104,7 @@ pub fn run(cmd: ColorCommand) -> Result<()> {
 }
 
 fn load_spd(path: &Path) -> Result<Spectrum> {
-    Spectrum::from_spd_file(path).with_context(|| format!("in SPD file {}", path.display()))
+    Ok(Spectrum::from_spd_file(path)?)
 }
 
 /// `prism color xyz`: "X Y Z" of the SPD file, in the ∫ȳ normalisation (see `spectrum::cie`).

@@ -19,6 +19,14 @@ pub enum SpdError {
         /// The OS error.
         cause: std::io::Error,
     },
+    /// A file's contents are malformed: the error, named by the file.
+    #[error("{path}: {error}")]
+    InFile {
+        /// The path given.
+        path: String,
+        /// What is wrong with its contents.
+        error: Box<SpdError>,
+    },
     /// A line does not have exactly two fields.
     #[error("line {line}: expected 2 fields (wavelength, value), found {found}")]
     FieldCount {
@@ -139,6 +147,7 @@ impl Spectrum {
         let text =
             std::fs::read_to_string(path).map_err(|cause| SpdError::Io { path: path.display().to_string(), cause })?;
         Spectrum::from_spd_str(&text)
+            .map_err(|e| SpdError::InFile { path: path.display().to_string(), error: Box::new(e) })
     }
 
     /// Parses SPD text (see the module docs) as a piecewise-linear spectrum.
@@ -152,6 +161,17 @@ impl Spectrum {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_malformed_file_is_named_in_its_error() {
+        let dir = std::env::temp_dir().join(format!("prism-spd-name-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("lamp.spd");
+        std::fs::write(&path, "400 1\n500 x\n").unwrap();
+        let e = Spectrum::from_spd_file(&path).unwrap_err().to_string();
+        let _ = std::fs::remove_dir_all(&dir);
+        assert!(e.contains("lamp.spd") && e.contains("line 2"), "{e}");
+    }
 
     fn err(text: &str) -> SpdError {
         Spectrum::from_spd_str(text).unwrap_err()
