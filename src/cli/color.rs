@@ -5,7 +5,7 @@ use crate::spectrum::projection::{project, Basis, Fit};
 use crate::spectrum::roundtrip::reflectance_rgb;
 use crate::spectrum::smits::{smits_spectrum, SmitsKind};
 use crate::spectrum::{ColorSpace, RgbKind, Spectrum};
-use anyhow::{bail, Context, Result};
+use anyhow::{bail, Result};
 use glam::DVec3;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
