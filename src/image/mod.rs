@@ -176,8 +176,8 @@ pub fn write_with(path: &Path, img: &Image, opts: &WriteOptions) -> Result<(), I
     let temp = create_temp(path)?;
     let result = match opts.backend {
         #[cfg(feature = "oiio")]
-        Backend::Oiio => oiio::write(temp.path(), format, img, opts),
-        _ => rust_io::write(temp.path(), format, img, opts),
+        Backend::Oiio => oiio::write(temp.path(), format, img, opts).map_err(|e| e.to_string()),
+        _ => rust_io::write(temp.path(), format, img, opts).map_err(|e| e.to_string()),
     };
     #[cfg(test)]
     let result = result.and_then(|()| tests::injected_failure());
@@ -225,8 +225,8 @@ pub fn read_with(path: &Path, backend: Backend) -> Result<Image, ImageError> {
     }
     let result = match backend {
         #[cfg(feature = "oiio")]
-        Backend::Oiio => oiio::read(path),
-        _ => rust_io::read(path, format),
+        Backend::Oiio => oiio::read(path).map_err(|e| e.to_string()),
+        _ => rust_io::read(path, format).map_err(|e| e.to_string()),
     };
     result.map_err(|reason| ImageError::Decode { path: path.to_path_buf(), reason })
 }

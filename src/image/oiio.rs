@@ -7,7 +7,7 @@
 
 use std::ffi::{c_char, c_int, CString};
 use std::path::{Path, PathBuf};
-use std::sync::OnceLock;
+use std::sync::{Arc, OnceLock};
 
 use super::format::FileFormat;
 use super::{srgb, ExrSample, Image, WriteOptions};
@@ -20,6 +20,46 @@ const UINT16: c_int = 3;
 
 /// Size of the message buffer handed to the shim; longer messages are truncated.
 const ERR_LEN: usize = 1024;
+
+/// Why the shim could not be loaded; kept for the process, so it is `Clone`.
+#[derive(Clone, Debug, thiserror::Error)]
+pub(crate) enum ShimError {
+    /// No candidate path holds the shim.
+    #[error("the OpenImageIO shim libprism_oiio_shim.so was not found (set PRISM_OIIO_SHIM to its path)")]
+    NotFound,
+    /// The library or one of its symbols failed to load.
+    #[error("cannot load the OpenImageIO shim {}: {cause}", path.display())]
+    Load { path: PathBuf, cause: Arc<libloading::Error> },
+}
+
+/// Why OpenImageIO could not write or read a file.
+#[derive(Debug, thiserror::Error)]
+pub(crate) enum OiioError {
+    /// The shim is unavailable.
+    #[error(transparent)]
+    Shim(#[from] ShimError),
+    /// The path cannot be passed to C as UTF-8.
+    #[error("path is not valid UTF-8")]
+    NonUtf8Path,
+    /// The path cannot be passed to C as a NUL-terminated string.
+    #[error("path contains a NUL byte")]
+    NulInPath,
+    /// A size beyond the C `int` the shim takes.
+    #[error("{what} {value} is too large for OpenImageIO")]
+    TooLargeForInt { what: &'static str, value: u32 },
+    /// OpenImageIO's own message, as the shim reports it.
+    #[error("{0}")]
+    Library(String),
+    /// The file's header gives no pixels.
+    #[error("image reports an empty size {width}x{height}x{channels}")]
+    EmptySize { width: c_int, height: c_int, channels: c_int },
+    /// width·height·channels overflows.
+    #[error("image too large")]
+    TooLarge,
+    /// The samples cannot be allocated.
+    #[error("cannot allocate {0} samples")]
+    Alloc(usize),
+}
 
 /// `int prism_oiio_write(const char*, int, int, int, const float*, int, int, const int*, char*, size_t)`.
 type WriteFn = unsafe extern "C" fn(
@@ -62,14 +102,11 @@ fn shim_candidates() -> Vec<PathBuf> {
 }
 
 /// The shim, loaded (with OpenImageIO and its dependencies) on the first call.
-fn shim() -> Result<&'static Shim, String> {
-    static SHIM: OnceLock<Result<Shim, String>> = OnceLock::new();
+fn shim() -> Result<&'static Shim, ShimError> {
+    static SHIM: OnceLock<Result<Shim, ShimError>> = OnceLock::new();
     SHIM.get_or_init(|| {
-        let path = shim_candidates()
-            .into_iter()
-            .find(|p| p.is_file())
-            .ok_or("the OpenImageIO shim libprism_oiio_shim.so was not found (set PRISM_OIIO_SHIM to its path)")?;
-        let fail = |e: libloading::Error| format!("cannot load the OpenImageIO shim {}: {e}", path.display());
+        let path = shim_candidates().into_iter().find(|p| p.is_file()).ok_or(ShimError::NotFound)?;
+        let fail = |e: libloading::Error| ShimError::Load { path: path.clone(), cause: Arc::new(e) };
         // SAFETY: the library is prism's own shim built by build.rs from cpp/oiio_shim.cpp, whose
         // initialisers (and OpenImageIO's) have no preconditions on the caller.
         let library = unsafe { libloading::Library::new(&path) }.map_err(fail)?;
@@ -88,28 +125,28 @@ fn shim() -> Result<&'static Shim, String> {
     .map_err(Clone::clone)
 }
 
-fn c_path(path: &Path) -> Result<CString, String> {
-    let s = path.to_str().ok_or("path is not valid UTF-8")?;
-    CString::new(s).map_err(|_| "path contains a NUL byte".to_string())
+fn c_path(path: &Path) -> Result<CString, OiioError> {
+    let s = path.to_str().ok_or(OiioError::NonUtf8Path)?;
+    CString::new(s).map_err(|_| OiioError::NulInPath)
 }
 
-fn message(buf: &[c_char; ERR_LEN]) -> String {
+fn message(buf: &[c_char; ERR_LEN]) -> OiioError {
     // The shim always NUL-terminates within the buffer; guard anyway by bounding the scan.
     let bytes: Vec<u8> = buf.iter().take_while(|&&c| c != 0).map(|&c| c as u8).collect();
     let msg = String::from_utf8_lossy(&bytes).trim().to_string();
     if msg.is_empty() {
-        "OpenImageIO reported an error without a message".into()
+        OiioError::Library("OpenImageIO reported an error without a message".into())
     } else {
-        msg
+        OiioError::Library(msg)
     }
 }
 
-fn to_c_int(v: u32, what: &str) -> Result<c_int, String> {
-    c_int::try_from(v).map_err(|_| format!("{what} {v} is too large for OpenImageIO"))
+fn to_c_int(v: u32, what: &'static str) -> Result<c_int, OiioError> {
+    c_int::try_from(v).map_err(|_| OiioError::TooLargeForInt { what, value: v })
 }
 
 /// Writes `img` (already validated for `format`) to `path` through OpenImageIO.
-pub(crate) fn write(path: &Path, format: FileFormat, img: &Image, opts: &WriteOptions) -> Result<(), String> {
+pub(crate) fn write(path: &Path, format: FileFormat, img: &Image, opts: &WriteOptions) -> Result<(), OiioError> {
     let shim = shim()?;
     let cpath = c_path(path)?;
     let c = img.channels as usize;
@@ -174,7 +211,7 @@ pub(crate) fn write(path: &Path, format: FileFormat, img: &Image, opts: &WriteOp
 }
 
 /// Reads `path` through OpenImageIO into linear floats (integer formats are sRGB-decoded).
-pub(crate) fn read(path: &Path) -> Result<Image, String> {
+pub(crate) fn read(path: &Path) -> Result<Image, OiioError> {
     let shim = shim()?;
     let cpath = c_path(path)?;
     let (mut w, mut h, mut c, mut fmt): (c_int, c_int, c_int, c_int) = (0, 0, 0, 0);
@@ -186,12 +223,12 @@ pub(crate) fn read(path: &Path) -> Result<Image, String> {
         return Err(message(&err));
     }
     if w <= 0 || h <= 0 || c <= 0 {
-        return Err(format!("image reports an empty size {w}x{h}x{c}"));
+        return Err(OiioError::EmptySize { width: w, height: h, channels: c });
     }
     let count =
-        (w as usize).checked_mul(h as usize).and_then(|n| n.checked_mul(c as usize)).ok_or("image too large")?;
+        (w as usize).checked_mul(h as usize).and_then(|n| n.checked_mul(c as usize)).ok_or(OiioError::TooLarge)?;
     let mut data: Vec<f32> = Vec::new();
-    data.try_reserve_exact(count).map_err(|_| format!("cannot allocate {count} samples"))?;
+    data.try_reserve_exact(count).map_err(|_| OiioError::Alloc(count))?;
     data.resize(count, 0.0);
     // SAFETY: `data` holds exactly `count` = w·h·c writable floats and the shim writes at
     // most `pixel_count` of them; `cpath` and `err` are as above.

@@ -1,6 +1,6 @@
 //! The pure-Rust image path: OpenEXR through the `exr` crate, everything else through `image`.
 //!
-//! Errors come back as one-line reasons; `super` wraps them with the path.
+//! Errors come back as [`RustIoError`], one line each; `super` wraps them with the path.
 
 use std::fs::File;
 use std::io::BufWriter;
@@ -11,6 +11,35 @@ use exr::prelude::{self as exr_p, f16, SmallVec, WritableImage};
 
 use super::format::FileFormat;
 use super::{srgb, ExrSample, Image, WriteOptions};
+
+/// Why the pure-Rust path could not encode or decode a file.
+#[derive(Debug, thiserror::Error)]
+pub(crate) enum RustIoError {
+    /// The sample vector does not fill the image's width·height·channels.
+    #[error("pixel buffer does not match the image size")]
+    BufferMismatch,
+    /// A file could not be created or opened.
+    #[error(transparent)]
+    Io(#[from] std::io::Error),
+    /// The `image` crate failed to encode or decode.
+    #[error(transparent)]
+    Image(#[from] ::image::ImageError),
+    /// The `exr` crate failed to encode or decode.
+    #[error(transparent)]
+    Exr(#[from] exr::error::Error),
+    /// A crop origin beyond OpenEXR's signed 32-bit data window.
+    #[error("crop origin {0} is too large for OpenEXR")]
+    CropOriginTooLarge(u32),
+    /// The file's first layer is empty.
+    #[error("the first layer has no pixels")]
+    NoPixels,
+    /// A channel sampled more coarsely than the layer (OpenEXR x/y sampling).
+    #[error("channel {0} is subsampled")]
+    Subsampled(String),
+    /// A decoded layout prism has no conversion for.
+    #[error("unsupported pixel layout {0:?}")]
+    PixelLayout(::image::ColorType),
+}
 
 /// Conventional channel names for 1–4 channels, the same ones the OIIO shim writes.
 pub(crate) fn channel_names(channels: usize) -> &'static [&'static str] {
@@ -23,37 +52,37 @@ pub(crate) fn channel_names(channels: usize) -> &'static [&'static str] {
 }
 
 /// Writes `img` (already validated for `format`) to `path`.
-pub(crate) fn write(path: &Path, format: FileFormat, img: &Image, opts: &WriteOptions) -> Result<(), String> {
+pub(crate) fn write(path: &Path, format: FileFormat, img: &Image, opts: &WriteOptions) -> Result<(), RustIoError> {
     match format {
         FileFormat::Exr => write_exr(path, img, opts),
         FileFormat::Hdr => {
-            let buf = ImageBuffer::from_raw(img.width, img.height, img.data.clone())
-                .ok_or("pixel buffer does not match the image size")?;
-            DynamicImage::ImageRgb32F(buf).save_with_format(path, ImageFormat::Hdr).map_err(|e| e.to_string())
+            let buf =
+                ImageBuffer::from_raw(img.width, img.height, img.data.clone()).ok_or(RustIoError::BufferMismatch)?;
+            Ok(DynamicImage::ImageRgb32F(buf).save_with_format(path, ImageFormat::Hdr)?)
         }
         FileFormat::Png | FileFormat::Jpeg | FileFormat::Tiff => {
             let wide = format == FileFormat::Tiff && opts.tiff_16bit;
             let dynimg = encoded_dynamic_image(img, wide)?;
             if format == FileFormat::Jpeg {
-                let file = File::create(path).map_err(|e| e.to_string())?;
+                let file = File::create(path)?;
                 let encoder = ::image::codecs::jpeg::JpegEncoder::new_with_quality(
                     BufWriter::new(file),
                     opts.jpeg_quality.clamp(1, 100),
                 );
-                dynimg.write_with_encoder(encoder).map_err(|e| e.to_string())
+                Ok(dynimg.write_with_encoder(encoder)?)
             } else {
                 let fmt = if format == FileFormat::Png { ImageFormat::Png } else { ImageFormat::Tiff };
-                dynimg.save_with_format(path, fmt).map_err(|e| e.to_string())
+                Ok(dynimg.save_with_format(path, fmt)?)
             }
         }
     }
 }
 
 /// sRGB-encodes and quantises `img` into an 8- or 16-bit `DynamicImage`.
-fn encoded_dynamic_image(img: &Image, sixteen_bit: bool) -> Result<DynamicImage, String> {
+fn encoded_dynamic_image(img: &Image, sixteen_bit: bool) -> Result<DynamicImage, RustIoError> {
     let c = img.channels as usize;
     let (w, h) = (img.width, img.height);
-    let mismatch = || "pixel buffer does not match the image size".to_string();
+    let mismatch = || RustIoError::BufferMismatch;
     if sixteen_bit {
         let codes: Vec<u16> = srgb::encode_to_codes(&img.data, c, 65535).into_iter().map(|v| v as u16).collect();
         Ok(match c {
@@ -73,7 +102,7 @@ fn encoded_dynamic_image(img: &Image, sixteen_bit: bool) -> Result<DynamicImage,
     }
 }
 
-fn write_exr(path: &Path, img: &Image, opts: &WriteOptions) -> Result<(), String> {
+fn write_exr(path: &Path, img: &Image, opts: &WriteOptions) -> Result<(), RustIoError> {
     let c = img.channels as usize;
     let names = channel_names(c);
     let list: SmallVec<[exr_p::AnyChannel<exr_p::FlatSamples>; 4]> = (0..c)
@@ -94,17 +123,17 @@ fn write_exr(path: &Path, img: &Image, opts: &WriteOptions) -> Result<(), String
     );
     let display = match opts.window {
         Some(w) => {
-            let origin = |v: u32| i32::try_from(v).map_err(|_| format!("crop origin {v} is too large for OpenEXR"));
+            let origin = |v: u32| i32::try_from(v).map_err(|_| RustIoError::CropOriginTooLarge(v));
             layer.attributes.layer_position = exr_p::Vec2(origin(w.x0)?, origin(w.y0)?);
             exr_p::IntegerBounds::new((0, 0), (w.full_width as usize, w.full_height as usize))
         }
         None => exr_p::IntegerBounds::new((0, 0), layer.size),
     };
-    exr_p::Image::new(exr_p::ImageAttributes::new(display), layer).write().to_file(path).map_err(|e| e.to_string())
+    Ok(exr_p::Image::new(exr_p::ImageAttributes::new(display), layer).write().to_file(path)?)
 }
 
 /// Reads `path` as `format` into linear floats.
-pub(crate) fn read(path: &Path, format: FileFormat) -> Result<Image, String> {
+pub(crate) fn read(path: &Path, format: FileFormat) -> Result<Image, RustIoError> {
     match format {
         FileFormat::Exr => read_exr(path),
         _ => read_other(path),
@@ -122,8 +151,8 @@ fn canonical_rank(name: &str) -> usize {
     }
 }
 
-fn read_exr(path: &Path) -> Result<Image, String> {
-    let image = exr_p::read_first_flat_layer_from_file(path).map_err(|e| e.to_string())?;
+fn read_exr(path: &Path) -> Result<Image, RustIoError> {
+    let image = exr_p::read_first_flat_layer_from_file(path)?;
     let layer = image.layer_data;
     let (w, h) = (layer.size.width(), layer.size.height());
     let mut channels: Vec<&exr_p::AnyChannel<exr_p::FlatSamples>> = layer.channel_data.list.iter().collect();
@@ -131,7 +160,7 @@ fn read_exr(path: &Path) -> Result<Image, String> {
     channels.sort_by_key(|ch| canonical_rank(&ch.name.to_string()));
     let c = channels.len();
     if c == 0 || w == 0 || h == 0 {
-        return Err("the first layer has no pixels".into());
+        return Err(RustIoError::NoPixels);
     }
     let mut data = vec![0.0f32; w * h * c];
     for (k, ch) in channels.iter().enumerate() {
@@ -141,7 +170,7 @@ fn read_exr(path: &Path) -> Result<Image, String> {
             exr_p::FlatSamples::U32(v) => v.len(),
         };
         if count != w * h {
-            return Err(format!("channel {} is subsampled", ch.name));
+            return Err(RustIoError::Subsampled(ch.name.to_string()));
         }
         let dst = data.iter_mut().skip(k).step_by(c);
         match &ch.sample_data {
@@ -153,13 +182,8 @@ fn read_exr(path: &Path) -> Result<Image, String> {
     Ok(Image { width: w as u32, height: h as u32, channels: c as u32, data })
 }
 
-fn read_other(path: &Path) -> Result<Image, String> {
-    let decoded = ::image::ImageReader::open(path)
-        .map_err(|e| e.to_string())?
-        .with_guessed_format()
-        .map_err(|e| e.to_string())?
-        .decode()
-        .map_err(|e| e.to_string())?;
+fn read_other(path: &Path) -> Result<Image, RustIoError> {
+    let decoded = ::image::ImageReader::open(path)?.with_guessed_format()?.decode()?;
     let (width, height) = (decoded.width(), decoded.height());
     let channels = u32::from(decoded.color().channel_count());
     // `max_code` 0 marks linear float data.
@@ -174,7 +198,7 @@ fn read_other(path: &Path) -> Result<Image, String> {
         DynamicImage::ImageRgba16(b) => (normalise(b.as_raw(), 65535.0), 65535),
         DynamicImage::ImageRgb32F(b) => (b.into_raw(), 0),
         DynamicImage::ImageRgba32F(b) => (b.into_raw(), 0),
-        other => return Err(format!("unsupported pixel layout {:?}", other.color())),
+        other => return Err(RustIoError::PixelLayout(other.color())),
     };
     if max_code > 0 {
         srgb::decode_normalised_in_place(&mut data, channels as usize, max_code);

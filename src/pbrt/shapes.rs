@@ -21,11 +21,11 @@ pub fn load(
     let err = |m: String| SceneError::syntax(loc, &format!("Shape \"{kind}\""), m);
     match kind {
         k if super::quadric_params::KINDS.contains(&k) => {
-            super::quadric_params::load(kind, ps).map(ShapeGeometry::Quadric).map_err(err)
+            super::quadric_params::load(kind, ps).map(ShapeGeometry::Quadric).map_err(|e| err(e.to_string()))
         }
         "curve" => {
             let mut notes = Vec::new();
-            let curves = super::curve_params::load(ps, &mut notes).map_err(err)?;
+            let curves = super::curve_params::load(ps, &mut notes).map_err(|e| err(e.to_string()))?;
             warnings.extend(notes.into_iter().map(|n| Warning::note(loc, n)));
             Ok(ShapeGeometry::Curves(Arc::new(curves)))
         }
@@ -46,7 +46,8 @@ pub fn load(
                 reason: e.to_string(),
             })?;
             let mesh = if kind == "plymesh" { mesh_io::ply::parse(&bytes) } else { mesh_io::obj::parse(&bytes) };
-            let mesh = mesh.map_err(|message| SceneError::Mesh { loc: loc.clone(), path: path.clone(), message })?;
+            let mesh =
+                mesh.map_err(|e| SceneError::Mesh { loc: loc.clone(), path: path.clone(), message: e.to_string() })?;
             if mesh.indices.is_empty() {
                 // OBJ readers skip what they do not know, so a wrong file can parse to nothing.
                 let message = format!("mesh file \"{}\" holds no triangles; the shape is empty", path.display());

@@ -34,7 +34,7 @@ use crate::geometry::{AnimatedTransform, Curves, Mesh, Motion, PlacedQuadric, Qu
 use crate::light::{EmissionImage, LightSamplerKind};
 use crate::material::{BumpedMaterial, Ior, Material, Roughness};
 use crate::scene::{CameraDesc, Emission, SceneBuilder};
-use crate::spectrum::{ColorSpace, RgbKind, Spectrum};
+use crate::spectrum::{ColorSpace, RgbKind, SpdError, Spectrum};
 use glam::Mat4;
 use std::collections::HashMap;
 use std::sync::Arc;
@@ -149,6 +149,23 @@ struct Ctx<'a> {
 /// An error at parameter `name` of `params` (at `directive` where the parameter is not written).
 fn param_error(params: &ParamSet, name: &str, directive: &Location, message: String) -> SceneError {
     SceneError::syntax(params.get(name).map_or(directive, |p| &p.loc), name, message)
+}
+
+/// Why a spectrum parameter gives no spectrum.
+#[derive(Debug, thiserror::Error)]
+enum SpectrumError {
+    /// An RGB parameter of more than one colour where one is expected.
+    #[error("one RGB colour is expected here, not {0}")]
+    RgbCount(usize),
+    /// (λ, value) samples whose wavelengths do not increase.
+    #[error("spectrum samples must have increasing wavelengths")]
+    Unordered,
+    /// The substitute for a named spectrum prism has no data for is itself missing.
+    #[error("built-in spectrum missing")]
+    BuiltinMissing,
+    /// An SPD file that cannot be read.
+    #[error(transparent)]
+    File(#[from] SpdError),
 }
 
 fn space_of(params: &ParamSet) -> &'static ColorSpace {
@@ -294,14 +311,14 @@ impl Ctx<'_> {
     }
 
     /// A spectrum for a reflectance-like ("albedo"), unbounded or illuminant parameter.
-    fn spectrum(&mut self, s: &SpectrumParam, kind: RgbKind, params: &ParamSet) -> Result<Spectrum, String> {
+    fn spectrum(&mut self, s: &SpectrumParam, kind: RgbKind, params: &ParamSet) -> Result<Spectrum, SpectrumError> {
         Ok(match s {
             SpectrumParam::Rgb(rgb) => Spectrum::from_rgb(*rgb, kind, space_of(params)),
             SpectrumParam::Blackbody(t) => Spectrum::blackbody(*t),
-            SpectrumParam::RgbArray(v) => return Err(format!("one RGB colour is expected here, not {}", v.len())),
+            SpectrumParam::RgbArray(v) => return Err(SpectrumError::RgbCount(v.len())),
             SpectrumParam::Samples(v) => {
                 let (l, x): (Vec<f32>, Vec<f32>) = v.iter().copied().unzip();
-                Spectrum::piecewise_linear(&l, &x).ok_or("spectrum samples must have increasing wavelengths")?
+                Spectrum::piecewise_linear(&l, &x).ok_or(SpectrumError::Unordered)?
             }
             SpectrumParam::Named(n) => match named_spectrum(n) {
                 Some(s) => s,
@@ -316,10 +333,10 @@ impl Ctx<'_> {
                         .unwrap_or_else(|| self.desc.camera.directive.loc.clone());
                     let feature = format!("named spectrum \"{n}\" (prism has no data for it)");
                     self.unsupported(&loc, feature, &format!("uses \"{sub}\""));
-                    named_spectrum(sub).ok_or("built-in spectrum missing")?
+                    named_spectrum(sub).ok_or(SpectrumError::BuiltinMissing)?
                 }
             },
-            SpectrumParam::File(p) => Spectrum::from_spd_file(p).map_err(|e| e.to_string())?,
+            SpectrumParam::File(p) => Spectrum::from_spd_file(p)?,
         })
     }
 
@@ -420,7 +437,7 @@ impl Ctx<'_> {
         match p.spectrum(name) {
             Some(s) => {
                 let s = s.clone();
-                self.spectrum(&s, RgbKind::Unbounded, p).map_err(|e| SceneError::syntax(loc, name, e))
+                self.spectrum(&s, RgbKind::Unbounded, p).map_err(|e| SceneError::syntax(loc, name, e.to_string()))
             }
             None => p
                 .float(name)

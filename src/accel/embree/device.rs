@@ -18,7 +18,7 @@ pub enum EmbreeError {
     /// The loaded library is not the version, or does not write the hit layout, that this
     /// build's declarations describe (`library_check`).
     #[error("Embree library mismatch: {0}")]
-    Library(String),
+    Library(super::library_check::LibraryMismatch),
 }
 
 /// Owns an `RTCDevice`. The boxed `last_error` and `bytes` are callback user pointers, so they

@@ -9,7 +9,8 @@
 //! exactly the words the declarations name (Ng, u, v, primID, geomID and the instance words)
 //! and nothing after them.
 
-use std::sync::OnceLock;
+use std::fmt;
+use std::sync::{Arc, OnceLock};
 
 use glam::Vec3;
 
@@ -18,6 +19,61 @@ use super::ffi;
 use super::scene::{Scene, SceneHandle};
 use super::TriangleTest;
 use crate::geometry::{Mesh, Ray};
+
+/// Why the loaded Embree library is not the one this build's declarations describe; the verdict
+/// is kept for the process, so it is `Clone`.
+#[derive(Clone, Debug, thiserror::Error)]
+pub enum LibraryMismatch {
+    /// A version outside [`ffi::SUPPORTED_VERSIONS`].
+    #[error(
+        "prism was built for {name} (library versions {min} to {max}), but the Embree library loaded is version {found}"
+    )]
+    Version {
+        /// [`ffi::NAME`].
+        name: &'static str,
+        /// The first supported version.
+        min: EmbreeVersion,
+        /// The last supported version.
+        max: EmbreeVersion,
+        /// The library's version.
+        found: EmbreeVersion,
+    },
+    /// The probe's hit record differs from [`ffi::RTCHit`].
+    #[error(
+        "the {name} library {version} writes a hit record other than prism's declarations (RTCHit of \
+         {hit_bytes} bytes ending with {instance_words} instance words): hit {hit:?}, instance words \
+         {words:x?}, words written past the record at {past:?}"
+    )]
+    HitLayout {
+        /// [`ffi::NAME`].
+        name: &'static str,
+        /// The library's version.
+        version: EmbreeVersion,
+        /// `size_of::<RTCHit>()`.
+        hit_bytes: usize,
+        /// [`ffi::HIT_INSTANCE_WORDS`].
+        instance_words: usize,
+        /// geomID, primID and distance of the probe's hit.
+        hit: (u32, u32, f32),
+        /// The instance words Embree left.
+        words: Vec<u32>,
+        /// Words written past the declared record.
+        past: Vec<usize>,
+    },
+    /// Building or committing the probe's scene failed.
+    #[error("{0}")]
+    Probe(Arc<EmbreeError>),
+}
+
+/// An Embree version, packed as MAJOR·10000 + MINOR·100 + PATCH; displayed dotted.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct EmbreeVersion(pub isize);
+
+impl fmt::Display for EmbreeVersion {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&dotted(self.0))
+    }
+}
 
 /// Fills the probed words; a value Embree never writes into a hit of this scene.
 const PATTERN: u32 = 0xA5A5_A5A5;
@@ -91,30 +147,30 @@ impl Device {
 
 /// Runs [`check_library`] on the first device of the process and returns its verdict after.
 pub(super) fn check_once(device: &Device) -> Result<(), EmbreeError> {
-    static VERDICT: OnceLock<Result<(), String>> = OnceLock::new();
+    static VERDICT: OnceLock<Result<(), LibraryMismatch>> = OnceLock::new();
     VERDICT.get_or_init(|| check_library(device)).clone().map_err(EmbreeError::Library)
 }
 
 /// The version and hit-layout check (module docs).
-fn check_library(device: &Device) -> Result<(), String> {
+fn check_library(device: &Device) -> Result<(), LibraryMismatch> {
     // SAFETY: `device` holds a valid device; the property is a plain query.
     let version =
         unsafe { ffi::rtcGetDeviceProperty(device.raw(), ffi::RTCDeviceProperty_RTC_DEVICE_PROPERTY_VERSION) };
     let range = ffi::SUPPORTED_VERSIONS;
     if !range.contains(&version) {
-        return Err(format!(
-            "prism was built for {} (library versions {} to {}), but the Embree library loaded is version {}",
-            ffi::NAME,
-            dotted(range.start),
-            dotted(range.end - 1),
-            dotted(version)
-        ));
+        return Err(LibraryMismatch::Version {
+            name: ffi::NAME,
+            min: EmbreeVersion(range.start),
+            max: EmbreeVersion(range.end - 1),
+            found: EmbreeVersion(version),
+        });
     }
     let tri = Mesh::new(vec![Vec3::ZERO, Vec3::X, Vec3::Y], vec![[0, 1, 2]]);
-    let mut scene = SceneHandle::new(device, ffi::RTCBuildQuality_RTC_BUILD_QUALITY_LOW, TriangleTest::Embree)
-        .map_err(|e| e.to_string())?;
-    scene.attach_mesh(device, &tri, 0).map_err(|e| e.to_string())?;
-    scene.commit(device).map_err(|e| e.to_string())?;
+    let probe = |e: EmbreeError| LibraryMismatch::Probe(Arc::new(e));
+    let mut scene =
+        SceneHandle::new(device, ffi::RTCBuildQuality_RTC_BUILD_QUALITY_LOW, TriangleTest::Embree).map_err(probe)?;
+    scene.attach_mesh(device, &tri, 0).map_err(probe)?;
+    scene.commit(device).map_err(probe)?;
     let ray = Ray::new(Vec3::new(0.25, 0.25, 1.0), Vec3::NEG_Z);
     let mut g = GuardedRayHit::new(Scene::rtc_ray(&ray));
     let mut ctx = Scene::context();
@@ -128,16 +184,15 @@ fn check_library(device: &Device) -> Result<(), String> {
     let hit_found = found.0 == 0 && found.1 == 0 && (found.2 - 1.0).abs() <= 4.0 * f32::EPSILON;
     let instances_written = g.instance_words().iter().all(|&w| w == ffi::RTC_INVALID_GEOMETRY_ID);
     if !past.is_empty() || !hit_found || !instances_written {
-        return Err(format!(
-            "the {} library {} writes a hit record other than prism's declarations (RTCHit of {} \
-             bytes ending with {} instance words): hit {found:?}, instance words {:x?}, words \
-             written past the record at {past:?}",
-            ffi::NAME,
-            dotted(version),
-            std::mem::size_of::<ffi::RTCHit>(),
-            ffi::HIT_INSTANCE_WORDS,
-            g.instance_words(),
-        ));
+        return Err(LibraryMismatch::HitLayout {
+            name: ffi::NAME,
+            version: EmbreeVersion(version),
+            hit_bytes: std::mem::size_of::<ffi::RTCHit>(),
+            instance_words: ffi::HIT_INSTANCE_WORDS,
+            hit: found,
+            words: g.instance_words(),
+            past,
+        });
     }
     Ok(())
 }

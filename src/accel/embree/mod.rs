@@ -23,6 +23,7 @@ mod scene;
 mod user_triangles;
 
 pub use device::{error_name, Device, EmbreeError, CONFIG_ENV};
+pub use library_check::{EmbreeVersion, LibraryMismatch};
 
 use super::Accel;
 use crate::geometry::InstanceSet;

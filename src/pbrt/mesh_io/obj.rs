@@ -6,11 +6,12 @@ use std::collections::HashMap;
 
 use glam::{Vec2, Vec3};
 
+use super::MeshError;
 use crate::geometry::Mesh;
 
 /// Parses OBJ text into a mesh (object space). Errors name the line.
-pub fn parse(bytes: &[u8]) -> Result<Mesh, String> {
-    let text = std::str::from_utf8(bytes).map_err(|_| "file is not UTF-8 text".to_string())?;
+pub fn parse(bytes: &[u8]) -> Result<Mesh, MeshError> {
+    let text = std::str::from_utf8(bytes).map_err(|_| MeshError::NotUtf8)?;
     let (mut v, mut vt, mut vn) = (Vec::new(), Vec::new(), Vec::new());
     // Corners (v, vt, vn) are de-duplicated into single-index vertices.
     let mut corner_ids: HashMap<(usize, Option<usize>, Option<usize>), u32> = HashMap::new();
@@ -21,14 +22,14 @@ pub fn parse(bytes: &[u8]) -> Result<Mesh, String> {
         let line = line.split('#').next().unwrap_or("");
         let mut w = line.split_whitespace();
         let Some(kw) = w.next() else { continue };
-        let nums = |w: std::str::SplitWhitespace, n: usize| -> Result<Vec<f32>, String> {
+        let nums = |w: std::str::SplitWhitespace, n: usize| -> Result<Vec<f32>, MeshError> {
             let f: Vec<f32> = w
                 .take(n)
                 .map(|s| s.parse::<f32>().ok().filter(|x| x.is_finite()))
                 .collect::<Option<_>>()
-                .ok_or_else(|| format!("line {ln}: bad number in \"{}\"", line.trim()))?;
+                .ok_or_else(|| MeshError::BadNumber { line: ln, text: line.trim().to_string() })?;
             if f.len() < n {
-                return Err(format!("line {ln}: \"{kw}\" needs {n} numbers"));
+                return Err(MeshError::TooFewNumbers { line: ln, keyword: kw.to_string(), count: n });
             }
             Ok(f)
         };
@@ -49,28 +50,29 @@ pub fn parse(bytes: &[u8]) -> Result<Mesh, String> {
                 let mut poly = Vec::new();
                 for c in w {
                     let mut parts = c.split('/');
-                    let resolve = |s: Option<&str>, n: usize, what: &str| -> Result<Option<usize>, String> {
+                    let resolve = |s: Option<&str>, n: usize, what: &'static str| -> Result<Option<usize>, MeshError> {
                         match s {
                             None | Some("") => Ok(None),
                             Some(s) => {
-                                let i: i64 = s.parse().map_err(|_| format!("line {ln}: bad index \"{s}\""))?;
+                                let i: i64 =
+                                    s.parse().map_err(|_| MeshError::BadIndex { line: ln, text: s.to_string() })?;
                                 let r = if i > 0 { i - 1 } else { n as i64 + i };
                                 if i == 0 || r < 0 || r >= n as i64 {
-                                    return Err(format!("line {ln}: {what} index {i} is out of range ({n} defined)"));
+                                    return Err(MeshError::IndexOutOfRange { line: ln, what, index: i, defined: n });
                                 }
                                 Ok(Some(r as usize))
                             }
                         }
                     };
                     let pi = resolve(parts.next(), v.len(), "vertex")?
-                        .ok_or_else(|| format!("line {ln}: face corner \"{c}\" has no vertex index"))?;
+                        .ok_or_else(|| MeshError::NoVertexIndex { line: ln, corner: c.to_string() })?;
                     let ti = resolve(parts.next(), vt.len(), "texture")?;
                     let ni = resolve(parts.next(), vn.len(), "normal")?;
                     let key = (pi, ti, ni);
                     let id = match corner_ids.get(&key) {
                         Some(&id) => id,
                         None => {
-                            let id = u32::try_from(corners.len()).map_err(|_| "too many vertices".to_string())?;
+                            let id = u32::try_from(corners.len()).map_err(|_| MeshError::TooManyVertices)?;
                             corners.push(key);
                             corner_ids.insert(key, id);
                             id
@@ -79,7 +81,7 @@ pub fn parse(bytes: &[u8]) -> Result<Mesh, String> {
                     poly.push(id);
                 }
                 if poly.len() < 3 {
-                    return Err(format!("line {ln}: a face needs at least 3 corners"));
+                    return Err(MeshError::TooFewCorners { line: ln });
                 }
                 for j in 1..poly.len() - 1 {
                     tris.push([poly[0], poly[j], poly[j + 1]]);
@@ -116,9 +118,10 @@ mod tests {
 
     #[test]
     fn errors_name_the_line() {
-        assert_eq!(parse(b"v 0 0 0\nf 1 2 3\n").unwrap_err(), "line 2: vertex index 2 is out of range (1 defined)");
-        assert_eq!(parse(b"v 0 0\n").unwrap_err(), "line 1: \"v\" needs 3 numbers");
-        assert_eq!(parse(b"v 0 nan 0\n").unwrap_err(), "line 1: bad number in \"v 0 nan 0\"");
-        assert_eq!(parse(b"v 0 0 0\nf 1 1\n").unwrap_err(), "line 2: a face needs at least 3 corners");
+        let e = |b: &[u8]| parse(b).unwrap_err().to_string();
+        assert_eq!(e(b"v 0 0 0\nf 1 2 3\n"), "line 2: vertex index 2 is out of range (1 defined)");
+        assert_eq!(e(b"v 0 0\n"), "line 1: \"v\" needs 3 numbers");
+        assert_eq!(e(b"v 0 nan 0\n"), "line 1: bad number in \"v 0 nan 0\"");
+        assert_eq!(e(b"v 0 0 0\nf 1 1\n"), "line 2: a face needs at least 3 corners");
     }
 }

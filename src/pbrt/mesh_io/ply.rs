@@ -7,6 +7,7 @@
 
 use glam::{Vec2, Vec3};
 
+use super::MeshError;
 use crate::geometry::Mesh;
 
 /// Longest polygon accepted (a face list count above this is corrupt data, not geometry).
@@ -83,7 +84,7 @@ impl Body<'_> {
         self.data.len() - self.pos
     }
 
-    fn value(&mut self, ty: Scalar) -> Result<f64, String> {
+    fn value(&mut self, ty: Scalar) -> Result<f64, MeshError> {
         if self.format == Format::Ascii {
             while self.pos < self.data.len() && self.data[self.pos].is_ascii_whitespace() {
                 self.pos += 1;
@@ -93,14 +94,14 @@ impl Body<'_> {
                 self.pos += 1;
             }
             if start == self.pos {
-                return Err("unexpected end of data".into());
+                return Err(MeshError::UnexpectedEnd);
             }
-            let s = std::str::from_utf8(&self.data[start..self.pos]).map_err(|_| "non-ASCII number".to_string())?;
-            return s.parse::<f64>().map_err(|_| format!("bad number \"{s}\""));
+            let s = std::str::from_utf8(&self.data[start..self.pos]).map_err(|_| MeshError::NonAsciiNumber)?;
+            return s.parse::<f64>().map_err(|_| MeshError::BadValue(s.to_string()));
         }
         let n = ty.size();
         if self.remaining() < n {
-            return Err("unexpected end of data".into());
+            return Err(MeshError::UnexpectedEnd);
         }
         let mut b = [0u8; 8];
         b[..n].copy_from_slice(&self.data[self.pos..self.pos + n]);
@@ -121,10 +122,10 @@ impl Body<'_> {
     }
 }
 
-fn parse_header(text: &str) -> Result<(Format, Vec<Element>), String> {
+fn parse_header(text: &str) -> Result<(Format, Vec<Element>), MeshError> {
     let mut lines = text.lines().map(str::trim);
     if lines.next() != Some("ply") {
-        return Err("not a PLY file (missing \"ply\" magic)".into());
+        return Err(MeshError::NotPly);
     }
     let mut format = None;
     let mut elements: Vec<Element> = Vec::new();
@@ -137,34 +138,34 @@ fn parse_header(text: &str) -> Result<(Format, Vec<Element>), String> {
                     Some("ascii") => Format::Ascii,
                     Some("binary_little_endian") => Format::Little,
                     Some("binary_big_endian") => Format::Big,
-                    other => return Err(format!("unknown format {:?}", other.unwrap_or(""))),
+                    other => return Err(MeshError::UnknownFormat(other.unwrap_or("").to_string())),
                 })
             }
             Some("element") if w.len() == 3 => {
-                let count = w[2].parse::<usize>().map_err(|_| format!("bad element count \"{}\"", w[2]))?;
+                let count = w[2].parse::<usize>().map_err(|_| MeshError::BadElementCount(w[2].to_string()))?;
                 elements.push(Element { name: w[1].into(), count, props: Vec::new() });
             }
             Some("property") => {
-                let e = elements.last_mut().ok_or("property before any element")?;
-                let ty = |s: &str| Scalar::parse(s).ok_or_else(|| format!("unknown property type \"{s}\""));
+                let e = elements.last_mut().ok_or(MeshError::PropertyBeforeElement)?;
+                let ty = |s: &str| Scalar::parse(s).ok_or_else(|| MeshError::UnknownPropertyType(s.to_string()));
                 let p = match w[..] {
                     [_, "list", c, t, name] => Property { name: name.into(), list: Some(ty(c)?), ty: ty(t)? },
                     [_, t, name] => Property { name: name.into(), list: None, ty: ty(t)? },
-                    _ => return Err(format!("malformed header line \"{line}\"")),
+                    _ => return Err(MeshError::MalformedHeaderLine(line.to_string())),
                 };
                 e.props.push(p);
             }
-            Some("end_header") => return Ok((format.ok_or("missing format line")?, elements)),
-            _ => return Err(format!("malformed header line \"{line}\"")),
+            Some("end_header") => return Ok((format.ok_or(MeshError::MissingFormat)?, elements)),
+            _ => return Err(MeshError::MalformedHeaderLine(line.to_string())),
         }
     }
-    Err("missing end_header".into())
+    Err(MeshError::MissingEndHeader)
 }
 
 /// Parses a PLY file into a mesh (object space). Errors are human-readable messages.
-pub fn parse(bytes: &[u8]) -> Result<Mesh, String> {
+pub fn parse(bytes: &[u8]) -> Result<Mesh, MeshError> {
     let marker = b"end_header";
-    let hdr_end = bytes.windows(marker.len()).position(|w| w == marker).ok_or("missing end_header")?;
+    let hdr_end = bytes.windows(marker.len()).position(|w| w == marker).ok_or(MeshError::MissingEndHeader)?;
     let mut body_start = hdr_end + marker.len();
     // The header ends with "end_header" and one line terminator (\n or \r\n).
     if bytes.get(body_start) == Some(&b'\r') {
@@ -173,7 +174,7 @@ pub fn parse(bytes: &[u8]) -> Result<Mesh, String> {
     if bytes.get(body_start) == Some(&b'\n') {
         body_start += 1;
     }
-    let header = std::str::from_utf8(&bytes[..body_start]).map_err(|_| "header is not ASCII")?;
+    let header = std::str::from_utf8(&bytes[..body_start]).map_err(|_| MeshError::HeaderNotAscii)?;
     let (format, elements) = parse_header(header)?;
     let mut body = Body { data: bytes, pos: body_start, format };
 
@@ -195,23 +196,22 @@ pub fn parse(bytes: &[u8]) -> Result<Mesh, String> {
             .sum::<usize>()
             .max(1);
         if e.count.checked_mul(min_size).is_none_or(|need| need > body.remaining() + 1) {
-            return Err(format!(
-                "element \"{}\" declares {} entries but only {} bytes of data follow",
-                e.name,
-                e.count,
-                body.remaining()
-            ));
+            return Err(MeshError::CountExceedsData {
+                name: e.name.clone(),
+                count: e.count,
+                available: body.remaining(),
+            });
         }
         let idx = |n: &str| e.props.iter().position(|p| p.name == n && p.list.is_none());
         let pick = |names: [&str; 2]| -> Option<[usize; 2]> { Some([idx(names[0])?, idx(names[1])?]) };
         match e.name.as_str() {
             "vertex" => {
                 if have_vertices {
-                    return Err("more than one vertex element".into());
+                    return Err(MeshError::DuplicateVertexElement);
                 }
                 have_vertices = true;
                 let (Some(x), Some(y), Some(z)) = (idx("x"), idx("y"), idx("z")) else {
-                    return Err("vertex element lacks x, y, z".into());
+                    return Err(MeshError::NoPositions);
                 };
                 let n = [idx("nx"), idx("ny"), idx("nz")];
                 let n = if n.iter().all(Option::is_some) { Some(n.map(Option::unwrap)) } else { None };
@@ -236,7 +236,7 @@ pub fn parse(bytes: &[u8]) -> Result<Mesh, String> {
                     let v = |i: usize| vals[i] as f32;
                     let p = Vec3::new(v(x), v(y), v(z));
                     if !p.is_finite() {
-                        return Err(format!("vertex {} is not finite", positions.len()));
+                        return Err(MeshError::NonFiniteVertex(positions.len()));
                     }
                     positions.push(p);
                     if let Some([a, b, c]) = n {
@@ -253,7 +253,7 @@ pub fn parse(bytes: &[u8]) -> Result<Mesh, String> {
                     .iter()
                     .position(|p| p.list.is_some() && (p.name == "vertex_indices" || p.name == "vertex_index"))
                 else {
-                    return Err("face element lacks a vertex_indices list".into());
+                    return Err(MeshError::NoFaceIndices);
                 };
                 reserve(&mut tris, e.count, "faces")?;
                 let mut poly = Vec::with_capacity(MAX_FACE_VERTICES);
@@ -267,17 +267,14 @@ pub fn parse(bytes: &[u8]) -> Result<Mesh, String> {
                                     let i = body.value(p.ty)?;
                                     if k == li {
                                         if !(i >= 0.0 && i <= u32::MAX as f64 && i.fract() == 0.0) {
-                                            return Err(format!("face {f} has invalid vertex index {i}"));
+                                            return Err(MeshError::InvalidFaceIndex { face: f, index: i });
                                         }
                                         poly.push(i as u32);
                                     }
                                 }
                                 if k == li {
                                     if poly.len() < 3 {
-                                        return Err(format!(
-                                            "face {f} has {} vertices; at least 3 are needed",
-                                            poly.len()
-                                        ));
+                                        return Err(MeshError::TooFewFaceVertices { face: f, count: poly.len() });
                                     }
                                     if poly.len() > 3 && faces.is_none() {
                                         faces = Some((0..tris.len() as u32).collect());
@@ -315,10 +312,7 @@ pub fn parse(bytes: &[u8]) -> Result<Mesh, String> {
     }
     let n = positions.len();
     if let Some(t) = tris.iter().find(|t| t.iter().any(|&i| i as usize >= n)) {
-        return Err(format!(
-            "vertex index {} is out of range: the file has {n} vertices",
-            t.iter().max().unwrap_or(&0)
-        ));
+        return Err(MeshError::VertexIndexOutOfRange { index: t.iter().copied().max().unwrap_or(0), count: n });
     }
     let mut mesh = Mesh::new(positions, tris);
     mesh.faces = faces;
@@ -331,11 +325,11 @@ pub fn parse(bytes: &[u8]) -> Result<Mesh, String> {
     Ok(mesh)
 }
 
-fn list_len(v: f64) -> Result<usize, String> {
+fn list_len(v: f64) -> Result<usize, MeshError> {
     if v >= 0.0 && v <= MAX_FACE_VERTICES as f64 && v.fract() == 0.0 {
         Ok(v as usize)
     } else {
-        Err(format!("list length {v} is invalid (at most {MAX_FACE_VERTICES})"))
+        Err(MeshError::BadListLength { length: v })
     }
 }
 
@@ -383,10 +377,10 @@ pub fn write(mesh: &Mesh, faces: &[Vec<u32>], binary: bool) -> Vec<u8> {
 
 /// Room for `n` more elements, or an error naming the size when memory runs out (a real mesh
 /// of that size, since counts were checked against the file's length).
-fn reserve<T>(v: &mut Vec<T>, n: usize, what: &str) -> Result<(), String> {
+fn reserve<T>(v: &mut Vec<T>, n: usize, what: &'static str) -> Result<(), MeshError> {
     v.try_reserve_exact(n).map_err(|_| {
         let gib = (n * size_of::<T>()) as f64 / (1u64 << 30) as f64;
-        format!("out of memory: {n} {what} need {gib:.1} GiB")
+        MeshError::OutOfMemory { count: n, what, gib }
     })
 }
 
@@ -397,7 +391,7 @@ mod tests {
     #[test]
     fn a_mesh_too_large_for_memory_is_an_error_naming_its_size() {
         let mut v: Vec<Vec3> = Vec::new();
-        let e = reserve(&mut v, usize::MAX / 64, "vertices").unwrap_err();
+        let e = reserve(&mut v, usize::MAX / 64, "vertices").unwrap_err().to_string();
         assert!(e.starts_with("out of memory: ") && e.contains(" vertices need ") && e.ends_with(" GiB"), "{e}");
         assert!(reserve(&mut v, 10, "vertices").is_ok() && v.capacity() >= 10);
     }
@@ -449,7 +443,7 @@ property double z\nproperty float s\nproperty float t\nelement face 1\nproperty 
     fn errors_are_messages_not_panics() {
         let (m, faces) = quad();
         let good = write(&m, &faces, true);
-        let s = |b: &[u8]| parse(b).unwrap_err();
+        let s = |b: &[u8]| parse(b).unwrap_err().to_string();
         assert_eq!(s(b"plx\n"), "missing end_header");
         assert_eq!(s(b"plx\nend_header\n"), "not a PLY file (missing \"ply\" magic)");
         // A header that claims a billion vertices in a tiny file.

@@ -30,7 +30,9 @@ impl Ctx<'_> {
             None => (white.clone(), white),
             Some(sp) => {
                 let sp = sp.clone();
-                let s = self.spectrum(&sp, RgbKind::Illuminant, p).map_err(|e| SceneError::syntax(loc, name, e))?;
+                let s = self
+                    .spectrum(&sp, RgbKind::Illuminant, p)
+                    .map_err(|e| SceneError::syntax(loc, name, e.to_string()))?;
                 let r = if matches!(sp, SpectrumParam::Rgb(_)) { white } else { s.clone() };
                 (s, r)
             }

@@ -86,7 +86,10 @@ impl Ctx<'_> {
             (Some(e), _) => Ior::Constant(e),
             (None, Some(s)) => {
                 let s = s.clone();
-                Ior::Spectral(self.spectrum(&s, RgbKind::Unbounded, p).map_err(|e| SceneError::syntax(loc, name, e))?)
+                Ior::Spectral(
+                    self.spectrum(&s, RgbKind::Unbounded, p)
+                        .map_err(|e| SceneError::syntax(loc, name, e.to_string()))?,
+                )
             }
             (None, None) => Ior::Constant(default),
         })

@@ -28,7 +28,7 @@ impl Ctx<'_> {
         let temperature = grids.pop().flatten();
         let density = grids.pop().flatten().ok_or_else(|| file_error("no \"density\" grid".into()))?;
         for grid in std::iter::once(&density).chain(&temperature) {
-            check_class(grid).map_err(file_error)?;
+            check_class(grid).map_err(|e| file_error(e.to_string()))?;
         }
         let le_scale = p.float_or("Lescale", 1.0);
         let offset = p.float("temperatureoffset").or_else(|| p.float("temperaturecutoff")).unwrap_or(0.0);
@@ -47,8 +47,16 @@ impl Ctx<'_> {
     }
 }
 
+/// A grid of a class pbrt-v4 does not read as a medium.
+#[derive(Debug, thiserror::Error)]
+#[error("grid \"{name}\" is a {class} grid, not a fog volume")]
+struct GridClassError {
+    name: String,
+    class: &'static str,
+}
+
 /// pbrt-v4 reads fog volumes (class 2) and grids of unknown class (0) only.
-fn check_class(grid: &FloatGrid) -> Result<(), String> {
+fn check_class(grid: &FloatGrid) -> Result<(), GridClassError> {
     const CLASSES: [&str; 9] = [
         "unknown",
         "level set",
@@ -62,11 +70,10 @@ fn check_class(grid: &FloatGrid) -> Result<(), String> {
     ];
     match grid.class {
         0 | 2 => Ok(()),
-        c => Err(format!(
-            "grid \"{}\" is a {} grid, not a fog volume",
-            grid.name,
-            CLASSES.get(c as usize).copied().unwrap_or("unknown-class")
-        )),
+        c => Err(GridClassError {
+            name: grid.name.clone(),
+            class: CLASSES.get(c as usize).copied().unwrap_or("unknown-class"),
+        }),
     }
 }
 

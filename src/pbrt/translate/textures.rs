@@ -106,7 +106,8 @@ impl Kind for Spectrum {
             Some(SpectrumOrTexture::Texture(t)) => Some(Arg::Named(t)),
             Some(SpectrumOrTexture::Spectrum(s)) => {
                 let s = s.clone();
-                let v = ctx.spectrum(&s, RgbKind::Albedo, p).map_err(|m| SceneError::syntax(loc, name, m))?;
+                let v =
+                    ctx.spectrum(&s, RgbKind::Albedo, p).map_err(|e| SceneError::syntax(loc, name, e.to_string()))?;
                 Some(Arg::Value(v))
             }
         })
