@@ -1,25 +1,11 @@
 //! An Embree device: created once per accelerator, released in Drop. Embree's error callback
 //! reports into the log and keeps the last message so failures become a clear error.
 
+pub use super::error::EmbreeError;
 use super::ffi;
 use std::ffi::{c_char, c_void, CStr};
 use std::sync::atomic::{AtomicI64, Ordering};
 use std::sync::Mutex;
-
-/// Why an Embree call failed.
-#[derive(Debug, thiserror::Error)]
-pub enum EmbreeError {
-    /// `rtcNewDevice` returned null.
-    #[error("could not create the Embree device: {0}")]
-    Device(String),
-    /// A later call reported an error through the device.
-    #[error("Embree error: {0}")]
-    Call(String),
-    /// The loaded library is not the version, or does not write the hit layout, that this
-    /// build's declarations describe (`library_check`).
-    #[error("Embree library mismatch: {0}")]
-    Library(super::library_check::LibraryMismatch),
-}
 
 /// Owns an `RTCDevice`. The boxed `last_error` and `bytes` are callback user pointers, so they
 /// must not move.

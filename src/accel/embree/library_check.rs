@@ -9,71 +9,16 @@
 //! exactly the words the declarations name (Ng, u, v, primID, geomID and the instance words)
 //! and nothing after them.
 
-use std::fmt;
 use std::sync::{Arc, OnceLock};
 
 use glam::Vec3;
 
-use super::device::{Device, EmbreeError, CONFIG_ENV};
+use super::device::{Device, CONFIG_ENV};
+use super::error::{EmbreeError, EmbreeVersion, LibraryMismatch};
 use super::ffi;
 use super::scene::{Scene, SceneHandle};
 use super::TriangleTest;
 use crate::geometry::{Mesh, Ray};
-
-/// Why the loaded Embree library is not the one this build's declarations describe; the verdict
-/// is kept for the process, so it is `Clone`.
-#[derive(Clone, Debug, thiserror::Error)]
-pub enum LibraryMismatch {
-    /// A version outside [`ffi::SUPPORTED_VERSIONS`].
-    #[error(
-        "prism was built for {name} (library versions {min} to {max}), but the Embree library loaded is version {found}"
-    )]
-    Version {
-        /// [`ffi::NAME`].
-        name: &'static str,
-        /// The first supported version.
-        min: EmbreeVersion,
-        /// The last supported version.
-        max: EmbreeVersion,
-        /// The library's version.
-        found: EmbreeVersion,
-    },
-    /// The probe's hit record differs from [`ffi::RTCHit`].
-    #[error(
-        "the {name} library {version} writes a hit record other than prism's declarations (RTCHit of \
-         {hit_bytes} bytes ending with {instance_words} instance words): hit {hit:?}, instance words \
-         {words:x?}, words written past the record at {past:?}"
-    )]
-    HitLayout {
-        /// [`ffi::NAME`].
-        name: &'static str,
-        /// The library's version.
-        version: EmbreeVersion,
-        /// `size_of::<RTCHit>()`.
-        hit_bytes: usize,
-        /// [`ffi::HIT_INSTANCE_WORDS`].
-        instance_words: usize,
-        /// geomID, primID and distance of the probe's hit.
-        hit: (u32, u32, f32),
-        /// The instance words Embree left.
-        words: Vec<u32>,
-        /// Words written past the declared record.
-        past: Vec<usize>,
-    },
-    /// Building or committing the probe's scene failed.
-    #[error("{0}")]
-    Probe(Arc<EmbreeError>),
-}
-
-/// An Embree version, packed as MAJOR·10000 + MINOR·100 + PATCH; displayed dotted.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct EmbreeVersion(pub isize);
-
-impl fmt::Display for EmbreeVersion {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(&dotted(self.0))
-    }
-}
 
 /// Fills the probed words; a value Embree never writes into a hit of this scene.
 const PATTERN: u32 = 0xA5A5_A5A5;
@@ -197,13 +142,9 @@ fn check_library(device: &Device) -> Result<(), LibraryMismatch> {
     Ok(())
 }
 
-/// Embree's packed version (MAJOR·10000 + MINOR·100 + PATCH) as "MAJOR.MINOR.PATCH".
-fn dotted(v: isize) -> String {
-    format!("{}.{}.{}", v / 10000, v / 100 % 100, v % 100)
-}
-
 #[cfg(test)]
 mod tests {
+    use super::super::error::dotted;
     use super::*;
 
     #[test]

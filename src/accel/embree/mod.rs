@@ -10,6 +10,7 @@
 
 mod curves;
 mod device;
+mod error;
 mod ffi;
 #[cfg(test)]
 mod hit_record_tests;
@@ -23,7 +24,7 @@ mod scene;
 mod user_triangles;
 
 pub use device::{error_name, Device, EmbreeError, CONFIG_ENV};
-pub use library_check::{EmbreeVersion, LibraryMismatch};
+pub use error::{EmbreeVersion, LibraryMismatch};
 
 use super::Accel;
 use crate::geometry::InstanceSet;
