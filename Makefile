@@ -40,6 +40,7 @@ compat:
 	./target/release/prism compat --repeat 3 --doc docs/compatibility.md
 
 lint: deps
+	@command -v python3 >/dev/null || { echo "make lint: the layering check needs python3 (apt-get install python3)"; exit 1; }
 	python3 scripts/layering.py src
 	$(CARGO) fmt --check
 	$(CARGO) clippy --all-targets -- -D warnings
