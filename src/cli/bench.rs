@@ -64,9 +64,16 @@ pub fn run(a: &BenchArgs) -> Result<()> {
     let base = BenchConfig::base_settings();
     let resolution = a.resolution.as_deref().map(settings::parse_resolution).transpose()?;
     let max_depth = a.max_depth.map(|d| settings::max_depth(d, "--max-depth")).transpose()?;
+    // The file's integrator, as `prism render` takes it (the built-in scenes have none).
+    let file = match a.scene.as_deref().filter(|p| !p.to_string_lossy().starts_with("builtin:")) {
+        // Its warnings are printed when the bench loads it.
+        Some(path) => crate::pbrt::load_file(path, &Default::default())?.settings,
+        None => Default::default(),
+    };
+    let from_file = Integrator::from_file(&file);
     let settings = RenderSettings {
         resolution: resolution.unwrap_or(base.resolution),
-        integrator: Integrator { max_depth: max_depth.unwrap_or(base.integrator.max_depth), ..base.integrator },
+        integrator: Integrator { max_depth: max_depth.unwrap_or(from_file.max_depth), ..from_file },
         ..base
     };
     let cfg = BenchConfig {

@@ -246,15 +246,13 @@ pub(crate) fn integrator_for(
     max_depth: Option<u32>,
     sss: Option<SubsurfaceMethod>,
 ) -> Integrator {
-    let d = Integrator::default();
-    let from_file = file.integrator.as_deref().and_then(|n| IntegratorKind::parse(n).ok());
-    let named = named.or(from_file).unwrap_or(d.kind);
+    let from_file = Integrator::from_file(file);
+    let named = named.unwrap_or(from_file.kind);
     let integrator = Integrator {
         kind: named,
-        max_depth: max_depth.or(file.max_depth).unwrap_or(d.max_depth),
-        sss: sss.unwrap_or(d.sss),
-        regularize: file.regularize.unwrap_or(d.regularize),
-        ..d
+        max_depth: max_depth.unwrap_or(from_file.max_depth),
+        sss: sss.unwrap_or(from_file.sss),
+        ..from_file
     }
     .for_scene(scene);
     if named == IntegratorKind::Path && integrator.kind == IntegratorKind::VolPath {

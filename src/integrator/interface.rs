@@ -86,6 +86,18 @@ impl Default for Integrator {
 }
 
 impl Integrator {
+    /// The integrator a scene file asks for (its `Integrator` directive's type, "maxdepth" and
+    /// "regularize"), prism's defaults for what the file leaves out.
+    pub fn from_file(file: &crate::pbrt::FileSettings) -> Self {
+        let d = Self::default();
+        Self {
+            kind: file.integrator.as_deref().and_then(|n| IntegratorKind::parse(n).ok()).unwrap_or(d.kind),
+            max_depth: file.max_depth.unwrap_or(d.max_depth),
+            regularize: file.regularize.unwrap_or(d.regularize),
+            ..d
+        }
+    }
+
     /// The estimator that renders `scene` as the named one would: `path` and `volpath` are one
     /// estimator family, whose volumetric loop is taken exactly when the scene has a medium to
     /// step through — participating media, or a subsurface material a path may walk (the random
