@@ -4,6 +4,8 @@
 use super::error::{Location, SceneError};
 use super::params::{parse_float, Param, ParamSet};
 use super::tokenizer::{Token, TokenKind, Tokenizer};
+use std::path::Path;
+use std::sync::Arc;
 
 /// Tokens of one file with one token of look-ahead.
 pub(super) struct Source<'a> {
@@ -14,10 +16,11 @@ pub(super) struct Source<'a> {
 }
 
 impl<'a> Source<'a> {
-    /// Reads `text`, reporting locations in `file`.
-    pub(super) fn new(text: &'a str, file: std::sync::Arc<std::path::Path>) -> Self {
+    /// Reads `text`, reporting locations in `file`; relative file names resolve against
+    /// `search_dir` ([`Location::resolve`]).
+    pub(super) fn new(text: &'a str, file: Arc<Path>, search_dir: Option<Arc<Path>>) -> Self {
         let end = Location::new(file.clone(), text.lines().count().max(1) as u32, 1);
-        Self { tok: Tokenizer::new(text, file), peeked: None, end }
+        Self { tok: Tokenizer::new(text, file).with_search_dir(search_dir), peeked: None, end }
     }
 
     pub(super) fn peek(&mut self) -> Result<Option<&Token>, SceneError> {

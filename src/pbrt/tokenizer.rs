@@ -46,6 +46,7 @@ impl Token {
 pub struct Tokenizer<'a> {
     chars: std::iter::Peekable<std::str::Chars<'a>>,
     file: Arc<Path>,
+    search_dir: Option<Arc<Path>>,
     line: u32,
     col: u32,
 }
@@ -53,7 +54,13 @@ pub struct Tokenizer<'a> {
 impl<'a> Tokenizer<'a> {
     /// A tokenizer over `text`, reporting locations in `file`.
     pub fn new(text: &'a str, file: Arc<Path>) -> Self {
-        Self { chars: text.chars().peekable(), file, line: 1, col: 1 }
+        Self { chars: text.chars().peekable(), file, search_dir: None, line: 1, col: 1 }
+    }
+
+    /// Relative file names in the text resolve against `dir` ([`Location::resolve`]).
+    pub fn with_search_dir(mut self, dir: Option<Arc<Path>>) -> Self {
+        self.search_dir = dir;
+        self
     }
 
     fn bump(&mut self) -> Option<char> {
@@ -68,7 +75,7 @@ impl<'a> Tokenizer<'a> {
     }
 
     fn here(&self) -> Location {
-        Location::new(self.file.clone(), self.line, self.col)
+        Location { search_dir: self.search_dir.clone(), ..Location::new(self.file.clone(), self.line, self.col) }
     }
 
     /// The next token, `Ok(None)` at the end of the text.

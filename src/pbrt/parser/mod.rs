@@ -44,12 +44,14 @@ pub struct ParseOptions {
 /// not a cycle, e.g. through symlinks).
 pub const MAX_INCLUDE_DEPTH: usize = 64;
 
-/// Parses the scene file at `path` (Include/Import resolve relative to the including file).
+/// Parses the scene file at `path`. Relative file names (Include, Import, meshes, images,
+/// spectra...) resolve against `path`'s directory, as in pbrt-v4 ([`Location::resolve`]).
 pub fn parse_file(path: &Path, opts: &ParseOptions) -> Result<(SceneDesc, Vec<Warning>), SceneError> {
     let file: Arc<Path> = Arc::from(path);
     let loc = Location::new(file.clone(), 0, 0);
     let text = read_text(path, &loc)?;
     let mut p = Parser::new(opts);
+    p.search_dir = Some(Arc::from(path.parent().unwrap_or(Path::new(""))));
     p.include_stack.push(canonical(path));
     p.files_read.push(path.to_path_buf());
     p.parse_text(&text, file)?;
@@ -63,6 +65,7 @@ pub fn parse_str(text: &str, opts: &ParseOptions) -> Result<(SceneDesc, Vec<Warn
         None => Arc::from(Path::new("<string>")),
     };
     let mut p = Parser::new(opts);
+    p.search_dir = opts.base_dir.as_deref().map(Arc::from);
     p.parse_text(text, file)?;
     p.finish()
 }
@@ -141,6 +144,8 @@ struct Parser<'o> {
     instances: Vec<(String, Mat4, Option<AnimatedTransform>, Location)>,
     media: Vec<MediumDesc>,
     include_stack: Vec<PathBuf>,
+    /// The directory relative file names resolve against: the main scene file's.
+    search_dir: Option<Arc<Path>>,
     /// Every file read so far: the scene file, then each Include/Import in reading order.
     files_read: Vec<PathBuf>,
     /// Entries of `stack` below this belong to an importing file: an imported file cannot pop them.
@@ -188,6 +193,7 @@ impl<'o> Parser<'o> {
             instances: Vec::new(),
             media: Vec::new(),
             include_stack: Vec::new(),
+            search_dir: None,
             files_read: Vec::new(),
             stack_floor: 0,
             warned_motion: false,
@@ -271,7 +277,7 @@ impl<'o> Parser<'o> {
     fn parse_text(&mut self, text: &str, file: Arc<Path>) -> Result<(), SceneError> {
         // Editors on Windows may prepend a UTF-8 byte-order mark.
         let text = text.strip_prefix('\u{feff}').unwrap_or(text);
-        let mut src = Source::new(text, file);
+        let mut src = Source::new(text, file, self.search_dir.clone());
         while let Some(tok) = src.next()? {
             if tok.kind != TokenKind::Word {
                 return Err(SceneError::syntax(&tok.loc, &tok.display(), "expected a directive"));
@@ -306,7 +312,7 @@ impl<'o> Parser<'o> {
     }
 
     fn include(&mut self, tok: &Token, name: &Token) -> Result<(), SceneError> {
-        let path = name.loc.base_dir().join(&name.text);
+        let path = name.loc.resolve(&name.text);
         let canon = canonical(&path);
         if let Some(i) = self.include_stack.iter().position(|p| *p == canon) {
             let mut chain: Vec<String> = self.include_stack[i..].iter().map(|p| p.display().to_string()).collect();
