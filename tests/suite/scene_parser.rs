@@ -496,6 +496,35 @@ fn relative_names_in_included_files_resolve_against_the_main_scene_files_directo
 }
 
 #[test]
+fn an_include_splices_its_tokens_into_the_stream() {
+    // pbrt-v4 reads an included file's tokens in place of the Include: a directive it leaves
+    // unfinished goes on in the including file.
+    let d = tmp("splice");
+    std::fs::write(
+        d.join("medium.pbrt"),
+        "MakeNamedMedium \"smoke\" \"string type\" \"homogeneous\"\n  \"float scale\" 2\n",
+    )
+    .unwrap();
+    std::fs::write(
+        d.join("main.pbrt"),
+        "WorldBegin\nInclude \"medium.pbrt\"\n  \"rgb sigma_a\" [1 2 3]\nShape \"sphere\"\n",
+    )
+    .unwrap();
+    let (s, _) = parse_file(&d.join("main.pbrt"), &ParseOptions::default()).unwrap();
+    assert_eq!((s.media.len(), s.shapes.len()), (1, 1));
+    let at = |name: &str| {
+        let l = &s.media[0].params.get(name).unwrap().loc;
+        format!("{}:{}:{}", l.file.file_name().unwrap().to_string_lossy(), l.line, l.col)
+    };
+    assert_eq!(at("scale"), "medium.pbrt:2:3");
+    assert_eq!(at("sigma_a"), "main.pbrt:3:3");
+    // Errors in the continued list point into the file that has them.
+    std::fs::write(d.join("main2.pbrt"), "WorldBegin\nInclude \"medium.pbrt\"\n  \"float g\" [ oops ]\n").unwrap();
+    let e = parse_file(&d.join("main2.pbrt"), &ParseOptions::default()).unwrap_err().to_string();
+    assert!(e.starts_with(&format!("{}:3:15:", d.join("main2.pbrt").display())), "{e}");
+}
+
+#[test]
 fn input_files_are_every_file_the_scene_reads_and_not_the_output() {
     let d = tmp("inputs");
     std::fs::create_dir_all(d.join("sub")).unwrap();
