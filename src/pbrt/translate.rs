@@ -24,7 +24,7 @@ use lights::{brightness_factor, FLUX};
 
 use super::desc::{MaterialDesc, ObjectDesc, SceneDesc, ShapeDesc, ShapeGeometry};
 use super::error::{Location, SceneError, Warning};
-use super::params::{ParamSet, SpectrumParam};
+use super::params::{ParamSet, ParamValue, SpectrumParam};
 use super::QuadricMode;
 use crate::bsdf::named_spectra::named_spectrum;
 use crate::camera::Projection;
@@ -149,6 +149,19 @@ struct Ctx<'a> {
 /// An error at parameter `name` of `params` (at `directive` where the parameter is not written).
 fn param_error(params: &ParamSet, name: &str, directive: &Location, message: String) -> SceneError {
     SceneError::syntax(params.get(name).map_or(directive, |p| &p.loc), name, message)
+}
+
+/// The built-in spectrum that stands in for pbrt-v4's named spectrum `name` when prism has no
+/// data for it: one of the same kind (fluorescent, other illuminant, glass, metal η or k).
+fn named_stand_in(name: &str) -> &'static str {
+    match name {
+        "stdillum-F10" | "stdillum-F12" => "stdillum-F11",
+        n if n.starts_with("stdillum-F") => "stdillum-F2",
+        n if n.starts_with("stdillum-") || n.starts_with("illum-") => "stdillum-D65",
+        n if n.starts_with("glass-") => "glass-BK7",
+        n if n.ends_with("-k") => "metal-Al-k",
+        _ => "metal-Al-eta",
+    }
 }
 
 fn space_of(params: &ParamSet) -> &'static ColorSpace {
@@ -306,12 +319,13 @@ impl Ctx<'_> {
             SpectrumParam::Named(n) => match named_spectrum(n) {
                 Some(s) => s,
                 None => {
-                    // A pbrt-v4 name whose data prism does not ship: substitute and say so.
-                    let sub = if n.starts_with("glass-") { "glass-BK7" } else { "metal-Al-eta" };
-                    let sub = if n.ends_with("-k") { "metal-Al-k" } else { sub };
+                    // A pbrt-v4 name whose data prism does not ship: substitute one of the same
+                    // kind (illuminant, glass, metal) and say so, at the parameter that names it.
+                    let sub = named_stand_in(n);
                     let loc = params
                         .iter()
-                        .next()
+                        .find(|p| matches!(&p.value, ParamValue::Spectrum(SpectrumParam::Named(m)) if m == n))
+                        .or_else(|| params.iter().next())
                         .map(|p| p.loc.clone())
                         .unwrap_or_else(|| self.desc.camera.directive.loc.clone());
                     let feature = format!("named spectrum \"{n}\" (prism has no data for it)");
@@ -319,6 +333,17 @@ impl Ctx<'_> {
                     named_spectrum(sub).ok_or("built-in spectrum missing")?
                 }
             },
+            SpectrumParam::File(p) if !p.exists() => {
+                // Neither a named spectrum nor a file: most likely a misspelt name.
+                let name = p.file_name().map_or(String::new(), |f| f.to_string_lossy().into_owned());
+                let valid: Vec<&str> =
+                    crate::spectrum::NAMED_SPECTRA.iter().copied().filter(|n| named_spectrum(n).is_some()).collect();
+                return Err(format!(
+                    "\"{name}\" is neither a named spectrum nor a file ({} does not exist); named spectra: {}",
+                    p.display(),
+                    valid.join(", ")
+                ));
+            }
             SpectrumParam::File(p) => Spectrum::from_spd_file(p).map_err(|e| e.to_string())?,
         })
     }
@@ -420,7 +445,7 @@ impl Ctx<'_> {
         match p.spectrum(name) {
             Some(s) => {
                 let s = s.clone();
-                self.spectrum(&s, RgbKind::Unbounded, p).map_err(|e| SceneError::syntax(loc, name, e))
+                self.spectrum(&s, RgbKind::Unbounded, p).map_err(|e| param_error(p, name, loc, e))
             }
             None => p
                 .float(name)

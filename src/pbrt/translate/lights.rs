@@ -30,7 +30,7 @@ impl Ctx<'_> {
             None => (white.clone(), white),
             Some(sp) => {
                 let sp = sp.clone();
-                let s = self.spectrum(&sp, RgbKind::Illuminant, p).map_err(|e| SceneError::syntax(loc, name, e))?;
+                let s = self.spectrum(&sp, RgbKind::Illuminant, p).map_err(|e| param_error(p, name, loc, e))?;
                 let r = if matches!(sp, SpectrumParam::Rgb(_)) { white } else { s.clone() };
                 (s, r)
             }
@@ -111,7 +111,7 @@ impl Ctx<'_> {
             Some(SpectrumParam::Rgb(rgb)) => srgb.xyz_to_rgb(space_of(p).rgb_to_xyz(Vec3::from(*rgb).max(Vec3::ZERO))),
             Some(sp) => {
                 let sp = sp.clone();
-                let s = self.spectrum(&sp, RgbKind::Illuminant, p).map_err(|e| SceneError::syntax(loc, "L", e))?;
+                let s = self.spectrum(&sp, RgbKind::Illuminant, p).map_err(|e| param_error(p, "L", loc, e))?;
                 let at = p.get("L").map_or(loc, |q| &q.loc).clone();
                 self.warn(&at, "the non-RGB \"L\" is converted to RGB for the portal light (as pbrt-v4)".into());
                 srgb.xyz_to_rgb(s.to_xyz_f64().as_vec3())

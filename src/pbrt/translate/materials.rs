@@ -86,7 +86,9 @@ impl Ctx<'_> {
             (Some(e), _) => Ior::Constant(e),
             (None, Some(s)) => {
                 let s = s.clone();
-                Ior::Spectral(self.spectrum(&s, RgbKind::Unbounded, p).map_err(|e| SceneError::syntax(loc, name, e))?)
+                Ior::Spectral(
+                    self.spectrum(&s, RgbKind::Unbounded, p).map_err(|e| super::param_error(p, name, loc, e))?,
+                )
             }
             (None, None) => Ior::Constant(default),
         })
