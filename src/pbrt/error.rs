@@ -16,17 +16,32 @@ pub struct Location {
     pub line: u32,
     /// Column in characters, starting at 1.
     pub col: u32,
+    /// The directory of the scene file parsing started from, when known: relative file names
+    /// resolve against it (pbrt-v4's search directory), whichever file wrote them.
+    pub search_dir: Option<Arc<Path>>,
 }
 
 impl Location {
     /// A location in `file`.
     pub fn new(file: Arc<Path>, line: u32, col: u32) -> Self {
-        Self { file, line, col }
+        Self { file, line, col, search_dir: None }
     }
 
-    /// The directory relative file names written at this location resolve against.
-    pub fn base_dir(&self) -> PathBuf {
-        self.file.parent().map(Path::to_path_buf).unwrap_or_default()
+    /// The file a name written at this location means. As in pbrt-v4, a relative name is taken
+    /// relative to the main scene file's directory ([`Location::search_dir`]); when nothing exists
+    /// there but the name exists relative to the file that wrote it, that file is meant (names
+    /// relative to the including file, which earlier versions of prism required). Absolute
+    /// names are returned as they are.
+    pub fn resolve(&self, name: impl AsRef<Path>) -> PathBuf {
+        let name = name.as_ref();
+        let local = self.file.parent().unwrap_or(Path::new("")).join(name);
+        let Some(dir) = &self.search_dir else { return local };
+        let main = dir.join(name);
+        if name.is_absolute() || main.exists() || !local.exists() {
+            main
+        } else {
+            local
+        }
     }
 }
 

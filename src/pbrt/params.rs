@@ -220,7 +220,7 @@ fn parse_spectrum(decl: &Token, values: &[Token], ty: &str, name: &str) -> Resul
         return Ok(if NAMED_SPECTRA.contains(&s.as_str()) {
             SpectrumParam::Named(s.clone())
         } else {
-            SpectrumParam::File(values[0].loc.base_dir().join(s))
+            SpectrumParam::File(values[0].loc.resolve(s))
         });
     }
     let v: Vec<f32> = values.iter().map(parse_float).collect::<Result<_, _>>()?;
@@ -423,11 +423,11 @@ impl ParamSet {
         v.first()
     }
 
-    /// A "string" parameter naming a file, resolved relative to the scene file it was written in.
+    /// A "string" parameter naming a file, resolved as [`Location::resolve`] does.
     pub fn filename(&self, name: &str) -> Option<PathBuf> {
         let s = self.string(name)?;
         let p = self.params.iter().find(|p| p.name == name)?;
-        Some(p.loc.base_dir().join(s))
+        Some(p.loc.resolve(s))
     }
 
     /// The files this set's parameters name, resolved as [`ParamSet::filename`] does: every
@@ -436,7 +436,7 @@ impl ParamSet {
     pub fn named_files(&self) -> impl Iterator<Item = PathBuf> + '_ {
         self.params.iter().flat_map(|p| match &p.value {
             ParamValue::String(v) if p.name == "filename" || p.name == "lensfile" => {
-                v.iter().map(|s| p.loc.base_dir().join(s)).collect()
+                v.iter().map(|s| p.loc.resolve(s)).collect()
             }
             ParamValue::Spectrum(SpectrumParam::File(f)) => vec![f.clone()],
             _ => Vec::new(),

@@ -1,28 +1,59 @@
 //! The token stream a parser reads directives from: positional arguments, numbers and
 //! parameter lists (`"type name" value` or `"type name" [ values ]`).
+//!
+//! As in pbrt-v4's parser, an included file's tokens take the place of the Include: the stream
+//! reads a stack of files, and at the end of an included file goes on in the file that included
+//! it, so a directive may begin in one file and end in another. Every token keeps its own file's
+//! location.
 
 use super::error::{Location, SceneError};
 use super::params::{parse_float, Param, ParamSet};
 use super::tokenizer::{Token, TokenKind, Tokenizer};
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
-/// Tokens of one file with one token of look-ahead.
-pub(super) struct Source<'a> {
-    tok: Tokenizer<'a>,
+/// Tokens of a file and the files it includes, with one token of look-ahead.
+pub(super) struct Source {
+    /// The files being read, innermost last, each with its canonical path (for cycle checks).
+    files: Vec<(Tokenizer, PathBuf)>,
+    search_dir: Option<Arc<Path>>,
     peeked: Option<Token>,
-    /// Where "unexpected end of file" errors point.
+    /// Where "unexpected end of file" errors point: the end of the outermost file.
     end: Location,
 }
 
-impl<'a> Source<'a> {
-    /// Reads `text`, reporting locations in `file`.
-    pub(super) fn new(text: &'a str, file: std::sync::Arc<std::path::Path>) -> Self {
+impl Source {
+    /// Reads `text`, reporting locations in `file` (canonically `canonical`); relative file
+    /// names resolve against `search_dir` ([`Location::resolve`]).
+    pub(super) fn new(text: String, file: Arc<Path>, canonical: PathBuf, search_dir: Option<Arc<Path>>) -> Self {
         let end = Location::new(file.clone(), text.lines().count().max(1) as u32, 1);
-        Self { tok: Tokenizer::new(text, file), peeked: None, end }
+        let mut s = Self { files: Vec::new(), search_dir, peeked: None, end };
+        s.include(text, file, canonical);
+        s
+    }
+
+    /// Reads `text` (the file `file`) before the rest of the stream.
+    pub(super) fn include(&mut self, mut text: String, file: Arc<Path>, canonical: PathBuf) {
+        debug_assert!(self.peeked.is_none(), "a token read ahead would come before the included file");
+        // Editors on Windows may prepend a UTF-8 byte-order mark.
+        if text.starts_with('\u{feff}') {
+            text.drain(..'\u{feff}'.len_utf8());
+        }
+        self.files.push((Tokenizer::new(text, file).with_search_dir(self.search_dir.clone()), canonical));
+    }
+
+    /// The canonical paths of the files being read, outermost first.
+    pub(super) fn chain(&self) -> impl Iterator<Item = &PathBuf> {
+        self.files.iter().map(|(_, c)| c)
     }
 
     pub(super) fn peek(&mut self) -> Result<Option<&Token>, SceneError> {
-        if self.peeked.is_none() {
-            self.peeked = self.tok.next_token()?;
+        while self.peeked.is_none() {
+            let Some((tok, _)) = self.files.last_mut() else { break };
+            self.peeked = tok.next_token()?;
+            if self.peeked.is_none() {
+                self.files.pop();
+            }
         }
         Ok(self.peeked.as_ref())
     }

@@ -43,21 +43,35 @@ impl Token {
 }
 
 /// Splits scene text into tokens lazily.
-pub struct Tokenizer<'a> {
-    chars: std::iter::Peekable<std::str::Chars<'a>>,
+pub struct Tokenizer {
+    text: String,
+    /// Byte offset of the next character.
+    pos: usize,
     file: Arc<Path>,
+    search_dir: Option<Arc<Path>>,
     line: u32,
     col: u32,
 }
 
-impl<'a> Tokenizer<'a> {
+impl Tokenizer {
     /// A tokenizer over `text`, reporting locations in `file`.
-    pub fn new(text: &'a str, file: Arc<Path>) -> Self {
-        Self { chars: text.chars().peekable(), file, line: 1, col: 1 }
+    pub fn new(text: impl Into<String>, file: Arc<Path>) -> Self {
+        Self { text: text.into(), pos: 0, file, search_dir: None, line: 1, col: 1 }
+    }
+
+    fn peek(&self) -> Option<char> {
+        self.text[self.pos..].chars().next()
+    }
+
+    /// Relative file names in the text resolve against `dir` ([`Location::resolve`]).
+    pub fn with_search_dir(mut self, dir: Option<Arc<Path>>) -> Self {
+        self.search_dir = dir;
+        self
     }
 
     fn bump(&mut self) -> Option<char> {
-        let c = self.chars.next()?;
+        let c = self.peek()?;
+        self.pos += c.len_utf8();
         if c == '\n' {
             self.line += 1;
             self.col = 1;
@@ -68,19 +82,19 @@ impl<'a> Tokenizer<'a> {
     }
 
     fn here(&self) -> Location {
-        Location::new(self.file.clone(), self.line, self.col)
+        Location { search_dir: self.search_dir.clone(), ..Location::new(self.file.clone(), self.line, self.col) }
     }
 
     /// The next token, `Ok(None)` at the end of the text.
     pub fn next_token(&mut self) -> Result<Option<Token>, SceneError> {
         loop {
-            match self.chars.peek() {
+            match self.peek() {
                 None => return Ok(None),
                 Some(c) if c.is_whitespace() => {
                     self.bump();
                 }
                 Some('#') => {
-                    while let Some(&c) = self.chars.peek() {
+                    while let Some(c) = self.peek() {
                         if c == '\n' {
                             break;
                         }
@@ -131,7 +145,7 @@ impl<'a> Tokenizer<'a> {
             }
             c => {
                 let mut s = String::from(c);
-                while let Some(&c) = self.chars.peek() {
+                while let Some(c) = self.peek() {
                     if c.is_whitespace() || matches!(c, '[' | ']' | '"' | '#') {
                         break;
                     }

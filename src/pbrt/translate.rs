@@ -24,7 +24,7 @@ use lights::{brightness_factor, FLUX};
 
 use super::desc::{MaterialDesc, ObjectDesc, SceneDesc, ShapeDesc, ShapeGeometry};
 use super::error::{Location, SceneError, Warning};
-use super::params::{ParamSet, SpectrumParam};
+use super::params::{ParamSet, ParamValue, SpectrumParam};
 use super::QuadricMode;
 use crate::bsdf::named_spectra::named_spectrum;
 use crate::camera::Projection;
@@ -163,9 +163,33 @@ enum SpectrumError {
     /// The substitute for a named spectrum prism has no data for is itself missing.
     #[error("built-in spectrum missing")]
     BuiltinMissing,
+    /// A file name that names neither a named spectrum nor an existing file: most likely a
+    /// misspelt name.
+    #[error("\"{name}\" is neither a named spectrum nor a file ({path} does not exist); named spectra: {valid}")]
+    Unknown {
+        /// The name as given.
+        name: String,
+        /// Where it was looked for as a file.
+        path: String,
+        /// The named spectra prism has, comma-separated.
+        valid: String,
+    },
     /// An SPD file that cannot be read.
     #[error(transparent)]
     File(#[from] SpdError),
+}
+
+/// The built-in spectrum that stands in for pbrt-v4's named spectrum `name` when prism has no
+/// data for it: one of the same kind (fluorescent, other illuminant, glass, metal η or k).
+fn named_stand_in(name: &str) -> &'static str {
+    match name {
+        "stdillum-F10" | "stdillum-F12" => "stdillum-F11",
+        n if n.starts_with("stdillum-F") => "stdillum-F2",
+        n if n.starts_with("stdillum-") || n.starts_with("illum-") => "stdillum-D65",
+        n if n.starts_with("glass-") => "glass-BK7",
+        n if n.ends_with("-k") => "metal-Al-k",
+        _ => "metal-Al-eta",
+    }
 }
 
 fn space_of(params: &ParamSet) -> &'static ColorSpace {
@@ -323,12 +347,13 @@ impl Ctx<'_> {
             SpectrumParam::Named(n) => match named_spectrum(n) {
                 Some(s) => s,
                 None => {
-                    // A pbrt-v4 name whose data prism does not ship: substitute and say so.
-                    let sub = if n.starts_with("glass-") { "glass-BK7" } else { "metal-Al-eta" };
-                    let sub = if n.ends_with("-k") { "metal-Al-k" } else { sub };
+                    // A pbrt-v4 name whose data prism does not ship: substitute one of the same
+                    // kind (illuminant, glass, metal) and say so, at the parameter that names it.
+                    let sub = named_stand_in(n);
                     let loc = params
                         .iter()
-                        .next()
+                        .find(|p| matches!(&p.value, ParamValue::Spectrum(SpectrumParam::Named(m)) if m == n))
+                        .or_else(|| params.iter().next())
                         .map(|p| p.loc.clone())
                         .unwrap_or_else(|| self.desc.camera.directive.loc.clone());
                     let feature = format!("named spectrum \"{n}\" (prism has no data for it)");
@@ -336,6 +361,13 @@ impl Ctx<'_> {
                     named_spectrum(sub).ok_or(SpectrumError::BuiltinMissing)?
                 }
             },
+            SpectrumParam::File(p) if !p.exists() => {
+                // Neither a named spectrum nor a file: most likely a misspelt name.
+                let name = p.file_name().map_or(String::new(), |f| f.to_string_lossy().into_owned());
+                let valid: Vec<&str> =
+                    crate::spectrum::NAMED_SPECTRA.iter().copied().filter(|n| named_spectrum(n).is_some()).collect();
+                return Err(SpectrumError::Unknown { name, path: p.display().to_string(), valid: valid.join(", ") });
+            }
             SpectrumParam::File(p) => Spectrum::from_spd_file(p)?,
         })
     }
@@ -437,7 +469,7 @@ impl Ctx<'_> {
         match p.spectrum(name) {
             Some(s) => {
                 let s = s.clone();
-                self.spectrum(&s, RgbKind::Unbounded, p).map_err(|e| SceneError::syntax(loc, name, e.to_string()))
+                self.spectrum(&s, RgbKind::Unbounded, p).map_err(|e| param_error(p, name, loc, e.to_string()))
             }
             None => p
                 .float(name)

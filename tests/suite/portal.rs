@@ -26,6 +26,11 @@ const CEILING: f32 = 2.0;
 /// A closed 2 × 2 × 2 room with a hole in the ceiling, under the equal-area map in `map`,
 /// with the portal over the hole when `portal` is set.
 fn room(map: &Path, portal: bool, rotate: &str) -> Scene {
+    room_lit_by(&format!("\"string filename\" \"{}\"", map.display()), portal, rotate)
+}
+
+/// [`room`] under an infinite light with parameters `light`.
+fn room_lit_by(light: &str, portal: bool, rotate: &str) -> Scene {
     let (a, b, c) = (HOLE.0, HOLE.1, CEILING);
     let quad = |p: [[f32; 3]; 4]| {
         let pts: Vec<String> = p.iter().map(|v| format!("{} {} {}", v[0], v[1], v[2])).collect();
@@ -55,9 +60,8 @@ fn room(map: &Path, portal: bool, rotate: &str) -> Scene {
     };
     let text = format!(
         "Camera \"perspective\" WorldBegin\n\
-         AttributeBegin {rotate} LightSource \"infinite\" \"string filename\" \"{}\" {portal} AttributeEnd\n\
-         Material \"diffuse\"\n{walls}",
-        map.display()
+         AttributeBegin {rotate} LightSource \"infinite\" {light} {portal} AttributeEnd\n\
+         Material \"diffuse\"\n{walls}"
     );
     let (desc, mut warnings) = parse_str(&text, &Default::default()).unwrap();
     let (builder, _) = prism::pbrt::build(&desc, &mut warnings).unwrap();
@@ -175,15 +179,46 @@ fn radiance_arrives_only_through_the_portal() {
 }
 
 #[test]
+fn a_uniform_l_with_a_portal_is_the_portal_light_of_a_constant_map() {
+    // pbrt-v4 turns "L" beside a portal into a 1 × 1 image of L's sRGB colour and keeps the
+    // portal: the same light as a constant map of that colour.
+    let rgb = [0.5, 0.4, 0.3];
+    let map = write_map("portal-uniform", 2, |_, _, _| rgb);
+    let by_map = room(&map, true, "Rotate 20 0 0 1");
+    let by_l = room_lit_by(&format!("\"rgb L\" [ {} {} {} ] \"float scale\" 2", rgb[0], rgb[1], rgb[2]), true, "");
+    let (a, b) = (portal_of(&by_map), portal_of(&by_l));
+    let w = SampledWavelengths::sample_uniform(0.3);
+    let (inside, through) = (Vec3::new(0.1, 0.0, 1.0), Vec3::new(0.3, 0.2, 1.0).normalize());
+    let (la, lb) = (a.escaped_radiance(inside, through, &w), b.escaped_radiance(inside, through, &w));
+    for i in 0..4 {
+        // (The map file stores half floats.)
+        assert!((2.0 * la[i] - lb[i]).abs() <= 2e-3 * lb[i].abs().max(1.0), "{la:?} {lb:?}");
+    }
+    let integ = Integrator { max_depth: 1, ..Default::default() };
+    let p = Vec3::new(0.3, -0.2, 0.01);
+    let (ea, eb) = (
+        irradiance(&by_map, &integ, p, Vec3::Z, 20_000, 7).illuminance,
+        irradiance(&by_l, &integ, p, Vec3::Z, 20_000, 7).illuminance,
+    );
+    assert!((2.0 * ea.mean - eb.mean).abs() <= 4.0 * (2.0 * ea.std_err + eb.std_err), "{ea:?} {eb:?}");
+    // A blackbody "L" gives a portal light too (pbrt-v4 notes the conversion to RGB).
+    let text = "WorldBegin\nLightSource \"infinite\" \"blackbody L\" 5500\n  \
+                \"point3 portal\" [ 0 0 1  0 1 1  1 1 1  1 0 1 ]\n";
+    let (desc, mut warnings) = parse_str(text, &Default::default()).unwrap();
+    let (builder, _) = prism::pbrt::build(&desc, &mut warnings).unwrap();
+    assert!(warnings.iter().all(|w| matches!(w.kind, prism::pbrt::error::WarningKind::Note)), "{warnings:?}");
+    let scene = builder.build(AccelKind::Obvhs).unwrap();
+    let l = portal_of(&scene).escaped_radiance(Vec3::new(0.5, 0.5, 0.0), Vec3::Z, &w);
+    assert!(!l.is_black());
+}
+
+#[test]
 fn a_bad_portal_is_an_error_at_its_parameter() {
     let square = write_map("portal-errors", 8, |_, _, _| [1.0; 3]);
-    let cases = [
-        (
-            format!("\"string filename\" \"{}\" \"point3 portal\" [ 0 0 1  0 1 1  1 1 1 ]", square.display()),
-            "4 corners",
-        ),
-        ("\"rgb L\" [ 1 1 1 ] \"point3 portal\" [ 0 0 1  0 1 1  1 1 1  1 0 1 ]".to_string(), "environment map"),
-    ];
+    let cases = [(
+        format!("\"string filename\" \"{}\" \"point3 portal\" [ 0 0 1  0 1 1  1 1 1 ]", square.display()),
+        "4 corners",
+    )];
     for (params, message) in cases {
         let text = format!("WorldBegin\nLightSource \"infinite\"\n  {params}\n");
         let (desc, mut warnings) = parse_str(&text, &Default::default()).unwrap();

@@ -453,6 +453,78 @@ fn include_is_relative_to_the_including_file_and_shares_state() {
 }
 
 #[test]
+fn relative_names_in_included_files_resolve_against_the_main_scene_files_directory() {
+    // pbrt-v4 resolves every relative file name against the directory of the scene file it was
+    // started with, whichever file names it.
+    let d = tmp("search_dir");
+    std::fs::create_dir_all(d.join("geometry")).unwrap();
+    std::fs::create_dir_all(d.join("spds")).unwrap();
+    std::fs::write(d.join("main.pbrt"), "WorldBegin\nInclude \"geometry/g.pbrt\"\n").unwrap();
+    std::fs::write(
+        d.join("geometry/g.pbrt"),
+        "Include \"geometry/h.pbrt\"\nMaterial \"diffuse\" \"spectrum reflectance\" \"spds/r.spd\"\n\
+         Shape \"objmesh\" \"string filename\" \"geometry/q.obj\"\n",
+    )
+    .unwrap();
+    std::fs::write(d.join("geometry/h.pbrt"), "Translate 0 0 4\n").unwrap();
+    std::fs::write(d.join("geometry/q.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
+    std::fs::write(d.join("spds/r.spd"), "400 0.5 700 0.5\n").unwrap();
+    let (s, _) = parse_file(&d.join("main.pbrt"), &ParseOptions::default()).unwrap();
+    assert_eq!(s.shapes[0].world_from_object.w_axis.z, 4.0);
+    assert_eq!(s.shapes[0].params.filename("filename").unwrap(), d.join("geometry/q.obj"));
+    let files = s.input_files();
+    for f in ["geometry/h.pbrt", "spds/r.spd", "geometry/q.obj"] {
+        assert!(files.contains(&d.join(f)), "{f} missing from {files:?}");
+    }
+    // When both exist, the main file's directory wins; a name found only next to the including
+    // file still resolves there.
+    std::fs::create_dir_all(d.join("geometry/geometry")).unwrap();
+    std::fs::write(d.join("geometry/geometry/h.pbrt"), "Translate 0 0 9\n").unwrap();
+    let (s, _) = parse_file(&d.join("main.pbrt"), &ParseOptions::default()).unwrap();
+    assert_eq!(s.shapes[0].world_from_object.w_axis.z, 4.0);
+    // Absolute names are taken as they are.
+    let abs = d.join("geometry/q.obj");
+    std::fs::write(
+        d.join("abs.pbrt"),
+        format!("WorldBegin\nShape \"objmesh\" \"string filename\" \"{}\"\n", abs.display()),
+    )
+    .unwrap();
+    std::fs::write(d.join("geometry/i.pbrt"), "Include \"abs.pbrt\"\n").unwrap();
+    std::fs::write(d.join("top.pbrt"), "Include \"geometry/i.pbrt\"\n").unwrap();
+    let (s, _) = parse_file(&d.join("top.pbrt"), &ParseOptions::default()).unwrap();
+    assert_eq!(s.shapes[0].params.filename("filename").unwrap(), abs);
+}
+
+#[test]
+fn an_include_splices_its_tokens_into_the_stream() {
+    // pbrt-v4 reads an included file's tokens in place of the Include: a directive it leaves
+    // unfinished goes on in the including file.
+    let d = tmp("splice");
+    std::fs::write(
+        d.join("medium.pbrt"),
+        "MakeNamedMedium \"smoke\" \"string type\" \"homogeneous\"\n  \"float scale\" 2\n",
+    )
+    .unwrap();
+    std::fs::write(
+        d.join("main.pbrt"),
+        "WorldBegin\nInclude \"medium.pbrt\"\n  \"rgb sigma_a\" [1 2 3]\nShape \"sphere\"\n",
+    )
+    .unwrap();
+    let (s, _) = parse_file(&d.join("main.pbrt"), &ParseOptions::default()).unwrap();
+    assert_eq!((s.media.len(), s.shapes.len()), (1, 1));
+    let at = |name: &str| {
+        let l = &s.media[0].params.get(name).unwrap().loc;
+        format!("{}:{}:{}", l.file.file_name().unwrap().to_string_lossy(), l.line, l.col)
+    };
+    assert_eq!(at("scale"), "medium.pbrt:2:3");
+    assert_eq!(at("sigma_a"), "main.pbrt:3:3");
+    // Errors in the continued list point into the file that has them.
+    std::fs::write(d.join("main2.pbrt"), "WorldBegin\nInclude \"medium.pbrt\"\n  \"float g\" [ oops ]\n").unwrap();
+    let e = parse_file(&d.join("main2.pbrt"), &ParseOptions::default()).unwrap_err().to_string();
+    assert!(e.starts_with(&format!("{}:3:15:", d.join("main2.pbrt").display())), "{e}");
+}
+
+#[test]
 fn input_files_are_every_file_the_scene_reads_and_not_the_output() {
     let d = tmp("inputs");
     std::fs::create_dir_all(d.join("sub")).unwrap();
@@ -469,6 +541,8 @@ fn input_files_are_every_file_the_scene_reads_and_not_the_output() {
     )
     .unwrap();
     std::fs::write(d.join("sub/tri.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
+    // (A name that exists only relative to the including file resolves there.)
+    std::fs::write(d.join("sub/r.spd"), "400 0.5 700 0.5\n").unwrap();
     let (s, _) = parse_file(&d.join("main.pbrt"), &ParseOptions::default()).unwrap();
     let files: Vec<PathBuf> = s.input_files().iter().map(|f| f.strip_prefix(&d).unwrap().to_path_buf()).collect();
     let expect: Vec<PathBuf> = ["main.pbrt", "sub/a.pbrt", "sub/tri.obj", "sub/r.spd"].map(PathBuf::from).into();

@@ -139,3 +139,30 @@ fn render_strict_accepts_pbrt_v4s_killeroo_scene() {
     assert!(o.status.success() && !e.contains("warning"), "{e}");
     assert!(out.exists());
 }
+
+#[test]
+fn named_spectra_prism_lacks_are_located_and_unknown_names_are_errors() {
+    let d = tmpdir("named-spectra");
+    // A pbrt-v4 illuminant prism has no data for: a located unsupported feature whose
+    // stand-in is an illuminant (not a metal's refractive index).
+    let text = scene_text("", "LightSource \"point\" \"float scale\" 1\n  \"spectrum I\" \"stdillum-F3\"");
+    let path = d.join("f3.pbrt");
+    std::fs::write(&path, &text).unwrap();
+    let loaded = load_file(&path, &Default::default()).unwrap();
+    let w: Vec<String> = loaded.warnings.iter().map(|w| w.to_string()).collect();
+    let loc = location_of(&path, &text, "\"spectrum I\"");
+    assert!(
+        w.iter()
+            .any(|w| w.starts_with(&format!("{loc}: warning: unsupported feature: named spectrum \"stdillum-F3\""))
+                && w.contains("stdillum-F2")),
+        "{w:?}"
+    );
+    // A name neither pbrt-v4 nor prism knows, and no file of that name: an error at the
+    // parameter naming the valid names.
+    let text = scene_text("", "LightSource \"point\" \"float scale\" 1\n  \"spectrum I\" \"stdillum-D66\"");
+    let path = d.join("d66.pbrt");
+    std::fs::write(&path, &text).unwrap();
+    let e = load_file(&path, &Default::default()).err().expect("an error").to_string();
+    let loc = location_of(&path, &text, "\"spectrum I\"");
+    assert!(e.starts_with(&format!("{loc}: ")) && e.contains("stdillum-D66") && e.contains("stdillum-D65"), "{e}");
+}

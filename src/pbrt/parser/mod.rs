@@ -44,15 +44,16 @@ pub struct ParseOptions {
 /// not a cycle, e.g. through symlinks).
 pub const MAX_INCLUDE_DEPTH: usize = 64;
 
-/// Parses the scene file at `path` (Include/Import resolve relative to the including file).
+/// Parses the scene file at `path`. Relative file names (Include, Import, meshes, images,
+/// spectra...) resolve against `path`'s directory, as in pbrt-v4 ([`Location::resolve`]).
 pub fn parse_file(path: &Path, opts: &ParseOptions) -> Result<(SceneDesc, Vec<Warning>), SceneError> {
     let file: Arc<Path> = Arc::from(path);
     let loc = Location::new(file.clone(), 0, 0);
     let text = read_text(path, &loc)?;
     let mut p = Parser::new(opts);
-    p.include_stack.push(canonical(path));
+    p.search_dir = Some(Arc::from(path.parent().unwrap_or(Path::new(""))));
     p.files_read.push(path.to_path_buf());
-    p.parse_text(&text, file)?;
+    p.parse_text(text, file, canonical(path))?;
     p.finish()
 }
 
@@ -63,7 +64,8 @@ pub fn parse_str(text: &str, opts: &ParseOptions) -> Result<(SceneDesc, Vec<Warn
         None => Arc::from(Path::new("<string>")),
     };
     let mut p = Parser::new(opts);
-    p.parse_text(text, file)?;
+    p.search_dir = opts.base_dir.as_deref().map(Arc::from);
+    p.parse_text(text.to_string(), file.clone(), file.to_path_buf())?;
     p.finish()
 }
 
@@ -140,7 +142,10 @@ struct Parser<'o> {
     current_object: Option<ObjectDesc>,
     instances: Vec<(String, Mat4, Option<AnimatedTransform>, Location)>,
     media: Vec<MediumDesc>,
+    /// Canonical paths of the files whose reading an Import interrupted, outermost first.
     include_stack: Vec<PathBuf>,
+    /// The directory relative file names resolve against: the main scene file's.
+    search_dir: Option<Arc<Path>>,
     /// Every file read so far: the scene file, then each Include/Import in reading order.
     files_read: Vec<PathBuf>,
     /// Entries of `stack` below this belong to an importing file: an imported file cannot pop them.
@@ -188,6 +193,7 @@ impl<'o> Parser<'o> {
             instances: Vec::new(),
             media: Vec::new(),
             include_stack: Vec::new(),
+            search_dir: None,
             files_read: Vec::new(),
             stack_floor: 0,
             warned_motion: false,
@@ -268,10 +274,8 @@ impl<'o> Parser<'o> {
         Ok(())
     }
 
-    fn parse_text(&mut self, text: &str, file: Arc<Path>) -> Result<(), SceneError> {
-        // Editors on Windows may prepend a UTF-8 byte-order mark.
-        let text = text.strip_prefix('\u{feff}').unwrap_or(text);
-        let mut src = Source::new(text, file);
+    fn parse_text(&mut self, text: String, file: Arc<Path>, canonical: PathBuf) -> Result<(), SceneError> {
+        let mut src = Source::new(text, file, canonical, self.search_dir.clone());
         while let Some(tok) = src.next()? {
             if tok.kind != TokenKind::Word {
                 return Err(SceneError::syntax(&tok.loc, &tok.display(), "expected a directive"));
@@ -296,7 +300,7 @@ impl<'o> Parser<'o> {
                 if tok.text == "Import" {
                     self.require_world(tok)?;
                 }
-                self.include(tok, &name)?;
+                self.include(tok, &name, src)?;
             }
             _ => {
                 return Err(SceneError::syntax(&tok.loc, &tok.text, format!("unknown directive \"{}\"", tok.text)));
@@ -305,15 +309,17 @@ impl<'o> Parser<'o> {
         Ok(())
     }
 
-    fn include(&mut self, tok: &Token, name: &Token) -> Result<(), SceneError> {
-        let path = name.loc.base_dir().join(&name.text);
+    /// Include splices the file's tokens into `src` (pbrt-v4); Import parses it on its own.
+    fn include(&mut self, tok: &Token, name: &Token, src: &mut Source) -> Result<(), SceneError> {
+        let path = name.loc.resolve(&name.text);
         let canon = canonical(&path);
-        if let Some(i) = self.include_stack.iter().position(|p| *p == canon) {
-            let mut chain: Vec<String> = self.include_stack[i..].iter().map(|p| p.display().to_string()).collect();
+        let open: Vec<&PathBuf> = self.include_stack.iter().chain(src.chain()).collect();
+        if let Some(i) = open.iter().position(|p| **p == canon) {
+            let mut chain: Vec<String> = open[i..].iter().map(|p| p.display().to_string()).collect();
             chain.push(canon.display().to_string());
             return Err(SceneError::IncludeCycle { loc: tok.loc.clone(), chain: chain.join(" -> ") });
         }
-        if self.include_stack.len() >= MAX_INCLUDE_DEPTH {
+        if open.len() >= MAX_INCLUDE_DEPTH {
             return Err(SceneError::syntax(
                 &tok.loc,
                 &name.display(),
@@ -321,31 +327,32 @@ impl<'o> Parser<'o> {
             ));
         }
         let text = read_text(&path, &name.loc)?;
-        self.include_stack.push(canon);
         self.files_read.push(path.clone());
+        if tok.text == "Include" {
+            src.include(text, Arc::from(path.as_path()), canon);
+            return Ok(());
+        }
+        let outer = self.include_stack.len();
+        self.include_stack.extend(src.chain().cloned());
         // pbrt-v4 parses an Import'ed file with its own copy of the graphics state (it may run
         // in parallel): its transforms, materials, area lights and coordinate-system names do not
         // leak back, and it cannot close blocks the importer opened. Named materials, textures,
         // objects, shapes and lights it defines belong to the scene.
-        let saved = (tok.text == "Import").then(|| (self.gs.clone(), self.named_cs.clone(), self.stack_floor));
-        if saved.is_some() {
-            self.stack_floor = self.stack.len();
+        let (gs, named_cs, floor) = (self.gs.clone(), self.named_cs.clone(), self.stack_floor);
+        self.stack_floor = self.stack.len();
+        self.parse_text(text, Arc::from(path.as_path()), canon)?;
+        if self.stack.len() != self.stack_floor {
+            let (_, kind, loc) = self.stack.last().expect("deeper than the floor");
+            return Err(SceneError::syntax(
+                &tok.loc,
+                &name.display(),
+                format!("the imported file leaves the {kind:?}Begin at {loc} open; an imported file must close every block it opens"),
+            ));
         }
-        self.parse_text(&text, Arc::from(path.as_path()))?;
-        if let Some((gs, named_cs, floor)) = saved {
-            if self.stack.len() != self.stack_floor {
-                let (_, kind, loc) = self.stack.last().expect("deeper than the floor");
-                return Err(SceneError::syntax(
-                    &tok.loc,
-                    &name.display(),
-                    format!("the imported file leaves the {kind:?}Begin at {loc} open; an imported file must close every block it opens"),
-                ));
-            }
-            self.gs = gs;
-            self.named_cs = named_cs;
-            self.stack_floor = floor;
-        }
-        self.include_stack.pop();
+        self.gs = gs;
+        self.named_cs = named_cs;
+        self.stack_floor = floor;
+        self.include_stack.truncate(outer);
         Ok(())
     }
 

@@ -11,7 +11,7 @@ use crate::light::{
 use crate::pbrt::desc::LightDesc;
 use crate::pbrt::error::{Location, SceneError};
 use crate::pbrt::params::{ParamSet, SpectrumParam};
-use crate::spectrum::{RgbKind, Spectrum};
+use crate::spectrum::{ColorSpace, RgbKind, Spectrum};
 use glam::Vec3;
 use std::sync::Arc;
 
@@ -30,9 +30,8 @@ impl Ctx<'_> {
             None => (white.clone(), white),
             Some(sp) => {
                 let sp = sp.clone();
-                let s = self
-                    .spectrum(&sp, RgbKind::Illuminant, p)
-                    .map_err(|e| SceneError::syntax(loc, name, e.to_string()))?;
+                let s =
+                    self.spectrum(&sp, RgbKind::Illuminant, p).map_err(|e| param_error(p, name, loc, e.to_string()))?;
                 let r = if matches!(sp, SpectrumParam::Rgb(_)) { white } else { s.clone() };
                 (s, r)
             }
@@ -57,17 +56,23 @@ impl Ctx<'_> {
     /// the map as pbrt-v4 does, which on an equal-area map gives an upward-facing (+z) patch 2E
     /// ([`image_upper_hemisphere_y`]); prism's "lux" E gives it E. With "portal" (four corners
     /// of a rectangle, world space) it is pbrt-v4's portal light ([`PortalLight`]).
+    ///
+    /// Without "filename", "L" beside a portal becomes, as in pbrt-v4, a 1 × 1 map of L's colour
+    /// in sRGB (its XYZ in the ∫ȳ normalisation; an RGB "L" keeps its colour exactly).
     pub(super) fn env_map(&mut self, l: &LightDesc) -> Result<Light, SceneError> {
         let p = &l.params;
-        if p.has("L") {
-            return Err(SceneError::syntax(
-                &l.loc,
-                "L",
-                "an infinite light takes either \"L\" or \"filename\", not both",
-            ));
-        }
-        let image = self.image(p, &l.loc)?;
-        let space = space_of(p);
+        let (image, space) = if p.has("filename") {
+            if p.has("L") {
+                return Err(SceneError::syntax(
+                    &l.loc,
+                    "L",
+                    "an infinite light takes either \"L\" or \"filename\", not both",
+                ));
+            }
+            (self.image(p, &l.loc)?, space_of(p))
+        } else {
+            (Arc::new(self.constant_map(p, &l.loc)?), ColorSpace::srgb())
+        };
         let rotation = orthonormal(glam::Mat3::from_mat4(l.world_from_light));
         // "illuminance" is met by the whole map, with or without a portal (as pbrt-v4).
         let pbrt_target = p.float(ILLUMINANCE.pbrt).is_some_and(|v| v > 0.0);
@@ -98,6 +103,26 @@ impl Ctx<'_> {
             self.warn(&portal.loc.clone(), "the portal's corners are not a rectangle".to_string());
         }
         Ok(Light::Portal(Box::new(PortalLight::new(&image, corners, rotation, scale, space))))
+    }
+
+    /// A 1 × 1 RGB image (sRGB) of an infinite light's "L".
+    fn constant_map(&mut self, p: &ParamSet, loc: &Location) -> Result<crate::image::Image, SceneError> {
+        let srgb = ColorSpace::srgb();
+        let rgb = match p.spectrum("L") {
+            Some(SpectrumParam::Rgb(rgb)) => srgb.xyz_to_rgb(space_of(p).rgb_to_xyz(Vec3::from(*rgb).max(Vec3::ZERO))),
+            Some(sp) => {
+                let sp = sp.clone();
+                let s =
+                    self.spectrum(&sp, RgbKind::Illuminant, p).map_err(|e| param_error(p, "L", loc, e.to_string()))?;
+                let at = p.get("L").map_or(loc, |q| &q.loc).clone();
+                self.warn(&at, "the non-RGB \"L\" is converted to RGB for the portal light (as pbrt-v4)".into());
+                srgb.xyz_to_rgb(s.to_xyz_f64().as_vec3())
+            }
+            None => Vec3::ONE,
+        };
+        let mut image = crate::image::Image::new(1, 1, 3);
+        image.data.copy_from_slice(&rgb.max(Vec3::ZERO).to_array());
+        Ok(image)
     }
 
     /// A spotlight's falloff: Warn's cos^s lobe given "exponent" s ≥ 0 (prism's extension; D. R.
@@ -208,16 +233,13 @@ impl Ctx<'_> {
                 self.b.add_light(Light::Distant(DistantLight { to_light, spectrum: Arc::new(s), scale: e }));
             }
             "infinite" => {
-                if p.has("filename") {
+                if p.has("filename") || (p.has("L") && p.has("portal")) {
                     let light = self.env_map(l)?;
                     self.b.add_light(light);
                 } else {
                     if let Some(portal) = p.get("portal") {
-                        // pbrt-v4 refuses a portal on an "L" sky and ignores it on the default one.
-                        let message = "a portal needs an environment map (\"filename\")";
-                        if p.has("L") {
-                            return Err(SceneError::syntax(&portal.loc, "portal", message));
-                        }
+                        // pbrt-v4 has no portal on the default sky (it needs "L" or "filename").
+                        let message = "a portal needs \"L\" or an environment map (\"filename\")";
                         self.warn(&portal.loc.clone(), format!("{message}; ignored"));
                     }
                     // pbrt-v4: a uniform sky of illuminance E_v on any patch has k_e = π.

@@ -88,7 +88,7 @@ impl Ctx<'_> {
                 let s = s.clone();
                 Ior::Spectral(
                     self.spectrum(&s, RgbKind::Unbounded, p)
-                        .map_err(|e| SceneError::syntax(loc, name, e.to_string()))?,
+                        .map_err(|e| super::param_error(p, name, loc, e.to_string()))?,
                 )
             }
             (None, None) => Ior::Constant(default),

@@ -58,7 +58,7 @@ impl Ctx<'_> {
         match p.spectrum(name) {
             Some(s) => {
                 let s = s.clone();
-                self.spectrum(&s, RgbKind::Unbounded, p).map_err(|e| SceneError::syntax(loc, name, e.to_string()))
+                self.spectrum(&s, RgbKind::Unbounded, p).map_err(|e| super::param_error(p, name, loc, e.to_string()))
             }
             None => Ok(match p.float(name) {
                 Some(v) => Spectrum::constant(v.max(0.0)),
