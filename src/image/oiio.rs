@@ -188,6 +188,7 @@ pub(crate) fn read(path: &Path) -> Result<Image, String> {
     if w <= 0 || h <= 0 || c <= 0 {
         return Err(format!("image reports an empty size {w}x{h}x{c}"));
     }
+    super::check_read_size(path, w as u64, h as u64).map_err(|e| e.to_string())?;
     let count =
         (w as usize).checked_mul(h as usize).and_then(|n| n.checked_mul(c as usize)).ok_or("image too large")?;
     let mut data: Vec<f32> = Vec::new();
