@@ -29,7 +29,15 @@ pub(super) struct Built {
     pub(super) normal_maps: HashMap<std::path::PathBuf, Arc<crate::material::NormalMap>>,
     /// Measured BRDFs by file, read once however many materials name them.
     pub(super) measured: HashMap<std::path::PathBuf, Arc<crate::bsdf::MeasuredBrdf>>,
+    /// The depth of each texture built, by class (float?) and index.
+    depths: HashMap<(bool, usize), u32>,
+    /// The greatest depth among the textures the texture being built names.
+    child_depth: u32,
 }
+
+/// The deepest texture graph accepted: evaluation recurses once per level, so the scene must
+/// not choose the depth (pbrt-v4's own texture graphs are a few levels deep).
+pub const MAX_TEXTURE_DEPTH: u32 = 1000;
 
 /// A texture parameter's value: given in place, or the name of a texture.
 enum Arg<'p, V> {
@@ -221,7 +229,10 @@ impl Ctx<'_> {
                     let message = format!("no {class} texture named \"{t}\" is defined before this");
                     return Err(param_error(p, name, loc, message));
                 };
-                self.texture_at::<V>(i)?
+                let t = self.texture_at::<V>(i)?;
+                let depth = self.textures.depths.get(&(V::CLASS == TextureClass::Float, i)).copied().unwrap_or(1);
+                self.textures.child_depth = self.textures.child_depth.max(depth);
+                t
             }
         }))
     }
@@ -231,7 +242,16 @@ impl Ctx<'_> {
         if let Some(t) = V::built(self).get(&index) {
             return Ok(t.clone());
         }
-        let t = self.build_texture::<V>(index)?;
+        let outer = std::mem::take(&mut self.textures.child_depth);
+        let t = self.build_texture::<V>(index);
+        let depth = std::mem::replace(&mut self.textures.child_depth, outer) + 1;
+        let t = t?;
+        if depth > MAX_TEXTURE_DEPTH {
+            let d = &self.desc.textures[index];
+            let message = format!("texture graph is more than {MAX_TEXTURE_DEPTH} textures deep");
+            return Err(SceneError::syntax(&d.loc, &d.name, message));
+        }
+        self.textures.depths.insert((V::CLASS == TextureClass::Float, index), depth);
         V::built(self).insert(index, t.clone());
         Ok(t)
     }
@@ -504,5 +524,37 @@ mod tests {
         w.extend(desc.report_unused());
         let texture_warnings: Vec<_> = w.iter().map(|w| w.to_string()).filter(|w| w.contains("Texture")).collect();
         assert!(texture_warnings.is_empty(), "{texture_warnings:?}");
+    }
+
+    /// A scene whose material uses texture "t", preceded by `textures`.
+    fn textured(textures: &str) -> String {
+        format!(
+            "Camera \"perspective\"\nWorldBegin\n{textures}Material \"diffuse\" \"texture reflectance\" \"t\"\n\
+             Shape \"sphere\"\n"
+        )
+    }
+
+    #[test]
+    fn texture_chains_deeper_than_the_limit_are_located_errors() {
+        let chain = |n: usize| {
+            let mut s = String::from("Texture \"t0\" \"spectrum\" \"constant\"\n");
+            for i in 1..n {
+                s += &format!("Texture \"t{i}\" \"spectrum\" \"scale\" \"texture tex\" \"t{}\"\n", i - 1);
+            }
+            s + &format!("Texture \"t\" \"spectrum\" \"scale\" \"texture tex\" \"t{}\"\n", n - 1)
+        };
+        let ok = super::MAX_TEXTURE_DEPTH as usize - 1;
+        build(&textured(&chain(ok))).unwrap();
+        let e = build(&textured(&chain(10_000))).unwrap_err();
+        let line = super::MAX_TEXTURE_DEPTH + 3;
+        assert!(e.contains(&format!("<string>:{line}:")), "{e}");
+        assert!(e.contains(&super::MAX_TEXTURE_DEPTH.to_string()) && e.contains("deep"), "{e}");
+        // Float chains (a scale's factor) count the same.
+        let mut s = String::from("Texture \"f0\" \"float\" \"constant\"\n");
+        for i in 1..10_000 {
+            s += &format!("Texture \"f{i}\" \"float\" \"scale\" \"texture tex\" \"f{}\"\n", i - 1);
+        }
+        s += "Texture \"t\" \"spectrum\" \"scale\" \"texture scale\" \"f9999\"\n";
+        assert!(build(&textured(&s)).unwrap_err().contains("deep"));
     }
 }
