@@ -44,6 +44,20 @@ pub struct ParseOptions {
 /// not a cycle, e.g. through symlinks).
 pub const MAX_INCLUDE_DEPTH: usize = 64;
 
+/// Most Include/Import directives one parse follows, a file counting each time it is read
+/// (files that include one another more than once fan out exponentially); the environment
+/// variable `PRISM_MAX_INCLUDES` raises it.
+pub const MAX_INCLUDES: usize = 10_000;
+
+/// Most bytes of scene text one parse reads over all its files, a file counting each time it is
+/// read; the environment variable `PRISM_MAX_SCENE_BYTES` raises it.
+pub const MAX_SCENE_TEXT_BYTES: u64 = 64 << 30;
+
+/// A limit: the environment variable `var` when it holds a number, else `default`.
+fn limit(var: &str, default: u64) -> u64 {
+    std::env::var(var).ok().and_then(|v| v.trim().parse().ok()).unwrap_or(default)
+}
+
 /// Parses the scene file at `path` (Include/Import resolve relative to the including file).
 pub fn parse_file(path: &Path, opts: &ParseOptions) -> Result<(SceneDesc, Vec<Warning>), SceneError> {
     let file: Arc<Path> = Arc::from(path);
@@ -143,6 +157,8 @@ struct Parser<'o> {
     include_stack: Vec<PathBuf>,
     /// Every file read so far: the scene file, then each Include/Import in reading order.
     files_read: Vec<PathBuf>,
+    /// Bytes of text read by Include/Import so far, repetitions included.
+    text_bytes: u64,
     /// Entries of `stack` below this belong to an importing file: an imported file cannot pop them.
     stack_floor: usize,
     warned_motion: bool,
@@ -189,6 +205,7 @@ impl<'o> Parser<'o> {
             media: Vec::new(),
             include_stack: Vec::new(),
             files_read: Vec::new(),
+            text_bytes: 0,
             stack_floor: 0,
             warned_motion: false,
             last_loc: None,
@@ -320,7 +337,24 @@ impl<'o> Parser<'o> {
                 format!("includes nested deeper than {MAX_INCLUDE_DEPTH} files"),
             ));
         }
+        let max_includes = limit("PRISM_MAX_INCLUDES", MAX_INCLUDES as u64);
+        if self.files_read.len() as u64 > max_includes {
+            let message = format!(
+                "more than {max_includes} Include/Import directives followed (a file counts each time it is \
+                 read); set PRISM_MAX_INCLUDES to allow more"
+            );
+            return Err(SceneError::syntax(&tok.loc, &name.display(), message));
+        }
         let text = read_text(&path, &name.loc)?;
+        self.text_bytes += text.len() as u64;
+        let max_bytes = limit("PRISM_MAX_SCENE_BYTES", MAX_SCENE_TEXT_BYTES);
+        if self.text_bytes > max_bytes {
+            let message = format!(
+                "more than {max_bytes} bytes of scene text read over all included files (a file counts each \
+                 time it is read); set PRISM_MAX_SCENE_BYTES to allow more"
+            );
+            return Err(SceneError::syntax(&tok.loc, &name.display(), message));
+        }
         self.include_stack.push(canon);
         self.files_read.push(path.clone());
         // pbrt-v4 parses an Import'ed file with its own copy of the graphics state (it may run
@@ -430,3 +464,6 @@ impl<'o> Parser<'o> {
         Ok((desc, self.warnings))
     }
 }
+
+#[cfg(test)]
+mod limits_tests;
