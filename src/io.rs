@@ -82,6 +82,15 @@ pub fn check_dir_writable(path: &Path) -> std::io::Result<()> {
     TempFile::create(path).map(drop)
 }
 
+/// Memory the system could give this process now without swapping [bytes] (Linux's
+/// `MemAvailable`), `None` where unknown.
+pub fn available_memory() -> Option<u64> {
+    let info = std::fs::read_to_string("/proc/meminfo").ok()?;
+    let line = info.lines().find(|l| l.starts_with("MemAvailable:"))?;
+    let kib: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kib.saturating_mul(1024))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

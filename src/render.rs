@@ -210,5 +210,13 @@ pub fn render_range(
         }
         pass = (pass * 2).min(16);
     }
+    let cut_off = crate::media::take_cut_off_walks();
+    if cut_off > 0 {
+        log::warn!(
+            "{cut_off} free-flight walks through media were cut off after {} collisions each and taken as \
+             absorbed: the image is biased there",
+            crate::media::MAX_COLLISIONS
+        );
+    }
     stats
 }

@@ -14,6 +14,10 @@ pub enum ImageError {
     /// The image exceeds the format's size limit.
     #[error("{path}: {format} images are at most {max} pixels wide and high, not {width}x{height}")]
     TooLarge { path: PathBuf, format: &'static str, width: u32, height: u32, max: u32 },
+    /// An input image too large to read: more pixels than [`super::MAX_READ_PIXELS`] or more
+    /// memory than is available; refused from its header, before any pixel is decoded.
+    #[error("{path}: a {width}x{height} image exceeds {limit}")]
+    TooManyPixels { path: PathBuf, width: u64, height: u64, limit: String },
     /// The image's own fields disagree (size, channel count, data length).
     #[error("invalid image: {0}")]
     InvalidImage(String),

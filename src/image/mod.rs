@@ -223,12 +223,38 @@ pub fn read_with(path: &Path, backend: Backend) -> Result<Image, ImageError> {
     if !path.is_file() {
         return Err(ImageError::NotFound { path: path.to_path_buf() });
     }
+    // The Rust decoders read most headers; OpenImageIO checks the rest itself.
+    if let Some((width, height)) = rust_io::dimensions(path, format) {
+        check_read_size(path, width, height)?;
+    }
     let result = match backend {
         #[cfg(feature = "oiio")]
         Backend::Oiio => oiio::read(path).map_err(|e| e.to_string()),
         _ => rust_io::read(path, format).map_err(|e| e.to_string()),
     };
     result.map_err(|reason| ImageError::Decode { path: path.to_path_buf(), reason })
+}
+
+/// Most pixels an input image may have: 2^28 (16384², 4 GiB as four channels of `f32`).
+pub const MAX_READ_PIXELS: u64 = 1 << 28;
+
+/// Refuses, from its header's size, an image with more than [`MAX_READ_PIXELS`] pixels or one
+/// whose samples (up to four `f32` channels) would not fit in the memory available now.
+pub(crate) fn check_read_size(path: &Path, width: u64, height: u64) -> Result<(), ImageError> {
+    let pixels = width.saturating_mul(height);
+    let limit = if pixels > MAX_READ_PIXELS {
+        format!("the limit of {MAX_READ_PIXELS} pixels")
+    } else {
+        let need = pixels.saturating_mul(16);
+        match crate::io::available_memory() {
+            Some(avail) if need > avail => {
+                let gib = |b: u64| b as f64 / (1u64 << 30) as f64;
+                format!("available memory ({:.1} GiB needed, {:.1} GiB available)", gib(need), gib(avail))
+            }
+            _ => return Ok(()),
+        }
+    };
+    Err(ImageError::TooManyPixels { path: path.to_path_buf(), width, height, limit })
 }
 
 fn check_backend(backend: Backend) -> Result<(), ImageError> {

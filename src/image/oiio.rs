@@ -59,6 +59,9 @@ pub(crate) enum OiioError {
     /// The samples cannot be allocated.
     #[error("cannot allocate {0} samples")]
     Alloc(usize),
+    /// The header's size is refused before reading ([`super::check_read_size`]).
+    #[error(transparent)]
+    Refused(Box<super::ImageError>),
 }
 
 /// `int prism_oiio_write(const char*, int, int, int, const float*, int, int, const int*, char*, size_t)`.
@@ -225,6 +228,7 @@ pub(crate) fn read(path: &Path) -> Result<Image, OiioError> {
     if w <= 0 || h <= 0 || c <= 0 {
         return Err(OiioError::EmptySize { width: w, height: h, channels: c });
     }
+    super::check_read_size(path, w as u64, h as u64).map_err(|e| OiioError::Refused(Box::new(e)))?;
     let count =
         (w as usize).checked_mul(h as usize).and_then(|n| n.checked_mul(c as usize)).ok_or(OiioError::TooLarge)?;
     let mut data: Vec<f32> = Vec::new();

@@ -140,6 +140,22 @@ pub(crate) fn read(path: &Path, format: FileFormat) -> Result<Image, RustIoError
     }
 }
 
+/// The size of the image in `path` from its header alone (for OpenEXR the largest layer's),
+/// `None` when the header cannot be read (decoding then reports why).
+pub(crate) fn dimensions(path: &Path, format: FileFormat) -> Option<(u64, u64)> {
+    match format {
+        FileFormat::Exr => {
+            let meta = exr::meta::MetaData::read_from_file(path, false).ok()?;
+            let sizes = meta.headers.iter().map(|h| (h.layer_size.width() as u64, h.layer_size.height() as u64));
+            sizes.max_by_key(|&(w, h)| w.saturating_mul(h))
+        }
+        _ => {
+            let reader = ::image::ImageReader::open(path).ok()?.with_guessed_format().ok()?;
+            reader.into_dimensions().ok().map(|(w, h)| (u64::from(w), u64::from(h)))
+        }
+    }
+}
+
 /// Position of an EXR channel in prism's interleaved order: R G B A, or Y A, then the rest.
 fn canonical_rank(name: &str) -> usize {
     match name {

@@ -408,3 +408,50 @@ fn a_cropped_exr_keeps_its_place_in_the_full_image() {
     let meta = exr::meta::MetaData::read_from_file(&path, false).unwrap();
     assert_eq!(meta.headers[0].shared_attributes.display_window, meta.headers[0].data_window());
 }
+
+/// Rewrites the `dataWindow` attribute of the OpenEXR file at `path` to (0,0)–(`max`,`max`).
+fn patch_exr_data_window(path: &Path, max: i32) {
+    let mut bytes = fs::read(path).unwrap();
+    let key = b"dataWindow\0box2i\0";
+    let at = bytes.windows(key.len()).position(|w| w == key).expect("dataWindow attribute") + key.len() + 4;
+    for (k, v) in [0, 0, max, max].into_iter().enumerate() {
+        bytes[at + 4 * k..at + 4 * k + 4].copy_from_slice(&v.to_le_bytes());
+    }
+    fs::write(path, bytes).unwrap();
+}
+
+#[test]
+fn images_too_large_to_read_are_refused_from_their_header_naming_file_and_size() {
+    let dir = Scratch::new("huge");
+    // A few hundred bytes declaring 2^40 pixels.
+    let exr = dir.path("huge.exr");
+    write(&exr, &pattern(1, 1, 3, 1.0)).unwrap();
+    patch_exr_data_window(&exr, 1_048_575);
+    assert!(fs::metadata(&exr).unwrap().len() < 1000);
+    let err = read(&exr).unwrap_err();
+    let msg = err.to_string();
+    assert!(matches!(err, ImageError::TooManyPixels { .. }), "{msg}");
+    assert!(msg.contains("huge.exr") && msg.contains("1048576x1048576"), "{msg}");
+    assert!(msg.contains(&MAX_READ_PIXELS.to_string()) && !msg.contains('\n'), "{msg}");
+
+    // A Radiance HDR whose header declares 100000x3000 pixels (3·10^8 > 2^28).
+    let hdr = dir.path("huge.hdr");
+    fs::write(&hdr, b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 3000 +X 100000\n\0\0\0\0").unwrap();
+    let msg = read(&hdr).unwrap_err().to_string();
+    assert!(msg.contains("huge.hdr") && msg.contains("100000x3000"), "{msg}");
+
+    // A binary PPM named .jpg: the Rust decoders cannot read it, OpenImageIO can.
+    let ppm = dir.path("huge.jpg");
+    fs::write(&ppm, b"P6 100000 3000\n255\n\0\0\0").unwrap();
+    for &backend in Backend::available() {
+        let msg = read_with(&ppm, backend).unwrap_err().to_string();
+        if backend == Backend::Oiio {
+            assert!(msg.contains("huge.jpg") && msg.contains("100000x3000"), "{msg}");
+        }
+        assert!(!msg.contains('\n'), "{msg}");
+    }
+    let msg = read(&ppm).unwrap_err().to_string();
+    if Backend::available().contains(&Backend::Oiio) {
+        assert!(msg.contains("100000x3000") && msg.contains("exceeds"), "{msg}");
+    }
+}

@@ -8,6 +8,22 @@ use super::Medium;
 use crate::sampling::Rng;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 use glam::{Vec3, Vec4};
+use std::sync::atomic::{AtomicU64, Ordering};
+
+/// Most tentative collisions one call of [`sample_t_maj`] takes before giving the walk up as
+/// absorbed. A walk takes σ_maj·length collisions on average, so only a majorant far beyond any
+/// medium a scene can load (or one whose steps vanish against the distance in `f32`) reaches
+/// it; the walks cut off are counted ([`take_cut_off_walks`]) so that the bias is reported.
+pub const MAX_COLLISIONS: u32 = 1 << 20;
+
+/// Walks cut off at [`MAX_COLLISIONS`] since the last [`take_cut_off_walks`].
+static CUT_OFF_WALKS: AtomicU64 = AtomicU64::new(0);
+
+/// The number of free-flight walks cut off at [`MAX_COLLISIONS`] since the last call, and
+/// resets it.
+pub fn take_cut_off_walks() -> u64 {
+    CUT_OFF_WALKS.swap(0, Ordering::Relaxed)
+}
 
 /// What a collision callback of [`sample_t_maj`] is given: the point, the medium's coefficients
 /// there, the majorant and the majorant transmittance T_maj since the previous collision.
@@ -74,6 +90,7 @@ fn sample_collisions(
     mut collide: impl FnMut(Collision, &mut Rng) -> bool,
 ) -> SampledSpectrum {
     let mut t_maj = SampledSpectrum::one();
+    let mut collisions = 0u32;
     for seg in segments {
         let s0 = seg.sigma_maj[0];
         if s0 == 0.0 {
@@ -85,6 +102,11 @@ fn sample_collisions(
             let t = t_min - (1.0 - u).ln() / s0;
             u = rng.uniform();
             if t < seg.t_max {
+                collisions += 1;
+                if collisions > MAX_COLLISIONS {
+                    CUT_OFF_WALKS.fetch_add(1, Ordering::Relaxed);
+                    return SampledSpectrum::zero();
+                }
                 t_maj *= beer_lambert(seg.sigma_maj, t - t_min);
                 let p = o + d * t;
                 let mp = point_at(p);
@@ -157,4 +179,43 @@ pub(crate) fn first_collision_p_value(
     let expect = |b: usize| if b < bins { (1.0 - escape) / bins as f64 } else { escape } * n as f64;
     let chi2: f64 = counts.iter().enumerate().map(|(b, o)| (o - expect(b)).powi(2) / expect(b)).sum();
     crate::sampling::chi2::chi2_survival(chi2, bins as f64)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_walk_that_cannot_advance_stops_at_the_collision_bound_and_is_counted() {
+        // σ of 1e30 (or ∞) makes every step vanish against t ≈ 1 in f32, and null collisions
+        // never end the walk: without the bound it never returns.
+        let (tx, rx) = std::sync::mpsc::channel();
+        std::thread::spawn(move || {
+            let mut results = Vec::new();
+            for sigma in [1e30, f32::INFINITY, 3.4e38] {
+                let mp = MediumPoint {
+                    sigma_a: SampledSpectrum::splat(0.0),
+                    sigma_s: SampledSpectrum::splat(sigma),
+                    le: SampledSpectrum::zero(),
+                    g: 0.0,
+                };
+                let mut rng = Rng::new(7, 0);
+                let (o, d) = (Vec3::new(1.0, 0.0, 0.0), Vec3::X);
+                let mut calls = 0u64;
+                let tr = sample_t_maj_homogeneous(&mp, o, d, 1.0, 0.5, &mut rng, |_, _| {
+                    calls += 1;
+                    true
+                });
+                results.push((tr, calls));
+            }
+            tx.send(results).unwrap();
+        });
+        let results = rx.recv_timeout(std::time::Duration::from_secs(60)).expect("the walks never ended");
+        for (tr, calls) in results {
+            assert_eq!(tr, SampledSpectrum::zero());
+            assert_eq!(calls, u64::from(MAX_COLLISIONS));
+        }
+        // Other tests' walks never reach the bound, so these three are all the count holds.
+        assert_eq!(take_cut_off_walks(), 3);
+    }
 }

@@ -24,7 +24,7 @@ mod rgb_grid;
 pub use crate::bsdf::{hg_density, HenyeyGreenstein};
 pub use cloud::{CloudMedium, CloudShape};
 pub use coefficients::{Homogeneous, MediumPoint};
-pub use delta_tracking::{sample_t_maj, sample_t_maj_homogeneous, Collision};
+pub use delta_tracking::{sample_t_maj, sample_t_maj_homogeneous, take_cut_off_walks, Collision, MAX_COLLISIONS};
 pub use grid::{DensityGrid, EmissionSource, GridEmission, GridMedium};
 pub use majorant::MajorantSegment;
 pub use nanovdb_medium::{NanoVdbMedium, TemperatureEmission, NANOVDB_MAJORANT_RES};

@@ -19,7 +19,13 @@ pub fn read(path: &Path) -> std::io::Result<Vec<u8>> {
     if !bytes.starts_with(&GZIP_MAGIC) {
         return Ok(bytes);
     }
-    gunzip(&bytes, MAX_DECOMPRESSED_BYTES)
+    gunzip(&bytes, decompression_limit())
+}
+
+/// The decompressed size accepted now: [`MAX_DECOMPRESSED_BYTES`], or less when less memory is
+/// available (the output is held in memory whole).
+fn decompression_limit() -> u64 {
+    crate::io::available_memory().map_or(MAX_DECOMPRESSED_BYTES, |m| m.min(MAX_DECOMPRESSED_BYTES))
 }
 
 /// Decompresses every gzip member of `bytes`, refusing output beyond `limit` bytes and buffers
@@ -35,7 +41,10 @@ fn gunzip(bytes: &[u8], limit: u64) -> std::io::Result<Vec<u8>> {
             break;
         }
         if out.len() as u64 + n as u64 > limit {
-            return Err(std::io::Error::other(format!("gzip: decompresses to more than {limit} bytes")));
+            return Err(std::io::Error::other(format!(
+                "gzip: decompresses to more than {limit} bytes (the lesser of {MAX_DECOMPRESSED_BYTES} and the memory \
+                 available)"
+            )));
         }
         out.try_reserve(n).map_err(|_| std::io::ErrorKind::OutOfMemory)?;
         out.extend_from_slice(&chunk[..n]);
@@ -85,5 +94,14 @@ mod tests {
         assert_eq!(gunzip(&big, 100_000).unwrap().len(), 100_000);
         let e = gunzip(&big, 99_999).unwrap_err();
         assert!(e.to_string().contains("more than 99999 bytes"), "{e}");
+    }
+
+    #[test]
+    fn the_decompression_limit_is_within_available_memory() {
+        let limit = decompression_limit();
+        assert!(limit <= MAX_DECOMPRESSED_BYTES);
+        if let Some(avail) = crate::io::available_memory() {
+            assert!(limit <= avail, "{limit} > {avail}");
+        }
     }
 }

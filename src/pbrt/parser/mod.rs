@@ -44,6 +44,20 @@ pub struct ParseOptions {
 /// not a cycle, e.g. through symlinks).
 pub const MAX_INCLUDE_DEPTH: usize = 64;
 
+/// Most Include/Import directives one parse follows, a file counting each time it is read
+/// (files that include one another more than once fan out exponentially); the environment
+/// variable `PRISM_MAX_INCLUDES` raises it.
+pub const MAX_INCLUDES: usize = 10_000;
+
+/// Most bytes of scene text one parse reads over all its files, a file counting each time it is
+/// read; the environment variable `PRISM_MAX_SCENE_BYTES` raises it.
+pub const MAX_SCENE_TEXT_BYTES: u64 = 64 << 30;
+
+/// A limit: the environment variable `var` when it holds a number, else `default`.
+fn limit(var: &str, default: u64) -> u64 {
+    std::env::var(var).ok().and_then(|v| v.trim().parse().ok()).unwrap_or(default)
+}
+
 /// Parses the scene file at `path`. Relative file names (Include, Import, meshes, images,
 /// spectra...) resolve against `path`'s directory, as in pbrt-v4 ([`Location::resolve`]).
 pub fn parse_file(path: &Path, opts: &ParseOptions) -> Result<(SceneDesc, Vec<Warning>), SceneError> {
@@ -148,6 +162,8 @@ struct Parser<'o> {
     search_dir: Option<Arc<Path>>,
     /// Every file read so far: the scene file, then each Include/Import in reading order.
     files_read: Vec<PathBuf>,
+    /// Bytes of text read by Include/Import so far, repetitions included.
+    text_bytes: u64,
     /// Entries of `stack` below this belong to an importing file: an imported file cannot pop them.
     stack_floor: usize,
     warned_motion: bool,
@@ -195,6 +211,7 @@ impl<'o> Parser<'o> {
             include_stack: Vec::new(),
             search_dir: None,
             files_read: Vec::new(),
+            text_bytes: 0,
             stack_floor: 0,
             warned_motion: false,
             last_loc: None,
@@ -326,7 +343,24 @@ impl<'o> Parser<'o> {
                 format!("includes nested deeper than {MAX_INCLUDE_DEPTH} files"),
             ));
         }
+        let max_includes = limit("PRISM_MAX_INCLUDES", MAX_INCLUDES as u64);
+        if self.files_read.len() as u64 > max_includes {
+            let message = format!(
+                "more than {max_includes} Include/Import directives followed (a file counts each time it is \
+                 read); set PRISM_MAX_INCLUDES to allow more"
+            );
+            return Err(SceneError::syntax(&tok.loc, &name.display(), message));
+        }
         let text = read_text(&path, &name.loc)?;
+        self.text_bytes += text.len() as u64;
+        let max_bytes = limit("PRISM_MAX_SCENE_BYTES", MAX_SCENE_TEXT_BYTES);
+        if self.text_bytes > max_bytes {
+            let message = format!(
+                "more than {max_bytes} bytes of scene text read over all included files (a file counts each \
+                 time it is read); set PRISM_MAX_SCENE_BYTES to allow more"
+            );
+            return Err(SceneError::syntax(&tok.loc, &name.display(), message));
+        }
         self.files_read.push(path.clone());
         if tok.text == "Include" {
             src.include(text, Arc::from(path.as_path()), canon);
@@ -437,3 +471,6 @@ impl<'o> Parser<'o> {
         Ok((desc, self.warnings))
     }
 }
+
+#[cfg(test)]
+mod limits_tests;

@@ -23,6 +23,26 @@ use std::collections::HashMap;
 /// Medium ids by name.
 pub(super) type MediumIds = HashMap<String, u32>;
 
+/// The largest extinction coefficient σ_t·scale·density a medium may reach [1/scene unit]:
+/// free-flight sampling steps by about 1/σ_maj, which must stay resolvable in `f32` distances,
+/// and the majorant must stay finite.
+pub(super) const MAX_EXTINCTION: f32 = 1e15;
+
+/// Checks densities: finite, and with `sigma_t` (the medium's largest σ·scale) within
+/// [`MAX_EXTINCTION`]; the message names the first offending value.
+pub(super) fn check_densities(values: impl IntoIterator<Item = f32>, sigma_t: f64) -> Result<(), String> {
+    for v in values {
+        let reach = f64::from(v) * sigma_t;
+        if !v.is_finite() || reach > f64::from(MAX_EXTINCTION) {
+            return Err(format!(
+                "density {v:e} is out of range: densities must be finite and σ_t·scale·density at most \
+                 {MAX_EXTINCTION:e} per unit length"
+            ));
+        }
+    }
+    Ok(())
+}
+
 impl Ctx<'_> {
     /// Builds every named medium the renderer supports (others were reported by the parser and
     /// are vacuum) and sets the camera's medium.
@@ -52,6 +72,16 @@ impl Ctx<'_> {
         if !(scale.is_finite() && scale >= 0.0) {
             return Err(param_error(p, "scale", &m.loc, format!("scale must be ≥ 0, got {scale}")));
         }
+        // σ_t·scale bounds every coefficient a medium scales by its density, so it must be finite
+        // and leave room for the densities (checked against MAX_EXTINCTION where read).
+        for (name, sigma) in [("sigma_a", &sigma_a), ("sigma_s", &sigma_s)] {
+            let max = sigma.max_value() * f64::from(scale);
+            if !(max.is_finite() && max <= f64::from(MAX_EXTINCTION)) {
+                let message =
+                    format!("{name}·scale reaches {max:e}; media are limited to {MAX_EXTINCTION:e} per unit length");
+                return Err(param_error(p, name, &m.loc, message));
+            }
+        }
         Ok(match m.kind.as_str() {
             "homogeneous" => {
                 let le = self.emission(p, &m.loc)?;
@@ -60,6 +90,8 @@ impl Ctx<'_> {
             "uniformgrid" => {
                 let n = ["nx", "ny", "nz"].map(|k| p.int_or(k, 1));
                 let density = p.floats("density").map(<[f32]>::to_vec).unwrap_or_default();
+                let sigma_t = (sigma_a.max_value() + sigma_s.max_value()) * f64::from(scale);
+                check_densities(density.iter().copied(), sigma_t).map_err(|e| param_error(p, "density", &m.loc, e))?;
                 let expect = n.iter().map(|&k| k.max(0) as u64).product::<u64>();
                 let grid = (n.iter().all(|&k| k > 0))
                     .then(|| DensityGrid::new(UVec3::new(n[0] as u32, n[1] as u32, n[2] as u32), density.clone()))
@@ -83,6 +115,15 @@ impl Ctx<'_> {
             "rgbgrid" => {
                 let n = ["nx", "ny", "nz"].map(|k| p.int_or(k, 1));
                 let unbounded = RgbKind::Unbounded;
+                for name in ["sigma_a", "sigma_s"] {
+                    let rgbs = match p.spectrum(name) {
+                        Some(SpectrumParam::RgbArray(v)) => v.as_slice(),
+                        Some(SpectrumParam::Rgb(c)) => std::slice::from_ref(c),
+                        _ => &[],
+                    };
+                    check_densities(rgbs.iter().flatten().copied(), f64::from(scale))
+                        .map_err(|e| param_error(p, name, &m.loc, e))?;
+                }
                 let (a, s) = (self.rgb_grid(m, "sigma_a", n, unbounded)?, self.rgb_grid(m, "sigma_s", n, unbounded)?);
                 let le = self.rgb_grid(m, "Le", n, RgbKind::Illuminant)?;
                 let (p0, p1) = (p.point3("p0").unwrap_or(Vec3::ZERO), p.point3("p1").unwrap_or(Vec3::ONE));
@@ -107,6 +148,8 @@ impl Ctx<'_> {
                     frequency: p.float_or("frequency", 5.0),
                 };
                 let (p0, p1) = (p.point3("p0").unwrap_or(Vec3::ZERO), p.point3("p1").unwrap_or(Vec3::ONE));
+                let sigma_t = (sigma_a.max_value() + sigma_s.max_value()) * f64::from(scale);
+                check_densities([shape.density], sigma_t).map_err(|e| param_error(p, "density", &m.loc, e))?;
                 let coefficients = Homogeneous { sigma_a, sigma_s, scale, le: Spectrum::constant(0.0), g };
                 let medium = CloudMedium::new(m.world_from_medium, p0, p1, shape, coefficients).ok_or_else(|| {
                     param_error(p, "p0", &m.loc, "the cloud's bounds are empty or its transform singular".into())
@@ -326,6 +369,10 @@ mod tests {
         let grid = "MakeNamedMedium \"m\" \"string type\" \"uniformgrid\" \"float density\" [ 1 ] \
             \"blackbody Le\" 2000 \"float Lescale\" [ 1 2 ]\nWorldBegin";
         assert!(scene(grid).err().unwrap().contains("\"Lescale\" has 2 values"));
+        let huge = "MakeNamedMedium \"m\" \"string type\" \"rgbgrid\" \"integer nx\" 2 \
+            \"rgb sigma_s\" [ 1 1 1 1 1e30 1 ]\nWorldBegin";
+        let e = scene(huge).err().expect("a σ_s of 1e30 must not load");
+        assert!(e.contains("<string>:1:") && e.contains("1e15"), "{e}");
         let untyped = "MakeNamedMedium \"m\" \"float g\" [ 0 ]\nWorldBegin";
         assert!(scene(untyped).err().unwrap().contains("needs a \"string type\""));
     }

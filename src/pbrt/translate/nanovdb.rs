@@ -3,7 +3,9 @@
 //! (0), `Lescale` (1), `temperatureoffset` (or `temperaturecutoff`, 0) and `temperaturescale`
 //! (1). Grids must be fog volumes or of unknown class, as pbrt-v4 requires.
 
+use super::media::check_densities;
 use super::{param_error, Ctx};
+use crate::media::nanovdb::grid::Node;
 use crate::media::nanovdb::{read_float_grids, FloatGrid};
 use crate::media::{Homogeneous, Medium, NanoVdbMedium, TemperatureEmission};
 use crate::pbrt::desc::MediumDesc;
@@ -30,6 +32,17 @@ impl Ctx<'_> {
         for grid in std::iter::once(&density).chain(&temperature) {
             check_class(grid).map_err(|e| file_error(e.to_string()))?;
         }
+        let sigma_t = (sigma_a.max_value() + sigma_s.max_value()) * f64::from(scale);
+        let mut checked = check_densities([density.background], sigma_t);
+        density.visit(|_, _, node| {
+            if checked.is_ok() {
+                checked = match node {
+                    Node::Tile(v) => check_densities([v], sigma_t),
+                    Node::Leaf(leaf) => check_densities(leaf.iter().copied(), sigma_t),
+                };
+            }
+        });
+        checked.map_err(|e| file_error(format!("grid \"density\": {e}")))?;
         let le_scale = p.float_or("Lescale", 1.0);
         let offset = p.float("temperatureoffset").or_else(|| p.float("temperaturecutoff")).unwrap_or(0.0);
         let temperature_scale = p.float_or("temperaturescale", 1.0);
@@ -118,5 +131,36 @@ mod tests {
         let not_vdb = format!("MakeNamedMedium \"m\" \"string type\" \"nanovdb\" \"string filename\" \"{}\"", file!());
         let not_vdb = error(&not_vdb);
         assert!(not_vdb.contains("not a NanoVDB file"), "{not_vdb}");
+    }
+
+    #[test]
+    fn densities_no_majorant_can_bound_are_located_errors() {
+        // plain.nvdb holds voxel (3, 2, 1) = 83/512 once; replaced by each bad value in turn.
+        let bytes = std::fs::read(fixture("plain.nvdb")).unwrap();
+        let good = (83.0f32 / 512.0).to_le_bytes();
+        let at = bytes.windows(4).position(|w| w == good).unwrap();
+        let dir = std::env::temp_dir().join(format!("prism-nanovdb-bad-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        for bad in [f32::INFINITY, 1e30, 3.4e38, f32::NAN] {
+            let mut b = bytes.clone();
+            b[at..at + 4].copy_from_slice(&bad.to_le_bytes());
+            let path = dir.join("bad.nvdb");
+            std::fs::write(&path, b).unwrap();
+            let m =
+                format!("MakeNamedMedium \"m\" \"string type\" \"nanovdb\" \"string filename\" \"{}\"", path.display());
+            let e = error(&m);
+            assert!(e.starts_with("<string>:1:") && e.contains("bad.nvdb") && e.contains("density"), "{bad}: {e}");
+        }
+        std::fs::remove_dir_all(&dir).unwrap();
+        // Coefficients and scales no majorant can bound, in every medium.
+        for bad in [
+            "\"homogeneous\" \"rgb sigma_a\" [1e30 1 1]",
+            "\"homogeneous\" \"float scale\" 3.4e38",
+            "\"uniformgrid\" \"float density\" [1 1e30]  \"integer nx\" 2",
+            "\"uniformgrid\" \"float density\" [1 1e10] \"integer nx\" 2 \"float scale\" 1e10",
+        ] {
+            let e = error(&format!("MakeNamedMedium \"m\" \"string type\" {bad}"));
+            assert!(e.starts_with("<string>:1:") && e.contains("1e15"), "{bad}: {e}");
+        }
     }
 }

@@ -29,7 +29,29 @@ pub(super) struct Built {
     pub(super) normal_maps: HashMap<std::path::PathBuf, Arc<crate::material::NormalMap>>,
     /// Measured BRDFs by file, read once however many materials name them.
     pub(super) measured: HashMap<std::path::PathBuf, Arc<crate::bsdf::MeasuredBrdf>>,
+    /// The depth and expanded size of each texture built, by class (float?) and index.
+    costs: HashMap<(bool, usize), Cost>,
+    /// The greatest depth among the textures the texture being built names, and the sum of
+    /// their expanded sizes.
+    children: Cost,
 }
+
+/// How deep a texture graph is and how many textures one evaluation of it may evaluate (its
+/// size as a tree, shared textures counted once per use).
+#[derive(Clone, Copy, Debug, Default)]
+struct Cost {
+    depth: u32,
+    size: u64,
+}
+
+/// The deepest texture graph accepted: evaluation recurses once per level, so the scene must
+/// not choose the depth (pbrt-v4's own texture graphs are a few levels deep).
+pub const MAX_TEXTURE_DEPTH: u32 = 1000;
+
+/// The most textures one evaluation of a texture may evaluate. A graph may use a texture more
+/// than once, and is evaluated as the tree it expands to, so that tree's size is bounded:
+/// n textures each using the previous one twice expand to 2^n − 1.
+pub const MAX_TEXTURE_EXPANSION: u64 = 1 << 16;
 
 /// A texture parameter's value: given in place, or the name of a texture.
 enum Arg<'p, V> {
@@ -222,7 +244,12 @@ impl Ctx<'_> {
                     let message = format!("no {class} texture named \"{t}\" is defined before this");
                     return Err(param_error(p, name, loc, message));
                 };
-                self.texture_at::<V>(i)?
+                let t = self.texture_at::<V>(i)?;
+                let cost = self.textures.costs.get(&(V::CLASS == TextureClass::Float, i)).copied().unwrap_or_default();
+                let children = &mut self.textures.children;
+                children.depth = children.depth.max(cost.depth);
+                children.size = children.size.saturating_add(cost.size);
+                t
             }
         }))
     }
@@ -232,7 +259,25 @@ impl Ctx<'_> {
         if let Some(t) = V::built(self).get(&index) {
             return Ok(t.clone());
         }
-        let t = self.build_texture::<V>(index)?;
+        let outer = std::mem::take(&mut self.textures.children);
+        let t = self.build_texture::<V>(index);
+        let children = std::mem::replace(&mut self.textures.children, outer);
+        let cost = Cost { depth: children.depth + 1, size: children.size.saturating_add(1) };
+        let t = t?;
+        let d = &self.desc.textures[index];
+        if cost.depth > MAX_TEXTURE_DEPTH {
+            let message = format!("texture graph is more than {MAX_TEXTURE_DEPTH} textures deep");
+            return Err(SceneError::syntax(&d.loc, &d.name, message));
+        }
+        if cost.size > MAX_TEXTURE_EXPANSION {
+            let message = format!(
+                "texture graph expands to {} texture evaluations per lookup (its textures used more than once \
+                 count each time), more than the limit of {MAX_TEXTURE_EXPANSION}",
+                cost.size
+            );
+            return Err(SceneError::syntax(&d.loc, &d.name, message));
+        }
+        self.textures.costs.insert((V::CLASS == TextureClass::Float, index), cost);
         V::built(self).insert(index, t.clone());
         Ok(t)
     }
@@ -505,5 +550,62 @@ mod tests {
         w.extend(desc.report_unused());
         let texture_warnings: Vec<_> = w.iter().map(|w| w.to_string()).filter(|w| w.contains("Texture")).collect();
         assert!(texture_warnings.is_empty(), "{texture_warnings:?}");
+    }
+
+    /// A scene whose material uses texture "t", preceded by `textures`.
+    fn textured(textures: &str) -> String {
+        format!(
+            "Camera \"perspective\"\nWorldBegin\n{textures}Material \"diffuse\" \"texture reflectance\" \"t\"\n\
+             Shape \"sphere\"\n"
+        )
+    }
+
+    #[test]
+    fn texture_chains_deeper_than_the_limit_are_located_errors() {
+        let chain = |n: usize| {
+            let mut s = String::from("Texture \"t0\" \"spectrum\" \"constant\"\n");
+            for i in 1..n {
+                s += &format!("Texture \"t{i}\" \"spectrum\" \"scale\" \"texture tex\" \"t{}\"\n", i - 1);
+            }
+            s + &format!("Texture \"t\" \"spectrum\" \"scale\" \"texture tex\" \"t{}\"\n", n - 1)
+        };
+        let ok = super::MAX_TEXTURE_DEPTH as usize - 1;
+        build(&textured(&chain(ok))).unwrap();
+        let e = build(&textured(&chain(10_000))).unwrap_err();
+        let line = super::MAX_TEXTURE_DEPTH + 3;
+        assert!(e.contains(&format!("<string>:{line}:")), "{e}");
+        assert!(e.contains(&super::MAX_TEXTURE_DEPTH.to_string()) && e.contains("deep"), "{e}");
+        // Float chains (a scale's factor) count the same.
+        let mut s = String::from("Texture \"f0\" \"float\" \"constant\"\n");
+        for i in 1..10_000 {
+            s += &format!("Texture \"f{i}\" \"float\" \"scale\" \"texture tex\" \"f{}\"\n", i - 1);
+        }
+        s += "Texture \"t\" \"spectrum\" \"scale\" \"texture scale\" \"f9999\"\n";
+        assert!(build(&textured(&s)).unwrap_err().contains("deep"));
+    }
+
+    #[test]
+    fn texture_graphs_expanding_past_the_limit_are_located_errors() {
+        // Each mix uses the previous texture twice: evaluating the last one would evaluate
+        // the first 2^26 times.
+        let doubling = |n: usize| {
+            let mut s = String::from("Texture \"m0\" \"spectrum\" \"checkerboard\"\n");
+            for i in 1..n {
+                let p = i - 1;
+                s += &format!(
+                    "Texture \"m{i}\" \"spectrum\" \"mix\" \"texture tex1\" \"m{p}\" \"texture tex2\" \"m{p}\"\n"
+                );
+            }
+            s + &format!("Texture \"t\" \"spectrum\" \"scale\" \"texture tex\" \"m{}\"\n", n - 1)
+        };
+        build(&textured(&doubling(12))).unwrap();
+        // On another thread, bounded in time: without the limit the build never ends.
+        let (tx, rx) = std::sync::mpsc::channel();
+        let text = textured(&doubling(27));
+        std::thread::spawn(move || tx.send(build(&text).map(drop)));
+        let e = rx.recv_timeout(std::time::Duration::from_secs(60)).expect("the build never ended").unwrap_err();
+        // m16 is the first whose expansion (2^17 − 1 textures) exceeds 2^16.
+        assert!(e.contains("<string>:19:"), "{e}");
+        assert!(e.contains(&super::MAX_TEXTURE_EXPANSION.to_string()), "{e}");
     }
 }
