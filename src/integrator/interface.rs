@@ -58,6 +58,9 @@ pub struct Integrator {
     /// limit of 1024 or more, it is at most 0.95, so a path whose throughput stays ≥ 1 (a closed
     /// white room) still ends (Mitsuba 3's rule).
     pub rr_depth: u32,
+    /// pbrt's `rrthreshold`: roulette plays only while max β' is below it (1 by default, where
+    /// it changes nothing; 0 turns roulette off but for the unbounded-depth cap).
+    pub rr_threshold: f32,
     /// Direct-light estimator.
     pub strategy: DirectStrategy,
     /// How paths entering subsurface materials continue.
@@ -77,6 +80,7 @@ impl Default for Integrator {
             kind: IntegratorKind::Path,
             max_depth: 8,
             rr_depth: 3,
+            rr_threshold: 1.0,
             strategy: DirectStrategy::Mis,
             sss: SubsurfaceMethod::default(),
             footprint: None,
@@ -86,13 +90,14 @@ impl Default for Integrator {
 }
 
 impl Integrator {
-    /// The integrator a scene file asks for (its `Integrator` directive's type, "maxdepth" and
-    /// "regularize"), prism's defaults for what the file leaves out.
+    /// The integrator a scene file asks for (its `Integrator` directive's type, "maxdepth",
+    /// "rrthreshold" and "regularize"), prism's defaults for what the file leaves out.
     pub fn from_file(file: &crate::pbrt::FileSettings) -> Self {
         let d = Self::default();
         Self {
             kind: file.integrator.as_deref().and_then(|n| IntegratorKind::parse(n).ok()).unwrap_or(d.kind),
             max_depth: file.max_depth.unwrap_or(d.max_depth),
+            rr_threshold: file.rr_threshold.unwrap_or(d.rr_threshold),
             regularize: file.regularize.unwrap_or(d.regularize),
             ..d
         }

@@ -125,13 +125,14 @@ impl Integrator {
 
     /// Russian roulette: true when the path survives (its throughput then divided by the
     /// survival probability), false when it ends. The survival probability is
-    /// min(max(β η_scale / avg r_u), 1), at most 0.95 without a depth limit or with one of at
-    /// least [`ROULETTE_CAP_DEPTH`]; paths shallower than `rr_depth` always survive.
+    /// min(max(β η_scale / avg r_u), 1) while that maximum is below `rr_threshold`, and at most
+    /// 0.95 without a depth limit or with one of at least [`ROULETTE_CAP_DEPTH`]; paths
+    /// shallower than `rr_depth` always survive.
     #[inline(always)]
     pub(super) fn roulette(&self, state: &mut PathState, sampler: &mut Sampler) -> bool {
-        let rr_beta = state.beta * state.eta_scale / state.r_u.average();
+        let rr_beta = (state.beta * state.eta_scale / state.r_u.average()).max_value();
         let cap = if self.max_depth >= ROULETTE_CAP_DEPTH { 0.95 } else { 1.0 };
-        let survival = rr_beta.max_value().min(cap);
+        let survival = if rr_beta < self.rr_threshold { rr_beta.min(cap) } else { cap };
         if state.depth >= self.rr_depth && survival < 1.0 {
             let q = (1.0 - survival).max(0.0);
             if sampler.get_1d() < q {

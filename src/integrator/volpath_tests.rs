@@ -426,9 +426,9 @@ fn grey_room() -> Scene {
     b.build(AccelKind::Obvhs).unwrap()
 }
 
-/// Both loops honour `rr_depth` and the direct-light strategy, the settings they share: with
-/// roulette beyond the depth limit every path of the grey room reaches the limit, and BSDF
-/// sampling alone never finds a point light.
+/// Both loops honour `rr_depth`, `rr_threshold` and the direct-light strategy, the settings
+/// they share: with roulette beyond the depth limit, or a threshold of 0, every path of the grey
+/// room reaches the limit, and BSDF sampling alone never finds a point light.
 #[test]
 fn both_loops_take_the_shared_roulette_depth_and_strategy() {
     use crate::integrator::DirectStrategy;
@@ -437,11 +437,12 @@ fn both_loops_take_the_shared_roulette_depth_and_strategy() {
     for kind in [IntegratorKind::Path, IntegratorKind::VolPath] {
         let no_roulette = Integrator { kind, max_depth: 12, rr_depth: 100, ..Default::default() };
         let early_roulette = Integrator { rr_depth: 1, ..no_roulette };
+        let no_threshold = Integrator { rr_threshold: 0.0, ..early_roulette };
         let bsdf_only = Integrator { strategy: DirectStrategy::BsdfOnly, ..no_roulette };
         let mut sampler = Sampler::independent();
-        let (mut stats, mut shallow, mut lit) = (Stats::default(), [0u32; 2], 0.0f32);
+        let (mut stats, mut shallow, mut lit) = (Stats::default(), [0u32; 3], 0.0f32);
         for i in 0..400 {
-            for (k, integ) in [no_roulette, early_roulette].into_iter().enumerate() {
+            for (k, integ) in [no_roulette, early_roulette, no_threshold].into_iter().enumerate() {
                 sampler.start_pixel_sample((0, 0), i, 3);
                 let mut w = SampledWavelengths::sample_visible(sampler.get_1d());
                 integ.li(&scene, ray, &mut w, &mut sampler, &mut stats);
@@ -454,6 +455,7 @@ fn both_loops_take_the_shared_roulette_depth_and_strategy() {
         assert_eq!(shallow[0], 0, "{kind:?}: a path ended before depth 12 with roulette from depth 100");
         // Survival is at most 0.5 per bounce from depth 1: nearly every path ends early.
         assert!(shallow[1] > 350, "{kind:?}: roulette from depth 1 ended only {} of 400 paths early", shallow[1]);
+        assert_eq!(shallow[2], 0, "{kind:?}: a path ended before depth 12 with a roulette threshold of 0");
         assert_eq!(lit, 0.0, "{kind:?}: BSDF sampling alone found the point light");
     }
 }

@@ -52,6 +52,8 @@ pub struct FileSettings {
     pub max_depth: Option<u32>,
     /// The Integrator's type, one prism renders (the parser substitutes the others).
     pub integrator: Option<String>,
+    /// Integrator "rrthreshold" (default 1): roulette only below this throughput.
+    pub rr_threshold: Option<f32>,
     /// Integrator "regularize" (pbrt-v4's default false).
     pub regularize: Option<bool>,
     /// PixelFilter with its parameters.
@@ -320,6 +322,7 @@ impl Ctx<'_> {
             // pbrt-v4's default when the file gives none.
             max_depth: Some(self.max_depth()?.unwrap_or(PBRT_DEFAULT_MAX_DEPTH)),
             integrator: Some(d.integrator.kind.clone()),
+            rr_threshold: d.integrator.params.float("rrthreshold"),
             regularize: d.integrator.params.bool("regularize"),
             filter: Some(filter),
             sampler: Some(sampler.to_string()),
