@@ -13,7 +13,8 @@ impl log::Log for StderrLog {
     }
     fn log(&self, r: &log::Record) {
         if self.enabled(r.metadata()) {
-            eprintln!("prism: {}: {}", r.level().as_str().to_lowercase(), r.args());
+            let level = if r.level() == log::Level::Warn { "warning" } else { "error" };
+            eprintln!("prism: {level}: {}", r.args());
         }
     }
     fn flush(&self) {}

@@ -52,14 +52,35 @@ fn is_unsupported(message: &str) -> bool {
     message.starts_with("unsupported feature") || message.contains("was not used")
 }
 
-/// The distinct messages of the `warning:` lines of a log, with counts, in first-seen order.
+/// Whether `s` is a scene location, "file:line:col".
+fn is_location(s: &str) -> bool {
+    let mut parts = s.rsplitn(3, ':');
+    let digits = |p: Option<&str>| p.is_some_and(|p| !p.is_empty() && p.bytes().all(|b| b.is_ascii_digit()));
+    digits(parts.next()) && digits(parts.next()) && parts.next().is_some_and(|f| !f.is_empty())
+}
+
+/// The message of a "prism: warning: [file:line:col: ]message[ (N more like it)]" line and how
+/// many places it stands for.
+fn warning_of(line: &str) -> Option<(&str, usize)> {
+    let rest = line.strip_prefix("prism: warning: ")?;
+    let msg = match rest.match_indices(": ").map(|(i, _)| i).find(|&i| is_location(&rest[..i])) {
+        Some(i) => &rest[i + 2..],
+        None => rest,
+    };
+    let repeated = msg.strip_suffix(" more like it)").and_then(|m| {
+        let (m, n) = m.rsplit_once(" (")?;
+        Some((m, n.parse::<usize>().ok()? + 1))
+    });
+    Some(repeated.unwrap_or((msg, 1)))
+}
+
+/// The distinct messages of the warning lines of a log, with counts, in first-seen order.
 fn warnings(log: &str) -> Vec<(String, usize)> {
     let mut out: Vec<(String, usize)> = Vec::new();
-    for line in log.lines() {
-        let Some((_, msg)) = line.split_once(": warning: ") else { continue };
+    for (msg, count) in log.lines().filter_map(warning_of) {
         match out.iter_mut().find(|(m, _)| m == msg) {
-            Some((_, n)) => *n += 1,
-            None => out.push((msg.to_string(), 1)),
+            Some((_, n)) => *n += count,
+            None => out.push((msg.to_string(), count)),
         }
     }
     out
@@ -257,7 +278,7 @@ mod tests {
 
     #[test]
     fn the_rule_needs_means_error_and_no_unsupported_feature() {
-        let r = report("prism: warn: a.pbrt:1:2: warning: something deprecated\n");
+        let r = report("prism: warning: a.pbrt:1:2: something deprecated\n");
         assert_eq!(r.notes, vec![("something deprecated".to_string(), 1)]);
         assert!(r.matches(), "{r:?}");
         // (0.012 / 0.010)² × 2 s.
@@ -269,12 +290,13 @@ mod tests {
         noisy.prism_error = Some(0.0126);
         assert!(!noisy.matches());
         let w = report(
-            "prism: warn: a.pbrt:1:2: warning: unsupported feature: x; prism y\n\
-             prism: warn: a.pbrt:3:2: warning: unsupported feature: x; prism y\n\
-             prism: warn: a.pbrt:4:2: warning: parameter \"float q\" of Shape \"s\" was not used\n",
+            "prism: warning: a.pbrt:1:2: unsupported feature: x; prism y (1 more like it)\n\
+             prism: warning: C:\\s\\b.pbrt:4:2: parameter \"float q\" of Shape \"s\" was not used\n\
+             prism: warning: a.pbrt:5:2: unsupported feature: x; prism y\n",
         );
         assert_eq!(w.unsupported.len(), 2);
-        assert_eq!(w.unsupported[0].1, 2);
+        assert_eq!(w.unsupported[0], ("unsupported feature: x; prism y".to_string(), 3));
+        assert_eq!(w.unsupported[1].0, "parameter \"float q\" of Shape \"s\" was not used");
         assert!(!w.matches());
         assert_eq!(w.status(), "differs");
     }

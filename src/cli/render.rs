@@ -269,10 +269,30 @@ pub(crate) fn load_scene_file(path: &Path, strict: bool, quadrics: QuadricMode) 
     }
     let opts = crate::pbrt::ParseOptions { strict, quadrics, ..Default::default() };
     let loaded = crate::pbrt::load_file(path, &opts)?;
-    for w in &loaded.warnings {
-        log::warn!("{w}");
-    }
+    report_warnings(&loaded.warnings);
     Ok(loaded)
+}
+
+/// Prints each distinct warning once, as "prism: warning: file:line:col: message", at its first
+/// place, with how many more places say the same.
+fn report_warnings(warnings: &[crate::pbrt::Warning]) {
+    let mut distinct: Vec<(&crate::pbrt::Warning, usize)> = Vec::new();
+    let mut index: std::collections::HashMap<&str, usize> = std::collections::HashMap::new();
+    for w in warnings {
+        match index.get(w.message.as_str()) {
+            Some(&i) => distinct[i].1 += 1,
+            None => {
+                index.insert(&w.message, distinct.len());
+                distinct.push((w, 0));
+            }
+        }
+    }
+    for (w, more) in distinct {
+        match more {
+            0 => log::warn!("{}: {}", w.loc, w.message),
+            n => log::warn!("{}: {} ({n} more like it)", w.loc, w.message),
+        }
+    }
 }
 
 /// Extensions `prism render -o` accepts.

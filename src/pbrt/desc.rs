@@ -334,12 +334,15 @@ impl SceneDesc {
         for l in &self.lights {
             d(&l.params, "LightSource", &l.kind);
         }
-        for m in &self.materials {
-            d(&m.params, "Material", &m.kind);
-        }
-        // Named materials no shape uses are never built (a shared library of materials is
-        // normal), so only referenced ones can have unread parameters worth reporting.
+        // Materials no shape uses are never built (a shared library of named materials is
+        // normal, and an anonymous Material may be replaced before any shape), so only
+        // referenced ones can have unread parameters worth reporting.
         let all_shapes = || self.shapes.iter().chain(self.objects.iter().flat_map(|o| o.shapes.iter()));
+        for (i, m) in self.materials.iter().enumerate() {
+            if all_shapes().any(|s| matches!(s.material, MaterialRef::Anonymous(j) if j == i)) {
+                d(&m.params, "Material", &m.kind);
+            }
+        }
         for m in &self.named_materials {
             if all_shapes().any(|s| matches!(&s.material, MaterialRef::Named(n) if *n == m.name)) {
                 d(&m.material.params, "MakeNamedMaterial", &m.name);

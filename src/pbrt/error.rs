@@ -86,6 +86,15 @@ pub enum SceneError {
         /// What prism does without `--strict`.
         fallback: String,
     },
+    /// Input pbrt-v4 itself stops on (a parameter nothing reads, several values for one), in
+    /// strict mode.
+    #[error("{loc}: {message} (strict mode; pbrt-v4 stops here too)")]
+    Refused {
+        /// Where.
+        loc: Location,
+        /// What is wrong.
+        message: String,
+    },
     /// A file that could not be read (scene, include, mesh).
     #[error("{loc}: cannot read \"{path}\": {reason}")]
     Io {
@@ -128,6 +137,7 @@ impl SceneError {
             Self::Syntax { loc, .. }
             | Self::UnknownType { loc, .. }
             | Self::Unsupported { loc, .. }
+            | Self::Refused { loc, .. }
             | Self::Io { loc, .. }
             | Self::IncludeCycle { loc, .. }
             | Self::Mesh { loc, .. } => loc,
@@ -149,7 +159,7 @@ pub struct Warning {
 /// What a warning reports.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum WarningKind {
-    /// Something worth knowing (deprecated syntax, an unused parameter, an empty mesh file); the
+    /// Something worth knowing (deprecated syntax, a repeated parameter, an empty mesh file); the
     /// scene renders as written.
     Note,
     /// A pbrt-v4 feature prism does not render and what prism does instead: an error in strict
@@ -160,12 +170,20 @@ pub enum WarningKind {
         /// What prism does instead ("ignores it").
         fallback: String,
     },
+    /// Input pbrt-v4 stops on but prism reads past: a parameter nothing reads (often a
+    /// misspelling), or several values where one is read. An error in strict mode.
+    Refused,
 }
 
 impl Warning {
     /// A warning that is never an error.
     pub fn note(loc: &Location, message: impl Into<String>) -> Self {
         Self { loc: loc.clone(), message: message.into(), kind: WarningKind::Note }
+    }
+
+    /// Input pbrt-v4 stops on and prism reads past ([`WarningKind::Refused`]).
+    pub fn refused(loc: &Location, message: impl Into<String>) -> Self {
+        Self { loc: loc.clone(), message: message.into(), kind: WarningKind::Refused }
     }
 
     /// A pbrt-v4 feature prism does not render: "unsupported feature: {feature}; prism {fallback}".
@@ -184,11 +202,13 @@ impl Warning {
                 feature: feature.clone(),
                 fallback: fallback.clone(),
             }),
+            WarningKind::Refused => Some(SceneError::Refused { loc: self.loc.clone(), message: self.message.clone() }),
         }
     }
 }
 
-/// Strict mode: the first warning about an unsupported feature, as an error.
+/// Strict mode: the first warning about an unsupported feature or input pbrt-v4 stops on, as
+/// an error.
 pub fn check_strict(warnings: &[Warning]) -> Result<(), SceneError> {
     match warnings.iter().find_map(Warning::strict_error) {
         Some(e) => Err(e),

@@ -480,7 +480,7 @@ impl ParamSet {
     /// "sphere"`).
     pub fn report_unused(&self, context: &str) -> Vec<Warning> {
         let unused = self.params.iter().filter(|p| !p.is_used()).map(|p| {
-            Warning::note(&p.loc, format!("parameter \"{} {}\" of {context} was not used", p.type_name, p.name))
+            Warning::refused(&p.loc, format!("parameter \"{} {}\" of {context} was not used", p.type_name, p.name))
         });
         let extra = self.params.iter().filter(|p| p.read_as_one.load(Ordering::Relaxed) > 1).map(|p| {
             let message = format!(
@@ -489,7 +489,7 @@ impl ParamSet {
                 p.name,
                 p.read_as_one.load(Ordering::Relaxed)
             );
-            Warning::note(&p.loc, message)
+            Warning::refused(&p.loc, message)
         });
         // The RGB → spectrum conversion takes negative components as 0: say so (once: an unused
         // parameter is reported as unused only).

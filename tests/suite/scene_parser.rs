@@ -416,6 +416,11 @@ NamedMaterial "b"
     ));
     let w: Vec<String> = d.report_unused().iter().map(|w| w.message.clone()).collect();
     assert_eq!(w, ["parameter \"float y\" of MakeNamedMaterial \"b\" was not used"]);
+    // Likewise an anonymous Material replaced before any shape uses it.
+    let (d, _) =
+        parse(&format!("WorldBegin\nMaterial \"diffuse\" \"float x\" 1\nMaterial \"diffuse\" \"float y\" 1\n{TRI}"));
+    let w: Vec<String> = d.report_unused().iter().map(|w| w.message.clone()).collect();
+    assert_eq!(w, ["parameter \"float y\" of Material \"diffuse\" was not used"]);
     // A single-valued parameter given several values: the first is used and the rest reported
     // (pbrt-v4 stops with an error here).
     let (d, _) = parse("WorldBegin\nShape \"sphere\" \"float radius\" [2 5]");
@@ -773,4 +778,16 @@ fn bspline_curves_become_bezier_segments_with_widths_linear_along_the_curve() {
         err("WorldBegin\nShape \"curve\" \"string type\" \"ribbon\" \"point3 P\" [0 0 0 1 0 0 2 0 0 3 0 0]"),
         "<string>:2:1: a ribbon curve of 1 segment(s) needs 2 normals \"N\" (one per segment end), got 0 (at \"Shape \"curve\"\")"
     );
+}
+
+/// The Integrator's "rrthreshold" reaches the integrator (and is not reported unused); prism's
+/// default, 1, is where roulette starts in pbrt-v4.
+#[test]
+fn the_integrators_rrthreshold_is_read() {
+    for (text, expected) in [("Integrator \"volpath\" \"float rrthreshold\" 0\n", 0.0), ("", 1.0)] {
+        let (d, mut warnings) = parse(&format!("{text}WorldBegin\n{TRI}"));
+        let (_, settings) = prism::pbrt::build(&d, &mut warnings).unwrap();
+        assert!(d.report_unused().is_empty(), "{:?}", d.report_unused());
+        assert_eq!(prism::integrator::Integrator::from_file(&settings).rr_threshold, expected);
+    }
 }

@@ -82,12 +82,69 @@ fn every_unsupported_feature_warns_and_is_an_error_in_strict_mode() {
         assert!(e.contains("(strict mode; without --strict prism "), "{e}");
     }
     // What is only worth knowing stays a warning in strict mode.
-    let notes = scene_text("", "TransformBegin\nTransformEnd\nShape \"sphere\" \"float radisu\" 2");
+    let notes = scene_text("", "TransformBegin\nTransformEnd\nShape \"sphere\" \"float radius\" 2");
     let path = d.join("notes.pbrt");
     std::fs::write(&path, notes).unwrap();
     let loaded = load_file(&path, &strict).unwrap();
-    assert_eq!(loaded.warnings.len(), 2, "{:?}", loaded.warnings);
+    assert_eq!(loaded.warnings.len(), 1, "{:?}", loaded.warnings);
     assert!(loaded.warnings.iter().all(|w| w.kind == WarningKind::Note));
+}
+
+/// pbrt-v4 stops on a parameter nothing reads (a misspelling) and on several values given for
+/// one: a warning by default, an error at the parameter in strict mode.
+#[test]
+fn unused_parameters_and_extra_values_are_errors_in_strict_mode() {
+    let d = tmpdir("strict-unused");
+    let strict = ParseOptions { strict: true, ..Default::default() };
+    for (i, (shape, at, message)) in [
+        (
+            "Shape \"sphere\" \"float radisu\" 2",
+            "\"float radisu\"",
+            "parameter \"float radisu\" of Shape \"sphere\" was not used",
+        ),
+        ("Shape \"sphere\" \"float radius\" [1 2]", "\"float radius\"", "takes one value, but 2 were given"),
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        let text = scene_text("", shape);
+        let path = d.join(format!("unused{i}.pbrt"));
+        std::fs::write(&path, &text).unwrap();
+        let loaded = load_file(&path, &Default::default()).unwrap();
+        assert!(loaded.warnings.iter().any(|w| w.kind == WarningKind::Refused && w.message.contains(message)));
+        let e = load_file(&path, &strict).err().unwrap_or_else(|| panic!("strict mode loaded {shape}"));
+        assert!(matches!(e, SceneError::Refused { .. }), "{e}");
+        let loc = location_of(&path, &text, at);
+        let e = e.to_string();
+        assert!(e.starts_with(&format!("{loc}: ")) && e.contains(message), "{e}");
+    }
+}
+
+/// Without `--strict` a warning repeated at many places is one line, at the first place, saying
+/// how many more there are.
+#[test]
+fn a_repeated_warning_is_one_line() {
+    let d = tmpdir("strict-repeated");
+    let typo = "Shape \"sphere\" \"float radisu\" 2\n";
+    let text = scene_text("", &typo.repeat(3));
+    let scene = d.join("typos.pbrt");
+    std::fs::write(&scene, &text).unwrap();
+    let out = d.join("x.png");
+    let o = prism()
+        .args(["render", scene.to_str().unwrap(), "--spp", "1", "--resolution", "8x8", "-o"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    let e = stderr(&o);
+    assert!(o.status.success(), "{e}");
+    let loc = location_of(&scene, &text, "\"float radisu\"");
+    let warnings: Vec<&str> = e.lines().filter(|l| l.starts_with("prism: warning: ")).collect();
+    assert_eq!(
+        warnings,
+        [format!(
+            "prism: warning: {loc}: parameter \"float radisu\" of Shape \"sphere\" was not used (2 more like it)"
+        )]
+    );
 }
 
 /// `--strict` exits non-zero with one line naming the file, line and column.
@@ -116,7 +173,9 @@ fn render_strict_refuses_ptex_and_renders_without_it() {
         prism().args(["render", scene.to_str().unwrap(), "--spp", "1", "--resolution", "8x8", "-o"]).arg(&out).output();
     let o = o.unwrap();
     assert!(o.status.success(), "{}", stderr(&o));
-    assert!(stderr(&o).contains("warning: unsupported feature: ptex textures"), "{}", stderr(&o));
+    let e = stderr(&o);
+    let prefix = format!("prism: warning: {}:", scene.display());
+    assert!(e.lines().any(|l| l.starts_with(&prefix) && l.contains(": unsupported feature: ptex textures")), "{e}");
 }
 
 /// pbrt-v4's own killeroo scene (`loopsubdiv` surfaces), where it is available beside the
