@@ -350,6 +350,11 @@ impl ParamSet {
         self.params.iter().any(|p| p.name == name)
     }
 
+    /// Marks every parameter named `name` read, for one a directive reads only to ignore.
+    pub fn mark_used(&self, name: &str) {
+        self.params.iter().filter(|p| p.name == name).for_each(|p| p.used.store(true, Ordering::Relaxed));
+    }
+
     /// All parameters.
     pub fn iter(&self) -> impl Iterator<Item = &Param> {
         self.params.iter()

@@ -139,9 +139,11 @@ impl Ctx<'_> {
         })))
     }
 
-    /// "hair" (pbrt-v4's `HairMaterial::Create`): σa from "sigma_a", else from "reflectance",
-    /// else from "eumelanin" (1.3 when none of the three is given) and "pheomelanin" (0).
+    /// "hair" (pbrt-v4's `HairMaterial::Create`): σa from "sigma_a", else from "reflectance" (or,
+    /// without it, "color"), else from "eumelanin" (1.3 when none is given) and "pheomelanin"
+    /// (0). What the chosen one overrides is read and said to be ignored, as pbrt-v4 does.
     pub(super) fn hair(&mut self, p: &ParamSet, loc: &Location) -> Result<Material, SceneError> {
+        let colour = ["reflectance", "color"].into_iter().find(|n| p.has(n));
         let absorption = if p.has("sigma_a") {
             if p.texture("sigma_a").is_some() {
                 self.unsupported(loc, "a textured hair \"sigma_a\"".into(), "uses eumelanin 1.3");
@@ -149,8 +151,8 @@ impl Ctx<'_> {
             } else {
                 HairAbsorption::SigmaA(self.unbounded_or(p, "sigma_a", [0.0; 3], loc)?)
             }
-        } else if p.has("reflectance") {
-            HairAbsorption::Reflectance(self.spectrum_texture(p, "reflectance", 0.5, loc)?)
+        } else if let Some(name) = colour {
+            HairAbsorption::Reflectance(self.spectrum_texture(p, name, 0.5, loc)?)
         } else {
             let eumelanin = self.float_texture(p, "eumelanin", if p.has("eumelanin") { 0.0 } else { 1.3 })?;
             let pheomelanin = self.float_texture(p, "pheomelanin", 0.0)?;
@@ -159,6 +161,14 @@ impl Ctx<'_> {
                 _ => HairAbsorption::Melanin { eumelanin, pheomelanin },
             }
         };
+        if let Some(chosen) = if p.has("sigma_a") { Some("sigma_a") } else { colour } {
+            for ignored in ["reflectance", "color", "eumelanin", "pheomelanin"] {
+                if ignored != chosen && p.has(ignored) {
+                    p.mark_used(ignored);
+                    self.warn(loc, format!("hair: \"{ignored}\" is ignored since \"{chosen}\" was given"));
+                }
+            }
+        }
         Ok(Material::Hair(Box::new(HairMaterial {
             absorption,
             eta: self.float_texture(p, "eta", 1.55)?,
@@ -264,15 +274,26 @@ mod tests {
         assert!((s.eval(550.0) - eumelanin(1.3)).abs() < 1e-6);
         let (HairAbsorption::SigmaA(s), 0) = hair("\"float eumelanin\" [ 0.3 ]") else { panic!() };
         assert!((s.eval(550.0) - eumelanin(0.3)).abs() < 1e-6);
-        // σa wins over a colour, a colour over melanin.
-        let (HairAbsorption::SigmaA(s), 0) = hair("\"rgb sigma_a\" [ 2 2 2 ] \"rgb reflectance\" [ 0.5 0.5 0.5 ]")
+        // σa wins over a colour, a colour over melanin, each overridden one with a note.
+        let (HairAbsorption::SigmaA(s), 1) = hair("\"rgb sigma_a\" [ 2 2 2 ] \"rgb reflectance\" [ 0.5 0.5 0.5 ]")
         else {
             panic!()
         };
         assert!((s.eval(550.0) - 2.0).abs() < 0.02, "{}", s.eval(550.0));
         assert!(matches!(
             hair("\"rgb reflectance\" [ 0.5 0.3 0.2 ] \"float eumelanin\" [ 1 ]"),
-            (HairAbsorption::Reflectance(_), 0)
+            (HairAbsorption::Reflectance(_), 1)
         ));
+        // "color" stands for "reflectance" when that is absent (pbrt-v3's name).
+        let reflectance_of = |params: &str| match hair(params) {
+            (HairAbsorption::Reflectance(crate::texture::Texture::Constant(c)), n) => (c.eval(650.0), n),
+            other => panic!("{other:?}"),
+        };
+        let (grey, 0) = reflectance_of("\"rgb color\" [ 0.5 0.5 0.5 ]") else { panic!() };
+        assert!((grey - 0.5).abs() < 0.01, "{grey}");
+        let (red, 1) = reflectance_of("\"rgb color\" [ 0.1 0.1 0.1 ] \"rgb reflectance\" [ 0.8 0.1 0.1 ]") else {
+            panic!()
+        };
+        assert!(red > 0.6, "{red}");
     }
 }
