@@ -8,6 +8,7 @@ mod area_image;
 mod area_power;
 mod bump;
 mod camera_motion;
+mod census;
 mod cli;
 mod common;
 mod compat;
