@@ -208,6 +208,46 @@ impl Ctx<'_> {
         self.warnings.push(Warning::unsupported(loc, feature, fallback));
     }
 
+    /// The Sampler directive as prism renders it: "independent", or prism's Owen-scrambled Sobol
+    /// for every other pbrt-v4 sampler (said in a note for the non-Sobol families and for a
+    /// chosen "randomization", whose patterns differ: the image is the same within noise), and
+    /// the samples per pixel pbrt-v4 takes: "pixelsamples", for "stratified" "xsamples" ×
+    /// "ysamples", else its default (4 for "independent", 16 for the others).
+    fn sampler(
+        &mut self,
+        count: &dyn Fn(&ParamSet, &str, &Location, i32) -> Result<Option<i32>, SceneError>,
+    ) -> Result<(&'static str, u64), SceneError> {
+        let (kind, p, loc) = (self.desc.sampler.kind.as_str(), &self.desc.sampler.params, &self.desc.sampler.loc);
+        let spp = if kind == "stratified" {
+            let (x, y) = (count(p, "xsamples", loc, 1)?.unwrap_or(4), count(p, "ysamples", loc, 1)?.unwrap_or(4));
+            x as u64 * y as u64
+        } else {
+            let default = if kind == "independent" { 4 } else { 16 };
+            count(p, "pixelsamples", loc, 1)?.map_or(default, |n| n as u64)
+        };
+        if kind == "independent" {
+            return Ok(("independent", spp));
+        }
+        let mut differs: Vec<String> = Vec::new();
+        if matches!(kind, "halton" | "pmj02bn" | "stratified") {
+            differs.push(format!("sampler \"{kind}\""));
+        }
+        if let Some(r) = p.string("randomization") {
+            differs.push(format!("\"randomization\" \"{r}\""));
+        }
+        if p.bool("jitter") == Some(false) {
+            differs.push("\"jitter\" false".into());
+        }
+        if !differs.is_empty() {
+            let message = format!(
+                "{}: prism draws Owen-scrambled Sobol samples instead (the same image within noise)",
+                differs.join(", ")
+            );
+            self.warn(loc, message);
+        }
+        Ok(("sobol", spp))
+    }
+
     /// Integrator "maxdepth": a depth ≥ 0, or −1 for no limit (Mitsuba's convention; pbrt-v4's
     /// loop never reaches a negative depth either).
     fn max_depth(&self) -> Result<Option<u32>, SceneError> {
@@ -311,14 +351,11 @@ impl Ctx<'_> {
             (open, close) => Some(close.unwrap_or(1.0) - open.unwrap_or(0.0)),
         };
         let filter = pixel_filter(&d.filter.kind, &d.filter.params);
-        let sampler = match d.sampler.kind.as_str() {
-            "independent" => "independent",
-            _ => "sobol",
-        };
+        let (sampler, spp) = self.sampler(&count)?;
         Ok(FileSettings {
             resolution,
             filename: film.string("filename").map(Into::into),
-            spp: count(&d.sampler.params, "pixelsamples", &d.sampler.loc, 1)?.map(|n| n as u64),
+            spp: Some(spp),
             // pbrt-v4's default when the file gives none.
             max_depth: Some(self.max_depth()?.unwrap_or(PBRT_DEFAULT_MAX_DEPTH)),
             integrator: Some(d.integrator.kind.clone()),

@@ -791,3 +791,25 @@ fn the_integrators_rrthreshold_is_read() {
         assert_eq!(prism::integrator::Integrator::from_file(&settings).rr_threshold, expected);
     }
 }
+
+/// Samples per pixel as pbrt-v4 takes them for each sampler, and a note, not silence, where
+/// prism's Owen-scrambled Sobol stands in for another pattern.
+#[test]
+fn samplers_take_pbrt_v4s_sample_counts_and_say_what_stands_in() {
+    for (sampler, spp, noted) in [
+        ("Sampler \"stratified\" \"integer xsamples\" 2 \"integer ysamples\" 3 \"bool jitter\" false", 6, true),
+        ("Sampler \"stratified\"", 16, true),
+        ("Sampler \"independent\"", 4, false),
+        ("Sampler \"independent\" \"integer pixelsamples\" 7", 7, false),
+        ("Sampler \"halton\" \"string randomization\" \"owen\"", 16, true),
+        ("Sampler \"zsobol\" \"integer pixelsamples\" 32", 32, false),
+        ("", 16, false),
+    ] {
+        let (d, mut warnings) = parse(&format!("{sampler}\nWorldBegin\n{TRI}"));
+        let (_, settings) = prism::pbrt::build(&d, &mut warnings).unwrap();
+        assert!(d.report_unused().is_empty(), "{sampler}: {:?}", d.report_unused());
+        assert_eq!(settings.spp, Some(spp), "{sampler}");
+        let notes: Vec<_> = warnings.iter().filter(|w| w.message.contains("Owen-scrambled Sobol")).collect();
+        assert_eq!(notes.len(), noted as usize, "{sampler}: {warnings:?}");
+    }
+}
