@@ -198,6 +198,18 @@ fn space_of(params: &ParamSet) -> &'static ColorSpace {
     ColorSpace::by_name(&params.color_space).unwrap_or_else(ColorSpace::srgb)
 }
 
+/// Integer parameter `name`, which must be at least `min` (counts: the depth has its own rule);
+/// clamping it silently would render something other than what the file says.
+fn count(params: &ParamSet, name: &str, loc: &Location, min: i32) -> Result<Option<i32>, SceneError> {
+    match params.int(name) {
+        Some(n) if n < min => {
+            let message = format!("\"{name}\" must be at least {min}, got {n}");
+            Err(param_error(params, name, loc, message))
+        }
+        n => Ok(n),
+    }
+}
+
 impl Ctx<'_> {
     fn warn(&mut self, loc: &Location, message: String) {
         self.warnings.push(Warning::note(loc, message));
@@ -213,10 +225,7 @@ impl Ctx<'_> {
     /// chosen "randomization", whose patterns differ: the image is the same within noise), and
     /// the samples per pixel pbrt-v4 takes: "pixelsamples", for "stratified" "xsamples" ×
     /// "ysamples", else its default (4 for "independent", 16 for the others).
-    fn sampler(
-        &mut self,
-        count: &dyn Fn(&ParamSet, &str, &Location, i32) -> Result<Option<i32>, SceneError>,
-    ) -> Result<(&'static str, u64), SceneError> {
+    fn sampler(&mut self) -> Result<(&'static str, u64), SceneError> {
         let (kind, p, loc) = (self.desc.sampler.kind.as_str(), &self.desc.sampler.params, &self.desc.sampler.loc);
         let spp = if kind == "stratified" {
             let (x, y) = (count(p, "xsamples", loc, 1)?.unwrap_or(4), count(p, "ysamples", loc, 1)?.unwrap_or(4));
@@ -313,15 +322,6 @@ impl Ctx<'_> {
     fn settings(&mut self) -> Result<FileSettings, SceneError> {
         let d = self.desc;
         let film = &d.film.params;
-        // Counts must be positive (the depth has its own rule); clamping them silently would
-        // render something other than what the file says.
-        let count = |params: &ParamSet, name: &str, loc: &Location, min: i32| match params.int(name) {
-            Some(n) if n < min => {
-                let message = format!("\"{name}\" must be at least {min}, got {n}");
-                Err(param_error(params, name, loc, message))
-            }
-            n => Ok(n),
-        };
         let res = (count(film, "xresolution", &d.film.loc, 1)?, count(film, "yresolution", &d.film.loc, 1)?);
         let resolution = match res {
             (None, None) => None,
@@ -351,7 +351,7 @@ impl Ctx<'_> {
             (open, close) => Some(close.unwrap_or(1.0) - open.unwrap_or(0.0)),
         };
         let filter = pixel_filter(&d.filter.kind, &d.filter.params);
-        let (sampler, spp) = self.sampler(&count)?;
+        let (sampler, spp) = self.sampler()?;
         Ok(FileSettings {
             resolution,
             filename: film.string("filename").map(Into::into),
