@@ -135,8 +135,9 @@ pub fn load(path: &Path) -> Result<(Film, FilmHeader), FilmFileError> {
     Ok((film, header))
 }
 
-/// Combines parts of one render: same size and fingerprint, disjoint sample ranges. The result
-/// holds the union of the samples, summed in the order of their sample ranges.
+/// Combines parts of one render: same size and fingerprint, disjoint sample ranges that leave no
+/// gap between them. The result holds the union of the samples, summed in the order of their
+/// sample ranges.
 pub fn merge(mut parts: Vec<(Film, FilmHeader)>) -> Result<(Film, FilmHeader), FilmFileError> {
     if parts.is_empty() {
         return Err(FilmFileError::Mismatch("no parts to merge".into()));
@@ -157,6 +158,14 @@ pub fn merge(mut parts: Vec<(Film, FilmHeader)>) -> Result<(Film, FilmHeader), F
             return Err(FilmFileError::Mismatch(format!(
                 "sample ranges overlap: {:?} and {:?}",
                 header.samples, h.samples
+            )));
+        }
+        // A film holds one range of samples: a missing part between two others cannot be
+        // described, and the image would silently lack its samples.
+        if h.samples.start > header.samples.end {
+            return Err(FilmFileError::Mismatch(format!(
+                "samples {}..{} are in no part: a part is missing",
+                header.samples.end, h.samples.start
             )));
         }
         film.merge(&f);
@@ -214,6 +223,26 @@ mod tests {
         std::fs::write(dir.join("bad.film"), b"PRISMFILM 1\n\xff\xff\xff\x7f").unwrap();
         assert!(matches!(load(&dir.join("bad.film")), Err(FilmFileError::Format(..))));
         std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn merge_refuses_parts_that_leave_samples_out() {
+        let part = |samples: Range<u64>| {
+            let h = FilmHeader {
+                width: 3,
+                height: 2,
+                samples,
+                spp_total: 6,
+                fingerprint: "x".into(),
+                window: None,
+                color_space: None,
+            };
+            (film(1.0), h)
+        };
+        // Parts 1 and 3 of 3 (2 samples each): samples 2..4 are in neither.
+        let e = merge(vec![part(0..2), part(4..6)]).err().map(|e| e.to_string()).unwrap_or_default();
+        assert!(e.contains("samples 2..4 are in no part"), "{e:?}");
+        assert_eq!(merge(vec![part(4..6), part(2..4), part(0..2)]).unwrap().1.samples, 0..6);
     }
 
     #[test]
