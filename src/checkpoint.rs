@@ -36,6 +36,9 @@ pub struct FilmHeader {
     /// The colour space the render writes its image in (`None`: sRGB).
     #[serde(default)]
     pub color_space: Option<String>,
+    /// OpenEXR output in 32-bit floats (the scene's Film "savefp16" false) instead of halves.
+    #[serde(default)]
+    pub exr_float: bool,
 }
 
 /// Errors reading or combining film files.
@@ -208,6 +211,7 @@ mod tests {
             fingerprint: "x".into(),
             window: Some(CropWindow { x0: 1, y0: 2, full_width: 8, full_height: 6 }),
             color_space: Some("rec2020".into()),
+            exr_float: true,
         };
         let (a, b) = (film(1.0), film(2.0));
         save(&dir.join("a.film"), &a, &h(0..2)).unwrap();
@@ -236,6 +240,7 @@ mod tests {
                 fingerprint: "x".into(),
                 window: None,
                 color_space: None,
+                exr_float: false,
             };
             (film(1.0), h)
         };
@@ -270,6 +275,7 @@ mod tests {
             fingerprint: "f".into(),
             window,
             color_space: None,
+            exr_float: false,
         };
         let check = |name: &str, film: &Film, h: &FilmHeader, needle: &str| {
             let path = dir.join(name);
