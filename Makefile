@@ -4,12 +4,14 @@
 #   make lint     the module layering (no import cycles, no upward imports), rustfmt and clippy
 #                 (-D warnings) on both feature sets; CI runs it before make test
 #   make test-embree4  installs Embree 4 and runs the whole suite against it (not part of make test)
+#   make test-slurm    a split render (--part i/N, checkpoints, requeue, merge) on a one-node Slurm
+#                      cluster it starts and stops (root; installs munge and Slurm; not part of make test)
 #   make compat   renders the pbrt-v4 compatibility scenes beside the repository, writes docs/compatibility.md
 
 CARGO ?= cargo
 SPP ?= 64
 
-.PHONY: deps render test test-default test-pure test-embree4 lint bench docs compat
+.PHONY: deps render test test-default test-pure test-embree4 test-slurm lint bench docs compat
 
 deps:
 	bash scripts/install-deps.sh
@@ -34,6 +36,10 @@ test-pure:
 test-embree4: deps
 	bash scripts/install-embree4.sh
 	$(CARGO) test --no-default-features --features embree4,oiio
+
+# The README's Slurm recipe on a real (one-node, temporary) cluster: scripts/test-slurm.sh.
+test-slurm: deps
+	CARGO=$(CARGO) bash scripts/test-slurm.sh
 
 compat:
 	$(CARGO) build --release

@@ -36,6 +36,9 @@ pub struct FilmHeader {
     /// The colour space the render writes its image in (`None`: sRGB).
     #[serde(default)]
     pub color_space: Option<String>,
+    /// OpenEXR output in 32-bit floats (the scene's Film "savefp16" false) instead of halves.
+    #[serde(default)]
+    pub exr_float: bool,
 }
 
 /// Errors reading or combining film files.
@@ -135,8 +138,9 @@ pub fn load(path: &Path) -> Result<(Film, FilmHeader), FilmFileError> {
     Ok((film, header))
 }
 
-/// Combines parts of one render: same size and fingerprint, disjoint sample ranges. The result
-/// holds the union of the samples, summed in the order of their sample ranges.
+/// Combines parts of one render: same size and fingerprint, disjoint sample ranges that leave no
+/// gap between them. The result holds the union of the samples, summed in the order of their
+/// sample ranges.
 pub fn merge(mut parts: Vec<(Film, FilmHeader)>) -> Result<(Film, FilmHeader), FilmFileError> {
     if parts.is_empty() {
         return Err(FilmFileError::Mismatch("no parts to merge".into()));
@@ -157,6 +161,14 @@ pub fn merge(mut parts: Vec<(Film, FilmHeader)>) -> Result<(Film, FilmHeader), F
             return Err(FilmFileError::Mismatch(format!(
                 "sample ranges overlap: {:?} and {:?}",
                 header.samples, h.samples
+            )));
+        }
+        // A film holds one range of samples: a missing part between two others cannot be
+        // described, and the image would silently lack its samples.
+        if h.samples.start > header.samples.end {
+            return Err(FilmFileError::Mismatch(format!(
+                "samples {}..{} are in no part: a part is missing",
+                header.samples.end, h.samples.start
             )));
         }
         film.merge(&f);
@@ -199,6 +211,7 @@ mod tests {
             fingerprint: "x".into(),
             window: Some(CropWindow { x0: 1, y0: 2, full_width: 8, full_height: 6 }),
             color_space: Some("rec2020".into()),
+            exr_float: true,
         };
         let (a, b) = (film(1.0), film(2.0));
         save(&dir.join("a.film"), &a, &h(0..2)).unwrap();
@@ -214,6 +227,27 @@ mod tests {
         std::fs::write(dir.join("bad.film"), b"PRISMFILM 1\n\xff\xff\xff\x7f").unwrap();
         assert!(matches!(load(&dir.join("bad.film")), Err(FilmFileError::Format(..))));
         std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn merge_refuses_parts_that_leave_samples_out() {
+        let part = |samples: Range<u64>| {
+            let h = FilmHeader {
+                width: 3,
+                height: 2,
+                samples,
+                spp_total: 6,
+                fingerprint: "x".into(),
+                window: None,
+                color_space: None,
+                exr_float: false,
+            };
+            (film(1.0), h)
+        };
+        // Parts 1 and 3 of 3 (2 samples each): samples 2..4 are in neither.
+        let e = merge(vec![part(0..2), part(4..6)]).err().map(|e| e.to_string()).unwrap_or_default();
+        assert!(e.contains("samples 2..4 are in no part"), "{e:?}");
+        assert_eq!(merge(vec![part(4..6), part(2..4), part(0..2)]).unwrap().1.samples, 0..6);
     }
 
     #[test]
@@ -241,6 +275,7 @@ mod tests {
             fingerprint: "f".into(),
             window,
             color_space: None,
+            exr_float: false,
         };
         let check = |name: &str, film: &Film, h: &FilmHeader, needle: &str| {
             let path = dir.join(name);

@@ -1,7 +1,7 @@
 //! `prism merge`: combine the .film parts of a split render into one image.
 
 use crate::checkpoint;
-use crate::image::WriteOptions;
+use crate::image::{ExrSample, WriteOptions};
 use crate::spectrum::ColorSpace;
 use anyhow::{Context, Result};
 use std::path::PathBuf;
@@ -41,8 +41,10 @@ pub fn run(args: &MergeArgs) -> Result<()> {
         checkpoint::save(&args.output, &film, &header)?;
     } else {
         let image = film.to_image(space)?;
-        // A cropped render keeps its place in the full image, as `prism render` writes it.
-        let opts = WriteOptions { window: header.window, ..Default::default() };
+        // A cropped render keeps its place in the full image, and its OpenEXR sample type, as
+        // `prism render` writes it.
+        let exr_sample = if header.exr_float { ExrSample::Float } else { ExrSample::Half };
+        let opts = WriteOptions { window: header.window, exr_sample, ..Default::default() };
         crate::image::write_with(&args.output, &image, &opts)
             .with_context(|| format!("writing {}", args.output.display()))?;
     }

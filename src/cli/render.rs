@@ -368,6 +368,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         fingerprint: fp.clone(),
         window,
         color_space: Some(job.space.name.to_string()),
+        exr_float: job.exr_sample == ExrSample::Float,
     };
 
     let mut film = Film::try_new(w, h)?;

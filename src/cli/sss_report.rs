@@ -230,6 +230,7 @@ fn reference(scene: &crate::scene::Scene, a: &SssReportArgs, name: &str, fingerp
             fingerprint: fingerprint.to_string(),
             window: None,
             color_space: None,
+            exr_float: false,
         };
         let seconds = before_s + t0.elapsed().as_secs_f64();
         saved = checkpoint::save(&path, film, &header)

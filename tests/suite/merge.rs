@@ -206,3 +206,33 @@ fn merge_writes_the_crop_window_and_colour_space_of_the_render() {
     assert!(max_rel(&c, &e) <= 1e-3, "merged sRGB vs rendered sRGB: {}", max_rel(&c, &e));
     assert!(max_rel(&a, &c) > 2e-2, "the rec2020 and sRGB images agree: {}", max_rel(&a, &c));
 }
+
+/// The sample type of each channel of an OpenEXR file.
+fn exr_sample_types(path: &Path) -> Vec<exr::meta::attribute::SampleType> {
+    let meta = exr::meta::MetaData::read_from_file(path, false).unwrap();
+    meta.headers[0].channels.list.iter().map(|c| c.sample_type).collect()
+}
+
+#[test]
+fn merge_keeps_the_scene_s_float_exr_output() {
+    use exr::meta::attribute::SampleType;
+    let d = tmpdir("merge-fp32");
+    let scene = d.join("fp32.pbrt");
+    std::fs::write(
+        &scene,
+        "Film \"rgb\" \"bool savefp16\" [ false ]\nLookAt 0 0 5  0 0 0  0 1 0\nCamera \"perspective\"\n\
+         WorldBegin\nLightSource \"point\" \"point3 from\" [0 3 3]\nShape \"sphere\"\n",
+    )
+    .unwrap();
+    let common = ["render", scene.to_str().unwrap(), "--spp", "2", "--resolution", "12x8", "--accel", "obvhs"];
+    let direct = d.join("direct.exr");
+    ok(&[&common[..], &["-o", direct.to_str().unwrap()]].concat());
+    let parts: Vec<PathBuf> = (1..=2).map(|i| d.join(format!("p{i}.film"))).collect();
+    for (i, p) in parts.iter().enumerate() {
+        ok(&[&common[..], &["--part", &format!("{}/2", i + 1), "-o", p.to_str().unwrap()]].concat());
+    }
+    let merged = d.join("merged.exr");
+    merge(&parts[0], &parts[1], &merged).unwrap();
+    assert_eq!(exr_sample_types(&direct), vec![SampleType::F32; 3]);
+    assert_eq!(exr_sample_types(&merged), exr_sample_types(&direct));
+}
