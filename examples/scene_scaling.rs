@@ -189,10 +189,7 @@ fn time_mesh_parts(path: &Path) -> Result<([f64; 3], [i64; 3]), String> {
     Ok(([read, decode, build], [own, rss as i64 - rss0, peak as i64 - rss0]))
 }
 
-fn list<T: std::str::FromStr>(arg: Option<String>, default: &[T]) -> Result<Vec<T>, String>
-where
-    T: Clone,
-{
+fn list<T: std::str::FromStr + Clone>(arg: Option<String>, default: &[T]) -> Result<Vec<T>, String> {
     match arg {
         None => Ok(default.to_vec()),
         Some(a) => a.split(',').map(|x| x.trim().parse().map_err(|_| format!("cannot read '{x}'"))).collect(),

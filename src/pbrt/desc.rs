@@ -301,7 +301,8 @@ impl SceneDesc {
     /// Warnings for parameters nothing read; call after the scene builder has consumed the desc.
     pub fn report_unused(&self) -> Vec<Warning> {
         let mut w = Vec::new();
-        let mut d = |ps: &ParamSet, what: &str, kind: &str| w.extend(ps.report_unused(format_args!("{what} \"{kind}\"")));
+        let mut d =
+            |ps: &ParamSet, what: &str, kind: &str| w.extend(ps.report_unused(format_args!("{what} \"{kind}\"")));
         d(&self.camera.directive.params, "Camera", &self.camera.directive.kind);
         for (name, x) in [
             ("Film", &self.film),

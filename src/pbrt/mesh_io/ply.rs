@@ -310,7 +310,11 @@ pub fn parse(bytes: &[u8]) -> Result<Mesh, MeshError> {
                 let mut poly = Vec::with_capacity(MAX_FACE_VERTICES);
                 let p = &e.props[li];
                 let one_list = e.props.len() == 1;
-                if format != Format::Ascii && one_list && p.list.is_some_and(|c| c.size() == 1) && matches!(p.ty, Scalar::I32 | Scalar::U32) {
+                if format != Format::Ascii
+                    && one_list
+                    && p.list.is_some_and(|c| c.size() == 1)
+                    && matches!(p.ty, Scalar::I32 | Scalar::U32)
+                {
                     // The common layout (an 8-bit count, then 32-bit indices) read without the
                     // general per-value path.
                     let count_ty = p.list.expect("checked");
