@@ -3,7 +3,7 @@
 //! Transforms follow pbrt-v4: `world_from_object` maps object space to world space; glam
 //! matrices are column-major like the numbers of pbrt's `Transform` directive.
 
-use std::collections::HashSet;
+use std::collections::{HashMap, HashSet};
 use std::path::PathBuf;
 use std::sync::Arc;
 
@@ -95,7 +95,7 @@ pub struct NamedMaterial {
 }
 
 /// Whether a texture yields floats or spectra.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum TextureClass {
     /// "float"
     Float,
@@ -249,7 +249,8 @@ pub struct SceneDesc {
 }
 
 impl SceneDesc {
-    /// The named material `name`.
+    /// The named material `name` (a scan of every definition; translating a whole scene
+    /// resolves names through an index instead).
     pub fn named_material(&self, name: &str) -> Option<&MaterialDesc> {
         self.named_materials.iter().find(|m| m.name == name).map(|m| &m.material)
     }
@@ -263,12 +264,13 @@ impl SceneDesc {
         }
     }
 
-    /// The object definition called `name`.
+    /// The object definition called `name` (a scan; [`InstanceDesc::object_index`] is direct).
     pub fn object(&self, name: &str) -> Option<&ObjectDesc> {
         self.objects.iter().find(|o| o.name == name)
     }
 
-    /// The texture `name` of class `class` (the last definition wins, as in pbrt-v4).
+    /// The texture `name` of class `class` (the last definition wins, as in pbrt-v4; a scan of
+    /// every definition).
     pub fn texture(&self, name: &str, class: TextureClass) -> Option<&TextureDesc> {
         self.textures.iter().rev().find(|t| t.name == name && t.class == class)
     }
@@ -299,7 +301,8 @@ impl SceneDesc {
     /// Warnings for parameters nothing read; call after the scene builder has consumed the desc.
     pub fn report_unused(&self) -> Vec<Warning> {
         let mut w = Vec::new();
-        let mut d = |ps: &ParamSet, what: &str, kind: &str| w.extend(ps.report_unused(&format!("{what} \"{kind}\"")));
+        let mut d =
+            |ps: &ParamSet, what: &str, kind: &str| w.extend(ps.report_unused(format_args!("{what} \"{kind}\"")));
         d(&self.camera.directive.params, "Camera", &self.camera.directive.kind);
         for (name, x) in [
             ("Film", &self.film),
@@ -313,12 +316,16 @@ impl SceneDesc {
         // Every shape under one AreaLightSource carries its own copy of the parameters: report
         // each directive once, naming only parameters that no shape's copy used.
         let mut area_lights: Vec<(&AreaLightDesc, Vec<&ParamSet>)> = Vec::new();
+        let mut area_light_at: HashMap<&Location, usize> = HashMap::new();
         for s in shapes {
             d(&s.params, "Shape", &s.kind);
             if let Some(a) = &s.area_light {
-                match area_lights.iter_mut().find(|(first, _)| first.loc == a.loc) {
-                    Some((_, copies)) => copies.push(&a.params),
-                    None => area_lights.push((a, vec![&a.params])),
+                match area_light_at.get(&a.loc) {
+                    Some(&i) => area_lights[i].1.push(&a.params),
+                    None => {
+                        area_light_at.insert(&a.loc, area_lights.len());
+                        area_lights.push((a, vec![&a.params]));
+                    }
                 }
             }
         }
@@ -337,14 +344,26 @@ impl SceneDesc {
         // Materials no shape uses are never built (a shared library of named materials is
         // normal, and an anonymous Material may be replaced before any shape), so only
         // referenced ones can have unread parameters worth reporting.
-        let all_shapes = || self.shapes.iter().chain(self.objects.iter().flat_map(|o| o.shapes.iter()));
+        let all_shapes = self.shapes.iter().chain(self.objects.iter().flat_map(|o| o.shapes.iter()));
+        let (mut used, mut used_anonymous) = (HashSet::new(), HashSet::new());
+        for s in all_shapes {
+            match &s.material {
+                MaterialRef::Named(n) => {
+                    used.insert(n.as_str());
+                }
+                MaterialRef::Anonymous(i) => {
+                    used_anonymous.insert(*i);
+                }
+                MaterialRef::Default => {}
+            }
+        }
         for (i, m) in self.materials.iter().enumerate() {
-            if all_shapes().any(|s| matches!(s.material, MaterialRef::Anonymous(j) if j == i)) {
+            if used_anonymous.contains(&i) {
                 d(&m.params, "Material", &m.kind);
             }
         }
         for m in &self.named_materials {
-            if all_shapes().any(|s| matches!(&s.material, MaterialRef::Named(n) if *n == m.name)) {
+            if used.contains(m.name.as_str()) {
                 d(&m.material.params, "MakeNamedMaterial", &m.name);
             }
         }

@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 /// A position in a scene file: 1-based line and column (columns count characters).
-#[derive(Clone, Debug, PartialEq, Eq)]
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct Location {
     /// The file the token came from (`<string>` for [`crate::pbrt::parse_str`]).
     pub file: Arc<Path>,

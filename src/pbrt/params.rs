@@ -483,7 +483,7 @@ impl ParamSet {
     /// Warnings for every parameter no getter has read, read as one value of several, or given
     /// as RGB with negative components, naming the directive it belongs to (e.g. `Shape
     /// "sphere"`).
-    pub fn report_unused(&self, context: &str) -> Vec<Warning> {
+    pub fn report_unused(&self, context: impl std::fmt::Display) -> Vec<Warning> {
         let unused = self.params.iter().filter(|p| !p.is_used()).map(|p| {
             Warning::refused(&p.loc, format!("parameter \"{} {}\" of {context} was not used", p.type_name, p.name))
         });

@@ -64,7 +64,7 @@ impl Source {
     }
 
     /// The next token, which must exist; `what` names what the directive expects.
-    pub(super) fn expect(&mut self, after: &Token, what: &str) -> Result<Token, SceneError> {
+    pub(super) fn expect(&mut self, after: &Token, what: impl std::fmt::Display) -> Result<Token, SceneError> {
         match self.next()? {
             Some(t) => Ok(t),
             None => Err(SceneError::syntax(
@@ -91,7 +91,7 @@ impl Source {
         }
         let mut v = Vec::with_capacity(n);
         for _ in 0..n {
-            let t = self.expect(after, &format!("{n} numbers"))?;
+            let t = self.expect(after, format_args!("{n} numbers"))?;
             if t.kind != TokenKind::Word {
                 return Err(SceneError::syntax(
                     &t.loc,

@@ -60,7 +60,11 @@ impl Tokenizer {
     }
 
     fn peek(&self) -> Option<char> {
-        self.text[self.pos..].chars().next()
+        match self.text.as_bytes().get(self.pos) {
+            Some(&b) if b.is_ascii() => Some(b as char),
+            Some(_) => self.text[self.pos..].chars().next(),
+            None => None,
+        }
     }
 
     /// Relative file names in the text resolve against `dir` ([`Location::resolve`]).
@@ -88,6 +92,18 @@ impl Tokenizer {
     /// The next token, `Ok(None)` at the end of the text.
     pub fn next_token(&mut self) -> Result<Option<Token>, SceneError> {
         loop {
+            // ASCII blanks byte by byte; anything else goes the general way below.
+            match self.text.as_bytes().get(self.pos) {
+                Some(b'\n') => {
+                    (self.pos, self.line, self.col) = (self.pos + 1, self.line + 1, 1);
+                    continue;
+                }
+                Some(b' ' | b'\t' | b'\r') => {
+                    (self.pos, self.col) = (self.pos + 1, self.col + 1);
+                    continue;
+                }
+                _ => {}
+            }
             match self.peek() {
                 None => return Ok(None),
                 Some(c) if c.is_whitespace() => {
@@ -106,18 +122,26 @@ impl Tokenizer {
         }
         let loc = self.here();
         let c = self.bump().expect("peeked a character");
-        let tok = |kind, text: String| Ok(Some(Token { kind, text, loc: loc.clone() }));
+        let tok = |kind, text: String, loc: Location| Ok(Some(Token { kind, text, loc }));
         match c {
-            '[' => tok(TokenKind::Open, "[".into()),
-            ']' => tok(TokenKind::Close, "]".into()),
+            '[' => tok(TokenKind::Open, "[".into(), loc),
+            ']' => tok(TokenKind::Close, "]".into(), loc),
             '"' => {
+                // Most strings hold no escape: take them whole.
+                let rest = &self.text[self.pos..];
+                if let Some(end) = rest.find(['"', '\\', '\n']).filter(|&e| rest.as_bytes()[e] == b'"') {
+                    let s = rest[..end].to_string();
+                    self.col += s.chars().count() as u32 + 1;
+                    self.pos += end + 1;
+                    return tok(TokenKind::Str, s, loc);
+                }
                 let mut s = String::new();
                 loop {
                     match self.bump() {
                         None | Some('\n') => {
                             return Err(SceneError::syntax(&loc, &format!("\"{s}"), "unterminated string"))
                         }
-                        Some('"') => return tok(TokenKind::Str, s),
+                        Some('"') => return tok(TokenKind::Str, s, loc),
                         Some('\\') => {
                             let e = match self.bump() {
                                 Some('n') => '\n',
@@ -143,16 +167,23 @@ impl Tokenizer {
                     }
                 }
             }
-            c => {
-                let mut s = String::from(c);
-                while let Some(c) = self.peek() {
-                    if c.is_whitespace() || matches!(c, '[' | ']' | '"' | '#') {
-                        break;
-                    }
-                    s.push(c);
-                    self.bump();
+            _ => {
+                // A word has no line break, so only the column moves: one per character.
+                let start = self.pos - c.len_utf8();
+                let rest = &self.text.as_bytes()[self.pos..];
+                let ascii = rest.iter().position(|&b| {
+                    !b.is_ascii() || b.is_ascii_whitespace() || matches!(b, 0x0b | b'[' | b']' | b'"' | b'#')
+                });
+                let mut len = ascii.unwrap_or(rest.len());
+                if rest.get(len).is_some_and(|b| !b.is_ascii()) {
+                    let rest = &self.text[self.pos..];
+                    len = rest
+                        .find(|c: char| c.is_whitespace() || matches!(c, '[' | ']' | '"' | '#'))
+                        .unwrap_or(rest.len());
                 }
-                tok(TokenKind::Word, s)
+                self.col += self.text[self.pos..self.pos + len].chars().count() as u32;
+                self.pos += len;
+                tok(TokenKind::Word, self.text[start..self.pos].to_string(), loc)
             }
         }
     }
@@ -206,6 +237,23 @@ mod tests {
     fn bad_escape_is_an_error() {
         let e = all(r#""a\q""#).unwrap_err();
         assert_eq!(e.to_string(), "t.pbrt:1:1: unknown escape sequence in string (at \"\\q\")");
+    }
+
+    #[test]
+    fn unusual_blanks_and_non_ascii_words_keep_their_places() {
+        use TokenKind::*;
+        let v = all("a\u{b}b\u{c}\tc\r\n  wörd\u{a0}x \"s\u{2003}t\"\u{2003}]").unwrap();
+        let want = [
+            (Word, "a", 1, 1),
+            (Word, "b", 1, 3),
+            (Word, "c", 1, 6),
+            (Word, "wörd", 2, 3),
+            (Word, "x", 2, 8),
+            (Str, "s\u{2003}t", 2, 10),
+            (Close, "]", 2, 16),
+        ];
+        let got: Vec<_> = v.iter().map(|(k, t, l, c)| (*k, t.as_str(), *l, *c)).collect();
+        assert_eq!(got, want);
     }
 
     #[test]

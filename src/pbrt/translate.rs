@@ -7,6 +7,7 @@
 //! scene renders as bright as in pbrt-v4; prism's own `lumens`/`lux` (K_m = 683 lm/W) and
 //! `watts`/`irradiance` give SI photometric and radiometric targets instead (docs/radiometry.md).
 
+mod definitions;
 mod inputs;
 mod lights;
 mod load;
@@ -20,9 +21,10 @@ mod textures;
 pub use inputs::{input_stamps, InputStamp};
 pub use load::{load_file, LoadedScene};
 
+use definitions::{Definitions, MaterialKey};
 use lights::{brightness_factor, FLUX};
 
-use super::desc::{MaterialDesc, ObjectDesc, SceneDesc, ShapeDesc, ShapeGeometry};
+use super::desc::{MaterialDesc, MaterialRef, ObjectDesc, SceneDesc, ShapeDesc, ShapeGeometry};
 use super::error::{Location, SceneError, Warning};
 use super::params::{ParamSet, ParamValue, SpectrumParam};
 use super::QuadricMode;
@@ -110,9 +112,11 @@ pub fn build_with(
 ) -> Result<(SceneBuilder, FileSettings), SceneError> {
     let mut ctx = Ctx {
         desc,
+        defs: Definitions::new(desc),
         b: SceneBuilder::new(),
         warnings,
         materials: HashMap::new(),
+        rgb_spectra: HashMap::new(),
         textures: Default::default(),
         media: Default::default(),
         quadrics,
@@ -136,10 +140,15 @@ pub fn build_with(
 
 struct Ctx<'a> {
     desc: &'a SceneDesc,
+    /// The description's named definitions by name.
+    defs: Definitions<'a>,
     b: SceneBuilder,
     warnings: &'a mut Vec<Warning>,
-    /// Material id per (kind of reference) key, so shared materials are built once.
-    materials: HashMap<String, u32>,
+    /// Material id per definition, so shared materials are built once.
+    materials: HashMap<MaterialKey, u32>,
+    /// The spectrum of each RGB parameter value met so far, by its bits, kind and colour space:
+    /// each fit (a Newton solve, ~0.1 ms) is done once per distinct colour.
+    rgb_spectra: HashMap<([u32; 3], RgbKind, &'static str), Spectrum>,
     /// Textures and image pyramids built so far.
     textures: textures::Built,
     /// Medium ids by name.
@@ -377,7 +386,11 @@ impl Ctx<'_> {
     /// A spectrum for a reflectance-like ("albedo"), unbounded or illuminant parameter.
     fn spectrum(&mut self, s: &SpectrumParam, kind: RgbKind, params: &ParamSet) -> Result<Spectrum, SpectrumError> {
         Ok(match s {
-            SpectrumParam::Rgb(rgb) => Spectrum::from_rgb(*rgb, kind, space_of(params)),
+            SpectrumParam::Rgb(rgb) => {
+                let space = space_of(params);
+                let key = (rgb.map(f32::to_bits), kind, space.name);
+                self.rgb_spectra.entry(key).or_insert_with(|| Spectrum::from_rgb(*rgb, kind, space)).clone()
+            }
             SpectrumParam::Blackbody(t) => Spectrum::blackbody(*t),
             SpectrumParam::RgbArray(v) => return Err(SpectrumError::RgbCount(v.len())),
             SpectrumParam::Samples(v) => {
@@ -437,8 +450,9 @@ impl Ctx<'_> {
         self.prefixed_roughness(p, "")
     }
 
-    fn material(&mut self, m: Option<&MaterialDesc>) -> Result<u32, SceneError> {
-        let key = m.map_or("default".to_string(), |m| format!("{}:{}:{}", m.loc, m.kind, m.params.len()));
+    /// The id of the material `r` refers to (built on first use).
+    fn material(&mut self, r: &MaterialRef) -> Result<u32, SceneError> {
+        let (key, m) = self.defs.material(r);
         if let Some(&id) = self.materials.get(&key) {
             return Ok(id);
         }
@@ -593,7 +607,7 @@ impl Ctx<'_> {
     /// alpha and media: triangles, curves, or — unless tessellation is asked for or `m` is
     /// singular — an exact quadric. Returns its id.
     fn geometry(&mut self, s: &ShapeDesc, m: &Mat4) -> Result<u32, SceneError> {
-        let material = self.material(self.desc.material(&s.material))?;
+        let material = self.material(&s.material)?;
         let id = match &s.geometry {
             ShapeGeometry::Curves(c) => {
                 let oriented = Curves { flip_normal: c.flip_normal ^ s.reverse_orientation, ..Curves::clone(c) };
@@ -638,7 +652,7 @@ impl Ctx<'_> {
             _ => None,
         };
         if let Some(q) = moving {
-            let material = self.material(self.desc.material(&s.material))?;
+            let material = self.material(&s.material)?;
             let id = self.b.add_quadric(q, material, None);
             return self.finish(id, s);
         }
@@ -673,7 +687,7 @@ impl Ctx<'_> {
             }
             _ => mesh.area(),
         };
-        let material = self.material(self.desc.material(&s.material))?;
+        let material = self.material(&s.material)?;
         let mut per_face = false;
         let emission = match &s.area_light {
             None => None,

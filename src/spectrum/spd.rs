@@ -160,7 +160,7 @@ impl PiecewiseConstant {
 }
 
 /// How an RGB triplet is turned into a spectrum (pbrt-v4's three RGB spectrum classes).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum RgbKind {
     /// A reflectance in [0, 1]: the sigmoid spectrum itself.
     Albedo,

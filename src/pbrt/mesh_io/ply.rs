@@ -6,6 +6,7 @@
 //! Counts in the header are checked against the bytes present before anything is allocated.
 
 use glam::{Vec2, Vec3};
+use rayon::prelude::*;
 
 use super::MeshError;
 use crate::geometry::Mesh;
@@ -103,13 +104,32 @@ impl Body<'_> {
         if self.remaining() < n {
             return Err(MeshError::UnexpectedEnd);
         }
-        let mut b = [0u8; 8];
-        b[..n].copy_from_slice(&self.data[self.pos..self.pos + n]);
+        let v = binary_value(&self.data[self.pos..], ty, self.format);
         self.pos += n;
-        if self.format == Format::Big {
-            b[..n].reverse();
+        Ok(v)
+    }
+
+    /// The next `n` bytes.
+    fn take(&mut self, n: usize) -> Result<&[u8], MeshError> {
+        if self.remaining() < n {
+            return Err(MeshError::UnexpectedEnd);
         }
-        Ok(match ty {
+        self.pos += n;
+        Ok(&self.data[self.pos - n..self.pos])
+    }
+}
+
+/// The binary value of type `ty` that `bytes` starts with (`bytes` holds at least its size).
+#[inline]
+fn binary_value(bytes: &[u8], ty: Scalar, format: Format) -> f64 {
+    let n = ty.size();
+    let mut b = [0u8; 8];
+    b[..n].copy_from_slice(&bytes[..n]);
+    if format == Format::Big {
+        b[..n].reverse();
+    }
+    {
+        match ty {
             Scalar::I8 => b[0] as i8 as f64,
             Scalar::U8 => b[0] as f64,
             Scalar::I16 => i16::from_le_bytes([b[0], b[1]]) as f64,
@@ -118,7 +138,7 @@ impl Body<'_> {
             Scalar::U32 => u32::from_le_bytes([b[0], b[1], b[2], b[3]]) as f64,
             Scalar::F32 => f32::from_le_bytes([b[0], b[1], b[2], b[3]]) as f64,
             Scalar::F64 => f64::from_le_bytes(b),
-        })
+        }
     }
 }
 
@@ -220,6 +240,37 @@ pub fn parse(bytes: &[u8]) -> Result<Mesh, MeshError> {
                     .or_else(|| pick(["texture_u", "texture_v"]))
                     .or_else(|| pick(["texture_s", "texture_t"]));
                 reserve(&mut positions, e.count, "vertices")?;
+                if format != Format::Ascii && e.props.iter().all(|p| p.list.is_none()) {
+                    // Records of one size: decoded in parallel.
+                    let offsets: Vec<usize> = e
+                        .props
+                        .iter()
+                        .map(|p| p.ty.size())
+                        .scan(0, |o, n| {
+                            *o += n;
+                            Some(*o - n)
+                        })
+                        .collect();
+                    let stride: usize = e.props.iter().map(|p| p.ty.size()).sum();
+                    let data = body.take(e.count * stride)?;
+                    let records = || data.par_chunks_exact(stride);
+                    let get = |r: &[u8], k: usize| binary_value(&r[offsets[k]..], e.props[k].ty, format) as f32;
+                    positions.par_extend(records().map(|r| Vec3::new(get(r, x), get(r, y), get(r, z))));
+                    if let Some(i) = positions.iter().position(|p| !p.is_finite()) {
+                        return Err(MeshError::NonFiniteVertex(i));
+                    }
+                    if let Some([a, b, c]) = n {
+                        reserve(&mut normals, e.count, "vertices")?;
+                        normals.par_extend(
+                            records().map(|r| Vec3::new(get(r, a), get(r, b), get(r, c)).normalize_or_zero()),
+                        );
+                    }
+                    if let Some([a, b]) = uv {
+                        reserve(&mut uvs, e.count, "vertices")?;
+                        uvs.par_extend(records().map(|r| Vec2::new(get(r, a), get(r, b))));
+                    }
+                    continue;
+                }
                 let mut vals = vec![0.0f64; e.props.len()];
                 for _ in 0..e.count {
                     for (k, p) in e.props.iter().enumerate() {
@@ -257,6 +308,30 @@ pub fn parse(bytes: &[u8]) -> Result<Mesh, MeshError> {
                 };
                 reserve(&mut tris, e.count, "faces")?;
                 let mut poly = Vec::with_capacity(MAX_FACE_VERTICES);
+                let p = &e.props[li];
+                let one_list = e.props.len() == 1;
+                if format != Format::Ascii
+                    && one_list
+                    && p.list.is_some_and(|c| c.size() == 1)
+                    && matches!(p.ty, Scalar::I32 | Scalar::U32)
+                {
+                    // The common layout (an 8-bit count, then 32-bit indices) read without the
+                    // general per-value path.
+                    let count_ty = p.list.expect("checked");
+                    for f in 0..e.count {
+                        let len = list_len(body.value(count_ty)?)?;
+                        let data = body.take(len * 4)?;
+                        poly.clear();
+                        for i in data.chunks_exact(4).map(|b| binary_value(b, p.ty, format)) {
+                            if !(i >= 0.0 && i <= u32::MAX as f64) {
+                                return Err(MeshError::InvalidFaceIndex { face: f, index: i });
+                            }
+                            poly.push(i as u32);
+                        }
+                        push_polygon(&poly, f, &mut tris, &mut faces)?;
+                    }
+                    continue;
+                }
                 for f in 0..e.count {
                     for (k, p) in e.props.iter().enumerate() {
                         match p.list {
@@ -273,19 +348,7 @@ pub fn parse(bytes: &[u8]) -> Result<Mesh, MeshError> {
                                     }
                                 }
                                 if k == li {
-                                    if poly.len() < 3 {
-                                        return Err(MeshError::TooFewFaceVertices { face: f, count: poly.len() });
-                                    }
-                                    if poly.len() > 3 && faces.is_none() {
-                                        faces = Some((0..tris.len() as u32).collect());
-                                    }
-                                    let face = tris.len() as u32;
-                                    for j in 1..poly.len() - 1 {
-                                        tris.push([poly[0], poly[j], poly[j + 1]]);
-                                        if let Some(faces) = faces.as_mut() {
-                                            faces.push(face);
-                                        }
-                                    }
+                                    push_polygon(&poly, f, &mut tris, &mut faces)?;
                                 }
                             }
                             None => {
@@ -323,6 +386,31 @@ pub fn parse(bytes: &[u8]) -> Result<Mesh, MeshError> {
         mesh.uvs = Some(uvs);
     }
     Ok(mesh)
+}
+
+/// Adds polygon `poly` (face `f` of the file) as a triangle fan; from the first polygon of more
+/// than three vertices on, `faces` records each triangle's polygon by the index of its first
+/// triangle.
+fn push_polygon(
+    poly: &[u32],
+    f: usize,
+    tris: &mut Vec<[u32; 3]>,
+    faces: &mut Option<Vec<u32>>,
+) -> Result<(), MeshError> {
+    if poly.len() < 3 {
+        return Err(MeshError::TooFewFaceVertices { face: f, count: poly.len() });
+    }
+    if poly.len() > 3 && faces.is_none() {
+        *faces = Some((0..tris.len() as u32).collect());
+    }
+    let face = tris.len() as u32;
+    for j in 1..poly.len() - 1 {
+        tris.push([poly[0], poly[j], poly[j + 1]]);
+        if let Some(faces) = faces.as_mut() {
+            faces.push(face);
+        }
+    }
+    Ok(())
 }
 
 fn list_len(v: f64) -> Result<usize, MeshError> {

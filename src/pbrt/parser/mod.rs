@@ -6,7 +6,7 @@
 //! `BasicSceneBuilder` in pbrt-v4 (src/pbrt/scene.cpp): transforms post-multiply the current
 //! transformation matrix (CTM); AttributeBegin/End push and pop the whole graphics state.
 
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
@@ -150,12 +150,21 @@ struct Parser<'o> {
     lights: Vec<LightDesc>,
     materials: Vec<MaterialDesc>,
     named_materials: Vec<NamedMaterial>,
+    /// Index into `named_materials` by name.
+    named_material_index: HashMap<String, usize>,
     named_material_uses: Vec<(String, Location)>,
     textures: Vec<TextureDesc>,
+    /// The names of the float textures defined so far, and of the spectrum ones.
+    texture_names: [HashSet<String>; 2],
     objects: Vec<ObjectDesc>,
+    /// Index into `objects` by name.
+    object_index: HashMap<String, usize>,
     current_object: Option<ObjectDesc>,
     instances: Vec<(String, Mat4, Option<AnimatedTransform>, Location)>,
+    /// Every MakeNamedMedium in order, redefined ones included.
     media: Vec<MediumDesc>,
+    /// Index into `media` of each name's latest definition (the one that counts).
+    medium_index: HashMap<String, usize>,
     /// Canonical paths of the files whose reading an Import interrupted, outermost first.
     include_stack: Vec<PathBuf>,
     /// The directory relative file names resolve against: the main scene file's.
@@ -202,12 +211,16 @@ impl<'o> Parser<'o> {
             lights: Vec::new(),
             materials: Vec::new(),
             named_materials: Vec::new(),
+            named_material_index: HashMap::new(),
             named_material_uses: Vec::new(),
             textures: Vec::new(),
+            texture_names: Default::default(),
             objects: Vec::new(),
+            object_index: HashMap::new(),
             current_object: None,
             instances: Vec::new(),
             media: Vec::new(),
+            medium_index: HashMap::new(),
             include_stack: Vec::new(),
             search_dir: None,
             files_read: Vec::new(),
@@ -390,34 +403,40 @@ impl<'o> Parser<'o> {
         Ok(())
     }
 
+    /// Closes the object being defined: it joins the scene's objects.
+    fn end_object(&mut self) {
+        let o = self.current_object.take().expect("ObjectBegin pushed an object");
+        self.object_index.insert(o.name.clone(), self.objects.len());
+        self.objects.push(o);
+    }
+
     fn finish(mut self) -> Result<(SceneDesc, Vec<Warning>), SceneError> {
         let end = self.last_loc.clone().unwrap_or_else(|| Location::new(Arc::from(Path::new("<empty>")), 1, 1));
         while let Some((_, kind, loc)) = self.stack.pop() {
             if kind == Pushed::Object {
-                let o = self.current_object.take().expect("ObjectBegin pushed an object");
-                self.objects.push(o);
+                self.end_object();
                 self.warn(&loc, "ObjectBegin without ObjectEnd; closed at end of file");
             } else {
                 self.warn(&loc, format!("{kind:?}Begin without a matching End"));
             }
         }
         for (name, loc) in &self.named_material_uses {
-            if !self.named_materials.iter().any(|m| &m.name == name) {
+            if !self.named_material_index.contains_key(name) {
                 return Err(SceneError::syntax(loc, name, format!("named material \"{name}\" is not defined")));
             }
         }
         let mut instances = Vec::with_capacity(self.instances.len());
         for (object, m, motion, loc) in self.instances.drain(..) {
-            let Some(object_index) = self.objects.iter().position(|o| o.name == object) else {
+            let Some(&object_index) = self.object_index.get(&object) else {
                 return Err(SceneError::syntax(&loc, &object, format!("object \"{object}\" is not defined")));
             };
             instances.push(InstanceDesc { object, object_index, world_from_instance: m, motion, loc });
         }
-        let textures = &self.textures;
+        let texture_names = &self.texture_names;
         let check_textures = |ps: &ParamSet| -> Result<(), SceneError> {
             for p in ps.iter() {
                 if let ParamValue::Texture(t) = &p.value {
-                    if !textures.iter().any(|x| &x.name == t) {
+                    if !texture_names.iter().any(|names| names.contains(t)) {
                         return Err(SceneError::syntax(&p.loc, t, format!("texture \"{t}\" is not defined")));
                     }
                 }
@@ -434,10 +453,17 @@ impl<'o> Parser<'o> {
         let used = shapes.flat_map(|s| [(&s.media.inside, &s.loc), (&s.media.outside, &s.loc)]);
         let camera = self.camera.as_ref().map(|c| (&c.medium, &c.directive.loc));
         for (name, loc) in used.chain(camera) {
-            if !name.is_empty() && !self.media.iter().any(|m| &m.name == name) {
+            if !name.is_empty() && !self.medium_index.contains_key(name) {
                 return Err(SceneError::syntax(loc, name, format!("medium \"{name}\" is not defined")));
             }
         }
+        // A redefined medium replaces the earlier definition, which leaves the list.
+        let medium_index = &self.medium_index;
+        let mut position = 0;
+        self.media.retain(|m| {
+            position += 1;
+            medium_index[&m.name] == position - 1
+        });
         let default_loc = self.in_world.clone().unwrap_or_else(|| end.clone());
         let cs = self.color_space.clone();
         let dflt = |kind: &str| Directive { kind: kind.into(), params: ParamSet::new(&cs), loc: default_loc.clone() };

@@ -116,7 +116,7 @@ impl Parser<'_> {
                     let feature = format!("medium type \"{kind}\" of \"{}\"", name.text);
                     self.unsupported(&tok.loc, &feature, "renders vacuum in its place");
                 }
-                self.media.retain(|m| m.name != name.text);
+                self.medium_index.insert(name.text.clone(), self.media.len());
                 let world_from_medium = self.start_ctm(tok, "medium");
                 self.media.push(MediumDesc { name: name.text, kind, params, world_from_medium, loc: tok.loc.clone() });
             }

@@ -57,7 +57,8 @@ impl Parser<'_> {
                 self.require_world(tok)?;
                 let name = src.string(tok, "an object name")?;
                 self.require_outside_object(tok)?;
-                if let Some(o) = self.objects.iter().find(|o| o.name == name.text) {
+                if let Some(&i) = self.object_index.get(&name.text) {
+                    let o = &self.objects[i];
                     return Err(SceneError::syntax(
                         &name.loc,
                         &name.display(),
@@ -90,7 +91,8 @@ impl Parser<'_> {
                 self.require_world(tok)?;
                 let name = src.string(tok, "a material name")?;
                 let params = src.params(cs)?;
-                if let Some(m) = self.named_materials.iter().find(|m| m.name == name.text) {
+                if let Some(&i) = self.named_material_index.get(&name.text) {
+                    let m = &self.named_materials[i];
                     return Err(SceneError::syntax(
                         &name.loc,
                         &name.display(),
@@ -111,6 +113,7 @@ impl Parser<'_> {
                 };
                 let mut m = self.material(&ty, params)?;
                 m.loc = tok.loc.clone();
+                self.named_material_index.insert(name.text.clone(), self.named_materials.len());
                 self.named_materials.push(NamedMaterial { name: name.text, material: m });
             }
             "NamedMaterial" => {
@@ -147,7 +150,7 @@ impl Parser<'_> {
                 if let Some(d) = self.gs.defaults.get("texture") {
                     params.merge_defaults(d);
                 }
-                if self.textures.iter().any(|t| t.name == name.text && t.class == class) {
+                if !self.texture_names[class as usize].insert(name.text.clone()) {
                     self.warn(&name.loc, format!("texture \"{}\" redefined; the later definition is used", name.text));
                 }
                 let world_from_texture = self.start_ctm(tok, "texture");
@@ -220,8 +223,7 @@ impl Parser<'_> {
                     self.gs = gs;
                 }
                 if want == Pushed::Object {
-                    let o = self.current_object.take().expect("ObjectBegin pushed an object");
-                    self.objects.push(o);
+                    self.end_object();
                 }
                 Ok(())
             }

@@ -230,9 +230,8 @@ impl Ctx<'_> {
             let message = format!("a mix needs two \"string materials\", got {}", names.len());
             return Err(param_error(p, "materials", loc, message));
         };
-        let desc = self.desc;
         let mut pick = |name: &str| -> Result<Material, SceneError> {
-            let Some(d) = desc.named_material(name) else {
+            let Some((_, d)) = self.defs.named_material(name) else {
                 return Err(param_error(p, "materials", loc, format!("no named material \"{name}\"")));
             };
             *nodes += 1;

@@ -238,8 +238,7 @@ impl Ctx<'_> {
             None => Texture::Constant(V::constant(default)),
             Some(Arg::Value(v)) => Texture::Constant(v),
             Some(Arg::Named(t)) => {
-                let desc = self.desc;
-                let Some(i) = desc.textures[..visible].iter().rposition(|d| d.name == t && d.class == V::CLASS) else {
+                let Some(i) = self.defs.texture_before(t, V::CLASS, visible) else {
                     let class = if V::CLASS == TextureClass::Float { "float" } else { "spectrum" };
                     let message = format!("no {class} texture named \"{t}\" is defined before this");
                     return Err(param_error(p, name, loc, message));

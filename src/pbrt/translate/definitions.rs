@@ -1,0 +1,118 @@
+//! The named definitions of a scene description indexed by name, so that resolving a name
+//! costs a hash lookup (and a binary search among the definitions of that one name) instead of
+//! a scan over every definition of the scene.
+
+use crate::pbrt::desc::{MaterialDesc, MaterialRef, SceneDesc, TextureClass};
+use std::collections::HashMap;
+
+/// Which material a reference resolves to: its identity in the description, so that shapes
+/// sharing a material share one built material.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub(super) enum MaterialKey {
+    /// pbrt-v4's default material.
+    Default,
+    /// Index into [`SceneDesc::materials`].
+    Anonymous(usize),
+    /// Index into [`SceneDesc::named_materials`].
+    Named(usize),
+}
+
+/// Named materials and textures of one [`SceneDesc`] by name.
+pub(super) struct Definitions<'d> {
+    desc: &'d SceneDesc,
+    /// Index into [`SceneDesc::named_materials`] by name (names are unique: the parser refuses
+    /// a redefinition).
+    named_materials: HashMap<&'d str, usize>,
+    /// For each name and class, the indices into [`SceneDesc::textures`] of its definitions in
+    /// ascending order.
+    textures: HashMap<(&'d str, TextureClass), Vec<usize>>,
+}
+
+impl<'d> Definitions<'d> {
+    /// Indexes `desc`, in time linear in its number of definitions.
+    pub(super) fn new(desc: &'d SceneDesc) -> Self {
+        let named_materials = desc.named_materials.iter().enumerate().map(|(i, m)| (m.name.as_str(), i)).collect();
+        let mut textures: HashMap<(&str, TextureClass), Vec<usize>> = HashMap::new();
+        for (i, t) in desc.textures.iter().enumerate() {
+            textures.entry((t.name.as_str(), t.class)).or_default().push(i);
+        }
+        Self { desc, named_materials, textures }
+    }
+
+    /// The named material `name`.
+    pub(super) fn named_material(&self, name: &str) -> Option<(MaterialKey, &'d MaterialDesc)> {
+        let &i = self.named_materials.get(name)?;
+        Some((MaterialKey::Named(i), &self.desc.named_materials[i].material))
+    }
+
+    /// The material `r` refers to, with its key (`None` for the default material).
+    pub(super) fn material(&self, r: &MaterialRef) -> (MaterialKey, Option<&'d MaterialDesc>) {
+        match r {
+            MaterialRef::Default => (MaterialKey::Default, None),
+            MaterialRef::Anonymous(i) => (MaterialKey::Anonymous(*i), self.desc.materials.get(*i)),
+            MaterialRef::Named(n) => match self.named_material(n) {
+                Some((key, m)) => (key, Some(m)),
+                // The parser refuses undefined names; an unknown one is the default material.
+                None => (MaterialKey::Default, None),
+            },
+        }
+    }
+
+    /// The index of the last definition of texture `name` of class `class` among the first
+    /// `visible` texture directives.
+    pub(super) fn texture_before(&self, name: &str, class: TextureClass, visible: usize) -> Option<usize> {
+        let defs = self.textures.get(&(name, class))?;
+        let n = defs.partition_point(|&i| i < visible);
+        n.checked_sub(1).map(|k| defs[k])
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::pbrt::{parse_str, ParseOptions};
+
+    /// Textures named from a small set, so that names are defined again and again.
+    fn scene() -> SceneDesc {
+        let mut text = String::from("WorldBegin\n");
+        let mut state = 12345u32;
+        for i in 0..200 {
+            state = state.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+            let class = if state >> 31 == 0 { "float" } else { "spectrum" };
+            text += &format!("Texture \"t{}\" \"{class}\" \"constant\" \"float value\" {i}\n", (state >> 8) % 13);
+        }
+        for i in 0..20 {
+            text += &format!("MakeNamedMaterial \"m{i}\" \"string type\" \"diffuse\"\n");
+        }
+        text += "Material \"conductor\"\n";
+        parse_str(&text, &ParseOptions::default()).unwrap().0
+    }
+
+    #[test]
+    fn texture_lookups_find_the_last_earlier_definition_as_a_scan_does() {
+        let desc = scene();
+        let defs = Definitions::new(&desc);
+        for visible in 0..=desc.textures.len() {
+            for name in (0..14).map(|k| format!("t{k}")) {
+                for class in [TextureClass::Float, TextureClass::Spectrum] {
+                    let scan = desc.textures[..visible].iter().rposition(|t| t.name == name && t.class == class);
+                    assert_eq!(defs.texture_before(&name, class, visible), scan, "{name} {class:?} before {visible}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn material_references_resolve_to_their_definitions() {
+        let desc = scene();
+        let defs = Definitions::new(&desc);
+        for (i, m) in desc.named_materials.iter().enumerate() {
+            let (key, found) = defs.material(&MaterialRef::Named(m.name.clone()));
+            assert_eq!(key, MaterialKey::Named(i));
+            assert!(std::ptr::eq(found.unwrap(), &m.material));
+        }
+        assert_eq!(defs.material(&MaterialRef::Anonymous(0)).1.unwrap().kind, "conductor");
+        assert!(matches!(defs.material(&MaterialRef::Default), (MaterialKey::Default, None)));
+        assert!(defs.named_material("m20").is_none());
+    }
+}
