@@ -10,7 +10,7 @@ fn run(args: &[&str]) -> Output {
 }
 
 /// Bad input: a non-zero exit, one line starting "prism: error:", no panic.
-pub(crate) fn assert_clean_error(args: &[&str], needle: &str) {
+fn assert_clean_error(args: &[&str], needle: &str) {
     let o = run(args);
     let e = stderr(&o);
     assert!(!o.status.success(), "{args:?} succeeded");
@@ -465,7 +465,7 @@ fn a_reader_that_closes_the_pipe_early_is_no_error() {
 }
 
 /// A scene whose one sphere is textured by the image `image` (relative to the scene's directory).
-pub(crate) fn imagemap_scene(dir: &Path, image: &str) -> PathBuf {
+fn imagemap_scene(dir: &Path, image: &str) -> PathBuf {
     let scene = dir.join(format!("{image}.pbrt"));
     let text = format!(
         "LookAt 0 0 5 0 0 0 0 1 0\nCamera \"perspective\"\nWorldBegin\n\
