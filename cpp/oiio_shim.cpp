@@ -3,9 +3,13 @@
 
 #include <OpenImageIO/imageio.h>
 
+#include <cstdio>
 #include <cstring>
 #include <exception>
+#include <mutex>
 #include <string>
+
+#include <unistd.h>
 
 using OIIO::ImageInput;
 using OIIO::ImageOutput;
@@ -109,6 +113,63 @@ int write_impl(const char *path, int width, int height, int channels, const floa
     return 0;
 }
 
+// Holds back what the codec libraries print to stderr while a file is read. OpenImageIO 2.4's PNG
+// reader leaves libpng's default error handler in place, which prints "libpng error: ..." before
+// OpenImageIO reports the same message itself, and no OpenImageIO attribute turns that off; so
+// file descriptor 2 goes to a temporary file for the duration of the call (a process-wide mutex
+// serialises the readers). On release the libraries' own "libpng ..." lines are dropped when the
+// read failed (its error already carries them); every other captured line goes back to stderr.
+class StderrCapture {
+  public:
+    StderrCapture() : lock_(mutex()) {
+        std::fflush(stderr);
+        file_ = std::tmpfile();
+        saved_ = file_ ? dup(2) : -1;
+        if (saved_ >= 0 && dup2(fileno(file_), 2) < 0) {
+            close(saved_);
+            saved_ = -1;
+        }
+    }
+    StderrCapture(const StderrCapture &) = delete;
+    StderrCapture &operator=(const StderrCapture &) = delete;
+    void failed() { failed_ = true; }
+    ~StderrCapture() {
+        std::fflush(stderr);
+        if (saved_ >= 0) {
+            dup2(saved_, 2);
+            close(saved_);
+            forward();
+        }
+        if (file_) std::fclose(file_);
+    }
+
+  private:
+    static std::mutex &mutex() {
+        static std::mutex m;
+        return m;
+    }
+    void forward() {
+        std::rewind(file_);
+        char buf[4096];
+        std::string text;
+        size_t n;
+        while ((n = std::fread(buf, 1, sizeof buf, file_)) > 0) text.append(buf, n);
+        size_t start = 0;
+        while (start < text.size()) {
+            size_t end = text.find('\n', start);
+            if (end == std::string::npos) end = text.size();
+            std::string line = text.substr(start, end - start);
+            start = end + 1;
+            if (line.empty() || (failed_ && line.rfind("libpng", 0) == 0)) continue;
+            std::fprintf(stderr, "%s\n", line.c_str());
+        }
+    }
+    std::lock_guard<std::mutex> lock_;
+    std::FILE *file_ = nullptr;
+    int saved_ = -1;
+    bool failed_ = false;
+};
+
 std::unique_ptr<ImageInput> open_input(const char *path) {
     ImageSpec config;
     config.attribute("oiio:UnassociatedAlpha", 1);
@@ -122,8 +183,10 @@ int read_info_impl(const char *path, int *width, int *height, int *channels, int
         set_error(err, err_len, "invalid arguments to prism_oiio_read_info");
         return 1;
     }
+    StderrCapture capture;
     auto in = open_input(path);
     if (!in) {
+        capture.failed();
         set_error(err, err_len, global_error(std::string("cannot open ") + path));
         return 1;
     }
@@ -142,8 +205,10 @@ int read_impl(const char *path, int width, int height, int channels, float *pixe
         set_error(err, err_len, "invalid arguments to prism_oiio_read");
         return 1;
     }
+    StderrCapture capture;
     auto in = open_input(path);
     if (!in) {
+        capture.failed();
         set_error(err, err_len, global_error(std::string("cannot open ") + path));
         return 1;
     }
@@ -155,6 +220,7 @@ int read_impl(const char *path, int width, int height, int channels, float *pixe
         return 1;
     }
     if (!in->read_image(0, 0, 0, channels, TypeDesc::FLOAT, pixels)) {
+        capture.failed();
         set_error(err, err_len, in->geterror());
         return 1;
     }

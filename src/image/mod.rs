@@ -232,7 +232,13 @@ pub fn read_with(path: &Path, backend: Backend) -> Result<Image, ImageError> {
         Backend::Oiio => oiio::read(path).map_err(|e| e.to_string()),
         _ => rust_io::read(path, format).map_err(|e| e.to_string()),
     };
-    result.map_err(|reason| ImageError::Decode { path: path.to_path_buf(), reason })
+    result.map_err(|reason| ImageError::Decode { path: path.to_path_buf(), reason: one_line(&reason) })
+}
+
+/// A decoder's message as one line: its lines trimmed and joined by spaces (some decoders end
+/// their messages in a newline or spread them over several lines).
+fn one_line(message: &str) -> String {
+    message.lines().map(str::trim).filter(|l| !l.is_empty()).collect::<Vec<_>>().join(" ")
 }
 
 /// Most pixels an input image may have: 2^28 (16384², 4 GiB as four channels of `f32`).

@@ -463,3 +463,45 @@ fn a_reader_that_closes_the_pipe_early_is_no_error() {
     assert!(o.status.success(), "exit {:?}: {}", o.status, stderr(&o));
     assert!(!stderr(&o).contains("panicked"), "{}", stderr(&o));
 }
+
+/// A scene whose one sphere is textured by the image `image` (relative to the scene's directory).
+fn imagemap_scene(dir: &Path, image: &str) -> PathBuf {
+    let scene = dir.join(format!("{image}.pbrt"));
+    let text = format!(
+        "LookAt 0 0 5 0 0 0 0 1 0\nCamera \"perspective\"\nWorldBegin\n\
+         Texture \"t\" \"spectrum\" \"imagemap\" \"string filename\" \"{image}\"\n\
+         Material \"diffuse\" \"texture reflectance\" \"t\"\nShape \"sphere\"\n"
+    );
+    std::fs::write(&scene, text).unwrap();
+    scene
+}
+
+#[test]
+fn a_corrupt_png_or_jpeg_texture_is_one_line_whatever_the_decoder_prints() {
+    let d = tmpdir("corrupt-images");
+    let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/fuzz");
+    let png = std::fs::read(data.join("png/rgb4x4.png")).unwrap();
+    let jpeg = std::fs::read(data.join("jpeg/render8x6.jpg")).unwrap();
+    // The IDAT chunk's type garbled (libpng prints "libpng error: ..." itself); a PNG cut inside
+    // its pixel data; a JPEG cut in half (the Rust decoder's message ends in a newline); a JPEG
+    // whose Huffman tables are overwritten.
+    let mut bad_png = png.clone();
+    bad_png[40] ^= 0xff;
+    let mut bad_jpeg = jpeg.clone();
+    bad_jpeg[200..260].iter_mut().step_by(3).for_each(|b| *b = 0xff);
+    let cases = [
+        ("idat.png", bad_png),
+        ("cut.png", png[..50].to_vec()),
+        ("cut.jpg", jpeg[..jpeg.len() / 2].to_vec()),
+        ("huffman.jpg", bad_jpeg),
+    ];
+    let out = d.join("out.png");
+    for (name, bytes) in cases {
+        std::fs::write(d.join(name), bytes).unwrap();
+        let scene = imagemap_scene(&d, name);
+        let args =
+            ["render", scene.to_str().unwrap(), "--spp", "1", "--resolution", "8x8", "-o", out.to_str().unwrap()];
+        assert_clean_error(&args, "cannot decode image");
+    }
+    assert!(!out.exists(), "no image may be written on error");
+}

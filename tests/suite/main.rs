@@ -16,6 +16,7 @@ mod curves;
 mod envmap;
 mod equal_area_envmap;
 mod film;
+mod fuzz;
 mod instanced_shapes;
 mod instancing;
 mod integrators;
