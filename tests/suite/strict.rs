@@ -143,18 +143,19 @@ fn render_strict_accepts_pbrt_v4s_killeroo_scene() {
 #[test]
 fn named_spectra_prism_lacks_are_located_and_unknown_names_are_errors() {
     let d = tmpdir("named-spectra");
-    // A pbrt-v4 illuminant prism has no data for: a located unsupported feature whose
-    // stand-in is an illuminant (not a metal's refractive index).
-    let text = scene_text("", "LightSource \"point\" \"float scale\" 1\n  \"spectrum I\" \"stdillum-F3\"");
-    let path = d.join("f3.pbrt");
+    // A pbrt-v4 spectrum prism has no data for (brass): a located unsupported feature whose
+    // stand-in is of its kind (copper's k, not an illuminant).
+    let text =
+        scene_text("", "Material \"conductor\" \"spectrum k\" \"metal-CuZn-k\"\nShape \"sphere\" \"float radius\" 0.5");
+    let path = d.join("cuzn.pbrt");
     std::fs::write(&path, &text).unwrap();
     let loaded = load_file(&path, &Default::default()).unwrap();
     let w: Vec<String> = loaded.warnings.iter().map(|w| w.to_string()).collect();
-    let loc = location_of(&path, &text, "\"spectrum I\"");
+    let loc = location_of(&path, &text, "\"spectrum k\"");
     assert!(
         w.iter()
-            .any(|w| w.starts_with(&format!("{loc}: warning: unsupported feature: named spectrum \"stdillum-F3\""))
-                && w.contains("stdillum-F2")),
+            .any(|w| w.starts_with(&format!("{loc}: warning: unsupported feature: named spectrum \"metal-CuZn-k\""))
+                && w.contains("metal-Cu-k")),
         "{w:?}"
     );
     // A name neither pbrt-v4 nor prism knows, and no file of that name: an error at the
