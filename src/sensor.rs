@@ -11,14 +11,10 @@
 //! matrix.
 
 use crate::spectrum::{
-    camera_sensitivities, ColorSpace, SampledSpectrum, SampledWavelengths, Spectrum, CAMERA_LAMBDA_START,
-    CAMERA_LAMBDA_STEP, CIE_Y_INTEGRAL, N_SPECTRUM_SAMPLES,
+    camera_rgb_bar, camera_sensitivities, CameraCurves, ColorSpace, SampledSpectrum, SampledWavelengths, Spectrum,
+    CIE_Y_INTEGRAL, N_SPECTRUM_SAMPLES,
 };
 use glam::{DMat3, DVec3, Mat3, Vec3};
-
-/// A camera's r, g, b spectral sensitivities, tabulated from [`CAMERA_LAMBDA_START`] every
-/// [`CAMERA_LAMBDA_STEP`] nm.
-pub type CameraCurves = [[f32; 35]; 3];
 
 /// The spectral responses of a sensor's three channels.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -27,21 +23,6 @@ pub enum Response {
     Cie1931,
     /// A camera's measured r, g, b sensitivities.
     Camera(&'static CameraCurves),
-}
-
-/// A camera's sensitivities (r, g, b) at `lambda` [nm]: linear between the tabulated values,
-/// zero outside the table.
-#[inline]
-pub fn camera_rgb_bar(curves: &CameraCurves, lambda: f32) -> Vec3 {
-    let x = (lambda - CAMERA_LAMBDA_START) / CAMERA_LAMBDA_STEP;
-    let last = (curves[0].len() - 1) as f32;
-    if !(x >= 0.0 && x <= last) {
-        return Vec3::ZERO;
-    }
-    let i = (x as usize).min(curves[0].len() - 2);
-    let t = x - i as f32;
-    let at = |c: &[f32; 35]| c[i] + t * (c[i + 1] - c[i]);
-    Vec3::new(at(&curves[0]), at(&curves[1]), at(&curves[2]))
 }
 
 /// The sensor's response to spectral radiance `l` at wavelengths `w`: the Monte Carlo estimate

@@ -10,8 +10,9 @@
 //! L is ∫ c̄ L / ∫ ȳ, so through the matrix the white-balance illuminant itself reads as W's
 //! chromaticity with its own luminance.
 
-use crate::sensor::{camera_rgb_bar, CameraCurves};
-use crate::spectrum::{cie::xyz_bar_f64, colorchecker_reflectances, ColorSpace, Spectrum};
+use crate::spectrum::{
+    camera_rgb_bar, cie::xyz_bar_f64, colorchecker_reflectances, CameraCurves, ColorSpace, Spectrum,
+};
 use glam::{DMat3, DVec3};
 
 /// The wavelengths [nm] the fit sums over.

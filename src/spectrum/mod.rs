@@ -31,8 +31,8 @@ pub use jakob_hanika::{Fit, RgbToSpectrumTable};
 pub use lanes::S4;
 pub use named::NAMED_SPECTRA;
 pub use pbrt_spectra::{
-    camera_names, camera_sensitivities, colorchecker_reflectances, is_named_spectrum, CAMERA_LAMBDA_START,
-    CAMERA_LAMBDA_STEP,
+    camera_names, camera_rgb_bar, camera_sensitivities, colorchecker_reflectances, is_named_spectrum, CameraCurves,
+    CAMERA_LAMBDA_START, CAMERA_LAMBDA_STEP,
 };
 pub use sampled::{
     sample_visible_wavelength, uniform_wavelength_pdf, visible_wavelength_pdf, SampledSpectrum, SampledWavelengths,

@@ -17,9 +17,28 @@ pub const CAMERA_LAMBDA_START: f32 = 380.0;
 /// Spacing [nm] of the camera tables.
 pub const CAMERA_LAMBDA_STEP: f32 = 10.0;
 
+/// A camera's r, g, b spectral sensitivities, tabulated from [`CAMERA_LAMBDA_START`] every
+/// [`CAMERA_LAMBDA_STEP`] nm.
+pub type CameraCurves = [[f32; 35]; 3];
+
+/// A camera's sensitivities (r, g, b) at `lambda` [nm]: linear between the tabulated values,
+/// zero outside the table.
+#[inline]
+pub fn camera_rgb_bar(curves: &CameraCurves, lambda: f32) -> glam::Vec3 {
+    let x = (lambda - CAMERA_LAMBDA_START) / CAMERA_LAMBDA_STEP;
+    let last = (curves[0].len() - 1) as f32;
+    if !(x >= 0.0 && x <= last) {
+        return glam::Vec3::ZERO;
+    }
+    let i = (x as usize).min(curves[0].len() - 2);
+    let t = x - i as f32;
+    let at = |c: &[f32; 35]| c[i] + t * (c[i + 1] - c[i]);
+    glam::Vec3::new(at(&curves[0]), at(&curves[1]), at(&curves[2]))
+}
+
 /// The (r, g, b) spectral sensitivities of pbrt-v4's camera `sensor` (e.g. "canon_eos_5d"),
 /// 380–720 nm at 10 nm, each peaking near 1.
-pub fn camera_sensitivities(sensor: &str) -> Option<&'static [[f32; 35]; 3]> {
+pub fn camera_sensitivities(sensor: &str) -> Option<&'static CameraCurves> {
     CAMERAS.iter().find(|(n, _)| *n == sensor).map(|(_, c)| c)
 }
 
@@ -35,7 +54,7 @@ pub fn is_named_spectrum(name: &str) -> bool {
 }
 
 /// (sensor, channel 0–2) of a camera channel's name.
-fn camera_channel(name: &str) -> Option<(&'static [[f32; 35]; 3], usize)> {
+fn camera_channel(name: &str) -> Option<(&'static CameraCurves, usize)> {
     let (sensor, channel) = name.rsplit_once('_')?;
     let c = ["r", "g", "b"].iter().position(|&x| x == channel)?;
     Some((camera_sensitivities(sensor)?, c))
