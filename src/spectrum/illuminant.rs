@@ -67,7 +67,8 @@ pub fn daylight(cct: f64) -> Option<Spectrum> {
     Spectrum::piecewise_linear_f64(lambdas, values).map(normalise_luminance)
 }
 
-/// The illuminant called `name` (pbrt-v4 spelling, see [`NAMED_ILLUMINANTS`]).
+/// The illuminant called `name` computed or tabulated here (D65, D50, A, E, F2, F11, ACES
+/// D60; pbrt-v4's other fluorescents are `pbrt_spectra`'s).
 pub fn named_illuminant(name: &str) -> Option<Spectrum> {
     Some(match name {
         "stdillum-D65" => from_table(&ILLUM_D65),
@@ -79,16 +80,8 @@ pub fn named_illuminant(name: &str) -> Option<Spectrum> {
         // ACES white: CIE daylight at 6000 K on the pre-1968 temperature scale
         // (c₂ = 1.4380e-2 → 1.4388e-2), Academy TB-2018-001.
         "illum-acesD60" => daylight(6000.0 * 1.4388 / 1.4380)?,
-        _ => return super::pbrt_spectra::pbrt_named_spectrum(name).filter(|_| name.starts_with("stdillum-")),
+        _ => return None,
     })
-}
-
-impl Spectrum {
-    /// A spectrum pbrt-v4 names: the CIE illuminants listed in [`NAMED_ILLUMINANTS`] (Y = 1),
-    /// and pbrt-v4's tabulated metals, glasses and camera sensitivities.
-    pub fn named(name: &str) -> Option<Spectrum> {
-        named_illuminant(name).or_else(|| super::pbrt_spectra::pbrt_named_spectrum(name))
-    }
 }
 
 #[cfg(test)]

@@ -9,7 +9,7 @@ use super::data::{
     GLASS_F5, GLASS_FK51A, GLASS_LASF9, ILLUM_F1, ILLUM_F10, ILLUM_F12, ILLUM_F3, ILLUM_F4, ILLUM_F5, ILLUM_F6,
     ILLUM_F7, ILLUM_F8, ILLUM_F9, METAL_LAMBDA, MGO_ETA, MGO_K, TIO2_ETA, TIO2_K,
 };
-use super::illuminant::from_table;
+use super::illuminant::{from_table, named_illuminant};
 use super::spd::Spectrum;
 
 /// First wavelength [nm] of the camera tables.
@@ -66,6 +66,15 @@ fn pairs(t: &[(f64, f64)]) -> Option<Spectrum> {
 
 fn metal(values: &[f64; 56]) -> Option<Spectrum> {
     Spectrum::piecewise_linear_f64(METAL_LAMBDA.to_vec(), values.to_vec())
+}
+
+impl Spectrum {
+    /// A spectrum pbrt-v4 names: the CIE illuminants listed in
+    /// [`super::NAMED_ILLUMINANTS`] (Y = 1), and pbrt-v4's tabulated metals, glasses and
+    /// camera sensitivities.
+    pub fn named(name: &str) -> Option<Spectrum> {
+        named_illuminant(name).or_else(|| pbrt_named_spectrum(name))
+    }
 }
 
 /// The spectrum pbrt-v4 calls `name`, from pbrt-v4's tables; `None` for a name it does not

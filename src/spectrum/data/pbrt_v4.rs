@@ -9,6 +9,9 @@
 // The glass tables are refractiveindex.info's (CC0) as pbrt-v4 tabulates them.
 // Camera values are rounded to 10 decimals (below f32 precision).
 
+// Measured values, some close to π or τ, written as published.
+#![allow(clippy::approx_constant, clippy::excessive_precision)]
+
 // CIE fluorescent illuminants F1, F3–F10, F12 (CIE 015:2018, Table 10), 380–780 nm at 5 nm,
 // relative (F2 and F11 are in `illuminants.rs`). Each is (first [nm], spacing [nm], values).
 #[rustfmt::skip]
