@@ -54,12 +54,11 @@ fn every_unsupported_feature_warns_and_is_an_error_in_strict_mode() {
             "LightSource \"distant\"",
             "a moving light",
         ),
-        (true, "Film \"rgb\" \"string sensor\" \"canon_eos_100d\"".into(), "Film", "sensor \"canon_eos_100d\""),
         (
             false,
-            "LightSource \"point\" \"spectrum I\" \"stdillum-F7\"".into(),
-            "\"spectrum I\"",
-            "named spectrum \"stdillum-F7\"",
+            "Material \"conductor\" \"spectrum eta\" \"metal-CuZn-eta\"\nShape \"sphere\" \"float radius\" 0.5".into(),
+            "\"spectrum eta\"",
+            "named spectrum \"metal-CuZn-eta\"",
         ),
         (false, PTEX.into(), "Texture \"t\"", "ptex textures"),
     ];
@@ -166,4 +165,20 @@ fn named_spectra_prism_lacks_are_located_and_unknown_names_are_errors() {
     let e = load_file(&path, &Default::default()).err().expect("an error").to_string();
     let loc = location_of(&path, &text, "\"spectrum I\"");
     assert!(e.starts_with(&format!("{loc}: ")) && e.contains("stdillum-D66") && e.contains("stdillum-D65"), "{e}");
+}
+
+#[test]
+fn a_camera_sensor_loads_without_warning_and_an_unknown_one_is_an_error_at_the_parameter() {
+    let d = tmpdir("sensor-names");
+    let text = scene_text("Film \"rgb\" \"string sensor\" \"nikon_d850\"", "");
+    let path = d.join("d850.pbrt");
+    std::fs::write(&path, &text).unwrap();
+    let loaded = load_file(&path, &ParseOptions { strict: true, ..Default::default() }).unwrap();
+    assert!(loaded.warnings.is_empty(), "{:?}", loaded.warnings);
+    let text = scene_text("Film \"rgb\" \"string sensor\" \"nikon_d1\"", "");
+    let path = d.join("d1.pbrt");
+    std::fs::write(&path, &text).unwrap();
+    let e = load_file(&path, &Default::default()).err().expect("an error").to_string();
+    let loc = location_of(&path, &text, "\"string sensor\"");
+    assert!(e.starts_with(&format!("{loc}: ")) && e.contains("nikon_d1") && e.contains("canon_eos_5d"), "{e}");
 }
