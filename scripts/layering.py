@@ -113,7 +113,7 @@ for comp in sorted(cyc, key=len):
     print('  SCC', len(comp), ':', ' '.join(comp[:12]), '...' if len(comp) > 12 else '')
 # layering between top-level modules
 layers = [['cli','main'], ['bench','measure','render','checkpoint','fingerprint','progress'], ['integrator'], ['pbrt'], ['scene'],
-          ['accel','light','material','media','bssrdf','film','filter','sensor','settings'], ['texture','bsdf'],
+          ['accel','light','material','media','bssrdf','film','filter','sensor','sensor_fit','settings'], ['texture','bsdf'],
           ['geometry','sampling','spectrum','image','io','camera'], ['simd','math','named']]
 level = {n: i for i, l in enumerate(layers) for n in l}
 unplaced = sorted({m[0] for m in files if m and m[0] not in level})

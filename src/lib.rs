@@ -42,6 +42,7 @@ pub mod render;
 pub mod sampling;
 pub mod scene;
 pub mod sensor;
+pub mod sensor_fit;
 pub mod settings;
 pub mod simd;
 pub mod spectrum;

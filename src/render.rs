@@ -132,7 +132,7 @@ pub fn render_pass(scene: &Scene, settings: &RenderSettings, film: &mut Film, ra
                        lambdas,
                        weight: f32| {
                 stats.samples += 1;
-                let xyz = sensor.apply(l.to_xyz(&lambdas));
+                let xyz = sensor.record(&l, &lambdas);
                 if !xyz.is_finite() {
                     stats.nonfinite += 1;
                     if stats.nonfinite_at.len() < 16 {

@@ -1,21 +1,54 @@
-//! The pixel sensor between the film's XYZ and the image: pbrt-v4's "cie1931" sensor. Its
-//! response is the CIE 1931 matching functions themselves, scaled by the imaging ratio
-//! exposure time × ISO / 100 (1 by default, so scenes not written for a physical camera render
-//! unchanged), with an optional von Kries white balance that maps the white of a daylight
-//! illuminant of the given temperature to the output colour space's white. pbrt-v4's film
-//! `maxcomponentvalue` clamps each sample here, after the imaging ratio and before the white
-//! balance.
+//! The pixel sensor between a sample's spectral radiance and the film's XYZ (pbrt-v4's
+//! `PixelSensor`). Its three channels integrate the radiance against their spectral
+//! responses, scaled by the imaging ratio exposure time × ISO / 100 (1 by default, so scenes
+//! not written for a physical camera render unchanged); a matrix then maps the response to
+//! XYZ. The "cie1931" sensor's responses are the CIE 1931 matching functions, so its response
+//! is XYZ, and its matrix an optional von Kries white balance that maps the white of a
+//! daylight illuminant of the given temperature to the output colour space's white. A camera
+//! sensor ([`crate::spectrum::camera_sensitivities`]) responds with its measured r, g, b
+//! curves, and its matrix is fitted ([`super::sensor_fit`]). pbrt-v4's film
+//! `maxcomponentvalue` clamps each sample's response, after the imaging ratio and before the
+//! matrix.
 
-use crate::spectrum::{ColorSpace, Spectrum};
+use crate::spectrum::{
+    camera_rgb_bar, camera_sensitivities, CameraCurves, ColorSpace, SampledSpectrum, SampledWavelengths, Spectrum,
+    CIE_Y_INTEGRAL, N_SPECTRUM_SAMPLES,
+};
 use glam::{DMat3, DVec3, Mat3, Vec3};
 
-/// A linear map applied to every sample's XYZ before it reaches the film.
+/// The spectral responses of a sensor's three channels.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Response {
+    /// The CIE 1931 matching functions x̄, ȳ, z̄: the response is XYZ.
+    Cie1931,
+    /// A camera's measured r, g, b sensitivities.
+    Camera(&'static CameraCurves),
+}
+
+/// The sensor's response to spectral radiance `l` at wavelengths `w`: the Monte Carlo estimate
+/// of ∫ r̄ L dλ / ∫ ȳ dλ (and so for g, b), the normalisation `SampledSpectrum::to_xyz` uses, so
+/// that the fitted matrix yields XYZ on prism's scale.
+#[inline]
+fn camera_response(curves: &CameraCurves, l: &SampledSpectrum, w: &SampledWavelengths) -> Vec3 {
+    let mut acc = Vec3::ZERO;
+    for i in 0..N_SPECTRUM_SAMPLES {
+        if w.pdf[i] != 0.0 {
+            acc += camera_rgb_bar(curves, w.lambda[i]) * (l.0[i] / w.pdf[i]);
+        }
+    }
+    acc / (N_SPECTRUM_SAMPLES as f32 * CIE_Y_INTEGRAL)
+}
+
+/// A sensor: its responses, imaging ratio, clamp and XYZ-from-response matrix.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Sensor {
+    /// The channels' spectral responses.
+    pub response: Response,
     /// Exposure time [s] × ISO / 100.
     pub imaging_ratio: f32,
-    /// Chromatic adaptation in XYZ, when white balancing.
-    pub white_balance: Option<Mat3>,
+    /// XYZ from the (clamped) response: the white balance of a cie1931 sensor (none: the
+    /// identity), a camera's fitted matrix.
+    pub xyz_from_sensor: Option<Mat3>,
     /// Largest component a sample's sensor response may have; a larger one scales the whole
     /// sample down to it (pbrt-v4's `maxcomponentvalue`, +∞ by default). A biased but bounded
     /// estimator that removes fireflies.
@@ -24,17 +57,38 @@ pub struct Sensor {
 
 impl Default for Sensor {
     fn default() -> Self {
-        Self { imaging_ratio: 1.0, white_balance: None, max_component: f32::INFINITY }
+        Self { response: Response::Cie1931, imaging_ratio: 1.0, xyz_from_sensor: None, max_component: f32::INFINITY }
     }
 }
 
 impl Sensor {
-    /// A sensor with ISO `iso`, exposure `exposure_time` [s], and a white balance for daylight
-    /// of `white_balance_kelvin` (0: none) into `space`'s white.
+    /// The cie1931 sensor with ISO `iso`, exposure `exposure_time` [s], and a white balance for
+    /// daylight of `white_balance_kelvin` (0: none) into `space`'s white.
     pub fn new(iso: f32, exposure_time: f32, white_balance_kelvin: f32, space: &ColorSpace) -> Self {
-        let white_balance = (white_balance_kelvin > 0.0)
+        let xyz_from_sensor = (white_balance_kelvin > 0.0)
             .then(|| von_kries(daylight_white(white_balance_kelvin as f64), space.white).as_mat3());
-        Self { imaging_ratio: exposure_time * iso / 100.0, white_balance, max_component: f32::INFINITY }
+        Self { imaging_ratio: exposure_time * iso / 100.0, xyz_from_sensor, ..Self::default() }
+    }
+
+    /// pbrt-v4's camera sensor `name` (e.g. "canon_eos_5d"), white balanced for daylight of
+    /// `white_balance_kelvin` (pbrt-v4 uses 6500 K when the scene gives 0), its output in
+    /// `space`; `None` for a name pbrt-v4 has no curves for.
+    pub fn camera(
+        name: &str,
+        iso: f32,
+        exposure_time: f32,
+        white_balance_kelvin: f32,
+        space: &ColorSpace,
+    ) -> Option<Self> {
+        let curves = camera_sensitivities(name)?;
+        let kelvin = if white_balance_kelvin > 0.0 { white_balance_kelvin } else { 6500.0 };
+        let m = crate::sensor_fit::xyz_from_camera(curves, &white_balance_illuminant(kelvin as f64), space);
+        Some(Self {
+            response: Response::Camera(curves),
+            imaging_ratio: exposure_time * iso / 100.0,
+            xyz_from_sensor: Some(m.as_mat3()),
+            max_component: f32::INFINITY,
+        })
     }
 
     /// This sensor with each sample's largest component clamped to `max_component`.
@@ -42,19 +96,39 @@ impl Sensor {
         Self { max_component, ..self }
     }
 
-    /// The sensor's response to `xyz`.
+    /// The XYZ the sensor records for spectral radiance `l` at wavelengths `w`.
     #[inline]
-    pub fn apply(&self, xyz: Vec3) -> Vec3 {
-        let mut xyz = xyz * self.imaging_ratio;
+    pub fn record(&self, l: &SampledSpectrum, w: &SampledWavelengths) -> Vec3 {
+        match self.response {
+            Response::Cie1931 => self.apply(l.to_xyz(w)),
+            Response::Camera(curves) => self.apply(camera_response(curves, l, w)),
+        }
+    }
+
+    /// XYZ from the channels' response `response` (for cie1931, XYZ itself): the imaging
+    /// ratio, the clamp, then the matrix.
+    #[inline]
+    pub fn apply(&self, response: Vec3) -> Vec3 {
+        let mut xyz = response * self.imaging_ratio;
         let m = xyz.max_element();
         if m > self.max_component {
             xyz *= self.max_component / m;
         }
-        match self.white_balance {
+        match self.xyz_from_sensor {
             Some(m) => m * xyz,
             None => xyz,
         }
     }
+}
+
+/// pbrt-v4's white-balance illuminant for temperature `t` [K] (`Spectra::D`): CIE daylight at
+/// `t` rescaled from c₂ = 1.4380 to 1.4388 cm·K, the blackbody below 4000 K.
+pub fn white_balance_illuminant(t: f64) -> Spectrum {
+    let cct = t * 1.4388 / 1.4380;
+    if cct < 4000.0 {
+        return Spectrum::blackbody(cct as f32);
+    }
+    crate::spectrum::daylight(cct.min(25_000.0)).unwrap_or_else(|| Spectrum::constant(1.0))
 }
 
 /// Bradford's cone-response (LMS) matrix, the one pbrt-v4 and ICC profiles adapt in.

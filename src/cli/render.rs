@@ -215,12 +215,13 @@ pub fn prepare(args: &RenderArgs) -> Result<Job> {
     let integrator = integrator_for(&scene, &file, integrator_kind, max_depth, sss);
     let resolution = resolution.or(file.resolution).unwrap_or(d.resolution);
     let crop = crop_arg.or(file.crop).map(|c| c.bounds(resolution)).transpose()?;
-    let sensor = Sensor::new(
-        file.iso.unwrap_or(100.0),
-        file.exposure_time.unwrap_or(1.0),
-        file.white_balance.unwrap_or(0.0),
-        space,
-    )
+    let (iso, exposure) = (file.iso.unwrap_or(100.0), file.exposure_time.unwrap_or(1.0));
+    let white_balance = file.white_balance.unwrap_or(0.0);
+    let sensor = match &file.camera_sensor {
+        Some(name) => Sensor::camera(name, iso, exposure, white_balance, space)
+            .with_context(|| format!("no curves for the sensor \"{name}\""))?,
+        None => Sensor::new(iso, exposure, white_balance, space),
+    }
     .with_max_component(file.max_component.filter(|m| *m > 0.0).unwrap_or(f32::INFINITY));
     let settings = RenderSettings {
         resolution,

@@ -58,7 +58,8 @@ impl Ior {
     }
 
     /// η at the hero wavelength; a dispersive index terminates the secondary wavelengths
-    /// (they would refract elsewhere).
+    /// (they would refract elsewhere). A tabulated η is 0 outside its table (pbrt-v4's glass
+    /// tables start at 350–380 nm), where it is taken as 1, as pbrt-v4's dielectric does.
     pub fn hero(&self, w: &mut SampledWavelengths) -> f32 {
         match self {
             Ior::Constant(e) => *e,
@@ -66,7 +67,10 @@ impl Ior {
                 if self.is_dispersive() {
                     w.terminate_secondary();
                 }
-                s.eval(w.lambda[0])
+                match s.eval(w.lambda[0]) {
+                    0.0 => 1.0,
+                    eta => eta,
+                }
             }
         }
     }

@@ -10,7 +10,7 @@ use glam::{Vec2, Vec3};
 
 use super::error::{Location, SceneError, Warning};
 use super::tokenizer::{Token, TokenKind};
-use crate::spectrum::NAMED_SPECTRA;
+use crate::spectrum::is_named_spectrum;
 
 /// A spectrum as written; the scene builder turns it into a `Spectrum`.
 #[derive(Clone, Debug, PartialEq)]
@@ -23,7 +23,7 @@ pub enum SpectrumParam {
     Blackbody(f32),
     /// Piecewise-linear samples (wavelength [nm], value), wavelengths increasing.
     Samples(Vec<(f32, f32)>),
-    /// One of pbrt-v4's built-in spectra ([`NAMED_SPECTRA`]).
+    /// One of pbrt-v4's built-in spectra ([`crate::spectrum::is_named_spectrum`]).
     Named(String),
     /// A text file of (λ, value) pairs, resolved relative to the file that named it.
     File(PathBuf),
@@ -217,7 +217,7 @@ fn parse_spectrum(decl: &Token, values: &[Token], ty: &str, name: &str) -> Resul
             ));
         }
         let s = &values[0].text;
-        return Ok(if NAMED_SPECTRA.contains(&s.as_str()) {
+        return Ok(if is_named_spectrum(s) {
             SpectrumParam::Named(s.clone())
         } else {
             SpectrumParam::File(values[0].loc.resolve(s))

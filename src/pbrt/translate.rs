@@ -72,7 +72,10 @@ pub struct FileSettings {
     pub iso: Option<f32>,
     /// Camera "shutterclose" − "shutteropen" [s] (pbrt-v4's default 1).
     pub exposure_time: Option<f32>,
-    /// Film "whitebalance" [K] (0: none; pbrt-v4's default for the cie1931 sensor).
+    /// Film "sensor": a camera's name (`None`: the cie1931 sensor).
+    pub camera_sensor: Option<String>,
+    /// Film "whitebalance" [K] (0: none; pbrt-v4's default for the cie1931 sensor; a camera
+    /// sensor's default is 6500 K).
     pub white_balance: Option<f32>,
     /// Film "maxcomponentvalue": the largest sensor component of one sample (pbrt-v4's default
     /// +∞).
@@ -191,15 +194,12 @@ enum SpectrumError {
 }
 
 /// The built-in spectrum that stands in for pbrt-v4's named spectrum `name` when prism has no
-/// data for it: one of the same kind (fluorescent, other illuminant, glass, metal η or k).
+/// data for it (brass, "metal-CuZn-eta"/"-k", whose table prism does not have): copper's.
 fn named_stand_in(name: &str) -> &'static str {
-    match name {
-        "stdillum-F10" | "stdillum-F12" => "stdillum-F11",
-        n if n.starts_with("stdillum-F") => "stdillum-F2",
-        n if n.starts_with("stdillum-") || n.starts_with("illum-") => "stdillum-D65",
-        n if n.starts_with("glass-") => "glass-BK7",
-        n if n.ends_with("-k") => "metal-Al-k",
-        _ => "metal-Al-eta",
+    if name.ends_with("-k") {
+        "metal-Cu-k"
+    } else {
+        "metal-Cu-eta"
     }
 }
 
@@ -347,12 +347,17 @@ impl Ctx<'_> {
         };
         let sensor = film.string("sensor").unwrap_or("cie1931");
         let mut white_balance = film.float("whitebalance");
-        if sensor != "cie1931" {
-            let feature = format!("sensor \"{sensor}\" (prism has no data for it)");
-            self.unsupported(&d.film.loc, feature, "uses \"cie1931\" (white balanced)");
+        let camera_sensor = if sensor == "cie1931" {
+            None
+        } else if crate::spectrum::camera_sensitivities(sensor).is_some() {
             // pbrt-v4 white balances a camera sensor to 6500 K unless told otherwise.
             white_balance = white_balance.filter(|&t| t > 0.0).or(Some(6500.0));
-        }
+            Some(sensor.to_string())
+        } else {
+            let valid: Vec<&str> = std::iter::once("cie1931").chain(crate::spectrum::camera_names()).collect();
+            let message = format!("unknown \"sensor\" \"{sensor}\" (valid: {})", valid.join(", "));
+            return Err(param_error(film, "sensor", &d.film.loc, message));
+        };
         let cam = &d.camera.directive.params;
         let shutter = (cam.float("shutteropen"), cam.float("shutterclose"));
         let exposure_time = match shutter {
@@ -377,6 +382,7 @@ impl Ctx<'_> {
             crop,
             iso: film.float("iso"),
             exposure_time,
+            camera_sensor,
             white_balance,
             max_component: film.float("maxcomponentvalue"),
             save_fp16: film.bool("savefp16"),

@@ -1,4 +1,4 @@
-//! CIE standard illuminants (D65, D50, A, E, F2, F11) and the CIE daylight series, normalised
+//! CIE standard illuminants (D65, D50, A, E, F1–F12) and the CIE daylight series, normalised
 //! as pbrt-v4 normalises its named spectra: luminance Y = ∫ S ȳ / ∫ ȳ = 1.
 
 use super::data::{DAYLIGHT_S0, DAYLIGHT_S1, DAYLIGHT_S2, ILLUM_A, ILLUM_D50, ILLUM_D65};
@@ -6,11 +6,28 @@ use super::data::{ILLUM_F11, ILLUM_F2};
 use super::spd::Spectrum;
 
 /// Names accepted by [`Spectrum::named`] (pbrt-v4 spellings).
-pub const NAMED_ILLUMINANTS: [&str; 7] =
-    ["stdillum-D65", "stdillum-D50", "stdillum-A", "stdillum-E", "stdillum-F2", "stdillum-F11", "illum-acesD60"];
+pub const NAMED_ILLUMINANTS: [&str; 17] = [
+    "stdillum-D65",
+    "stdillum-D50",
+    "stdillum-A",
+    "stdillum-E",
+    "stdillum-F1",
+    "stdillum-F2",
+    "stdillum-F3",
+    "stdillum-F4",
+    "stdillum-F5",
+    "stdillum-F6",
+    "stdillum-F7",
+    "stdillum-F8",
+    "stdillum-F9",
+    "stdillum-F10",
+    "stdillum-F11",
+    "stdillum-F12",
+    "illum-acesD60",
+];
 
 /// Tabulated (start [nm], spacing [nm], values) → piecewise-linear spectrum with Y = 1.
-fn from_table(t: &(f64, f64, &[f64])) -> Spectrum {
+pub(super) fn from_table(t: &(f64, f64, &[f64])) -> Spectrum {
     let (start, step, values) = *t;
     let lambdas = (0..values.len()).map(|i| start + step * i as f64).collect();
     let s =
@@ -50,7 +67,8 @@ pub fn daylight(cct: f64) -> Option<Spectrum> {
     Spectrum::piecewise_linear_f64(lambdas, values).map(normalise_luminance)
 }
 
-/// The illuminant called `name` (pbrt-v4 spelling, see [`NAMED_ILLUMINANTS`]).
+/// The illuminant called `name` computed or tabulated here (D65, D50, A, E, F2, F11, ACES
+/// D60; pbrt-v4's other fluorescents are `pbrt_spectra`'s).
 pub fn named_illuminant(name: &str) -> Option<Spectrum> {
     Some(match name {
         "stdillum-D65" => from_table(&ILLUM_D65),
@@ -64,13 +82,6 @@ pub fn named_illuminant(name: &str) -> Option<Spectrum> {
         "illum-acesD60" => daylight(6000.0 * 1.4388 / 1.4380)?,
         _ => return None,
     })
-}
-
-impl Spectrum {
-    /// A named spectrum: the CIE illuminants listed in [`NAMED_ILLUMINANTS`], Y = 1.
-    pub fn named(name: &str) -> Option<Spectrum> {
-        named_illuminant(name)
-    }
 }
 
 #[cfg(test)]

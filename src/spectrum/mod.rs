@@ -11,6 +11,7 @@ mod illuminant;
 mod jakob_hanika;
 mod lanes;
 mod named;
+mod pbrt_spectra;
 pub mod projection;
 mod rgb_spectrum;
 pub mod roundtrip;
@@ -29,6 +30,10 @@ pub use illuminant::{daylight, normalise_luminance, NAMED_ILLUMINANTS};
 pub use jakob_hanika::{Fit, RgbToSpectrumTable};
 pub use lanes::S4;
 pub use named::NAMED_SPECTRA;
+pub use pbrt_spectra::{
+    camera_names, camera_rgb_bar, camera_sensitivities, colorchecker_reflectances, is_named_spectrum, CameraCurves,
+    CAMERA_LAMBDA_START, CAMERA_LAMBDA_STEP,
+};
 pub use sampled::{
     sample_visible_wavelength, uniform_wavelength_pdf, visible_wavelength_pdf, SampledSpectrum, SampledWavelengths,
     LAMBDA_MAX, LAMBDA_MIN, N_SPECTRUM_SAMPLES,

@@ -1,18 +1,29 @@
 //! The names of pbrt-v4's built-in spectra (file-format reference, "Spectra") with prism's
-//! additions: the illuminants [`super::Spectrum::named`] gives, and metals' η and k and
-//! glasses' η (`bsdf::named_spectra`).
+//! additions: pbrt-v4's are [`super::Spectrum::named`]'s, from pbrt-v4's own tables; prism's
+//! measured metals and Sellmeier glasses are `bsdf::named_spectra`'s.
 
-/// pbrt-v4's built-in named spectra (file-format reference, "Spectra"); any other string
-/// given to a "spectrum" parameter is a file name.
+/// pbrt-v4's built-in named spectra (file-format reference, "Spectra") except the camera
+/// channels (see [`super::is_named_spectrum`]), and prism's own; any other string given to a
+/// "spectrum" parameter is a file name.
 pub const NAMED_SPECTRA: &[&str] = &[
-    // prism's own additions (Sellmeier glasses, more measured metals).
+    // prism's own additions (Sellmeier glasses, measured metals: Johnson & Christy's Ag, Au,
+    // Cu, Cr, Ti, luxpop's Al).
     "glass-diamond",
     "glass-fused-silica",
     "glass-water",
+    "prism-glass-BK7",
     "metal-Cr-eta",
     "metal-Cr-k",
     "metal-Ti-eta",
     "metal-Ti-k",
+    "prism-metal-Ag-eta",
+    "prism-metal-Ag-k",
+    "prism-metal-Al-eta",
+    "prism-metal-Al-k",
+    "prism-metal-Au-eta",
+    "prism-metal-Au-k",
+    "prism-metal-Cu-eta",
+    "prism-metal-Cu-k",
     // pbrt-v4's names.
     "glass-BK7",
     "glass-BAF10",

@@ -54,12 +54,11 @@ fn every_unsupported_feature_warns_and_is_an_error_in_strict_mode() {
             "LightSource \"distant\"",
             "a moving light",
         ),
-        (true, "Film \"rgb\" \"string sensor\" \"canon_eos_100d\"".into(), "Film", "sensor \"canon_eos_100d\""),
         (
             false,
-            "LightSource \"point\" \"spectrum I\" \"stdillum-F7\"".into(),
-            "\"spectrum I\"",
-            "named spectrum \"stdillum-F7\"",
+            "Material \"conductor\" \"spectrum eta\" \"metal-CuZn-eta\"\nShape \"sphere\" \"float radius\" 0.5".into(),
+            "\"spectrum eta\"",
+            "named spectrum \"metal-CuZn-eta\"",
         ),
         (false, PTEX.into(), "Texture \"t\"", "ptex textures"),
     ];
@@ -204,18 +203,19 @@ fn render_strict_accepts_pbrt_v4s_killeroo_scene() {
 #[test]
 fn named_spectra_prism_lacks_are_located_and_unknown_names_are_errors() {
     let d = tmpdir("named-spectra");
-    // A pbrt-v4 illuminant prism has no data for: a located unsupported feature whose
-    // stand-in is an illuminant (not a metal's refractive index).
-    let text = scene_text("", "LightSource \"point\" \"float scale\" 1\n  \"spectrum I\" \"stdillum-F3\"");
-    let path = d.join("f3.pbrt");
+    // A pbrt-v4 spectrum prism has no data for (brass): a located unsupported feature whose
+    // stand-in is of its kind (copper's k, not an illuminant).
+    let text =
+        scene_text("", "Material \"conductor\" \"spectrum k\" \"metal-CuZn-k\"\nShape \"sphere\" \"float radius\" 0.5");
+    let path = d.join("cuzn.pbrt");
     std::fs::write(&path, &text).unwrap();
     let loaded = load_file(&path, &Default::default()).unwrap();
     let w: Vec<String> = loaded.warnings.iter().map(|w| w.to_string()).collect();
-    let loc = location_of(&path, &text, "\"spectrum I\"");
+    let loc = location_of(&path, &text, "\"spectrum k\"");
     assert!(
         w.iter()
-            .any(|w| w.starts_with(&format!("{loc}: warning: unsupported feature: named spectrum \"stdillum-F3\""))
-                && w.contains("stdillum-F2")),
+            .any(|w| w.starts_with(&format!("{loc}: warning: unsupported feature: named spectrum \"metal-CuZn-k\""))
+                && w.contains("metal-Cu-k")),
         "{w:?}"
     );
     // A name neither pbrt-v4 nor prism knows, and no file of that name: an error at the
@@ -226,4 +226,20 @@ fn named_spectra_prism_lacks_are_located_and_unknown_names_are_errors() {
     let e = load_file(&path, &Default::default()).err().expect("an error").to_string();
     let loc = location_of(&path, &text, "\"spectrum I\"");
     assert!(e.starts_with(&format!("{loc}: ")) && e.contains("stdillum-D66") && e.contains("stdillum-D65"), "{e}");
+}
+
+#[test]
+fn a_camera_sensor_loads_without_warning_and_an_unknown_one_is_an_error_at_the_parameter() {
+    let d = tmpdir("sensor-names");
+    let text = scene_text("Film \"rgb\" \"string sensor\" \"nikon_d850\"", "");
+    let path = d.join("d850.pbrt");
+    std::fs::write(&path, &text).unwrap();
+    let loaded = load_file(&path, &ParseOptions { strict: true, ..Default::default() }).unwrap();
+    assert!(loaded.warnings.is_empty(), "{:?}", loaded.warnings);
+    let text = scene_text("Film \"rgb\" \"string sensor\" \"nikon_d1\"", "");
+    let path = d.join("d1.pbrt");
+    std::fs::write(&path, &text).unwrap();
+    let e = load_file(&path, &Default::default()).err().expect("an error").to_string();
+    let loc = location_of(&path, &text, "\"string sensor\"");
+    assert!(e.starts_with(&format!("{loc}: ")) && e.contains("nikon_d1") && e.contains("canon_eos_5d"), "{e}");
 }

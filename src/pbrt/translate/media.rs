@@ -186,7 +186,7 @@ impl Ctx<'_> {
         }
         let (source, norm) = match temperature {
             Some(grid) => {
-                let offset = p.float("temperatureoffset").or_else(|| p.float("temperaturecutoff")).unwrap_or(0.0);
+                let offset = temperature_offset(p);
                 (EmissionSource::Temperature { grid, offset, scale: p.float_or("temperaturescale", 1.0) }, 1.0)
             }
             None if p.has("Le") => {
@@ -274,6 +274,13 @@ impl Ctx<'_> {
 /// The ids of the media a shape names ("" and media prism does not build: vacuum).
 pub(super) fn interface(ids: &MediumIds, names: &MediumNames) -> MediumInterface {
     MediumInterface { inside: ids.get(&names.inside).copied(), outside: ids.get(&names.outside).copied() }
+}
+
+/// The blackbody temperature offset [K]: `temperatureoffset`, else its older name
+/// `temperaturecutoff`, else 0. Both are read, as pbrt-v4 reads both, so neither is reported unused.
+pub(super) fn temperature_offset(p: &ParamSet) -> f32 {
+    let (offset, cutoff) = (p.float("temperatureoffset"), p.float("temperaturecutoff"));
+    offset.or(cutoff).unwrap_or(0.0)
 }
 
 #[cfg(test)]

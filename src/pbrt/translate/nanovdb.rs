@@ -3,7 +3,7 @@
 //! (0), `Lescale` (1), `temperatureoffset` (or `temperaturecutoff`, 0) and `temperaturescale`
 //! (1). Grids must be fog volumes or of unknown class, as pbrt-v4 requires.
 
-use super::media::check_densities;
+use super::media::{check_densities, temperature_offset};
 use super::{param_error, Ctx};
 use crate::media::nanovdb::grid::Node;
 use crate::media::nanovdb::{read_float_grids, FloatGrid};
@@ -43,8 +43,10 @@ impl Ctx<'_> {
             }
         });
         checked.map_err(|e| file_error(format!("grid \"density\": {e}")))?;
-        let le_scale = p.float_or("Lescale", 1.0);
-        let offset = p.float("temperatureoffset").or_else(|| p.float("temperaturecutoff")).unwrap_or(0.0);
+        // pbrt-v4 read this medium's scale as "LeScale" before it named it "Lescale" as the
+        // other media do; scenes of both ages exist (its own explosion scene says "LeScale").
+        let le_scale = p.float("Lescale").or_else(|| p.float("LeScale")).unwrap_or(1.0);
+        let offset = temperature_offset(p);
         let temperature_scale = p.float_or("temperaturescale", 1.0);
         // pbrt-v4 emits only with a temperature grid and a positive Lescale.
         let emission = temperature.filter(|_| le_scale > 0.0).map(|grid| TemperatureEmission {
@@ -131,6 +133,21 @@ mod tests {
         let not_vdb = format!("MakeNamedMedium \"m\" \"string type\" \"nanovdb\" \"string filename\" \"{}\"", file!());
         let not_vdb = error(&not_vdb);
         assert!(not_vdb.contains("not a NanoVDB file"), "{not_vdb}");
+    }
+
+    #[test]
+    fn the_older_names_lescale_and_temperaturecutoff_are_read_not_refused() {
+        // pbrt-v4's explosion scene names the scale "LeScale" and gives "temperaturecutoff".
+        let m = format!(
+            "MakeNamedMedium \"m\" \"string type\" \"nanovdb\" \"string filename\" \"{}\" \
+             \"float LeScale\" 5 \"float temperaturecutoff\" 1 \"float temperatureoffset\" 2",
+            fixture("plain.nvdb")
+        );
+        let text = format!("{m}\nCamera \"perspective\"\nWorldBegin\n");
+        let (desc, mut w) = parse_str(&text, &ParseOptions::default()).unwrap();
+        super::super::build(&desc, &mut w).unwrap();
+        w.extend(desc.report_unused());
+        assert!(w.iter().all(|w| !w.to_string().contains("not used")), "{w:?}");
     }
 
     #[test]
