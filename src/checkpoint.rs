@@ -5,7 +5,7 @@
 //! Layout: the magic line `PRISMFILM 1\n`, a u32 little-endian header length, a JSON header, then
 //! per pixel X, Y, Z, weight as f64 and the sample count as u64, all little-endian.
 
-use crate::film::{Film, Pixel};
+use crate::film::{AovPixel, Film, Pixel};
 use crate::image::CropWindow;
 use glam::DVec3;
 use std::io::Read;
@@ -39,6 +39,10 @@ pub struct FilmHeader {
     /// OpenEXR output in 32-bit floats (the scene's Film "savefp16" false) instead of halves.
     #[serde(default)]
     pub exr_float: bool,
+    /// The film holds geometry buffers: after the pixels, per pixel the sums of
+    /// [`crate::film::AovPixel::write_le`].
+    #[serde(default)]
+    pub aov: bool,
 }
 
 /// Errors reading or combining film files.
@@ -68,7 +72,8 @@ pub enum FilmFileError {
 /// Serialises `film` with `header` to `path` atomically.
 pub fn save(path: &Path, film: &Film, header: &FilmHeader) -> Result<(), FilmFileError> {
     let json = serde_json::to_vec(header).expect("header serialises");
-    let size = MAGIC.len() + 4 + json.len() + film.pixels.len() * 40;
+    let aov_bytes = film.aov.as_ref().map_or(0, |a| a.len() * AovPixel::FILE_BYTES);
+    let size = MAGIC.len() + 4 + json.len() + film.pixels.len() * 40 + aov_bytes;
     let mut buf = Vec::new();
     buf.try_reserve_exact(size).map_err(|_| Film::alloc_error(film.width, film.height, size))?;
     buf.extend_from_slice(MAGIC);
@@ -79,6 +84,9 @@ pub fn save(path: &Path, film: &Film, header: &FilmHeader) -> Result<(), FilmFil
             buf.extend_from_slice(&v.to_le_bytes());
         }
         buf.extend_from_slice(&p.samples.to_le_bytes());
+    }
+    for a in film.aov.iter().flatten() {
+        a.write_le(&mut buf);
     }
     crate::io::write_atomic(path, &buf).map_err(|e| FilmFileError::Io { path: path.display().to_string(), cause: e })
 }
@@ -118,10 +126,18 @@ pub fn load(path: &Path) -> Result<(Film, FilmHeader), FilmFileError> {
     }
     let mut data = Vec::new();
     f.read_to_end(&mut data).map_err(io)?;
-    if data.len() as u64 != n * 40 {
+    let aov_bytes = if header.aov { AovPixel::FILE_BYTES as u64 } else { 0 };
+    if data.len() as u64 != n * (40 + aov_bytes) {
         return Err(bad("pixel data has the wrong length"));
     }
+    let (data, aov_data) = data.split_at(n as usize * 40);
     let mut film = Film::try_new(header.width, header.height)?;
+    if header.aov {
+        film = film.try_with_aov()?;
+        for (a, c) in film.aov.iter_mut().flatten().zip(aov_data.chunks_exact(AovPixel::FILE_BYTES)) {
+            *a = AovPixel::read_le(c).ok_or_else(|| bad("a pixel's geometry buffers hold a non-finite sum"))?;
+        }
+    }
     let range_len = header.samples.end - header.samples.start;
     for (p, c) in film.pixels.iter_mut().zip(data.chunks_exact(40)) {
         let f64_at = |i: usize| f64::from_le_bytes(c[i * 8..i * 8 + 8].try_into().expect("8 bytes"));
@@ -153,6 +169,9 @@ pub fn merge(mut parts: Vec<(Film, FilmHeader)>) -> Result<(Film, FilmHeader), F
                 "parts differ in size: {}x{} vs {}x{}",
                 h.width, h.height, header.width, header.height
             )));
+        }
+        if h.aov != header.aov {
+            return Err(FilmFileError::Mismatch("one part holds geometry buffers, another not".into()));
         }
         if let Some(d) = crate::fingerprint::difference(&header.fingerprint, &h.fingerprint) {
             return Err(FilmFileError::Mismatch(format!("parts come from different scenes or settings: {d}")));
@@ -212,6 +231,7 @@ mod tests {
             window: Some(CropWindow { x0: 1, y0: 2, full_width: 8, full_height: 6 }),
             color_space: Some("rec2020".into()),
             exr_float: true,
+            aov: false,
         };
         let (a, b) = (film(1.0), film(2.0));
         save(&dir.join("a.film"), &a, &h(0..2)).unwrap();
@@ -241,6 +261,7 @@ mod tests {
                 window: None,
                 color_space: None,
                 exr_float: false,
+                aov: false,
             };
             (film(1.0), h)
         };
@@ -276,6 +297,7 @@ mod tests {
             window,
             color_space: None,
             exr_float: false,
+            aov: false,
         };
         let check = |name: &str, film: &Film, h: &FilmHeader, needle: &str| {
             let path = dir.join(name);

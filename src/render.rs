@@ -3,7 +3,7 @@
 //! its samples in index order, so the image is bit-identical for any thread count, and a render
 //! can be split into disjoint sample ranges and merged.
 
-use crate::film::{Film, FilmAllocError, FilmSettings};
+use crate::film::{AovPixel, AovSpace, Film, FilmAllocError, FilmSettings};
 use crate::filter::Filter;
 use crate::integrator::{Integrator, Stats};
 use crate::material::Material;
@@ -12,7 +12,7 @@ pub use crate::sampling::SamplerKind;
 use crate::scene::Scene;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 use crate::texture::TextureFootprint;
-use glam::Vec2;
+use glam::{Mat4, Vec2};
 use rayon::prelude::*;
 use std::ops::Range;
 use std::time::{Duration, Instant};
@@ -92,12 +92,21 @@ pub fn render_pass(scene: &Scene, settings: &RenderSettings, film: &mut Film, ra
     }
     let (x0, y0) = settings.film_origin();
     let sensor = settings.film.sensor;
-    // A camera ray's own differentials are only needed where a texture is filtered with them.
-    let differentials = integrator.footprint.as_ref().filter(|_| scene.materials().iter().any(Material::is_textured));
+    let aov = settings.film.aov.filter(|_| film.aov.is_some());
+    // A camera ray's own differentials are only needed where a texture is filtered with them,
+    // or where the geometry buffers record the pixel footprint.
+    let differentials =
+        integrator.footprint.as_ref().filter(|_| aov.is_some() || scene.materials().iter().any(Material::is_textured));
+    let band = width * BAND_ROWS;
+    let aov_bands: Vec<Option<&mut [AovPixel]>> = match film.aov.as_mut().filter(|_| aov.is_some()) {
+        Some(a) => a.chunks_mut(band).map(Some).collect(),
+        None => film.pixels.chunks(band).map(|_| None).collect(),
+    };
     film.pixels
-        .par_chunks_mut(width * BAND_ROWS)
+        .par_chunks_mut(band)
+        .zip(aov_bands)
         .enumerate()
-        .map(|(band, pixels)| {
+        .map(|(band, (pixels, mut aov_pixels))| {
             let mut stats = Stats::default();
             // Pixels are named by their place in the full image, so a crop renders exactly
             // the samples of the same pixels of the full render.
@@ -124,6 +133,8 @@ pub fn render_pass(scene: &Scene, settings: &RenderSettings, film: &mut Film, ra
                     .and_then(|(f, r)| f.camera_ray_differentials(&camera, &r.ray, p_film, u_lens));
                 (lambdas, weight, ray, diff)
             };
+            // Adds a sample's estimate to its pixel; the sensor's response, or `None` when the
+            // estimate is not finite and is dropped.
             let add = |px: &mut crate::film::Pixel,
                        stats: &mut Stats,
                        (x, y),
@@ -138,11 +149,12 @@ pub fn render_pass(scene: &Scene, settings: &RenderSettings, film: &mut Film, ra
                     if stats.nonfinite_at.len() < 16 {
                         stats.nonfinite_at.push((x, y, s, stats.last_depth));
                     }
-                    return;
+                    return None;
                 }
                 px.xyz_sum += xyz.as_dvec3() * weight as f64;
                 px.weight_sum += weight as f64;
                 px.samples += 1;
+                Some(xyz)
             };
             let mut sampler = settings.sampler.make();
             for (i, px) in pixels.iter_mut().enumerate() {
@@ -150,13 +162,25 @@ pub fn render_pass(scene: &Scene, settings: &RenderSettings, film: &mut Film, ra
                 for s in range.clone() {
                     let (mut lambdas, weight, ray, diff) = start(&mut sampler, (x, y), s);
                     let diff = diff.as_ref();
+                    let mut visible = None;
+                    let record = aov_pixels.is_some().then_some(&mut visible);
                     let l = match ray {
                         None => SampledSpectrum::splat(0.0),
                         Some(r) => {
-                            integrator.li_camera(scene, r.ray, diff, &mut lambdas, &mut sampler, &mut stats) * r.weight
+                            integrator.li_camera(scene, r.ray, diff, record, &mut lambdas, &mut sampler, &mut stats)
+                                * r.weight
                         }
                     };
-                    add(px, &mut stats, (x, y), s, l, lambdas, weight);
+                    let response = add(px, &mut stats, (x, y), s, l, lambdas, weight);
+                    if let (Some(a), Some(v), Some(response), Some(aov)) =
+                        (aov_pixels.as_deref_mut(), visible, response, aov.as_ref())
+                    {
+                        let out_from_world = match aov.coordinates {
+                            AovSpace::Camera => camera.transform.camera_from_world(v.time),
+                            AovSpace::World => Mat4::IDENTITY,
+                        };
+                        a[i].add(&v, &lambdas, aov, &out_from_world, response, weight);
+                    }
                 }
             }
             stats
@@ -177,6 +201,9 @@ pub fn render(
 ) -> Result<(Film, Stats), FilmAllocError> {
     let (w, h) = settings.film_size();
     let mut film = Film::try_new(w, h)?;
+    if settings.film.aov.is_some() {
+        film = film.try_with_aov()?;
+    }
     let stats = render_range(scene, settings, &mut film, 0..settings.spp, |_, done| {
         progress(done);
         true

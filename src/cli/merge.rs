@@ -40,13 +40,11 @@ pub fn run(args: &MergeArgs) -> Result<()> {
     if args.output.extension().is_some_and(|e| e == "film") {
         checkpoint::save(&args.output, &film, &header)?;
     } else {
-        let image = film.to_image(space)?;
-        // A cropped render keeps its place in the full image, and its OpenEXR sample type, as
-        // `prism render` writes it.
+        // A cropped render keeps its place in the full image, its OpenEXR sample type and its
+        // geometry buffers, as `prism render` writes it.
         let exr_sample = if header.exr_float { ExrSample::Float } else { ExrSample::Half };
         let opts = WriteOptions { window: header.window, exr_sample, ..Default::default() };
-        crate::image::write_with(&args.output, &image, &opts)
-            .with_context(|| format!("writing {}", args.output.display()))?;
+        super::render::write_film_image(&film, space, &args.output, &opts)?;
     }
     eprintln!("{}: merged {} parts, samples {:?}", args.output.display(), args.parts.len(), header.samples);
     Ok(())

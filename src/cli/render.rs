@@ -1,7 +1,7 @@
 //! `prism render`: load a scene (or the built-in Cornell box), render it, write the image.
 
 use crate::accel::AccelKind;
-use crate::film::{Crop, Film, FilmSettings};
+use crate::film::{AovSettings, AovSpace, Crop, Film, FilmSettings};
 use crate::image::{CropWindow, ExrSample, WriteOptions};
 use crate::integrator::{Integrator, IntegratorKind, Stats, SubsurfaceMethod};
 use crate::light::LightSamplerKind;
@@ -92,6 +92,12 @@ pub struct RenderArgs {
     /// Continue from OUTPUT.ckpt (written by --checkpoint-every) instead of starting over.
     #[arg(long)]
     pub resume: bool,
+    /// Write pbrt-v4's geometry buffers beside R, G, B in one multi-channel OpenEXR output:
+    /// Albedo, P, dzdx, dzdy, N, Ns, u, v, Variance, RelativeVariance (the file's Film "gbuffer"
+    /// does the same; positions and normals in camera space unless it says "coordinatesystem"
+    /// "world").
+    #[arg(long)]
+    pub aov: bool,
     /// Render only part i of N (e.g. 2/8): a disjoint share of the samples. Write it to a .film
     /// output and combine the parts with `prism merge`.
     #[arg(long)]
@@ -202,6 +208,7 @@ pub fn prepare(args: &RenderArgs) -> Result<Job> {
         })
         .unwrap_or_else(|| PathBuf::from("prism.png"));
     check_output(&output)?;
+    let aov = aov_settings(args.aov, file.aov, &output, space)?;
 
     for w in &builder.warnings {
         log::warn!("{w}");
@@ -225,7 +232,7 @@ pub fn prepare(args: &RenderArgs) -> Result<Job> {
     .with_max_component(file.max_component.filter(|m| *m > 0.0).unwrap_or(f32::INFINITY));
     let settings = RenderSettings {
         resolution,
-        film: FilmSettings { crop, sensor },
+        film: FilmSettings { crop, sensor, aov },
         spp: spp.or(file.spp).unwrap_or(d.spp),
         seed: args.seed.or(file.seed).unwrap_or(d.seed),
         sampler: sampler.unwrap_or(d.sampler),
@@ -235,6 +242,37 @@ pub fn prepare(args: &RenderArgs) -> Result<Job> {
     };
     let exr_sample = if file.save_fp16 == Some(false) { ExrSample::Float } else { ExrSample::Half };
     Ok(Job { scene, settings, output, space, build_s, scene_name, inputs, exr_sample })
+}
+
+/// The geometry buffers to record: asked for by `--aov` (`flag`) or by the file's `gbuffer` film
+/// (`file`, its coordinate system). They need an OpenEXR (or film-file) output: with `--aov`
+/// another format is an error; the file's film then writes R, G, B only, with a warning.
+fn aov_settings(
+    flag: bool,
+    file: Option<AovSpace>,
+    output: &Path,
+    space: &'static ColorSpace,
+) -> Result<Option<AovSettings>> {
+    let Some(coordinates) = file.or(flag.then_some(AovSpace::Camera)) else { return Ok(None) };
+    let ext = output.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
+    if ext != "exr" && ext != "film" {
+        if flag {
+            bail!("--aov writes its channels to OpenEXR only: give an .exr output, not {}", output.display());
+        }
+        log::warn!("Film \"gbuffer\": its channels need an OpenEXR output; {} gets R, G, B only", output.display());
+        return Ok(None);
+    }
+    Ok(Some(AovSettings { coordinates, space }))
+}
+
+/// Writes `film` as an image to `path`: R, G, B, with the geometry buffers after them when the
+/// film has them.
+pub(crate) fn write_film_image(film: &Film, space: &ColorSpace, path: &Path, opts: &WriteOptions) -> Result<()> {
+    let written = match film.to_gbuffer_image(space) {
+        Some(image) => crate::image::write_channels(path, &image?, &crate::film::gbuffer::CHANNELS, opts),
+        None => crate::image::write_with(path, &film.to_image(space)?, opts),
+    };
+    written.with_context(|| format!("writing {}", path.display()))
 }
 
 /// The integrator for `scene`: command-line values (`named`, `max_depth`, `sss`) over the
@@ -370,9 +408,13 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         window,
         color_space: Some(job.space.name.to_string()),
         exr_float: job.exr_sample == ExrSample::Float,
+        aov: job.settings.film.aov.is_some(),
     };
 
     let mut film = Film::try_new(w, h)?;
+    if job.settings.film.aov.is_some() {
+        film = film.try_with_aov()?;
+    }
     let mut start = range.start;
     if args.resume {
         let (f, hd) = crate::checkpoint::load(&ckpt_path)
@@ -418,10 +460,8 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     if film_output {
         crate::checkpoint::save(&job.output, &film, &header(range.start..done))?;
     } else {
-        let image = film.to_image(job.space)?;
         let opts = WriteOptions { window, exr_sample: job.exr_sample, ..Default::default() };
-        crate::image::write_with(&job.output, &image, &opts)
-            .with_context(|| format!("writing {}", job.output.display()))?;
+        write_film_image(&film, job.space, &job.output, &opts)?;
     }
     if ckpt_every.is_some() && done >= range.end {
         let _ = std::fs::remove_file(&ckpt_path);

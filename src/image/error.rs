@@ -11,6 +11,9 @@ pub enum ImageError {
     /// The format cannot hold this many channels (e.g. alpha in JPEG, anything but RGB in .hdr).
     #[error("{path}: {format} cannot store {channels} channel(s) (it takes {accepted})")]
     UnsupportedChannels { path: PathBuf, format: &'static str, channels: u32, accepted: &'static str },
+    /// Named channels (AOVs) asked of a format without channel names.
+    #[error("{path}: {format} cannot store named channels ({channels} of them): write an .exr")]
+    NamedChannels { path: PathBuf, format: &'static str, channels: u32 },
     /// The image exceeds the format's size limit.
     #[error("{path}: {format} images are at most {max} pixels wide and high, not {width}x{height}")]
     TooLarge { path: PathBuf, format: &'static str, width: u32, height: u32, max: u32 },

@@ -63,13 +63,14 @@ impl Image {
         (self.width as usize).checked_mul(self.height as usize)?.checked_mul(self.channels as usize)
     }
 
-    /// Checks that the fields agree and describe a non-empty image of 1–4 channels.
+    /// Checks that the fields agree and describe a non-empty image (which channel counts a
+    /// format takes is the format's check).
     pub fn validate(&self) -> Result<(), ImageError> {
         if self.width == 0 || self.height == 0 {
             return Err(ImageError::InvalidImage(format!("empty size {}x{}", self.width, self.height)));
         }
-        if !(1..=4).contains(&self.channels) {
-            return Err(ImageError::InvalidImage(format!("{} channels (prism writes 1 to 4)", self.channels)));
+        if self.channels == 0 {
+            return Err(ImageError::InvalidImage("no channels".into()));
         }
         match self.expected_len() {
             Some(n) if n == self.data.len() => Ok(()),
@@ -173,12 +174,37 @@ pub fn write_with(path: &Path, img: &Image, opts: &WriteOptions) -> Result<(), I
     format.check_channels(path, img.channels)?;
     format.check_size(path, img.width, img.height)?;
     check_backend(opts.backend)?;
-    let temp = create_temp(path)?;
-    let result = match opts.backend {
+    write_file(path, |temp| match opts.backend {
         #[cfg(feature = "oiio")]
-        Backend::Oiio => oiio::write(temp.path(), format, img, opts).map_err(|e| e.to_string()),
-        _ => rust_io::write(temp.path(), format, img, opts).map_err(|e| e.to_string()),
-    };
+        Backend::Oiio => oiio::write(temp, format, img, opts).map_err(|e| e.to_string()),
+        _ => rust_io::write(temp, format, img, opts).map_err(|e| e.to_string()),
+    })
+}
+
+/// Writes `img`, whose channels are called `names` (e.g. pbrt-v4's geometry buffers: "R", "G",
+/// "B", "Albedo.R", …), to the OpenEXR file `path`, atomically as [`write_with`]. Through the
+/// `exr` crate whatever `opts.backend` says: channel names are OpenEXR's alone.
+pub fn write_channels(path: &Path, img: &Image, names: &[&str], opts: &WriteOptions) -> Result<(), ImageError> {
+    let format = FileFormat::from_path(path)?;
+    img.validate()?;
+    if format != FileFormat::Exr {
+        return Err(ImageError::NamedChannels {
+            path: path.to_path_buf(),
+            format: format.name(),
+            channels: img.channels,
+        });
+    }
+    if names.len() != img.channels as usize {
+        return Err(ImageError::InvalidImage(format!("{} channel names for {} channels", names.len(), img.channels)));
+    }
+    format.check_size(path, img.width, img.height)?;
+    write_file(path, |temp| rust_io::write_exr(temp, img, names, opts).map_err(|e| e.to_string()))
+}
+
+/// Runs `encode` on a temporary file beside `path` and moves the result into place.
+fn write_file(path: &Path, encode: impl FnOnce(&Path) -> Result<(), String>) -> Result<(), ImageError> {
+    let temp = create_temp(path)?;
+    let result = encode(temp.path());
     #[cfg(test)]
     let result = result.and_then(|()| tests::injected_failure());
     result.map_err(|reason| ImageError::Write { path: path.to_path_buf(), reason })?;

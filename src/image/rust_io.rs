@@ -54,7 +54,7 @@ pub(crate) fn channel_names(channels: usize) -> &'static [&'static str] {
 /// Writes `img` (already validated for `format`) to `path`.
 pub(crate) fn write(path: &Path, format: FileFormat, img: &Image, opts: &WriteOptions) -> Result<(), RustIoError> {
     match format {
-        FileFormat::Exr => write_exr(path, img, opts),
+        FileFormat::Exr => write_exr(path, img, channel_names(img.channels as usize), opts),
         FileFormat::Hdr => {
             let buf =
                 ImageBuffer::from_raw(img.width, img.height, img.data.clone()).ok_or(RustIoError::BufferMismatch)?;
@@ -102,9 +102,9 @@ fn encoded_dynamic_image(img: &Image, sixteen_bit: bool) -> Result<DynamicImage,
     }
 }
 
-fn write_exr(path: &Path, img: &Image, opts: &WriteOptions) -> Result<(), RustIoError> {
+/// Writes `img` as OpenEXR with channels called `names`.
+pub(crate) fn write_exr(path: &Path, img: &Image, names: &[&str], opts: &WriteOptions) -> Result<(), RustIoError> {
     let c = img.channels as usize;
-    let names = channel_names(c);
     let list: SmallVec<[exr_p::AnyChannel<exr_p::FlatSamples>; 4]> = (0..c)
         .map(|ch| {
             let plane = img.data.iter().skip(ch).step_by(c).copied();

@@ -7,6 +7,7 @@
 use super::subsurface::SubsurfaceMethod;
 use super::Stats;
 use crate::bsdf::{Bsdf, Diffuse};
+use crate::film::VisibleSurface;
 use crate::geometry::Ray;
 use crate::math::PI;
 use crate::sampling::Sampler;
@@ -129,23 +130,26 @@ impl Integrator {
         sampler: &mut Sampler,
         stats: &mut Stats,
     ) -> SampledSpectrum {
-        self.li_camera(scene, ray, None, w, sampler, stats)
+        self.li_camera(scene, ray, None, None, w, sampler, stats)
     }
 
     /// [`Self::li`] for a camera ray with its differentials, which give the texture footprint
-    /// at its first surface vertex.
+    /// at its first surface vertex; `visible`, when given, receives that vertex for the
+    /// geometry buffers (it stays `None` when the ray sees no surface).
+    #[allow(clippy::too_many_arguments)]
     pub fn li_camera(
         &self,
         scene: &Scene,
         ray: Ray,
         differentials: Option<&RayDifferentials>,
+        visible: Option<&mut Option<VisibleSurface>>,
         w: &mut SampledWavelengths,
         sampler: &mut Sampler,
         stats: &mut Stats,
     ) -> SampledSpectrum {
         match self.kind {
-            IntegratorKind::Path => self.path_trace(scene, ray, differentials, None, w, sampler, stats),
-            IntegratorKind::VolPath => self.volpath_trace(scene, ray, differentials, None, w, sampler, stats),
+            IntegratorKind::Path => self.path_trace(scene, ray, differentials, None, visible, w, sampler, stats),
+            IntegratorKind::VolPath => self.volpath_trace(scene, ray, differentials, None, visible, w, sampler, stats),
         }
     }
 
@@ -167,8 +171,8 @@ impl Integrator {
         let probe = Ray::new(p + n, -n); // only its origin matters for MIS bookkeeping
         let sensor = Some((si, bsdf));
         let lo = match self.kind {
-            IntegratorKind::Path => self.path_trace(scene, probe, None, sensor, w, sampler, stats),
-            IntegratorKind::VolPath => self.volpath_trace(scene, probe, None, sensor, w, sampler, stats),
+            IntegratorKind::Path => self.path_trace(scene, probe, None, sensor, None, w, sampler, stats),
+            IntegratorKind::VolPath => self.volpath_trace(scene, probe, None, sensor, None, w, sampler, stats),
         };
         lo * PI
     }

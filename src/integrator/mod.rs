@@ -9,6 +9,7 @@ mod path;
 mod state;
 pub mod subsurface;
 mod transmittance;
+mod visible_surface;
 mod volpath;
 #[cfg(test)]
 mod volpath_tests;

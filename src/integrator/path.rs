@@ -8,6 +8,7 @@ use super::state::PathState;
 use super::subsurface;
 use super::Stats;
 use crate::bsdf::{Bsdf, TransportMode};
+use crate::film::VisibleSurface;
 use crate::geometry::Ray;
 use crate::light::LightSampleContext;
 use crate::sampling::mis::power_heuristic;
@@ -30,7 +31,7 @@ impl Integrator {
 
     /// The surface path loop. `differentials` are the camera ray's, `pending` is a vertex found
     /// without tracing the current ray (the irradiance sensor; a diffusion exit), whose BSDF is
-    /// given.
+    /// given; `visible`, when given, receives the first surface vertex.
     #[allow(clippy::too_many_arguments)]
     pub(super) fn path_trace<'s>(
         &self,
@@ -38,6 +39,7 @@ impl Integrator {
         mut ray: Ray,
         differentials: Option<&RayDifferentials>,
         mut pending: Option<(SurfaceInteraction<'s>, Bsdf)>,
+        mut visible: Option<&mut Option<VisibleSurface>>,
         w: &mut SampledWavelengths,
         sampler: &mut Sampler,
         stats: &mut Stats,
@@ -95,6 +97,7 @@ impl Integrator {
                     }
                 }
             };
+            self.record_visible(&mut visible, &si, bsdf, differentials, &state);
             let flags = bsdf.flags();
             if flags.is_empty() {
                 break;

@@ -6,7 +6,9 @@
 //! spectral MIS).
 
 use super::interface::Integrator;
+use super::visible_surface::visible_surface;
 use crate::bsdf::{Bsdf, BsdfSample, TransportMode};
+use crate::film::VisibleSurface;
 use crate::light::LightSampleContext;
 use crate::sampling::Sampler;
 use crate::scene::SurfaceInteraction;
@@ -97,6 +99,22 @@ impl Integrator {
             bsdf.bxdf.regularize();
         }
         Some(bsdf)
+    }
+
+    /// Records the camera ray's first surface vertex for the geometry buffers, when they are
+    /// asked for (`visible`) and this is that vertex.
+    pub(super) fn record_visible(
+        &self,
+        visible: &mut Option<&mut Option<VisibleSurface>>,
+        si: &SurfaceInteraction,
+        bsdf: &Bsdf,
+        differentials: Option<&RayDifferentials>,
+        state: &PathState,
+    ) {
+        if let Some(v) = visible.as_deref_mut().filter(|_| state.depth == 1) {
+            let footprint = Footprint::of_vertex(self.footprint.as_ref(), differentials, true);
+            *v = Some(visible_surface(si, bsdf, footprint));
+        }
     }
 
     /// Continues the path by sampling the BSDF at `si`: β ·= f |cos θ| / pdf, and the MIS and

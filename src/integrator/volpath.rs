@@ -23,6 +23,7 @@ use super::subsurface::{self, Interior};
 use super::transmittance::{distance, ray_rng, transmittance};
 use super::Stats;
 use crate::bsdf::{Bsdf, TransportMode};
+use crate::film::VisibleSurface;
 use crate::geometry::Ray;
 use crate::light::LightSampleContext;
 use crate::media::{sample_t_maj, sample_t_maj_homogeneous, HenyeyGreenstein};
@@ -56,7 +57,7 @@ impl Integrator {
     /// medium. `differentials` are the camera ray's (the texture footprint at the first surface
     /// vertex, through interfaces and null collisions, which do not scatter it); `pending` is a
     /// vertex found without tracing the ray (the irradiance sensor; a diffusion exit), whose BSDF
-    /// is given.
+    /// is given; `visible`, when given, receives the first surface vertex.
     #[allow(clippy::too_many_arguments)]
     pub(super) fn volpath_trace<'s>(
         &self,
@@ -64,6 +65,7 @@ impl Integrator {
         ray: Ray,
         differentials: Option<&RayDifferentials>,
         mut pending: Option<(SurfaceInteraction<'s>, Bsdf)>,
+        mut visible: Option<&mut Option<VisibleSurface>>,
         w: &mut SampledWavelengths,
         sampler: &mut Sampler,
         stats: &mut Stats,
@@ -197,6 +199,7 @@ impl Integrator {
                     None => break,
                 },
             };
+            self.record_visible(&mut visible, &si, &bsdf, differentials, &state);
             let flags = bsdf.flags();
             if flags.is_empty() {
                 break;

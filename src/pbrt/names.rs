@@ -29,9 +29,9 @@ pub const PRISM_CAMERAS: &[&str] = &["perspective", "orthographic", "spherical",
 pub const PBRT_ONLY_CAMERAS: &[(&str, &str)] = &[];
 
 /// Films prism writes.
-pub const PRISM_FILMS: &[&str] = &["rgb", "spectral"];
+pub const PRISM_FILMS: &[&str] = &["rgb", "gbuffer", "spectral"];
 /// pbrt-v4 films prism replaces.
-pub const PBRT_ONLY_FILMS: &[(&str, &str)] = &[("gbuffer", "rgb")];
+pub const PBRT_ONLY_FILMS: &[(&str, &str)] = &[];
 
 /// Medium types prism renders (MakeNamedMedium "string type").
 pub const MEDIA: &[&str] = crate::media::PBRT_NAMES;

@@ -82,6 +82,8 @@ pub struct FileSettings {
     pub max_component: Option<f32>,
     /// Film "savefp16": OpenEXR output in half floats (pbrt-v4's default) or 32-bit floats.
     pub save_fp16: Option<bool>,
+    /// Film "gbuffer": the geometry buffers' coordinate system (`coordinatesystem`).
+    pub aov: Option<crate::film::AovSpace>,
 }
 
 /// pbrt-v4's `PixelFilter` `kind` with its parameters (`xradius`, `yradius`; Gaussian `sigma`;
@@ -364,6 +366,15 @@ impl Ctx<'_> {
             (None, None) => None,
             (open, close) => Some(close.unwrap_or(1.0) - open.unwrap_or(0.0)),
         };
+        let aov = match d.film.kind.as_str() {
+            "gbuffer" => {
+                let name = film.string("coordinatesystem").unwrap_or("camera");
+                let space = crate::film::AovSpace::parse(name)
+                    .map_err(|e| param_error(film, "coordinatesystem", &d.film.loc, e.to_string()))?;
+                Some(space)
+            }
+            _ => None,
+        };
         let filter = pixel_filter(&d.filter.kind, &d.filter.params);
         let (sampler, spp) = self.sampler()?;
         Ok(FileSettings {
@@ -386,6 +397,7 @@ impl Ctx<'_> {
             white_balance,
             max_component: film.float("maxcomponentvalue"),
             save_fp16: film.bool("savefp16"),
+            aov,
         })
     }
 

@@ -4,6 +4,7 @@
 mod accel_agreement;
 mod alpha;
 mod analytic_quadrics;
+mod aov;
 mod area_image;
 mod area_power;
 mod bump;

@@ -355,15 +355,17 @@ fn unknown_types_list_valid_names() {
 
 #[test]
 fn unsupported_features_warn_or_fail_under_strict() {
-    let (d, w) = parse("Film \"gbuffer\"\nWorldBegin");
+    let (d, w) = parse("Integrator \"bdpt\" \"integer maxdepth\" 3\nWorldBegin");
     let w: Vec<String> = w.iter().map(|w| w.to_string()).collect();
-    assert_eq!(w, ["<string>:1:6: warning: unsupported feature: film \"gbuffer\"; prism uses \"rgb\" instead"]);
-    assert_eq!(d.film.kind, "rgb");
+    assert_eq!(w, ["<string>:1:12: warning: unsupported feature: integrator \"bdpt\"; prism uses \"path\" instead"]);
     assert_eq!(
-        strict_err("Film \"gbuffer\"\nWorldBegin"),
-        "<string>:1:6: unsupported feature: film \"gbuffer\" (strict mode; without --strict prism uses \"rgb\" instead)"
+        strict_err("Integrator \"bdpt\"\nWorldBegin"),
+        "<string>:1:12: unsupported feature: integrator \"bdpt\" (strict mode; without --strict prism uses \"path\" instead)"
     );
-    let (d, _) = parse("Integrator \"bdpt\" \"integer maxdepth\" 3\nWorldBegin");
+    // Every pbrt-v4 film is written as itself.
+    let (d_film, w) = parse("Film \"gbuffer\"\nWorldBegin");
+    assert!(w.is_empty(), "{w:?}");
+    assert_eq!(d_film.film.kind, "gbuffer");
     assert_eq!((d.integrator.kind.as_str(), d.integrator.params.int("maxdepth")), ("path", Some(3)));
     // Without media, volpath is path: no substitution, no warning.
     let (d, w) = parse("Integrator \"volpath\" \"integer maxdepth\" 3\nWorldBegin");

@@ -1,5 +1,12 @@
 //! The film: per-pixel sums of filter-weighted XYZ estimates, turned into the output colour
-//! space once at the end. Sums are f64 so long renders and merged parts lose nothing.
+//! space once at the end, and, when asked for, the geometry buffers beside them
+//! ([`gbuffer`]). Sums are f64 so long renders and merged parts lose nothing.
+
+pub mod gbuffer;
+mod visible_surface;
+
+pub use gbuffer::{AovPixel, AovSettings, AovSpace};
+pub use visible_surface::VisibleSurface;
 
 use crate::image::Image;
 use crate::sensor::Sensor;
@@ -86,6 +93,8 @@ pub struct FilmSettings {
     pub crop: Option<PixelBounds>,
     /// The sensor's response (ISO, exposure, white balance).
     pub sensor: Sensor,
+    /// The geometry buffers, when they are recorded (pbrt-v4's `gbuffer` film).
+    pub aov: Option<AovSettings>,
 }
 
 /// Accumulated samples of one pixel.
@@ -108,6 +117,8 @@ pub struct Film {
     pub height: u32,
     /// Row-major pixels.
     pub pixels: Vec<Pixel>,
+    /// Row-major geometry-buffer sums, when they are recorded.
+    pub aov: Option<Vec<AovPixel>>,
 }
 
 /// A film (or a buffer of its size) that does not fit in memory.
@@ -125,7 +136,7 @@ pub struct FilmAllocError {
 impl Film {
     /// An empty film; aborts like `vec!` if it does not fit in memory (see [`Film::try_new`]).
     pub fn new(width: u32, height: u32) -> Self {
-        Self { width, height, pixels: vec![Pixel::default(); width as usize * height as usize] }
+        Self { width, height, pixels: vec![Pixel::default(); width as usize * height as usize], aov: None }
     }
 
     /// An empty film, or an error naming its size when the allocation fails.
@@ -134,7 +145,17 @@ impl Film {
         let mut pixels = Vec::new();
         pixels.try_reserve_exact(n).map_err(|_| Self::alloc_error(width, height, n * size_of::<Pixel>()))?;
         pixels.resize(n, Pixel::default());
-        Ok(Self { width, height, pixels })
+        Ok(Self { width, height, pixels, aov: None })
+    }
+
+    /// This film with geometry buffers, or an error naming its size when they do not fit.
+    pub fn try_with_aov(mut self) -> Result<Self, FilmAllocError> {
+        let n = self.pixels.len();
+        let mut aov = Vec::new();
+        aov.try_reserve_exact(n).map_err(|_| Self::alloc_error(self.width, self.height, n * size_of::<AovPixel>()))?;
+        aov.resize(n, AovPixel::default());
+        self.aov = Some(aov);
+        Ok(self)
     }
 
     /// The error for a `width × height` film whose buffer of `bytes` could not be allocated.
@@ -157,6 +178,11 @@ impl Film {
             a.xyz_sum += b.xyz_sum;
             a.weight_sum += b.weight_sum;
             a.samples += b.samples;
+        }
+        if let (Some(a), Some(b)) = (self.aov.as_mut(), other.aov.as_ref()) {
+            for (a, b) in a.iter_mut().zip(b) {
+                a.merge(b);
+            }
         }
     }
 
@@ -187,6 +213,24 @@ impl Film {
             }
         }
         Ok(Image { width: self.width, height: self.height, channels: 3, data })
+    }
+
+    /// The film with its geometry buffers as a [`gbuffer::CHANNELS`]-channel image in `space`
+    /// (`None` when the film has none).
+    pub fn to_gbuffer_image(&self, space: &ColorSpace) -> Option<Result<Image, FilmAllocError>> {
+        let aov = self.aov.as_ref()?;
+        let c = gbuffer::CHANNELS.len();
+        let n = self.pixels.len() * c;
+        let mut data = Vec::new();
+        if data.try_reserve_exact(n).is_err() {
+            return Some(Err(Self::alloc_error(self.width, self.height, n * 4)));
+        }
+        for (i, (p, a)) in self.pixels.iter().zip(aov).enumerate() {
+            let (x, y) = (i as u32 % self.width, i as u32 / self.width);
+            data.extend_from_slice(&space.xyz_to_rgb(self.xyz(x, y)).to_array());
+            data.extend_from_slice(&a.channels(p.weight_sum, space));
+        }
+        Some(Ok(Image { width: self.width, height: self.height, channels: c as u32, data }))
     }
 }
 
