@@ -419,10 +419,8 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     // A signal that came after the last pass changes nothing: the render is whole.
     let interrupted = interrupt.status().filter(|_| done < range.end);
     let of = |done: u64| format!("{} of {} samples per pixel", done - range.start, range.end - range.start);
-    if let (Some(status), true) = (interrupted, done == range.start) {
-        return Err(
-            Interrupted { status, message: format!("interrupted after 0 of {}; wrote nothing", of(done)) }.into()
-        );
+    if let Some(status) = interrupted.filter(|_| done == range.start) {
+        return Err(Interrupted { status, message: format!("interrupted after {}; wrote nothing", of(done)) }.into());
     }
 
     if film_output {
