@@ -35,6 +35,11 @@ fn main() {
         }
     };
     if let Err(e) = cli.run() {
+        // A render stopped by SIGINT or SIGTERM: what it wrote, and the shell's status.
+        if let Some(i) = e.downcast_ref::<prism::cli::Interrupted>() {
+            eprintln!("prism: {i}");
+            std::process::exit(i.status);
+        }
         // One line: the chain of causes joined by ": ", each cause's own lines joined by spaces
         // (some decoders end their messages in a newline).
         let causes = e.chain().map(|c| c.to_string().split_whitespace().collect::<Vec<_>>().join(" "));

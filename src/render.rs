@@ -15,6 +15,7 @@ use crate::texture::TextureFootprint;
 use glam::{Mat4, Vec2};
 use rayon::prelude::*;
 use std::ops::Range;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
 /// Version of the sample stream: what a (pixel, sample index, seed) renders. Saved films that
@@ -204,7 +205,8 @@ pub fn render(
     if settings.film.aov.is_some() {
         film = film.try_with_aov()?;
     }
-    let stats = render_range(scene, settings, &mut film, 0..settings.spp, |_, done| {
+    let never = AtomicBool::new(false);
+    let stats = render_range(scene, settings, &mut film, 0..settings.spp, &never, |_, done| {
         progress(done);
         true
     });
@@ -213,19 +215,22 @@ pub fn render(
 
 /// Adds samples `range` of every pixel to `film`, in passes of 1, 1, 2, 4, … 16 samples. After
 /// each pass `after_pass(film, end_of_samples_so_far)` may save a checkpoint or report progress;
-/// returning false stops. Stops early, at the end of a pass, once `settings.time_limit` is over.
+/// returning false stops. Stops early, at the end of a pass, once `settings.time_limit` is over,
+/// and before the next pass once `cancel` is set (from another thread or a signal handler): the
+/// film then holds whole passes, every pixel the same samples.
 pub fn render_range(
     scene: &Scene,
     settings: &RenderSettings,
     film: &mut Film,
     range: Range<u64>,
+    cancel: &AtomicBool,
     mut after_pass: impl FnMut(&Film, u64) -> bool,
 ) -> Stats {
     let mut stats = Stats::default();
     let start = Instant::now();
     let mut done = range.start;
     let mut pass = 1u64;
-    while done < range.end {
+    while done < range.end && !cancel.load(Ordering::Relaxed) {
         let n = pass.min(range.end - done);
         stats.merge(&render_pass(scene, settings, film, done..done + n));
         done += n;

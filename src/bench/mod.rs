@@ -152,7 +152,7 @@ fn render_image(
     let t0 = Instant::now();
     let (w, h) = s.film_size();
     let mut film = crate::film::Film::try_new(w, h)?;
-    let stats = render_range(scene, s, &mut film, 0..s.spp, |_, done| {
+    let stats = render_range(scene, s, &mut film, 0..s.spp, &Default::default(), |_, done| {
         progress(done);
         true
     });

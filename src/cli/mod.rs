@@ -5,6 +5,8 @@ pub mod bench;
 pub mod color;
 mod color_report;
 pub mod compat;
+mod interrupt;
+pub use interrupt::Interrupted;
 mod compat_case;
 mod compat_report;
 pub mod measure;

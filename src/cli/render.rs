@@ -1,5 +1,6 @@
 //! `prism render`: load a scene (or the built-in Cornell box), render it, write the image.
 
+use super::Interrupted;
 use crate::accel::AccelKind;
 use crate::film::{AovSettings, AovSpace, Crop, Film, FilmSettings};
 use crate::image::{CropWindow, ExrSample, WriteOptions};
@@ -430,14 +431,15 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         eprintln!("prism: resuming at sample {start} of {}", range.end);
     }
 
-    let bar = crate::progress::spp_progress_bar(range.end - range.start);
-    bar.set_position(start - range.start);
+    let mut progress = crate::progress::SppProgress::new(range.end - range.start, start - range.start);
+    let interrupt = super::interrupt::Interrupt::install().context("installing the SIGINT and SIGTERM handlers")?;
     let t0 = Instant::now();
     let mut last_ckpt = Instant::now();
     let mut ckpt_error = None;
     let stats = pool.install(|| {
-        crate::render::render_range(&job.scene, &job.settings, &mut film, start..range.end, |film, done| {
-            bar.set_position(done - range.start);
+        let cancel = interrupt.flag();
+        crate::render::render_range(&job.scene, &job.settings, &mut film, start..range.end, cancel, |film, done| {
+            progress.set(done - range.start);
             if let Some(every) = ckpt_every {
                 if last_ckpt.elapsed() >= every && done < range.end {
                     if let Err(e) = crate::checkpoint::save(&ckpt_path, film, &header(range.start..done)) {
@@ -454,30 +456,44 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         return Err(e).context("writing a checkpoint");
     }
     let elapsed = t0.elapsed().as_secs_f64();
-    bar.finish_and_clear();
+    progress.finish();
     let done = range.start + film.pixels.first().map_or(0, |p| p.samples);
+    // A signal that came after the last pass changes nothing: the render is whole.
+    let interrupted = interrupt.status().filter(|_| done < range.end);
+    let of = |done: u64| format!("{} of {} samples per pixel", done - range.start, range.end - range.start);
+    if let Some(status) = interrupted.filter(|_| done == range.start) {
+        return Err(Interrupted { status, message: format!("interrupted after {}; wrote nothing", of(done)) }.into());
+    }
 
     if film_output {
+        // The header's sample range says which samples the part holds; `prism merge` names
+        // the ones missing.
         crate::checkpoint::save(&job.output, &film, &header(range.start..done))?;
     } else {
         let opts = WriteOptions { window, exr_sample: job.exr_sample, ..Default::default() };
         write_film_image(&film, job.space, &job.output, &opts)?;
     }
-    if ckpt_every.is_some() && done >= range.end {
-        let _ = std::fs::remove_file(&ckpt_path);
+    if ckpt_every.is_some() {
+        if done >= range.end {
+            let _ = std::fs::remove_file(&ckpt_path);
+        } else if interrupted.is_some() {
+            crate::checkpoint::save(&ckpt_path, &film, &header(range.start..done)).context("writing a checkpoint")?;
+        }
     }
     let rs = summarize(&job, &stats, elapsed);
-    eprintln!(
-        "{}: {}x{} {} spp in {:.2} s  ({:.3} M samples/s, {:.2} M rays/s, {})",
-        job.output.display(),
-        rs.width,
-        rs.height,
-        done - range.start,
-        rs.elapsed_s,
-        rs.samples_per_s / 1e6,
-        rs.rays_per_s / 1e6,
-        rs.accel
-    );
+    if interrupted.is_none() {
+        eprintln!(
+            "{}: {}x{} {} spp in {:.2} s  ({:.3} M samples/s, {:.2} M rays/s, {})",
+            job.output.display(),
+            rs.width,
+            rs.height,
+            done - range.start,
+            rs.elapsed_s,
+            rs.samples_per_s / 1e6,
+            rs.rays_per_s / 1e6,
+            rs.accel
+        );
+    }
     if stats.nonfinite > 0 {
         if let Some((x, y, s, d)) = stats.nonfinite_at.first() {
             log::warn!(
@@ -490,7 +506,17 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         let text = serde_json::to_string_pretty(&rs)?;
         crate::io::write_atomic(p, text.as_bytes()).with_context(|| format!("writing {}", p.display()))?;
     }
-    Ok(())
+    match interrupted {
+        None => Ok(()),
+        Some(status) => {
+            let ckpt = match ckpt_every {
+                Some(_) => format!(" and the checkpoint {}", ckpt_path.display()),
+                None => String::new(),
+            };
+            let message = format!("interrupted after {}; wrote {}{ckpt}", of(done), job.output.display());
+            Err(Interrupted { status, message }.into())
+        }
+    }
 }
 
 fn summarize(job: &Job, stats: &Stats, elapsed: f64) -> RenderStats {

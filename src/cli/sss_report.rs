@@ -218,7 +218,7 @@ fn reference(scene: &crate::scene::Scene, a: &SssReportArgs, name: &str, fingerp
     let settings = settings(a.size, a.reference_spp, 1000, SubsurfaceMethod::RandomWalk);
     let t0 = Instant::now();
     let mut saved = Ok(());
-    let stats = render_range(scene, &settings, &mut film, done..a.reference_spp, |film, end| {
+    let stats = render_range(scene, &settings, &mut film, done..a.reference_spp, &Default::default(), |film, end| {
         if !keep {
             return true;
         }

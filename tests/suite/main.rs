@@ -21,6 +21,7 @@ mod fuzz;
 mod instanced_shapes;
 mod instancing;
 mod integrators;
+mod interrupt;
 mod light_sampler;
 mod measured;
 mod media;
