@@ -2,7 +2,7 @@
 
 use crate::accel::AccelKind;
 use crate::film::{Crop, Film, FilmSettings};
-use crate::image::{CropWindow, ExrSample, WriteOptions};
+use crate::image::{Chromaticities, CropWindow, ExrSample, FileFormat, ImageMeta, WriteOptions};
 use crate::integrator::{Integrator, IntegratorKind, Stats, SubsurfaceMethod};
 use crate::light::LightSamplerKind;
 use crate::named::UnknownName;
@@ -419,7 +419,17 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         crate::checkpoint::save(&job.output, &film, &header(range.start..done))?;
     } else {
         let image = film.to_image(job.space)?;
-        let opts = WriteOptions { window, exr_sample: job.exr_sample, ..Default::default() };
+        let meta = ImageMeta {
+            color_space: Some(Chromaticities::of(job.space)),
+            samples_per_pixel: Some(done - range.start),
+            render_time_seconds: Some(elapsed),
+            seed: Some(job.settings.seed),
+            sampler: Some(job.settings.sampler.name().to_string()),
+        };
+        if let Some(w) = FileFormat::from_path(&job.output).ok().and_then(|f| meta.untagged_warning(f)) {
+            eprintln!("prism: warning: {}: {w}", job.output.display());
+        }
+        let opts = WriteOptions { window, exr_sample: job.exr_sample, meta, ..Default::default() };
         crate::image::write_with(&job.output, &image, &opts)
             .with_context(|| format!("writing {}", job.output.display()))?;
     }
