@@ -36,6 +36,10 @@ pub(crate) enum RustIoError {
     /// A channel sampled more coarsely than the layer (OpenEXR x/y sampling).
     #[error("channel {0} is subsampled")]
     Subsampled(String),
+    /// The PNG encoder's output does not begin with the signature and IHDR, so no cICP chunk
+    /// can be placed after it.
+    #[error("the PNG encoder wrote no IHDR chunk first")]
+    PngHeader,
     /// A decoded layout prism has no conversion for.
     #[error("unsupported pixel layout {0:?}")]
     PixelLayout(::image::ColorType),
@@ -73,7 +77,7 @@ pub(crate) fn write(path: &Path, format: FileFormat, img: &Image, opts: &WriteOp
             } else if let (FileFormat::Png, Some(code)) = (format, opts.meta.cicp()) {
                 let mut png = std::io::Cursor::new(Vec::new());
                 dynimg.write_to(&mut png, ImageFormat::Png)?;
-                let tagged = super::meta::png_with_cicp(png.get_ref(), code).ok_or(RustIoError::BufferMismatch)?;
+                let tagged = super::meta::png_with_cicp(png.get_ref(), code).ok_or(RustIoError::PngHeader)?;
                 Ok(std::fs::write(path, tagged)?)
             } else {
                 let fmt = if format == FileFormat::Png { ImageFormat::Png } else { ImageFormat::Tiff };
