@@ -22,3 +22,13 @@ pub fn named_spectrum(name: &str) -> Option<Spectrum> {
     let v: Vec<f32> = l.iter().map(|&x| ior::eta(glass, x).unwrap_or(1.5)).collect();
     Spectrum::piecewise_linear(&l, &v)
 }
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn every_listed_name_has_data() {
+        for n in crate::spectrum::NAMED_SPECTRA {
+            assert!(super::named_spectrum(n).is_some(), "{n}");
+        }
+    }
+}

@@ -1,7 +1,7 @@
 //! `prism merge`: combine the .film parts of a split render into one image.
 
 use crate::checkpoint;
-use crate::image::{ExrSample, WriteOptions};
+use crate::image::{Chromaticities, ExrSample, ImageMeta, WriteOptions};
 use crate::spectrum::ColorSpace;
 use anyhow::{Context, Result};
 use std::path::PathBuf;
@@ -43,7 +43,14 @@ pub fn run(args: &MergeArgs) -> Result<()> {
         // A cropped render keeps its place in the full image, its OpenEXR sample type and its
         // geometry buffers, as `prism render` writes it.
         let exr_sample = if header.exr_float { ExrSample::Float } else { ExrSample::Half };
-        let opts = WriteOptions { window: header.window, exr_sample, ..Default::default() };
+        // The file says which space and how many samples it holds; the parts' times and the
+        // render's seed are not in their headers.
+        let meta = ImageMeta {
+            color_space: Some(Chromaticities::of(space)),
+            samples_per_pixel: Some(header.samples.end - header.samples.start),
+            ..Default::default()
+        };
+        let opts = WriteOptions { window: header.window, exr_sample, meta, ..Default::default() };
         super::render::write_film_image(&film, space, &args.output, &opts)?;
     }
     eprintln!("{}: merged {} parts, samples {:?}", args.output.display(), args.parts.len(), header.samples);

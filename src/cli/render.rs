@@ -3,7 +3,7 @@
 use super::Interrupted;
 use crate::accel::AccelKind;
 use crate::film::{AovSettings, AovSpace, Crop, Film, FilmSettings};
-use crate::image::{CropWindow, ExrSample, WriteOptions};
+use crate::image::{Chromaticities, CropWindow, ExrSample, FileFormat, ImageMeta, WriteOptions};
 use crate::integrator::{Integrator, IntegratorKind, Stats, SubsurfaceMethod};
 use crate::light::LightSamplerKind;
 use crate::named::UnknownName;
@@ -267,8 +267,11 @@ fn aov_settings(
 }
 
 /// Writes `film` as an image to `path`: R, G, B, with the geometry buffers after them when the
-/// film has them.
+/// film has them; warns when the format cannot name the colour space.
 pub(crate) fn write_film_image(film: &Film, space: &ColorSpace, path: &Path, opts: &WriteOptions) -> Result<()> {
+    if let Some(w) = FileFormat::from_path(path).ok().and_then(|f| opts.meta.untagged_warning(f)) {
+        eprintln!("prism: warning: {}: {w}", path.display());
+    }
     let written = match film.to_gbuffer_image(space) {
         Some(image) => crate::image::write_channels(path, &image?, &crate::film::gbuffer::CHANNELS, opts),
         None => crate::image::write_with(path, &film.to_image(space)?, opts),
@@ -470,7 +473,14 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         // the ones missing.
         crate::checkpoint::save(&job.output, &film, &header(range.start..done))?;
     } else {
-        let opts = WriteOptions { window, exr_sample: job.exr_sample, ..Default::default() };
+        let meta = ImageMeta {
+            color_space: Some(Chromaticities::of(job.space)),
+            samples_per_pixel: Some(done - range.start),
+            render_time_seconds: Some(elapsed),
+            seed: Some(job.settings.seed),
+            sampler: Some(job.settings.sampler.name().to_string()),
+        };
+        let opts = WriteOptions { window, exr_sample: job.exr_sample, meta, ..Default::default() };
         write_film_image(&film, job.space, &job.output, &opts)?;
     }
     if ckpt_every.is_some() {

@@ -14,6 +14,7 @@ mod colormap;
 pub mod compose;
 mod error;
 mod format;
+mod meta;
 pub mod metrics;
 #[cfg(feature = "oiio")]
 mod oiio;
@@ -25,6 +26,7 @@ use std::path::Path;
 
 pub use error::ImageError;
 pub use format::{FileFormat, SUPPORTED_EXTENSIONS};
+pub use meta::{Chromaticities, ImageMeta};
 pub use metrics::{compare, false_colour_difference, Metrics};
 
 /// A linear image: `data` holds `width·height·channels` samples, row-major from the top row,
@@ -121,7 +123,7 @@ pub enum ExrSample {
 }
 
 /// How [`write_with`] stores an image.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct WriteOptions {
     /// Implementation to use.
     pub backend: Backend,
@@ -134,6 +136,9 @@ pub struct WriteOptions {
     /// For OpenEXR: the image is the part of a larger one (a crop), stored as the file's data
     /// window inside that display window, as pbrt-v4 writes crops. Other formats ignore it.
     pub window: Option<CropWindow>,
+    /// What the file says about the image: colour space (OpenEXR chromaticities, PNG cICP) and
+    /// how it was rendered (OpenEXR attributes).
+    pub meta: ImageMeta,
 }
 
 /// Where an image lies in the full image it was cropped from [pixels].
@@ -157,6 +162,7 @@ impl Default for WriteOptions {
             tiff_16bit: false,
             jpeg_quality: 95,
             window: None,
+            meta: ImageMeta::default(),
         }
     }
 }

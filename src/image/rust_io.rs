@@ -36,6 +36,10 @@ pub(crate) enum RustIoError {
     /// A channel sampled more coarsely than the layer (OpenEXR x/y sampling).
     #[error("channel {0} is subsampled")]
     Subsampled(String),
+    /// The PNG encoder's output does not begin with the signature and IHDR, so no cICP chunk
+    /// can be placed after it.
+    #[error("the PNG encoder wrote no IHDR chunk first")]
+    PngHeader,
     /// A decoded layout prism has no conversion for.
     #[error("unsupported pixel layout {0:?}")]
     PixelLayout(::image::ColorType),
@@ -70,6 +74,11 @@ pub(crate) fn write(path: &Path, format: FileFormat, img: &Image, opts: &WriteOp
                     opts.jpeg_quality.clamp(1, 100),
                 );
                 Ok(dynimg.write_with_encoder(encoder)?)
+            } else if let (FileFormat::Png, Some(code)) = (format, opts.meta.cicp()) {
+                let mut png = std::io::Cursor::new(Vec::new());
+                dynimg.write_to(&mut png, ImageFormat::Png)?;
+                let tagged = super::meta::png_with_cicp(png.get_ref(), code).ok_or(RustIoError::PngHeader)?;
+                Ok(std::fs::write(path, tagged)?)
             } else {
                 let fmt = if format == FileFormat::Png { ImageFormat::Png } else { ImageFormat::Tiff };
                 Ok(dynimg.save_with_format(path, fmt)?)
@@ -129,7 +138,28 @@ pub(crate) fn write_exr(path: &Path, img: &Image, names: &[&str], opts: &WriteOp
         }
         None => exr_p::IntegerBounds::new((0, 0), layer.size),
     };
-    Ok(exr_p::Image::new(exr_p::ImageAttributes::new(display), layer).write().to_file(path)?)
+    let mut attributes = exr_p::ImageAttributes::new(display);
+    exr_attributes(&mut attributes, &opts.meta);
+    Ok(exr_p::Image::new(attributes, layer).write().to_file(path)?)
+}
+
+/// Sets the OpenEXR header attributes `meta` describes.
+fn exr_attributes(a: &mut exr_p::ImageAttributes, meta: &super::ImageMeta) {
+    use exr::meta::attribute::{AttributeValue, Chromaticities, Text};
+    if let Some(c) = meta.color_space {
+        let v = |p: [f32; 2]| exr_p::Vec2(p[0], p[1]);
+        let [r, g, b] = c.primaries;
+        a.chromaticities = Some(Chromaticities { red: v(r), green: v(g), blue: v(b), white: v(c.white) });
+    }
+    if let Some(t) = meta.render_time_seconds {
+        a.other.insert(Text::from("renderTimeSeconds"), AttributeValue::F32(t as f32));
+    }
+    if let Some(n) = meta.samples_per_pixel {
+        a.other.insert(Text::from("samplesPerPixel"), AttributeValue::I32(i32::try_from(n).unwrap_or(i32::MAX)));
+    }
+    for (name, value) in meta.exr_strings() {
+        a.other.insert(Text::from(name), AttributeValue::Text(Text::from(value.as_str())));
+    }
 }
 
 /// Reads `path` as `format` into linear floats.

@@ -26,7 +26,7 @@ use lights::{brightness_factor, FLUX};
 
 use super::desc::{MaterialDesc, MaterialRef, ObjectDesc, SceneDesc, ShapeDesc, ShapeGeometry};
 use super::error::{Location, SceneError, Warning};
-use super::params::{ParamSet, ParamValue, SpectrumParam};
+use super::params::{ParamSet, SpectrumParam};
 use super::QuadricMode;
 use crate::bsdf::named_spectra::named_spectrum;
 use crate::camera::Projection;
@@ -176,7 +176,7 @@ enum SpectrumError {
     /// (λ, value) samples whose wavelengths do not increase.
     #[error("spectrum samples must have increasing wavelengths")]
     Unordered,
-    /// The substitute for a named spectrum prism has no data for is itself missing.
+    /// A name listed among the built-in spectra without data (every listed name has data).
     #[error("built-in spectrum missing")]
     BuiltinMissing,
     /// A file name that names neither a named spectrum nor an existing file: most likely a
@@ -193,16 +193,6 @@ enum SpectrumError {
     /// An SPD file that cannot be read.
     #[error(transparent)]
     File(#[from] SpdError),
-}
-
-/// The built-in spectrum that stands in for pbrt-v4's named spectrum `name` when prism has no
-/// data for it (brass, "metal-CuZn-eta"/"-k", whose table prism does not have): copper's.
-fn named_stand_in(name: &str) -> &'static str {
-    if name.ends_with("-k") {
-        "metal-Cu-k"
-    } else {
-        "metal-Cu-eta"
-    }
 }
 
 fn space_of(params: &ParamSet) -> &'static ColorSpace {
@@ -415,23 +405,7 @@ impl Ctx<'_> {
                 let (l, x): (Vec<f32>, Vec<f32>) = v.iter().copied().unzip();
                 Spectrum::piecewise_linear(&l, &x).ok_or(SpectrumError::Unordered)?
             }
-            SpectrumParam::Named(n) => match named_spectrum(n) {
-                Some(s) => s,
-                None => {
-                    // A pbrt-v4 name whose data prism does not ship: substitute one of the same
-                    // kind (illuminant, glass, metal) and say so, at the parameter that names it.
-                    let sub = named_stand_in(n);
-                    let loc = params
-                        .iter()
-                        .find(|p| matches!(&p.value, ParamValue::Spectrum(SpectrumParam::Named(m)) if m == n))
-                        .or_else(|| params.iter().next())
-                        .map(|p| p.loc.clone())
-                        .unwrap_or_else(|| self.desc.camera.directive.loc.clone());
-                    let feature = format!("named spectrum \"{n}\" (prism has no data for it)");
-                    self.unsupported(&loc, feature, &format!("uses \"{sub}\""));
-                    named_spectrum(sub).ok_or(SpectrumError::BuiltinMissing)?
-                }
-            },
+            SpectrumParam::Named(n) => named_spectrum(n).ok_or(SpectrumError::BuiltinMissing)?,
             SpectrumParam::File(p) if !p.exists() => {
                 // Neither a named spectrum nor a file: most likely a misspelt name.
                 let name = p.file_name().map_or(String::new(), |f| f.to_string_lossy().into_owned());

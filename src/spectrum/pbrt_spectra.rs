@@ -5,9 +5,9 @@
 //! `PiecewiseLinearSpectrum`).
 
 use super::data::{
-    AG_ETA, AG_K, AL_ETA, AL_K, AU_ETA, AU_K, CAMERAS, CU_ETA, CU_K, GLASS_BAF10, GLASS_BK7, GLASS_F10, GLASS_F11,
-    GLASS_F5, GLASS_FK51A, GLASS_LASF9, ILLUM_F1, ILLUM_F10, ILLUM_F12, ILLUM_F3, ILLUM_F4, ILLUM_F5, ILLUM_F6,
-    ILLUM_F7, ILLUM_F8, ILLUM_F9, METAL_LAMBDA, MGO_ETA, MGO_K, TIO2_ETA, TIO2_K,
+    AG_ETA, AG_K, AL_ETA, AL_K, AU_ETA, AU_K, CAMERAS, CUZN_ETA, CUZN_K, CU_ETA, CU_K, GLASS_BAF10, GLASS_BK7,
+    GLASS_F10, GLASS_F11, GLASS_F5, GLASS_FK51A, GLASS_LASF9, ILLUM_F1, ILLUM_F10, ILLUM_F12, ILLUM_F3, ILLUM_F4,
+    ILLUM_F5, ILLUM_F6, ILLUM_F7, ILLUM_F8, ILLUM_F9, METAL_LAMBDA, MGO_ETA, MGO_K, TIO2_ETA, TIO2_K,
 };
 use super::illuminant::{from_table, named_illuminant};
 use super::spd::Spectrum;
@@ -68,6 +68,12 @@ fn metal(values: &[f64; 56]) -> Option<Spectrum> {
     Spectrum::piecewise_linear_f64(METAL_LAMBDA.to_vec(), values.to_vec())
 }
 
+/// A table of evenly spaced values: (first [nm], spacing [nm], values).
+fn spaced(t: &(f64, f64, &[f64])) -> Option<Spectrum> {
+    let (start, step, values) = *t;
+    Spectrum::piecewise_linear_f64((0..values.len()).map(|i| start + step * i as f64).collect(), values.to_vec())
+}
+
 impl Spectrum {
     /// A spectrum pbrt-v4 names: the CIE illuminants listed in
     /// [`super::NAMED_ILLUMINANTS`] (Y = 1), and pbrt-v4's tabulated metals, glasses and
@@ -104,6 +110,8 @@ pub fn pbrt_named_spectrum(name: &str) -> Option<Spectrum> {
         "metal-Au-k" => metal(&AU_K),
         "metal-Cu-eta" => metal(&CU_ETA),
         "metal-Cu-k" => metal(&CU_K),
+        "metal-CuZn-eta" => spaced(&CUZN_ETA),
+        "metal-CuZn-k" => spaced(&CUZN_K),
         "metal-MgO-eta" => pairs(MGO_ETA),
         "metal-MgO-k" => pairs(MGO_K),
         "metal-TiO2-eta" => pairs(TIO2_ETA),
@@ -185,6 +193,21 @@ mod tests {
         assert!((named("metal-MgO-eta").eval_f64(589.0) - 1.737).abs() < 2e-3);
         assert!((named("metal-TiO2-eta").eval_f64(600.0) - 2.9).abs() < 0.05);
         assert!(named("metal-MgO-k").eval_f64(500.0) < 1e-5 && named("metal-TiO2-k").eval_f64(500.0) == 0.0);
+    }
+
+    #[test]
+    fn brass_is_pbrt_v4s_table_and_reflects_as_a_yellow_metal() {
+        // pbrt-v4's CuZn table at 550 nm (its 27th sample) and halfway to 560 nm.
+        let (eta, k) = (named("metal-CuZn-eta"), named("metal-CuZn-k"));
+        assert!((eta.eval_f64(550.0) - 0.527).abs() < 1e-6 && (k.eval_f64(550.0) - 2.765).abs() < 1e-6);
+        assert!((eta.eval_f64(555.0) - 0.516).abs() < 1e-6 && (k.eval_f64(555.0) - 2.8125).abs() < 1e-6);
+        assert!(eta.eval_f64(289.0) == 0.0 && k.eval_f64(891.0) == 0.0);
+        // Brass reflects red like copper and gold (R > 0.85 at 650 nm) and blue poorly; it
+        // reflects green better than copper (zinc moves the absorption edge towards the blue:
+        // yellow, not red-orange).
+        let (blue, green, red) = (reflectance("CuZn", 450.0), reflectance("CuZn", 550.0), reflectance("CuZn", 650.0));
+        assert!(red > 0.85 && (0.35..0.6).contains(&blue), "{blue} {red}");
+        assert!(green > reflectance("Cu", 550.0) + 0.1, "{green}");
     }
 
     fn xy(s: &Spectrum) -> (f64, f64) {

@@ -54,12 +54,6 @@ fn every_unsupported_feature_warns_and_is_an_error_in_strict_mode() {
             "LightSource \"distant\"",
             "a moving light",
         ),
-        (
-            false,
-            "Material \"conductor\" \"spectrum eta\" \"metal-CuZn-eta\"\nShape \"sphere\" \"float radius\" 0.5".into(),
-            "\"spectrum eta\"",
-            "named spectrum \"metal-CuZn-eta\"",
-        ),
         (false, PTEX.into(), "Texture \"t\"", "ptex textures"),
     ];
     let strict = ParseOptions { strict: true, ..Default::default() };
@@ -201,23 +195,15 @@ fn render_strict_accepts_pbrt_v4s_killeroo_scene() {
 }
 
 #[test]
-fn named_spectra_prism_lacks_are_located_and_unknown_names_are_errors() {
+fn named_spectra_resolve_and_unknown_names_are_errors() {
     let d = tmpdir("named-spectra");
-    // A pbrt-v4 spectrum prism has no data for (brass): a located unsupported feature whose
-    // stand-in is of its kind (copper's k, not an illuminant).
+    // pbrt-v4's brass (its last named spectrum prism lacked): its own data, no warning.
     let text =
         scene_text("", "Material \"conductor\" \"spectrum k\" \"metal-CuZn-k\"\nShape \"sphere\" \"float radius\" 0.5");
     let path = d.join("cuzn.pbrt");
     std::fs::write(&path, &text).unwrap();
     let loaded = load_file(&path, &Default::default()).unwrap();
-    let w: Vec<String> = loaded.warnings.iter().map(|w| w.to_string()).collect();
-    let loc = location_of(&path, &text, "\"spectrum k\"");
-    assert!(
-        w.iter()
-            .any(|w| w.starts_with(&format!("{loc}: warning: unsupported feature: named spectrum \"metal-CuZn-k\""))
-                && w.contains("metal-Cu-k")),
-        "{w:?}"
-    );
+    assert!(loaded.warnings.is_empty(), "{:?}", loaded.warnings);
     // A name neither pbrt-v4 nor prism knows, and no file of that name: an error at the
     // parameter naming the valid names.
     let text = scene_text("", "LightSource \"point\" \"float scale\" 1\n  \"spectrum I\" \"stdillum-D66\"");
