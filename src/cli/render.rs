@@ -71,7 +71,8 @@ pub struct RenderArgs {
     #[arg(long)]
     pub light_sampler: Option<String>,
     /// Integrator, by pbrt-v4's name: path or volpath (either renders a scene's media when it
-    /// has any) [default: the file's Integrator, else path].
+    /// has any), ambientocclusion, randomwalk, simplepath [default: the file's Integrator, else
+    /// path].
     #[arg(long)]
     pub integrator: Option<String>,
     /// Output colour space: srgb, rec2020, acescg, aces2065-1, display-p3 [default: srgb].
@@ -220,7 +221,8 @@ pub fn prepare(args: &RenderArgs) -> Result<Job> {
     let t0 = Instant::now();
     let scene = builder.build(accel).context("building the scene")?;
     let build_s = t0.elapsed().as_secs_f64();
-    let integrator = integrator_for(&scene, &file, integrator_kind, max_depth, sss);
+    let mut integrator = integrator_for(&scene, &file, integrator_kind, max_depth, sss);
+    integrator.ao.space = space;
     let resolution = resolution.or(file.resolution).unwrap_or(d.resolution);
     let crop = crop_arg.or(file.crop).map(|c| c.bounds(resolution)).transpose()?;
     let (iso, exposure) = (file.iso.unwrap_or(100.0), file.exposure_time.unwrap_or(1.0));

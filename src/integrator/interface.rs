@@ -4,6 +4,8 @@
 //! [`Integrator`] from the render settings and call [`Integrator::li_camera`],
 //! [`Integrator::li`] or [`Integrator::irradiance`]; which loop runs is decided here.
 
+use super::ambient_occlusion::AmbientOcclusion;
+use super::simple_path::SimplePath;
 use super::subsurface::SubsurfaceMethod;
 use super::Stats;
 use crate::bsdf::{Bsdf, Diffuse};
@@ -27,11 +29,23 @@ pub enum IntegratorKind {
     /// `volpath`: path tracing with participating media by null scattering (pbrt-v4
     /// `VolPathIntegrator`).
     VolPath,
+    /// `ambientocclusion`: the open fraction of the first surface's hemisphere (pbrt-v4
+    /// `AOIntegrator`).
+    AmbientOcclusion,
+    /// `randomwalk`: uniform directions, emission only where found (pbrt-v4
+    /// `RandomWalkIntegrator`).
+    RandomWalk,
+    /// `simplepath`: path tracing without MIS or Russian roulette (pbrt-v4
+    /// `SimplePathIntegrator`).
+    SimplePath,
 }
 
 crate::named::name_table!(IntegratorKind, "integrator", {
     "path" => IntegratorKind::Path,
     "volpath" => IntegratorKind::VolPath,
+    "ambientocclusion" => IntegratorKind::AmbientOcclusion,
+    "randomwalk" => IntegratorKind::RandomWalk,
+    "simplepath" => IntegratorKind::SimplePath,
 });
 
 /// Which estimators of direct light to use (for validating MIS: all three must agree).
@@ -73,6 +87,10 @@ pub struct Integrator {
     /// widened ([`crate::bsdf::TrowbridgeReitz::regularize`]), trading bias for caustics that
     /// light sampling can find.
     pub regularize: bool,
+    /// The parameters of `ambientocclusion`.
+    pub ao: AmbientOcclusion,
+    /// The parameters of `simplepath`.
+    pub simple: SimplePath,
 }
 
 impl Default for Integrator {
@@ -86,6 +104,8 @@ impl Default for Integrator {
             sss: SubsurfaceMethod::default(),
             footprint: None,
             regularize: false,
+            ao: AmbientOcclusion::default(),
+            simple: SimplePath::default(),
         }
     }
 }
@@ -100,6 +120,15 @@ impl Integrator {
             max_depth: file.max_depth.unwrap_or(d.max_depth),
             rr_threshold: file.rr_threshold.unwrap_or(d.rr_threshold),
             regularize: file.regularize.unwrap_or(d.regularize),
+            ao: AmbientOcclusion {
+                cos_sample: file.ao_cos_sample.unwrap_or(d.ao.cos_sample),
+                max_distance: file.ao_max_distance.unwrap_or(d.ao.max_distance),
+                ..d.ao
+            },
+            simple: SimplePath {
+                sample_lights: file.sample_lights.unwrap_or(d.simple.sample_lights),
+                sample_bsdf: file.sample_bsdf.unwrap_or(d.simple.sample_bsdf),
+            },
             ..d
         }
     }
@@ -116,6 +145,7 @@ impl Integrator {
         let kind = match self.kind {
             IntegratorKind::Path | IntegratorKind::VolPath if scene.has_media() || walks => IntegratorKind::VolPath,
             IntegratorKind::Path | IntegratorKind::VolPath => IntegratorKind::Path,
+            other => other,
         };
         Self { kind, ..self }
     }
@@ -150,6 +180,11 @@ impl Integrator {
         match self.kind {
             IntegratorKind::Path => self.path_trace(scene, ray, differentials, None, visible, w, sampler, stats),
             IntegratorKind::VolPath => self.volpath_trace(scene, ray, differentials, None, visible, w, sampler, stats),
+            IntegratorKind::AmbientOcclusion => {
+                self.ambient_occlusion(scene, ray, differentials, visible, w, sampler, stats)
+            }
+            IntegratorKind::RandomWalk => self.random_walk(scene, ray, differentials, visible, w, sampler, stats),
+            IntegratorKind::SimplePath => self.simple_path(scene, ray, differentials, visible, w, sampler, stats),
         }
     }
 
@@ -171,8 +206,9 @@ impl Integrator {
         let probe = Ray::new(p + n, -n); // only its origin matters for MIS bookkeeping
         let sensor = Some((si, bsdf));
         let lo = match self.kind {
-            IntegratorKind::Path => self.path_trace(scene, probe, None, sensor, None, w, sampler, stats),
+            // The path tracers measure for every estimator (the others start at a camera ray).
             IntegratorKind::VolPath => self.volpath_trace(scene, probe, None, sensor, None, w, sampler, stats),
+            _ => self.path_trace(scene, probe, None, sensor, None, w, sampler, stats),
         };
         lo * PI
     }

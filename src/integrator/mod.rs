@@ -1,11 +1,14 @@
 //! Integrators: estimators of the radiance arriving at the camera, behind one interface
 //! ([`Integrator`]).
 
+mod ambient_occlusion;
 mod collision;
 mod interface;
 #[cfg(test)]
 mod nanovdb_tests;
 mod path;
+mod random_walk;
+mod simple_path;
 mod state;
 pub mod subsurface;
 mod transmittance;
@@ -14,7 +17,9 @@ mod volpath;
 #[cfg(test)]
 mod volpath_tests;
 
+pub use ambient_occlusion::AmbientOcclusion;
 pub use interface::{DirectStrategy, Integrator, IntegratorKind, UNBOUNDED_DEPTH};
+pub use simple_path::SimplePath;
 pub use subsurface::SubsurfaceMethod;
 
 /// Counters gathered while rendering (summed over threads).

@@ -7,11 +7,13 @@
 
 use super::interface::Integrator;
 use super::visible_surface::visible_surface;
+use super::Stats;
 use crate::bsdf::{Bsdf, BsdfSample, TransportMode};
 use crate::film::VisibleSurface;
+use crate::geometry::Ray;
 use crate::light::LightSampleContext;
 use crate::sampling::Sampler;
-use crate::scene::SurfaceInteraction;
+use crate::scene::{Scene, SurfaceInteraction, MAX_INTERFACE_CROSSINGS};
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 use crate::texture::{Footprint, RayDifferentials};
 use glam::Vec3;
@@ -160,4 +162,25 @@ impl Integrator {
         }
         true
     }
+}
+
+/// The first surface along `ray` that is not only a boundary between media (the estimators
+/// that ignore media look through those), or `None` when the ray escapes.
+pub(super) fn next_surface<'s>(scene: &'s Scene, mut ray: Ray, stats: &mut Stats) -> Option<SurfaceInteraction<'s>> {
+    for _ in 0..=MAX_INTERFACE_CROSSINGS {
+        stats.rays += 1;
+        let si = scene.intersect(&ray)?;
+        if !si.is_passthrough() {
+            return Some(si);
+        }
+        ray = si.spawn_ray(ray.d);
+    }
+    None
+}
+
+/// The radiance of every infinite light along `ray`, which escaped the scene (unweighted: for
+/// the estimators that do not weigh emission against light sampling).
+pub(super) fn escaped_radiance(scene: &Scene, ray: &Ray, w: &SampledWavelengths) -> SampledSpectrum {
+    let d = ray.d.normalize();
+    scene.infinite_lights().fold(SampledSpectrum::zero(), |l, (_, light)| l + light.escaped_radiance(ray.o, d, w))
 }

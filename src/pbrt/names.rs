@@ -39,18 +39,10 @@ pub const MEDIA: &[&str] = crate::media::PBRT_NAMES;
 /// Integrators prism runs.
 /// A scene with media is rendered by the volumetric path tracer whichever is named; without
 /// media "volpath" is "path".
-pub const PRISM_INTEGRATORS: &[&str] = &["path", "volpath"];
+pub const PRISM_INTEGRATORS: &[&str] = &["path", "volpath", "ambientocclusion", "randomwalk", "simplepath"];
 /// pbrt-v4 integrators prism replaces with its path tracer.
-pub const PBRT_ONLY_INTEGRATORS: &[(&str, &str)] = &[
-    ("ambientocclusion", "path"),
-    ("bdpt", "path"),
-    ("lightpath", "path"),
-    ("mlt", "path"),
-    ("randomwalk", "path"),
-    ("simplepath", "path"),
-    ("simplevolpath", "path"),
-    ("sppm", "path"),
-];
+pub const PBRT_ONLY_INTEGRATORS: &[(&str, &str)] =
+    &[("bdpt", "path"), ("lightpath", "path"), ("mlt", "path"), ("simplevolpath", "path"), ("sppm", "path")];
 
 /// Samplers (all pbrt-v4 names are accepted; the renderer picks its own sequence).
 pub const SAMPLERS: &[&str] = &["halton", "independent", "paddedsobol", "pmj02bn", "sobol", "stratified", "zsobol"];

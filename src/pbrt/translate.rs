@@ -58,6 +58,12 @@ pub struct FileSettings {
     pub rr_threshold: Option<f32>,
     /// Integrator "regularize" (pbrt-v4's default false).
     pub regularize: Option<bool>,
+    /// Integrator "ambientocclusion": "cossample" and "maxdistance".
+    pub ao_cos_sample: Option<bool>,
+    pub ao_max_distance: Option<f32>,
+    /// Integrator "simplepath": "samplelights" and "samplebsdf".
+    pub sample_lights: Option<bool>,
+    pub sample_bsdf: Option<bool>,
     /// PixelFilter with its parameters.
     pub filter: Option<crate::filter::Filter>,
     /// Sampler type mapped to prism's ("independent" or "sobol").
@@ -376,6 +382,10 @@ impl Ctx<'_> {
             integrator: Some(d.integrator.kind.clone()),
             rr_threshold: d.integrator.params.float("rrthreshold"),
             regularize: d.integrator.params.bool("regularize"),
+            ao_cos_sample: d.integrator.params.bool("cossample"),
+            ao_max_distance: d.integrator.params.float("maxdistance"),
+            sample_lights: d.integrator.params.bool("samplelights"),
+            sample_bsdf: d.integrator.params.bool("samplebsdf"),
             filter: Some(filter),
             sampler: Some(sampler.to_string()),
             seed: d.sampler.params.int("seed").or_else(|| d.options.int("seed")).map(|s| s as u64),

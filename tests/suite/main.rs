@@ -41,6 +41,7 @@ mod robustness;
 mod scene_files;
 mod scene_fuzz;
 mod scene_parser;
+mod simple_integrators;
 mod spectral_edges;
 mod strategies;
 mod strict;
