@@ -171,6 +171,15 @@ fn fuzz_spd_files() {
 }
 
 #[test]
+fn fuzz_measured_bsdf_files() {
+    // The seed: a GGX conductor tabulated by `prism::bsdf::measured::tabulate` (3 angles,
+    // 6 wavelengths, 8² grids) in the RGL tensor format.
+    fuzz("bsdf", &seeds("bsdf"), |p| {
+        load_scene(p, concat!(world!(), "Material \"measured\" \"string filename\" \"{}\"\nShape \"sphere\"\n"))
+    });
+}
+
+#[test]
 fn fuzz_nanovdb() {
     fuzz("nanovdb", &[data("nanovdb/tiles.nvdb")], |p| {
         prism::media::nanovdb::NanoVdbFile::open(p).map_err(|e| e.to_string())?;
