@@ -103,11 +103,19 @@ pub fn render_pass(scene: &Scene, settings: &RenderSettings, film: &mut Film, ra
         Some(a) => a.chunks_mut(band).map(Some).collect(),
         None => film.pixels.chunks(band).map(|_| None).collect(),
     };
+    // The spectral buckets: the film's, when the settings ask for the same ones.
+    let spectral = settings.film.spectral.filter(|s| film.spectral.as_ref().is_some_and(|f| f.settings == *s));
+    let stride = spectral.map_or(0, |s| s.stride());
+    let spectral_bands: Vec<Option<&mut [f64]>> = match film.spectral.as_mut().filter(|_| spectral.is_some()) {
+        Some(s) => s.sums.chunks_mut(band * stride).map(Some).collect(),
+        None => film.pixels.chunks(band).map(|_| None).collect(),
+    };
     film.pixels
         .par_chunks_mut(band)
         .zip(aov_bands)
+        .zip(spectral_bands)
         .enumerate()
-        .map(|(band, (pixels, mut aov_pixels))| {
+        .map(|(band, ((pixels, mut aov_pixels), mut spectral_sums))| {
             let mut stats = Stats::default();
             // Pixels are named by their place in the full image, so a crop renders exactly
             // the samples of the same pixels of the full render.
@@ -117,7 +125,10 @@ pub fn render_pass(scene: &Scene, settings: &RenderSettings, film: &mut Film, ra
             let start = |sampler: &mut Sampler, (x, y): (u32, u32), s: u64| {
                 sampler.start_pixel_sample((x, y), s, settings.seed);
                 let u = sampler.get_pixel_3d();
-                let lambdas = SampledWavelengths::sample_visible(u.z);
+                let lambdas = match &spectral {
+                    Some(s) => s.sample_wavelengths(u.z),
+                    None => SampledWavelengths::sample_visible(u.z),
+                };
                 let (offset, weight) = settings.filter.sample(u.truncate());
                 let p_film = Vec2::new(x as f32 + 0.5, y as f32 + 0.5) + offset;
                 // pbrt-v4's camera sample: a time uniform over the shutter interval, then the
@@ -173,6 +184,10 @@ pub fn render_pass(scene: &Scene, settings: &RenderSettings, film: &mut Film, ra
                         }
                     };
                     let response = add(px, &mut stats, (x, y), s, l, lambdas, weight);
+                    if let (Some(sums), Some(sp), Some(_)) = (spectral_sums.as_deref_mut(), spectral.as_ref(), response)
+                    {
+                        sp.add(&mut sums[i * stride..(i + 1) * stride], &l, &lambdas, weight, sensor.max_component);
+                    }
                     if let (Some(a), Some(v), Some(response), Some(aov)) =
                         (aov_pixels.as_deref_mut(), visible, response, aov.as_ref())
                     {
@@ -201,10 +216,7 @@ pub fn render(
     mut progress: impl FnMut(u64),
 ) -> Result<(Film, Stats), FilmAllocError> {
     let (w, h) = settings.film_size();
-    let mut film = Film::try_new(w, h)?;
-    if settings.film.aov.is_some() {
-        film = film.try_with_aov()?;
-    }
+    let mut film = Film::try_for(w, h, &settings.film)?;
     let never = AtomicBool::new(false);
     let stats = render_range(scene, settings, &mut film, 0..settings.spp, &never, |_, done| {
         progress(done);

@@ -38,6 +38,9 @@ pub struct ImageMeta {
     pub seed: Option<u64>,
     /// The sampler's name.
     pub sampler: Option<String>,
+    /// The file holds spectral channels in the layout of Fichet et al. (JCGT 2021): say so as
+    /// pbrt-v4 does (`spectralLayoutVersion` "1.0", `emissiveUnits` "W.m^-2.sr^-1").
+    pub spectral_layout: bool,
 }
 
 /// prism's version, written into every OpenEXR file as `prism:version`.
@@ -54,6 +57,10 @@ impl ImageMeta {
         }
         if let Some(s) = self.seed {
             v.push(("prism:seed", s.to_string()));
+        }
+        if self.spectral_layout {
+            v.push(("spectralLayoutVersion", "1.0".to_string()));
+            v.push(("emissiveUnits", "W.m^-2.sr^-1".to_string()));
         }
         v
     }
@@ -131,6 +138,7 @@ mod tests {
             render_time_seconds: Some(1.5),
             seed: Some(7),
             sampler: Some("sobol".into()),
+            ..Default::default()
         }
     }
 

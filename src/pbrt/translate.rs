@@ -84,6 +84,8 @@ pub struct FileSettings {
     pub save_fp16: Option<bool>,
     /// Film "gbuffer": the geometry buffers' coordinate system (`coordinatesystem`).
     pub aov: Option<crate::film::AovSpace>,
+    /// Film "spectral": its buckets (`nbuckets`, `lambdamin`, `lambdamax`).
+    pub spectral: Option<crate::film::SpectralSettings>,
 }
 
 /// pbrt-v4's `PixelFilter` `kind` with its parameters (`xradius`, `yradius`; Gaussian `sigma`;
@@ -365,6 +367,21 @@ impl Ctx<'_> {
             }
             _ => None,
         };
+        let spectral = match d.film.kind.as_str() {
+            "spectral" => {
+                let default = crate::film::SpectralSettings::default();
+                let buckets = film.int_or("nbuckets", default.buckets as i32);
+                let s = crate::film::SpectralSettings {
+                    buckets: buckets.max(0) as u32,
+                    lambda_min: film.float_or("lambdamin", default.lambda_min),
+                    lambda_max: film.float_or("lambdamax", default.lambda_max),
+                };
+                let name = if buckets < 1 { "nbuckets" } else { "lambdamin" };
+                s.check().map_err(|e| param_error(film, name, &d.film.loc, e))?;
+                Some(s)
+            }
+            _ => None,
+        };
         let filter = pixel_filter(&d.filter.kind, &d.filter.params);
         let (sampler, spp) = self.sampler()?;
         Ok(FileSettings {
@@ -388,6 +405,7 @@ impl Ctx<'_> {
             max_component: film.float("maxcomponentvalue"),
             save_fp16: film.bool("savefp16"),
             aov,
+            spectral,
         })
     }
 

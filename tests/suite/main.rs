@@ -42,6 +42,7 @@ mod scene_files;
 mod scene_fuzz;
 mod scene_parser;
 mod spectral_edges;
+mod spectral_film;
 mod strategies;
 mod strict;
 mod twisted_ribbons;
