@@ -491,12 +491,17 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         // the ones missing.
         crate::checkpoint::save(&job.output, &film, &header(range.start..done))?;
     } else {
+        // Where the camera is when the shutter opens, as pbrt-v4 records it.
+        let open = job.scene.shutter.map_or(0.0, |(open, _)| open);
+        let (camera_from_world, ndc_from_world) = job.scene.camera.header_matrices(open);
         let meta = ImageMeta {
             color_space: Some(Chromaticities::of(job.space)),
             samples_per_pixel: Some(done - range.start),
             render_time_seconds: Some(elapsed),
             seed: Some(job.settings.seed),
             sampler: Some(job.settings.sampler.name().to_string()),
+            world_to_camera: Some(camera_from_world.transpose().to_cols_array_2d()),
+            world_to_ndc: ndc_from_world.map(|m| m.transpose().to_cols_array_2d()),
             ..Default::default()
         };
         let opts = WriteOptions { window, exr_sample: job.exr_sample, meta, ..Default::default() };

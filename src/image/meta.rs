@@ -38,6 +38,11 @@ pub struct ImageMeta {
     pub seed: Option<u64>,
     /// The sampler's name.
     pub sampler: Option<String>,
+    /// World space → camera space (pbrt-v4's `worldToCamera`), rows of the matrix that maps a
+    /// point as a column vector, as pbrt-v4 writes them.
+    pub world_to_camera: Option<[[f32; 4]; 4]>,
+    /// World space → NDC (pbrt-v4's `worldToNDC`, see [`crate::camera::ndc`]), rows likewise.
+    pub world_to_ndc: Option<[[f32; 4]; 4]>,
     /// The file holds spectral channels in the layout of Fichet et al. (JCGT 2021): say so as
     /// pbrt-v4 does (`spectralLayoutVersion` "1.0", `emissiveUnits` "W.m^-2.sr^-1").
     pub spectral_layout: bool,

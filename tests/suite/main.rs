@@ -18,6 +18,7 @@ mod envmap;
 mod equal_area_envmap;
 mod film;
 mod fuzz;
+mod header_matrices;
 mod instanced_shapes;
 mod instancing;
 mod integrators;
