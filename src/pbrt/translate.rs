@@ -376,7 +376,12 @@ impl Ctx<'_> {
                     lambda_min: film.float_or("lambdamin", default.lambda_min),
                     lambda_max: film.float_or("lambdamax", default.lambda_max),
                 };
-                let name = if buckets < 1 { "nbuckets" } else { "lambdamin" };
+                // The parameter the error points at (the directive when it is not given).
+                let name = match buckets {
+                    ..1 => "nbuckets",
+                    _ if s.lambda_max > crate::spectrum::LAMBDA_MAX || !film.has("lambdamin") => "lambdamax",
+                    _ => "lambdamin",
+                };
                 s.check().map_err(|e| param_error(film, name, &d.film.loc, e))?;
                 Some(s)
             }

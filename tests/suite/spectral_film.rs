@@ -202,6 +202,24 @@ fn buckets_integrated_against_cie_1931_give_the_rgb_channels() {
 }
 
 #[test]
+fn buckets_pbrt_v4_cannot_render_are_errors_at_their_parameter() {
+    let dir = tmpdir("spectral-errors");
+    for (film, param) in [
+        ("\"integer nbuckets\" 0", "nbuckets"),
+        ("\"float lambdamin\" 300", "lambdamin"),
+        ("\"float lambdamax\" 900", "lambdamax"),
+        ("\"float lambdamin\" 600 \"float lambdamax\" 500", "lambdamin"),
+    ] {
+        let file = dir.join("bad.pbrt");
+        std::fs::write(&file, scene(film)).unwrap();
+        let o = prism().arg("render").arg(&file).arg("-o").arg(dir.join("bad.exr")).output().unwrap();
+        let e = stderr(&o);
+        assert!(!o.status.success() && e.contains(param) && e.contains("bad.pbrt:5:"), "{film}: {e}");
+        assert!(!dir.join("bad.exr").exists());
+    }
+}
+
+#[test]
 fn a_spectral_film_to_png_writes_rgb_with_a_warning_and_parts_merge_to_the_whole() {
     let dir = tmpdir("spectral-parts");
     let file = dir.join("s.pbrt");
