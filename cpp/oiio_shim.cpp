@@ -65,15 +65,44 @@ void name_channels(ImageSpec &spec, int channels) {
     }
 }
 
+bool set_attributes(ImageSpec &spec, const prism_oiio_attr *attrs, int count) {
+    for (int i = 0; i < count; ++i) {
+        const prism_oiio_attr &a = attrs[i];
+        if (a.name == nullptr) return false;
+        switch (a.type) {
+        case PRISM_OIIO_ATTR_FLOAT:
+            if (a.values == nullptr) return false;
+            spec.attribute(a.name, a.values[0]);
+            break;
+        case PRISM_OIIO_ATTR_INT: spec.attribute(a.name, a.int_value); break;
+        case PRISM_OIIO_ATTR_STRING:
+            if (a.text == nullptr) return false;
+            spec.attribute(a.name, a.text);
+            break;
+        case PRISM_OIIO_ATTR_M44F:
+            if (a.values == nullptr) return false;
+            spec.attribute(a.name, OIIO::TypeMatrix44, a.values);
+            break;
+        case PRISM_OIIO_ATTR_FLOAT8:
+            if (a.values == nullptr) return false;
+            spec.attribute(a.name, TypeDesc(TypeDesc::FLOAT, 8), a.values);
+            break;
+        default: return false;
+        }
+    }
+    return true;
+}
+
 int write_impl(const char *path, int width, int height, int channels, const float *pixels,
-               int format, int quality, const int *window, char *err, size_t err_len) {
+               int format, int quality, const int *window, const prism_oiio_attr *attrs,
+               int attr_count, char *err, size_t err_len) {
     TypeDesc type;
     if (!to_typedesc(format, type)) {
         set_error(err, err_len, "unknown pixel format code " + std::to_string(format));
         return 1;
     }
     if (path == nullptr || pixels == nullptr || width <= 0 || height <= 0 || channels <= 0) {
-        set_error(err, err_len, "invalid arguments to prism_oiio_write");
+        set_error(err, err_len, "invalid arguments to prism_oiio_write_meta");
         return 1;
     }
     auto out = ImageOutput::create(path);
@@ -96,6 +125,11 @@ int write_impl(const char *path, int width, int height, int channels, const floa
     spec.attribute("oiio:UnassociatedAlpha", 1);
     if (out->format_name() == std::string("openexr")) spec.attribute("compression", "zip");
     if (quality > 0) spec.attribute("CompressionQuality", quality);
+    if (attr_count < 0 || (attr_count > 0 && attrs == nullptr) ||
+        !set_attributes(spec, attrs, attr_count)) {
+        set_error(err, err_len, "invalid header attributes to prism_oiio_write_meta");
+        return 1;
+    }
     if (!out->open(path, spec)) {
         set_error(err, err_len, out->geterror());
         return 1;
@@ -230,15 +264,17 @@ int read_impl(const char *path, int width, int height, int channels, float *pixe
 
 } // namespace
 
-extern "C" int prism_oiio_write(const char *path, int width, int height, int channels,
-                                const float *pixels, int format, int quality,
-                                const int *window, char *err, size_t err_len) {
+extern "C" int prism_oiio_write_meta(const char *path, int width, int height, int channels,
+                                     const float *pixels, int format, int quality,
+                                     const int *window, const prism_oiio_attr *attrs,
+                                     int attr_count, char *err, size_t err_len) {
     try {
-        return write_impl(path, width, height, channels, pixels, format, quality, window, err, err_len);
+        return write_impl(path, width, height, channels, pixels, format, quality, window, attrs,
+                          attr_count, err, err_len);
     } catch (const std::exception &e) {
         set_error(err, err_len, e.what());
     } catch (...) {
-        set_error(err, err_len, "unknown C++ exception in prism_oiio_write");
+        set_error(err, err_len, "unknown C++ exception in prism_oiio_write_meta");
     }
     return 1;
 }

@@ -3,9 +3,11 @@
 //! for renders split into parts (`--part i/N`, `prism merge`). Written atomically.
 //!
 //! Layout: the magic line `PRISMFILM 1\n`, a u32 little-endian header length, a JSON header, then
-//! per pixel X, Y, Z, weight as f64 and the sample count as u64, all little-endian.
+//! per pixel X, Y, Z, weight as f64 and the sample count as u64, all little-endian; then, when
+//! the header says so, per pixel the geometry buffers' sums, then per pixel the spectral
+//! buckets' sums (f64, little-endian).
 
-use crate::film::{AovPixel, Film, Pixel};
+use crate::film::{AovPixel, Film, Pixel, SpectralSettings};
 use crate::image::CropWindow;
 use glam::DVec3;
 use std::io::Read;
@@ -17,7 +19,7 @@ const MAGIC: &[u8] = b"PRISMFILM 1\n";
 const MAX_PIXELS: u64 = 1 << 28;
 
 /// What a film file holds besides the pixels.
-#[derive(Clone, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct FilmHeader {
     /// Image width.
     pub width: u32,
@@ -43,6 +45,10 @@ pub struct FilmHeader {
     /// [`crate::film::AovPixel::write_le`].
     #[serde(default)]
     pub aov: bool,
+    /// The film holds spectral buckets: after the geometry buffers, per pixel the
+    /// [`SpectralSettings::stride`] sums of [`crate::film::SpectralSums`].
+    #[serde(default)]
+    pub spectral: Option<SpectralSettings>,
 }
 
 /// Errors reading or combining film files.
@@ -73,7 +79,8 @@ pub enum FilmFileError {
 pub fn save(path: &Path, film: &Film, header: &FilmHeader) -> Result<(), FilmFileError> {
     let json = serde_json::to_vec(header).expect("header serialises");
     let aov_bytes = film.aov.as_ref().map_or(0, |a| a.len() * AovPixel::FILE_BYTES);
-    let size = MAGIC.len() + 4 + json.len() + film.pixels.len() * 40 + aov_bytes;
+    let spectral_bytes = film.spectral.as_ref().map_or(0, |s| s.sums.len() * 8);
+    let size = MAGIC.len() + 4 + json.len() + film.pixels.len() * 40 + aov_bytes + spectral_bytes;
     let mut buf = Vec::new();
     buf.try_reserve_exact(size).map_err(|_| Film::alloc_error(film.width, film.height, size))?;
     buf.extend_from_slice(MAGIC);
@@ -87,6 +94,9 @@ pub fn save(path: &Path, film: &Film, header: &FilmHeader) -> Result<(), FilmFil
     }
     for a in film.aov.iter().flatten() {
         a.write_le(&mut buf);
+    }
+    for v in film.spectral.iter().flat_map(|s| &s.sums) {
+        buf.extend_from_slice(&v.to_le_bytes());
     }
     crate::io::write_atomic(path, &buf).map_err(|e| FilmFileError::Io { path: path.display().to_string(), cause: e })
 }
@@ -126,16 +136,33 @@ pub fn load(path: &Path) -> Result<(Film, FilmHeader), FilmFileError> {
     }
     let mut data = Vec::new();
     f.read_to_end(&mut data).map_err(io)?;
+    if let Some(s) = &header.spectral {
+        s.check().map_err(|e| bad(&format!("its spectral buckets: {e}")))?;
+        if s.buckets > 1 << 16 {
+            return Err(bad("absurd number of spectral buckets"));
+        }
+    }
     let aov_bytes = if header.aov { AovPixel::FILE_BYTES as u64 } else { 0 };
-    if data.len() as u64 != n * (40 + aov_bytes) {
+    let spectral_bytes = header.spectral.map_or(0, |s| s.stride() as u64 * 8);
+    if data.len() as u64 != n * (40 + aov_bytes + spectral_bytes) {
         return Err(bad("pixel data has the wrong length"));
     }
-    let (data, aov_data) = data.split_at(n as usize * 40);
+    let (data, rest) = data.split_at(n as usize * 40);
+    let (aov_data, spectral_data) = rest.split_at((n * aov_bytes) as usize);
     let mut film = Film::try_new(header.width, header.height)?;
     if header.aov {
         film = film.try_with_aov()?;
         for (a, c) in film.aov.iter_mut().flatten().zip(aov_data.chunks_exact(AovPixel::FILE_BYTES)) {
             *a = AovPixel::read_le(c).ok_or_else(|| bad("a pixel's geometry buffers hold a non-finite sum"))?;
+        }
+    }
+    if let Some(s) = header.spectral {
+        film = film.try_with_spectral(s)?;
+        for (v, c) in film.spectral.iter_mut().flat_map(|s| &mut s.sums).zip(spectral_data.chunks_exact(8)) {
+            *v = f64::from_le_bytes(c.try_into().expect("8 bytes"));
+            if !v.is_finite() {
+                return Err(bad("a pixel's spectral buckets hold a non-finite sum"));
+            }
         }
     }
     let range_len = header.samples.end - header.samples.start;
@@ -172,6 +199,11 @@ pub fn merge(mut parts: Vec<(Film, FilmHeader)>) -> Result<(Film, FilmHeader), F
         }
         if h.aov != header.aov {
             return Err(FilmFileError::Mismatch("one part holds geometry buffers, another not".into()));
+        }
+        if h.spectral != header.spectral {
+            return Err(FilmFileError::Mismatch(
+                "the parts hold different spectral buckets (or one holds none)".into(),
+            ));
         }
         if let Some(d) = crate::fingerprint::difference(&header.fingerprint, &h.fingerprint) {
             return Err(FilmFileError::Mismatch(format!("parts come from different scenes or settings: {d}")));
@@ -232,6 +264,7 @@ mod tests {
             color_space: Some("rec2020".into()),
             exr_float: true,
             aov: false,
+            spectral: None,
         };
         let (a, b) = (film(1.0), film(2.0));
         save(&dir.join("a.film"), &a, &h(0..2)).unwrap();
@@ -262,6 +295,7 @@ mod tests {
                 color_space: None,
                 exr_float: false,
                 aov: false,
+                spectral: None,
             };
             (film(1.0), h)
         };
@@ -298,6 +332,7 @@ mod tests {
             color_space: None,
             exr_float: false,
             aov: false,
+            spectral: None,
         };
         let check = |name: &str, film: &Film, h: &FilmHeader, needle: &str| {
             let path = dir.join(name);

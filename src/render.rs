@@ -3,7 +3,8 @@
 //! its samples in index order, so the image is bit-identical for any thread count, and a render
 //! can be split into disjoint sample ranges and merged.
 
-use crate::film::{AovPixel, AovSpace, Film, FilmAllocError, FilmSettings};
+use crate::camera::Camera;
+use crate::film::{AovPixel, AovSettings, AovSpace, Film, FilmAllocError, FilmSettings, Pixel, SpectralSettings};
 use crate::filter::Filter;
 use crate::integrator::{Integrator, Stats};
 use crate::material::Material;
@@ -81,6 +82,67 @@ impl RenderSettings {
     }
 }
 
+/// Where a camera sample's wavelengths come from and where its spectral radiance goes: nowhere
+/// for an RGB film, a band of spectral buckets for a spectral one. The render loop is
+/// instantiated once for each, so an RGB film pays nothing for the buckets.
+trait SpectralSink {
+    /// The wavelengths of a camera sample from `u`.
+    fn sample_wavelengths(&self, u: f32) -> SampledWavelengths;
+    /// Adds the radiance `l` of a sample of pixel `i` of the band, filter weight `w`.
+    fn add(&mut self, i: usize, l: &SampledSpectrum, lambdas: &SampledWavelengths, w: f32);
+}
+
+/// No buckets: wavelengths sampled by the luminous efficiency.
+struct NoSpectrum;
+
+impl SpectralSink for NoSpectrum {
+    #[inline]
+    fn sample_wavelengths(&self, u: f32) -> SampledWavelengths {
+        SampledWavelengths::sample_visible(u)
+    }
+
+    #[inline]
+    fn add(&mut self, _: usize, _: &SampledSpectrum, _: &SampledWavelengths, _: f32) {}
+}
+
+/// A band of pixels' spectral bucket sums.
+struct SpectralBand<'a> {
+    settings: SpectralSettings,
+    sums: &'a mut [f64],
+    /// The sensor's `maxcomponentvalue`.
+    max_component: f32,
+}
+
+impl SpectralSink for SpectralBand<'_> {
+    #[inline]
+    fn sample_wavelengths(&self, u: f32) -> SampledWavelengths {
+        self.settings.sample_wavelengths(u)
+    }
+
+    #[inline]
+    fn add(&mut self, i: usize, l: &SampledSpectrum, lambdas: &SampledWavelengths, w: f32) {
+        let n = self.settings.stride();
+        self.settings.add(&mut self.sums[i * n..(i + 1) * n], l, lambdas, w, self.max_component);
+    }
+}
+
+/// What every band of a pass shares.
+struct Pass<'a> {
+    scene: &'a Scene,
+    settings: &'a RenderSettings,
+    camera: Camera,
+    integrator: Integrator,
+    /// The camera-ray differentials, when something needs them.
+    differentials: Option<&'a TextureFootprint>,
+    /// The geometry buffers' settings, when they are recorded.
+    aov: Option<AovSettings>,
+    /// The film's width [pixels] and the full-image pixel of its (0, 0).
+    width: usize,
+    origin: (u32, u32),
+    /// The sample indices of the pass.
+    range: Range<u64>,
+}
+
 /// One pass's worth of work: samples `range` of every pixel.
 pub fn render_pass(scene: &Scene, settings: &RenderSettings, film: &mut Film, range: Range<u64>) -> Stats {
     let camera = scene.camera.camera(settings.resolution);
@@ -91,105 +153,128 @@ pub fn render_pass(scene: &Scene, settings: &RenderSettings, film: &mut Film, ra
     if width == 0 {
         return Stats::default(); // an empty film: nothing to render (and no chunk size of 0)
     }
-    let (x0, y0) = settings.film_origin();
-    let sensor = settings.film.sensor;
     let aov = settings.film.aov.filter(|_| film.aov.is_some());
     // A camera ray's own differentials are only needed where a texture is filtered with them,
     // or where the geometry buffers record the pixel footprint.
     let differentials =
         integrator.footprint.as_ref().filter(|_| aov.is_some() || scene.materials().iter().any(Material::is_textured));
+    let pass =
+        Pass { scene, settings, camera, integrator, differentials, aov, width, origin: settings.film_origin(), range };
     let band = width * BAND_ROWS;
     let aov_bands: Vec<Option<&mut [AovPixel]>> = match film.aov.as_mut().filter(|_| aov.is_some()) {
         Some(a) => a.chunks_mut(band).map(Some).collect(),
         None => film.pixels.chunks(band).map(|_| None).collect(),
     };
+    // The spectral buckets: the film's, when the settings ask for the same ones.
+    let spectral = settings.film.spectral.filter(|s| film.spectral.as_ref().is_some_and(|f| f.settings == *s));
+    let spectral_bands: Vec<Option<&mut [f64]>> = match (film.spectral.as_mut(), spectral) {
+        (Some(f), Some(s)) => f.sums.chunks_mut(band * s.stride()).map(Some).collect(),
+        _ => film.pixels.chunks(band).map(|_| None).collect(),
+    };
     film.pixels
         .par_chunks_mut(band)
         .zip(aov_bands)
+        .zip(spectral_bands)
         .enumerate()
-        .map(|(band, (pixels, mut aov_pixels))| {
-            let mut stats = Stats::default();
-            // Pixels are named by their place in the full image, so a crop renders exactly
-            // the samples of the same pixels of the full render.
-            let pixel_at = |i: usize| (x0 + (i % width) as u32, y0 + (band * BAND_ROWS + i / width) as u32);
-            // A camera sample of pixel `(x, y)`: its wavelengths, filter weight, ray and the
-            // ray's differentials.
-            let start = |sampler: &mut Sampler, (x, y): (u32, u32), s: u64| {
-                sampler.start_pixel_sample((x, y), s, settings.seed);
-                let u = sampler.get_pixel_3d();
-                let lambdas = SampledWavelengths::sample_visible(u.z);
-                let (offset, weight) = settings.filter.sample(u.truncate());
-                let p_film = Vec2::new(x as f32 + 0.5, y as f32 + 0.5) + offset;
-                // pbrt-v4's camera sample: a time uniform over the shutter interval, then the
-                // lens. A scene where nothing (camera included) moves draws no time sample, so
-                // its sampler dimensions (and image) stay as without motion blur.
-                let time = scene.shutter.map_or(0.0, |(open, close)| {
-                    let u = sampler.get_1d();
-                    open + (close - open) * u
-                });
-                let u_lens = sampler.get_2d();
-                let ray = camera.sample_ray(p_film, u_lens, time);
-                let diff = differentials
-                    .zip(ray.as_ref())
-                    .and_then(|(f, r)| f.camera_ray_differentials(&camera, &r.ray, p_film, u_lens));
-                (lambdas, weight, ray, diff)
-            };
-            // Adds a sample's estimate to its pixel; the sensor's response, or `None` when the
-            // estimate is not finite and is dropped.
-            let add = |px: &mut crate::film::Pixel,
-                       stats: &mut Stats,
-                       (x, y),
-                       s,
-                       l: SampledSpectrum,
-                       lambdas,
-                       weight: f32| {
-                stats.samples += 1;
-                let xyz = sensor.record(&l, &lambdas);
-                if !xyz.is_finite() {
-                    stats.nonfinite += 1;
-                    if stats.nonfinite_at.len() < 16 {
-                        stats.nonfinite_at.push((x, y, s, stats.last_depth));
-                    }
-                    return None;
-                }
-                px.xyz_sum += xyz.as_dvec3() * weight as f64;
-                px.weight_sum += weight as f64;
-                px.samples += 1;
-                Some(xyz)
-            };
-            let mut sampler = settings.sampler.make();
-            for (i, px) in pixels.iter_mut().enumerate() {
-                let (x, y) = pixel_at(i);
-                for s in range.clone() {
-                    let (mut lambdas, weight, ray, diff) = start(&mut sampler, (x, y), s);
-                    let diff = diff.as_ref();
-                    let mut visible = None;
-                    let record = aov_pixels.is_some().then_some(&mut visible);
-                    let l = match ray {
-                        None => SampledSpectrum::splat(0.0),
-                        Some(r) => {
-                            integrator.li_camera(scene, r.ray, diff, record, &mut lambdas, &mut sampler, &mut stats)
-                                * r.weight
-                        }
-                    };
-                    let response = add(px, &mut stats, (x, y), s, l, lambdas, weight);
-                    if let (Some(a), Some(v), Some(response), Some(aov)) =
-                        (aov_pixels.as_deref_mut(), visible, response, aov.as_ref())
-                    {
-                        let out_from_world = match aov.coordinates {
-                            AovSpace::Camera => camera.transform.camera_from_world(v.time),
-                            AovSpace::World => Mat4::IDENTITY,
-                        };
-                        a[i].add(&v, &lambdas, aov, &out_from_world, response, weight);
-                    }
-                }
+        .map(|(band, ((pixels, aov_pixels), sums))| match (spectral, sums) {
+            (Some(settings), Some(sums)) => {
+                let sink = SpectralBand { settings, sums, max_component: pass.settings.film.sensor.max_component };
+                render_band(&pass, band, pixels, aov_pixels, sink)
             }
-            stats
+            _ => render_band(&pass, band, pixels, aov_pixels, NoSpectrum),
         })
         .reduce(Stats::default, |mut a, b| {
             a.merge(&b);
             a
         })
+}
+
+/// Samples `pass.range` of every pixel of band `band` (its pixels, geometry buffers and
+/// spectral sink).
+fn render_band<S: SpectralSink>(
+    pass: &Pass,
+    band: usize,
+    pixels: &mut [Pixel],
+    mut aov_pixels: Option<&mut [AovPixel]>,
+    mut spectral: S,
+) -> Stats {
+    let Pass { scene, settings, ref camera, ref integrator, differentials, aov, width, origin: (x0, y0), .. } = *pass;
+    let sensor = settings.film.sensor;
+    let mut stats = Stats::default();
+    // Pixels are named by their place in the full image, so a crop renders exactly the samples
+    // of the same pixels of the full render.
+    let pixel_at = |i: usize| (x0 + (i % width) as u32, y0 + (band * BAND_ROWS + i / width) as u32);
+    // A camera sample of pixel `(x, y)`: its wavelengths, filter weight, ray and the ray's
+    // differentials.
+    let start = |sampler: &mut Sampler, spectral: &S, (x, y): (u32, u32), s: u64| {
+        sampler.start_pixel_sample((x, y), s, settings.seed);
+        let u = sampler.get_pixel_3d();
+        let lambdas = spectral.sample_wavelengths(u.z);
+        let (offset, weight) = settings.filter.sample(u.truncate());
+        let p_film = Vec2::new(x as f32 + 0.5, y as f32 + 0.5) + offset;
+        // pbrt-v4's camera sample: a time uniform over the shutter interval, then the lens. A
+        // scene where nothing (camera included) moves draws no time sample, so its sampler
+        // dimensions (and image) stay as without motion blur.
+        let time = scene.shutter.map_or(0.0, |(open, close)| {
+            let u = sampler.get_1d();
+            open + (close - open) * u
+        });
+        let u_lens = sampler.get_2d();
+        let ray = camera.sample_ray(p_film, u_lens, time);
+        let diff = differentials
+            .zip(ray.as_ref())
+            .and_then(|(f, r)| f.camera_ray_differentials(camera, &r.ray, p_film, u_lens));
+        (lambdas, weight, ray, diff)
+    };
+    // Adds a sample's estimate to its pixel; the sensor's response, or `None` when the estimate
+    // is not finite and is dropped.
+    let add = |px: &mut Pixel,
+               stats: &mut Stats,
+               (x, y),
+               s,
+               l: &SampledSpectrum,
+               lambdas: &SampledWavelengths,
+               weight: f32| {
+        stats.samples += 1;
+        let xyz = sensor.record(l, lambdas);
+        if !xyz.is_finite() {
+            stats.nonfinite += 1;
+            if stats.nonfinite_at.len() < 16 {
+                stats.nonfinite_at.push((x, y, s, stats.last_depth));
+            }
+            return None;
+        }
+        px.xyz_sum += xyz.as_dvec3() * weight as f64;
+        px.weight_sum += weight as f64;
+        px.samples += 1;
+        Some(xyz)
+    };
+    let mut sampler = settings.sampler.make();
+    for (i, px) in pixels.iter_mut().enumerate() {
+        let (x, y) = pixel_at(i);
+        for s in pass.range.clone() {
+            let (mut lambdas, weight, ray, diff) = start(&mut sampler, &spectral, (x, y), s);
+            let diff = diff.as_ref();
+            let mut visible = None;
+            let record = aov_pixels.is_some().then_some(&mut visible);
+            let l = match ray {
+                None => SampledSpectrum::splat(0.0),
+                Some(r) => {
+                    integrator.li_camera(scene, r.ray, diff, record, &mut lambdas, &mut sampler, &mut stats) * r.weight
+                }
+            };
+            let Some(response) = add(px, &mut stats, (x, y), s, &l, &lambdas, weight) else { continue };
+            spectral.add(i, &l, &lambdas, weight);
+            if let (Some(a), Some(v), Some(aov)) = (aov_pixels.as_deref_mut(), visible, aov.as_ref()) {
+                let out_from_world = match aov.coordinates {
+                    AovSpace::Camera => camera.transform.camera_from_world(v.time),
+                    AovSpace::World => Mat4::IDENTITY,
+                };
+                a[i].add(&v, &lambdas, aov, &out_from_world, response, weight);
+            }
+        }
+    }
+    stats
 }
 
 /// Renders `settings.spp` samples per pixel (or fewer if the time limit ends it), in passes
@@ -201,10 +286,7 @@ pub fn render(
     mut progress: impl FnMut(u64),
 ) -> Result<(Film, Stats), FilmAllocError> {
     let (w, h) = settings.film_size();
-    let mut film = Film::try_new(w, h)?;
-    if settings.film.aov.is_some() {
-        film = film.try_with_aov()?;
-    }
+    let mut film = Film::try_for(w, h, &settings.film)?;
     let never = AtomicBool::new(false);
     let stats = render_range(scene, settings, &mut film, 0..settings.spp, &never, |_, done| {
         progress(done);

@@ -8,6 +8,7 @@
 pub mod exit_pupil;
 pub mod lens;
 pub mod lens_system;
+pub mod ndc;
 pub mod realistic;
 pub mod transform;
 

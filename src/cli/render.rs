@@ -211,6 +211,13 @@ pub fn prepare(args: &RenderArgs) -> Result<Job> {
         .unwrap_or_else(|| PathBuf::from("prism.png"));
     check_output(&output)?;
     let aov = aov_settings(args.aov, file.aov, &output, space)?;
+    let spectral = file.spectral.filter(|_| {
+        let kept = writes_named_channels(&output);
+        if !kept {
+            log::warn!("Film \"spectral\": its buckets need an OpenEXR output; {} gets R, G, B only", output.display());
+        }
+        kept
+    });
 
     for w in &builder.warnings {
         log::warn!("{w}");
@@ -235,7 +242,7 @@ pub fn prepare(args: &RenderArgs) -> Result<Job> {
     .with_max_component(file.max_component.filter(|m| *m > 0.0).unwrap_or(f32::INFINITY));
     let settings = RenderSettings {
         resolution,
-        film: FilmSettings { crop, sensor, aov },
+        film: FilmSettings { crop, sensor, aov, spectral },
         spp: spp.or(file.spp).unwrap_or(d.spp),
         seed: args.seed.or(file.seed).unwrap_or(d.seed),
         sampler: sampler.unwrap_or(d.sampler),
@@ -257,8 +264,7 @@ fn aov_settings(
     space: &'static ColorSpace,
 ) -> Result<Option<AovSettings>> {
     let Some(coordinates) = file.or(flag.then_some(AovSpace::Camera)) else { return Ok(None) };
-    let ext = output.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
-    if ext != "exr" && ext != "film" {
+    if !writes_named_channels(output) {
         if flag {
             bail!("--aov writes its channels to OpenEXR only: give an .exr output, not {}", output.display());
         }
@@ -268,14 +274,28 @@ fn aov_settings(
     Ok(Some(AovSettings { coordinates, space }))
 }
 
-/// Writes `film` as an image to `path`: R, G, B, with the geometry buffers after them when the
-/// film has them; warns when the format cannot name the colour space.
+/// Whether `output` can hold channels beyond R, G, B: an OpenEXR, or a film file.
+fn writes_named_channels(output: &Path) -> bool {
+    let ext = output.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
+    ext == "exr" || ext == "film"
+}
+
+/// Writes `film` as an image to `path`: R, G, B, with the geometry buffers and the spectral
+/// buckets after them when the film has them (the buckets with the spectral layout's header
+/// attributes); warns when the format cannot name the colour space.
 pub(crate) fn write_film_image(film: &Film, space: &ColorSpace, path: &Path, opts: &WriteOptions) -> Result<()> {
     if let Some(w) = FileFormat::from_path(path).ok().and_then(|f| opts.meta.untagged_warning(f)) {
         eprintln!("prism: warning: {}: {w}", path.display());
     }
-    let written = match film.to_gbuffer_image(space) {
-        Some(image) => crate::image::write_channels(path, &image?, &crate::film::gbuffer::CHANNELS, opts),
+    let written = match film.to_layered_image(space) {
+        Some(image) => {
+            let names: Vec<String> =
+                ["R", "G", "B"].map(String::from).into_iter().chain(film.extra_channels()).collect();
+            let names: Vec<&str> = names.iter().map(String::as_str).collect();
+            let mut opts = opts.clone();
+            opts.meta.spectral_layout = film.spectral.is_some();
+            crate::image::write_channels(path, &image?, &names, &opts)
+        }
         None => crate::image::write_with(path, &film.to_image(space)?, opts),
     };
     written.with_context(|| format!("writing {}", path.display()))
@@ -415,12 +435,10 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         color_space: Some(job.space.name.to_string()),
         exr_float: job.exr_sample == ExrSample::Float,
         aov: job.settings.film.aov.is_some(),
+        spectral: job.settings.film.spectral,
     };
 
-    let mut film = Film::try_new(w, h)?;
-    if job.settings.film.aov.is_some() {
-        film = film.try_with_aov()?;
-    }
+    let mut film = Film::try_for(w, h, &job.settings.film)?;
     let mut start = range.start;
     if args.resume {
         let (f, hd) = crate::checkpoint::load(&ckpt_path)
@@ -475,12 +493,18 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         // the ones missing.
         crate::checkpoint::save(&job.output, &film, &header(range.start..done))?;
     } else {
+        // Where the camera is when the shutter opens, as pbrt-v4 records it.
+        let open = job.scene.shutter.map_or(0.0, |(open, _)| open);
+        let (camera_from_world, ndc_from_world) = job.scene.camera.header_matrices(open);
         let meta = ImageMeta {
             color_space: Some(Chromaticities::of(job.space)),
             samples_per_pixel: Some(done - range.start),
             render_time_seconds: Some(elapsed),
             seed: Some(job.settings.seed),
             sampler: Some(job.settings.sampler.name().to_string()),
+            world_to_camera: Some(camera_from_world.transpose().to_cols_array_2d()),
+            world_to_ndc: ndc_from_world.map(|m| m.transpose().to_cols_array_2d()),
+            ..Default::default()
         };
         let opts = WriteOptions { window, exr_sample: job.exr_sample, meta, ..Default::default() };
         write_film_image(&film, job.space, &job.output, &opts)?;

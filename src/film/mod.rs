@@ -1,11 +1,14 @@
 //! The film: per-pixel sums of filter-weighted XYZ estimates, turned into the output colour
-//! space once at the end, and, when asked for, the geometry buffers beside them
-//! ([`gbuffer`]). Sums are f64 so long renders and merged parts lose nothing.
+//! space once at the end, and, when asked for, the geometry buffers ([`gbuffer`]) or the
+//! spectral buckets ([`spectral`]) beside them. Sums are f64 so long renders and merged parts
+//! lose nothing.
 
 pub mod gbuffer;
+pub mod spectral;
 mod visible_surface;
 
 pub use gbuffer::{AovPixel, AovSettings, AovSpace};
+pub use spectral::{SpectralSettings, SpectralSums};
 pub use visible_surface::VisibleSurface;
 
 use crate::image::Image;
@@ -95,6 +98,8 @@ pub struct FilmSettings {
     pub sensor: Sensor,
     /// The geometry buffers, when they are recorded (pbrt-v4's `gbuffer` film).
     pub aov: Option<AovSettings>,
+    /// The spectral buckets, when they are recorded (pbrt-v4's `spectral` film).
+    pub spectral: Option<SpectralSettings>,
 }
 
 /// Accumulated samples of one pixel.
@@ -119,6 +124,8 @@ pub struct Film {
     pub pixels: Vec<Pixel>,
     /// Row-major geometry-buffer sums, when they are recorded.
     pub aov: Option<Vec<AovPixel>>,
+    /// Spectral bucket sums, when they are recorded.
+    pub spectral: Option<SpectralSums>,
 }
 
 /// A film (or a buffer of its size) that does not fit in memory.
@@ -136,7 +143,13 @@ pub struct FilmAllocError {
 impl Film {
     /// An empty film; aborts like `vec!` if it does not fit in memory (see [`Film::try_new`]).
     pub fn new(width: u32, height: u32) -> Self {
-        Self { width, height, pixels: vec![Pixel::default(); width as usize * height as usize], aov: None }
+        Self {
+            width,
+            height,
+            pixels: vec![Pixel::default(); width as usize * height as usize],
+            aov: None,
+            spectral: None,
+        }
     }
 
     /// An empty film, or an error naming its size when the allocation fails.
@@ -145,7 +158,7 @@ impl Film {
         let mut pixels = Vec::new();
         pixels.try_reserve_exact(n).map_err(|_| Self::alloc_error(width, height, n * size_of::<Pixel>()))?;
         pixels.resize(n, Pixel::default());
-        Ok(Self { width, height, pixels, aov: None })
+        Ok(Self { width, height, pixels, aov: None, spectral: None })
     }
 
     /// This film with geometry buffers, or an error naming its size when they do not fit.
@@ -156,6 +169,28 @@ impl Film {
         aov.resize(n, AovPixel::default());
         self.aov = Some(aov);
         Ok(self)
+    }
+
+    /// This film with spectral buckets, or an error naming their size when they do not fit.
+    pub fn try_with_spectral(mut self, settings: SpectralSettings) -> Result<Self, FilmAllocError> {
+        let n = self.pixels.len() * settings.stride();
+        let mut sums = Vec::new();
+        sums.try_reserve_exact(n).map_err(|_| Self::alloc_error(self.width, self.height, n * 8))?;
+        sums.resize(n, 0.0);
+        self.spectral = Some(SpectralSums { settings, sums });
+        Ok(self)
+    }
+
+    /// An empty film with the buffers `settings` asks for.
+    pub fn try_for(width: u32, height: u32, settings: &FilmSettings) -> Result<Self, FilmAllocError> {
+        let mut film = Self::try_new(width, height)?;
+        if settings.aov.is_some() {
+            film = film.try_with_aov()?;
+        }
+        if let Some(s) = settings.spectral {
+            film = film.try_with_spectral(s)?;
+        }
+        Ok(film)
     }
 
     /// The error for a `width × height` film whose buffer of `bytes` could not be allocated.
@@ -182,6 +217,11 @@ impl Film {
         if let (Some(a), Some(b)) = (self.aov.as_mut(), other.aov.as_ref()) {
             for (a, b) in a.iter_mut().zip(b) {
                 a.merge(b);
+            }
+        }
+        if let (Some(a), Some(b)) = (self.spectral.as_mut(), other.spectral.as_ref()) {
+            for (a, b) in a.sums.iter_mut().zip(&b.sums) {
+                *a += b;
             }
         }
     }
@@ -215,20 +255,35 @@ impl Film {
         Ok(Image { width: self.width, height: self.height, channels: 3, data })
     }
 
-    /// The film with its geometry buffers as a [`gbuffer::CHANNELS`]-channel image in `space`
-    /// (`None` when the film has none).
-    pub fn to_gbuffer_image(&self, space: &ColorSpace) -> Option<Result<Image, FilmAllocError>> {
-        let aov = self.aov.as_ref()?;
-        let c = gbuffer::CHANNELS.len();
+    /// The names of the channels beyond R, G, B: the geometry buffers', then the spectral
+    /// buckets', for those the film holds.
+    pub fn extra_channels(&self) -> Vec<String> {
+        let aov = self.aov.iter().flat_map(|_| gbuffer::CHANNELS[3..].iter().map(|c| c.to_string()));
+        aov.chain(self.spectral.iter().flat_map(|s| s.settings.channel_names())).collect()
+    }
+
+    /// The film as an image in `space` of R, G, B and then the [`Self::extra_channels`] (`None`
+    /// when the film has none).
+    pub fn to_layered_image(&self, space: &ColorSpace) -> Option<Result<Image, FilmAllocError>> {
+        if self.aov.is_none() && self.spectral.is_none() {
+            return None;
+        }
+        let c = 3 + self.extra_channels().len();
         let n = self.pixels.len() * c;
         let mut data = Vec::new();
         if data.try_reserve_exact(n).is_err() {
             return Some(Err(Self::alloc_error(self.width, self.height, n * 4)));
         }
-        for (i, (p, a)) in self.pixels.iter().zip(aov).enumerate() {
+        for (i, p) in self.pixels.iter().enumerate() {
             let (x, y) = (i as u32 % self.width, i as u32 / self.width);
             data.extend_from_slice(&space.xyz_to_rgb(self.xyz(x, y)).to_array());
-            data.extend_from_slice(&a.channels(p.weight_sum, space));
+            if let Some(a) = &self.aov {
+                data.extend_from_slice(&a[i].channels(p.weight_sum, space));
+            }
+            if let Some(s) = &self.spectral {
+                let stride = s.settings.stride();
+                data.extend(s.settings.means(&s.sums[i * stride..(i + 1) * stride]));
+            }
         }
         Some(Ok(Image { width: self.width, height: self.height, channels: c as u32, data }))
     }

@@ -38,6 +38,14 @@ pub struct ImageMeta {
     pub seed: Option<u64>,
     /// The sampler's name.
     pub sampler: Option<String>,
+    /// World space → camera space (pbrt-v4's `worldToCamera`), rows of the matrix that maps a
+    /// point as a column vector, as pbrt-v4 writes them.
+    pub world_to_camera: Option<[[f32; 4]; 4]>,
+    /// World space → NDC (pbrt-v4's `worldToNDC`, see [`crate::camera::ndc`]), rows likewise.
+    pub world_to_ndc: Option<[[f32; 4]; 4]>,
+    /// The file holds spectral channels in the layout of Fichet et al. (JCGT 2021): say so as
+    /// pbrt-v4 does (`spectralLayoutVersion` "1.0", `emissiveUnits` "W.m^-2.sr^-1").
+    pub spectral_layout: bool,
 }
 
 /// prism's version, written into every OpenEXR file as `prism:version`.
@@ -54,6 +62,10 @@ impl ImageMeta {
         }
         if let Some(s) = self.seed {
             v.push(("prism:seed", s.to_string()));
+        }
+        if self.spectral_layout {
+            v.push(("spectralLayoutVersion", "1.0".to_string()));
+            v.push(("emissiveUnits", "W.m^-2.sr^-1".to_string()));
         }
         v
     }
@@ -131,8 +143,20 @@ mod tests {
             render_time_seconds: Some(1.5),
             seed: Some(7),
             sampler: Some("sobol".into()),
+            world_to_camera: Some(WORLD_TO_CAMERA),
+            world_to_ndc: Some([
+                [0.5, 0.0, 0.5, 0.25],
+                [0.0, 0.5, 0.5, -1.0],
+                [0.0, 0.0, 1.0, 2.0],
+                [0.0, 0.0, 1.0, 3.0],
+            ]),
+            ..Default::default()
         }
     }
+
+    /// A world-to-camera matrix with every entry distinct, so a transposition shows.
+    const WORLD_TO_CAMERA: [[f32; 4]; 4] =
+        [[0.8, 0.0, -0.6, 1.0], [0.0, 1.0, 0.0, -2.0], [0.6, 0.0, 0.8, -3.0], [0.125, 0.25, 0.375, 1.5]];
 
     fn scratch(name: &str) -> std::path::PathBuf {
         let dir = std::env::temp_dir().join(format!("prism-meta-{}-{name}", std::process::id()));
@@ -141,17 +165,24 @@ mod tests {
     }
 
     fn write(path: &std::path::Path, meta: ImageMeta) {
+        write_by(path, meta, Backend::Rust)
+    }
+
+    fn write_by(path: &std::path::Path, meta: ImageMeta, backend: Backend) {
         let img = Image { width: 4, height: 3, channels: 3, data: (0..36).map(|i| i as f32 / 36.0).collect() };
-        let opts = WriteOptions { backend: Backend::Rust, exr_sample: ExrSample::Half, meta, ..Default::default() };
+        let opts = WriteOptions { backend, exr_sample: ExrSample::Half, meta, ..Default::default() };
         write_with(path, &img, &opts).unwrap();
     }
 
     #[test]
     fn exr_header_names_the_colour_space_and_how_the_image_was_rendered() {
         let dir = scratch("exr");
-        for (space, [r, g, b, w]) in PUBLISHED {
-            let path = dir.join(format!("{space}.exr"));
-            write(&path, meta(space));
+        // Both writers, where OpenImageIO is available.
+        for (backend, (space, [r, g, b, w])) in
+            Backend::available().iter().copied().flat_map(|b| PUBLISHED.into_iter().map(move |p| (b, p)))
+        {
+            let path = dir.join(format!("{space}-{backend:?}.exr"));
+            write_by(&path, meta(space), backend);
             let header = exr::meta::MetaData::read_from_file(&path, false).unwrap().headers.remove(0);
             let c = header.shared_attributes.chromaticities.expect("chromaticities");
             for (got, want) in [(c.red, r), (c.green, g), (c.blue, b), (c.white, w)] {
@@ -167,6 +198,10 @@ mod tests {
             assert_eq!(attr("prism:seed"), Some(AttributeValue::Text(Text::from("7"))));
             assert_eq!(attr("prism:sampler"), Some(AttributeValue::Text(Text::from("sobol"))));
             assert_eq!(attr("prism:version"), Some(AttributeValue::Text(Text::from(VERSION))));
+            // pbrt-v4's matrices: 16 floats, row by row.
+            let flat = |m: [[f32; 4]; 4]| -> [f32; 16] { std::array::from_fn(|i| m[i / 4][i % 4]) };
+            assert_eq!(header.own_attributes.world_to_camera, Some(flat(WORLD_TO_CAMERA)), "{backend:?}");
+            assert_eq!(header.own_attributes.world_to_normalized_device, meta(space).world_to_ndc.map(flat));
             // R, G, B as half floats (OpenEXR lists channels sorted by name).
             let ch: Vec<(String, exr::meta::attribute::SampleType)> =
                 header.channels.list.iter().map(|c| (c.name.to_string(), c.sample_type)).collect();

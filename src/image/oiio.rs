@@ -64,7 +64,88 @@ pub(crate) enum OiioError {
     Refused(Box<super::ImageError>),
 }
 
-/// `int prism_oiio_write(const char*, int, int, int, const float*, int, int, const int*, char*, size_t)`.
+// Attribute types, mirroring `enum prism_oiio_attr_type` in cpp/oiio_shim.h.
+const ATTR_FLOAT: c_int = 0;
+const ATTR_INT: c_int = 1;
+const ATTR_STRING: c_int = 2;
+const ATTR_M44F: c_int = 3;
+const ATTR_FLOAT8: c_int = 4;
+
+/// `struct prism_oiio_attr` of cpp/oiio_shim.h: a header attribute by OpenImageIO's name.
+#[repr(C)]
+struct Attr {
+    name: *const c_char,
+    kind: c_int,
+    values: *const f32,
+    int_value: c_int,
+    text: *const c_char,
+}
+
+/// An attribute's owned parts, which the [`Attr`] handed to the shim point into.
+struct OwnedAttr {
+    name: CString,
+    kind: c_int,
+    values: Vec<f32>,
+    int_value: c_int,
+    text: Option<CString>,
+}
+
+impl OwnedAttr {
+    fn new(name: &str, kind: c_int, values: Vec<f32>, int_value: c_int, text: Option<&str>) -> Option<Self> {
+        let text = match text {
+            Some(t) => Some(CString::new(t).ok()?),
+            None => None,
+        };
+        Some(Self { name: CString::new(name).ok()?, kind, values, int_value, text })
+    }
+
+    /// The C view, valid while `self` lives.
+    fn as_c(&self) -> Attr {
+        Attr {
+            name: self.name.as_ptr(),
+            kind: self.kind,
+            values: if self.values.is_empty() { std::ptr::null() } else { self.values.as_ptr() },
+            int_value: self.int_value,
+            text: self.text.as_ref().map_or(std::ptr::null(), |t| t.as_ptr()),
+        }
+    }
+}
+
+/// The OpenEXR header attributes of `meta` by OpenImageIO's names (it writes `chromaticities`,
+/// `worldtocamera` and `worldtoNDC` as OpenEXR's standard attributes, the rest by name), as the
+/// pure-Rust writer writes them. A text holding a NUL byte is left out.
+fn exr_attributes(meta: &super::ImageMeta) -> Vec<OwnedAttr> {
+    let mut v = Vec::new();
+    if let Some(c) = meta.color_space {
+        let [r, g, b] = c.primaries;
+        let xy = vec![r[0], r[1], g[0], g[1], b[0], b[1], c.white[0], c.white[1]];
+        v.extend(OwnedAttr::new("chromaticities", ATTR_FLOAT8, xy, 0, None));
+    }
+    if let Some(t) = meta.render_time_seconds {
+        v.extend(OwnedAttr::new("renderTimeSeconds", ATTR_FLOAT, vec![t as f32], 0, None));
+    }
+    if let Some(n) = meta.samples_per_pixel {
+        v.extend(OwnedAttr::new(
+            "samplesPerPixel",
+            ATTR_INT,
+            Vec::new(),
+            c_int::try_from(n).unwrap_or(c_int::MAX),
+            None,
+        ));
+    }
+    for (name, m) in [("worldtocamera", meta.world_to_camera), ("worldtoNDC", meta.world_to_ndc)] {
+        if let Some(m) = m {
+            v.extend(OwnedAttr::new(name, ATTR_M44F, m.as_flattened().to_vec(), 0, None));
+        }
+    }
+    for (name, text) in meta.exr_strings() {
+        v.extend(OwnedAttr::new(name, ATTR_STRING, Vec::new(), 0, Some(&text)));
+    }
+    v
+}
+
+/// `int prism_oiio_write_meta(const char*, int, int, int, const float*, int, int, const int*,
+/// const struct prism_oiio_attr*, int, char*, size_t)`.
 type WriteFn = unsafe extern "C" fn(
     *const c_char,
     c_int,
@@ -74,6 +155,8 @@ type WriteFn = unsafe extern "C" fn(
     c_int,
     c_int,
     *const c_int,
+    *const Attr,
+    c_int,
     *mut c_char,
     usize,
 ) -> c_int;
@@ -117,7 +200,7 @@ fn shim() -> Result<&'static Shim, ShimError> {
         // type it is read as; the pointers stay valid because `library` is kept with them.
         unsafe {
             Ok(Shim {
-                write: *library.get::<WriteFn>(b"prism_oiio_write\0").map_err(fail)?,
+                write: *library.get::<WriteFn>(b"prism_oiio_write_meta\0").map_err(fail)?,
                 read_info: *library.get::<ReadInfoFn>(b"prism_oiio_read_info\0").map_err(fail)?,
                 read: *library.get::<ReadFn>(b"prism_oiio_read\0").map_err(fail)?,
                 _library: library,
@@ -188,10 +271,14 @@ pub(crate) fn write(path: &Path, format: FileFormat, img: &Image, opts: &WriteOp
         ],
         _ => [0; 4],
     };
+    let owned = if format == FileFormat::Exr { exr_attributes(&opts.meta) } else { Vec::new() };
+    let attrs: Vec<Attr> = owned.iter().map(OwnedAttr::as_c).collect();
     let mut err = [0 as c_char; ERR_LEN];
     // SAFETY: `cpath` is a live NUL-terminated string; `window` is 4 live integers; `pixels` holds exactly
     // width·height·channels floats (checked by `Image::validate` before we get here) and
-    // outlives the call; `err` is a writable buffer of ERR_LEN bytes whose length we pass.
+    // outlives the call; `attrs` points into `owned` (NUL-terminated names and texts, 1, 8 or
+    // 16 floats as each type needs), both alive for the call, and we pass its length; `err` is
+    // a writable buffer of ERR_LEN bytes whose length we pass.
     let rc = unsafe {
         (shim.write)(
             cpath.as_ptr(),
@@ -202,6 +289,8 @@ pub(crate) fn write(path: &Path, format: FileFormat, img: &Image, opts: &WriteOp
             code,
             quality,
             window.as_ptr(),
+            attrs.as_ptr(),
+            attrs.len() as c_int,
             err.as_mut_ptr(),
             ERR_LEN,
         )

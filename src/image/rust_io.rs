@@ -138,6 +138,11 @@ pub(crate) fn write_exr(path: &Path, img: &Image, names: &[&str], opts: &WriteOp
         }
         None => exr_p::IntegerBounds::new((0, 0), layer.size),
     };
+    // OpenEXR's standard `worldToCamera` and `worldToNDC` (m44f, 16 floats row by row) are the
+    // layer's.
+    let flat = |m: [[f32; 4]; 4]| -> [f32; 16] { std::array::from_fn(|i| m[i / 4][i % 4]) };
+    layer.attributes.world_to_camera = opts.meta.world_to_camera.map(flat);
+    layer.attributes.world_to_normalized_device = opts.meta.world_to_ndc.map(flat);
     let mut attributes = exr_p::ImageAttributes::new(display);
     exr_attributes(&mut attributes, &opts.meta);
     Ok(exr_p::Image::new(attributes, layer).write().to_file(path)?)

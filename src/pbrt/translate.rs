@@ -90,6 +90,8 @@ pub struct FileSettings {
     pub save_fp16: Option<bool>,
     /// Film "gbuffer": the geometry buffers' coordinate system (`coordinatesystem`).
     pub aov: Option<crate::film::AovSpace>,
+    /// Film "spectral": its buckets (`nbuckets`, `lambdamin`, `lambdamax`).
+    pub spectral: Option<crate::film::SpectralSettings>,
 }
 
 /// pbrt-v4's `PixelFilter` `kind` with its parameters (`xradius`, `yradius`; Gaussian `sigma`;
@@ -371,6 +373,26 @@ impl Ctx<'_> {
             }
             _ => None,
         };
+        let spectral = match d.film.kind.as_str() {
+            "spectral" => {
+                let default = crate::film::SpectralSettings::default();
+                let buckets = film.int_or("nbuckets", default.buckets as i32);
+                let s = crate::film::SpectralSettings {
+                    buckets: buckets.max(0) as u32,
+                    lambda_min: film.float_or("lambdamin", default.lambda_min),
+                    lambda_max: film.float_or("lambdamax", default.lambda_max),
+                };
+                // The parameter the error points at (the directive when it is not given).
+                let name = match buckets {
+                    ..1 => "nbuckets",
+                    _ if s.lambda_max > crate::spectrum::LAMBDA_MAX || !film.has("lambdamin") => "lambdamax",
+                    _ => "lambdamin",
+                };
+                s.check().map_err(|e| param_error(film, name, &d.film.loc, e))?;
+                Some(s)
+            }
+            _ => None,
+        };
         let filter = pixel_filter(&d.filter.kind, &d.filter.params);
         let (sampler, spp) = self.sampler()?;
         Ok(FileSettings {
@@ -398,6 +420,7 @@ impl Ctx<'_> {
             max_component: film.float("maxcomponentvalue"),
             save_fp16: film.bool("savefp16"),
             aov,
+            spectral,
         })
     }
 

@@ -61,6 +61,16 @@ pub struct CameraDesc {
 }
 
 impl CameraDesc {
+    /// The matrices pbrt-v4 writes into an OpenEXR header, each mapping a point (a column
+    /// vector) from world space: to camera space at `time` (`worldToCamera`), and, for the
+    /// perspective and orthographic cameras, to [`crate::camera::ndc`] (`worldToNDC`).
+    pub fn header_matrices(&self, time: f32) -> (Mat4, Option<Mat4>) {
+        let camera_from_world =
+            crate::camera::CameraTransform::new(self.camera_to_world, self.motion).camera_from_world(time);
+        let ndc = crate::camera::ndc::ndc_from_camera(self.projection, self.fov_deg).map(|m| m * camera_from_world);
+        (camera_from_world, ndc)
+    }
+
     /// The camera for an image of `resolution`.
     pub fn camera(&self, resolution: (u32, u32)) -> Camera {
         let (m, lens, focus, window) =
