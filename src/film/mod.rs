@@ -122,7 +122,7 @@ pub struct Film {
 }
 
 /// A film (or a buffer of its size) that does not fit in memory.
-#[derive(Debug, thiserror::Error)]
+#[derive(Clone, Debug, thiserror::Error)]
 #[error("out of memory: a {width}x{height} film needs {gib:.1} GiB")]
 pub struct FilmAllocError {
     /// Width [pixels].
