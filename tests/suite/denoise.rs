@@ -13,12 +13,14 @@ use prism::image::Image;
 use prism::scene::SceneBuilder;
 use prism::spectrum::ColorSpace;
 
-/// The library, or `None` after printing why the calling test skips.
+/// The library, or `None` after printing why the calling test skips (to the real stderr, past
+/// the test harness's capture, so that `cargo test` shows it).
 fn denoiser(test: &str) -> Option<Denoiser> {
+    use std::io::Write;
     match Denoiser::load() {
         Ok(d) => Some(d),
         Err(e) => {
-            eprintln!("{test}: skipped: {e}");
+            let _ = writeln!(std::io::stderr(), "{test}: skipped: {e}");
             None
         }
     }
