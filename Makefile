@@ -3,6 +3,9 @@
 #   make test     runs the whole test suite (both feature sets)
 #   make lint     the module layering (no import cycles, no upward imports), rustfmt and clippy
 #                 (-D warnings) on both feature sets; CI runs it before make test
+#   make oidn     installs Intel Open Image Denoise 2 into target/oidn/lib for `prism render --denoise`
+#                 (loaded at run time; make test installs it too, so its tests run; without it
+#                 they skip, saying why)
 #   make test-embree4  installs Embree 4 and runs the whole suite against it (not part of make test)
 #   make test-slurm    a split render (--part i/N, checkpoints, requeue, merge) on a one-node Slurm
 #                      cluster it starts and stops (root; installs munge and Slurm; not part of make test)
@@ -11,16 +14,19 @@
 CARGO ?= cargo
 SPP ?= 64
 
-.PHONY: deps render test test-default test-pure test-embree4 test-slurm lint bench docs compat
+.PHONY: deps oidn render test test-default test-pure test-embree4 test-slurm lint bench docs compat
 
 deps:
 	bash scripts/install-deps.sh
+
+oidn:
+	bash scripts/install-oidn.sh
 
 render: deps
 	$(CARGO) build --release
 	./target/release/prism render --spp $(SPP) --resolution 512x512 -o prism.png
 
-test: deps test-default test-pure
+test: deps oidn test-default test-pure
 
 test-default:
 	$(CARGO) test

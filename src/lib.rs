@@ -23,6 +23,7 @@ pub mod bssrdf;
 pub mod camera;
 pub mod checkpoint;
 pub mod cli;
+pub mod denoise;
 pub mod film;
 pub mod filter;
 pub mod fingerprint;

@@ -18,6 +18,10 @@ pub struct MergeArgs {
     /// Output colour space [default: the render's].
     #[arg(long)]
     pub color_space: Option<String>,
+    /// Also write the merged image denoised by Intel Open Image Denoise beside the output
+    /// (out.exr -> out.denoised.exr); the parts must hold geometry buffers (`render --aov`).
+    #[arg(long)]
+    pub denoise: bool,
 }
 
 /// Runs `prism merge`.
@@ -26,6 +30,11 @@ pub fn run(args: &MergeArgs) -> Result<()> {
         ColorSpace::by_name(name).with_context(|| format!("unknown colour space '{name}'"))?;
     }
     super::render::check_output(&args.output)?;
+    let film_output = args.output.extension().is_some_and(|e| e == "film");
+    if args.denoise && film_output {
+        anyhow::bail!("--denoise writes an image beside an image output, not a .film");
+    }
+    let denoiser = args.denoise.then(crate::denoise::Denoiser::load).transpose()?;
     let parts = args.parts.iter().map(|p| checkpoint::load(p)).collect::<Result<Vec<_>, _>>()?;
     let (film, header) = checkpoint::merge(parts)?;
     let name = args.color_space.as_deref().or(header.color_space.as_deref()).unwrap_or("srgb");
@@ -37,7 +46,10 @@ pub fn run(args: &MergeArgs) -> Result<()> {
             header.spp_total
         );
     }
-    if args.output.extension().is_some_and(|e| e == "film") {
+    if denoiser.is_some() && !header.aov {
+        anyhow::bail!("--denoise needs the parts' geometry buffers: render the parts with --aov");
+    }
+    if film_output {
         checkpoint::save(&args.output, &film, &header)?;
     } else {
         // A cropped render keeps its place in the full image, its OpenEXR sample type and its
@@ -51,7 +63,10 @@ pub fn run(args: &MergeArgs) -> Result<()> {
             ..Default::default()
         };
         let opts = WriteOptions { window: header.window, exr_sample, meta, ..Default::default() };
-        super::render::write_film_image(&film, space, &args.output, &opts)?;
+        super::render::write_film_image(&film, space, &args.output, &opts, true)?;
+        if let Some(denoiser) = &denoiser {
+            super::denoised::write(denoiser, &film, space, &args.output, &opts)?;
+        }
     }
     eprintln!("{}: merged {} parts, samples {:?}", args.output.display(), args.parts.len(), header.samples);
     Ok(())

@@ -5,6 +5,7 @@ pub mod bench;
 pub mod color;
 mod color_report;
 pub mod compat;
+mod denoised;
 mod interrupt;
 pub use interrupt::Interrupted;
 mod compat_case;

@@ -104,6 +104,12 @@ pub struct RenderArgs {
     /// output and combine the parts with `prism merge`.
     #[arg(long)]
     pub part: Option<String>,
+    /// Also write the image denoised by Intel Open Image Denoise beside the output, in its
+    /// format (out.exr -> out.denoised.exr), guided by the albedo and normals it records for
+    /// the purpose; the output stays the raw, unbiased estimate. Needs the library
+    /// (scripts/install-oidn.sh, or PRISM_OIDN_LIB).
+    #[arg(long)]
+    pub denoise: bool,
 }
 
 /// Timing and throughput figures of a render (`--stats-json`).
@@ -157,6 +163,9 @@ pub struct Job {
     pub inputs: Vec<InputStamp>,
     /// OpenEXR sample type: half unless the file's Film "savefp16" is false (as pbrt-v4).
     pub exr_sample: ExrSample,
+    /// Whether the output carries the geometry buffers (`--aov` or the file's `gbuffer` film);
+    /// `--denoise` alone records them without writing them.
+    pub write_aov: bool,
 }
 
 /// Checks every argument and loads the scene, before any rendering starts. Command-line values
@@ -218,6 +227,8 @@ pub fn prepare(args: &RenderArgs) -> Result<Job> {
         }
         kept
     });
+    let write_aov = aov.is_some();
+    let aov = aov.or(args.denoise.then_some(AovSettings { coordinates: AovSpace::Camera, space }));
 
     for w in &builder.warnings {
         log::warn!("{w}");
@@ -251,7 +262,7 @@ pub fn prepare(args: &RenderArgs) -> Result<Job> {
         time_limit,
     };
     let exr_sample = if file.save_fp16 == Some(false) { ExrSample::Float } else { ExrSample::Half };
-    Ok(Job { scene, settings, output, space, build_s, scene_name, inputs, exr_sample })
+    Ok(Job { scene, settings, output, space, build_s, scene_name, inputs, exr_sample, write_aov })
 }
 
 /// The geometry buffers to record: asked for by `--aov` (`flag`) or by the file's `gbuffer` film
@@ -280,17 +291,22 @@ fn writes_named_channels(output: &Path) -> bool {
     ext == "exr" || ext == "film"
 }
 
-/// Writes `film` as an image to `path`: R, G, B, with the geometry buffers and the spectral
-/// buckets after them when the film has them (the buckets with the spectral layout's header
-/// attributes); warns when the format cannot name the colour space.
-pub(crate) fn write_film_image(film: &Film, space: &ColorSpace, path: &Path, opts: &WriteOptions) -> Result<()> {
+/// Writes `film` as an image to `path`: R, G, B, with the geometry buffers (when `aov` and the
+/// film has them) and the spectral buckets after them (the buckets with the spectral layout's
+/// header attributes); warns when the format cannot name the colour space.
+pub(crate) fn write_film_image(
+    film: &Film,
+    space: &ColorSpace,
+    path: &Path,
+    opts: &WriteOptions,
+    aov: bool,
+) -> Result<()> {
     if let Some(w) = FileFormat::from_path(path).ok().and_then(|f| opts.meta.untagged_warning(f)) {
         eprintln!("prism: warning: {}: {w}", path.display());
     }
-    let written = match film.to_layered_image(space) {
+    let written = match film.to_layered_image(space, aov) {
         Some(image) => {
-            let names: Vec<String> =
-                ["R", "G", "B"].map(String::from).into_iter().chain(film.extra_channels()).collect();
+            let names = film.channel_names(aov);
             let names: Vec<&str> = names.iter().map(String::as_str).collect();
             let mut opts = opts.clone();
             opts.meta.spectral_layout = film.spectral.is_some();
@@ -413,6 +429,11 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     if args.part.is_some() && !film_output {
         bail!("--part writes a share of the samples: give a .film output and combine with `prism merge`");
     }
+    if args.denoise && film_output {
+        bail!("--denoise writes an image beside an image output, not a .film: render the parts with --aov and denoise their merge (prism merge --denoise)");
+    }
+    // Before rendering: a missing library must not cost a render.
+    let denoiser = args.denoise.then(crate::denoise::Denoiser::load).transpose()?;
     // Tessellated quadrics change the image: the backend's name carries the choice.
     let accel = match args.quadrics.as_deref().map(QuadricMode::parse) {
         Some(Ok(QuadricMode::Tessellated)) => format!("{} (tessellated quadrics)", job.scene.accel().name()),
@@ -488,6 +509,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         return Err(Interrupted { status, message: format!("interrupted after {}; wrote nothing", of(done)) }.into());
     }
 
+    let mut denoise_with = None;
     if film_output {
         // The header's sample range says which samples the part holds; `prism merge` names
         // the ones missing.
@@ -507,7 +529,8 @@ pub fn run(args: &RenderArgs) -> Result<()> {
             ..Default::default()
         };
         let opts = WriteOptions { window, exr_sample: job.exr_sample, meta, ..Default::default() };
-        write_film_image(&film, job.space, &job.output, &opts)?;
+        write_film_image(&film, job.space, &job.output, &opts, job.write_aov)?;
+        denoise_with = Some(opts);
     }
     if ckpt_every.is_some() {
         if done >= range.end {
@@ -529,6 +552,10 @@ pub fn run(args: &RenderArgs) -> Result<()> {
             rs.rays_per_s / 1e6,
             rs.accel
         );
+    }
+    // A render stopped by a signal is wanted soon: it is not denoised.
+    if let (Some(denoiser), Some(opts), true) = (&denoiser, &denoise_with, interrupted.is_none()) {
+        super::denoised::write(denoiser, &film, job.space, &job.output, opts)?;
     }
     if stats.nonfinite > 0 {
         if let Some((x, y, s, d)) = stats.nonfinite_at.first() {

@@ -129,7 +129,7 @@ pub struct Film {
 }
 
 /// A film (or a buffer of its size) that does not fit in memory.
-#[derive(Debug, thiserror::Error)]
+#[derive(Clone, Debug, thiserror::Error)]
 #[error("out of memory: a {width}x{height} film needs {gib:.1} GiB")]
 pub struct FilmAllocError {
     /// Width [pixels].
@@ -255,20 +255,22 @@ impl Film {
         Ok(Image { width: self.width, height: self.height, channels: 3, data })
     }
 
-    /// The names of the channels beyond R, G, B: the geometry buffers', then the spectral
-    /// buckets', for those the film holds.
-    pub fn extra_channels(&self) -> Vec<String> {
-        let aov = self.aov.iter().flat_map(|_| gbuffer::CHANNELS[3..].iter().map(|c| c.to_string()));
-        aov.chain(self.spectral.iter().flat_map(|s| s.settings.channel_names())).collect()
+    /// The names of the image's channels: R, G, B, then the geometry buffers' (when `aov` and
+    /// the film holds them), then the spectral buckets' (when it holds them).
+    pub fn channel_names(&self, aov: bool) -> Vec<String> {
+        let aov = self.aov.iter().filter(|_| aov).flat_map(|_| gbuffer::CHANNELS[3..].iter().map(|c| c.to_string()));
+        let spectral = self.spectral.iter().flat_map(|s| s.settings.channel_names());
+        ["R", "G", "B"].map(String::from).into_iter().chain(aov).chain(spectral).collect()
     }
 
-    /// The film as an image in `space` of R, G, B and then the [`Self::extra_channels`] (`None`
-    /// when the film has none).
-    pub fn to_layered_image(&self, space: &ColorSpace) -> Option<Result<Image, FilmAllocError>> {
-        if self.aov.is_none() && self.spectral.is_none() {
+    /// The film as an image in `space` of its [`Self::channel_names`] (`None` when that is R,
+    /// G, B only).
+    pub fn to_layered_image(&self, space: &ColorSpace, aov: bool) -> Option<Result<Image, FilmAllocError>> {
+        let aov = self.aov.as_ref().filter(|_| aov);
+        if aov.is_none() && self.spectral.is_none() {
             return None;
         }
-        let c = 3 + self.extra_channels().len();
+        let c = self.channel_names(aov.is_some()).len();
         let n = self.pixels.len() * c;
         let mut data = Vec::new();
         if data.try_reserve_exact(n).is_err() {
@@ -277,7 +279,7 @@ impl Film {
         for (i, p) in self.pixels.iter().enumerate() {
             let (x, y) = (i as u32 % self.width, i as u32 / self.width);
             data.extend_from_slice(&space.xyz_to_rgb(self.xyz(x, y)).to_array());
-            if let Some(a) = &self.aov {
+            if let Some(a) = aov {
                 data.extend_from_slice(&a[i].channels(p.weight_sum, space));
             }
             if let Some(s) = &self.spectral {

@@ -35,10 +35,12 @@ impl Default for AmbientOcclusion {
     }
 }
 
+/// Without the space: it is the output space, which settings name on their own (render
+/// fingerprints compare it there).
 impl std::fmt::Debug for AmbientOcclusion {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        let (c, d, s) = (self.cos_sample, self.max_distance, self.space.name);
-        write!(f, "AmbientOcclusion {{ cos_sample: {c}, max_distance: {d}, space: {s} }}")
+        let (c, d) = (self.cos_sample, self.max_distance);
+        write!(f, "AmbientOcclusion {{ cos_sample: {c}, max_distance: {d} }}")
     }
 }
 

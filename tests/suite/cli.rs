@@ -440,6 +440,8 @@ fn compare_prints_the_metrics_and_writes_the_difference_image() {
     for k in ["rmse", "mae", "max_abs"] {
         assert_eq!(m[k].as_f64(), Some(0.25), "{k}: {m}");
     }
+    // The compatibility report's error: 0.5/1.5 − 0.25/1.25 = 2/15 in every sample.
+    assert!((m["compat_error"].as_f64().unwrap() - 2.0 / 15.0).abs() < 1e-6, "{m}");
     let png = prism::image::read(&diff).unwrap();
     assert_eq!((png.width, png.height), (8, 4));
     // Images of two sizes, and a difference image that cannot be written: one line, no metrics.

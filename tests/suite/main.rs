@@ -14,6 +14,7 @@ mod cli;
 mod common;
 mod compat;
 mod curves;
+mod denoise;
 mod envmap;
 mod equal_area_envmap;
 mod film;
