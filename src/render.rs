@@ -3,7 +3,7 @@
 //! its samples in index order, so the image is bit-identical for any thread count, and a render
 //! can be split into disjoint sample ranges and merged.
 
-use crate::film::{AovPixel, AovSpace, Film, FilmAllocError, FilmSettings};
+use crate::film::{AdaptivePixel, AovPixel, AovSpace, Film, FilmAllocError, FilmSettings};
 use crate::filter::Filter;
 use crate::integrator::{Integrator, Stats};
 use crate::material::Material;
@@ -12,7 +12,7 @@ pub use crate::sampling::SamplerKind;
 use crate::scene::Scene;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 use crate::texture::TextureFootprint;
-use glam::{Mat4, Vec2};
+use glam::{Mat3, Mat4, Vec2};
 use rayon::prelude::*;
 use std::ops::Range;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -81,8 +81,27 @@ impl RenderSettings {
     }
 }
 
+/// Which samples a pass adds to each pixel.
+pub enum PassSamples<'a> {
+    /// The same sample indices for every pixel.
+    Every(Range<u64>),
+    /// Each pixel its own: samples `taken..taken + planned` of [`AdaptivePixel`] (one per film
+    /// pixel), whose count and moments of output RGB (`to_rgb`: XYZ → RGB) the pass updates.
+    PerPixel {
+        /// One per film pixel, row-major.
+        pixels: &'a mut [AdaptivePixel],
+        /// The output colour space's XYZ → RGB matrix.
+        to_rgb: Mat3,
+    },
+}
+
 /// One pass's worth of work: samples `range` of every pixel.
 pub fn render_pass(scene: &Scene, settings: &RenderSettings, film: &mut Film, range: Range<u64>) -> Stats {
+    render_pass_of(scene, settings, film, PassSamples::Every(range))
+}
+
+/// One pass's worth of work: the samples `samples` names.
+pub fn render_pass_of(scene: &Scene, settings: &RenderSettings, film: &mut Film, samples: PassSamples) -> Stats {
     let camera = scene.camera.camera(settings.resolution);
     let integrator =
         Integrator { footprint: Some(TextureFootprint::new(&camera, settings.spp)), ..settings.integrator }
@@ -103,11 +122,19 @@ pub fn render_pass(scene: &Scene, settings: &RenderSettings, film: &mut Film, ra
         Some(a) => a.chunks_mut(band).map(Some).collect(),
         None => film.pixels.chunks(band).map(|_| None).collect(),
     };
+    let (range, to_rgb, adaptive_bands): (Range<u64>, Mat3, Vec<Option<&mut [AdaptivePixel]>>) = match samples {
+        PassSamples::Every(range) => (range, Mat3::IDENTITY, film.pixels.chunks(band).map(|_| None).collect()),
+        PassSamples::PerPixel { pixels, to_rgb } => {
+            assert_eq!(pixels.len(), film.pixels.len(), "one adaptive pixel per film pixel");
+            (0..0, to_rgb, pixels.chunks_mut(band).map(Some).collect())
+        }
+    };
     film.pixels
         .par_chunks_mut(band)
         .zip(aov_bands)
+        .zip(adaptive_bands)
         .enumerate()
-        .map(|(band, (pixels, mut aov_pixels))| {
+        .map(|(band, ((pixels, mut aov_pixels), mut adaptive))| {
             let mut stats = Stats::default();
             // Pixels are named by their place in the full image, so a crop renders exactly
             // the samples of the same pixels of the full render.
@@ -160,7 +187,11 @@ pub fn render_pass(scene: &Scene, settings: &RenderSettings, film: &mut Film, ra
             let mut sampler = settings.sampler.make();
             for (i, px) in pixels.iter_mut().enumerate() {
                 let (x, y) = pixel_at(i);
-                for s in range.clone() {
+                let samples = match adaptive.as_deref() {
+                    Some(a) => a[i].taken..a[i].taken + a[i].planned,
+                    None => range.clone(),
+                };
+                for s in samples {
                     let (mut lambdas, weight, ray, diff) = start(&mut sampler, (x, y), s);
                     let diff = diff.as_ref();
                     let mut visible = None;
@@ -173,6 +204,9 @@ pub fn render_pass(scene: &Scene, settings: &RenderSettings, film: &mut Film, ra
                         }
                     };
                     let response = add(px, &mut stats, (x, y), s, l, lambdas, weight);
+                    if let (Some(a), Some(xyz)) = (adaptive.as_deref_mut(), response) {
+                        a[i].add(&to_rgb, xyz, weight);
+                    }
                     if let (Some(a), Some(v), Some(response), Some(aov)) =
                         (aov_pixels.as_deref_mut(), visible, response, aov.as_ref())
                     {
@@ -182,6 +216,10 @@ pub fn render_pass(scene: &Scene, settings: &RenderSettings, film: &mut Film, ra
                         };
                         a[i].add(&v, &lambdas, aov, &out_from_world, response, weight);
                     }
+                }
+                if let Some(a) = adaptive.as_deref_mut() {
+                    a[i].taken += a[i].planned;
+                    a[i].planned = 0;
                 }
             }
             stats
@@ -242,6 +280,12 @@ pub fn render_range(
         }
         pass = (pass * 2).min(16);
     }
+    warn_cut_off_walks();
+    stats
+}
+
+/// Warns once about the free-flight walks through media that were cut off since the last call.
+pub(crate) fn warn_cut_off_walks() {
     let cut_off = crate::media::take_cut_off_walks();
     if cut_off > 0 {
         log::warn!(
@@ -250,5 +294,4 @@ pub fn render_range(
             crate::media::MAX_COLLISIONS
         );
     }
-    stats
 }

@@ -120,12 +120,16 @@ pub fn compare(a: &CompareArgs) -> Result<()> {
     let ib = crate::image::read(&a.b).with_context(|| format!("reading {}", a.b.display()))?;
     let m = crate::image::metrics::compare(&ia, &ib)
         .with_context(|| format!("comparing {} with {}", a.a.display(), a.b.display()))?;
+    // The error `prism compat` and `--target-error` use, where the images have colour.
+    let mapped = (ia.channels >= 3).then(|| crate::image::metrics::compressed_rgb_rmse(&ia, &ib)).transpose()?;
     if a.json {
-        let j = serde_json::json!({"rmse": m.rmse, "rel_mse": m.rel_mse, "mae": m.mae, "max_abs": m.max_abs});
+        let j = serde_json::json!({"rmse": m.rmse, "rel_mse": m.rel_mse, "mae": m.mae, "max_abs": m.max_abs,
+            "mapped_rgb_rmse": mapped});
         super::print_stdout(&format!("{}\n", serde_json::to_string_pretty(&j)?))?;
     } else {
+        let mapped = mapped.map_or(String::new(), |e| format!("RMSE of x/(1+x) RGB  {e:.6e}\n"));
         super::print_stdout(&format!(
-            "RMSE    {:.6e}\nrelMSE  {:.6e}\nMAE     {:.6e}\nmax|Δ|  {:.6e}\n",
+            "RMSE    {:.6e}\nrelMSE  {:.6e}\nMAE     {:.6e}\nmax|Δ|  {:.6e}\n{mapped}",
             m.rmse, m.rel_mse, m.mae, m.max_abs
         ))?;
     }

@@ -12,6 +12,7 @@ mod compat_report;
 pub mod measure;
 pub mod merge;
 pub mod render;
+mod render_adaptive;
 pub mod sss_report;
 pub mod sss_scenes;
 

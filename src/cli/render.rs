@@ -103,6 +103,16 @@ pub struct RenderArgs {
     /// output and combine the parts with `prism merge`.
     #[arg(long)]
     pub part: Option<String>,
+    /// Render until the image's estimated error is at most this (RMSE of x/(1+x)-mapped RGB
+    /// against the converged image, the error `prism compare` and `prism compat` report),
+    /// giving more samples to noisier pixels; --spp is then the most a pixel takes, and
+    /// --time-limit still stops it (docs/adaptive.md).
+    #[arg(long)]
+    pub target_error: Option<f64>,
+    /// With --target-error: write each pixel's sample count as an image (OpenEXR: the counts;
+    /// PNG: viridis from 0 to the largest count).
+    #[arg(long, requires = "target_error")]
+    pub spp_map: Option<PathBuf>,
 }
 
 /// Timing and throughput figures of a render (`--stats-json`).
@@ -396,13 +406,20 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         Some(Ok(QuadricMode::Tessellated)) => format!("{} (tessellated quadrics)", job.scene.accel().name()),
         _ => job.scene.accel().name().to_string(),
     };
+    // A crop keeps its place in the full image (OpenEXR data and display windows).
+    let (full_width, full_height) = job.settings.resolution;
+    let window = job.settings.film.crop.map(|b| CropWindow { x0: b.x0, y0: b.y0, full_width, full_height });
+    if let Some(target) = args.target_error {
+        super::render_adaptive::check(args, target, film_output)?;
+        if let Some(p) = &args.spp_map {
+            check_output(p)?;
+        }
+        return super::render_adaptive::run(args, &job, &pool, target, window);
+    }
     let fp = crate::fingerprint::fingerprint(&job.scene_name, &job.inputs, &job.settings, job.space.name, &accel);
     let ckpt_path = PathBuf::from(format!("{}.ckpt", job.output.display()));
     let ckpt_every = args.checkpoint_every.as_deref().map(settings::parse_duration).transpose()?;
     let (w, h) = job.settings.film_size();
-    // A crop keeps its place in the full image (OpenEXR data and display windows).
-    let (full_width, full_height) = job.settings.resolution;
-    let window = job.settings.film.crop.map(|b| CropWindow { x0: b.x0, y0: b.y0, full_width, full_height });
     let header = |samples: std::ops::Range<u64>| crate::checkpoint::FilmHeader {
         width: w,
         height: h,
@@ -479,6 +496,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
             render_time_seconds: Some(elapsed),
             seed: Some(job.settings.seed),
             sampler: Some(job.settings.sampler.name().to_string()),
+            estimated_error: None,
         };
         let opts = WriteOptions { window, exr_sample: job.exr_sample, meta, ..Default::default() };
         write_film_image(&film, job.space, &job.output, &opts)?;
@@ -529,7 +547,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     }
 }
 
-fn summarize(job: &Job, stats: &Stats, elapsed: f64) -> RenderStats {
+pub(crate) fn summarize(job: &Job, stats: &Stats, elapsed: f64) -> RenderStats {
     let (w, h) = job.settings.film_size();
     let pixels = w as u64 * h as u64;
     RenderStats {

@@ -2,9 +2,11 @@
 //! space once at the end, and, when asked for, the geometry buffers beside them
 //! ([`gbuffer`]). Sums are f64 so long renders and merged parts lose nothing.
 
+mod adaptive;
 pub mod gbuffer;
 mod visible_surface;
 
+pub use adaptive::AdaptivePixel;
 pub use gbuffer::{AovPixel, AovSettings, AovSpace};
 pub use visible_surface::VisibleSurface;
 

@@ -1,6 +1,7 @@
 //! What an image file says about itself: the colour space of its RGB values and how it was
 //! rendered. OpenEXR carries it as header attributes (the standard `chromaticities`, pbrt-v4's
-//! names `renderTimeSeconds` and `samplesPerPixel`, and prism's own `prism:*`); PNG carries the
+//! names `renderTimeSeconds` and `samplesPerPixel`, and prism's own `prism:*`, among them an
+//! adaptive render's `prism:estimatedError`); PNG carries the
 //! colour space as a cICP chunk (ITU-T H.273 code points), which only the spaces H.273 names
 //! can use.
 
@@ -38,6 +39,9 @@ pub struct ImageMeta {
     pub seed: Option<u64>,
     /// The sampler's name.
     pub sampler: Option<String>,
+    /// An adaptive render's estimated error when it stopped (`prism:estimatedError`): RMSE of
+    /// x/(1+x)-mapped RGB against the converged image ([`crate::adaptive`]).
+    pub estimated_error: Option<f64>,
 }
 
 /// prism's version, written into every OpenEXR file as `prism:version`.
@@ -131,6 +135,7 @@ mod tests {
             render_time_seconds: Some(1.5),
             seed: Some(7),
             sampler: Some("sobol".into()),
+            estimated_error: Some(0.0125),
         }
     }
 
@@ -164,6 +169,7 @@ mod tests {
             };
             assert_eq!(attr("samplesPerPixel"), Some(AttributeValue::I32(64)));
             assert_eq!(attr("renderTimeSeconds"), Some(AttributeValue::F32(1.5)));
+            assert_eq!(attr("prism:estimatedError"), Some(AttributeValue::F64(0.0125)));
             assert_eq!(attr("prism:seed"), Some(AttributeValue::Text(Text::from("7"))));
             assert_eq!(attr("prism:sampler"), Some(AttributeValue::Text(Text::from("sobol"))));
             assert_eq!(attr("prism:version"), Some(AttributeValue::Text(Text::from(VERSION))));
