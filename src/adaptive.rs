@@ -106,7 +106,7 @@ fn plan(pixels: &mut [AdaptivePixel], v: &[f64], width: usize, target: f64, max_
     total
 }
 
-/// Adds samples to `film` (empty, or holding `pixels`' samples) until the estimated error is at
+/// Adds samples to the empty `film` until the estimated error is at
 /// most `target` (RMSE of x/(1+x)-mapped RGB in `space`), every pixel has `settings.spp` samples,
 /// `settings.time_limit` is over at the end of a pass, `cancel` is set before a pass, or
 /// `after_pass(film, pixels, estimated_error)` returns false.
@@ -125,24 +125,23 @@ pub fn render_to_error(
     let base = BASE_SPP.min(max_spp);
     let mut pixels = vec![AdaptivePixel::default(); film.pixels.len()];
     let mut stats = Stats::default();
-    let mut error = f64::INFINITY;
+    let (mut v, mut error) = (Vec::new(), f64::INFINITY);
     let mut pass = 1u64;
     while !cancel.load(Ordering::Relaxed) && error > target {
         let done = pixels.first().map_or(max_spp, |p| p.taken);
-        let planned = if done < base {
-            let n = pass.min(base - done);
+        let planned = if done < base || v.is_empty() {
+            let n = pass.min(base.saturating_sub(done));
             pixels.iter_mut().for_each(|p| p.planned = n);
             pass *= 2;
             n
         } else {
-            let (v, _) = estimate(film, &pixels, space);
             plan(&mut pixels, &v, film.width as usize, target, max_spp)
         };
         if planned == 0 {
             break; // every pixel that could lower the error has its maximum
         }
         stats.merge(&render_pass_of(scene, settings, film, PassSamples::PerPixel { pixels: &mut pixels, to_rgb }));
-        error = estimate(film, &pixels, space).1;
+        (v, error) = estimate(film, &pixels, space);
         if !after_pass(film, &pixels, error) || settings.time_limit.is_some_and(|t| start.elapsed() >= t) {
             break;
         }
