@@ -13,6 +13,7 @@ pub mod measure;
 pub mod merge;
 pub mod render;
 mod render_adaptive;
+mod render_job;
 pub mod sss_report;
 pub mod sss_scenes;
 

@@ -1,13 +1,16 @@
 //! `prism render`: load a scene (or the built-in Cornell box), render it, write the image.
 
+use super::render_job::summarize;
+pub(crate) use super::render_job::write_film_image;
+pub use super::render_job::{Job, RenderStats};
 use super::Interrupted;
 use crate::accel::AccelKind;
 use crate::film::{AovSettings, AovSpace, Crop, Film, FilmSettings};
-use crate::image::{Chromaticities, CropWindow, ExrSample, FileFormat, ImageMeta, WriteOptions};
-use crate::integrator::{Integrator, IntegratorKind, Stats, SubsurfaceMethod};
+use crate::image::{Chromaticities, CropWindow, ExrSample, ImageMeta, WriteOptions};
+use crate::integrator::{Integrator, IntegratorKind, SubsurfaceMethod};
 use crate::light::LightSamplerKind;
 use crate::named::UnknownName;
-use crate::pbrt::{input_stamps, FileSettings, InputStamp, LoadedScene, QuadricMode};
+use crate::pbrt::{input_stamps, FileSettings, LoadedScene, QuadricMode};
 use crate::render::RenderSettings;
 use crate::scene::{Scene, SceneBuilder};
 use crate::sensor::Sensor;
@@ -115,57 +118,10 @@ pub struct RenderArgs {
     pub spp_map: Option<PathBuf>,
 }
 
-/// Timing and throughput figures of a render (`--stats-json`).
-#[derive(serde::Serialize, Debug)]
-pub struct RenderStats {
-    /// Wall time of the render loop [s].
-    pub elapsed_s: f64,
-    /// Samples per pixel actually taken.
-    pub spp: u64,
-    /// Image width.
-    pub width: u32,
-    /// Image height.
-    pub height: u32,
-    /// Rays traced.
-    pub rays: u64,
-    /// Rays per second.
-    pub rays_per_s: f64,
-    /// Camera samples per second.
-    pub samples_per_s: f64,
-    /// Backend.
-    pub accel: String,
-    /// Discarded non-finite samples.
-    pub nonfinite_samples: u64,
-    /// Scene build time (accelerator and lights) [s].
-    pub build_s: f64,
-    /// Subsurface method (`--sss`).
-    pub sss: String,
-}
-
 /// Parses four comma-separated numbers.
 fn parse_four<T: std::str::FromStr>(flag: &str, s: &str) -> Result<[T; 4]> {
     let v: Vec<T> = s.split(',').map(|x| x.trim().parse()).collect::<Result<_, _>>().ok().unwrap_or_default();
     v.try_into().map_err(|_| anyhow::anyhow!("--{flag} '{s}' is not x0,x1,y0,y1"))
-}
-
-/// Validated settings and I/O choices for one render.
-pub struct Job {
-    /// The scene.
-    pub scene: Scene,
-    /// Settings.
-    pub settings: RenderSettings,
-    /// Output path.
-    pub output: PathBuf,
-    /// Output colour space.
-    pub space: &'static ColorSpace,
-    /// Scene build time [s].
-    pub build_s: f64,
-    /// The scene's name: the built-in Cornell box's, or the scene file's.
-    pub scene_name: String,
-    /// The files the scene reads, identified by their contents (none for the built-in scene).
-    pub inputs: Vec<InputStamp>,
-    /// OpenEXR sample type: half unless the file's Film "savefp16" is false (as pbrt-v4).
-    pub exr_sample: ExrSample,
 }
 
 /// Checks every argument and loads the scene, before any rendering starts. Command-line values
@@ -274,19 +230,6 @@ fn aov_settings(
         return Ok(None);
     }
     Ok(Some(AovSettings { coordinates, space }))
-}
-
-/// Writes `film` as an image to `path`: R, G, B, with the geometry buffers after them when the
-/// film has them; warns when the format cannot name the colour space.
-pub(crate) fn write_film_image(film: &Film, space: &ColorSpace, path: &Path, opts: &WriteOptions) -> Result<()> {
-    if let Some(w) = FileFormat::from_path(path).ok().and_then(|f| opts.meta.untagged_warning(f)) {
-        eprintln!("prism: warning: {}: {w}", path.display());
-    }
-    let written = match film.to_gbuffer_image(space) {
-        Some(image) => crate::image::write_channels(path, &image?, &crate::film::gbuffer::CHANNELS, opts),
-        None => crate::image::write_with(path, &film.to_image(space)?, opts),
-    };
-    written.with_context(|| format!("writing {}", path.display()))
 }
 
 /// The integrator for `scene`: command-line values (`named`, `max_depth`, `sss`) over the
@@ -410,11 +353,16 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     let (full_width, full_height) = job.settings.resolution;
     let window = job.settings.film.crop.map(|b| CropWindow { x0: b.x0, y0: b.y0, full_width, full_height });
     if let Some(target) = args.target_error {
-        super::render_adaptive::check(args, target, film_output)?;
+        let checkpoints = args.checkpoint_every.is_some() || args.resume;
+        super::render_adaptive::check(target, args.part.is_some() || film_output, checkpoints)?;
         if let Some(p) = &args.spp_map {
             check_output(p)?;
         }
-        return super::render_adaptive::run(args, &job, &pool, target, window);
+        let outputs = super::render_adaptive::Outputs {
+            spp_map: args.spp_map.as_deref(),
+            stats_json: args.stats_json.as_deref(),
+        };
+        return super::render_adaptive::run(&job, &pool, target, window, outputs);
     }
     let fp = crate::fingerprint::fingerprint(&job.scene_name, &job.inputs, &job.settings, job.space.name, &accel);
     let ckpt_path = PathBuf::from(format!("{}.ckpt", job.output.display()));
@@ -544,23 +492,5 @@ pub fn run(args: &RenderArgs) -> Result<()> {
             let message = format!("interrupted after {}; wrote {}{ckpt}", of(done), job.output.display());
             Err(Interrupted { status, message }.into())
         }
-    }
-}
-
-pub(crate) fn summarize(job: &Job, stats: &Stats, elapsed: f64) -> RenderStats {
-    let (w, h) = job.settings.film_size();
-    let pixels = w as u64 * h as u64;
-    RenderStats {
-        elapsed_s: elapsed,
-        spp: stats.samples.checked_div(pixels).unwrap_or(0),
-        width: w,
-        height: h,
-        rays: stats.rays,
-        rays_per_s: stats.rays as f64 / elapsed.max(1e-9),
-        samples_per_s: stats.samples as f64 / elapsed.max(1e-9),
-        accel: job.scene.accel().name().to_string(),
-        nonfinite_samples: stats.nonfinite,
-        build_s: job.build_s,
-        sss: job.settings.integrator.sss.name().to_string(),
     }
 }

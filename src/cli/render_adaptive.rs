@@ -1,6 +1,6 @@
 //! `prism render --target-error E`: adaptive sampling to an estimated error ([`crate::adaptive`]).
 
-use super::render::{summarize, write_film_image, Job, RenderArgs};
+use super::render_job::{summarize, write_film_image, Job};
 use super::Interrupted;
 use crate::film::{AdaptivePixel, Film};
 use crate::image::{Chromaticities, CropWindow, Image, ImageMeta, WriteOptions};
@@ -9,16 +9,16 @@ use std::path::Path;
 use std::time::Instant;
 
 /// Refuses, in one line each, what adaptive sampling cannot do: an error that is no positive
-/// number, and the options that assume every pixel holds the same sample range (parts, film
-/// files, checkpoints).
-pub fn check(args: &RenderArgs, target: f64, film_output: bool) -> Result<()> {
+/// number, and the options that assume every pixel holds the same sample range: a part or a
+/// .film output (`split`), checkpoints or resuming (`checkpoints`).
+pub fn check(target: f64, split: bool, checkpoints: bool) -> Result<()> {
     if !(target.is_finite() && target > 0.0) {
         bail!("--target-error {target}: need a positive number (RMSE of x/(1+x)-mapped RGB, e.g. 0.01)");
     }
-    if args.part.is_some() || film_output {
+    if split {
         bail!("--target-error gives each pixel its own sample count: it cannot be split into --part or written to a .film");
     }
-    if args.checkpoint_every.is_some() || args.resume {
+    if checkpoints {
         bail!(
             "--target-error renders cannot be checkpointed or resumed: film files hold one sample range for all pixels"
         );
@@ -26,15 +26,17 @@ pub fn check(args: &RenderArgs, target: f64, film_output: bool) -> Result<()> {
     Ok(())
 }
 
+/// Where an adaptive render writes besides its image.
+pub struct Outputs<'a> {
+    /// The per-pixel sample counts (`--spp-map`).
+    pub spp_map: Option<&'a Path>,
+    /// Timing figures (`--stats-json`).
+    pub stats_json: Option<&'a Path>,
+}
+
 /// Renders `job` until its estimated error is at most `target`, writes the image (and the
 /// sample-count map with `--spp-map`), and prints the estimate.
-pub fn run(
-    args: &RenderArgs,
-    job: &Job,
-    pool: &rayon::ThreadPool,
-    target: f64,
-    window: Option<CropWindow>,
-) -> Result<()> {
+pub fn run(job: &Job, pool: &rayon::ThreadPool, target: f64, window: Option<CropWindow>, out: Outputs) -> Result<()> {
     let (w, h) = job.settings.film_size();
     let mut film = Film::try_new(w, h)?;
     if job.settings.film.aov.is_some() {
@@ -76,7 +78,7 @@ pub fn run(
     };
     let opts = WriteOptions { window, exr_sample: job.exr_sample, meta, ..Default::default() };
     write_film_image(&film, job.space, &job.output, &opts)?;
-    if let Some(p) = &args.spp_map {
+    if let Some(p) = out.spp_map {
         write_spp_map(p, &film, &result.pixels, window)?;
     }
     let rs = summarize(job, &result.stats, elapsed);
@@ -100,7 +102,7 @@ pub fn run(
         rs.samples_per_s / 1e6,
         rs.accel
     );
-    if let Some(p) = &args.stats_json {
+    if let Some(p) = out.stats_json {
         let text = serde_json::to_string_pretty(&rs)?;
         crate::io::write_atomic(p, text.as_bytes()).with_context(|| format!("writing {}", p.display()))?;
     }
