@@ -17,6 +17,7 @@
 //! ```
 
 pub mod accel;
+pub mod adaptive;
 pub mod bench;
 pub mod bsdf;
 pub mod bssrdf;

@@ -4,7 +4,9 @@
 //! can be split into disjoint sample ranges and merged.
 
 use crate::camera::Camera;
-use crate::film::{AovPixel, AovSettings, AovSpace, Film, FilmAllocError, FilmSettings, Pixel, SpectralSettings};
+use crate::film::{
+    AdaptivePixel, AovPixel, AovSettings, AovSpace, Film, FilmAllocError, FilmSettings, Pixel, SpectralSettings,
+};
 use crate::filter::Filter;
 use crate::integrator::{Integrator, Stats};
 use crate::material::Material;
@@ -13,7 +15,7 @@ pub use crate::sampling::SamplerKind;
 use crate::scene::Scene;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 use crate::texture::TextureFootprint;
-use glam::{Mat4, Vec2};
+use glam::{Mat3, Mat4, Vec2};
 use rayon::prelude::*;
 use std::ops::Range;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -126,6 +128,20 @@ impl SpectralSink for SpectralBand<'_> {
     }
 }
 
+/// Which samples a pass adds to each pixel.
+pub enum PassSamples<'a> {
+    /// The same sample indices for every pixel.
+    Every(Range<u64>),
+    /// Each pixel its own: samples `taken..taken + planned` of [`AdaptivePixel`] (one per film
+    /// pixel), whose count and moments of output RGB (`to_rgb`: XYZ → RGB) the pass updates.
+    PerPixel {
+        /// One per film pixel, row-major.
+        pixels: &'a mut [AdaptivePixel],
+        /// The output colour space's XYZ → RGB matrix.
+        to_rgb: Mat3,
+    },
+}
+
 /// What every band of a pass shares.
 struct Pass<'a> {
     scene: &'a Scene,
@@ -139,12 +155,19 @@ struct Pass<'a> {
     /// The film's width [pixels] and the full-image pixel of its (0, 0).
     width: usize,
     origin: (u32, u32),
-    /// The sample indices of the pass.
+    /// The sample indices of the pass (for every pixel when not adaptive).
     range: Range<u64>,
+    /// XYZ → output RGB, for the adaptive pixels' moments.
+    to_rgb: Mat3,
 }
 
 /// One pass's worth of work: samples `range` of every pixel.
 pub fn render_pass(scene: &Scene, settings: &RenderSettings, film: &mut Film, range: Range<u64>) -> Stats {
+    render_pass_of(scene, settings, film, PassSamples::Every(range))
+}
+
+/// One pass's worth of work: the samples `samples` names.
+pub fn render_pass_of(scene: &Scene, settings: &RenderSettings, film: &mut Film, samples: PassSamples) -> Stats {
     let camera = scene.camera.camera(settings.resolution);
     let integrator =
         Integrator { footprint: Some(TextureFootprint::new(&camera, settings.spp)), ..settings.integrator }
@@ -158,9 +181,16 @@ pub fn render_pass(scene: &Scene, settings: &RenderSettings, film: &mut Film, ra
     // or where the geometry buffers record the pixel footprint.
     let differentials =
         integrator.footprint.as_ref().filter(|_| aov.is_some() || scene.materials().iter().any(Material::is_textured));
-    let pass =
-        Pass { scene, settings, camera, integrator, differentials, aov, width, origin: settings.film_origin(), range };
     let band = width * BAND_ROWS;
+    let (range, to_rgb, adaptive_bands): (Range<u64>, Mat3, Vec<Option<&mut [AdaptivePixel]>>) = match samples {
+        PassSamples::Every(range) => (range, Mat3::IDENTITY, film.pixels.chunks(band).map(|_| None).collect()),
+        PassSamples::PerPixel { pixels, to_rgb } => {
+            assert_eq!(pixels.len(), film.pixels.len(), "one adaptive pixel per film pixel");
+            (0..0, to_rgb, pixels.chunks_mut(band).map(Some).collect())
+        }
+    };
+    let origin = settings.film_origin();
+    let pass = Pass { scene, settings, camera, integrator, differentials, aov, width, origin, range, to_rgb };
     let aov_bands: Vec<Option<&mut [AovPixel]>> = match film.aov.as_mut().filter(|_| aov.is_some()) {
         Some(a) => a.chunks_mut(band).map(Some).collect(),
         None => film.pixels.chunks(band).map(|_| None).collect(),
@@ -175,13 +205,14 @@ pub fn render_pass(scene: &Scene, settings: &RenderSettings, film: &mut Film, ra
         .par_chunks_mut(band)
         .zip(aov_bands)
         .zip(spectral_bands)
+        .zip(adaptive_bands)
         .enumerate()
-        .map(|(band, ((pixels, aov_pixels), sums))| match (spectral, sums) {
+        .map(|(band, (((pixels, aov_pixels), sums), adaptive))| match (spectral, sums) {
             (Some(settings), Some(sums)) => {
                 let sink = SpectralBand { settings, sums, max_component: pass.settings.film.sensor.max_component };
-                render_band(&pass, band, pixels, aov_pixels, sink)
+                render_band(&pass, band, pixels, aov_pixels, adaptive, sink)
             }
-            _ => render_band(&pass, band, pixels, aov_pixels, NoSpectrum),
+            _ => render_band(&pass, band, pixels, aov_pixels, adaptive, NoSpectrum),
         })
         .reduce(Stats::default, |mut a, b| {
             a.merge(&b);
@@ -190,15 +221,18 @@ pub fn render_pass(scene: &Scene, settings: &RenderSettings, film: &mut Film, ra
 }
 
 /// Samples `pass.range` of every pixel of band `band` (its pixels, geometry buffers and
-/// spectral sink).
+/// spectral sink), or each adaptive pixel's planned samples.
 fn render_band<S: SpectralSink>(
     pass: &Pass,
     band: usize,
     pixels: &mut [Pixel],
     mut aov_pixels: Option<&mut [AovPixel]>,
+    mut adaptive: Option<&mut [AdaptivePixel]>,
     mut spectral: S,
 ) -> Stats {
-    let Pass { scene, settings, ref camera, ref integrator, differentials, aov, width, origin: (x0, y0), .. } = *pass;
+    let Pass {
+        scene, settings, ref camera, ref integrator, differentials, aov, width, origin: (x0, y0), to_rgb, ..
+    } = *pass;
     let sensor = settings.film.sensor;
     let mut stats = Stats::default();
     // Pixels are named by their place in the full image, so a crop renders exactly the samples
@@ -252,7 +286,11 @@ fn render_band<S: SpectralSink>(
     let mut sampler = settings.sampler.make();
     for (i, px) in pixels.iter_mut().enumerate() {
         let (x, y) = pixel_at(i);
-        for s in pass.range.clone() {
+        let samples = match adaptive.as_deref() {
+            Some(a) => a[i].taken..a[i].taken + a[i].planned,
+            None => pass.range.clone(),
+        };
+        for s in samples {
             let (mut lambdas, weight, ray, diff) = start(&mut sampler, &spectral, (x, y), s);
             let diff = diff.as_ref();
             let mut visible = None;
@@ -264,6 +302,9 @@ fn render_band<S: SpectralSink>(
                 }
             };
             let Some(response) = add(px, &mut stats, (x, y), s, &l, &lambdas, weight) else { continue };
+            if let Some(a) = adaptive.as_deref_mut() {
+                a[i].add(&to_rgb, response, weight);
+            }
             spectral.add(i, &l, &lambdas, weight);
             if let (Some(a), Some(v), Some(aov)) = (aov_pixels.as_deref_mut(), visible, aov.as_ref()) {
                 let out_from_world = match aov.coordinates {
@@ -272,6 +313,10 @@ fn render_band<S: SpectralSink>(
                 };
                 a[i].add(&v, &lambdas, aov, &out_from_world, response, weight);
             }
+        }
+        if let Some(a) = adaptive.as_deref_mut() {
+            a[i].taken += a[i].planned;
+            a[i].planned = 0;
         }
     }
     stats
@@ -324,6 +369,12 @@ pub fn render_range(
         }
         pass = (pass * 2).min(16);
     }
+    warn_cut_off_walks();
+    stats
+}
+
+/// Warns once about the free-flight walks through media that were cut off since the last call.
+pub(crate) fn warn_cut_off_walks() {
     let cut_off = crate::media::take_cut_off_walks();
     if cut_off > 0 {
         log::warn!(
@@ -332,5 +383,4 @@ pub fn render_range(
             crate::media::MAX_COLLISIONS
         );
     }
-    stats
 }

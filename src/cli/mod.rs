@@ -13,6 +13,8 @@ mod compat_report;
 pub mod measure;
 pub mod merge;
 pub mod render;
+mod render_adaptive;
+mod render_job;
 pub mod sss_report;
 pub mod sss_scenes;
 

@@ -1,13 +1,16 @@
 //! `prism render`: load a scene (or the built-in Cornell box), render it, write the image.
 
+pub(crate) use super::render_job::write_film_image;
+use super::render_job::{image_meta, summarize};
+pub use super::render_job::{Job, RenderStats};
 use super::Interrupted;
 use crate::accel::AccelKind;
 use crate::film::{AovSettings, AovSpace, Crop, Film, FilmSettings};
-use crate::image::{Chromaticities, CropWindow, ExrSample, FileFormat, ImageMeta, WriteOptions};
-use crate::integrator::{Integrator, IntegratorKind, Stats, SubsurfaceMethod};
+use crate::image::{CropWindow, ExrSample, WriteOptions};
+use crate::integrator::{Integrator, IntegratorKind, SubsurfaceMethod};
 use crate::light::LightSamplerKind;
 use crate::named::UnknownName;
-use crate::pbrt::{input_stamps, FileSettings, InputStamp, LoadedScene, QuadricMode};
+use crate::pbrt::{input_stamps, FileSettings, LoadedScene, QuadricMode};
 use crate::render::RenderSettings;
 use crate::scene::{Scene, SceneBuilder};
 use crate::sensor::Sensor;
@@ -110,62 +113,22 @@ pub struct RenderArgs {
     /// (scripts/install-oidn.sh, or PRISM_OIDN_LIB).
     #[arg(long)]
     pub denoise: bool,
-}
-
-/// Timing and throughput figures of a render (`--stats-json`).
-#[derive(serde::Serialize, Debug)]
-pub struct RenderStats {
-    /// Wall time of the render loop [s].
-    pub elapsed_s: f64,
-    /// Samples per pixel actually taken.
-    pub spp: u64,
-    /// Image width.
-    pub width: u32,
-    /// Image height.
-    pub height: u32,
-    /// Rays traced.
-    pub rays: u64,
-    /// Rays per second.
-    pub rays_per_s: f64,
-    /// Camera samples per second.
-    pub samples_per_s: f64,
-    /// Backend.
-    pub accel: String,
-    /// Discarded non-finite samples.
-    pub nonfinite_samples: u64,
-    /// Scene build time (accelerator and lights) [s].
-    pub build_s: f64,
-    /// Subsurface method (`--sss`).
-    pub sss: String,
+    /// Render until the image's estimated error is at most this (RMSE of x/(1+x)-mapped RGB
+    /// against the converged image, the error `prism compare` and `prism compat` report),
+    /// giving more samples to noisier pixels; --spp is then the most a pixel takes, and
+    /// --time-limit still stops it (docs/adaptive.md).
+    #[arg(long)]
+    pub target_error: Option<f64>,
+    /// With --target-error: write each pixel's sample count as an image (OpenEXR: the counts;
+    /// PNG: viridis from 0 to the largest count).
+    #[arg(long, requires = "target_error")]
+    pub spp_map: Option<PathBuf>,
 }
 
 /// Parses four comma-separated numbers.
 fn parse_four<T: std::str::FromStr>(flag: &str, s: &str) -> Result<[T; 4]> {
     let v: Vec<T> = s.split(',').map(|x| x.trim().parse()).collect::<Result<_, _>>().ok().unwrap_or_default();
     v.try_into().map_err(|_| anyhow::anyhow!("--{flag} '{s}' is not x0,x1,y0,y1"))
-}
-
-/// Validated settings and I/O choices for one render.
-pub struct Job {
-    /// The scene.
-    pub scene: Scene,
-    /// Settings.
-    pub settings: RenderSettings,
-    /// Output path.
-    pub output: PathBuf,
-    /// Output colour space.
-    pub space: &'static ColorSpace,
-    /// Scene build time [s].
-    pub build_s: f64,
-    /// The scene's name: the built-in Cornell box's, or the scene file's.
-    pub scene_name: String,
-    /// The files the scene reads, identified by their contents (none for the built-in scene).
-    pub inputs: Vec<InputStamp>,
-    /// OpenEXR sample type: half unless the file's Film "savefp16" is false (as pbrt-v4).
-    pub exr_sample: ExrSample,
-    /// Whether the output carries the geometry buffers (`--aov` or the file's `gbuffer` film);
-    /// `--denoise` alone records them without writing them.
-    pub write_aov: bool,
 }
 
 /// Checks every argument and loads the scene, before any rendering starts. Command-line values
@@ -291,32 +254,6 @@ fn writes_named_channels(output: &Path) -> bool {
     ext == "exr" || ext == "film"
 }
 
-/// Writes `film` as an image to `path`: R, G, B, with the geometry buffers (when `aov` and the
-/// film has them) and the spectral buckets after them (the buckets with the spectral layout's
-/// header attributes); warns when the format cannot name the colour space.
-pub(crate) fn write_film_image(
-    film: &Film,
-    space: &ColorSpace,
-    path: &Path,
-    opts: &WriteOptions,
-    aov: bool,
-) -> Result<()> {
-    if let Some(w) = FileFormat::from_path(path).ok().and_then(|f| opts.meta.untagged_warning(f)) {
-        eprintln!("prism: warning: {}: {w}", path.display());
-    }
-    let written = match film.to_layered_image(space, aov) {
-        Some(image) => {
-            let names = film.channel_names(aov);
-            let names: Vec<&str> = names.iter().map(String::as_str).collect();
-            let mut opts = opts.clone();
-            opts.meta.spectral_layout = film.spectral.is_some();
-            crate::image::write_channels(path, &image?, &names, &opts)
-        }
-        None => crate::image::write_with(path, &film.to_image(space)?, opts),
-    };
-    written.with_context(|| format!("writing {}", path.display()))
-}
-
 /// The integrator for `scene`: command-line values (`named`, `max_depth`, `sss`) over the
 /// file's, over prism's defaults, resolved against the scene ([`Integrator::for_scene`]). Every
 /// subcommand that renders or measures a scene takes its integrator from here.
@@ -439,13 +376,26 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         Some(Ok(QuadricMode::Tessellated)) => format!("{} (tessellated quadrics)", job.scene.accel().name()),
         _ => job.scene.accel().name().to_string(),
     };
+    // A crop keeps its place in the full image (OpenEXR data and display windows).
+    let (full_width, full_height) = job.settings.resolution;
+    let window = job.settings.film.crop.map(|b| CropWindow { x0: b.x0, y0: b.y0, full_width, full_height });
+    if let Some(target) = args.target_error {
+        let checkpoints = args.checkpoint_every.is_some() || args.resume;
+        super::render_adaptive::check(target, args.part.is_some() || film_output, checkpoints)?;
+        if let Some(p) = &args.spp_map {
+            check_output(p)?;
+        }
+        let outputs = super::render_adaptive::Outputs {
+            spp_map: args.spp_map.as_deref(),
+            stats_json: args.stats_json.as_deref(),
+            denoiser: denoiser.as_ref(),
+        };
+        return super::render_adaptive::run(&job, &pool, target, window, outputs);
+    }
     let fp = crate::fingerprint::fingerprint(&job.scene_name, &job.inputs, &job.settings, job.space.name, &accel);
     let ckpt_path = PathBuf::from(format!("{}.ckpt", job.output.display()));
     let ckpt_every = args.checkpoint_every.as_deref().map(settings::parse_duration).transpose()?;
     let (w, h) = job.settings.film_size();
-    // A crop keeps its place in the full image (OpenEXR data and display windows).
-    let (full_width, full_height) = job.settings.resolution;
-    let window = job.settings.film.crop.map(|b| CropWindow { x0: b.x0, y0: b.y0, full_width, full_height });
     let header = |samples: std::ops::Range<u64>| crate::checkpoint::FilmHeader {
         width: w,
         height: h,
@@ -515,19 +465,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         // the ones missing.
         crate::checkpoint::save(&job.output, &film, &header(range.start..done))?;
     } else {
-        // Where the camera is when the shutter opens, as pbrt-v4 records it.
-        let open = job.scene.shutter.map_or(0.0, |(open, _)| open);
-        let (camera_from_world, ndc_from_world) = job.scene.camera.header_matrices(open);
-        let meta = ImageMeta {
-            color_space: Some(Chromaticities::of(job.space)),
-            samples_per_pixel: Some(done - range.start),
-            render_time_seconds: Some(elapsed),
-            seed: Some(job.settings.seed),
-            sampler: Some(job.settings.sampler.name().to_string()),
-            world_to_camera: Some(camera_from_world.transpose().to_cols_array_2d()),
-            world_to_ndc: ndc_from_world.map(|m| m.transpose().to_cols_array_2d()),
-            ..Default::default()
-        };
+        let meta = image_meta(&job, done - range.start, elapsed);
         let opts = WriteOptions { window, exr_sample: job.exr_sample, meta, ..Default::default() };
         write_film_image(&film, job.space, &job.output, &opts, job.write_aov)?;
         denoise_with = Some(opts);
@@ -579,23 +517,5 @@ pub fn run(args: &RenderArgs) -> Result<()> {
             let message = format!("interrupted after {}; wrote {}{ckpt}", of(done), job.output.display());
             Err(Interrupted { status, message }.into())
         }
-    }
-}
-
-fn summarize(job: &Job, stats: &Stats, elapsed: f64) -> RenderStats {
-    let (w, h) = job.settings.film_size();
-    let pixels = w as u64 * h as u64;
-    RenderStats {
-        elapsed_s: elapsed,
-        spp: stats.samples.checked_div(pixels).unwrap_or(0),
-        width: w,
-        height: h,
-        rays: stats.rays,
-        rays_per_s: stats.rays as f64 / elapsed.max(1e-9),
-        samples_per_s: stats.samples as f64 / elapsed.max(1e-9),
-        accel: job.scene.accel().name().to_string(),
-        nonfinite_samples: stats.nonfinite,
-        build_s: job.build_s,
-        sss: job.settings.integrator.sss.name().to_string(),
     }
 }

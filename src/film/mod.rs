@@ -3,10 +3,12 @@
 //! spectral buckets ([`spectral`]) beside them. Sums are f64 so long renders and merged parts
 //! lose nothing.
 
+mod adaptive;
 pub mod gbuffer;
 pub mod spectral;
 mod visible_surface;
 
+pub use adaptive::AdaptivePixel;
 pub use gbuffer::{AovPixel, AovSettings, AovSpace};
 pub use spectral::{SpectralSettings, SpectralSums};
 pub use visible_surface::VisibleSurface;

@@ -38,6 +38,13 @@ pub(crate) fn viridis_srgb(t: f32) -> [f32; 3] {
     [0, 1, 2].map(|j| c0[j] + f * (c1[j] - c0[j]))
 }
 
+/// A `width × height` RGB image of `values` (row-major) through viridis, 0 at the bottom of the
+/// map and `max` at the top, in linear values so that a PNG of it shows viridis exactly.
+pub fn viridis_image(values: &[f32], width: u32, height: u32, max: f32) -> super::Image {
+    let data = values.iter().flat_map(|v| viridis_srgb(v / max).map(super::srgb::decode)).collect();
+    super::Image { width, height, channels: 3, data }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -1,6 +1,7 @@
 //! What an image file says about itself: the colour space of its RGB values and how it was
 //! rendered. OpenEXR carries it as header attributes (the standard `chromaticities`, pbrt-v4's
-//! names `renderTimeSeconds` and `samplesPerPixel`, and prism's own `prism:*`); PNG carries the
+//! names `renderTimeSeconds` and `samplesPerPixel`, and prism's own `prism:*`, among them an
+//! adaptive render's `prism:estimatedError`); PNG carries the
 //! colour space as a cICP chunk (ITU-T H.273 code points), which only the spaces H.273 names
 //! can use.
 
@@ -46,6 +47,9 @@ pub struct ImageMeta {
     /// The file holds spectral channels in the layout of Fichet et al. (JCGT 2021): say so as
     /// pbrt-v4 does (`spectralLayoutVersion` "1.0", `emissiveUnits` "W.m^-2.sr^-1").
     pub spectral_layout: bool,
+    /// An adaptive render's estimated error when it stopped (`prism:estimatedError`): RMSE of
+    /// x/(1+x)-mapped RGB against the converged image ([`crate::adaptive`]).
+    pub estimated_error: Option<f64>,
 }
 
 /// prism's version, written into every OpenEXR file as `prism:version`.
@@ -150,7 +154,8 @@ mod tests {
                 [0.0, 0.0, 1.0, 2.0],
                 [0.0, 0.0, 1.0, 3.0],
             ]),
-            ..Default::default()
+            estimated_error: Some(0.0125),
+            spectral_layout: false,
         }
     }
 
@@ -195,6 +200,7 @@ mod tests {
             };
             assert_eq!(attr("samplesPerPixel"), Some(AttributeValue::I32(64)));
             assert_eq!(attr("renderTimeSeconds"), Some(AttributeValue::F32(1.5)));
+            assert_eq!(attr("prism:estimatedError"), Some(AttributeValue::F64(0.0125)));
             assert_eq!(attr("prism:seed"), Some(AttributeValue::Text(Text::from("7"))));
             assert_eq!(attr("prism:sampler"), Some(AttributeValue::Text(Text::from("sobol"))));
             assert_eq!(attr("prism:version"), Some(AttributeValue::Text(Text::from(VERSION))));

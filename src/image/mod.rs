@@ -24,6 +24,7 @@ mod srgb;
 use crate::io::TempFile;
 use std::path::Path;
 
+pub use colormap::viridis_image;
 pub use error::ImageError;
 pub use format::{FileFormat, SUPPORTED_EXTENSIONS};
 pub use meta::{Chromaticities, ImageMeta};

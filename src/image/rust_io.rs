@@ -162,6 +162,9 @@ fn exr_attributes(a: &mut exr_p::ImageAttributes, meta: &super::ImageMeta) {
     if let Some(n) = meta.samples_per_pixel {
         a.other.insert(Text::from("samplesPerPixel"), AttributeValue::I32(i32::try_from(n).unwrap_or(i32::MAX)));
     }
+    if let Some(e) = meta.estimated_error {
+        a.other.insert(Text::from("prism:estimatedError"), AttributeValue::F64(e));
+    }
     for (name, value) in meta.exr_strings() {
         a.other.insert(Text::from(name), AttributeValue::Text(Text::from(value.as_str())));
     }

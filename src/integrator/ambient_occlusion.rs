@@ -14,35 +14,8 @@ use crate::sampling::warp::{
 };
 use crate::sampling::Sampler;
 use crate::scene::Scene;
-use crate::spectrum::{ColorSpace, SampledSpectrum, SampledWavelengths};
+use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 use crate::texture::{Footprint, RayDifferentials};
-
-/// pbrt-v4's `ambientocclusion` parameters, and the white it is shown in.
-#[derive(Clone, Copy)]
-pub struct AmbientOcclusion {
-    /// `cossample`: directions sampled ∝ cos θ (true, pbrt-v4's default) or uniformly over the
-    /// hemisphere; both estimate the same A.
-    pub cos_sample: bool,
-    /// `maxdistance` [scene units]: occluders farther than this do not count (default ∞).
-    pub max_distance: f32,
-    /// The output colour space, whose illuminant (normalised to luminance 1) is the white.
-    pub space: &'static ColorSpace,
-}
-
-impl Default for AmbientOcclusion {
-    fn default() -> Self {
-        Self { cos_sample: true, max_distance: f32::INFINITY, space: ColorSpace::srgb() }
-    }
-}
-
-/// Without the space: it is the output space, which settings name on their own (render
-/// fingerprints compare it there).
-impl std::fmt::Debug for AmbientOcclusion {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        let (c, d) = (self.cos_sample, self.max_distance);
-        write!(f, "AmbientOcclusion {{ cos_sample: {c}, max_distance: {d} }}")
-    }
-}
 
 impl Integrator {
     /// One sample of the ambient occlusion seen along `ray`: zero where it sees no surface.

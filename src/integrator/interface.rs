@@ -4,8 +4,7 @@
 //! [`Integrator`] from the render settings and call [`Integrator::li_camera`],
 //! [`Integrator::li`] or [`Integrator::irradiance`]; which loop runs is decided here.
 
-use super::ambient_occlusion::AmbientOcclusion;
-use super::simple_path::SimplePath;
+use super::options::{AmbientOcclusion, SimplePath};
 use super::subsurface::SubsurfaceMethod;
 use super::Stats;
 use crate::bsdf::{Bsdf, Diffuse};

@@ -6,6 +6,7 @@ mod collision;
 mod interface;
 #[cfg(test)]
 mod nanovdb_tests;
+mod options;
 mod path;
 mod random_walk;
 mod simple_path;
@@ -17,9 +18,8 @@ mod volpath;
 #[cfg(test)]
 mod volpath_tests;
 
-pub use ambient_occlusion::AmbientOcclusion;
 pub use interface::{DirectStrategy, Integrator, IntegratorKind, UNBOUNDED_DEPTH};
-pub use simple_path::SimplePath;
+pub use options::{AmbientOcclusion, SimplePath};
 pub use subsurface::SubsurfaceMethod;
 
 /// Counters gathered while rendering (summed over threads).

@@ -5,6 +5,7 @@
 //! uniformly over the sphere. Every combination estimates the same radiance as `path`.
 
 use super::interface::{DirectStrategy, Integrator};
+use super::options::SimplePath;
 use super::state::{escaped_radiance, next_surface};
 use super::Stats;
 use crate::bsdf::TransportMode;
@@ -16,21 +17,6 @@ use crate::sampling::Sampler;
 use crate::scene::Scene;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 use crate::texture::{Footprint, RayDifferentials};
-
-/// pbrt-v4's `simplepath` parameters.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct SimplePath {
-    /// `samplelights` (default true): next-event estimation at every vertex.
-    pub sample_lights: bool,
-    /// `samplebsdf` (default true): continue by BSDF sampling, else uniformly over the sphere.
-    pub sample_bsdf: bool,
-}
-
-impl Default for SimplePath {
-    fn default() -> Self {
-        Self { sample_lights: true, sample_bsdf: true }
-    }
-}
 
 impl Integrator {
     /// Radiance along `ray` by [`SimplePath`]'s estimator, at most `max_depth` scattering events.

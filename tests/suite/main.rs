@@ -2,6 +2,7 @@
 //! keeps CI's compile time down (one test binary per file would link it a dozen times).
 
 mod accel_agreement;
+mod adaptive;
 mod alpha;
 mod analytic_quadrics;
 mod aov;

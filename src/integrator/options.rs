@@ -1,0 +1,46 @@
+//! The parameters of pbrt-v4's small estimators (`ambientocclusion`, `simplepath`), which the
+//! one [`super::Integrator`] carries beside the settings every estimator shares.
+
+use crate::spectrum::ColorSpace;
+
+/// pbrt-v4's `ambientocclusion` parameters, and the white it is shown in.
+#[derive(Clone, Copy)]
+pub struct AmbientOcclusion {
+    /// `cossample`: directions sampled ∝ cos θ (true, pbrt-v4's default) or uniformly over the
+    /// hemisphere; both estimate the same A.
+    pub cos_sample: bool,
+    /// `maxdistance` [scene units]: occluders farther than this do not count (default ∞).
+    pub max_distance: f32,
+    /// The output colour space, whose illuminant (normalised to luminance 1) is the white.
+    pub space: &'static ColorSpace,
+}
+
+impl Default for AmbientOcclusion {
+    fn default() -> Self {
+        Self { cos_sample: true, max_distance: f32::INFINITY, space: ColorSpace::srgb() }
+    }
+}
+
+/// Without the space: it is the output space, which settings name on their own (render
+/// fingerprints compare it there).
+impl std::fmt::Debug for AmbientOcclusion {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let (c, d) = (self.cos_sample, self.max_distance);
+        write!(f, "AmbientOcclusion {{ cos_sample: {c}, max_distance: {d} }}")
+    }
+}
+
+/// pbrt-v4's `simplepath` parameters.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct SimplePath {
+    /// `samplelights` (default true): next-event estimation at every vertex.
+    pub sample_lights: bool,
+    /// `samplebsdf` (default true): continue by BSDF sampling, else uniformly over the sphere.
+    pub sample_bsdf: bool,
+}
+
+impl Default for SimplePath {
+    fn default() -> Self {
+        Self { sample_lights: true, sample_bsdf: true }
+    }
+}
