@@ -47,7 +47,7 @@ pub struct ImageMeta {
     /// The file holds spectral channels in the layout of Fichet et al. (JCGT 2021): say so as
     /// pbrt-v4 does (`spectralLayoutVersion` "1.0", `emissiveUnits` "W.m^-2.sr^-1").
     pub spectral_layout: bool,
-    /// An adaptive render's estimated error when it stopped (`prism:estimatedError`): RMSE of
+    /// An adaptive render's estimated error when it stopped (`prism:estimatedError`, a float): RMSE of
     /// x/(1+x)-mapped RGB against the converged image ([`crate::adaptive`]).
     pub estimated_error: Option<f64>,
 }
@@ -200,7 +200,7 @@ mod tests {
             };
             assert_eq!(attr("samplesPerPixel"), Some(AttributeValue::I32(64)));
             assert_eq!(attr("renderTimeSeconds"), Some(AttributeValue::F32(1.5)));
-            assert_eq!(attr("prism:estimatedError"), Some(AttributeValue::F64(0.0125)));
+            assert_eq!(attr("prism:estimatedError"), Some(AttributeValue::F32(0.0125)));
             assert_eq!(attr("prism:seed"), Some(AttributeValue::Text(Text::from("7"))));
             assert_eq!(attr("prism:sampler"), Some(AttributeValue::Text(Text::from("sobol"))));
             assert_eq!(attr("prism:version"), Some(AttributeValue::Text(Text::from(VERSION))));

@@ -124,6 +124,9 @@ fn exr_attributes(meta: &super::ImageMeta) -> Vec<OwnedAttr> {
     if let Some(t) = meta.render_time_seconds {
         v.extend(OwnedAttr::new("renderTimeSeconds", ATTR_FLOAT, vec![t as f32], 0, None));
     }
+    if let Some(e) = meta.estimated_error {
+        v.extend(OwnedAttr::new("prism:estimatedError", ATTR_FLOAT, vec![e as f32], 0, None));
+    }
     if let Some(n) = meta.samples_per_pixel {
         v.extend(OwnedAttr::new(
             "samplesPerPixel",

@@ -163,7 +163,7 @@ fn exr_attributes(a: &mut exr_p::ImageAttributes, meta: &super::ImageMeta) {
         a.other.insert(Text::from("samplesPerPixel"), AttributeValue::I32(i32::try_from(n).unwrap_or(i32::MAX)));
     }
     if let Some(e) = meta.estimated_error {
-        a.other.insert(Text::from("prism:estimatedError"), AttributeValue::F64(e));
+        a.other.insert(Text::from("prism:estimatedError"), AttributeValue::F32(e as f32));
     }
     for (name, value) in meta.exr_strings() {
         a.other.insert(Text::from(name), AttributeValue::Text(Text::from(value.as_str())));
