@@ -3,7 +3,9 @@
 //! for renders split into parts (`--part i/N`, `prism merge`). Written atomically.
 //!
 //! Layout: the magic line `PRISMFILM 1\n`, a u32 little-endian header length, a JSON header, then
-//! per pixel X, Y, Z, weight as f64 and the sample count as u64, all little-endian.
+//! per pixel X, Y, Z, weight as f64 and the sample count as u64, all little-endian; then, when
+//! the header says so, the geometry buffers' sums per pixel, and the splatted X, Y, Z sums per
+//! pixel as f64 (the number of light paths they hold is in the header).
 
 use crate::film::{AovPixel, Film, Pixel};
 use crate::image::CropWindow;
@@ -15,6 +17,8 @@ use std::path::Path;
 const MAGIC: &[u8] = b"PRISMFILM 1\n";
 /// Largest image a film file may describe (guards allocation on corrupt input).
 const MAX_PIXELS: u64 = 1 << 28;
+/// Bytes per pixel of the splat sums.
+const SPLAT_BYTES: usize = 24;
 
 /// What a film file holds besides the pixels.
 #[derive(Clone, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
@@ -43,6 +47,20 @@ pub struct FilmHeader {
     /// [`crate::film::AovPixel::write_le`].
     #[serde(default)]
     pub aov: bool,
+    /// The film holds splatted light ([`crate::film::SplatBuffer`]) from this many light paths:
+    /// after the geometry buffers, per pixel the splatted X, Y, Z sums.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub splat_paths: Option<u64>,
+}
+
+impl FilmHeader {
+    /// Pixels of the full image the film belongs to (it may be a crop of it).
+    pub fn full_pixels(&self) -> u64 {
+        match &self.window {
+            Some(w) => w.full_width as u64 * w.full_height as u64,
+            None => self.width as u64 * self.height as u64,
+        }
+    }
 }
 
 /// Errors reading or combining film files.
@@ -69,11 +87,14 @@ pub enum FilmFileError {
     Memory(#[from] crate::film::FilmAllocError),
 }
 
-/// Serialises `film` with `header` to `path` atomically.
+/// Serialises `film` with `header` to `path` atomically (the header's `splat_paths` taken from
+/// the film).
 pub fn save(path: &Path, film: &Film, header: &FilmHeader) -> Result<(), FilmFileError> {
-    let json = serde_json::to_vec(header).expect("header serialises");
+    let header = FilmHeader { splat_paths: film.splats.as_ref().map(|s| s.paths), ..header.clone() };
+    let json = serde_json::to_vec(&header).expect("header serialises");
     let aov_bytes = film.aov.as_ref().map_or(0, |a| a.len() * AovPixel::FILE_BYTES);
-    let size = MAGIC.len() + 4 + json.len() + film.pixels.len() * 40 + aov_bytes;
+    let splat_bytes = film.splats.as_ref().map_or(0, |s| s.xyz_sum.len() * SPLAT_BYTES);
+    let size = MAGIC.len() + 4 + json.len() + film.pixels.len() * 40 + aov_bytes + splat_bytes;
     let mut buf = Vec::new();
     buf.try_reserve_exact(size).map_err(|_| Film::alloc_error(film.width, film.height, size))?;
     buf.extend_from_slice(MAGIC);
@@ -87,6 +108,11 @@ pub fn save(path: &Path, film: &Film, header: &FilmHeader) -> Result<(), FilmFil
     }
     for a in film.aov.iter().flatten() {
         a.write_le(&mut buf);
+    }
+    for v in film.splats.iter().flat_map(|s| &s.xyz_sum) {
+        for c in [v.x, v.y, v.z] {
+            buf.extend_from_slice(&c.to_le_bytes());
+        }
     }
     crate::io::write_atomic(path, &buf).map_err(|e| FilmFileError::Io { path: path.display().to_string(), cause: e })
 }
@@ -127,15 +153,29 @@ pub fn load(path: &Path) -> Result<(Film, FilmHeader), FilmFileError> {
     let mut data = Vec::new();
     f.read_to_end(&mut data).map_err(io)?;
     let aov_bytes = if header.aov { AovPixel::FILE_BYTES as u64 } else { 0 };
-    if data.len() as u64 != n * (40 + aov_bytes) {
+    let splat_bytes = if header.splat_paths.is_some() { SPLAT_BYTES as u64 } else { 0 };
+    if data.len() as u64 != n * (40 + aov_bytes + splat_bytes) {
         return Err(bad("pixel data has the wrong length"));
     }
-    let (data, aov_data) = data.split_at(n as usize * 40);
+    let (data, rest) = data.split_at(n as usize * 40);
+    let (aov_data, splat_data) = rest.split_at(n as usize * aov_bytes as usize);
     let mut film = Film::try_new(header.width, header.height)?;
     if header.aov {
         film = film.try_with_aov()?;
         for (a, c) in film.aov.iter_mut().flatten().zip(aov_data.chunks_exact(AovPixel::FILE_BYTES)) {
             *a = AovPixel::read_le(c).ok_or_else(|| bad("a pixel's geometry buffers hold a non-finite sum"))?;
+        }
+    }
+    if let Some(paths) = header.splat_paths {
+        film = film.try_with_splats(header.full_pixels())?;
+        let splats = film.splats.as_mut().expect("just made");
+        splats.paths = paths;
+        for (v, c) in splats.xyz_sum.iter_mut().zip(splat_data.chunks_exact(SPLAT_BYTES)) {
+            let f64_at = |i: usize| f64::from_le_bytes(c[i * 8..i * 8 + 8].try_into().expect("8 bytes"));
+            *v = DVec3::new(f64_at(0), f64_at(1), f64_at(2));
+            if !v.is_finite() {
+                return Err(bad("a pixel's splatted light is not finite"));
+            }
         }
     }
     let range_len = header.samples.end - header.samples.start;
@@ -173,6 +213,9 @@ pub fn merge(mut parts: Vec<(Film, FilmHeader)>) -> Result<(Film, FilmHeader), F
         if h.aov != header.aov {
             return Err(FilmFileError::Mismatch("one part holds geometry buffers, another not".into()));
         }
+        if h.splat_paths.is_some() != header.splat_paths.is_some() {
+            return Err(FilmFileError::Mismatch("one part holds splatted light, another not".into()));
+        }
         if let Some(d) = crate::fingerprint::difference(&header.fingerprint, &h.fingerprint) {
             return Err(FilmFileError::Mismatch(format!("parts come from different scenes or settings: {d}")));
         }
@@ -192,6 +235,7 @@ pub fn merge(mut parts: Vec<(Film, FilmHeader)>) -> Result<(Film, FilmHeader), F
         }
         film.merge(&f);
         header.samples.end = h.samples.end;
+        header.splat_paths = film.splats.as_ref().map(|s| s.paths);
     }
     Ok((film, header))
 }
@@ -232,6 +276,7 @@ mod tests {
             color_space: Some("rec2020".into()),
             exr_float: true,
             aov: false,
+            splat_paths: None,
         };
         let (a, b) = (film(1.0), film(2.0));
         save(&dir.join("a.film"), &a, &h(0..2)).unwrap();
@@ -262,6 +307,7 @@ mod tests {
                 color_space: None,
                 exr_float: false,
                 aov: false,
+                splat_paths: None,
             };
             (film(1.0), h)
         };
@@ -298,6 +344,7 @@ mod tests {
             color_space: None,
             exr_float: false,
             aov: false,
+            splat_paths: None,
         };
         let check = |name: &str, film: &Film, h: &FilmHeader, needle: &str| {
             let path = dir.join(name);

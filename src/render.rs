@@ -3,7 +3,7 @@
 //! its samples in index order, so the image is bit-identical for any thread count, and a render
 //! can be split into disjoint sample ranges and merged.
 
-use crate::film::{AovPixel, AovSpace, Film, FilmAllocError, FilmSettings};
+use crate::film::{AovPixel, AovSpace, Film, FilmAllocError, FilmSettings, Splat};
 use crate::filter::Filter;
 use crate::integrator::{Integrator, Stats};
 use crate::material::Material;
@@ -103,93 +103,167 @@ pub fn render_pass(scene: &Scene, settings: &RenderSettings, film: &mut Film, ra
         Some(a) => a.chunks_mut(band).map(Some).collect(),
         None => film.pixels.chunks(band).map(|_| None).collect(),
     };
-    film.pixels
-        .par_chunks_mut(band)
-        .zip(aov_bands)
-        .enumerate()
-        .map(|(band, (pixels, mut aov_pixels))| {
-            let mut stats = Stats::default();
-            // Pixels are named by their place in the full image, so a crop renders exactly
-            // the samples of the same pixels of the full render.
-            let pixel_at = |i: usize| (x0 + (i % width) as u32, y0 + (band * BAND_ROWS + i / width) as u32);
-            // A camera sample of pixel `(x, y)`: its wavelengths, filter weight, ray and the
-            // ray's differentials.
-            let start = |sampler: &mut Sampler, (x, y): (u32, u32), s: u64| {
-                sampler.start_pixel_sample((x, y), s, settings.seed);
-                let u = sampler.get_pixel_3d();
-                let lambdas = SampledWavelengths::sample_visible(u.z);
-                let (offset, weight) = settings.filter.sample(u.truncate());
-                let p_film = Vec2::new(x as f32 + 0.5, y as f32 + 0.5) + offset;
-                // pbrt-v4's camera sample: a time uniform over the shutter interval, then the
-                // lens. A scene where nothing (camera included) moves draws no time sample, so
-                // its sampler dimensions (and image) stay as without motion blur.
-                let time = scene.shutter.map_or(0.0, |(open, close)| {
-                    let u = sampler.get_1d();
-                    open + (close - open) * u
-                });
-                let u_lens = sampler.get_2d();
-                let ray = camera.sample_ray(p_film, u_lens, time);
-                let diff = differentials
-                    .zip(ray.as_ref())
-                    .and_then(|(f, r)| f.camera_ray_differentials(&camera, &r.ray, p_film, u_lens));
-                (lambdas, weight, ray, diff)
-            };
-            // Adds a sample's estimate to its pixel; the sensor's response, or `None` when the
-            // estimate is not finite and is dropped.
-            let add = |px: &mut crate::film::Pixel,
-                       stats: &mut Stats,
-                       (x, y),
-                       s,
-                       l: SampledSpectrum,
-                       lambdas,
-                       weight: f32| {
-                stats.samples += 1;
-                let xyz = sensor.record(&l, &lambdas);
-                if !xyz.is_finite() {
-                    stats.nonfinite += 1;
-                    if stats.nonfinite_at.len() < 16 {
-                        stats.nonfinite_at.push((x, y, s, stats.last_depth));
-                    }
-                    return None;
+    // Samples `range` of the pixels of band `band`; an estimator that splats pushes its splats
+    // to `splats`, in the order the band's samples make them.
+    let render_band = |band: usize,
+                       pixels: &mut [crate::film::Pixel],
+                       mut aov_pixels: Option<&mut [AovPixel]>,
+                       mut splats: Option<&mut Vec<Splat>>| {
+        let mut stats = Stats::default();
+        // Pixels are named by their place in the full image, so a crop renders exactly
+        // the samples of the same pixels of the full render.
+        let pixel_at = |i: usize| (x0 + (i % width) as u32, y0 + (band * BAND_ROWS + i / width) as u32);
+        // A camera sample of pixel `(x, y)`: its wavelengths, filter weight, ray and the
+        // ray's differentials.
+        let start = |sampler: &mut Sampler, (x, y): (u32, u32), s: u64| {
+            sampler.start_pixel_sample((x, y), s, settings.seed);
+            let u = sampler.get_pixel_3d();
+            let lambdas = SampledWavelengths::sample_visible(u.z);
+            let (offset, weight) = settings.filter.sample(u.truncate());
+            let p_film = Vec2::new(x as f32 + 0.5, y as f32 + 0.5) + offset;
+            // pbrt-v4's camera sample: a time uniform over the shutter interval, then the
+            // lens. A scene where nothing (camera included) moves draws no time sample, so
+            // its sampler dimensions (and image) stay as without motion blur.
+            let time = scene.shutter.map_or(0.0, |(open, close)| {
+                let u = sampler.get_1d();
+                open + (close - open) * u
+            });
+            let u_lens = sampler.get_2d();
+            let ray = camera.sample_ray(p_film, u_lens, time);
+            let diff = differentials
+                .zip(ray.as_ref())
+                .and_then(|(f, r)| f.camera_ray_differentials(&camera, &r.ray, p_film, u_lens));
+            (lambdas, weight, ray, diff)
+        };
+        // The sensor's response to an estimate, or `None` (counted) when it is not finite and
+        // is dropped.
+        let respond = |stats: &mut Stats, (x, y), s, l: &SampledSpectrum, lambdas: &SampledWavelengths| {
+            let xyz = sensor.record(l, lambdas);
+            if !xyz.is_finite() {
+                stats.nonfinite += 1;
+                if stats.nonfinite_at.len() < 16 {
+                    stats.nonfinite_at.push((x, y, s, stats.last_depth));
                 }
+                return None;
+            }
+            Some(xyz)
+        };
+        // Adds a sample's estimate to its pixel; the sensor's response, or `None` when the
+        // estimate is not finite and is dropped.
+        let add =
+            |px: &mut crate::film::Pixel, stats: &mut Stats, (x, y), s, l: SampledSpectrum, lambdas, weight: f32| {
+                stats.samples += 1;
+                let xyz = respond(stats, (x, y), s, &l, &lambdas)?;
                 px.xyz_sum += xyz.as_dvec3() * weight as f64;
                 px.weight_sum += weight as f64;
                 px.samples += 1;
                 Some(xyz)
             };
-            let mut sampler = settings.sampler.make();
-            for (i, px) in pixels.iter_mut().enumerate() {
-                let (x, y) = pixel_at(i);
-                for s in range.clone() {
-                    let (mut lambdas, weight, ray, diff) = start(&mut sampler, (x, y), s);
-                    let diff = diff.as_ref();
-                    let mut visible = None;
-                    let record = aov_pixels.is_some().then_some(&mut visible);
-                    let l = match ray {
-                        None => SampledSpectrum::splat(0.0),
-                        Some(r) => {
-                            integrator.li_camera(scene, r.ray, diff, record, &mut lambdas, &mut sampler, &mut stats)
-                                * r.weight
-                        }
-                    };
-                    let response = add(px, &mut stats, (x, y), s, l, lambdas, weight);
-                    if let (Some(a), Some(v), Some(response), Some(aov)) =
-                        (aov_pixels.as_deref_mut(), visible, response, aov.as_ref())
-                    {
-                        let out_from_world = match aov.coordinates {
-                            AovSpace::Camera => camera.transform.camera_from_world(v.time),
-                            AovSpace::World => Mat4::IDENTITY,
-                        };
-                        a[i].add(&v, &lambdas, aov, &out_from_world, response, weight);
+        let mut sampler = settings.sampler.make();
+        let mut sample_splats = Vec::new();
+        for (i, px) in pixels.iter_mut().enumerate() {
+            let (x, y) = pixel_at(i);
+            for s in range.clone() {
+                let (mut lambdas, weight, ray, diff) = start(&mut sampler, (x, y), s);
+                let diff = diff.as_ref();
+                let mut visible = None;
+                let record = aov_pixels.is_some().then_some(&mut visible);
+                let l = match (ray, splats.as_deref_mut()) {
+                    (None, _) => SampledSpectrum::splat(0.0),
+                    (Some(r), None) => {
+                        integrator.li_camera(scene, r.ray, diff, record, &mut lambdas, &mut sampler, &mut stats)
+                            * r.weight
                     }
+                    (Some(r), Some(list)) => {
+                        let l = integrator.li_splatting(
+                            scene,
+                            &camera,
+                            r.ray,
+                            diff,
+                            record,
+                            &mut lambdas,
+                            &mut sampler,
+                            &mut stats,
+                            &mut sample_splats,
+                        ) * r.weight;
+                        for sp in sample_splats.drain(..) {
+                            if let Some(xyz) = respond(&mut stats, (x, y), s, &(sp.l * r.weight), &sp.lambdas) {
+                                list.push(Splat { p_raster: sp.p_raster, xyz });
+                            }
+                        }
+                        l
+                    }
+                };
+                let response = add(px, &mut stats, (x, y), s, l, lambdas, weight);
+                if let (Some(a), Some(v), Some(response), Some(aov)) =
+                    (aov_pixels.as_deref_mut(), visible, response, aov.as_ref())
+                {
+                    let out_from_world = match aov.coordinates {
+                        AovSpace::Camera => camera.transform.camera_from_world(v.time),
+                        AovSpace::World => Mat4::IDENTITY,
+                    };
+                    a[i].add(&v, &lambdas, aov, &out_from_world, response, weight);
                 }
             }
-            stats
-        })
-        .reduce(Stats::default, |mut a, b| {
-            a.merge(&b);
-            a
-        })
+        }
+        stats
+    };
+    let merge = |mut a: Stats, b: Stats| {
+        a.merge(&b);
+        a
+    };
+    let Some(splat_buffer) = film.splats.as_mut().filter(|_| integrator.kind.splats()) else {
+        return film
+            .pixels
+            .par_chunks_mut(band)
+            .zip(aov_bands)
+            .enumerate()
+            .map(|(b, (pixels, aov_pixels))| render_band(b, pixels, aov_pixels, None))
+            .reduce(Stats::default, merge);
+    };
+    // Splats land anywhere on the film: each band gathers its own, and they are added band by
+    // band in order, a group of bands at a time (which bounds the memory they take). The sums
+    // are therefore the same for any thread count.
+    let group_bands = 4 * rayon::current_num_threads();
+    let (height, origin) = (film.height, settings.film_origin());
+    splat_buffer.paths += film.pixels.len() as u64 * (range.end - range.start);
+    let mut aov_bands = aov_bands.into_iter();
+    let mut stats = Stats::default();
+    for (g, group) in film.pixels.chunks_mut(band * group_bands).enumerate() {
+        let aov_group: Vec<_> = aov_bands.by_ref().take(group.len().div_ceil(band)).collect();
+        let done: Vec<(Stats, Vec<Splat>)> = group
+            .par_chunks_mut(band)
+            .zip(aov_group)
+            .enumerate()
+            .map(|(b, (pixels, aov_pixels))| {
+                let mut splats = Vec::new();
+                let stats = render_band(g * group_bands + b, pixels, aov_pixels, Some(&mut splats));
+                (stats, splats)
+            })
+            .collect();
+        for (band_stats, splats) in done {
+            stats.merge(&band_stats);
+            for sp in &splats {
+                splat_buffer.add(sp, &settings.filter, width as u32, height, origin);
+            }
+        }
+    }
+    stats
+}
+
+/// An empty film for `settings`: with geometry buffers when they are asked for, and a splat
+/// buffer when the integrator splats. Fails when it cannot be allocated.
+pub fn new_film(settings: &RenderSettings) -> Result<Film, FilmAllocError> {
+    let (w, h) = settings.film_size();
+    let mut film = Film::try_new(w, h)?;
+    if settings.film.aov.is_some() {
+        film = film.try_with_aov()?;
+    }
+    if settings.integrator.kind.splats() {
+        let (fw, fh) = settings.resolution;
+        film = film.try_with_splats(fw as u64 * fh as u64)?;
+    }
+    Ok(film)
 }
 
 /// Renders `settings.spp` samples per pixel (or fewer if the time limit ends it), in passes
@@ -200,11 +274,7 @@ pub fn render(
     settings: &RenderSettings,
     mut progress: impl FnMut(u64),
 ) -> Result<(Film, Stats), FilmAllocError> {
-    let (w, h) = settings.film_size();
-    let mut film = Film::try_new(w, h)?;
-    if settings.film.aov.is_some() {
-        film = film.try_with_aov()?;
-    }
+    let mut film = new_film(settings)?;
     let never = AtomicBool::new(false);
     let stats = render_range(scene, settings, &mut film, 0..settings.spp, &never, |_, done| {
         progress(done);

@@ -301,6 +301,10 @@ pub(crate) fn integrator_for(
     if named == IntegratorKind::Path && integrator.kind == IntegratorKind::VolPath {
         log::info!("the scene has media: integrator \"path\" renders them as \"volpath\"");
     }
+    if named.splats() && integrator.kind != named {
+        let why = Integrator::fallback_reason(scene).unwrap_or("");
+        log::warn!("integrator \"{}\" renders this scene as \"{}\": {why}", named.name(), integrator.kind.name());
+    }
     integrator
 }
 
@@ -413,12 +417,10 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         color_space: Some(job.space.name.to_string()),
         exr_float: job.exr_sample == ExrSample::Float,
         aov: job.settings.film.aov.is_some(),
+        splat_paths: None,
     };
 
-    let mut film = Film::try_new(w, h)?;
-    if job.settings.film.aov.is_some() {
-        film = film.try_with_aov()?;
-    }
+    let mut film = crate::render::new_film(&job.settings)?;
     let mut start = range.start;
     if args.resume {
         let (f, hd) = crate::checkpoint::load(&ckpt_path)

@@ -232,6 +232,7 @@ fn reference(scene: &crate::scene::Scene, a: &SssReportArgs, name: &str, fingerp
             color_space: None,
             exr_float: false,
             aov: false,
+            splat_paths: None,
         };
         let seconds = before_s + t0.elapsed().as_secs_f64();
         saved = checkpoint::save(&path, film, &header)

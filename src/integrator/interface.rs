@@ -5,8 +5,9 @@
 //! [`Integrator::li`] or [`Integrator::irradiance`]; which loop runs is decided here.
 
 use super::subsurface::SubsurfaceMethod;
-use super::Stats;
+use super::{SplatSample, Stats};
 use crate::bsdf::{Bsdf, Diffuse};
+use crate::camera::Camera;
 use crate::film::VisibleSurface;
 use crate::geometry::Ray;
 use crate::math::PI;
@@ -27,12 +28,24 @@ pub enum IntegratorKind {
     /// `volpath`: path tracing with participating media by null scattering (pbrt-v4
     /// `VolPathIntegrator`).
     VolPath,
+    /// `lightpath`: light tracing, every light-path vertex connected to the camera and splatted
+    /// onto the film (pbrt-v4 `LightPathIntegrator`).
+    LightPath,
 }
 
 crate::named::name_table!(IntegratorKind, "integrator", {
     "path" => IntegratorKind::Path,
     "volpath" => IntegratorKind::VolPath,
+    "lightpath" => IntegratorKind::LightPath,
 });
+
+impl IntegratorKind {
+    /// True for the estimators that splat light onto arbitrary film positions (the film then
+    /// needs a [`crate::film::SplatBuffer`]).
+    pub fn splats(self) -> bool {
+        matches!(self, IntegratorKind::LightPath)
+    }
+}
 
 /// Which estimators of direct light to use (for validating MIS: all three must agree).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -109,15 +122,34 @@ impl Integrator {
     /// step through — participating media, or a subsurface material a path may walk (the random
     /// walk, or diffusion on an optically thin object). A scene without either gives `volpath`
     /// nothing to do but the path tracer's work; `path` cannot step through media (pbrt-v4's
-    /// `path` ignores them).
+    /// `path` ignores them). The estimators that start paths at the lights need every light to
+    /// start paths ([`crate::light::Light::emits_paths`]: not lights at infinity) and a camera
+    /// with an importance function (a perspective one without a lens system); they step
+    /// through no media. Where they cannot run, the path tracer (or, with media, the volumetric
+    /// one) renders instead ([`Self::fallback_reason`] says why).
     pub fn for_scene(self, scene: &Scene) -> Self {
         let walks =
             scene.has_subsurface() && (self.sss == SubsurfaceMethod::RandomWalk || scene.may_have_thin_subsurface());
         let kind = match self.kind {
-            IntegratorKind::Path | IntegratorKind::VolPath if scene.has_media() || walks => IntegratorKind::VolPath,
-            IntegratorKind::Path | IntegratorKind::VolPath => IntegratorKind::Path,
+            _ if scene.has_media() || walks => IntegratorKind::VolPath,
+            IntegratorKind::LightPath if Self::fallback_reason(scene).is_none() => self.kind,
+            _ => IntegratorKind::Path,
         };
         Self { kind, ..self }
+    }
+
+    /// Why the estimators that start paths at the lights cannot render `scene` (`None`: they
+    /// can).
+    pub fn fallback_reason(scene: &Scene) -> Option<&'static str> {
+        if scene.has_media() || scene.has_subsurface() {
+            Some("they do not step through participating media or subsurface materials")
+        } else if !scene.lights_emit_paths() {
+            Some("a light at infinity (distant, infinite) or an image-projecting light cannot start light paths")
+        } else if !scene.camera.camera((1, 1)).has_importance() {
+            Some("only a perspective camera without a lens system has an importance function here")
+        } else {
+            None
+        }
     }
 
     /// Radiance [W/(sr·m²·nm)] arriving along `ray` at its origin (in the camera's medium), at
@@ -148,8 +180,36 @@ impl Integrator {
         stats: &mut Stats,
     ) -> SampledSpectrum {
         match self.kind {
-            IntegratorKind::Path => self.path_trace(scene, ray, differentials, None, visible, w, sampler, stats),
             IntegratorKind::VolPath => self.volpath_trace(scene, ray, differentials, None, visible, w, sampler, stats),
+            _ => self.path_trace(scene, ray, differentials, None, visible, w, sampler, stats),
+        }
+    }
+
+    /// The estimate of a camera sample for the estimators that splat ([`IntegratorKind::splats`]):
+    /// the radiance the camera `ray` (with its differentials, and the geometry-buffer record
+    /// `visible`) brings to its own pixel, and the light that the sample's light path brings to
+    /// film positions of their own, pushed to `splats`. The other estimators push nothing.
+    #[allow(clippy::too_many_arguments)]
+    pub fn li_splatting(
+        &self,
+        scene: &Scene,
+        camera: &Camera,
+        ray: Ray,
+        differentials: Option<&RayDifferentials>,
+        visible: Option<&mut Option<VisibleSurface>>,
+        w: &mut SampledWavelengths,
+        sampler: &mut Sampler,
+        stats: &mut Stats,
+        splats: &mut Vec<SplatSample>,
+    ) -> SampledSpectrum {
+        match self.kind {
+            // Light tracing uses the camera sample for its time and wavelengths only (and
+            // records no geometry buffers).
+            IntegratorKind::LightPath => {
+                self.light_trace(scene, camera, ray.time, w, sampler, stats, splats);
+                SampledSpectrum::zero()
+            }
+            _ => self.li_camera(scene, ray, differentials, visible, w, sampler, stats),
         }
     }
 
@@ -171,8 +231,8 @@ impl Integrator {
         let probe = Ray::new(p + n, -n); // only its origin matters for MIS bookkeeping
         let sensor = Some((si, bsdf));
         let lo = match self.kind {
-            IntegratorKind::Path => self.path_trace(scene, probe, None, sensor, None, w, sampler, stats),
             IntegratorKind::VolPath => self.volpath_trace(scene, probe, None, sensor, None, w, sampler, stats),
+            _ => self.path_trace(scene, probe, None, sensor, None, w, sampler, stats),
         };
         lo * PI
     }

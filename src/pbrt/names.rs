@@ -38,13 +38,14 @@ pub const MEDIA: &[&str] = crate::media::PBRT_NAMES;
 
 /// Integrators prism runs.
 /// A scene with media is rendered by the volumetric path tracer whichever is named; without
-/// media "volpath" is "path".
-pub const PRISM_INTEGRATORS: &[&str] = &["path", "volpath"];
+/// media "volpath" is "path". "lightpath" renders scenes whose lights and camera it can trace
+/// from and to, and falls back to "path" with a warning elsewhere
+/// (`Integrator::fallback_reason`).
+pub const PRISM_INTEGRATORS: &[&str] = &["path", "volpath", "lightpath"];
 /// pbrt-v4 integrators prism replaces with its path tracer.
 pub const PBRT_ONLY_INTEGRATORS: &[(&str, &str)] = &[
     ("ambientocclusion", "path"),
     ("bdpt", "path"),
-    ("lightpath", "path"),
     ("mlt", "path"),
     ("randomwalk", "path"),
     ("simplepath", "path"),
