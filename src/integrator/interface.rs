@@ -31,19 +31,23 @@ pub enum IntegratorKind {
     /// `lightpath`: light tracing, every light-path vertex connected to the camera and splatted
     /// onto the film (pbrt-v4 `LightPathIntegrator`).
     LightPath,
+    /// `bdpt`: bidirectional path tracing, every connection of a camera and a light subpath
+    /// weighted by the balance heuristic (pbrt-v4 `BDPTIntegrator`).
+    Bdpt,
 }
 
 crate::named::name_table!(IntegratorKind, "integrator", {
     "path" => IntegratorKind::Path,
     "volpath" => IntegratorKind::VolPath,
     "lightpath" => IntegratorKind::LightPath,
+    "bdpt" => IntegratorKind::Bdpt,
 });
 
 impl IntegratorKind {
     /// True for the estimators that splat light onto arbitrary film positions (the film then
     /// needs a [`crate::film::SplatBuffer`]).
     pub fn splats(self) -> bool {
-        matches!(self, IntegratorKind::LightPath)
+        matches!(self, IntegratorKind::LightPath | IntegratorKind::Bdpt)
     }
 }
 
@@ -132,7 +136,7 @@ impl Integrator {
             scene.has_subsurface() && (self.sss == SubsurfaceMethod::RandomWalk || scene.may_have_thin_subsurface());
         let kind = match self.kind {
             _ if scene.has_media() || walks => IntegratorKind::VolPath,
-            IntegratorKind::LightPath if Self::fallback_reason(scene).is_none() => self.kind,
+            IntegratorKind::LightPath | IntegratorKind::Bdpt if Self::fallback_reason(scene).is_none() => self.kind,
             _ => IntegratorKind::Path,
         };
         Self { kind, ..self }
@@ -209,6 +213,8 @@ impl Integrator {
                 self.light_trace(scene, camera, ray.time, w, sampler, stats, splats);
                 SampledSpectrum::zero()
             }
+            // (No geometry buffers either.)
+            IntegratorKind::Bdpt => self.bdpt_trace(scene, camera, ray, differentials, w, sampler, stats, splats),
             _ => self.li_camera(scene, ray, differentials, visible, w, sampler, stats),
         }
     }

@@ -1,6 +1,8 @@
 //! Integrators: estimators of the radiance arriving at the camera, behind one interface
 //! ([`Integrator`]).
 
+mod bdpt;
+mod bdpt_weights;
 mod collision;
 mod interface;
 mod lightpath;

@@ -38,14 +38,13 @@ pub const MEDIA: &[&str] = crate::media::PBRT_NAMES;
 
 /// Integrators prism runs.
 /// A scene with media is rendered by the volumetric path tracer whichever is named; without
-/// media "volpath" is "path". "lightpath" renders scenes whose lights and camera it can trace
-/// from and to, and falls back to "path" with a warning elsewhere
+/// media "volpath" is "path". "lightpath" and "bdpt" render scenes whose lights and camera they
+/// can trace from and to, and fall back to "path" with a warning elsewhere
 /// (`Integrator::fallback_reason`).
-pub const PRISM_INTEGRATORS: &[&str] = &["path", "volpath", "lightpath"];
+pub const PRISM_INTEGRATORS: &[&str] = &["path", "volpath", "lightpath", "bdpt"];
 /// pbrt-v4 integrators prism replaces with its path tracer.
 pub const PBRT_ONLY_INTEGRATORS: &[(&str, &str)] = &[
     ("ambientocclusion", "path"),
-    ("bdpt", "path"),
     ("mlt", "path"),
     ("randomwalk", "path"),
     ("simplepath", "path"),

@@ -1,4 +1,4 @@
-//! The estimators that start paths at the lights against the path
+//! The estimators that start paths at the lights (`lightpath`, `bdpt`) against the path
 //! tracer: the same scene must converge to the same image. Each image is cut into blocks; per
 //! block the mean over independent renders (seeds) and its standard error are measured, and
 //! every block of the two estimators must agree within 4 standard errors of their difference.
@@ -68,6 +68,44 @@ fn light_tracing_renders_the_cornell_box_as_path_tracing_does() {
     agrees_with_path(&cornell(), IntegratorKind::LightPath, (16, 16), 5);
 }
 
+#[test]
+fn bidirectional_path_tracing_renders_the_cornell_box_as_path_tracing_does() {
+    agrees_with_path(&cornell(), IntegratorKind::Bdpt, (16, 8), 5);
+}
+
+/// A rough gold sphere and a diffuse one on a diffuse floor under a small quad light: glossy
+/// reflections of the light and of the lit floor, which the strategies sample very
+/// differently.
+const GLOSSY: &str = r#"
+LookAt 0 1.2 -4  0 0.6 0  0 1 0
+Camera "perspective" "float fov" [40]
+WorldBegin
+AttributeBegin
+  AreaLightSource "diffuse" "spectrum L" [300 30 900 30]
+  Shape "trianglemesh" "integer indices" [0 1 2 0 2 3]
+      "point3 P" [-0.3 3 -0.3  0.3 3 -0.3  0.3 3 0.3  -0.3 3 0.3]
+AttributeEnd
+Material "diffuse" "spectrum reflectance" [300 0.6 900 0.6]
+Shape "trianglemesh" "integer indices" [0 1 2 0 2 3]
+    "point3 P" [-5 0 -5  -5 0 5  5 0 5  5 0 -5]
+AttributeBegin
+  Material "conductor" "spectrum eta" "metal-Au-eta" "spectrum k" "metal-Au-k" "float roughness" [0.15]
+  Translate -0.55 0.5 0
+  Shape "sphere" "float radius" [0.5]
+AttributeEnd
+AttributeBegin
+  Material "diffuse" "spectrum reflectance" [300 0.3 900 0.3]
+  Translate 0.6 0.4 0.2
+  Shape "sphere" "float radius" [0.4]
+AttributeEnd
+"#;
+
+#[test]
+fn bidirectional_path_tracing_renders_glossy_reflections_as_path_tracing_does() {
+    let scene = crate::common::pbrt_scene(GLOSSY, AccelKind::Obvhs);
+    agrees_with_path(&scene, IntegratorKind::Bdpt, (32, 16), 4);
+}
+
 /// A diffuse plane of reflectance ρ = 0.5 at z = 0 lit by a point light of constant intensity
 /// I at height h = 1, seen from above: the radiance it reflects at horizontal distance r from
 /// below the light is L = (ρ/π) I h / (r² + h²)^{3/2}, in closed form. Light tracing (t = 1)
@@ -119,7 +157,7 @@ fn light_paths_reproduce_the_closed_form_radiance_of_a_plane_under_a_point_light
         }
     }
     expected /= (size * size * 64) as f64;
-    for kind in [IntegratorKind::LightPath] {
+    for kind in [IntegratorKind::Bdpt, IntegratorKind::LightPath] {
         let means: Vec<f64> = (0..6)
             .map(|seed| {
                 let s = Integrator { ..settings(kind, seed).integrator }.for_scene(&lit);
