@@ -480,18 +480,25 @@ impl Integrator {
         new_lens: Option<&Vertex>,
     ) -> f32 {
         let t = cam.len();
-        let light_at = |i: usize| if i == 0 { new_light.unwrap_or(&light[0]) } else { &light[i] };
-        let cam_at = |i: usize| if i == 0 { new_lens.unwrap_or(&cam[0]) } else { &cam[i] };
+        // (`light` is empty when s = 1 and no light subpath started.)
+        let light_at = |i: usize| match (i, new_light) {
+            (0, Some(v)) => v,
+            _ => &light[i],
+        };
+        let cam_at = |i: usize| match (i, new_lens) {
+            (0, Some(v)) => v,
+            _ => &cam[i],
+        };
         // The full path, light end first: light[0..s], then cam[t-1..0].
         let n = s + t;
         let mut path = vec![VertexDensity::default(); n];
-        for i in 0..s {
+        for (i, d) in path.iter_mut().enumerate().take(s) {
             let v = light_at(i);
-            path[i] = VertexDensity { from_light: v.pdf_fwd, from_camera: v.pdf_rev, delta: v.delta };
+            *d = VertexDensity { from_light: v.pdf_fwd, from_camera: v.pdf_rev, delta: v.delta };
         }
-        for j in 0..t {
+        for (j, d) in path.iter_mut().rev().enumerate().take(t) {
             let v = cam_at(j);
-            path[n - 1 - j] = VertexDensity { from_light: v.pdf_rev, from_camera: v.pdf_fwd, delta: v.delta };
+            *d = VertexDensity { from_light: v.pdf_rev, from_camera: v.pdf_fwd, delta: v.delta };
         }
         // The connection's ends and their neighbours.
         let pt = cam_at(t - 1);
