@@ -5,7 +5,8 @@
 //! Layout: the magic line `PRISMFILM 1\n`, a u32 little-endian header length, a JSON header, then
 //! per pixel X, Y, Z, weight as f64 and the sample count as u64, all little-endian; then, when
 //! the header says so, per pixel the geometry buffers' sums, then per pixel the spectral
-//! buckets' sums (f64, little-endian).
+//! buckets' sums, then per pixel the splatted X, Y, Z sums (f64, little-endian; the number of
+//! light paths the splats hold is in the header).
 
 use crate::film::{AovPixel, Film, Pixel, SpectralSettings};
 use crate::image::CropWindow;
@@ -17,6 +18,8 @@ use std::path::Path;
 const MAGIC: &[u8] = b"PRISMFILM 1\n";
 /// Largest image a film file may describe (guards allocation on corrupt input).
 const MAX_PIXELS: u64 = 1 << 28;
+/// Bytes per pixel of the splat sums.
+const SPLAT_BYTES: usize = 24;
 
 /// What a film file holds besides the pixels.
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -49,6 +52,20 @@ pub struct FilmHeader {
     /// [`SpectralSettings::stride`] sums of [`crate::film::SpectralSums`].
     #[serde(default)]
     pub spectral: Option<SpectralSettings>,
+    /// The film holds splatted light ([`crate::film::SplatBuffer`]) from this many light paths:
+    /// after the spectral buckets, per pixel the splatted X, Y, Z sums.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub splat_paths: Option<u64>,
+}
+
+impl FilmHeader {
+    /// Pixels of the full image the film belongs to (it may be a crop of it).
+    pub fn full_pixels(&self) -> u64 {
+        match &self.window {
+            Some(w) => w.full_width as u64 * w.full_height as u64,
+            None => self.width as u64 * self.height as u64,
+        }
+    }
 }
 
 /// Errors reading or combining film files.
@@ -75,12 +92,15 @@ pub enum FilmFileError {
     Memory(#[from] crate::film::FilmAllocError),
 }
 
-/// Serialises `film` with `header` to `path` atomically.
+/// Serialises `film` with `header` to `path` atomically (the header's `splat_paths` taken from
+/// the film).
 pub fn save(path: &Path, film: &Film, header: &FilmHeader) -> Result<(), FilmFileError> {
-    let json = serde_json::to_vec(header).expect("header serialises");
+    let header = FilmHeader { splat_paths: film.splats.as_ref().map(|s| s.paths), ..header.clone() };
+    let json = serde_json::to_vec(&header).expect("header serialises");
     let aov_bytes = film.aov.as_ref().map_or(0, |a| a.len() * AovPixel::FILE_BYTES);
     let spectral_bytes = film.spectral.as_ref().map_or(0, |s| s.sums.len() * 8);
-    let size = MAGIC.len() + 4 + json.len() + film.pixels.len() * 40 + aov_bytes + spectral_bytes;
+    let splat_bytes = film.splats.as_ref().map_or(0, |s| s.xyz_sum.len() * SPLAT_BYTES);
+    let size = MAGIC.len() + 4 + json.len() + film.pixels.len() * 40 + aov_bytes + spectral_bytes + splat_bytes;
     let mut buf = Vec::new();
     buf.try_reserve_exact(size).map_err(|_| Film::alloc_error(film.width, film.height, size))?;
     buf.extend_from_slice(MAGIC);
@@ -97,6 +117,11 @@ pub fn save(path: &Path, film: &Film, header: &FilmHeader) -> Result<(), FilmFil
     }
     for v in film.spectral.iter().flat_map(|s| &s.sums) {
         buf.extend_from_slice(&v.to_le_bytes());
+    }
+    for v in film.splats.iter().flat_map(|s| &s.xyz_sum) {
+        for c in [v.x, v.y, v.z] {
+            buf.extend_from_slice(&c.to_le_bytes());
+        }
     }
     crate::io::write_atomic(path, &buf).map_err(|e| FilmFileError::Io { path: path.display().to_string(), cause: e })
 }
@@ -144,11 +169,13 @@ pub fn load(path: &Path) -> Result<(Film, FilmHeader), FilmFileError> {
     }
     let aov_bytes = if header.aov { AovPixel::FILE_BYTES as u64 } else { 0 };
     let spectral_bytes = header.spectral.map_or(0, |s| s.stride() as u64 * 8);
-    if data.len() as u64 != n * (40 + aov_bytes + spectral_bytes) {
+    let splat_bytes = if header.splat_paths.is_some() { SPLAT_BYTES as u64 } else { 0 };
+    if data.len() as u64 != n * (40 + aov_bytes + spectral_bytes + splat_bytes) {
         return Err(bad("pixel data has the wrong length"));
     }
     let (data, rest) = data.split_at(n as usize * 40);
-    let (aov_data, spectral_data) = rest.split_at((n * aov_bytes) as usize);
+    let (aov_data, rest) = rest.split_at((n * aov_bytes) as usize);
+    let (spectral_data, splat_data) = rest.split_at((n * spectral_bytes) as usize);
     let mut film = Film::try_new(header.width, header.height)?;
     if header.aov {
         film = film.try_with_aov()?;
@@ -162,6 +189,18 @@ pub fn load(path: &Path) -> Result<(Film, FilmHeader), FilmFileError> {
             *v = f64::from_le_bytes(c.try_into().expect("8 bytes"));
             if !v.is_finite() {
                 return Err(bad("a pixel's spectral buckets hold a non-finite sum"));
+            }
+        }
+    }
+    if let Some(paths) = header.splat_paths {
+        film = film.try_with_splats(header.full_pixels())?;
+        let splats = film.splats.as_mut().expect("just made");
+        splats.paths = paths;
+        for (v, c) in splats.xyz_sum.iter_mut().zip(splat_data.chunks_exact(SPLAT_BYTES)) {
+            let f64_at = |i: usize| f64::from_le_bytes(c[i * 8..i * 8 + 8].try_into().expect("8 bytes"));
+            *v = DVec3::new(f64_at(0), f64_at(1), f64_at(2));
+            if !v.is_finite() {
+                return Err(bad("a pixel's splatted light is not finite"));
             }
         }
     }
@@ -205,6 +244,9 @@ pub fn merge(mut parts: Vec<(Film, FilmHeader)>) -> Result<(Film, FilmHeader), F
                 "the parts hold different spectral buckets (or one holds none)".into(),
             ));
         }
+        if h.splat_paths.is_some() != header.splat_paths.is_some() {
+            return Err(FilmFileError::Mismatch("one part holds splatted light, another not".into()));
+        }
         if let Some(d) = crate::fingerprint::difference(&header.fingerprint, &h.fingerprint) {
             return Err(FilmFileError::Mismatch(format!("parts come from different scenes or settings: {d}")));
         }
@@ -224,6 +266,7 @@ pub fn merge(mut parts: Vec<(Film, FilmHeader)>) -> Result<(Film, FilmHeader), F
         }
         film.merge(&f);
         header.samples.end = h.samples.end;
+        header.splat_paths = film.splats.as_ref().map(|s| s.paths);
     }
     Ok((film, header))
 }
@@ -265,6 +308,7 @@ mod tests {
             exr_float: true,
             aov: false,
             spectral: None,
+            splat_paths: None,
         };
         let (a, b) = (film(1.0), film(2.0));
         save(&dir.join("a.film"), &a, &h(0..2)).unwrap();
@@ -296,6 +340,7 @@ mod tests {
                 exr_float: false,
                 aov: false,
                 spectral: None,
+                splat_paths: None,
             };
             (film(1.0), h)
         };
@@ -333,6 +378,7 @@ mod tests {
             exr_float: false,
             aov: false,
             spectral: None,
+            splat_paths: None,
         };
         let check = |name: &str, film: &Film, h: &FilmHeader, needle: &str| {
             let path = dir.join(name);

@@ -5,7 +5,7 @@
 
 use crate::camera::Camera;
 use crate::film::{
-    AdaptivePixel, AovPixel, AovSettings, AovSpace, Film, FilmAllocError, FilmSettings, Pixel, SpectralSettings,
+    AdaptivePixel, AovPixel, AovSettings, AovSpace, Film, FilmAllocError, FilmSettings, Pixel, SpectralSettings, Splat,
 };
 use crate::filter::Filter;
 use crate::integrator::{Integrator, Stats};
@@ -201,23 +201,69 @@ pub fn render_pass_of(scene: &Scene, settings: &RenderSettings, film: &mut Film,
         (Some(f), Some(s)) => f.sums.chunks_mut(band * s.stride()).map(Some).collect(),
         _ => film.pixels.chunks(band).map(|_| None).collect(),
     };
-    film.pixels
-        .par_chunks_mut(band)
-        .zip(aov_bands)
-        .zip(spectral_bands)
-        .zip(adaptive_bands)
-        .enumerate()
-        .map(|(band, (((pixels, aov_pixels), sums), adaptive))| match (spectral, sums) {
-            (Some(settings), Some(sums)) => {
-                let sink = SpectralBand { settings, sums, max_component: pass.settings.film.sensor.max_component };
-                render_band(&pass, band, pixels, aov_pixels, adaptive, sink)
+    let merge = |mut a: Stats, b: Stats| {
+        a.merge(&b);
+        a
+    };
+    let Some(splat_buffer) = film.splats.as_mut().filter(|_| pass.integrator.kind.splats()) else {
+        return film
+            .pixels
+            .par_chunks_mut(band)
+            .zip(aov_bands)
+            .zip(spectral_bands)
+            .zip(adaptive_bands)
+            .enumerate()
+            .map(|(band, (((pixels, aov_pixels), sums), adaptive))| match (spectral, sums) {
+                (Some(settings), Some(sums)) => {
+                    let sink = SpectralBand { settings, sums, max_component: pass.settings.film.sensor.max_component };
+                    render_band(&pass, band, pixels, aov_pixels, adaptive, None, sink)
+                }
+                _ => render_band(&pass, band, pixels, aov_pixels, adaptive, None, NoSpectrum),
+            })
+            .reduce(Stats::default, merge);
+    };
+    // Splats land anywhere on the film: each band gathers its own, and they are added band by
+    // band in order, a group of bands at a time (which bounds the memory they take). The sums
+    // are therefore the same for any thread count. (Splatting estimators render neither
+    // adaptively nor into spectral buckets.)
+    let group_bands = 4 * rayon::current_num_threads();
+    let height = film.height;
+    splat_buffer.paths += film.pixels.len() as u64 * (pass.range.end - pass.range.start);
+    let mut aov_bands = aov_bands.into_iter();
+    let mut stats = Stats::default();
+    for (g, group) in film.pixels.chunks_mut(band * group_bands).enumerate() {
+        let aov_group: Vec<_> = aov_bands.by_ref().take(group.len().div_ceil(band)).collect();
+        let done: Vec<(Stats, Vec<Splat>)> = group
+            .par_chunks_mut(band)
+            .zip(aov_group)
+            .enumerate()
+            .map(|(b, (pixels, aov_pixels))| {
+                let mut splats = Vec::new();
+                let band = g * group_bands + b;
+                let stats = render_band(&pass, band, pixels, aov_pixels, None, Some(&mut splats), NoSpectrum);
+                (stats, splats)
+            })
+            .collect();
+        for (band_stats, splats) in done {
+            stats.merge(&band_stats);
+            for sp in &splats {
+                splat_buffer.add(sp, &settings.filter, width as u32, height, origin);
             }
-            _ => render_band(&pass, band, pixels, aov_pixels, adaptive, NoSpectrum),
-        })
-        .reduce(Stats::default, |mut a, b| {
-            a.merge(&b);
-            a
-        })
+        }
+    }
+    stats
+}
+
+/// An empty film for `settings`: with the geometry buffers and spectral buckets it asks for,
+/// and a splat buffer when the integrator splats. Fails when it cannot be allocated.
+pub fn new_film(settings: &RenderSettings) -> Result<Film, FilmAllocError> {
+    let (w, h) = settings.film_size();
+    let mut film = Film::try_for(w, h, &settings.film)?;
+    if settings.integrator.kind.splats() {
+        let (fw, fh) = settings.resolution;
+        film = film.try_with_splats(fw as u64 * fh as u64)?;
+    }
+    Ok(film)
 }
 
 /// Samples `pass.range` of every pixel of band `band` (its pixels, geometry buffers and
@@ -228,6 +274,7 @@ fn render_band<S: SpectralSink>(
     pixels: &mut [Pixel],
     mut aov_pixels: Option<&mut [AovPixel]>,
     mut adaptive: Option<&mut [AdaptivePixel]>,
+    mut splats: Option<&mut Vec<Splat>>,
     mut spectral: S,
 ) -> Stats {
     let Pass {
@@ -260,6 +307,19 @@ fn render_band<S: SpectralSink>(
             .and_then(|(f, r)| f.camera_ray_differentials(camera, &r.ray, p_film, u_lens));
         (lambdas, weight, ray, diff)
     };
+    // The sensor's response to an estimate, or `None` (counted) when it is not finite and is
+    // dropped.
+    let respond = |stats: &mut Stats, (x, y), s, l: &SampledSpectrum, lambdas: &SampledWavelengths| {
+        let xyz = sensor.record(l, lambdas);
+        if !xyz.is_finite() {
+            stats.nonfinite += 1;
+            if stats.nonfinite_at.len() < 16 {
+                stats.nonfinite_at.push((x, y, s, stats.last_depth));
+            }
+            return None;
+        }
+        Some(xyz)
+    };
     // Adds a sample's estimate to its pixel; the sensor's response, or `None` when the estimate
     // is not finite and is dropped.
     let add = |px: &mut Pixel,
@@ -270,20 +330,14 @@ fn render_band<S: SpectralSink>(
                lambdas: &SampledWavelengths,
                weight: f32| {
         stats.samples += 1;
-        let xyz = sensor.record(l, lambdas);
-        if !xyz.is_finite() {
-            stats.nonfinite += 1;
-            if stats.nonfinite_at.len() < 16 {
-                stats.nonfinite_at.push((x, y, s, stats.last_depth));
-            }
-            return None;
-        }
+        let xyz = respond(stats, (x, y), s, l, lambdas)?;
         px.xyz_sum += xyz.as_dvec3() * weight as f64;
         px.weight_sum += weight as f64;
         px.samples += 1;
         Some(xyz)
     };
     let mut sampler = settings.sampler.make();
+    let mut sample_splats = Vec::new();
     for (i, px) in pixels.iter_mut().enumerate() {
         let (x, y) = pixel_at(i);
         let samples = match adaptive.as_deref() {
@@ -295,10 +349,29 @@ fn render_band<S: SpectralSink>(
             let diff = diff.as_ref();
             let mut visible = None;
             let record = aov_pixels.is_some().then_some(&mut visible);
-            let l = match ray {
-                None => SampledSpectrum::splat(0.0),
-                Some(r) => {
+            let l = match (ray, splats.as_deref_mut()) {
+                (None, _) => SampledSpectrum::splat(0.0),
+                (Some(r), None) => {
                     integrator.li_camera(scene, r.ray, diff, record, &mut lambdas, &mut sampler, &mut stats) * r.weight
+                }
+                (Some(r), Some(list)) => {
+                    let l = integrator.li_splatting(
+                        scene,
+                        camera,
+                        r.ray,
+                        diff,
+                        record,
+                        &mut lambdas,
+                        &mut sampler,
+                        &mut stats,
+                        &mut sample_splats,
+                    ) * r.weight;
+                    for sp in sample_splats.drain(..) {
+                        if let Some(xyz) = respond(&mut stats, (x, y), s, &(sp.l * r.weight), &sp.lambdas) {
+                            list.push(Splat { p_raster: sp.p_raster, xyz });
+                        }
+                    }
+                    l
                 }
             };
             let Some(response) = add(px, &mut stats, (x, y), s, &l, &lambdas, weight) else { continue };
@@ -330,8 +403,7 @@ pub fn render(
     settings: &RenderSettings,
     mut progress: impl FnMut(u64),
 ) -> Result<(Film, Stats), FilmAllocError> {
-    let (w, h) = settings.film_size();
-    let mut film = Film::try_for(w, h, &settings.film)?;
+    let mut film = new_film(settings)?;
     let never = AtomicBool::new(false);
     let stats = render_range(scene, settings, &mut film, 0..settings.spp, &never, |_, done| {
         progress(done);

@@ -150,8 +150,7 @@ fn render_image(
     mut progress: impl FnMut(u64),
 ) -> Result<(Image, f64, crate::integrator::Stats), BenchError> {
     let t0 = Instant::now();
-    let (w, h) = s.film_size();
-    let mut film = crate::film::Film::try_new(w, h)?;
+    let mut film = crate::render::new_film(s)?;
     let stats = render_range(scene, s, &mut film, 0..s.spp, &Default::default(), |_, done| {
         progress(done);
         true

@@ -6,6 +6,7 @@
 //! camera's transform at the ray's time ([`CameraTransform`]), which may move over the shutter.
 
 pub mod exit_pupil;
+mod importance;
 pub mod lens;
 pub mod lens_system;
 pub mod ndc;
@@ -16,6 +17,7 @@ use crate::geometry::{AnimatedTransform, Ray};
 use crate::math::equal_area;
 use crate::sampling::warp::sample_uniform_disk_concentric;
 use glam::{Mat4, Vec2, Vec3};
+pub use importance::CameraWiSample;
 pub use realistic::RealisticLens;
 use std::sync::Arc;
 pub use transform::CameraTransform;

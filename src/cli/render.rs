@@ -5,7 +5,7 @@ use super::render_job::{image_meta, summarize};
 pub use super::render_job::{Job, RenderStats};
 use super::Interrupted;
 use crate::accel::AccelKind;
-use crate::film::{AovSettings, AovSpace, Crop, Film, FilmSettings};
+use crate::film::{AovSettings, AovSpace, Crop, FilmSettings};
 use crate::image::{CropWindow, ExrSample, WriteOptions};
 use crate::integrator::{Integrator, IntegratorKind, SubsurfaceMethod};
 use crate::light::LightSamplerKind;
@@ -204,6 +204,13 @@ pub fn prepare(args: &RenderArgs) -> Result<Job> {
     let build_s = t0.elapsed().as_secs_f64();
     let mut integrator = integrator_for(&scene, &file, integrator_kind, max_depth, sss);
     integrator.ao.space = space;
+    if spectral.is_some() && integrator.kind.splats() {
+        log::warn!(
+            "Film \"spectral\": integrator \"{}\" splats light the buckets do not record; rendering with \"path\"",
+            integrator.kind.name()
+        );
+        integrator.kind = IntegratorKind::Path;
+    }
     let resolution = resolution.or(file.resolution).unwrap_or(d.resolution);
     let crop = crop_arg.or(file.crop).map(|c| c.bounds(resolution)).transpose()?;
     let (iso, exposure) = (file.iso.unwrap_or(100.0), file.exposure_time.unwrap_or(1.0));
@@ -275,6 +282,10 @@ pub(crate) fn integrator_for(
     .for_scene(scene);
     if named == IntegratorKind::Path && integrator.kind == IntegratorKind::VolPath {
         log::info!("the scene has media: integrator \"path\" renders them as \"volpath\"");
+    }
+    if named.splats() && integrator.kind != named {
+        let why = Integrator::fallback_reason(scene).unwrap_or("");
+        log::warn!("integrator \"{}\" renders this scene as \"{}\": {why}", named.name(), integrator.kind.name());
     }
     integrator
 }
@@ -382,6 +393,12 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     if let Some(target) = args.target_error {
         let checkpoints = args.checkpoint_every.is_some() || args.resume;
         super::render_adaptive::check(target, args.part.is_some() || film_output, checkpoints)?;
+        if job.settings.integrator.kind.splats() {
+            bail!(
+                "--target-error gives each pixel its own sample count; integrator \"{}\" splats light onto every pixel: use path",
+                job.settings.integrator.kind.name()
+            );
+        }
         if let Some(p) = &args.spp_map {
             check_output(p)?;
         }
@@ -407,9 +424,10 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         exr_float: job.exr_sample == ExrSample::Float,
         aov: job.settings.film.aov.is_some(),
         spectral: job.settings.film.spectral,
+        splat_paths: None,
     };
 
-    let mut film = Film::try_for(w, h, &job.settings.film)?;
+    let mut film = crate::render::new_film(&job.settings)?;
     let mut start = range.start;
     if args.resume {
         let (f, hd) = crate::checkpoint::load(&ckpt_path)

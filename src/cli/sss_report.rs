@@ -233,6 +233,7 @@ fn reference(scene: &crate::scene::Scene, a: &SssReportArgs, name: &str, fingerp
             exr_float: false,
             aov: false,
             spectral: None,
+            splat_paths: None,
         };
         let seconds = before_s + t0.elapsed().as_secs_f64();
         saved = checkpoint::save(&path, film, &header)

@@ -6,11 +6,13 @@
 mod adaptive;
 pub mod gbuffer;
 pub mod spectral;
+mod splat;
 mod visible_surface;
 
 pub use adaptive::AdaptivePixel;
 pub use gbuffer::{AovPixel, AovSettings, AovSpace};
 pub use spectral::{SpectralSettings, SpectralSums};
+pub use splat::{Splat, SplatBuffer};
 pub use visible_surface::VisibleSurface;
 
 use crate::image::Image;
@@ -128,6 +130,9 @@ pub struct Film {
     pub aov: Option<Vec<AovPixel>>,
     /// Spectral bucket sums, when they are recorded.
     pub spectral: Option<SpectralSums>,
+    /// Light splatted onto the film by estimators that trace from the lights, when the
+    /// integrator does ([`SplatBuffer`]).
+    pub splats: Option<SplatBuffer>,
 }
 
 /// A film (or a buffer of its size) that does not fit in memory.
@@ -151,6 +156,7 @@ impl Film {
             pixels: vec![Pixel::default(); width as usize * height as usize],
             aov: None,
             spectral: None,
+            splats: None,
         }
     }
 
@@ -160,7 +166,18 @@ impl Film {
         let mut pixels = Vec::new();
         pixels.try_reserve_exact(n).map_err(|_| Self::alloc_error(width, height, n * size_of::<Pixel>()))?;
         pixels.resize(n, Pixel::default());
-        Ok(Self { width, height, pixels, aov: None, spectral: None })
+        Ok(Self { width, height, pixels, aov: None, spectral: None, splats: None })
+    }
+
+    /// This film with a splat buffer, for an image of `full_pixels` pixels of which the film may
+    /// be a crop, or an error naming its size when it does not fit.
+    pub fn try_with_splats(mut self, full_pixels: u64) -> Result<Self, FilmAllocError> {
+        let n = self.pixels.len();
+        let mut sums = Vec::new();
+        sums.try_reserve_exact(n).map_err(|_| Self::alloc_error(self.width, self.height, n * size_of::<DVec3>()))?;
+        sums.resize(n, DVec3::ZERO);
+        self.splats = Some(SplatBuffer { xyz_sum: sums, paths: 0, full_pixels });
+        Ok(self)
     }
 
     /// This film with geometry buffers, or an error naming its size when they do not fit.
@@ -226,15 +243,20 @@ impl Film {
                 *a += b;
             }
         }
+        if let (Some(a), Some(b)) = (self.splats.as_mut(), other.splats.as_ref()) {
+            a.merge(b);
+        }
     }
 
-    /// Reconstructed XYZ of pixel (x, y).
+    /// Reconstructed XYZ of pixel (x, y): the filter-weighted mean of its samples, plus the
+    /// light splatted onto it.
     pub fn xyz(&self, x: u32, y: u32) -> Vec3 {
-        let p = &self.pixels[(y * self.width + x) as usize];
-        if p.weight_sum != 0.0 {
-            (p.xyz_sum / p.weight_sum).as_vec3()
-        } else {
-            Vec3::ZERO
+        let i = (y * self.width + x) as usize;
+        let p = &self.pixels[i];
+        let mean = if p.weight_sum != 0.0 { p.xyz_sum / p.weight_sum } else { DVec3::ZERO };
+        match &self.splats {
+            None => mean.as_vec3(),
+            Some(s) => (mean + s.xyz(i)).as_vec3(),
         }
     }
 

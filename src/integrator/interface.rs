@@ -6,8 +6,9 @@
 
 use super::options::{AmbientOcclusion, SimplePath};
 use super::subsurface::SubsurfaceMethod;
-use super::Stats;
+use super::{SplatSample, Stats};
 use crate::bsdf::{Bsdf, Diffuse};
+use crate::camera::Camera;
 use crate::film::VisibleSurface;
 use crate::geometry::Ray;
 use crate::math::PI;
@@ -37,6 +38,12 @@ pub enum IntegratorKind {
     /// `simplepath`: path tracing without MIS or Russian roulette (pbrt-v4
     /// `SimplePathIntegrator`).
     SimplePath,
+    /// `lightpath`: light tracing, every light-path vertex connected to the camera and splatted
+    /// onto the film (pbrt-v4 `LightPathIntegrator`).
+    LightPath,
+    /// `bdpt`: bidirectional path tracing, every connection of a camera and a light subpath
+    /// weighted by the balance heuristic (pbrt-v4 `BDPTIntegrator`).
+    Bdpt,
 }
 
 crate::named::name_table!(IntegratorKind, "integrator", {
@@ -45,7 +52,17 @@ crate::named::name_table!(IntegratorKind, "integrator", {
     "ambientocclusion" => IntegratorKind::AmbientOcclusion,
     "randomwalk" => IntegratorKind::RandomWalk,
     "simplepath" => IntegratorKind::SimplePath,
+    "lightpath" => IntegratorKind::LightPath,
+    "bdpt" => IntegratorKind::Bdpt,
 });
+
+impl IntegratorKind {
+    /// True for the estimators that splat light onto arbitrary film positions (the film then
+    /// needs a [`crate::film::SplatBuffer`]).
+    pub fn splats(self) -> bool {
+        matches!(self, IntegratorKind::LightPath | IntegratorKind::Bdpt)
+    }
+}
 
 /// Which estimators of direct light to use (for validating MIS: all three must agree).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -137,16 +154,37 @@ impl Integrator {
     /// step through — participating media, or a subsurface material a path may walk (the random
     /// walk, or diffusion on an optically thin object). A scene without either gives `volpath`
     /// nothing to do but the path tracer's work; `path` cannot step through media (pbrt-v4's
-    /// `path` ignores them).
+    /// `path` ignores them). The estimators that start paths at the lights need every light to
+    /// start paths ([`crate::light::Light::emits_paths`]: not lights at infinity) and a camera
+    /// with an importance function (a perspective one without a lens system); they step
+    /// through no media. Where they cannot run, the path tracer (or, with media, the volumetric
+    /// one) renders instead ([`Self::fallback_reason`] says why).
     pub fn for_scene(self, scene: &Scene) -> Self {
         let walks =
             scene.has_subsurface() && (self.sss == SubsurfaceMethod::RandomWalk || scene.may_have_thin_subsurface());
         let kind = match self.kind {
             IntegratorKind::Path | IntegratorKind::VolPath if scene.has_media() || walks => IntegratorKind::VolPath,
             IntegratorKind::Path | IntegratorKind::VolPath => IntegratorKind::Path,
+            IntegratorKind::LightPath | IntegratorKind::Bdpt if scene.has_media() || walks => IntegratorKind::VolPath,
+            IntegratorKind::LightPath | IntegratorKind::Bdpt if Self::fallback_reason(scene).is_none() => self.kind,
+            IntegratorKind::LightPath | IntegratorKind::Bdpt => IntegratorKind::Path,
             other => other,
         };
         Self { kind, ..self }
+    }
+
+    /// Why the estimators that start paths at the lights cannot render `scene` (`None`: they
+    /// can).
+    pub fn fallback_reason(scene: &Scene) -> Option<&'static str> {
+        if scene.has_media() || scene.has_subsurface() {
+            Some("they do not step through participating media or subsurface materials")
+        } else if !scene.lights_emit_paths() {
+            Some("a light at infinity (distant, infinite) or an image-projecting light cannot start light paths")
+        } else if !scene.camera.camera((1, 1)).has_importance() {
+            Some("only a perspective camera without a lens system has an importance function here")
+        } else {
+            None
+        }
     }
 
     /// Radiance [W/(sr·m²·nm)] arriving along `ray` at its origin (in the camera's medium), at
@@ -177,13 +215,46 @@ impl Integrator {
         stats: &mut Stats,
     ) -> SampledSpectrum {
         match self.kind {
-            IntegratorKind::Path => self.path_trace(scene, ray, differentials, None, visible, w, sampler, stats),
             IntegratorKind::VolPath => self.volpath_trace(scene, ray, differentials, None, visible, w, sampler, stats),
             IntegratorKind::AmbientOcclusion => {
                 self.ambient_occlusion(scene, ray, differentials, visible, w, sampler, stats)
             }
             IntegratorKind::RandomWalk => self.random_walk(scene, ray, differentials, visible, w, sampler, stats),
             IntegratorKind::SimplePath => self.simple_path(scene, ray, differentials, visible, w, sampler, stats),
+            // lightpath and bdpt estimate without their splats (`li_splatting`) as the path tracer.
+            IntegratorKind::Path | IntegratorKind::LightPath | IntegratorKind::Bdpt => {
+                self.path_trace(scene, ray, differentials, None, visible, w, sampler, stats)
+            }
+        }
+    }
+
+    /// The estimate of a camera sample for the estimators that splat ([`IntegratorKind::splats`]):
+    /// the radiance the camera `ray` (with its differentials, and the geometry-buffer record
+    /// `visible`) brings to its own pixel, and the light that the sample's light path brings to
+    /// film positions of their own, pushed to `splats`. The other estimators push nothing.
+    #[allow(clippy::too_many_arguments)]
+    pub fn li_splatting(
+        &self,
+        scene: &Scene,
+        camera: &Camera,
+        ray: Ray,
+        differentials: Option<&RayDifferentials>,
+        visible: Option<&mut Option<VisibleSurface>>,
+        w: &mut SampledWavelengths,
+        sampler: &mut Sampler,
+        stats: &mut Stats,
+        splats: &mut Vec<SplatSample>,
+    ) -> SampledSpectrum {
+        match self.kind {
+            // Light tracing uses the camera sample for its time and wavelengths only (and
+            // records no geometry buffers).
+            IntegratorKind::LightPath => {
+                self.light_trace(scene, camera, ray.time, w, sampler, stats, splats);
+                SampledSpectrum::zero()
+            }
+            // (No geometry buffers either.)
+            IntegratorKind::Bdpt => self.bdpt_trace(scene, camera, ray, differentials, w, sampler, stats, splats),
+            _ => self.li_camera(scene, ray, differentials, visible, w, sampler, stats),
         }
     }
 

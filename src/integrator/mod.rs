@@ -2,8 +2,11 @@
 //! ([`Integrator`]).
 
 mod ambient_occlusion;
+mod bdpt;
+mod bdpt_weights;
 mod collision;
 mod interface;
+mod lightpath;
 #[cfg(test)]
 mod nanovdb_tests;
 mod options;
@@ -21,6 +24,20 @@ mod volpath_tests;
 pub use interface::{DirectStrategy, Integrator, IntegratorKind, UNBOUNDED_DEPTH};
 pub use options::{AmbientOcclusion, SimplePath};
 pub use subsurface::SubsurfaceMethod;
+
+use crate::spectrum::{SampledSpectrum, SampledWavelengths};
+
+/// Light a sample brings to a film position of its own (light tracing's camera connections):
+/// the render loop turns it into the sensor's response at those wavelengths and splats it.
+#[derive(Clone, Copy, Debug)]
+pub struct SplatSample {
+    /// Position in the full image [pixels].
+    pub p_raster: glam::Vec2,
+    /// The contribution [the camera's measurement per path].
+    pub l: SampledSpectrum,
+    /// The wavelengths it was carried at (a dispersive interface may have ended all but one).
+    pub lambdas: SampledWavelengths,
+}
 
 /// Counters gathered while rendering (summed over threads).
 #[derive(Clone, Debug, Default, PartialEq)]

@@ -4,6 +4,7 @@
 
 mod area;
 mod distant;
+mod emission;
 mod emission_image;
 mod envmap;
 mod goniometric;
@@ -21,6 +22,7 @@ mod texel_spectrum;
 
 pub use area::{AreaLight, TriangleLightLanes};
 pub use distant::DistantLight;
+pub use emission::EmissionSample;
 pub use emission_image::{EmissionImage, ImageEmission};
 pub use envmap::{image_upper_hemisphere_y, EnvMapLight};
 pub use goniometric::GoniometricLight;

@@ -136,6 +136,15 @@ impl SpotLight {
         delta_sample(self.position, p, self.spectrum.sample(w) * (self.scale * f))
     }
 
+    /// cos θ of the cone outside which the spotlight emits nothing (Warn's lobe: the forward
+    /// hemisphere).
+    pub(super) fn cone_cos_max(&self) -> f32 {
+        match self.falloff {
+            SpotFalloff::Cone { cos_end, .. } => cos_end.clamp(-1.0, 1.0),
+            SpotFalloff::Warn { .. } => 0.0,
+        }
+    }
+
     /// cos θ between the spot axis and the direction from the light to `p`.
     fn cos_to(&self, p: Vec3) -> f32 {
         self.frame.n.dot((p - self.position).normalize_or_zero())

@@ -540,6 +540,7 @@ impl SceneBuilder {
         let bounds = accel.bounds();
         let radius = if bounds.is_empty() { 1.0 } else { bounds.radius().max(1e-6) };
         let light_sampler = LightSampler::new(self.light_sampler, &lights, radius);
+        let emitter_sampler = LightSampler::new(LightSamplerKind::Power, &lights, radius);
         let infinite_lights =
             lights.iter().enumerate().filter(|(_, l)| l.is_infinite()).map(|(i, _)| i as u32).collect();
         let has_interfaces = self.materials.iter().any(Material::may_be_interface);
@@ -561,6 +562,7 @@ impl SceneBuilder {
             lights,
             infinite_lights,
             light_sampler,
+            emitter_sampler,
             camera,
             scene_center: if bounds.is_empty() { Vec3::ZERO } else { bounds.center() },
             scene_radius: radius,
@@ -624,6 +626,9 @@ pub struct Scene {
     infinite_lights: Vec<u32>,
     /// Light choice for next-event estimation.
     light_sampler: LightSampler,
+    /// Light choice for paths that start at the lights: in proportion to power, as pbrt-v4's
+    /// bidirectional integrators choose.
+    emitter_sampler: LightSampler,
     /// The camera.
     pub camera: CameraDesc,
     /// Centre of the scene bounds.
@@ -780,6 +785,25 @@ impl Scene {
             return 0.0;
         }
         pmf * self.lights[light as usize].pdf_li(ctx, wi)
+    }
+
+    /// Chooses a light to start a path from, in proportion to its power, with `u` in [0, 1):
+    /// the light, the probability of choosing it, and `u` rescaled to a fresh uniform.
+    #[inline]
+    pub fn sample_emitter(&self, u: f32) -> Option<(LightId, &Light, f32, f32)> {
+        let anywhere = LightSampleContext::medium(Vec3::ZERO);
+        self.emitter_sampler.sample(&anywhere, u).map(|(i, pmf, u)| (i as LightId, &self.lights[i], pmf, u))
+    }
+
+    /// Probability with which [`Scene::sample_emitter`] chooses `light`.
+    #[inline]
+    pub fn emitter_pmf(&self, light: LightId) -> f32 {
+        self.emitter_sampler.pmf(&LightSampleContext::medium(Vec3::ZERO), light as usize)
+    }
+
+    /// True when every light can start a path ([`Light::emits_paths`]).
+    pub fn lights_emit_paths(&self) -> bool {
+        self.lights.iter().all(Light::emits_paths)
     }
 
     /// The lights that rays escaping the scene see.

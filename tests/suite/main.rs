@@ -8,6 +8,7 @@ mod analytic_quadrics;
 mod aov;
 mod area_image;
 mod area_power;
+mod bidirectional;
 mod bump;
 mod camera_motion;
 mod census;

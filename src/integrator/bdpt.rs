@@ -1,0 +1,531 @@
+//! Bidirectional path tracing (Veach & Guibas 1995; Veach 1997, ch. 10; PBR 3rd ed. §16.3;
+//! pbrt-v4 `BDPTIntegrator`): per camera sample, a camera subpath and a light subpath (its
+//! light chosen in proportion to power), and every connection of a prefix of one with a prefix
+//! of the other (s light vertices, t camera vertices, s + t − 2 ≤ `max_depth` scattering
+//! vertices between), each weighted by the balance heuristic over all strategies that could
+//! have made the same path ([`super::bdpt_weights`]). Connections with one camera vertex
+//! (t = 1) land at film positions of their own and are splatted; s = 1 samples a new point on a
+//! light, t = 1 a new point on the lens.
+//!
+//! Surfaces only: scenes with media or subsurface materials are given to the volumetric path
+//! tracer ([`Integrator::for_scene`]). No Russian roulette (as pbrt-v4's): subpaths end at the
+//! depth limit or where a BSDF samples nothing.
+
+use super::bdpt_weights::{balance_weight, VertexDensity};
+use super::interface::Integrator;
+use super::lightpath::light_point_error;
+use super::state::PathState;
+use super::{SplatSample, Stats};
+use crate::bsdf::{Bsdf, TransportMode};
+use crate::camera::Camera;
+use crate::geometry::Ray;
+use crate::light::Light;
+use crate::math::offset_ray_origin;
+use crate::sampling::Sampler;
+use crate::scene::{LightId, Scene, SurfaceInteraction, MAX_INTERFACE_CROSSINGS};
+use crate::spectrum::{SampledSpectrum, SampledWavelengths};
+use crate::texture::RayDifferentials;
+use glam::{Vec2, Vec3};
+
+/// What a subpath vertex is.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Kind {
+    /// The point on the lens.
+    Camera,
+    /// The point on a light that starts the light subpath.
+    Light(LightId),
+    /// A surface the subpath scattered at.
+    Surface,
+}
+
+/// One vertex of a subpath (pbrt's `Vertex`).
+#[derive(Clone, Debug)]
+struct Vertex<'s> {
+    kind: Kind,
+    p: Vec3,
+    /// Geometric normal (zero at a point: a point light, a pinhole).
+    ng: Vec3,
+    /// Shading normal.
+    ns: Vec3,
+    /// Unit direction toward the previous vertex of its subpath.
+    wo: Vec3,
+    si: Option<SurfaceInteraction<'s>>,
+    bsdf: Option<Bsdf>,
+    /// Radiance for camera subpaths, importance for light subpaths.
+    mode: TransportMode,
+    /// The subpath's throughput up to this vertex (for the first light vertex, L_e / p).
+    beta: SampledSpectrum,
+    /// Scattered by a delta lobe.
+    delta: bool,
+    /// Area density with which its own subpath reached it.
+    pdf_fwd: f32,
+    /// Area density with which the other subpath would reach it (through the vertices after it).
+    pdf_rev: f32,
+}
+
+impl<'s> Vertex<'s> {
+    fn point(kind: Kind, p: Vec3, n: Vec3, mode: TransportMode, beta: SampledSpectrum, pdf_fwd: f32) -> Self {
+        Vertex {
+            kind,
+            p,
+            ng: n,
+            ns: n,
+            wo: Vec3::ZERO,
+            si: None,
+            bsdf: None,
+            mode,
+            beta,
+            delta: false,
+            pdf_fwd,
+            pdf_rev: 0.0,
+        }
+    }
+
+    /// True for vertices that connections may end at.
+    fn connectible(&self) -> bool {
+        match self.kind {
+            Kind::Surface => !self.delta && self.bsdf.as_ref().is_some_and(|b| b.flags().is_non_specular()),
+            _ => true,
+        }
+    }
+
+    /// The light this vertex emits as: the light vertex's, or a surface's area light.
+    fn light<'a>(&self, scene: &'a Scene) -> Option<(LightId, &'a Light)>
+    where
+        's: 'a,
+    {
+        match self.kind {
+            Kind::Light(id) => Some((id, &scene.lights()[id as usize])),
+            Kind::Surface => self.si.as_ref().and_then(|si| si.area_light()),
+            Kind::Camera => None,
+        }
+    }
+
+    /// BSDF value toward `next` (f only, no cosine).
+    fn f(&self, next: &Vertex) -> SampledSpectrum {
+        let wi = (next.p - self.p).normalize();
+        match &self.bsdf {
+            Some(b) => b.f(self.wo, wi, self.mode),
+            None => SampledSpectrum::zero(),
+        }
+    }
+
+    /// Area density at `next` of the solid-angle density `pdf` of a direction from here.
+    fn to_area(&self, pdf: f32, next: &Vertex) -> f32 {
+        let w = next.p - self.p;
+        let d2 = w.length_squared();
+        if d2 == 0.0 {
+            return 0.0;
+        }
+        let mut pdf = pdf / d2;
+        if next.ng != Vec3::ZERO {
+            pdf *= next.ng.dot(w / d2.sqrt()).abs();
+        }
+        pdf
+    }
+
+    /// Area density with which this vertex, reached from `prev`, samples `next` (pbrt
+    /// `Vertex::Pdf`); a light vertex samples it by its emission.
+    fn pdf(&self, scene: &Scene, camera: &Camera, time: f32, prev: Option<&Vertex>, next: &Vertex) -> f32 {
+        let wn = (next.p - self.p).normalize();
+        let pdf = match self.kind {
+            Kind::Light(_) => return self.pdf_light(scene, next),
+            Kind::Camera => camera.pdf_we(self.p, wn, time).1,
+            Kind::Surface => match (&self.bsdf, prev) {
+                (Some(b), Some(prev)) => b.pdf((prev.p - self.p).normalize(), wn, self.mode),
+                _ => 0.0,
+            },
+        };
+        self.to_area(pdf, next)
+    }
+
+    /// Area density at `next` of this vertex, on a light, emitting toward it.
+    fn pdf_light(&self, scene: &Scene, next: &Vertex) -> f32 {
+        let Some((_, light)) = self.light(scene) else { return 0.0 };
+        let w = (next.p - self.p).normalize();
+        self.to_area(light.pdf_le(self.ng, w).1, next)
+    }
+
+    /// Density with which a light subpath starts at this vertex, on a light: the light's
+    /// choice probability times its point's area density.
+    fn pdf_light_origin(&self, scene: &Scene, next: &Vertex) -> f32 {
+        let Some((id, light)) = self.light(scene) else { return 0.0 };
+        let w = (next.p - self.p).normalize();
+        scene.emitter_pmf(id) * light.pdf_le(self.ng, w).0
+    }
+}
+
+/// The most vertices a subpath holds: the camera's or the light's point and at most
+/// `max_depth + 1` scattering vertices (the other subpath adds at least one vertex).
+fn subpath_capacity(max_depth: u32) -> usize {
+    (max_depth as usize).saturating_add(2).min(1 << 16)
+}
+
+impl Integrator {
+    /// Extends `path` (holding its first vertex) by sampling BSDFs from `ray`, whose direction
+    /// has solid-angle density `pdf` and throughput `beta`, up to `max_vertices` vertices.
+    #[allow(clippy::too_many_arguments)]
+    fn subpath_walk<'s>(
+        &self,
+        scene: &'s Scene,
+        mut ray: Ray,
+        mut beta: SampledSpectrum,
+        pdf: f32,
+        mode: TransportMode,
+        max_vertices: usize,
+        path: &mut Vec<Vertex<'s>>,
+        differentials: Option<&RayDifferentials>,
+        w: &mut SampledWavelengths,
+        sampler: &mut Sampler,
+        stats: &mut Stats,
+    ) {
+        let mut pdf_fwd = pdf;
+        let mut crossings = 0;
+        // Depth and regularisation bookkeeping, as the path loops keep it.
+        let mut state = PathState::new(ray.o);
+        while path.len() < max_vertices {
+            stats.rays += 1;
+            let Some(si) = scene.intersect(&ray) else { break };
+            if si.is_passthrough() {
+                crossings += 1;
+                if crossings > MAX_INTERFACE_CROSSINGS {
+                    break;
+                }
+                ray = si.spawn_ray(ray.d);
+                continue;
+            }
+            state.depth += 1;
+            let bsdf = self.vertex_bsdf(&si, w, differentials.filter(|_| mode == TransportMode::Radiance), &state);
+            let prev = path.last().expect("the walk starts from a vertex");
+            let mut v = Vertex {
+                kind: Kind::Surface,
+                p: si.p,
+                ng: si.shading.ng,
+                ns: bsdf.as_ref().map_or(si.shading.ns, Bsdf::ns),
+                wo: si.wo,
+                si: None,
+                bsdf: None,
+                mode,
+                beta,
+                delta: false,
+                pdf_fwd: 0.0,
+                pdf_rev: 0.0,
+            };
+            v.pdf_fwd = prev.to_area(pdf_fwd, &v);
+            v.si = Some(si);
+            v.bsdf = bsdf;
+            path.push(v);
+            let v = path.last().expect("just pushed");
+            let Some(bsdf) = v.bsdf.as_ref().filter(|b| !b.flags().is_empty()) else { break };
+            if path.len() == max_vertices {
+                break;
+            }
+            let Some(bs) = bsdf.sample_f(v.wo, sampler.get_1d(), sampler.get_2d(), mode) else { break };
+            let wo = v.wo;
+            let si = v.si.as_ref().expect("a surface vertex");
+            ray = si.spawn_ray(bs.wi);
+            beta *= bs.f * (bs.wi.dot(bsdf.ns()).abs() / bs.pdf);
+            pdf_fwd = if bs.pdf_is_proportional { bsdf.pdf(wo, bs.wi, mode) } else { bs.pdf };
+            let mut pdf_rev = bsdf.pdf(bs.wi, wo, mode);
+            let specular = bs.is_specular();
+            state.any_non_specular |= !specular;
+            if specular {
+                pdf_fwd = 0.0;
+                pdf_rev = 0.0;
+            }
+            let n = path.len();
+            let (before, last) = path.split_at_mut(n - 1);
+            let v = &mut last[0];
+            v.delta = specular;
+            if let Some(prev) = before.last_mut() {
+                prev.pdf_rev = v.to_area(pdf_rev, prev);
+            }
+            if beta.is_black() {
+                break;
+            }
+        }
+    }
+
+    /// The bidirectional estimate of the camera sample `ray`: the light its own pixel receives
+    /// (returned) and the light splatted elsewhere (pushed to `splats`).
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn bdpt_trace(
+        &self,
+        scene: &Scene,
+        camera: &Camera,
+        ray: Ray,
+        differentials: Option<&RayDifferentials>,
+        w: &mut SampledWavelengths,
+        sampler: &mut Sampler,
+        stats: &mut Stats,
+        splats: &mut Vec<SplatSample>,
+    ) -> SampledSpectrum {
+        let time = ray.time;
+        let capacity = subpath_capacity(self.max_depth);
+        // The camera subpath.
+        let mut cam: Vec<Vertex> = Vec::with_capacity(capacity);
+        let axis = camera.axis(time);
+        cam.push(Vertex::point(Kind::Camera, ray.o, Vec3::ZERO, TransportMode::Radiance, SampledSpectrum::one(), 1.0));
+        cam[0].ns = axis;
+        let pdf_dir = camera.pdf_we(ray.o, ray.d, time).1;
+        if pdf_dir > 0.0 {
+            let beta = SampledSpectrum::one();
+            self.subpath_walk(
+                scene,
+                ray,
+                beta,
+                pdf_dir,
+                TransportMode::Radiance,
+                capacity,
+                &mut cam,
+                differentials,
+                w,
+                sampler,
+                stats,
+            );
+        }
+        // The light subpath.
+        let mut light_path: Vec<Vertex> = Vec::with_capacity(capacity);
+        let emitter = scene.sample_emitter(sampler.get_1d());
+        let (u_pos, u_dir) = (sampler.get_2d(), sampler.get_2d());
+        if let Some((id, light, pmf, _)) = emitter {
+            if let Some(les) = light.sample_le(u_pos, u_dir, w) {
+                let p0 = pmf * les.pdf_pos;
+                light_path.push(Vertex::point(
+                    Kind::Light(id),
+                    les.p,
+                    les.n,
+                    TransportMode::Importance,
+                    les.le / p0,
+                    p0,
+                ));
+                let cos = if les.n == Vec3::ZERO { 1.0 } else { les.n.dot(les.d).abs() };
+                let beta = les.le * (cos / (p0 * les.pdf_dir));
+                let origin = offset_ray_origin(les.p, light_point_error(les.p), les.n, les.d);
+                let ray = Ray::new(origin, les.d).at_time(time);
+                self.subpath_walk(
+                    scene,
+                    ray,
+                    beta,
+                    les.pdf_dir,
+                    TransportMode::Importance,
+                    capacity - 1,
+                    &mut light_path,
+                    None,
+                    w,
+                    sampler,
+                    stats,
+                );
+            }
+        }
+
+        let mut l = SampledSpectrum::zero();
+        let max_depth = self.max_depth as usize;
+        // s = 1 samples its own light point, so it runs even when no light subpath started.
+        for t in 1..=cam.len() {
+            for s in 0..=light_path.len().max(1) {
+                let depth = (s + t) as isize - 2;
+                if (s == 1 && t == 1) || depth < 0 || depth as usize > max_depth {
+                    continue;
+                }
+                let light = &light_path[..s.min(light_path.len())];
+                if t > 1 {
+                    l += self.connect(scene, camera, time, light, s, &cam[..t], w, sampler, stats);
+                } else if light.len() == s {
+                    if let Some((p_raster, c)) = self.connect_to_lens(scene, camera, time, light, &cam, sampler, stats)
+                    {
+                        splats.push(SplatSample { p_raster, l: c, lambdas: *w });
+                    }
+                }
+            }
+        }
+        l
+    }
+
+    /// The weighted contribution of strategy (s, t ≥ 2): the light subpath's first s vertices
+    /// `light` joined to the camera subpath `cam` (t vertices); s = 1 samples a new point on a
+    /// light (and `light` may then be empty).
+    #[allow(clippy::too_many_arguments)]
+    fn connect(
+        &self,
+        scene: &Scene,
+        camera: &Camera,
+        time: f32,
+        light: &[Vertex],
+        s: usize,
+        cam: &[Vertex],
+        w: &SampledWavelengths,
+        sampler: &mut Sampler,
+        stats: &mut Stats,
+    ) -> SampledSpectrum {
+        let t = cam.len();
+        let pt = &cam[t - 1];
+        if s == 0 {
+            // The camera subpath found a light.
+            let Some(si) = pt.si.as_ref() else { return SampledSpectrum::zero() };
+            if si.area_light().is_none() {
+                return SampledSpectrum::zero();
+            }
+            let le = si.emitted(w);
+            if le.is_black() {
+                return SampledSpectrum::zero();
+            }
+            let weight = self.mis_weight(scene, camera, time, light, 0, cam, None, None);
+            return pt.beta * le * weight;
+        }
+        if !pt.connectible() {
+            return SampledSpectrum::zero();
+        }
+        if s == 1 {
+            // A new point on a light, chosen and sampled as light subpaths start.
+            let Some((id, light_src, pmf, _)) = scene.sample_emitter(sampler.get_1d()) else {
+                return SampledSpectrum::zero();
+            };
+            let u_pos = sampler.get_2d();
+            let Some(les) = light_src.sample_le(u_pos, Vec2::splat(0.5), w) else { return SampledSpectrum::zero() };
+            let to_light = les.p - pt.p;
+            let d2 = to_light.length_squared();
+            if d2 == 0.0 {
+                return SampledSpectrum::zero();
+            }
+            let wi = to_light / d2.sqrt();
+            let le = light_src.emitted_toward(&les, -wi, w);
+            let p0 = pmf * les.pdf_pos;
+            let cos_light = if les.n == Vec3::ZERO { 1.0 } else { les.n.dot(wi).abs() };
+            let f = pt.bsdf.as_ref().map_or(SampledSpectrum::zero(), |b| b.f(pt.wo, wi, pt.mode));
+            let c = pt.beta * f * le * (pt.ns.dot(wi).abs() * cos_light / (d2 * p0));
+            if c.is_black() {
+                return SampledSpectrum::zero();
+            }
+            stats.rays += 1;
+            let si = pt.si.as_ref().expect("a surface vertex");
+            if scene.occluded(&si.spawn_ray_to(les.p)) {
+                return SampledSpectrum::zero();
+            }
+            let vertex = Vertex::point(Kind::Light(id), les.p, les.n, TransportMode::Importance, le / p0, p0);
+            let weight = self.mis_weight(scene, camera, time, light, 1, cam, Some(&vertex), None);
+            return c * weight;
+        }
+        let qs = &light[s - 1];
+        if !qs.connectible() {
+            return SampledSpectrum::zero();
+        }
+        let d = pt.p - qs.p;
+        let d2 = d.length_squared();
+        if d2 == 0.0 {
+            return SampledSpectrum::zero();
+        }
+        let wd = d / d2.sqrt();
+        let g = qs.ns.dot(wd).abs() * pt.ns.dot(wd).abs() / d2;
+        let c = qs.beta * qs.f(pt) * pt.f(qs) * pt.beta * g;
+        if c.is_black() {
+            return SampledSpectrum::zero();
+        }
+        stats.rays += 1;
+        let si = pt.si.as_ref().expect("a surface vertex");
+        if scene.occluded(&si.spawn_ray_to(qs.p)) {
+            return SampledSpectrum::zero();
+        }
+        c * self.mis_weight(scene, camera, time, light, s, cam, None, None)
+    }
+
+    /// Strategy (s ≥ 2, t = 1): the light subpath's last vertex connected to a new point on the
+    /// lens; its film position and weighted contribution.
+    #[allow(clippy::too_many_arguments)]
+    fn connect_to_lens(
+        &self,
+        scene: &Scene,
+        camera: &Camera,
+        time: f32,
+        light: &[Vertex],
+        cam: &[Vertex],
+        sampler: &mut Sampler,
+        stats: &mut Stats,
+    ) -> Option<(Vec2, SampledSpectrum)> {
+        let qs = light.last()?;
+        if !qs.connectible() || qs.kind != Kind::Surface {
+            return None;
+        }
+        let cs = camera.sample_wi(qs.p, sampler.get_2d(), time)?;
+        let f = qs.bsdf.as_ref()?.f(qs.wo, cs.wi, qs.mode);
+        let c = qs.beta * f * (qs.ns.dot(cs.wi).abs() * cs.we / cs.pdf);
+        if c.is_black() {
+            return None;
+        }
+        stats.rays += 1;
+        if scene.occluded(&qs.si.as_ref()?.spawn_ray_to(cs.p_lens)) {
+            return None;
+        }
+        let mut lens =
+            Vertex::point(Kind::Camera, cs.p_lens, Vec3::ZERO, TransportMode::Radiance, SampledSpectrum::one(), 1.0);
+        lens.ns = cs.n_lens;
+        let weight = self.mis_weight(scene, camera, time, light, light.len(), &cam[..1], None, Some(&lens));
+        Some((cs.p_raster, c * weight))
+    }
+
+    /// The balance-heuristic weight of joining the light subpath's first s vertices `light`
+    /// (the first replaced by `new_light` when given, s = 1) to `cam` (t vertices, the first
+    /// replaced by `new_lens` when given, t = 1): the densities of the full path for every
+    /// strategy, the ones at and next to the connection recomputed for it (pbrt `MISWeight`).
+    #[allow(clippy::too_many_arguments)]
+    fn mis_weight(
+        &self,
+        scene: &Scene,
+        camera: &Camera,
+        time: f32,
+        light: &[Vertex],
+        s: usize,
+        cam: &[Vertex],
+        new_light: Option<&Vertex>,
+        new_lens: Option<&Vertex>,
+    ) -> f32 {
+        let t = cam.len();
+        // (`light` is empty when s = 1 and no light subpath started.)
+        let light_at = |i: usize| match (i, new_light) {
+            (0, Some(v)) => v,
+            _ => &light[i],
+        };
+        let cam_at = |i: usize| match (i, new_lens) {
+            (0, Some(v)) => v,
+            _ => &cam[i],
+        };
+        // The full path, light end first: light[0..s], then cam[t-1..0].
+        let n = s + t;
+        let mut path = vec![VertexDensity::default(); n];
+        for (i, d) in path.iter_mut().enumerate().take(s) {
+            let v = light_at(i);
+            *d = VertexDensity { from_light: v.pdf_fwd, from_camera: v.pdf_rev, delta: v.delta };
+        }
+        for (j, d) in path.iter_mut().rev().enumerate().take(t) {
+            let v = cam_at(j);
+            *d = VertexDensity { from_light: v.pdf_rev, from_camera: v.pdf_fwd, delta: v.delta };
+        }
+        // The connection's ends and their neighbours.
+        let pt = cam_at(t - 1);
+        let pt_minus = (t >= 2).then(|| cam_at(t - 2));
+        let qs = (s >= 1).then(|| light_at(s - 1));
+        let qs_minus = (s >= 2).then(|| light_at(s - 2));
+        let at_pt = n - t; // index of pt in the full path
+        path[at_pt].delta = false;
+        path[at_pt].from_light = match qs {
+            Some(qs) => qs.pdf(scene, camera, time, qs_minus, pt),
+            None => pt.pdf_light_origin(scene, pt_minus.expect("s = 0 needs t ≥ 2")),
+        };
+        if let Some(pm) = pt_minus {
+            path[at_pt + 1].from_light = match qs {
+                Some(qs) => pt.pdf(scene, camera, time, Some(qs), pm),
+                None => pt.pdf_light(scene, pm),
+            };
+        }
+        if let Some(qs) = qs {
+            path[s - 1].delta = false;
+            path[s - 1].from_camera = pt.pdf(scene, camera, time, pt_minus, qs);
+            if let Some(qm) = qs_minus {
+                path[s - 2].from_camera = qs.pdf(scene, camera, time, Some(pt), qm);
+            }
+        }
+        // A light found by the camera subpath (s = 0) has a surface.
+        let point_light = s > 0 && light_at(0).light(scene).is_some_and(|(_, l)| l.is_delta());
+        balance_weight(&path, s, point_light)
+    }
+}

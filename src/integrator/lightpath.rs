@@ -1,0 +1,116 @@
+//! Light tracing (pbrt-v4's `lightpath`; Arvo & Kirk 1990, Veach 1997 §10.2 with t = 1): a
+//! path starts at a light chosen in proportion to its power, at a point and direction sampled
+//! from its emission, walks the scene by sampling the adjoint BSDFs, and connects every vertex —
+//! the light's own included — to a point on the camera's lens. Each connection lands at a film
+//! position of its own and is splatted there: the estimator of every pixel is
+//! (M / N) Σ h_j W_e β f |cos θ| / p(lens point), M the image's pixels, N the light paths.
+//!
+//! It sees what path tracing sees but for specular chains ending at the camera (a mirror or
+//! glass seen directly shows nothing of the light it reflects or refracts) and point or
+//! pinhole-camera singularities: its strengths are caustics seen on diffuse surfaces.
+
+use super::interface::Integrator;
+use super::state::PathState;
+use super::{SplatSample, Stats};
+use crate::bsdf::TransportMode;
+use crate::camera::Camera;
+use crate::geometry::Ray;
+use crate::math::offset_ray_origin;
+use crate::sampling::Sampler;
+use crate::scene::{Scene, MAX_INTERFACE_CROSSINGS};
+use crate::spectrum::SampledWavelengths;
+use glam::Vec3;
+
+/// A conservative bound on the rounding error of a point sampled on a light [scene units]:
+/// rays leaving it start past this.
+pub(super) fn light_point_error(p: Vec3) -> Vec3 {
+    (p.abs() + Vec3::ONE) * 4e-6
+}
+
+impl Integrator {
+    /// One light path at the wavelengths `w` and time `time`, its camera connections pushed to
+    /// `splats`.
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn light_trace(
+        &self,
+        scene: &Scene,
+        camera: &Camera,
+        time: f32,
+        w: &mut SampledWavelengths,
+        sampler: &mut Sampler,
+        stats: &mut Stats,
+        splats: &mut Vec<SplatSample>,
+    ) {
+        let Some((_, light, pmf, _)) = scene.sample_emitter(sampler.get_1d()) else { return };
+        let (u_pos, u_dir) = (sampler.get_2d(), sampler.get_2d());
+        let Some(les) = light.sample_le(u_pos, u_dir, w) else { return };
+        let cos_light = if les.n == Vec3::ZERO { 1.0 } else { les.n.dot(les.d).abs() };
+
+        // The light seen directly: its point connected to the lens. Only lights with a surface
+        // (a point light seen directly is a point of infinite radiance, which neither pbrt-v4's
+        // `lightpath` nor the other estimators show).
+        let u_lens = sampler.get_2d();
+        if let Some(cs) = camera.sample_wi(les.p, u_lens, time).filter(|_| les.n != Vec3::ZERO) {
+            let le = light.emitted_toward(&les, cs.wi, w);
+            let cos = les.n.dot(cs.wi).abs();
+            if !le.is_black() {
+                stats.rays += 1;
+                let shadow = Ray::segment(cs.p_lens, les.p - cs.p_lens, 1.0 - 1e-4).at_time(time);
+                if !scene.occluded(&shadow) {
+                    let l = le * (cs.we * cos / (pmf * les.pdf_pos * cs.pdf));
+                    splats.push(SplatSample { p_raster: cs.p_raster, l, lambdas: *w });
+                }
+            }
+        }
+
+        let origin = offset_ray_origin(les.p, light_point_error(les.p), les.n, les.d);
+        let mut ray = Ray::new(origin, les.d).at_time(time);
+        let mut state = PathState::new(origin);
+        state.beta = les.le * (cos_light / (pmf * les.pdf_pos * les.pdf_dir));
+        let mut crossings = 0;
+        loop {
+            stats.rays += 1;
+            let Some(si) = scene.intersect(&ray) else { break };
+            if si.is_passthrough() {
+                crossings += 1;
+                if crossings > MAX_INTERFACE_CROSSINGS {
+                    break;
+                }
+                ray = si.spawn_ray(ray.d);
+                continue;
+            }
+            if !self.next_vertex(&mut state) {
+                break;
+            }
+            let Some(bsdf) = si.bsdf(w, None) else { break };
+            let flags = bsdf.flags();
+            if flags.is_empty() {
+                break;
+            }
+            // Connect to the lens (not through a purely specular BSDF, whose f is zero there).
+            if flags.is_non_specular() {
+                if let Some(cs) = camera.sample_wi(si.p, sampler.get_2d(), time) {
+                    let f = bsdf.f(si.wo, cs.wi, TransportMode::Importance) * cs.wi.dot(bsdf.ns()).abs();
+                    if !f.is_black() {
+                        stats.rays += 1;
+                        if !scene.occluded(&si.spawn_ray_to(cs.p_lens)) {
+                            let l = state.beta * f * (cs.we / cs.pdf);
+                            splats.push(SplatSample { p_raster: cs.p_raster, l, lambdas: *w });
+                        }
+                    }
+                }
+            }
+            let Some(bs) = bsdf.sample_f(si.wo, sampler.get_1d(), sampler.get_2d(), TransportMode::Importance) else {
+                break;
+            };
+            state.beta *= bs.f * (bs.wi.dot(bsdf.ns()).abs() / bs.pdf);
+            if bs.is_transmission() {
+                state.eta_scale *= bs.eta * bs.eta;
+            }
+            ray = si.spawn_ray(bs.wi);
+            if state.beta.is_black() || !self.roulette(&mut state, sampler) {
+                break;
+            }
+        }
+    }
+}

@@ -1,0 +1,235 @@
+//! Sampling the light a source emits, for paths that start at the lights (light tracing and
+//! bidirectional path tracing; Veach 1997 §10.2, PBR 3rd ed. §16.1.2): a point on the light
+//! and a direction leaving it, with their densities, and the densities of a given point and
+//! direction (pbrt-v4 `Light::SampleLe`, `Light::PDF_Le`).
+//!
+//! Surface lights take the point uniformly by area and the direction cosine-distributed about
+//! the emitting side's normal (either side, each with probability ½, for two-sided ones); point
+//! lights take the direction uniformly over the sphere, spotlights over the cone they light.
+//! Lights at infinity and the image-projecting point lights do not start paths
+//! ([`Light::emits_paths`]); integrators that need them fall back to path tracing.
+
+use super::Light;
+use crate::math::Frame;
+use crate::sampling::warp::{
+    cosine_hemisphere_pdf, sample_cosine_hemisphere, sample_uniform_cone, sample_uniform_sphere, uniform_cone_pdf,
+    uniform_sphere_pdf, uniform_triangle,
+};
+use crate::spectrum::{SampledSpectrum, SampledWavelengths};
+use glam::{Vec2, Vec3};
+
+/// A point and direction of emitted light.
+#[derive(Clone, Copy, Debug)]
+pub struct EmissionSample {
+    /// The point on the light [scene units].
+    pub p: Vec3,
+    /// The emitting side's unit normal there (zero for point lights).
+    pub n: Vec3,
+    /// Unit direction of the emitted ray.
+    pub d: Vec3,
+    /// Emitted radiance along `d` (for point lights, the intensity I [W/(sr·nm)]).
+    pub le: SampledSpectrum,
+    /// Area density of `p` [1/m²] (1 for point lights).
+    pub pdf_pos: f32,
+    /// Solid-angle density of `d` [1/sr].
+    pub pdf_dir: f32,
+}
+
+/// A direction about the normal `n`, cosine-distributed on one side chosen with `u.x` when the
+/// light is two-sided: the direction and its density.
+fn emitted_direction(n: Vec3, two_sided: bool, mut u: Vec2) -> (Vec3, f32) {
+    let mut side = n;
+    let mut share = 1.0;
+    if two_sided {
+        share = 0.5;
+        if u.x < 0.5 {
+            u.x *= 2.0;
+        } else {
+            u.x = (u.x - 0.5) * 2.0;
+            side = -n;
+        }
+        u.x = u.x.min(1.0f32.next_down());
+    }
+    let local = sample_cosine_hemisphere(u);
+    (Frame::from_normal(side).to_world(local), cosine_hemisphere_pdf(local.z) * share)
+}
+
+/// The density of direction `d` leaving a surface light with normal `n`.
+fn emitted_direction_pdf(n: Vec3, two_sided: bool, d: Vec3) -> f32 {
+    let cos = n.dot(d);
+    if two_sided {
+        0.5 * cosine_hemisphere_pdf(cos.abs())
+    } else if cos > 0.0 {
+        cosine_hemisphere_pdf(cos)
+    } else {
+        0.0
+    }
+}
+
+impl Light {
+    /// True for the lights that can start a path ([`Light::sample_le`]).
+    pub fn emits_paths(&self) -> bool {
+        matches!(
+            self,
+            Light::Area(_)
+                | Light::Rectangle(_)
+                | Light::Sphere(_)
+                | Light::Quadric(_)
+                | Light::Point(_)
+                | Light::Spot(_)
+        )
+    }
+
+    /// Samples a point on the light (with `u_pos`) and a direction leaving it (with `u_dir`),
+    /// both in [0,1)²; `None` when the light does not start paths or emits nothing there.
+    pub fn sample_le(&self, u_pos: Vec2, u_dir: Vec2, w: &SampledWavelengths) -> Option<EmissionSample> {
+        let s = match self {
+            Light::Area(l) => {
+                let b = uniform_triangle(u_pos.x, u_pos.y);
+                let p = l.p[0] * b[0] + l.p[1] * b[1] + l.p[2] * b[2];
+                let (d, pdf_dir) = emitted_direction(l.n, l.two_sided, u_dir);
+                let le = match &l.image {
+                    None => l.spectrum.sample(w) * l.scale,
+                    Some(image) => image.radiance_at(b, w) * l.scale,
+                };
+                EmissionSample { p, n: l.n, d, le, pdf_pos: 1.0 / l.area, pdf_dir }
+            }
+            Light::Rectangle(l) => {
+                let p = l.corner + l.ex * u_pos.x + l.ey * u_pos.y;
+                let (d, pdf_dir) = emitted_direction(l.n, l.two_sided, u_dir);
+                EmissionSample { p, n: l.n, d, le: l.radiance(d, w), pdf_pos: 1.0 / l.area(), pdf_dir }
+            }
+            Light::Sphere(l) => {
+                let n = sample_uniform_sphere(u_pos);
+                let p = l.center + n * l.radius;
+                let n = if l.inward { -n } else { n };
+                let (d, pdf_dir) = emitted_direction(n, l.two_sided, u_dir);
+                EmissionSample { p, n, d, le: l.radiance(n, d, w), pdf_pos: 1.0 / l.area(), pdf_dir }
+            }
+            Light::Quadric(l) => {
+                let uv = l.shape.quadric.uniform_area_uv(u_pos);
+                let (p, n, area_scale) = l.shape.point(uv.x, uv.y);
+                let (d, pdf_dir) = emitted_direction(n, l.two_sided, u_dir);
+                let pdf_pos = 1.0 / (l.shape.quadric.area() * area_scale);
+                EmissionSample { p, n, d, le: l.radiance(n, d, w), pdf_pos, pdf_dir }
+            }
+            Light::Point(l) => EmissionSample {
+                p: l.position,
+                n: Vec3::ZERO,
+                d: sample_uniform_sphere(u_dir),
+                le: l.spectrum.sample(w) * l.scale,
+                pdf_pos: 1.0,
+                pdf_dir: uniform_sphere_pdf(),
+            },
+            Light::Spot(l) => {
+                let cos_max = l.cone_cos_max();
+                let d = l.frame.to_world(sample_uniform_cone(u_dir, cos_max));
+                let le = l.spectrum.sample(w) * (l.scale * l.falloff.factor(l.frame.n.dot(d)));
+                EmissionSample { p: l.position, n: Vec3::ZERO, d, le, pdf_pos: 1.0, pdf_dir: uniform_cone_pdf(cos_max) }
+            }
+            _ => return None,
+        };
+        (s.pdf_pos > 0.0 && s.pdf_dir > 0.0 && s.pdf_pos.is_finite() && !s.le.is_black()).then_some(s)
+    }
+
+    /// The radiance (for point lights, intensity) the light sends from the point of `s` along
+    /// the unit direction `d`: surface lights are Lambertian emitters, the same radiance toward
+    /// every direction of an emitting side.
+    pub fn emitted_toward(&self, s: &EmissionSample, d: Vec3, w: &SampledWavelengths) -> SampledSpectrum {
+        match self {
+            Light::Area(l) if l.two_sided || l.n.dot(d) > 0.0 => s.le,
+            Light::Rectangle(l) if l.two_sided || l.n.dot(d) > 0.0 => s.le,
+            Light::Sphere(l) if l.two_sided || s.n.dot(d) > 0.0 => s.le,
+            Light::Quadric(l) if l.two_sided || s.n.dot(d) > 0.0 => s.le,
+            Light::Point(_) => s.le,
+            Light::Spot(l) => l.spectrum.sample(w) * (l.scale * l.falloff.factor(l.frame.n.dot(d))),
+            _ => SampledSpectrum::zero(),
+        }
+    }
+
+    /// The densities (area [1/m²], solid angle [1/sr]) with which [`Light::sample_le`] picks
+    /// the point with emitting-side normal `n` and the unit direction `d` leaving it (pbrt-v4
+    /// `PDF_Le`). A surface point's area density is 1/A, the quadrics' under a transform that
+    /// is not a similarity included (there it is the mean density, which MIS weights may use).
+    pub fn pdf_le(&self, n: Vec3, d: Vec3) -> (f32, f32) {
+        match self {
+            Light::Area(l) => (1.0 / l.area, emitted_direction_pdf(l.n, l.two_sided, d)),
+            Light::Rectangle(l) => (1.0 / l.area(), emitted_direction_pdf(l.n, l.two_sided, d)),
+            Light::Sphere(l) => (1.0 / l.area(), emitted_direction_pdf(n, l.two_sided, d)),
+            Light::Quadric(l) => (1.0 / l.area, emitted_direction_pdf(n, l.two_sided, d)),
+            Light::Point(_) => (1.0, uniform_sphere_pdf()),
+            Light::Spot(l) => {
+                let cos_max = l.cone_cos_max();
+                (1.0, if l.frame.n.dot(d) >= cos_max { uniform_cone_pdf(cos_max) } else { 0.0 })
+            }
+            _ => (0.0, 0.0),
+        }
+    }
+}
+
+/// ∫ over the unit sphere of the density of [`Light::sample_le`]'s directions, for tests.
+#[cfg(test)]
+fn direction_pdf_integral(light: &Light, n: Vec3) -> f32 {
+    use crate::math::PI;
+    let k = 400;
+    let mut sum = 0.0f64;
+    for i in 0..k {
+        for j in 0..2 * k {
+            let z = 1.0 - 2.0 * (i as f32 + 0.5) / k as f32;
+            let phi = PI * (j as f32 + 0.5) / k as f32;
+            let r = (1.0 - z * z).sqrt();
+            let d = Vec3::new(r * phi.cos(), r * phi.sin(), z);
+            sum += light.pdf_le(n, d).1 as f64;
+        }
+    }
+    (sum * 4.0 * PI as f64 / (2 * k * k) as f64) as f32
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::light::{AreaLight, PointLight, SpotFalloff, SpotLight};
+    use crate::sampling::rng::Rng;
+    use crate::spectrum::Spectrum;
+    use std::sync::Arc;
+
+    fn triangle(two_sided: bool) -> Light {
+        let p = [Vec3::new(0.0, 2.0, 0.0), Vec3::new(1.0, 2.0, 0.0), Vec3::new(0.0, 2.5, 1.5)];
+        let n = (p[1] - p[0]).cross(p[2] - p[0]);
+        Light::Area(AreaLight {
+            p,
+            n: n.normalize(),
+            area: 0.5 * n.length(),
+            spectrum: Arc::new(Spectrum::constant(1.0)),
+            scale: 1.0,
+            two_sided,
+            image: None,
+        })
+    }
+
+    #[test]
+    fn sampled_densities_are_those_pdf_le_gives_and_integrate_to_one() {
+        let w = SampledWavelengths::sample_visible(0.5);
+        let spot = Light::Spot(SpotLight::new(
+            Vec3::ONE,
+            Vec3::new(0.2, -1.0, 0.1),
+            Arc::new(Spectrum::constant(1.0)),
+            1.0,
+            SpotFalloff::Cone { cos_start: 0.9, cos_end: 0.7 },
+        ));
+        let point = Light::Point(PointLight::new(Vec3::ZERO, Arc::new(Spectrum::constant(1.0)), 2.0));
+        let mut rng = Rng::new(1, 2);
+        for light in [triangle(false), triangle(true), spot, point] {
+            let mut n = Vec3::ZERO;
+            for _ in 0..1000 {
+                let u = |r: &mut Rng| Vec2::new(r.uniform(), r.uniform());
+                let Some(s) = light.sample_le(u(&mut rng), u(&mut rng), &w) else { continue };
+                let (pos, dir) = light.pdf_le(s.n, s.d);
+                assert!((pos - s.pdf_pos).abs() <= 1e-5 * pos && (dir - s.pdf_dir).abs() <= 1e-4 * dir, "{light:?}");
+                n = s.n;
+            }
+            let total = direction_pdf_integral(&light, n);
+            assert!((total - 1.0).abs() < 0.01, "{light:?}: ∫ pdf_dir = {total}");
+        }
+    }
+}

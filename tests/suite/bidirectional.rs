@@ -1,0 +1,183 @@
+//! The estimators that start paths at the lights (`lightpath`, `bdpt`) against the path
+//! tracer: the same scene must converge to the same image. Each image is cut into blocks; per
+//! block the mean over independent renders (seeds) and its standard error are measured, and
+//! every block of the two estimators must agree within 4 standard errors of their difference.
+
+use crate::common::test_settings;
+use prism::accel::AccelKind;
+use prism::integrator::{Integrator, IntegratorKind};
+use prism::render::render;
+use prism::scene::{Scene, SceneBuilder};
+
+/// Side of the square image [pixels] and of the blocks compared [pixels].
+const SIZE: u32 = 32;
+const BLOCK: u32 = 8;
+
+/// Per block of the image, the mean luminance Y over `seeds` renders of `scene` by `kind`
+/// (`spp` samples per pixel, paths of at most `max_depth` bounces) and its standard error.
+fn block_means(scene: &Scene, kind: IntegratorKind, spp: u64, max_depth: u32, seeds: u64) -> Vec<(f64, f64)> {
+    let blocks = (SIZE / BLOCK) as usize;
+    let mut per_seed = vec![Vec::new(); blocks * blocks];
+    for seed in 0..seeds {
+        let mut settings = test_settings((SIZE, SIZE), spp, 1000 + seed, max_depth);
+        settings.integrator = Integrator { kind, max_depth, ..Default::default() }.for_scene(scene);
+        assert_eq!(settings.integrator.kind, kind, "the scene falls back to another estimator");
+        let (film, stats) = render(scene, &settings, |_| {}).unwrap();
+        assert_eq!(stats.nonfinite, 0);
+        let mut sums = vec![0.0f64; blocks * blocks];
+        for y in 0..SIZE {
+            for x in 0..SIZE {
+                sums[(y / BLOCK) as usize * blocks + (x / BLOCK) as usize] += film.xyz(x, y).y as f64;
+            }
+        }
+        for (b, s) in sums.iter().enumerate() {
+            per_seed[b].push(s / (BLOCK * BLOCK) as f64);
+        }
+    }
+    per_seed
+        .iter()
+        .map(|v| {
+            let n = v.len() as f64;
+            let mean = v.iter().sum::<f64>() / n;
+            let var = v.iter().map(|x| (x - mean) * (x - mean)).sum::<f64>() / (n - 1.0);
+            (mean, (var / n).sqrt())
+        })
+        .collect()
+}
+
+/// Asserts that `kind` and the path tracer render `scene` alike, block by block.
+fn agrees_with_path(scene: &Scene, kind: IntegratorKind, spp: (u64, u64), max_depth: u32) {
+    let reference = block_means(scene, IntegratorKind::Path, spp.0, max_depth, 8);
+    let tested = block_means(scene, kind, spp.1, max_depth, 8);
+    for (b, ((m0, s0), (m1, s1))) in reference.iter().zip(&tested).enumerate() {
+        let sigma = (s0 * s0 + s1 * s1).sqrt();
+        assert!(
+            (m0 - m1).abs() <= 4.0 * sigma + 1e-6 * m0.abs(),
+            "{kind:?}, block {b}: {m1:.5} ± {s1:.5} vs path {m0:.5} ± {s0:.5} ({:.1}σ)",
+            (m0 - m1).abs() / sigma
+        );
+    }
+}
+
+fn cornell() -> Scene {
+    SceneBuilder::cornell_box().build(AccelKind::Obvhs).unwrap()
+}
+
+#[test]
+fn light_tracing_renders_the_cornell_box_as_path_tracing_does() {
+    agrees_with_path(&cornell(), IntegratorKind::LightPath, (16, 16), 5);
+}
+
+#[test]
+fn bidirectional_path_tracing_renders_the_cornell_box_as_path_tracing_does() {
+    agrees_with_path(&cornell(), IntegratorKind::Bdpt, (16, 8), 5);
+}
+
+/// A rough gold sphere and a diffuse one on a diffuse floor under a small quad light: glossy
+/// reflections of the light and of the lit floor, which the strategies sample very
+/// differently.
+const GLOSSY: &str = r#"
+LookAt 0 1.2 -4  0 0.6 0  0 1 0
+Camera "perspective" "float fov" [40]
+WorldBegin
+AttributeBegin
+  AreaLightSource "diffuse" "spectrum L" [300 30 900 30]
+  Shape "trianglemesh" "integer indices" [0 1 2 0 2 3]
+      "point3 P" [-0.3 3 -0.3  0.3 3 -0.3  0.3 3 0.3  -0.3 3 0.3]
+AttributeEnd
+Material "diffuse" "spectrum reflectance" [300 0.6 900 0.6]
+Shape "trianglemesh" "integer indices" [0 1 2 0 2 3]
+    "point3 P" [-5 0 -5  -5 0 5  5 0 5  5 0 -5]
+AttributeBegin
+  Material "conductor" "spectrum eta" "metal-Au-eta" "spectrum k" "metal-Au-k" "float roughness" [0.15]
+  Translate -0.55 0.5 0
+  Shape "sphere" "float radius" [0.5]
+AttributeEnd
+AttributeBegin
+  Material "diffuse" "spectrum reflectance" [300 0.3 900 0.3]
+  Translate 0.6 0.4 0.2
+  Shape "sphere" "float radius" [0.4]
+AttributeEnd
+"#;
+
+#[test]
+fn bidirectional_path_tracing_renders_glossy_reflections_as_path_tracing_does() {
+    let scene = crate::common::pbrt_scene(GLOSSY, AccelKind::Obvhs);
+    agrees_with_path(&scene, IntegratorKind::Bdpt, (32, 16), 4);
+}
+
+/// A diffuse plane of reflectance ρ = 0.5 at z = 0 lit by a point light of constant intensity
+/// I at height h = 1, seen from above: the radiance it reflects at horizontal distance r from
+/// below the light is L = (ρ/π) I h / (r² + h²)^{3/2}, in closed form. Light tracing (t = 1)
+/// and light sampling (s = 1) both find it.
+const LIT_PLANE: &str = r#"
+LookAt 0 0 3  0 0 0  0 1 0
+Camera "perspective" "float fov" [60]
+WorldBegin
+LightSource "point" "point3 from" [0 0 1] "spectrum I" [300 1 900 1]
+Material "diffuse" "spectrum reflectance" [300 0.5 900 0.5]
+Shape "trianglemesh" "integer indices" [0 1 2 0 2 3]
+    "point3 P" [-100 -100 0  100 -100 0  100 100 0  -100 100 0]
+"#;
+
+/// The same camera seeing an emitter of radiance 1 (the same constant spectrum): the
+/// luminance a radiance of 1 gives.
+const UNIT_EMITTER: &str = r#"
+LookAt 0 0 3  0 0 0  0 1 0
+Camera "perspective" "float fov" [60]
+WorldBegin
+AreaLightSource "diffuse" "spectrum L" [300 1 900 1]
+Shape "trianglemesh" "integer indices" [0 1 2 0 2 3]
+    "point3 P" [-100 -100 0  100 -100 0  100 100 0  -100 100 0]
+"#;
+
+#[test]
+fn light_paths_reproduce_the_closed_form_radiance_of_a_plane_under_a_point_light() {
+    let lit = crate::common::pbrt_scene(LIT_PLANE, AccelKind::Obvhs);
+    let unit = crate::common::pbrt_scene(UNIT_EMITTER, AccelKind::Obvhs);
+    let size = 16u32;
+    let settings = |kind, seed| {
+        let mut s = test_settings((size, size), 16, seed, 1);
+        s.integrator = Integrator { kind, max_depth: 1, ..Default::default() };
+        s
+    };
+    let (unit_film, _) = render(&unit, &settings(IntegratorKind::Path, 1), |_| {}).unwrap();
+    let y_unit = unit_film.xyz(size / 2, size / 2).y as f64;
+    // The expected image mean of L / (radiance 1): each pixel's radiance averaged over 8×8
+    // points of it, from where its rays meet the plane (the camera at height 3 looking down,
+    // tan(30°) across half the image).
+    let half = (30f64).to_radians().tan();
+    let mut expected = 0.0;
+    for py in 0..size * 8 {
+        for px in 0..size * 8 {
+            let sx = ((px as f64 + 0.5) / (size * 8) as f64 * 2.0 - 1.0) * half;
+            let sy = ((py as f64 + 0.5) / (size * 8) as f64 * 2.0 - 1.0) * half;
+            let r2 = 9.0 * (sx * sx + sy * sy);
+            expected += 0.5 / std::f64::consts::PI / (r2 + 1.0).powf(1.5);
+        }
+    }
+    expected /= (size * size * 64) as f64;
+    for kind in [IntegratorKind::Bdpt, IntegratorKind::LightPath] {
+        let means: Vec<f64> = (0..6)
+            .map(|seed| {
+                let s = Integrator { ..settings(kind, seed).integrator }.for_scene(&lit);
+                assert_eq!(s.kind, kind);
+                let (film, _) = render(&lit, &settings(kind, seed), |_| {}).unwrap();
+                let mut sum = 0.0;
+                for y in 0..size {
+                    for x in 0..size {
+                        sum += film.xyz(x, y).y as f64;
+                    }
+                }
+                sum / (size * size) as f64 / y_unit
+            })
+            .collect();
+        let n = means.len() as f64;
+        let mean = means.iter().sum::<f64>() / n;
+        let se = (means.iter().map(|m| (m - mean) * (m - mean)).sum::<f64>() / (n - 1.0) / n).sqrt();
+        assert!(
+            (mean - expected).abs() <= 4.0 * se + 2e-3 * expected,
+            "{kind:?}: {mean:.6} ± {se:.6} vs the closed form {expected:.6}"
+        );
+    }
+}
