@@ -211,6 +211,17 @@ pub fn prepare(args: &RenderArgs) -> Result<Job> {
         );
         integrator.kind = IntegratorKind::Path;
     }
+    // A splatting estimator replaced (by the scene, or by the spectral film) is a substitution
+    // like any other: under --strict an error.
+    let named = integrator_kind.unwrap_or(Integrator::from_file(&file).kind);
+    if args.strict && named.splats() && integrator.kind != named {
+        let why = Integrator::fallback_reason(&scene).unwrap_or("its splats would miss the spectral film's buckets");
+        bail!(
+            "unsupported feature: integrator \"{}\" for this scene: {why} (strict mode; without --strict prism uses \"{}\" instead)",
+            named.name(),
+            integrator.kind.name()
+        );
+    }
     let resolution = resolution.or(file.resolution).unwrap_or(d.resolution);
     let crop = crop_arg.or(file.crop).map(|c| c.bounds(resolution)).transpose()?;
     let (iso, exposure) = (file.iso.unwrap_or(100.0), file.exposure_time.unwrap_or(1.0));
