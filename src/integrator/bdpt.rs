@@ -14,7 +14,7 @@
 use super::bdpt_weights::{balance_weight, VertexDensity};
 use super::interface::Integrator;
 use super::lightpath::light_point_error;
-use super::state::PathState;
+use super::state::{next_surface, PathState};
 use super::{SplatSample, Stats};
 use crate::bsdf::{Bsdf, TransportMode};
 use crate::camera::Camera;
@@ -22,7 +22,7 @@ use crate::geometry::Ray;
 use crate::light::Light;
 use crate::math::offset_ray_origin;
 use crate::sampling::Sampler;
-use crate::scene::{LightId, Scene, SurfaceInteraction, MAX_INTERFACE_CROSSINGS};
+use crate::scene::{LightId, Scene, SurfaceInteraction};
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 use crate::texture::RayDifferentials;
 use glam::{Vec2, Vec3};
@@ -180,20 +180,10 @@ impl Integrator {
         stats: &mut Stats,
     ) {
         let mut pdf_fwd = pdf;
-        let mut crossings = 0;
         // Depth and regularisation bookkeeping, as the path loops keep it.
         let mut state = PathState::new(ray.o);
         while path.len() < max_vertices {
-            stats.rays += 1;
-            let Some(si) = scene.intersect(&ray) else { break };
-            if si.is_passthrough() {
-                crossings += 1;
-                if crossings > MAX_INTERFACE_CROSSINGS {
-                    break;
-                }
-                ray = si.spawn_ray(ray.d);
-                continue;
-            }
+            let Some(si) = next_surface(scene, ray, stats) else { break };
             state.depth += 1;
             let bsdf = self.vertex_bsdf(&si, w, differentials.filter(|_| mode == TransportMode::Radiance), &state);
             let prev = path.last().expect("the walk starts from a vertex");

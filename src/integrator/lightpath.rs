@@ -10,14 +10,14 @@
 //! pinhole-camera singularities: its strengths are caustics seen on diffuse surfaces.
 
 use super::interface::Integrator;
-use super::state::PathState;
+use super::state::{next_surface, PathState};
 use super::{SplatSample, Stats};
 use crate::bsdf::TransportMode;
 use crate::camera::Camera;
 use crate::geometry::Ray;
 use crate::math::offset_ray_origin;
 use crate::sampling::Sampler;
-use crate::scene::{Scene, MAX_INTERFACE_CROSSINGS};
+use crate::scene::Scene;
 use crate::spectrum::SampledWavelengths;
 use glam::Vec3;
 
@@ -67,18 +67,8 @@ impl Integrator {
         let mut ray = Ray::new(origin, les.d).at_time(time);
         let mut state = PathState::new(origin);
         state.beta = les.le * (cos_light / (pmf * les.pdf_pos * les.pdf_dir));
-        let mut crossings = 0;
         loop {
-            stats.rays += 1;
-            let Some(si) = scene.intersect(&ray) else { break };
-            if si.is_passthrough() {
-                crossings += 1;
-                if crossings > MAX_INTERFACE_CROSSINGS {
-                    break;
-                }
-                ray = si.spawn_ray(ray.d);
-                continue;
-            }
+            let Some(si) = next_surface(scene, ray, stats) else { break };
             if !self.next_vertex(&mut state) {
                 break;
             }
