@@ -67,8 +67,7 @@ impl Integrator {
         let mut ray = Ray::new(origin, les.d).at_time(time);
         let mut state = PathState::new(origin);
         state.beta = les.le * (cos_light / (pmf * les.pdf_pos * les.pdf_dir));
-        loop {
-            let Some(si) = next_surface(scene, ray, stats) else { break };
+        while let Some(si) = next_surface(scene, ray, stats) {
             if !self.next_vertex(&mut state) {
                 break;
             }
