@@ -2,7 +2,7 @@
 //! closed form (planes at known depths and normals, a grey Lambertian albedo), the beauty the
 //! same as without geometry buffers, and parts that merge to the single render.
 
-use crate::common::{prism, stderr, tmpdir};
+use crate::common::{prism, render_halves_and_merge, stderr, tmpdir};
 use std::collections::HashMap;
 use std::path::Path;
 
@@ -187,20 +187,7 @@ fn geometry_buffers_leave_the_beauty_as_it_is_and_parts_merge_to_the_whole() {
 
     // Two parts merged: the same sums up to rounding (the variance is merged pairwise).
     let file = dir.join("gbuffer.pbrt");
-    for part in ["1/2", "2/2"] {
-        let out = dir.join(format!("part{}.film", &part[..1]));
-        let o = prism().arg("render").arg(&file).args(["--part", part, "-o"]).arg(&out).output().unwrap();
-        assert!(o.status.success(), "{}", stderr(&o));
-    }
-    let merged = dir.join("merged.exr");
-    let o = prism()
-        .args(["merge", "-o"])
-        .arg(&merged)
-        .arg(dir.join("part1.film"))
-        .arg(dir.join("part2.film"))
-        .output()
-        .unwrap();
-    assert!(o.status.success(), "{}", stderr(&o));
+    let merged = render_halves_and_merge(&dir, &file);
     let merged = channels(&merged);
     for (name, values) in &with {
         for (k, (a, b)) in values.iter().zip(&merged[name]).enumerate() {

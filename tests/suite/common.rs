@@ -84,3 +84,23 @@ pub fn backends() -> Vec<prism::accel::AccelKind> {
     }
     b
 }
+
+/// Renders the scene file `file` as two parts (`--part 1/2`, `2/2`) into `dir` and merges them
+/// to `dir/merged.exr`; its path.
+pub fn render_halves_and_merge(dir: &Path, file: &Path) -> PathBuf {
+    for part in ["1/2", "2/2"] {
+        let out = dir.join(format!("part{}.film", &part[..1]));
+        let o = prism().arg("render").arg(file).args(["--part", part, "-o"]).arg(&out).output().unwrap();
+        assert!(o.status.success(), "{}", stderr(&o));
+    }
+    let merged = dir.join("merged.exr");
+    let o = prism()
+        .args(["merge", "-o"])
+        .arg(&merged)
+        .arg(dir.join("part1.film"))
+        .arg(dir.join("part2.film"))
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", stderr(&o));
+    merged
+}

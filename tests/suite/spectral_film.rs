@@ -3,7 +3,7 @@
 //! integrated against the CIE 1931 curves give the image's R, G, B, and parts merge to the
 //! single render. Files are read with the `exr` crate, not prism's reader.
 
-use crate::common::{prism, stderr, tmpdir};
+use crate::common::{prism, render_halves_and_merge, stderr, tmpdir};
 use std::collections::HashMap;
 use std::path::Path;
 
@@ -232,20 +232,7 @@ fn a_spectral_film_to_png_writes_rgb_with_a_warning_and_parts_merge_to_the_whole
     let whole = dir.join("whole.exr");
     let o = prism().arg("render").arg(&file).arg("-o").arg(&whole).output().unwrap();
     assert!(o.status.success(), "{}", stderr(&o));
-    for part in ["1/2", "2/2"] {
-        let out = dir.join(format!("part{}.film", &part[..1]));
-        let o = prism().arg("render").arg(&file).args(["--part", part, "-o"]).arg(&out).output().unwrap();
-        assert!(o.status.success(), "{}", stderr(&o));
-    }
-    let merged = dir.join("merged.exr");
-    let o = prism()
-        .args(["merge", "-o"])
-        .arg(&merged)
-        .arg(dir.join("part1.film"))
-        .arg(dir.join("part2.film"))
-        .output()
-        .unwrap();
-    assert!(o.status.success(), "{}", stderr(&o));
+    let merged = render_halves_and_merge(&dir, &file);
     let ((a, _), (b, attrs)) = (read_exr(&whole), read_exr(&merged));
     assert_eq!(a.len(), 3 + 8);
     assert_eq!(attrs.get("spectralLayoutVersion").map(String::as_str), Some("1.0"));
