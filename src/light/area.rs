@@ -36,6 +36,20 @@ pub struct AreaLight {
 }
 
 impl AreaLight {
+    /// A triangle with corners `p` emitting a constant radiance of 1 (test scenes).
+    #[cfg(test)]
+    pub(crate) fn constant_triangle(p: [Vec3; 3], two_sided: bool) -> super::Light {
+        let n = (p[1] - p[0]).cross(p[2] - p[0]);
+        super::Light::Area(AreaLight {
+            p,
+            n: n.normalize(),
+            area: 0.5 * n.length(),
+            spectrum: Arc::new(Spectrum::constant(1.0)),
+            scale: 1.0,
+            two_sided,
+            image: None,
+        })
+    }
     /// Radiance leaving the light at the surface point with texture coordinates `uv` toward the
     /// direction `w` (pointing away from the light): 0 behind a one-sided light.
     #[inline]

@@ -195,16 +195,7 @@ mod tests {
 
     fn triangle(two_sided: bool) -> Light {
         let p = [Vec3::new(0.0, 2.0, 0.0), Vec3::new(1.0, 2.0, 0.0), Vec3::new(0.0, 2.5, 1.5)];
-        let n = (p[1] - p[0]).cross(p[2] - p[0]);
-        Light::Area(AreaLight {
-            p,
-            n: n.normalize(),
-            area: 0.5 * n.length(),
-            spectrum: Arc::new(Spectrum::constant(1.0)),
-            scale: 1.0,
-            two_sided,
-            image: None,
-        })
+        AreaLight::constant_triangle(p, two_sided)
     }
 
     #[test]

@@ -342,16 +342,7 @@ mod tests {
     }
 
     fn light(p: [Vec3; 3], two_sided: bool) -> Light {
-        let n = (p[1] - p[0]).cross(p[2] - p[0]);
-        Light::Area(AreaLight {
-            p,
-            n: n.normalize(),
-            area: 0.5 * n.length(),
-            spectrum: Arc::new(Spectrum::constant(1.0)),
-            scale: 1.0,
-            two_sided,
-            image: None,
-        })
+        AreaLight::constant_triangle(p, two_sided)
     }
 
     /// `reaches` is `importance > 0`: by the plane test for flat bounds (a triangle, the two
