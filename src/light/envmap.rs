@@ -84,9 +84,14 @@ pub struct EnvMapLight {
     distribution: Arc<Distribution2D>,
     /// ∫ Y dω over the sphere [sr], without `scale`.
     luminance_integral: f64,
-    /// Light space → world (a rotation; + z is the map's zenith).
+    /// Light space → world for sampled directions (a rotation; + z is the map's zenith), and
+    /// world → light space for looked-up ones: its inverse, but for pbrt-v4's maps that are not
+    /// rotations ([`Self::with_pbrt_v4_direction_maps`]).
     world_from_light: Mat3,
     light_from_world: Mat3,
+    /// Whether `world_from_light` may change a direction's length (see
+    /// [`Self::with_pbrt_v4_direction_maps`]).
+    stretches: bool,
     /// The colour space's white illuminant (unit luminance).
     white: Arc<Spectrum>,
     /// Multiplier on the image's radiance.
@@ -131,9 +136,25 @@ impl EnvMapLight {
             luminance_integral,
             world_from_light,
             light_from_world: world_from_light.inverse(),
+            stretches: false,
             white: Arc::new(space.illuminant.clone()),
             scale,
         }
+    }
+
+    /// This light with pbrt-v4's direction maps for a light transform that is not a rotation
+    /// (a scale, or a projective row as in pbrt-v4's `sssdragon` scenes). pbrt-v4's
+    /// `ImageInfiniteLight` turns a sampled map direction ω_L into the rendering-space vector
+    /// `sample_from_light` · ω_L (the upper 3 × 3 of render-from-light) and returns it without
+    /// normalising it, with the map's density; its integrators then scale the BSDF's cosine and
+    /// density by that vector's length |v|. An escaped ray is looked up along
+    /// `light_from_world` · ω (the upper 3 × 3 of light-from-render), which with a projective
+    /// row is not the first map's inverse. For a Lambertian surface, weighting by the power or
+    /// balance heuristic, that estimate equals the one for the unit direction v/|v| with the
+    /// light's density divided by |v|, which is what [`Self::sample_li`] then returns; other BSDFs
+    /// are evaluated at the unit direction.
+    pub fn with_pbrt_v4_direction_maps(self, sample_from_light: Mat3, light_from_world: Mat3) -> Self {
+        Self { world_from_light: sample_from_light, light_from_world, stretches: true, ..self }
     }
 
     /// How the image covers the sphere.
@@ -164,8 +185,12 @@ impl EnvMapLight {
         if jacobian == 0.0 {
             return None;
         }
-        let wi = (self.world_from_light * d_light).normalize();
-        let pdf = pdf_uv / jacobian;
+        let v = self.world_from_light * d_light;
+        let (wi, stretch) = if self.stretches { (v.normalize_or_zero(), v.length()) } else { (v.normalize(), 1.0) };
+        if stretch == 0.0 {
+            return None;
+        }
+        let pdf = pdf_uv / jacobian / stretch;
         Some(LightSample { li: self.radiance_at(uv, w), wi, pdf, p_light: Vec3::ZERO, dist: f32::INFINITY })
     }
 

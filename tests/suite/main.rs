@@ -18,6 +18,7 @@ mod compat;
 mod curves;
 mod denoise;
 mod envmap;
+mod envmap_transform;
 mod equal_area_envmap;
 mod film;
 mod fuzz;

@@ -74,12 +74,24 @@ impl Ctx<'_> {
             (Arc::new(self.constant_map(p, &l.loc)?), ColorSpace::srgb())
         };
         let rotation = orthonormal(glam::Mat3::from_mat4(l.world_from_light));
+        let maps = pbrt_v4_direction_maps(l.world_from_light, self.render_origin(&l.loc)?);
+        if maps.is_some() && !p.has("portal") {
+            let message = "the infinite light's transform is not a rotation: pbrt-v4 turns sampled directions \
+                           by it and looks escaped rays up through its inverse, which here disagree; prism does \
+                           the same, so the image is pbrt-v4's rather than the map's"
+                .to_string();
+            self.warn(&l.loc, message);
+        }
         // "illuminance" is met by the whole map, with or without a portal (as pbrt-v4).
         let pbrt_target = p.float(ILLUMINANCE.pbrt).is_some_and(|v| v > 0.0);
         let k_e = image_upper_hemisphere_y(&image, space, pbrt_target);
         let scale = p.float_or("scale", 1.0) * brightness_factor(p, ILLUMINANCE, k_e as f32, None, &l.loc)?;
         let Some(portal) = p.get("portal") else {
-            return Ok(Light::EnvMap(EnvMapLight::new(&image, rotation, scale, space)));
+            let light = EnvMapLight::new(&image, rotation, scale, space);
+            return Ok(Light::EnvMap(match maps {
+                Some((sample, lookup)) => light.with_pbrt_v4_direction_maps(sample, lookup),
+                None => light,
+            }));
         };
         // pbrt-v4: the four corners are in world space, whatever the light's transform.
         let corners = match p.point3s("portal") {
@@ -103,6 +115,28 @@ impl Ctx<'_> {
             self.warn(&portal.loc.clone(), "the portal's corners are not a rectangle".to_string());
         }
         Ok(Light::Portal(Box::new(PortalLight::new(&image, corners, rotation, scale, space))))
+    }
+
+    /// The origin of pbrt-v4's rendering space in world space (`Option "string rendercoordsys"`):
+    /// the camera's position (at the middle of its motion) for "cameraworld", pbrt-v4's default,
+    /// and "camera"; the world's origin for "world".
+    fn render_origin(&self, loc: &Location) -> Result<Vec3, SceneError> {
+        let options = &self.desc.options;
+        match options.string("rendercoordsys").unwrap_or("cameraworld") {
+            "world" => Ok(Vec3::ZERO),
+            "camera" | "cameraworld" => {
+                let camera = &self.desc.camera;
+                let position = |camera_from_world: glam::Mat4| camera_from_world.inverse().transform_point3(Vec3::ZERO);
+                Ok(match &camera.motion {
+                    Some(m) => 0.5 * (m.start.transform_point3(Vec3::ZERO) + m.end.transform_point3(Vec3::ZERO)),
+                    None => position(camera.camera_from_world),
+                })
+            }
+            other => {
+                let message = format!("unknown rendering coordinate system \"{other}\" (camera, cameraworld, world)");
+                Err(param_error(options, "rendercoordsys", loc, message))
+            }
+        }
     }
 
     /// A 1 × 1 RGB image (sRGB) of an infinite light's "L".
@@ -257,6 +291,29 @@ impl Ctx<'_> {
 
 /// The rotation (or mirror) part of `m` by Gram–Schmidt, so scales and shears in the CTM do
 /// not distort an environment's solid angles.
+/// pbrt-v4's two direction maps of an image infinite light whose transform `world_from_light` is
+/// not a rotation (mirrors count as rotations), `None` when it is one. pbrt-v4 works in a
+/// rendering space that is world space moved to `render_origin` (its default "cameraworld": the
+/// camera's position; "world": the origin). Sampled directions go through the upper 3 × 3 of
+/// render-from-light, A − c pᵀ (A the upper 3 × 3 of `world_from_light`, pᵀ its projective
+/// row, c = `render_origin`); escaped rays are looked up through the upper 3 × 3 of
+/// light-from-render, which is that of `world_from_light`⁻¹ whatever c is. The two are each
+/// other's inverse only when pᵀ = 0 or c = 0 (see [`EnvMapLight::with_pbrt_v4_direction_maps`]).
+fn pbrt_v4_direction_maps(world_from_light: glam::Mat4, render_origin: Vec3) -> Option<(glam::Mat3, glam::Mat3)> {
+    let a = glam::Mat3::from_mat4(world_from_light);
+    let projective = world_from_light.row(3).truncate();
+    let rotation = orthonormal(a);
+    let is_rotation = projective.abs().max_element() < 1e-6
+        && (0..3).all(|i| (a.col(i) - rotation.col(i)).abs().max_element() < 1e-4);
+    let lookup = glam::Mat3::from_mat4(world_from_light.inverse());
+    if is_rotation || !lookup.is_finite() {
+        return None;
+    }
+    let c = render_origin;
+    let sample = a - glam::Mat3::from_cols(c * projective.x, c * projective.y, c * projective.z);
+    Some((sample, lookup))
+}
+
 fn orthonormal(m: glam::Mat3) -> glam::Mat3 {
     let x = m.x_axis.normalize_or(Vec3::X);
     let y = (m.y_axis - x * x.dot(m.y_axis)).normalize_or(Vec3::Y);
