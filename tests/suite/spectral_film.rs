@@ -217,6 +217,12 @@ fn buckets_pbrt_v4_cannot_render_are_errors_at_their_parameter() {
         assert!(!o.status.success() && e.contains(param) && e.contains("bad.pbrt:5:"), "{film}: {e}");
         assert!(!dir.join("bad.exr").exists());
     }
+    // More buckets than memory holds: one line saying so, no panic, no file.
+    std::fs::write(dir.join("huge.pbrt"), scene("\"integer nbuckets\" 2147483647")).unwrap();
+    let o = prism().arg("render").arg(dir.join("huge.pbrt")).arg("-o").arg(dir.join("huge.exr")).output().unwrap();
+    let e = stderr(&o);
+    assert!(!o.status.success() && e.contains("GiB") && !e.contains("panicked"), "{e}");
+    assert!(!dir.join("huge.exr").exists());
 }
 
 #[test]
