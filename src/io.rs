@@ -6,9 +6,26 @@ use std::fs::{self, OpenOptions};
 use std::io::{ErrorKind, Write};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::Mutex;
 
 /// Distinguishes temporaries of concurrent writes within one process.
 static COUNTER: AtomicU64 = AtomicU64::new(0);
+
+/// The temporaries not yet committed or dropped, for [`remove_live_temporaries`].
+static LIVE: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+
+fn live() -> std::sync::MutexGuard<'static, Vec<PathBuf>> {
+    LIVE.lock().unwrap_or_else(|poisoned| poisoned.into_inner())
+}
+
+/// Removes every temporary this process is still writing (best effort), for a process about
+/// to exit before its writes finish: a rename that has already happened left a whole file, one
+/// that has not finds no temporary and fails.
+pub fn remove_live_temporaries() {
+    for temp in live().drain(..) {
+        let _ = fs::remove_file(temp);
+    }
+}
 
 /// The directory holding `dest` (`.` for a bare file name).
 pub fn parent_dir(dest: &Path) -> PathBuf {
@@ -39,7 +56,10 @@ impl TempFile {
         loop {
             let temp = temp_name(dest, COUNTER.fetch_add(1, Ordering::Relaxed));
             match OpenOptions::new().write(true).create_new(true).open(&temp) {
-                Ok(_) => return Ok(Self { temp, dest: dest.to_path_buf(), committed: false }),
+                Ok(_) => {
+                    live().push(temp.clone());
+                    return Ok(Self { temp, dest: dest.to_path_buf(), committed: false });
+                }
                 Err(e) if e.kind() == ErrorKind::AlreadyExists => continue,
                 Err(e) => return Err(e),
             }
@@ -61,6 +81,7 @@ impl TempFile {
 
 impl Drop for TempFile {
     fn drop(&mut self) {
+        live().retain(|t| t != &self.temp);
         if !self.committed {
             // Best effort: the write already failed, and that error is what gets reported.
             let _ = fs::remove_file(&self.temp);
@@ -117,6 +138,19 @@ mod tests {
         assert_eq!(fs::read_dir(&dir).unwrap().count(), 1, "temporary left behind");
         write_atomic(&dest, b"new").unwrap();
         assert_eq!(fs::read(&dest).unwrap(), b"new");
+        fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn live_temporaries_are_removed_on_request_and_then_cannot_commit() {
+        let dir = std::env::temp_dir().join(format!("prism-io-live-{}", std::process::id()));
+        fs::create_dir_all(&dir).unwrap();
+        let dest = dir.join("out.txt");
+        let temp = TempFile::create(&dest).unwrap();
+        fs::write(temp.path(), b"half").unwrap();
+        remove_live_temporaries();
+        assert_eq!(fs::read_dir(&dir).unwrap().count(), 0, "temporary left behind");
+        assert!(temp.commit().is_err() && !dest.exists());
         fs::remove_dir_all(&dir).unwrap();
     }
 }

@@ -5,6 +5,7 @@
 //! checkpoint stays whole).
 
 use signal_hook::consts::{SIGINT, SIGTERM};
+use signal_hook::iterator::Signals;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::Arc;
 
@@ -33,12 +34,22 @@ impl Interrupt {
         let requested = Arc::new(AtomicBool::new(false));
         let signal = Arc::new(AtomicUsize::new(0));
         for sig in [SIGINT, SIGTERM] {
-            // The exit must be registered first: on the first signal the flag is still clear
-            // when it runs, and the next action sets it.
-            signal_hook::flag::register_conditional_shutdown(sig, 128 + sig, Arc::clone(&requested))?;
             signal_hook::flag::register_usize(sig, Arc::clone(&signal), sig as usize)?;
             signal_hook::flag::register(sig, Arc::clone(&requested))?;
         }
+        // The second signal ends the process from a thread of its own, which may remove files
+        // (a signal handler may not). Two signals in quick succession may arrive as one.
+        let mut signals = Signals::new([SIGINT, SIGTERM])?;
+        std::thread::spawn(move || {
+            let mut seen = 0;
+            for sig in signals.forever() {
+                seen += 1;
+                if seen >= 2 {
+                    crate::io::remove_live_temporaries();
+                    std::process::exit(128 + sig);
+                }
+            }
+        });
         Ok(Self { requested, signal })
     }
 

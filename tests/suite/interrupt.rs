@@ -70,6 +70,28 @@ fn sigterm_writes_the_image_so_far_and_exits_143() {
     signal_writes_the_image_so_far("TERM", 143);
 }
 
+/// A second signal ends the process at once with the signal's status, leaving no temporary
+/// (the image is then either whole or not there).
+#[test]
+fn a_second_sigint_exits_130_at_once_and_leaves_no_temporary() {
+    let d = tmpdir("interrupt-twice");
+    let out = d.join("out.exr");
+    let mut child = prism().args(LONG).arg("-o").arg(&out).stderr(Stdio::piped()).spawn().unwrap();
+    let mut lines = BufReader::new(child.stderr.take().unwrap()).lines().map(Result::unwrap);
+    assert!(lines.by_ref().any(|l| l.contains(" spp, ")), "no progress line");
+    for _ in 0..2 {
+        let kill = std::process::Command::new("kill").args(["-INT", &child.id().to_string()]).status();
+        assert!(kill.unwrap().success());
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    let rest: Vec<String> = lines.collect();
+    assert_eq!(child.wait().unwrap().code(), Some(130), "{rest:?}");
+    assert!(temporaries(&d).is_empty(), "{:?}", temporaries(&d));
+    if out.exists() {
+        assert_eq!(prism::image::read(&out).map(|i| (i.width, i.height)).ok(), Some((16, 16)));
+    }
+}
+
 /// An interrupted part is a .film holding the samples it took, named by its header, which
 /// `prism merge` then reports as missing the rest.
 #[test]
