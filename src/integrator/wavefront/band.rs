@@ -18,6 +18,7 @@ use crate::sensor::Sensor;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 use crate::texture::TextureFootprint;
 use glam::Vec3;
+use std::cell::RefCell;
 use std::ops::Range;
 
 /// Paths per batch.
@@ -44,14 +45,42 @@ pub fn render_band(
     range: Range<u64>,
     pixels: &mut [Pixel],
 ) -> Stats {
+    BUFFERS.with_borrow_mut(|b| render_band_with(job, pixel_at, range, pixels, b))
+}
+
+/// A thread's queues and batch, kept from band to band (allocating them anew for every band
+/// cost more than a tenth of the render in page faults).
+#[derive(Default)]
+struct Buffers {
+    paths: Paths,
+    active: Vec<u32>,
+    next: Vec<u32>,
+    hits: Vec<Option<Hit>>,
+    rays: Vec<Ray>,
+    shadows: Vec<Ray>,
+    shadow_light: Vec<(u32, SampledSpectrum)>,
+    blocked: Vec<bool>,
+    diffuse: DiffuseQueue,
+    samples: Vec<(u32, u64)>,
+}
+
+thread_local! {
+    static BUFFERS: RefCell<Buffers> = RefCell::default();
+}
+
+fn render_band_with(
+    job: &BandJob,
+    pixel_at: impl Fn(usize) -> (u32, u32),
+    range: Range<u64>,
+    pixels: &mut [Pixel],
+    b: &mut Buffers,
+) -> Stats {
     let mut stats = Stats::default();
     let mut clock = Clock::new();
-    let mut paths = Paths::default();
-    let (mut active, mut next, mut hits) = (Vec::new(), Vec::new(), Vec::<Option<Hit>>::new());
-    let (mut rays, mut shadows, mut shadow_light, mut blocked) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
-    let mut diffuse = DiffuseQueue::default();
+    let Buffers { paths, active, next, hits, rays, shadows, shadow_light, blocked, diffuse, samples } = b;
     let mut other = OtherQueue::default();
-    let samples: Vec<(u32, u64)> = (0..pixels.len() as u32).flat_map(|i| range.clone().map(move |s| (i, s))).collect();
+    samples.clear();
+    samples.extend((0..pixels.len() as u32).flat_map(|i| range.clone().map(move |s| (i, s))));
     for batch in samples.chunks(BATCH) {
         // Camera rays.
         paths.clear();
@@ -91,11 +120,11 @@ pub fn render_band(
             rays.extend(active.iter().map(|&k| paths.ray[k as usize]));
             hits.clear();
             hits.resize(rays.len(), None);
-            job.scene.accel().intersect_batch(&rays, &mut hits);
+            job.scene.accel().intersect_batch(rays, hits);
             clock.lap(Stage::Intersect);
 
             diffuse.clear();
-            surface(job.integrator, job.scene, &mut paths, &active, &hits, &mut diffuse, &mut other, &mut stats);
+            surface(job.integrator, job.scene, paths, active, hits, diffuse, &mut other, &mut stats);
             clock.lap(Stage::Surface);
 
             diffuse.shade();
@@ -127,16 +156,16 @@ pub fn render_band(
             }
             clock.lap(Stage::Scatter);
 
-            other.shade(job.integrator, &mut paths, &mut shadows, &mut shadow_light, &mut next);
+            other.shade(job.integrator, paths, shadows, shadow_light, next);
             clock.lap(Stage::OtherKinds);
 
             blocked.clear();
             blocked.resize(shadows.len(), false);
-            job.scene.accel().occluded_batch(&shadows, &mut blocked);
+            job.scene.accel().occluded_batch(shadows, blocked);
             stats.rays += shadows.len() as u64;
             clock.lap(Stage::Shadow);
 
-            for (&(k, l), &b) in shadow_light.iter().zip(&blocked) {
+            for (&(k, l), &b) in shadow_light.iter().zip(blocked.iter()) {
                 if !b {
                     paths.state[k as usize].l += l;
                 }
@@ -144,7 +173,7 @@ pub fn render_band(
             // The continuing paths in batch order, so that packets hold neighbouring pixels.
             next.sort_unstable();
             active.clear();
-            for &k in &next {
+            for &k in next.iter() {
                 let ku = k as usize;
                 let state = &mut paths.state[ku];
                 if !state.beta.is_black() && job.integrator.roulette(state, &mut paths.sampler[ku]) {

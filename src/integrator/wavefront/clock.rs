@@ -1,7 +1,8 @@
-//! Time per stage of the wavefront loop: one clock read between stages (a stage runs over a
-//! whole queue, so the reads cost nothing measurable).
+//! Time per stage of the wavefront loop: the thread's CPU time (so that other processes on a
+//! loaded machine do not enter), read once between stages (a stage runs over a whole queue, so
+//! the reads cost nothing measurable).
 
-use std::time::Instant;
+use cpu_time::ThreadTime;
 
 /// The stages the clock tells apart.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -59,22 +60,22 @@ impl Stage {
     }
 }
 
-/// Nanoseconds per stage since the clock started.
+/// CPU nanoseconds per stage since the clock started.
 pub(super) struct Clock {
-    last: Instant,
+    last: ThreadTime,
     pub ns: [u64; STAGES],
 }
 
 impl Clock {
     pub fn new() -> Self {
-        Self { last: Instant::now(), ns: [0; STAGES] }
+        Self { last: ThreadTime::now(), ns: [0; STAGES] }
     }
 
     /// Charges the time since the last lap to `stage`.
     #[inline]
     pub fn lap(&mut self, stage: Stage) {
-        let now = Instant::now();
-        self.ns[stage as usize] += (now - self.last).as_nanos() as u64;
+        let now = ThreadTime::now();
+        self.ns[stage as usize] += now.duration_since(self.last).as_nanos() as u64;
         self.last = now;
     }
 }
