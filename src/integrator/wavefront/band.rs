@@ -62,6 +62,8 @@ struct Buffers {
     blocked: Vec<bool>,
     diffuse: DiffuseQueue,
     samples: Vec<(u32, u64)>,
+    /// The kind of the samplers in `paths` (a thread may render with another next).
+    sampler_kind: Option<SamplerKind>,
 }
 
 thread_local! {
@@ -77,7 +79,11 @@ fn render_band_with(
 ) -> Stats {
     let mut stats = Stats::default();
     let mut clock = Clock::new();
-    let Buffers { paths, active, next, hits, rays, shadows, shadow_light, blocked, diffuse, samples } = b;
+    if b.sampler_kind != Some(job.sampler) {
+        b.paths.sampler.clear();
+        b.sampler_kind = Some(job.sampler);
+    }
+    let Buffers { paths, active, next, hits, rays, shadows, shadow_light, blocked, diffuse, samples, .. } = b;
     let mut other = OtherQueue::default();
     samples.clear();
     samples.extend((0..pixels.len() as u32).flat_map(|i| range.clone().map(move |s| (i, s))));

@@ -65,3 +65,6 @@ pub fn check(scene: &Scene, integrator: &Integrator) -> Result<(), Unsupported> 
     }
     Ok(())
 }
+
+#[cfg(test)]
+mod tests;
