@@ -8,14 +8,14 @@ use crate::film::{
     AdaptivePixel, AovPixel, AovSettings, AovSpace, Film, FilmAllocError, FilmSettings, Pixel, SpectralSettings, Splat,
 };
 use crate::filter::Filter;
-use crate::integrator::{Integrator, Stats};
+use crate::integrator::{camera_sample, wavefront, Integrator, Stats};
 use crate::material::Material;
 use crate::sampling::Sampler;
 pub use crate::sampling::SamplerKind;
 use crate::scene::Scene;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 use crate::texture::TextureFootprint;
-use glam::{Mat3, Mat4, Vec2};
+use glam::{Mat3, Mat4};
 use rayon::prelude::*;
 use std::ops::Range;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -49,6 +49,10 @@ pub struct RenderSettings {
     pub integrator: Integrator,
     /// Stop after the pass during which this much time has passed.
     pub time_limit: Option<Duration>,
+    /// Render with the wavefront prototype ([`crate::integrator::wavefront`]; the caller checks
+    /// the scene with [`crate::integrator::wavefront::check`]). Ignored with geometry buffers,
+    /// spectral buckets, adaptive sampling or a splatting estimator.
+    pub wavefront: bool,
 }
 
 impl Default for RenderSettings {
@@ -65,6 +69,7 @@ impl Default for RenderSettings {
             filter: Filter::by_name("gaussian").expect("built in"),
             integrator: Integrator::default(),
             time_limit: None,
+            wavefront: false,
         }
     }
 }
@@ -218,6 +223,9 @@ pub fn render_pass_of(scene: &Scene, settings: &RenderSettings, film: &mut Film,
                     let sink = SpectralBand { settings, sums, max_component: pass.settings.film.sensor.max_component };
                     render_band(&pass, band, pixels, aov_pixels, adaptive, None, sink)
                 }
+                _ if pass.settings.wavefront && aov_pixels.is_none() && adaptive.is_none() => {
+                    wavefront_band(&pass, band, pixels)
+                }
                 _ => render_band(&pass, band, pixels, aov_pixels, adaptive, None, NoSpectrum),
             })
             .reduce(Stats::default, merge);
@@ -266,6 +274,24 @@ pub fn new_film(settings: &RenderSettings) -> Result<Film, FilmAllocError> {
     Ok(film)
 }
 
+/// [`render_band`] without geometry buffers, spectral buckets or adaptive sampling, by the
+/// wavefront loop.
+fn wavefront_band(pass: &Pass, band: usize, pixels: &mut [Pixel]) -> Stats {
+    let Pass { scene, settings, ref camera, ref integrator, differentials, width, origin: (x0, y0), .. } = *pass;
+    let job = wavefront::BandJob {
+        scene,
+        camera,
+        integrator,
+        filter: &settings.filter,
+        sensor: &settings.film.sensor,
+        sampler: settings.sampler,
+        seed: settings.seed,
+        differentials,
+    };
+    let pixel_at = |i: usize| (x0 + (i % width) as u32, y0 + (band * BAND_ROWS + i / width) as u32);
+    wavefront::render_band(&job, pixel_at, pass.range.clone(), pixels)
+}
+
 /// Samples `pass.range` of every pixel of band `band` (its pixels, geometry buffers and
 /// spectral sink), or each adaptive pixel's planned samples.
 fn render_band<S: SpectralSink>(
@@ -288,24 +314,19 @@ fn render_band<S: SpectralSink>(
     // A camera sample of pixel `(x, y)`: its wavelengths, filter weight, ray and the ray's
     // differentials.
     let start = |sampler: &mut Sampler, spectral: &S, (x, y): (u32, u32), s: u64| {
-        sampler.start_pixel_sample((x, y), s, settings.seed);
-        let u = sampler.get_pixel_3d();
-        let lambdas = spectral.sample_wavelengths(u.z);
-        let (offset, weight) = settings.filter.sample(u.truncate());
-        let p_film = Vec2::new(x as f32 + 0.5, y as f32 + 0.5) + offset;
-        // pbrt-v4's camera sample: a time uniform over the shutter interval, then the lens. A
-        // scene where nothing (camera included) moves draws no time sample, so its sampler
-        // dimensions (and image) stay as without motion blur.
-        let time = scene.shutter.map_or(0.0, |(open, close)| {
-            let u = sampler.get_1d();
-            open + (close - open) * u
-        });
-        let u_lens = sampler.get_2d();
-        let ray = camera.sample_ray(p_film, u_lens, time);
-        let diff = differentials
-            .zip(ray.as_ref())
-            .and_then(|(f, r)| f.camera_ray_differentials(camera, &r.ray, p_film, u_lens));
-        (lambdas, weight, ray, diff)
+        let wavelengths = |u| spectral.sample_wavelengths(u);
+        let c = camera_sample(
+            scene,
+            camera,
+            &settings.filter,
+            differentials,
+            sampler,
+            wavelengths,
+            (x, y),
+            s,
+            settings.seed,
+        );
+        (c.lambdas, c.filter_weight, c.ray, c.differentials)
     };
     // The sensor's response to an estimate, or `None` (counted) when it is not finite and is
     // dropped.

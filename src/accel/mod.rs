@@ -26,6 +26,17 @@ pub trait Accel: Send + Sync {
     fn intersect(&self, ray: &Ray) -> Option<Hit>;
     /// True when anything is hit with t in (0, ray.t_max) (shadow rays).
     fn occluded(&self, ray: &Ray) -> bool;
+    /// Closest hits of a batch of rays, `hits[i]` for `rays[i]` (the wavefront loop's queues).
+    /// The default traces them one by one; Embree traces them as 16-ray packets
+    /// (`rtcIntersect16`).
+    fn intersect_batch(&self, rays: &[Ray], hits: &mut [Option<Hit>]) {
+        rays.iter().zip(hits).for_each(|(r, h)| *h = self.intersect(r));
+    }
+    /// Occlusion of a batch of shadow rays, `blocked[i]` for `rays[i]`; Embree traces them as
+    /// 16-ray packets (`rtcOccluded16`).
+    fn occluded_batch(&self, rays: &[Ray], blocked: &mut [bool]) {
+        rays.iter().zip(blocked).for_each(|(r, b)| *b = self.occluded(r));
+    }
     /// Bounds of the whole scene.
     fn bounds(&self) -> Bounds3;
     /// Bytes the accelerator holds (BVH nodes and its own copies of the geometry).

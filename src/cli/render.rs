@@ -123,6 +123,11 @@ pub struct RenderArgs {
     /// PNG: viridis from 0 to the largest count).
     #[arg(long, requires = "target_error")]
     pub spp_map: Option<PathBuf>,
+    /// Render with the wavefront prototype (batches of paths advanced stage by stage; only the
+    /// path integrator over surfaces lit by triangle area lights, without geometry buffers,
+    /// spectral films or --target-error); prints the time of each stage.
+    #[arg(long, hide = true)]
+    pub wavefront: bool,
 }
 
 /// Parses four comma-separated numbers.
@@ -241,7 +246,14 @@ pub fn prepare(args: &RenderArgs) -> Result<Job> {
         filter: filter.unwrap_or(d.filter),
         integrator,
         time_limit,
+        wavefront: args.wavefront,
     };
+    if args.wavefront {
+        crate::integrator::wavefront::check(&scene, &settings.integrator)?;
+        if settings.film.aov.is_some() || settings.film.spectral.is_some() || args.target_error.is_some() {
+            bail!("--wavefront renders without geometry buffers, spectral buckets or --target-error");
+        }
+    }
     let exr_sample = if file.save_fp16 == Some(false) { ExrSample::Float } else { ExrSample::Half };
     Ok(Job { scene, settings, output, space, build_s, scene_name, inputs, exr_sample, write_aov })
 }
@@ -523,6 +535,17 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     // A render stopped by a signal is wanted soon: it is not denoised.
     if let (Some(denoiser), Some(opts), true) = (&denoiser, &denoise_with, interrupted.is_none()) {
         super::denoised::write(denoiser, &film, job.space, &job.output, opts)?;
+    }
+    if job.settings.wavefront {
+        let total: u64 = stats.stage_ns.iter().sum();
+        for (stage, ns) in crate::integrator::wavefront::Stage::ALL.iter().zip(stats.stage_ns) {
+            eprintln!(
+                "  {:<18} {:7.3} s  {:5.1}%",
+                stage.name(),
+                ns as f64 * 1e-9,
+                100.0 * ns as f64 / total.max(1) as f64
+            );
+        }
     }
     if stats.nonfinite > 0 {
         if let Some((x, y, s, d)) = stats.nonfinite_at.first() {

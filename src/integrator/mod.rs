@@ -4,6 +4,7 @@
 mod ambient_occlusion;
 mod bdpt;
 mod bdpt_weights;
+mod camera_sample;
 mod collision;
 mod interface;
 mod lightpath;
@@ -20,7 +21,9 @@ mod visible_surface;
 mod volpath;
 #[cfg(test)]
 mod volpath_tests;
+pub mod wavefront;
 
+pub use camera_sample::{camera_sample, CameraSample};
 pub use interface::{DirectStrategy, Integrator, IntegratorKind, UNBOUNDED_DEPTH};
 pub use options::{AmbientOcclusion, SimplePath};
 pub use subsurface::SubsurfaceMethod;
@@ -52,6 +55,9 @@ pub struct Stats {
     pub nonfinite_at: Vec<(u32, u32, u64, u32)>,
     /// Depth reached by the last traced path (for locating non-finite samples).
     pub last_depth: u32,
+    /// Time the wavefront loop spent in each of its stages [ns], summed over threads (zero for
+    /// the scalar loop).
+    pub stage_ns: [u64; wavefront::STAGES],
 }
 
 impl Stats {
@@ -60,6 +66,9 @@ impl Stats {
         self.rays += o.rays;
         self.samples += o.samples;
         self.nonfinite += o.nonfinite;
+        for (a, b) in self.stage_ns.iter_mut().zip(o.stage_ns) {
+            *a += b;
+        }
         for &p in &o.nonfinite_at {
             if self.nonfinite_at.len() < 16 {
                 self.nonfinite_at.push(p);

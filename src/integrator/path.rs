@@ -10,16 +10,17 @@ use super::Stats;
 use crate::bsdf::{Bsdf, TransportMode};
 use crate::film::VisibleSurface;
 use crate::geometry::Ray;
-use crate::light::LightSampleContext;
+use crate::light::{Light, LightSampleContext};
 use crate::sampling::mis::power_heuristic;
 use crate::sampling::Sampler;
 use crate::scene::{Scene, SurfaceInteraction, MAX_INTERFACE_CROSSINGS};
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 use crate::texture::RayDifferentials;
+use glam::Vec2;
 
 impl Integrator {
     /// MIS weight of emission found by BSDF sampling, given the light's solid-angle pdf.
-    fn emission_weight(&self, state: &PathState, p_light: f32) -> f32 {
+    pub(super) fn emission_weight(&self, state: &PathState, p_light: f32) -> f32 {
         if state.specular_bounce || self.strategy == DirectStrategy::BsdfOnly {
             1.0
         } else if self.strategy == DirectStrategy::LightOnly {
@@ -155,25 +156,44 @@ impl Integrator {
         let Some((_, light, pmf, u)) = scene.sample_light(&ctx, sampler.get_2d()) else {
             return SampledSpectrum::zero();
         };
-        let Some(ls) = light.sample_li(&ctx, u, w) else { return SampledSpectrum::zero() };
-        if ls.pdf <= 0.0 || ls.li.is_black() {
+        let Some((shadow, ld)) = self.light_sample(si, bsdf, light, pmf, u, w) else {
             return SampledSpectrum::zero();
-        }
-        let f = bsdf.f(si.wo, ls.wi, TransportMode::Radiance) * ls.wi.dot(bsdf.ns()).abs();
-        if f.is_black() {
-            return SampledSpectrum::zero();
-        }
+        };
         stats.rays += 1;
-        let shadow = if ls.dist.is_finite() { si.spawn_ray_to(ls.p_light) } else { si.spawn_ray(ls.wi) };
         if scene.occluded(&shadow) {
             return SampledSpectrum::zero();
         }
+        ld
+    }
+
+    /// The part of [`Self::sample_light`] after the light is chosen (`light`, picked with
+    /// probability `pmf`; `u` the rest of the draw): the shadow ray to the point sampled on it
+    /// and the light it brings when nothing blocks that ray. `None`: nothing to trace.
+    pub(super) fn light_sample(
+        &self,
+        si: &SurfaceInteraction,
+        bsdf: &Bsdf,
+        light: &Light,
+        pmf: f32,
+        u: Vec2,
+        w: &SampledWavelengths,
+    ) -> Option<(Ray, SampledSpectrum)> {
+        let ctx = LightSampleContext::surface(si.p, bsdf.ns());
+        let ls = light.sample_li(&ctx, u, w)?;
+        if ls.pdf <= 0.0 || ls.li.is_black() {
+            return None;
+        }
+        let f = bsdf.f(si.wo, ls.wi, TransportMode::Radiance) * ls.wi.dot(bsdf.ns()).abs();
+        if f.is_black() {
+            return None;
+        }
+        let shadow = if ls.dist.is_finite() { si.spawn_ray_to(ls.p_light) } else { si.spawn_ray(ls.wi) };
         let p_light = pmf * ls.pdf;
         let weight = if light.is_delta() || self.strategy == DirectStrategy::LightOnly {
             1.0
         } else {
             power_heuristic(1, p_light, 1, bsdf.pdf(si.wo, ls.wi, TransportMode::Radiance))
         };
-        f * ls.li * (weight / p_light)
+        Some((shadow, f * ls.li * (weight / p_light)))
     }
 }

@@ -833,6 +833,12 @@ impl Scene {
         &self.media
     }
 
+    /// True when some material is an interface or some primitive has an alpha mask: a ray may
+    /// then pass the first surface it hits.
+    pub fn has_interfaces_or_cut_outs(&self) -> bool {
+        self.has_interfaces || self.has_alpha
+    }
+
     /// True when the scene has participating media (and needs the volumetric path tracer).
     pub fn has_media(&self) -> bool {
         !self.media.is_empty()

@@ -58,6 +58,9 @@ pub enum TriangleTest {
 pub struct EmbreeAccel {
     scene: Levels,
     test: TriangleTest,
+    /// Batches are traced as 16-ray packets: one level, Embree's own triangle kernel and no
+    /// user geometry (whose callbacks take one ray at a time).
+    packets: bool,
 }
 
 /// One scene of meshes, or prototypes instanced into a top-level scene.
@@ -95,7 +98,8 @@ impl EmbreeAccel {
     /// Builds with the given quality and triangle test.
     pub fn with_test(meshes: &[Mesh], quality: BuildQuality, test: TriangleTest) -> Result<Self, EmbreeError> {
         let device = device::Device::new()?;
-        Ok(Self { scene: Levels::Flat(scene::Scene::build(device, meshes, quality.rtc(), test)?), test })
+        let packets = test == TriangleTest::Embree;
+        Ok(Self { scene: Levels::Flat(scene::Scene::build(device, meshes, quality.rtc(), test)?), test, packets })
     }
 
     /// Builds one scene over `meshes`, `curves` ((geometry id, its curves), as Embree curve
@@ -110,7 +114,8 @@ impl EmbreeAccel {
         let device = device::Device::new()?;
         let q = BuildQuality::Medium.rtc();
         let scene = scene::Scene::build_with_extra(device, meshes, super::ExtraShapes { curves, quadrics }, q, test)?;
-        Ok(Self { scene: Levels::Flat(scene), test })
+        let packets = test == TriangleTest::Embree && quadrics.is_empty();
+        Ok(Self { scene: Levels::Flat(scene), test, packets })
     }
 
     /// Builds a two-level scene: one Embree scene per prototype, instanced into a top scene
@@ -136,7 +141,7 @@ impl EmbreeAccel {
         let device = device::Device::new()?;
         let q = BuildQuality::Medium.rtc();
         let scene = instanced::InstancedScene::build(device, meshes, shapes, set, q, test)?;
-        Ok(Self { scene: Levels::Instanced(scene), test })
+        Ok(Self { scene: Levels::Instanced(scene), test, packets: false })
     }
 
     /// The triangle test this accelerator runs.
@@ -177,6 +182,28 @@ impl Accel for EmbreeAccel {
         match &self.scene {
             Levels::Flat(s) => s.occluded(ray),
             Levels::Instanced(s) => s.occluded(ray),
+        }
+    }
+    #[cfg(feature = "embree")]
+    fn intersect_batch(&self, rays: &[Ray], hits: &mut [Option<Hit>]) {
+        match &self.scene {
+            Levels::Flat(s) if self.packets => {
+                for (r, h) in rays.chunks(16).zip(hits.chunks_mut(16)) {
+                    s.intersect16(r, h);
+                }
+            }
+            _ => rays.iter().zip(hits).for_each(|(r, h)| *h = self.intersect(r)),
+        }
+    }
+    #[cfg(feature = "embree")]
+    fn occluded_batch(&self, rays: &[Ray], blocked: &mut [bool]) {
+        match &self.scene {
+            Levels::Flat(s) if self.packets => {
+                for (r, b) in rays.chunks(16).zip(blocked.chunks_mut(16)) {
+                    s.occluded16(r, b);
+                }
+            }
+            _ => rays.iter().zip(blocked).for_each(|(r, b)| *b = self.occluded(r)),
         }
     }
     fn bounds(&self) -> Bounds3 {

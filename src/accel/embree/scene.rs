@@ -331,6 +331,62 @@ impl Scene {
         r.tfar == f32::NEG_INFINITY
     }
 
+    /// Up to sixteen rays in Embree's packet layout, and which lanes to trace (−1) or skip (0:
+    /// past the end of `rays`, or a ray Embree would refuse).
+    #[cfg(feature = "embree")]
+    #[inline]
+    fn rtc_ray16(rays: &[Ray]) -> (ffi::RTCRay16, ffi::Valid16) {
+        let mut r = ffi::RTCRay16 { mask: [u32::MAX; 16], ..Default::default() };
+        let mut valid = ffi::Valid16::default();
+        for (i, ray) in rays.iter().enumerate() {
+            let one = Self::rtc_ray(ray);
+            (r.org_x[i], r.org_y[i], r.org_z[i], r.tnear[i]) = (one.org_x, one.org_y, one.org_z, one.tnear);
+            (r.dir_x[i], r.dir_y[i], r.dir_z[i], r.tfar[i]) = (one.dir_x, one.dir_y, one.dir_z, one.tfar);
+            valid.0[i] = if Self::accepts(ray) { -1 } else { 0 };
+        }
+        (r, valid)
+    }
+
+    /// Closest hits of up to sixteen rays traced as one packet (`rtcIntersect16`); only for
+    /// Embree's own triangle kernel, since the user-geometry callbacks trace one ray at a time.
+    #[cfg(feature = "embree")]
+    #[inline]
+    pub fn intersect16(&self, rays: &[Ray], hits: &mut [Option<Hit>]) {
+        let (ray, valid) = Self::rtc_ray16(rays);
+        let mut rh = ffi::RTCRayHit16 {
+            ray,
+            hit: ffi::RTCHit16 { geomID: [ffi::RTC_INVALID_GEOMETRY_ID; 16], ..Default::default() },
+        };
+        let mut ctx = Self::context();
+        // SAFETY: committed scene; ctx and rh are valid locals, RTCRayHit16 is 64-byte aligned.
+        unsafe { ffi::intersect16(&valid, self.raw.raw, ctx.as_mut_ptr(), &mut rh) };
+        let h = &rh.hit;
+        for (i, out) in hits.iter_mut().enumerate().take(rays.len()) {
+            *out = (valid.0[i] != 0 && h.geomID[i] != ffi::RTC_INVALID_GEOMETRY_ID).then(|| Hit {
+                t: rh.ray.tfar[i],
+                geom_id: h.geomID[i],
+                prim_id: h.primID[i],
+                u: h.u[i],
+                v: h.v[i],
+                ng: Vec3::new(h.Ng_x[i], h.Ng_y[i], h.Ng_z[i]),
+                inst_id: Hit::NO_INSTANCE,
+            });
+        }
+    }
+
+    /// Occlusion of up to sixteen rays traced as one packet (`rtcOccluded16`).
+    #[cfg(feature = "embree")]
+    #[inline]
+    pub fn occluded16(&self, rays: &[Ray], blocked: &mut [bool]) {
+        let (mut ray, valid) = Self::rtc_ray16(rays);
+        let mut ctx = Self::context();
+        // SAFETY: committed scene; ctx and ray are valid locals, RTCRay16 is 64-byte aligned.
+        unsafe { ffi::occluded16(&valid, self.raw.raw, ctx.as_mut_ptr(), &mut ray) };
+        for (i, b) in blocked.iter_mut().enumerate().take(rays.len()) {
+            *b = valid.0[i] != 0 && ray.tfar[i] == f32::NEG_INFINITY;
+        }
+    }
+
     /// Raw closest-hit call on a prepared RTCRayHit, for the wrapper-overhead benchmark.
     #[doc(hidden)]
     pub fn raw_intersect(&self, rh: &mut ffi::RTCRayHit) {

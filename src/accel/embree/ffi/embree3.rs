@@ -55,3 +55,30 @@ pub unsafe fn occluded1(scene: RTCScene, ctx: *mut QueryContext, ray: *mut RTCRa
     // SAFETY: by the caller's contract.
     unsafe { rtcOccluded1(scene, ctx, ray) }
 }
+
+/// Which lanes of a packet of sixteen to trace (−1) or skip (0); Embree loads it as one
+/// vector, so it is aligned as the packet.
+#[repr(C, align(64))]
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Valid16(pub [i32; 16]);
+
+/// Closest hits of a packet of sixteen rays.
+///
+/// # Safety
+/// `scene` is committed; `ctx` and `rayhit` point to valid, writable structs, `rayhit` 64-byte
+/// aligned (`RTCRayHit16` is).
+#[inline(always)]
+pub unsafe fn intersect16(valid: &Valid16, scene: RTCScene, ctx: *mut QueryContext, rayhit: *mut RTCRayHit16) {
+    // SAFETY: by the caller's contract; `valid` is 16 ints, 64-byte aligned.
+    unsafe { rtcIntersect16(valid.0.as_ptr(), scene, ctx, rayhit) }
+}
+
+/// Any hits of a packet of sixteen rays (Embree sets `tfar = −∞` in the lanes that have one).
+///
+/// # Safety
+/// As [`intersect16`].
+#[inline(always)]
+pub unsafe fn occluded16(valid: &Valid16, scene: RTCScene, ctx: *mut QueryContext, ray: *mut RTCRay16) {
+    // SAFETY: by the caller's contract.
+    unsafe { rtcOccluded16(valid.0.as_ptr(), scene, ctx, ray) }
+}
