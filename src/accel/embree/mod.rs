@@ -22,6 +22,8 @@ mod quadrics;
 mod ray_context;
 mod ribbons;
 mod scene;
+#[cfg(test)]
+mod shared_tests;
 mod user_triangles;
 
 pub use build_choice::{BuildChoice, BIG_SCENE_TRIANGLES, BUILD_ENV};
