@@ -24,6 +24,7 @@
 //! Each line gives the wall seconds of each stage, their sum per element in microseconds, and the
 //! process CPU seconds (all threads) of each stage.
 
+use cpu_time::ProcessTime;
 use prism::accel::AccelKind;
 use prism::bench::rss_bytes;
 use prism::pbrt::mesh_io::ply;
@@ -31,7 +32,6 @@ use prism::pbrt::{build_with, parse_file, ParseOptions};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
-use cpu_time::ProcessTime;
 use std::time::Instant;
 
 /// Wall-clock and process CPU seconds since it was started: on a machine shared with other
@@ -109,7 +109,8 @@ fn scene(kind: &str, n: usize) -> String {
             for i in 0..n {
                 let h = (i as u32).wrapping_mul(2_654_435_761);
                 let (x, y) = ((i % side) as f32 * 1.5, (i / side) as f32 * 1.5);
-                let (k, turn, size) = (h as usize % FOREST_PROTOTYPES, (h >> 8) % 360, 0.7 + (h >> 20) as f32 / 4096.0 * 0.6);
+                let (k, turn, size) =
+                    (h as usize % FOREST_PROTOTYPES, (h >> 8) % 360, 0.7 + (h >> 20) as f32 / 4096.0 * 0.6);
                 writeln!(
                     s,
                     "AttributeBegin\n  Translate {x} {y} 0\n  Rotate {turn} 0 0 1\n  Scale {size} {size} {size}\n  ObjectInstance \"tree{k}\"\nAttributeEnd"

@@ -57,7 +57,8 @@ impl BuildChoice {
 
     /// Reads `low|medium|high[,compact]`.
     pub fn parse(s: &str) -> Result<Self, EmbreeError> {
-        let bad = || EmbreeError::Call(format!("{BUILD_ENV}={s:?}: expected low, medium or high, then optionally ,compact"));
+        let bad =
+            || EmbreeError::Call(format!("{BUILD_ENV}={s:?}: expected low, medium or high, then optionally ,compact"));
         let mut parts = s.split(',').map(str::trim);
         let quality = match parts.next() {
             Some("low") => BuildQuality::Low,

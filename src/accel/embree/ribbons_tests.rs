@@ -62,8 +62,9 @@ fn embree_ribbons_are_not_pbrt_v4s_and_the_ribbon_user_geometry_finds_the_obvhs_
         let native = Scene::native_curves(Device::new().unwrap(), &curves).unwrap();
         let q = super::super::BuildChoice::MEDIUM;
         let extra = crate::accel::ExtraShapes { curves: &[(0, &curves)], quadrics: &[] };
-        let user = Scene::build_with_extra(Device::new().unwrap(), &[Mesh::default()], extra, q, TriangleTest::Embree, None)
-            .unwrap();
+        let user =
+            Scene::build_with_extra(Device::new().unwrap(), &[Mesh::default()], extra, q, TriangleTest::Embree, None)
+                .unwrap();
         let n = compare(|r| native.intersect(r), &curves);
         let u = compare(|r| user.intersect(r), &curves);
         eprintln!("twist {:.0}°: Embree's ribbons {n:?}", twist.to_degrees());
@@ -94,7 +95,8 @@ fn ribbon_speed() {
     let q = super::super::BuildChoice::MEDIUM;
     let extra = crate::accel::ExtraShapes { curves: &[(0, &curves)], quadrics: &[] };
     let user =
-        Scene::build_with_extra(Device::new().unwrap(), &[Mesh::default()], extra, q, TriangleTest::Embree, None).unwrap();
+        Scene::build_with_extra(Device::new().unwrap(), &[Mesh::default()], extra, q, TriangleTest::Embree, None)
+            .unwrap();
     let bvh = CurveBvh::new(&[(0, &curves)]);
     let rays = crate::geometry::shapes::rays_into_hair_bundle(1 << 18, 7);
     type Trace<'a> = &'a dyn Fn(&Ray) -> bool;

@@ -1,11 +1,11 @@
 //! An Embree scene of triangle meshes: built and committed once, then queried from many threads.
 
+use super::build_choice::BuildChoice;
 use super::device::{Device, EmbreeError};
 use super::ffi;
 use super::ray_context::{RayContext, ShearCache};
 use super::ribbons::UserRibbons;
 use super::user_triangles::{self, UserMesh};
-use super::build_choice::BuildChoice;
 use super::TriangleTest;
 use crate::geometry::{Bounds3, CurveKind, Curves, Hit, Mesh, PlacedQuadric, Ray};
 use glam::Vec3;
@@ -62,7 +62,10 @@ impl SceneHandle {
             ffi::rtcSetSceneFlags(raw, flags);
             ffi::rtcSetSceneBuildQuality(raw, quality);
         }
-        Ok(Self { raw, test, geometry_quality: quality,
+        Ok(Self {
+            raw,
+            test,
+            geometry_quality: quality,
             user_meshes: Vec::new(),
             user_quadrics: Vec::new(),
             user_ribbons: Vec::new(),
@@ -179,7 +182,8 @@ impl SceneHandle {
                 ffi::rtcSetSharedGeometryBuffer(geom, index, 0, uint3, p, 0, 12, n);
             } else {
                 // Embree-allocated buffers are padded for the 16-byte loads past the last vertex.
-                let vb = ffi::rtcSetNewGeometryBuffer(geom, vertex, 0, float3, 12, mesh.positions.len()) as *mut [f32; 3];
+                let vb =
+                    ffi::rtcSetNewGeometryBuffer(geom, vertex, 0, float3, 12, mesh.positions.len()) as *mut [f32; 3];
                 let ib = ffi::rtcSetNewGeometryBuffer(geom, index, 0, uint3, 12, mesh.indices.len()) as *mut [u32; 3];
                 if vb.is_null() || ib.is_null() {
                     ffi::rtcReleaseGeometry(geom);

@@ -412,8 +412,8 @@ const TRIANGLE_RECORD: usize = 13;
 fn all_triangles<'a>(body: &Body<'a>, count: usize, ty: Scalar) -> Option<&'a [u8]> {
     let len = count.checked_mul(TRIANGLE_RECORD)?;
     let data = body.data.get(body.pos..body.pos.checked_add(len)?)?;
-    let triangles = matches!(ty, Scalar::I32 | Scalar::U32)
-        && data.par_chunks_exact(TRIANGLE_RECORD).all(|r| r[0] == 3);
+    let triangles =
+        matches!(ty, Scalar::I32 | Scalar::U32) && data.par_chunks_exact(TRIANGLE_RECORD).all(|r| r[0] == 3);
     triangles.then_some(data)
 }
 
