@@ -38,11 +38,12 @@ impl BuildChoice {
     pub const MEDIUM: Self = Self { quality: BuildQuality::Medium, compact: false };
 
     /// The rule for a scene of `triangles`: Embree's default below [`BIG_SCENE_TRIANGLES`], from
-    /// there the same SAH build with compact leaves. On a 20 M-triangle mesh compact leaves
-    /// take the peak memory of the start-up from 137 to 53 bytes per triangle and its time to
-    /// 0.7× for ~1.1× the time per ray; the Morton builder (`low`) would take the time to 0.5×
-    /// but trace 1.5× slower than compact SAH leaves and hold 76 bytes per triangle
-    /// (docs/benchmarks.md, "One big mesh").
+    /// there the same SAH build with compact leaves. On a 20 M-triangle mesh whose arrays
+    /// Embree reads in place, compact leaves take the peak memory of the start-up from 118 to 53
+    /// bytes per triangle and Embree's build to 0.76× its CPU time, for 1.1–1.26× the render
+    /// time; the Morton builder (`low`) would halve the build's CPU time again but trace ~1.5×
+    /// slower than compact SAH leaves and hold 76 bytes per triangle (docs/benchmarks.md,
+    /// "One big mesh").
     pub fn for_triangles(triangles: usize) -> Self {
         Self { quality: BuildQuality::Medium, compact: triangles >= BIG_SCENE_TRIANGLES }
     }
