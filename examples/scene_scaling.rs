@@ -10,6 +10,9 @@
 //! - `objects`: N `ObjectBegin` blocks of one triangle each and N `ObjectInstance`s;
 //! - `shapes`: N one-triangle shapes, each in its own `AttributeBegin` with a `Translate`
 //!   (the cost every other kind carries as well);
+//! - `forest`: N `ObjectInstance`s of four tree prototypes (cones of 4,096 triangles each),
+//!   each placed by its own `Translate`, `Rotate` and `Scale` on a square grid: object
+//!   instancing at scale;
 //! - `mesh`: one `plymesh` of N triangles, a binary little-endian PLY heightfield with
 //!   positions only (19 bytes per triangle, like a scanned model). Its line adds the seconds of
 //!   reading the file and of decoding the PLY alone (the first two parts of `parse`), and
@@ -18,8 +21,10 @@
 //! (default: all four at N = 1000, 10000, 100000). The stages: `parse` (`parse_file`),
 //! `translate` (the description onto a scene builder), `report` (unused parameters and the
 //! list of input files), `build` (accelerator and lights, Embree when built with it).
-//! Each line gives the seconds of each stage and their sum per element in microseconds.
+//! Each line gives the wall seconds of each stage, their sum per element in microseconds, and the
+//! process CPU seconds (all threads) of each stage.
 
+use cpu_time::ProcessTime;
 use prism::accel::AccelKind;
 use prism::bench::rss_bytes;
 use prism::pbrt::mesh_io::ply;
@@ -29,7 +34,20 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::Instant;
 
-const KINDS: [&str; 5] = ["materials", "media", "objects", "shapes", "mesh"];
+/// Wall-clock and process CPU seconds since it was started: on a machine shared with other
+/// work the CPU seconds (all threads) measure the work itself, the wall seconds what it took.
+struct Clock(Instant, ProcessTime);
+
+impl Clock {
+    fn start() -> Self {
+        Self(Instant::now(), ProcessTime::now())
+    }
+    fn stop(&self) -> [f64; 2] {
+        [self.0.elapsed().as_secs_f64(), self.1.elapsed().as_secs_f64()]
+    }
+}
+
+const KINDS: [&str; 6] = ["materials", "media", "objects", "shapes", "mesh", "forest"];
 
 /// Camera, film and one light: what every generated scene starts with.
 const HEADER: &str = r#"LookAt 0 0 -10  0 0 0  0 1 0
@@ -83,6 +101,23 @@ fn scene(kind: &str, n: usize) -> String {
                 writeln!(s, "AttributeBegin\n  {}\n  ObjectInstance \"obj{i}\"\nAttributeEnd", place(i)).unwrap();
             }
         }
+        "forest" => {
+            for k in 0..FOREST_PROTOTYPES {
+                writeln!(s, "ObjectBegin \"tree{k}\"\n  {}\nObjectEnd", tree(k)).unwrap();
+            }
+            // A cheap hash of the index varies each tree's prototype, turn and size.
+            for i in 0..n {
+                let h = (i as u32).wrapping_mul(2_654_435_761);
+                let (x, y) = ((i % side) as f32 * 1.5, (i / side) as f32 * 1.5);
+                let (k, turn, size) =
+                    (h as usize % FOREST_PROTOTYPES, (h >> 8) % 360, 0.7 + (h >> 20) as f32 / 4096.0 * 0.6);
+                writeln!(
+                    s,
+                    "AttributeBegin\n  Translate {x} {y} 0\n  Rotate {turn} 0 0 1\n  Scale {size} {size} {size}\n  ObjectInstance \"tree{k}\"\nAttributeEnd"
+                )
+                .unwrap();
+            }
+        }
         "mesh" => {
             writeln!(s, "Shape \"plymesh\" \"string filename\" \"mesh-{n}.ply\"").unwrap();
         }
@@ -96,34 +131,63 @@ fn scene(kind: &str, n: usize) -> String {
     s
 }
 
-/// Seconds of each stage of reading the scene file at `path`, and the resident memory above
-/// the start after each stage (and at the peak) [bytes].
-fn time_stages(path: &Path) -> Result<([f64; 4], [i64; 5]), String> {
+/// Distinct prototypes of the `forest` scenes.
+const FOREST_PROTOTYPES: usize = 4;
+
+/// Tree prototype `k` as a `trianglemesh`: a (nearly closed) cone of 64 segments around and 32 rings up
+/// (4,096 triangles), 0.5 wide and 1.5 + 0.25 k high, its axis +z, its base at the origin.
+fn tree(k: usize) -> String {
+    let (around, rings) = (64usize, 32usize);
+    let height = 1.5 + 0.25 * k as f32;
+    let mut p = String::new();
+    for j in 0..=rings {
+        let f = j as f32 / rings as f32;
+        let r = 0.5 * (1.0 - 0.97 * f);
+        for i in 0..around {
+            let a = i as f32 / around as f32 * std::f32::consts::TAU;
+            write!(p, "{} {} {} ", r * a.cos(), r * a.sin(), height * f).unwrap();
+        }
+    }
+    let mut idx = String::new();
+    for j in 0..rings {
+        for i in 0..around {
+            let v = |i: usize, j: usize| j * around + i % around;
+            let (a, b, c, d) = (v(i, j), v(i + 1, j), v(i + 1, j + 1), v(i, j + 1));
+            write!(idx, "{a} {b} {c} {a} {c} {d} ").unwrap();
+        }
+    }
+    format!(r#"Shape "trianglemesh" "point3 P" [ {p}] "integer indices" [ {idx}]"#)
+}
+
+/// Wall and CPU seconds of each stage of reading the scene file at `path` (parse, translate,
+/// report, build), and the resident memory above the start after each stage (and at the peak)
+/// [bytes].
+fn time_stages(path: &Path) -> Result<([[f64; 2]; 4], [i64; 5]), String> {
     let opts = ParseOptions::default();
     let rss0 = rss_bytes().0 as i64;
     prism::bench::reset_peak_rss();
     let rss = || rss_bytes().0 as i64 - rss0;
-    let t = Instant::now();
+    let t = Clock::start();
     let (desc, mut warnings) = parse_file(path, &opts).map_err(|e| e.to_string())?;
-    let parse = t.elapsed().as_secs_f64();
+    let parse = t.stop();
     let m_parse = rss();
-    let t = Instant::now();
+    let t = Clock::start();
     let (builder, _) = build_with(&desc, &mut warnings, opts.quadrics).map_err(|e| e.to_string())?;
-    let translate = t.elapsed().as_secs_f64();
+    let translate = t.stop();
     let m_translate = rss();
-    let t = Instant::now();
+    let t = Clock::start();
     warnings.extend(desc.report_unused());
     let inputs = desc.input_files();
-    let report = t.elapsed().as_secs_f64();
+    let report = t.stop();
     if let Some(w) = warnings.first() {
         return Err(format!("{} warnings, the first: {w}", warnings.len()));
     }
     // The description is dropped here, as `prism render` drops it once the builder holds the scene.
     drop((desc, inputs));
     let m_report = rss();
-    let t = Instant::now();
+    let t = Clock::start();
     let scene = builder.build(AccelKind::default_available()).map_err(|e| e.to_string())?;
-    let build = t.elapsed().as_secs_f64();
+    let build = t.stop();
     let m_build = rss();
     let peak = rss_bytes().1 as i64 - rss0;
     drop(scene);
@@ -167,23 +231,23 @@ fn write_ply(path: &Path, n: usize) -> Result<usize, String> {
     Ok(tris)
 }
 
-/// Seconds to read the file at `path`, to decode it as PLY and to build the accelerator over
-/// the mesh alone; the bytes the accelerator reports holding, and the resident memory it adds
-/// after the build and at the peak of the build.
-fn time_mesh_parts(path: &Path) -> Result<([f64; 3], [i64; 3]), String> {
-    let t = Instant::now();
+/// Wall and CPU seconds to read the file at `path`, to decode it as PLY and to build the
+/// accelerator over the mesh alone; the bytes the accelerator reports holding, and the resident
+/// memory it adds after the build and at the peak of the build.
+fn time_mesh_parts(path: &Path) -> Result<([[f64; 2]; 3], [i64; 3]), String> {
+    let t = Clock::start();
     let bytes = prism::pbrt::input::read(path).map_err(|e| e.to_string())?;
-    let read = t.elapsed().as_secs_f64();
-    let t = Instant::now();
+    let read = t.stop();
+    let t = Clock::start();
     let mesh = ply::parse(&bytes).map_err(|e| e.to_string())?;
-    let decode = t.elapsed().as_secs_f64();
+    let decode = t.stop();
     drop(bytes);
     let rss0 = rss_bytes().0 as i64;
     prism::bench::reset_peak_rss();
-    let t = Instant::now();
+    let t = Clock::start();
     let accel =
         prism::accel::build(AccelKind::default_available(), std::slice::from_ref(&mesh)).map_err(|e| e.to_string())?;
-    let build = t.elapsed().as_secs_f64();
+    let build = t.stop();
     let (rss, peak) = rss_bytes();
     let own = accel.memory_bytes() as i64;
     Ok(([read, decode, build], [own, rss as i64 - rss0, peak as i64 - rss0]))
@@ -205,8 +269,11 @@ fn run() -> Result<(), String> {
         return Err(format!("unknown kind '{k}' (valid: {})", KINDS.join(", ")));
     }
     std::fs::create_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
-    println!("| kind | N | file MB | parse [s] | translate [s] | report [s] | build [s] | µs per element |");
-    println!("|---|---|---|---|---|---|---|---|");
+    println!(
+        "| kind | N | file MB | parse [s] | translate [s] | report [s] | build [s] | µs per element | CPU s: parse / \
+         translate / report / build |"
+    );
+    println!("|---|---|---|---|---|---|---|---|---|");
     for kind in &kinds {
         for &n in &ns {
             let path = dir.join(format!("{kind}-{n}.pbrt"));
@@ -222,23 +289,31 @@ fn run() -> Result<(), String> {
                 let ([read, decode, accel], [own, resident, peak]) = time_mesh_parts(&ply_path)?;
                 let per = |b: i64| b as f64 / tris as f64;
                 mesh_note = format!(
-                    "read {read:.3} s, PLY decode {decode:.3} s, accelerator alone {accel:.3} s ({:.1} B/triangle by \
-                     its own count, {:.1} resident, {:.1} at its peak); ",
+                    "read {:.3} s ({:.3} CPU), PLY decode {:.3} s ({:.3} CPU), accelerator alone {:.3} s ({:.3} CPU; \
+                     {:.1} B/triangle by its own count, {:.1} resident, {:.1} at its peak); ",
+                    read[0],
+                    read[1],
+                    decode[0],
+                    decode[1],
+                    accel[0],
+                    accel[1],
                     per(own),
                     per(resident),
                     per(peak)
                 );
             }
             let (s, m) = time_stages(&path).map_err(|e| format!("{}: {e}", path.display()))?;
-            let total: f64 = s.iter().sum();
+            let total: f64 = s.iter().map(|t| t[0]).sum();
+            let cpu: Vec<String> = s.iter().map(|t| format!("{:.3}", t[1])).collect();
             println!(
-                "| {kind} | {n} | {:.1} | {:.3} | {:.3} | {:.3} | {:.3} | {:.2} |",
+                "| {kind} | {n} | {:.1} | {:.3} | {:.3} | {:.3} | {:.3} | {:.2} | {} |",
                 bytes as f64 / 1e6,
-                s[0],
-                s[1],
-                s[2],
-                s[3],
-                total / n as f64 * 1e6
+                s[0][0],
+                s[1][0],
+                s[2][0],
+                s[3][0],
+                total / n as f64 * 1e6,
+                cpu.join(" / ")
             );
             if kind == "mesh" {
                 let per = |b: i64| b as f64 / n as f64;

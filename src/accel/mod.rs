@@ -19,6 +19,7 @@ pub use self::obvhs_instanced::ObvhsInstancedAccel;
 
 use crate::geometry::InstanceSet;
 use crate::geometry::{Bounds3, Curves, Hit, Mesh, PlacedQuadric, Ray};
+use std::sync::Arc;
 
 /// A ray-intersection accelerator over a set of triangle meshes.
 pub trait Accel: Send + Sync {
@@ -226,8 +227,32 @@ pub fn build_scene(
     extra: ExtraShapes,
     set: &InstanceSet,
 ) -> Result<Box<dyn Accel>, AccelError> {
+    compose(kind, meshes, None, extra, set)
+}
+
+/// [`build_scene`] over meshes the accelerator may keep: Embree then reads their vertex and
+/// index arrays in place (`rtcSetSharedGeometryBuffer`) instead of copying them, holding
+/// `meshes` for as long as it lives. A mesh's positions need spare capacity for this (Embree
+/// loads 16 bytes at each vertex); one without is copied.
+pub fn build_scene_shared(
+    kind: AccelKind,
+    meshes: &Arc<[Mesh]>,
+    extra: ExtraShapes,
+    set: &InstanceSet,
+) -> Result<Box<dyn Accel>, AccelError> {
+    compose(kind, meshes, Some(meshes.clone()), extra, set)
+}
+
+/// [`build_scene`], with Embree reading the arrays of `meshes` in place when `shared` holds them.
+fn compose(
+    kind: AccelKind,
+    meshes: &[Mesh],
+    shared: Option<Arc<[Mesh]>>,
+    extra: ExtraShapes,
+    set: &InstanceSet,
+) -> Result<Box<dyn Accel>, AccelError> {
     let instanced = !set.prototypes.is_empty();
-    if extra.is_empty() && !instanced {
+    if extra.is_empty() && !instanced && (shared.is_none() || kind == AccelKind::Obvhs) {
         return build(kind, meshes);
     }
     let table = ShapeTable::new(extra);
@@ -244,9 +269,9 @@ pub fn build_scene(
                 if kind == AccelKind::Embree { embree::TriangleTest::Embree } else { embree::TriangleTest::Watertight };
             let (moving, fixed): (Vec<_>, Vec<_>) = quadrics.into_iter().partition(|(_, q)| q.moves());
             let scene = if instanced {
-                embree::EmbreeAccel::instanced_with_shapes(meshes, &table, set, test)
+                embree::EmbreeAccel::instanced_with_shapes(meshes, &table, set, test, shared)
             } else {
-                embree::EmbreeAccel::with_extra(meshes, &curves, &fixed, test)
+                embree::EmbreeAccel::with_extra(meshes, &curves, &fixed, test, shared)
             }?;
             Ok(ExtraShapes { curves: &[], quadrics: &moving }.beside(Box::new(scene)))
         }

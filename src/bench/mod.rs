@@ -51,9 +51,15 @@ pub struct BenchPoint {
     #[serde(default)]
     pub accel_bytes: i64,
     /// Bytes the accelerator reports holding (its own count: Embree's memory monitor, obvhs'
-    /// arrays), exact where the resident-set differences are page-granular and noisy.
+    /// arrays), exact where the resident-set differences are page-granular and noisy. Embree's
+    /// holds its BVH nodes and leaves, and copies of the vertices and indices it does not read
+    /// in place from prism's meshes.
     #[serde(default)]
     pub accel_own_bytes: u64,
+    /// Bytes of prism's own triangle arrays (positions, indices, normals, texture coordinates):
+    /// what shading reads, and what Embree traces in place when it shares them.
+    #[serde(default)]
+    pub mesh_bytes: u64,
     /// Peak resident memory during the build above the level before loading [bytes]
     /// (builders need temporary memory; 0 where the kernel cannot reset the peak).
     #[serde(default)]
@@ -233,6 +239,7 @@ pub fn run(cfg: &BenchConfig) -> Result<Vec<BenchPoint>, BenchError> {
         let build_peak_bytes = if can_reset { peak as i64 - rss0 as i64 } else { 0 };
         let triangles = scene.triangle_count();
         let accel_own_bytes = scene.accel().memory_bytes() as u64;
+        let mesh_bytes = scene.mesh_bytes() as u64;
         for &sampler in &cfg.samplers {
             for &spp in &cfg.ladder {
                 // A different seed from the reference's, so errors are not correlated with it.
@@ -250,6 +257,7 @@ pub fn run(cfg: &BenchConfig) -> Result<Vec<BenchPoint>, BenchError> {
                     triangles,
                     accel_bytes,
                     accel_own_bytes,
+                    mesh_bytes,
                     build_peak_bytes,
                     peak_rss_bytes: rss_bytes().1,
                     rmse: m.rmse,
@@ -298,7 +306,7 @@ pub fn markdown_table(points: &[BenchPoint]) -> String {
             p.rel_mse
         );
     }
-    t += "\n| accel | triangles | build [s] | scene B/tri | accel B/tri | accel's own count B/tri | build peak B/tri |\n|---|---|---|---|---|---|---|\n";
+    t += "\n| accel | triangles | build [s] | scene B/tri | meshes B/tri | accel B/tri | accel's own count B/tri | build peak B/tri |\n|---|---|---|---|---|---|---|---|\n";
     let mut seen = Vec::new();
     for p in points.iter().filter(|p| p.triangles > 0) {
         if seen.contains(&&p.accel) {
@@ -307,15 +315,23 @@ pub fn markdown_table(points: &[BenchPoint]) -> String {
         seen.push(&p.accel);
         let per = |b: i64| b as f64 / p.triangles as f64;
         t += &format!(
-            "| {} | {} | {:.3} | {:.1} | {:.1} | {:.1} | {:.1} |\n",
+            "| {} | {} | {:.3} | {:.1} | {:.1} | {:.1} | {:.1} | {:.1} |\n",
             p.accel,
             p.triangles,
             p.build_s,
             per(p.scene_bytes),
+            per(p.mesh_bytes as i64),
             per(p.accel_bytes),
             per(p.accel_own_bytes as i64),
             per(p.build_peak_bytes)
         );
+    }
+    if !seen.is_empty() {
+        t += "\nscene: resident memory added by loading and building; meshes: prism's vertex, index, normal and \
+              texture-coordinate arrays (read by shading, and by Embree in place); accel: resident memory the build \
+              added; accel's own count: the backend's (Embree: BVH nodes and leaves, and copies of the arrays it \
+              does not read in place; obvhs: nodes and reordered triangles); build peak: the most resident during \
+              the build.\n";
     }
     t
 }
@@ -324,11 +340,11 @@ pub fn markdown_table(points: &[BenchPoint]) -> String {
 /// bench.md (headed by `info`), run.json and the plots into `dir`.
 pub fn write_outputs(dir: &Path, points: &[BenchPoint], targets: &[f64], info: &RunInfo) -> Result<(), BenchError> {
     let mut csv = String::from(
-        "accel,sampler,spp,time_s,samples_per_s,rays_per_s,build_s,scene_bytes,triangles,accel_bytes,accel_own_bytes,build_peak_bytes,peak_rss_bytes,rmse,rel_mse,mae\n",
+        "accel,sampler,spp,time_s,samples_per_s,rays_per_s,build_s,scene_bytes,triangles,accel_bytes,accel_own_bytes,mesh_bytes,build_peak_bytes,peak_rss_bytes,rmse,rel_mse,mae\n",
     );
     for p in points {
         csv += &format!(
-            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n",
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n",
             p.accel,
             p.sampler,
             p.spp,
@@ -340,6 +356,7 @@ pub fn write_outputs(dir: &Path, points: &[BenchPoint], targets: &[f64], info: &
             p.triangles,
             p.accel_bytes,
             p.accel_own_bytes,
+            p.mesh_bytes,
             p.build_peak_bytes,
             p.peak_rss_bytes,
             p.rmse,

@@ -37,6 +37,16 @@ impl Mesh {
         self.indices.is_empty()
     }
 
+    /// Bytes its arrays hold (positions, indices, normals, texture coordinates, faces).
+    pub fn bytes(&self) -> usize {
+        use std::mem::size_of_val;
+        size_of_val(&self.positions[..])
+            + size_of_val(&self.indices[..])
+            + self.normals.as_deref().map_or(0, size_of_val)
+            + self.uvs.as_deref().map_or(0, size_of_val)
+            + self.faces.as_deref().map_or(0, size_of_val)
+    }
+
     /// The three vertices of triangle `i`.
     #[inline]
     pub fn triangle(&self, i: usize) -> [Vec3; 3] {

@@ -11,8 +11,9 @@ use super::{Curves, Mesh, PlacedQuadric};
 /// The geometry of one primitive (world space, or object space in a prototype).
 #[derive(Clone, Debug)]
 pub enum Shape {
-    /// Triangles (a hit's `prim_id` is a triangle, its (u, v) barycentrics). Held inline: a
-    /// hit on a mesh reaches its arrays with no indirection beyond the primitive's.
+    /// Triangles (a hit's `prim_id` is a triangle, its (u, v) barycentrics). In a built
+    /// scene they have moved to the scene's mesh table (`Scene::mesh`, shared with the
+    /// accelerator) and this is left empty.
     Mesh(Mesh),
     /// Curves (a hit's `prim_id` is a segment, its `u` the curve parameter along it).
     Curves(Arc<Curves>),

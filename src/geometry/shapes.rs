@@ -18,7 +18,14 @@ impl Mesh {
     /// (renormalised). Triangle winding is flipped when `m` mirrors (det < 0), so geometric normals
     /// keep pointing the same way relative to the surface.
     pub fn transformed(&self, m: &Mat4) -> Mesh {
-        let positions = self.positions.iter().map(|&p| m.transform_point3(p)).collect();
+        // One spare slot: Embree reads the positions in place only with room for its 16-byte
+        // load at the last vertex (`accel::build_scene_shared`).
+        let mut positions = Vec::with_capacity(self.positions.len() + 1);
+        if *m == Mat4::IDENTITY {
+            positions.extend_from_slice(&self.positions);
+        } else {
+            positions.extend(self.positions.iter().map(|&p| m.transform_point3(p)));
+        }
         let linear = Mat3::from_mat4(*m);
         let normal_matrix = linear.inverse().transpose();
         let normals =

@@ -4,7 +4,7 @@
 
 use super::{LightId, MediumInterface, Primitive, Scene};
 use crate::bsdf::Bsdf;
-use crate::geometry::{Hit, Mesh, Ray, Shape};
+use crate::geometry::{Hit, Ray, Shape};
 use crate::light::Light;
 use crate::material::{hit_key, Material, ShadingDerivatives, ShadingPoint};
 use crate::math::{offset_ray_origin, triangle_point};
@@ -81,7 +81,7 @@ impl<'s> SurfaceInteraction<'s> {
     pub(super) fn new(scene: &'s Scene, ray: &Ray, hit: &Hit) -> Self {
         let primitive = &scene.primitives[hit.geom_id as usize];
         let mesh = match &primitive.shape {
-            Shape::Mesh(mesh) => mesh,
+            Shape::Mesh(_) => scene.mesh(hit.geom_id),
             Shape::Curves(curves) => return Self::on_curve(scene, primitive, curves, ray, hit),
             Shape::Quadric(quadric) => return Self::on_quadric(scene, primitive, quadric, ray, hit),
         };
@@ -199,14 +199,14 @@ impl<'s> SurfaceInteraction<'s> {
     /// perpendicular to the shading normal n, ∂p/∂v = n × ∂p/∂u, and ∂n/∂u, ∂n/∂v from the
     /// corners' normals and (u, v) as ∂p/∂u and ∂p/∂v are found from their positions.
     fn shading_derivatives(&self, b: Bound<'s>) -> ShadingDerivatives {
-        let (mesh, normals) = match &b.primitive.shape {
-            Shape::Mesh(mesh @ Mesh { normals: Some(normals), .. }) => (mesh, normals),
+        let flat = ShadingDerivatives { dpdu: self.dpdu, dpdv: self.dpdv, ..Default::default() };
+        let mesh = match &b.primitive.shape {
+            Shape::Mesh(_) => b.scene.mesh(self.mesh),
             Shape::Quadric(q) => return self.quadric_derivatives(b.scene, q),
-            // Curves, and triangles without vertex normals.
-            Shape::Mesh(_) | Shape::Curves(_) => {
-                return ShadingDerivatives { dpdu: self.dpdu, dpdv: self.dpdv, ..Default::default() }
-            }
+            Shape::Curves(_) => return flat,
         };
+        // Triangles without vertex normals are flat.
+        let Some(normals) = &mesh.normals else { return flat };
         let ns = self.shading.ns;
         let ts = ns.cross(self.dpdu);
         let (ss, ts) = if ts.length_squared() > 0.0 { (ts.cross(ns), ts) } else { ns.any_orthonormal_pair() };

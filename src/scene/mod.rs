@@ -462,35 +462,21 @@ impl SceneBuilder {
         let camera = self.camera.ok_or(BuildError::NoCamera)?;
         let world_meshes =
             (0..self.primitives.len() as u32).filter(|&m| self.primitives[m as usize].prototype.is_none()).collect();
-        // The accelerator reads the triangles as one slice indexed by primitive id (empty for
-        // curves and quadrics) and the curves and quadrics as lists by the same ids; the meshes
-        // then move back into their shapes.
+        // The triangles move into one table indexed by primitive id (empty for curves and
+        // quadrics), which the scene and the accelerator share; the primitives keep the rest.
         let mut pending = self.primitives;
-        let meshes: Vec<Mesh> = pending
+        let mut meshes: Vec<Mesh> = pending
             .iter_mut()
             .map(|p| match &mut p.shape {
                 Shape::Mesh(mesh) => std::mem::take(mesh),
                 Shape::Curves(_) | Shape::Quadric(_) => Mesh::default(),
             })
             .collect();
-        let mut curves: Vec<(u32, &Curves)> = Vec::new();
-        let mut placed: Vec<(u32, &PlacedQuadric)> = Vec::new();
-        for (id, p) in pending.iter().enumerate() {
-            match &p.shape {
-                Shape::Mesh(_) => {}
-                Shape::Curves(c) => curves.push((id as u32, c)),
-                Shape::Quadric(q) => placed.push((id as u32, q)),
-            }
-        }
-        let extra = accel::ExtraShapes { curves: &curves, quadrics: &placed };
-        let set = InstanceSet { world_meshes, prototypes: self.prototypes, instances: self.instances };
-        let accel = accel::build_scene(accel_kind, &meshes, extra, &set)?;
-        let quadric_moves = placed.iter().any(|(_, q)| q.moves());
         let mut lights = self.lights;
         let mut primitives = Vec::with_capacity(meshes.len());
-        for (p, mesh) in pending.into_iter().zip(meshes) {
+        for (p, mesh) in pending.into_iter().zip(meshes.iter_mut()) {
             let PendingPrimitive {
-                mut shape,
+                shape,
                 material,
                 emission,
                 alpha,
@@ -499,14 +485,11 @@ impl SceneBuilder {
                 emission_per_area,
                 ..
             } = p;
-            if let Shape::Mesh(m) = &mut shape {
-                *m = mesh;
-            }
             let mut lights_of = LightsOf::Triangles;
             let area_lights = emission.and_then(|em| {
                 let first = lights.len() as u32;
                 lights_of = match &shape {
-                    Shape::Mesh(mesh) => {
+                    Shape::Mesh(_) => {
                         push_mesh_lights(mesh, &em, emission_image.as_ref(), emission_per_area, &mut lights)
                     }
                     // A quadric is one light: a sphere light for a full sphere, else sampled by area.
@@ -519,9 +502,11 @@ impl SceneBuilder {
                 };
                 Some(first)
             });
-            if let Shape::Mesh(mesh) = &mut shape {
-                // Faces matter only to the emission above.
-                mesh.faces = None;
+            // Faces matter only to the emission above.
+            mesh.faces = None;
+            // Room for Embree's 16-byte load at the last vertex, so it can read them in place.
+            if !mesh.is_empty() {
+                mesh.positions.reserve_exact(1);
             }
             let bare_boundary = matches!(self.materials[material as usize], Material::Interface)
                 && area_lights.is_none()
@@ -536,6 +521,20 @@ impl SceneBuilder {
                 bare_boundary,
             });
         }
+        let meshes: Arc<[Mesh]> = meshes.into();
+        let mut curves: Vec<(u32, &Curves)> = Vec::new();
+        let mut placed: Vec<(u32, &PlacedQuadric)> = Vec::new();
+        for (id, p) in primitives.iter().enumerate() {
+            match &p.shape {
+                Shape::Mesh(_) => {}
+                Shape::Curves(c) => curves.push((id as u32, c)),
+                Shape::Quadric(q) => placed.push((id as u32, q)),
+            }
+        }
+        let extra = accel::ExtraShapes { curves: &curves, quadrics: &placed };
+        let set = InstanceSet { world_meshes, prototypes: self.prototypes, instances: self.instances };
+        let accel = accel::build_scene_shared(accel_kind, &meshes, extra, &set)?;
+        let quadric_moves = placed.iter().any(|(_, q)| q.moves());
         let has_alpha = primitives.iter().any(|p| p.alpha.is_some());
         let bounds = accel.bounds();
         let radius = if bounds.is_empty() { 1.0 } else { bounds.radius().max(1e-6) };
@@ -546,7 +545,7 @@ impl SceneBuilder {
         let has_interfaces = self.materials.iter().any(Material::may_be_interface);
         let moves = quadric_moves || set.instances.iter().any(|i| i.motion.is_some()) || camera.moves();
         let shutter = moves.then(|| self.shutter.unwrap_or((0.0, 1.0)));
-        let object_radii = object_radii(&self.materials, &primitives);
+        let object_radii = object_radii(&self.materials, &primitives, &meshes);
         let thin_subsurface = self
             .materials
             .iter()
@@ -557,6 +556,7 @@ impl SceneBuilder {
             has_alpha,
             accel,
             primitives,
+            meshes,
             instances: set.instances,
             materials: self.materials,
             lights,
@@ -577,15 +577,18 @@ impl SceneBuilder {
 
 /// Per material, the largest bounding-sphere radius of the primitives made of it; computed for
 /// subsurface materials only (whose method choice needs it), 0 for the others.
-fn object_radii(materials: &[Material], primitives: &[Primitive]) -> Vec<f32> {
+fn object_radii(materials: &[Material], primitives: &[Primitive], meshes: &[Mesh]) -> Vec<f32> {
     let mut radii = vec![0.0f32; materials.len()];
     if !materials.iter().any(|m| m.subsurface().is_some()) {
         return radii;
     }
-    for p in primitives.iter().filter(|p| materials.get(p.material as usize).is_some_and(|m| m.subsurface().is_some()))
+    for (p, mesh) in primitives
+        .iter()
+        .zip(meshes)
+        .filter(|(p, _)| materials.get(p.material as usize).is_some_and(|m| m.subsurface().is_some()))
     {
         let b = match &p.shape {
-            Shape::Mesh(mesh) => mesh.bounds(),
+            Shape::Mesh(_) => mesh.bounds(),
             Shape::Quadric(q) => q.bounds(),
             // Curves count for nothing here.
             Shape::Curves(_) => Bounds3::EMPTY,
@@ -615,8 +618,12 @@ fn quadric_light(q: &PlacedQuadric, spectrum: Arc<Spectrum>, scale: f32, two_sid
 /// emission at the hit; lights are reached through the light sampler.
 pub struct Scene {
     accel: Box<dyn Accel>,
-    /// Geometry with its material, emission and media (a hit's `geom_id` indexes this).
+    /// Geometry with its material, emission and media (a hit's `geom_id` indexes this). A
+    /// mesh primitive's triangles are in `meshes`; its `Shape::Mesh` is left empty.
     primitives: Vec<Primitive>,
+    /// The triangles of each primitive (by `geom_id`; empty for curves and quadrics), shared
+    /// with the accelerator, which may trace them in place.
+    meshes: Arc<[Mesh]>,
     /// Object instances (`Hit::inst_id` indexes this); their primitives are in object space.
     instances: Vec<Instance>,
     materials: Vec<Material>,
@@ -762,7 +769,18 @@ impl Scene {
 
     /// Number of distinct triangles (instanced ones counted once).
     pub fn triangle_count(&self) -> u64 {
-        self.primitives.iter().map(|p| p.shape.triangle_count() as u64).sum()
+        self.meshes.iter().map(|m| m.len() as u64).sum()
+    }
+
+    /// The triangles of primitive `id` (empty for curves and quadrics).
+    pub fn mesh(&self, id: u32) -> &Mesh {
+        &self.meshes[id as usize]
+    }
+
+    /// Bytes of prism's own triangle arrays (positions, indices, normals, texture
+    /// coordinates), which Embree may read in place.
+    pub fn mesh_bytes(&self) -> usize {
+        self.meshes.iter().map(Mesh::bytes).sum()
     }
 
     /// Chooses a light for next-event estimation at `ctx` with the 2D uniform `u`: the light,

@@ -44,7 +44,7 @@ fn no_byte_past_the_hit_record_is_written_flat_or_instanced_by_either_triangle_t
     let mut instance_words = Vec::new();
     for test in [TriangleTest::Embree, TriangleTest::Watertight] {
         let q = ffi::RTCBuildQuality_RTC_BUILD_QUALITY_MEDIUM;
-        let flat = Scene::build(Device::new().unwrap(), &[quad()], q, test).unwrap();
+        let flat = Scene::build(Device::new().unwrap(), &[quad()], super::BuildChoice::MEDIUM, test).unwrap();
         let mut g = probe(0.0);
         flat.raw_intersect(&mut g.rh);
         assert_record_kept(&g, &format!("{test:?}, flat"));
@@ -62,7 +62,7 @@ fn no_byte_past_the_hit_record_is_written_flat_or_instanced_by_either_triangle_t
             instances: vec![Instance::new(0, Mat4::from_translation(Vec3::new(10.0, 0.0, 0.0))).unwrap()],
         };
         let shapes = crate::accel::ShapeTable::new(Default::default());
-        let inst = InstancedScene::build(Device::new().unwrap(), &[quad(), far], &shapes, &set, q, test).unwrap();
+        let inst = InstancedScene::build(Device::new().unwrap(), &[quad(), far], &shapes, &set, q, test, None).unwrap();
         let mut g = probe(10.0);
         inst.raw_intersect(&mut g.rh);
         assert_record_kept(&g, &format!("{test:?}, instanced"));

@@ -82,6 +82,7 @@ fn attach(
 impl InstancedScene {
     /// Builds the prototype scenes and the top scene over the meshes, and the curves and static
     /// quadrics of `shapes` (moving ones are left out). Instances of empty prototypes are skipped.
+    /// When `shared` holds `meshes`, Embree reads their arrays in place.
     pub(crate) fn build(
         device: Device,
         meshes: &[Mesh],
@@ -89,18 +90,26 @@ impl InstancedScene {
         set: &InstanceSet,
         quality: ffi::RTCBuildQuality,
         test: TriangleTest,
+        shared: Option<Arc<[Mesh]>>,
     ) -> Result<Self, EmbreeError> {
         let mut prototypes = Vec::with_capacity(set.prototypes.len());
         let mut proto_ids = Vec::with_capacity(set.prototypes.len());
         let mut proto_bounds = Vec::with_capacity(set.prototypes.len());
-        for p in &set.prototypes {
+        let new_scene = || -> Result<SceneHandle, EmbreeError> {
             let mut scene = SceneHandle::new(&device, quality, test)?;
+            if let Some(shared) = &shared {
+                scene.share(shared.clone());
+            }
+            Ok(scene)
+        };
+        for p in &set.prototypes {
+            let mut scene = new_scene()?;
             proto_bounds.push(attach(&mut scene, &device, meshes, shapes, &p.meshes)?);
             scene.commit(&device)?;
             prototypes.push(scene);
             proto_ids.push(p.meshes.clone());
         }
-        let mut top = SceneHandle::new(&device, quality, test)?;
+        let mut top = new_scene()?;
         let mut bounds = attach(&mut top, &device, meshes, shapes, &set.world_meshes)?;
         let first_instance = set.world_meshes.len() as u32;
         let time_span = motion::time_span(set.instances.iter().filter_map(|i| i.motion.as_deref()));

@@ -8,6 +8,7 @@
 //! user-geometry callbacks (no leaks; slower), selected on the command line as `embree` and
 //! `embree-watertight`.
 
+mod build_choice;
 mod curves;
 mod device;
 mod error;
@@ -21,14 +22,18 @@ mod quadrics;
 mod ray_context;
 mod ribbons;
 mod scene;
+#[cfg(test)]
+mod shared_tests;
 mod user_triangles;
 
+pub use build_choice::{BuildChoice, BIG_SCENE_TRIANGLES, BUILD_ENV};
 pub use device::{error_name, Device, EmbreeError, CONFIG_ENV};
 pub use error::{EmbreeVersion, LibraryMismatch};
 
 use super::Accel;
 use crate::geometry::InstanceSet;
 use crate::geometry::{Bounds3, Curves, Hit, Mesh, PlacedQuadric, Ray};
+use std::sync::Arc;
 
 /// BVH build quality, as Embree names it.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -69,6 +74,11 @@ enum Levels {
     Instanced(instanced::InstancedScene),
 }
 
+/// Triangles in `meshes`.
+fn triangle_count(meshes: &[Mesh]) -> usize {
+    meshes.iter().map(Mesh::len).sum()
+}
+
 impl BuildQuality {
     fn rtc(self) -> ffi::RTCBuildQuality {
         match self {
@@ -80,40 +90,47 @@ impl BuildQuality {
 }
 
 impl EmbreeAccel {
-    /// Builds an Embree scene over `meshes` (geometry id = mesh index).
+    /// Builds an Embree scene over `meshes` (geometry id = mesh index), as
+    /// [`BuildChoice::for_scene`] chooses for their triangle count.
     pub fn new(meshes: &[Mesh]) -> Result<Self, EmbreeError> {
-        Self::with_quality(meshes, BuildQuality::Medium)
+        Self::with_test(meshes, BuildChoice::for_scene(triangle_count(meshes))?, TriangleTest::Embree)
     }
 
     /// Builds with the given quality.
     pub fn with_quality(meshes: &[Mesh], quality: BuildQuality) -> Result<Self, EmbreeError> {
-        Self::with_test(meshes, quality, TriangleTest::Embree)
+        Self::with_test(meshes, BuildChoice { quality, compact: false }, TriangleTest::Embree)
     }
 
     /// Builds over `meshes` with the watertight triangle test ([`TriangleTest::Watertight`]).
     pub fn watertight(meshes: &[Mesh]) -> Result<Self, EmbreeError> {
-        Self::with_test(meshes, BuildQuality::Medium, TriangleTest::Watertight)
+        Self::with_test(meshes, BuildChoice::MEDIUM, TriangleTest::Watertight)
     }
 
-    /// Builds with the given quality and triangle test.
-    pub fn with_test(meshes: &[Mesh], quality: BuildQuality, test: TriangleTest) -> Result<Self, EmbreeError> {
+    /// Builds with the given build choice and triangle test.
+    pub fn with_test(meshes: &[Mesh], choice: BuildChoice, test: TriangleTest) -> Result<Self, EmbreeError> {
         let device = device::Device::new()?;
         let packets = test == TriangleTest::Embree;
-        Ok(Self { scene: Levels::Flat(scene::Scene::build(device, meshes, quality.rtc(), test)?), test, packets })
+        Ok(Self { scene: Levels::Flat(scene::Scene::build(device, meshes, choice, test)?), test, packets })
     }
 
     /// Builds one scene over `meshes`, `curves` ((geometry id, its curves), as Embree curve
     /// geometry: `curves.rs`) and static `quadrics` ((geometry id, its quadric), as user
-    /// geometry: `quadrics.rs`) with the given triangle test.
+    /// geometry: `quadrics.rs`) with the given triangle test; Embree's triangles are built as
+    /// [`BuildChoice::for_scene`] chooses, and read in place when `shared` holds `meshes`.
     pub fn with_extra(
         meshes: &[Mesh],
         curves: &[(u32, &Curves)],
         quadrics: &[(u32, &PlacedQuadric)],
         test: TriangleTest,
+        shared: Option<Arc<[Mesh]>>,
     ) -> Result<Self, EmbreeError> {
         let device = device::Device::new()?;
-        let q = BuildQuality::Medium.rtc();
-        let scene = scene::Scene::build_with_extra(device, meshes, super::ExtraShapes { curves, quadrics }, q, test)?;
+        let choice = match test {
+            TriangleTest::Embree => BuildChoice::for_scene(triangle_count(meshes))?,
+            TriangleTest::Watertight => BuildChoice::MEDIUM,
+        };
+        let extra = super::ExtraShapes { curves, quadrics };
+        let scene = scene::Scene::build_with_extra(device, meshes, extra, choice, test, shared)?;
         let packets = test == TriangleTest::Embree && quadrics.is_empty();
         Ok(Self { scene: Levels::Flat(scene), test, packets })
     }
@@ -127,20 +144,22 @@ impl EmbreeAccel {
     /// [`EmbreeAccel::instanced`] with the given triangle test (in prototypes and world meshes).
     pub fn instanced_with_test(meshes: &[Mesh], set: &InstanceSet, test: TriangleTest) -> Result<Self, EmbreeError> {
         let shapes = super::ShapeTable::new(super::ExtraShapes::default());
-        Self::instanced_with_shapes(meshes, &shapes, set, test)
+        Self::instanced_with_shapes(meshes, &shapes, set, test, None)
     }
 
     /// [`EmbreeAccel::instanced_with_test`] with the curves and static quadrics of `shapes`
-    /// (by primitive id, in the world or in prototypes) in the scenes too.
+    /// (by primitive id, in the world or in prototypes) in the scenes too; the triangles are read
+    /// in place when `shared` holds `meshes`.
     pub(crate) fn instanced_with_shapes(
         meshes: &[Mesh],
         shapes: &super::ShapeTable,
         set: &InstanceSet,
         test: TriangleTest,
+        shared: Option<Arc<[Mesh]>>,
     ) -> Result<Self, EmbreeError> {
         let device = device::Device::new()?;
         let q = BuildQuality::Medium.rtc();
-        let scene = instanced::InstancedScene::build(device, meshes, shapes, set, q, test)?;
+        let scene = instanced::InstancedScene::build(device, meshes, shapes, set, q, test, shared)?;
         Ok(Self { scene: Levels::Instanced(scene), test, packets: false })
     }
 

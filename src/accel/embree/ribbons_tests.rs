@@ -5,7 +5,6 @@
 use glam::Vec3;
 
 use super::super::device::Device;
-use super::super::ffi;
 use super::super::scene::Scene;
 use super::super::TriangleTest;
 use crate::accel::CurveBvh;
@@ -61,10 +60,11 @@ fn embree_ribbons_are_not_pbrt_v4s_and_the_ribbon_user_geometry_finds_the_obvhs_
     for twist in [0.0f32, std::f32::consts::FRAC_PI_2] {
         let curves = ribbon_grid(twist, WIDTH);
         let native = Scene::native_curves(Device::new().unwrap(), &curves).unwrap();
-        let q = ffi::RTCBuildQuality_RTC_BUILD_QUALITY_MEDIUM;
+        let q = super::super::BuildChoice::MEDIUM;
         let extra = crate::accel::ExtraShapes { curves: &[(0, &curves)], quadrics: &[] };
-        let user = Scene::build_with_extra(Device::new().unwrap(), &[Mesh::default()], extra, q, TriangleTest::Embree)
-            .unwrap();
+        let user =
+            Scene::build_with_extra(Device::new().unwrap(), &[Mesh::default()], extra, q, TriangleTest::Embree, None)
+                .unwrap();
         let n = compare(|r| native.intersect(r), &curves);
         let u = compare(|r| user.intersect(r), &curves);
         eprintln!("twist {:.0}°: Embree's ribbons {n:?}", twist.to_degrees());
@@ -92,10 +92,11 @@ fn ribbon_speed() {
     use cpu_time::ThreadTime;
     let curves = crate::geometry::shapes::hair_bundle(10_000, CurveKind::Ribbon, 1);
     let native = Scene::native_curves(Device::new().unwrap(), &curves).unwrap();
-    let q = ffi::RTCBuildQuality_RTC_BUILD_QUALITY_MEDIUM;
+    let q = super::super::BuildChoice::MEDIUM;
     let extra = crate::accel::ExtraShapes { curves: &[(0, &curves)], quadrics: &[] };
     let user =
-        Scene::build_with_extra(Device::new().unwrap(), &[Mesh::default()], extra, q, TriangleTest::Embree).unwrap();
+        Scene::build_with_extra(Device::new().unwrap(), &[Mesh::default()], extra, q, TriangleTest::Embree, None)
+            .unwrap();
     let bvh = CurveBvh::new(&[(0, &curves)]);
     let rays = crate::geometry::shapes::rays_into_hair_bundle(1 << 18, 7);
     type Trace<'a> = &'a dyn Fn(&Ray) -> bool;

@@ -1,5 +1,6 @@
 //! An Embree scene of triangle meshes: built and committed once, then queried from many threads.
 
+use super::build_choice::BuildChoice;
 use super::device::{Device, EmbreeError};
 use super::ffi;
 use super::ray_context::{RayContext, ShearCache};
@@ -8,11 +9,14 @@ use super::user_triangles::{self, UserMesh};
 use super::TriangleTest;
 use crate::geometry::{Bounds3, CurveKind, Curves, Hit, Mesh, PlacedQuadric, Ray};
 use glam::Vec3;
+use std::sync::Arc;
 
 /// Owns one `RTCScene` handle; released in Drop. The device must outlive it.
 pub(super) struct SceneHandle {
     pub(super) raw: ffi::RTCScene,
     test: TriangleTest,
+    /// Build quality of each triangle geometry (Embree reads it when the scene's is low).
+    geometry_quality: ffi::RTCBuildQuality,
     /// Triangles of the user geometries ([`TriangleTest::Watertight`]); dropped after `raw` is
     /// released, since Embree's callbacks read them.
     /// Boxed: Embree holds each UserMesh's address, which must not move when the Vec grows.
@@ -24,12 +28,30 @@ pub(super) struct SceneHandle {
     /// The ribbon curves of the ribbon user geometries, kept as `user_meshes` are.
     #[allow(clippy::vec_box)]
     user_ribbons: Vec<Box<UserRibbons>>,
+    /// Meshes whose vertex and index arrays Embree reads in place (shared buffers) instead of
+    /// copying them; dropped after `raw` is released, as `user_meshes` are.
+    shared: Option<Arc<[Mesh]>>,
 }
 
 impl SceneHandle {
     /// A new robust scene (RTC_SCENE_FLAG_ROBUST: no leaks through shared edges) of `quality`,
     /// whose meshes will be intersected by `test`.
     pub(super) fn new(device: &Device, quality: ffi::RTCBuildQuality, test: TriangleTest) -> Result<Self, EmbreeError> {
+        let flags = ffi::RTCSceneFlags_RTC_SCENE_FLAG_ROBUST;
+        Self::with_flags(device, quality, flags, test)
+    }
+
+    /// A new scene built as `choice` says (quality and leaf layout).
+    pub(super) fn with_choice(device: &Device, choice: BuildChoice, test: TriangleTest) -> Result<Self, EmbreeError> {
+        Self::with_flags(device, choice.quality.rtc(), choice.scene_flags(), test)
+    }
+
+    fn with_flags(
+        device: &Device,
+        quality: ffi::RTCBuildQuality,
+        flags: ffi::RTCSceneFlags,
+        test: TriangleTest,
+    ) -> Result<Self, EmbreeError> {
         // SAFETY: `device` holds a valid device.
         let raw = unsafe { ffi::rtcNewScene(device.raw()) };
         if raw.is_null() {
@@ -37,10 +59,32 @@ impl SceneHandle {
         }
         // SAFETY: `raw` is a valid, uncommitted scene.
         unsafe {
-            ffi::rtcSetSceneFlags(raw, ffi::RTCSceneFlags_RTC_SCENE_FLAG_ROBUST);
+            ffi::rtcSetSceneFlags(raw, flags);
             ffi::rtcSetSceneBuildQuality(raw, quality);
         }
-        Ok(Self { raw, test, user_meshes: Vec::new(), user_quadrics: Vec::new(), user_ribbons: Vec::new() })
+        Ok(Self {
+            raw,
+            test,
+            geometry_quality: quality,
+            user_meshes: Vec::new(),
+            user_quadrics: Vec::new(),
+            user_ribbons: Vec::new(),
+            shared: None,
+        })
+    }
+
+    /// Lets Embree read the vertex and index arrays of `meshes` in place when they are attached
+    /// ([`SceneHandle::attach_mesh`]) instead of copying them; the scene keeps `meshes` alive.
+    pub(super) fn share(&mut self, meshes: Arc<[Mesh]>) {
+        self.shared = Some(meshes);
+    }
+
+    /// True when `mesh` is one of the shared meshes and its arrays can be read in place: Embree
+    /// loads 16 bytes at each vertex, 4 past the last one's 12, which must lie inside the
+    /// allocation (spare capacity).
+    fn can_share(&self, mesh: &Mesh) -> bool {
+        let Some(shared) = &self.shared else { return false };
+        shared.as_ptr_range().contains(&(mesh as *const Mesh)) && mesh.positions.capacity() > mesh.positions.len()
     }
 
     /// Bytes of triangle storage held by prism for the user geometries (Embree's own
@@ -115,8 +159,11 @@ impl SceneHandle {
         }
     }
 
-    /// Attaches `mesh` as triangle geometry `id`, copying it into Embree's buffers.
+    /// Attaches `mesh` as triangle geometry `id`: its arrays read in place when shared
+    /// ([`SceneHandle::share`]), else copied into Embree's buffers.
     fn attach_triangles(&self, device: &Device, mesh: &Mesh, id: u32) -> Result<(), EmbreeError> {
+        let (vertex, index) = (ffi::RTCBufferType_RTC_BUFFER_TYPE_VERTEX, ffi::RTCBufferType_RTC_BUFFER_TYPE_INDEX);
+        let (float3, uint3) = (ffi::RTCFormat_RTC_FORMAT_FLOAT3, ffi::RTCFormat_RTC_FORMAT_UINT3);
         // SAFETY: valid device; the geometry is released below after attaching (the scene keeps
         // its own reference).
         unsafe {
@@ -124,35 +171,33 @@ impl SceneHandle {
             if geom.is_null() {
                 return Err(EmbreeError::Call(device.take_error().unwrap_or_default()));
             }
-            // Embree-allocated buffers are padded for the 16-byte loads past the last vertex.
-            let vb = ffi::rtcSetNewGeometryBuffer(
-                geom,
-                ffi::RTCBufferType_RTC_BUFFER_TYPE_VERTEX,
-                0,
-                ffi::RTCFormat_RTC_FORMAT_FLOAT3,
-                12,
-                mesh.positions.len(),
-            ) as *mut [f32; 3];
-            let ib = ffi::rtcSetNewGeometryBuffer(
-                geom,
-                ffi::RTCBufferType_RTC_BUFFER_TYPE_INDEX,
-                0,
-                ffi::RTCFormat_RTC_FORMAT_UINT3,
-                12,
-                mesh.indices.len(),
-            ) as *mut [u32; 3];
-            if vb.is_null() || ib.is_null() {
-                ffi::rtcReleaseGeometry(geom);
-                return Err(EmbreeError::Call(
-                    device.take_error().unwrap_or_else(|| "out of memory for geometry buffers".into()),
-                ));
+            ffi::rtcSetGeometryBuildQuality(geom, self.geometry_quality);
+            if self.can_share(mesh) {
+                // `Vec3` and `[u32; 3]` are three packed 4-byte values, as FLOAT3 and UINT3 are;
+                // `shared` keeps the arrays alive and unchanged (behind an Arc) until after the
+                // scene is released, and `can_share` checked the vertex array's padding.
+                let (p, n) = (mesh.positions.as_ptr().cast(), mesh.positions.len());
+                ffi::rtcSetSharedGeometryBuffer(geom, vertex, 0, float3, p, 0, 12, n);
+                let (p, n) = (mesh.indices.as_ptr().cast(), mesh.indices.len());
+                ffi::rtcSetSharedGeometryBuffer(geom, index, 0, uint3, p, 0, 12, n);
+            } else {
+                // Embree-allocated buffers are padded for the 16-byte loads past the last vertex.
+                let vb =
+                    ffi::rtcSetNewGeometryBuffer(geom, vertex, 0, float3, 12, mesh.positions.len()) as *mut [f32; 3];
+                let ib = ffi::rtcSetNewGeometryBuffer(geom, index, 0, uint3, 12, mesh.indices.len()) as *mut [u32; 3];
+                if vb.is_null() || ib.is_null() {
+                    ffi::rtcReleaseGeometry(geom);
+                    return Err(EmbreeError::Call(
+                        device.take_error().unwrap_or_else(|| "out of memory for geometry buffers".into()),
+                    ));
+                }
+                let verts = std::slice::from_raw_parts_mut(vb, mesh.positions.len());
+                for (dst, p) in verts.iter_mut().zip(&mesh.positions) {
+                    *dst = p.to_array();
+                }
+                let idx = std::slice::from_raw_parts_mut(ib, mesh.indices.len());
+                idx.copy_from_slice(&mesh.indices);
             }
-            let verts = std::slice::from_raw_parts_mut(vb, mesh.positions.len());
-            for (dst, p) in verts.iter_mut().zip(&mesh.positions) {
-                *dst = p.to_array();
-            }
-            let idx = std::slice::from_raw_parts_mut(ib, mesh.indices.len());
-            idx.copy_from_slice(&mesh.indices);
             ffi::rtcCommitGeometry(geom);
             ffi::rtcAttachGeometryByID(self.raw, geom, id);
             ffi::rtcReleaseGeometry(geom);
@@ -191,22 +236,27 @@ impl Scene {
     pub fn build(
         device: Device,
         meshes: &[Mesh],
-        quality: ffi::RTCBuildQuality,
+        choice: BuildChoice,
         test: TriangleTest,
     ) -> Result<Self, EmbreeError> {
-        Self::build_with_extra(device, meshes, Default::default(), quality, test)
+        Self::build_with_extra(device, meshes, Default::default(), choice, test, None)
     }
 
     /// [`Scene::build`] with curve and quadric geometries too: each pairs a geometry id (of an
-    /// empty mesh) with its curves or its (static) quadric.
+    /// empty mesh) with its curves or its (static) quadric. When `shared` holds `meshes`,
+    /// Embree reads their arrays in place ([`SceneHandle::share`]).
     pub fn build_with_extra(
         device: Device,
         meshes: &[Mesh],
         extra: crate::accel::ExtraShapes,
-        quality: ffi::RTCBuildQuality,
+        choice: BuildChoice,
         test: TriangleTest,
+        shared: Option<Arc<[Mesh]>>,
     ) -> Result<Self, EmbreeError> {
-        let mut raw = SceneHandle::new(&device, quality, test)?;
+        let mut raw = SceneHandle::with_choice(&device, choice, test)?;
+        if let Some(shared) = shared {
+            raw.share(shared);
+        }
         let mut bounds = Bounds3::EMPTY;
         for (id, mesh) in meshes.iter().enumerate() {
             if mesh.is_empty() {

@@ -316,7 +316,23 @@ pub fn parse(bytes: &[u8]) -> Result<Mesh, MeshError> {
                     && matches!(p.ty, Scalar::I32 | Scalar::U32)
                 {
                     // The common layout (an 8-bit count, then 32-bit indices) read without the
-                    // general per-value path.
+                    // general per-value path; when every face is a triangle, in parallel.
+                    if let Some(t) = all_triangles(&body, e.count, p.ty) {
+                        tris.par_extend(t.par_chunks_exact(TRIANGLE_RECORD).map(|r| triangle_record(r, format)));
+                        if let Some(f) = (p.ty == Scalar::I32)
+                            .then(|| tris.par_iter().position_first(|t| t.iter().any(|&i| i > i32::MAX as u32)))
+                            .flatten()
+                        {
+                            let index = triangle_record(&t[f * TRIANGLE_RECORD..], format)
+                                .map(|i| i as i32)
+                                .into_iter()
+                                .find(|&i| i < 0)
+                                .unwrap_or_default();
+                            return Err(MeshError::InvalidFaceIndex { face: f, index: index as f64 });
+                        }
+                        body.take(t.len())?;
+                        continue;
+                    }
                     let count_ty = p.list.expect("checked");
                     for f in 0..e.count {
                         let len = list_len(body.value(count_ty)?)?;
@@ -374,7 +390,7 @@ pub fn parse(bytes: &[u8]) -> Result<Mesh, MeshError> {
         }
     }
     let n = positions.len();
-    if let Some(t) = tris.iter().find(|t| t.iter().any(|&i| i as usize >= n)) {
+    if let Some(t) = tris.par_iter().find_first(|t| t.iter().any(|&i| i as usize >= n)) {
         return Err(MeshError::VertexIndexOutOfRange { index: t.iter().copied().max().unwrap_or(0), count: n });
     }
     let mut mesh = Mesh::new(positions, tris);
@@ -386,6 +402,33 @@ pub fn parse(bytes: &[u8]) -> Result<Mesh, MeshError> {
         mesh.uvs = Some(uvs);
     }
     Ok(mesh)
+}
+
+/// Bytes of a binary triangle record: an 8-bit count (3) and three 32-bit indices.
+const TRIANGLE_RECORD: usize = 13;
+
+/// The next `count` face records of `body` when all of them are binary triangles (an 8-bit
+/// count of 3, then three 32-bit indices of type `ty`).
+fn all_triangles<'a>(body: &Body<'a>, count: usize, ty: Scalar) -> Option<&'a [u8]> {
+    let len = count.checked_mul(TRIANGLE_RECORD)?;
+    let data = body.data.get(body.pos..body.pos.checked_add(len)?)?;
+    let triangles =
+        matches!(ty, Scalar::I32 | Scalar::U32) && data.par_chunks_exact(TRIANGLE_RECORD).all(|r| r[0] == 3);
+    triangles.then_some(data)
+}
+
+/// The three indices of a triangle record (as unsigned; a negative `int` becomes > i32::MAX).
+#[inline]
+fn triangle_record(r: &[u8], format: Format) -> [u32; 3] {
+    let index = |k: usize| {
+        let b = [r[1 + 4 * k], r[2 + 4 * k], r[3 + 4 * k], r[4 + 4 * k]];
+        if format == Format::Big {
+            u32::from_be_bytes(b)
+        } else {
+            u32::from_le_bytes(b)
+        }
+    };
+    [index(0), index(1), index(2)]
 }
 
 /// Adds polygon `poly` (face `f` of the file) as a triangle fan; from the first polygon of more
@@ -525,6 +568,24 @@ property double z\nproperty float s\nproperty float t\nelement face 1\nproperty 
         assert_eq!(m.positions[2], Vec3::new(0., 2., 0.));
         assert_eq!(m.indices, vec![[2, 1, 0]]);
         assert_eq!(m.uvs.unwrap()[1], Vec2::new(0.25, 0.75));
+    }
+
+    #[test]
+    fn binary_triangles_read_in_parallel_as_one_by_one() {
+        // Enough triangles for the parallel path to split them, each with distinct indices.
+        let n = 5000u32;
+        let positions = (0..n + 2).map(|i| Vec3::new(i as f32, (i % 7) as f32, 0.0)).collect();
+        let faces: Vec<Vec<u32>> = (0..n).map(|i| vec![i, i + 1, (i * 7919 + 2) % (n + 2)]).collect();
+        let m = Mesh::new(positions, vec![]);
+        let bytes = write(&m, &faces, true);
+        let r = parse(&bytes).unwrap();
+        assert_eq!(r.indices, faces.iter().map(|f| [f[0], f[1], f[2]]).collect::<Vec<_>>());
+        assert_eq!(r.faces, None);
+        // A negative `int` index in face 1234 is named as the one-by-one reader names it.
+        let mut bad = bytes.clone();
+        let at = bad.len() - 13 * (n as usize - 1234) + 5;
+        bad[at..at + 4].copy_from_slice(&(-3i32).to_le_bytes());
+        assert_eq!(parse(&bad).unwrap_err().to_string(), "face 1234 has invalid vertex index -3");
     }
 
     #[test]

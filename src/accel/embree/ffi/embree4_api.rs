@@ -48,6 +48,7 @@ pub const RTCBuildQuality_RTC_BUILD_QUALITY_MEDIUM: RTCBuildQuality = 1;
 pub const RTCBuildQuality_RTC_BUILD_QUALITY_HIGH: RTCBuildQuality = 2;
 
 pub type RTCSceneFlags = c_uint;
+pub const RTCSceneFlags_RTC_SCENE_FLAG_COMPACT: RTCSceneFlags = 1 << 1;
 pub const RTCSceneFlags_RTC_SCENE_FLAG_ROBUST: RTCSceneFlags = 1 << 2;
 
 pub type RTCGeometryType = c_uint;
@@ -290,6 +291,17 @@ extern "C" {
         byteStride: usize,
         itemCount: usize,
     ) -> *mut c_void;
+    pub fn rtcSetSharedGeometryBuffer(
+        geometry: RTCGeometry,
+        type_: RTCBufferType,
+        slot: c_uint,
+        format: RTCFormat,
+        ptr: *const c_void,
+        byteOffset: usize,
+        byteStride: usize,
+        itemCount: usize,
+    );
+    pub fn rtcSetGeometryBuildQuality(geometry: RTCGeometry, quality: RTCBuildQuality);
     pub fn rtcSetGeometryUserPrimitiveCount(geometry: RTCGeometry, userPrimitiveCount: c_uint);
     pub fn rtcSetGeometryUserData(geometry: RTCGeometry, ptr: *mut c_void);
     pub fn rtcSetGeometryBoundsFunction(geometry: RTCGeometry, bounds: RTCBoundsFunction, userPtr: *mut c_void);
