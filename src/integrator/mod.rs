@@ -7,6 +7,7 @@ mod bdpt_weights;
 mod collision;
 mod interface;
 mod lightpath;
+mod mlt;
 #[cfg(test)]
 mod nanovdb_tests;
 mod options;
@@ -22,7 +23,8 @@ mod volpath;
 mod volpath_tests;
 
 pub use interface::{DirectStrategy, Integrator, IntegratorKind, UNBOUNDED_DEPTH};
-pub use options::{AmbientOcclusion, SimplePath};
+pub use mlt::MltFilm;
+pub use options::{AmbientOcclusion, Mlt, SimplePath};
 pub use subsurface::SubsurfaceMethod;
 
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
