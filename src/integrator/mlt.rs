@@ -293,7 +293,7 @@ mod tests {
         for (c, hist) in per_chain.iter_mut().enumerate() {
             let mut sampler = Sampler::pss(5, c as u64, 0.05, 0.3);
             let mut rng = Rng::new(hash64(&[5, c as u64]), CHAIN_STREAM);
-            let mut eval = |s: &mut Sampler| {
+            let eval = |s: &mut Sampler| {
                 s.start_stream(PssStream::Camera);
                 let u = s.get_1d() as f64;
                 (u, f(u) as f32)
