@@ -21,7 +21,7 @@ for spp in $LADDER; do
   for integ in ${INTEGRATORS:-path bdpt mlt}; do
     line=$("$PRISM" render "$SCENE" --resolution "$RES" --spp "$spp" --integrator "$integ" \
       -o "$OUT/$integ-$spp.exr" 2>&1 | grep -o 'in [0-9.]* s' | head -1 | cut -d' ' -f2)
-    err=$("$PRISM" compare "$OUT/$integ-$spp.exr" "$OUT/ref.exr" | awk '/^RMSE/ {r=$2} /^MAE/ {m=$2} END {print r "," m}')
+    err=$("$PRISM" compare "$OUT/$integ-$spp.exr" "$OUT/ref.exr" | awk '/^RMSE[ \t]+[0-9]/ {r=$2} /^MAE/ {m=$2} END {print r "," m}')
     echo "$integ,$spp,$line,$err" | tee -a "$OUT/caustic.csv"
   done
 done
