@@ -1,6 +1,7 @@
 #!/bin/bash
 # Time to a target error on scenes/caustic.pbrt: path tracing against bidirectional path
-# tracing, runs interleaved (path, bdpt, path, bdpt, ...) at each sample count, errors against
+# tracing and Metropolis light transport (pbrt-v4's defaults; its count is mutations per pixel),
+# runs interleaved (path, bdpt, mlt, path, ...) at each sample count, errors against
 # a bdpt reference of REF_SPP samples per pixel. Prints a table (CSV in $OUT/caustic.csv) and
 # writes the images; the machine and date go in $OUT/machine.txt.
 set -euo pipefail
@@ -17,10 +18,10 @@ if [ ! -f "$OUT/ref.exr" ]; then
 fi
 echo "integrator,spp,seconds,rmse,mae" > "$OUT/caustic.csv"
 for spp in $LADDER; do
-  for integ in path bdpt; do
+  for integ in ${INTEGRATORS:-path bdpt mlt}; do
     line=$("$PRISM" render "$SCENE" --resolution "$RES" --spp "$spp" --integrator "$integ" \
       -o "$OUT/$integ-$spp.exr" 2>&1 | grep -o 'in [0-9.]* s' | head -1 | cut -d' ' -f2)
-    err=$("$PRISM" compare "$OUT/$integ-$spp.exr" "$OUT/ref.exr" | awk '/^RMSE/ {r=$2} /^MAE/ {m=$2} END {print r "," m}')
+    err=$("$PRISM" compare "$OUT/$integ-$spp.exr" "$OUT/ref.exr" | awk '/^RMSE[ \t]+[0-9]/ {r=$2} /^MAE/ {m=$2} END {print r "," m}')
     echo "$integ,$spp,$line,$err" | tee -a "$OUT/caustic.csv"
   done
 done

@@ -446,6 +446,10 @@ pub fn render_range(
     cancel: &AtomicBool,
     mut after_pass: impl FnMut(&Film, u64) -> bool,
 ) -> Stats {
+    let integrator = settings.integrator.for_scene(scene);
+    if integrator.kind == crate::integrator::IntegratorKind::Mlt {
+        return render_mlt(scene, settings, &integrator, film, range, cancel, after_pass);
+    }
     let mut stats = Stats::default();
     let start = Instant::now();
     let mut done = range.start;
@@ -463,6 +467,39 @@ pub fn render_range(
         pass = (pass * 2).min(16);
     }
     warn_cut_off_walks();
+    stats
+}
+
+/// Metropolis light transport renders the image as a whole rather than in passes of samples:
+/// `range.end` mutations per pixel (pbrt-v4's `mutationsperpixel`), reported to `after_pass`
+/// as they are done and recorded as every pixel's sample count. The film must be fresh.
+fn render_mlt(
+    scene: &Scene,
+    settings: &RenderSettings,
+    integrator: &Integrator,
+    film: &mut Film,
+    range: Range<u64>,
+    cancel: &AtomicBool,
+    mut after_pass: impl FnMut(&Film, u64) -> bool,
+) -> Stats {
+    let camera = scene.camera.camera(settings.resolution);
+    let mlt = crate::integrator::MltFilm {
+        filter: &settings.filter,
+        sensor: &settings.film.sensor,
+        size: (film.width, film.height),
+        origin: settings.film_origin(),
+        mutations_per_pixel: range.end,
+        seed: settings.seed,
+        time_limit: settings.time_limit,
+    };
+    // (The film seen by `after_pass` holds no splats while the chains run.)
+    let Some(mut splats) = film.splats.take() else { return Stats::default() };
+    let view: &Film = film;
+    let (stats, done) = integrator.render_mlt(scene, &camera, &mlt, &mut splats, cancel, |done| after_pass(view, done));
+    film.splats = Some(splats);
+    for p in &mut film.pixels {
+        p.samples = done;
+    }
     stats
 }
 

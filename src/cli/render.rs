@@ -25,7 +25,7 @@ use std::time::Instant;
 pub struct RenderArgs {
     /// pbrt-v4 scene file; without one, the built-in Cornell box.
     pub scene: Option<PathBuf>,
-    /// Samples per pixel.
+    /// Samples per pixel (for integrator mlt: mutations per pixel, as pbrt-v4's --spp).
     #[arg(long, allow_negative_numbers = true)]
     pub spp: Option<i64>,
     /// Intersection backend: embree (fastest), embree-watertight (Embree's BVH with prism's
@@ -74,8 +74,8 @@ pub struct RenderArgs {
     #[arg(long)]
     pub light_sampler: Option<String>,
     /// Integrator, by pbrt-v4's name: path or volpath (either renders a scene's media when it
-    /// has any), ambientocclusion, randomwalk, simplepath [default: the file's Integrator, else
-    /// path].
+    /// has any), ambientocclusion, randomwalk, simplepath, lightpath, bdpt, mlt [default: the
+    /// file's Integrator, else path].
     #[arg(long)]
     pub integrator: Option<String>,
     /// Output colour space: srgb, rec2020, acescg, aces2065-1, display-p3 [default: srgb].
@@ -240,7 +240,11 @@ pub fn prepare(args: &RenderArgs) -> Result<Job> {
     let settings = RenderSettings {
         resolution,
         film: FilmSettings { crop, sensor, aov, spectral },
-        spp: spp.or(file.spp).unwrap_or(d.spp),
+        // pbrt-v4's mlt takes its mutations per pixel from --spp, else from its own parameter.
+        spp: spp
+            .or((integrator.kind == IntegratorKind::Mlt).then_some(integrator.mlt.mutations_per_pixel))
+            .or(file.spp)
+            .unwrap_or(d.spp),
         seed: args.seed.or(file.seed).unwrap_or(d.seed),
         sampler: sampler.unwrap_or(d.sampler),
         filter: filter.unwrap_or(d.filter),
@@ -377,6 +381,31 @@ fn parse_part(s: &str) -> Result<(u64, u64)> {
     Ok((i, n))
 }
 
+/// Refuses what Metropolis light transport cannot do: its image is normalised as a whole (no
+/// share of the samples, checkpoint or per-pixel sample counts), its splats record no geometry
+/// buffers, and its bootstrap needs a finite depth.
+fn check_mlt(args: &RenderArgs, job: &Job) -> Result<()> {
+    let refused = if args.part.is_some() || job.output.extension().is_some_and(|e| e == "film") {
+        Some("--part and .film outputs")
+    } else if args.checkpoint_every.is_some() || args.resume {
+        Some("--checkpoint-every and --resume")
+    } else if args.target_error.is_some() {
+        Some("--target-error")
+    } else if args.aov || args.denoise || job.settings.film.aov.is_some() {
+        Some("geometry buffers (--aov, --denoise, Film \"gbuffer\")")
+    } else if job.settings.integrator.max_depth == crate::integrator::UNBOUNDED_DEPTH {
+        Some("an unbounded --max-depth")
+    } else {
+        None
+    };
+    match refused {
+        Some(what) => {
+            bail!("integrator \"mlt\" renders the image as a whole by Markov chains: it does not support {what}")
+        }
+        None => Ok(()),
+    }
+}
+
 /// Runs `prism render`.
 pub fn run(args: &RenderArgs) -> Result<()> {
     let pool = super::worker_pool(args.threads)?;
@@ -402,6 +431,9 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     }
     if args.denoise && film_output {
         bail!("--denoise writes an image beside an image output, not a .film: render the parts with --aov and denoise their merge (prism merge --denoise)");
+    }
+    if job.settings.integrator.kind == IntegratorKind::Mlt {
+        check_mlt(args, &job)?;
     }
     // Before rendering: a missing library must not cost a render.
     let denoiser = args.denoise.then(crate::denoise::Denoiser::load).transpose()?;

@@ -21,7 +21,7 @@ use crate::camera::Camera;
 use crate::geometry::Ray;
 use crate::light::Light;
 use crate::math::offset_ray_origin;
-use crate::sampling::Sampler;
+use crate::sampling::{PssStream, Sampler};
 use crate::scene::{LightId, Scene, SurfaceInteraction};
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 use crate::texture::RayDifferentials;
@@ -517,5 +517,65 @@ impl Integrator {
         // A light found by the camera subpath (s = 0) has a surface.
         let point_light = s > 0 && light_at(0).light(scene).is_some_and(|(_, l)| l.is_delta());
         balance_weight(&path, s, point_light)
+    }
+}
+
+impl Integrator {
+    /// Strategy (s, t) alone for the camera ray `ray` (pbrt-v4 `MLTIntegrator::L` after the
+    /// camera ray): a camera subpath of exactly t vertices, then — from the sampler's light
+    /// stream — a light subpath of exactly s, then — from its connection stream — their
+    /// connection, weighted by the balance heuristic over all strategies of its path. Returns
+    /// the contribution and, for t = 1, the film position it lands at; `None` when either
+    /// subpath ends early or the connection carries nothing.
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn bdpt_strategy(
+        &self,
+        scene: &Scene,
+        camera: &Camera,
+        ray: Ray,
+        (s, t): (usize, usize),
+        w: &mut SampledWavelengths,
+        sampler: &mut Sampler,
+        stats: &mut Stats,
+    ) -> Option<(SampledSpectrum, Option<Vec2>)> {
+        let time = ray.time;
+        let mut cam: Vec<Vertex> = Vec::with_capacity(t);
+        cam.push(Vertex::point(Kind::Camera, ray.o, Vec3::ZERO, TransportMode::Radiance, SampledSpectrum::one(), 1.0));
+        cam[0].ns = camera.axis(time);
+        let pdf_dir = camera.pdf_we(ray.o, ray.d, time).1;
+        if t > 1 && pdf_dir > 0.0 {
+            let beta = SampledSpectrum::one();
+            let mode = TransportMode::Radiance;
+            self.subpath_walk(scene, ray, beta, pdf_dir, mode, t, &mut cam, None, w, sampler, stats);
+        }
+        if cam.len() != t {
+            return None;
+        }
+        sampler.start_stream(PssStream::Light);
+        let mut light_path: Vec<Vertex> = Vec::with_capacity(s);
+        if s > 0 {
+            let (id, light, pmf, _) = scene.sample_emitter(sampler.get_1d())?;
+            let (u_pos, u_dir) = (sampler.get_2d(), sampler.get_2d());
+            let les = light.sample_le(u_pos, u_dir, w)?;
+            let p0 = pmf * les.pdf_pos;
+            let mode = TransportMode::Importance;
+            light_path.push(Vertex::point(Kind::Light(id), les.p, les.n, mode, les.le / p0, p0));
+            let cos = if les.n == Vec3::ZERO { 1.0 } else { les.n.dot(les.d).abs() };
+            let beta = les.le * (cos / (p0 * les.pdf_dir));
+            let origin = offset_ray_origin(les.p, light_point_error(les.p), les.n, les.d);
+            let ray = Ray::new(origin, les.d).at_time(time);
+            self.subpath_walk(scene, ray, beta, les.pdf_dir, mode, s, &mut light_path, None, w, sampler, stats);
+        }
+        if light_path.len() != s {
+            return None;
+        }
+        sampler.start_stream(PssStream::Connection);
+        if t > 1 {
+            let l = self.connect(scene, camera, time, &light_path, s, &cam, w, sampler, stats);
+            (!l.is_black()).then_some((l, None))
+        } else {
+            let (p, l) = self.connect_to_lens(scene, camera, time, &light_path, &cam, sampler, stats)?;
+            Some((l, Some(p)))
+        }
     }
 }

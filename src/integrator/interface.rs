@@ -4,7 +4,7 @@
 //! [`Integrator`] from the render settings and call [`Integrator::li_camera`],
 //! [`Integrator::li`] or [`Integrator::irradiance`]; which loop runs is decided here.
 
-use super::options::{AmbientOcclusion, SimplePath};
+use super::options::{AmbientOcclusion, Mlt, SimplePath};
 use super::subsurface::SubsurfaceMethod;
 use super::{SplatSample, Stats};
 use crate::bsdf::{Bsdf, Diffuse};
@@ -44,6 +44,9 @@ pub enum IntegratorKind {
     /// `bdpt`: bidirectional path tracing, every connection of a camera and a light subpath
     /// weighted by the balance heuristic (pbrt-v4 `BDPTIntegrator`).
     Bdpt,
+    /// `mlt`: Metropolis light transport in primary sample space over bdpt's strategies
+    /// (pbrt-v4 `MLTIntegrator`).
+    Mlt,
 }
 
 crate::named::name_table!(IntegratorKind, "integrator", {
@@ -54,13 +57,14 @@ crate::named::name_table!(IntegratorKind, "integrator", {
     "simplepath" => IntegratorKind::SimplePath,
     "lightpath" => IntegratorKind::LightPath,
     "bdpt" => IntegratorKind::Bdpt,
+    "mlt" => IntegratorKind::Mlt,
 });
 
 impl IntegratorKind {
     /// True for the estimators that splat light onto arbitrary film positions (the film then
     /// needs a [`crate::film::SplatBuffer`]).
     pub fn splats(self) -> bool {
-        matches!(self, IntegratorKind::LightPath | IntegratorKind::Bdpt)
+        matches!(self, IntegratorKind::LightPath | IntegratorKind::Bdpt | IntegratorKind::Mlt)
     }
 }
 
@@ -107,6 +111,8 @@ pub struct Integrator {
     pub ao: AmbientOcclusion,
     /// The parameters of `simplepath`.
     pub simple: SimplePath,
+    /// The parameters of `mlt`.
+    pub mlt: Mlt,
 }
 
 impl Default for Integrator {
@@ -122,6 +128,7 @@ impl Default for Integrator {
             regularize: false,
             ao: AmbientOcclusion::default(),
             simple: SimplePath::default(),
+            mlt: Mlt::default(),
         }
     }
 }
@@ -145,6 +152,21 @@ impl Integrator {
                 sample_lights: file.sample_lights.unwrap_or(d.simple.sample_lights),
                 sample_bsdf: file.sample_bsdf.unwrap_or(d.simple.sample_bsdf),
             },
+            mlt: Mlt {
+                bootstrap_samples: file.mlt_bootstrap_samples.map_or(d.mlt.bootstrap_samples, |n| n.max(1) as u32),
+                chains: file.mlt_chains.map_or(d.mlt.chains, |n| n.max(1) as u32),
+                mutations_per_pixel: file
+                    .mlt_mutations_per_pixel
+                    .map_or(d.mlt.mutations_per_pixel, |n| n.max(1) as u64),
+                large_step_probability: file.mlt_large_step_probability.map_or(d.mlt.large_step_probability, |p| {
+                    if p.is_nan() {
+                        0.0
+                    } else {
+                        p.clamp(0.0, 1.0)
+                    }
+                }),
+                sigma: file.mlt_sigma.map_or(d.mlt.sigma, |s| if s.is_finite() { s.abs() } else { d.mlt.sigma }),
+            },
             ..d
         }
     }
@@ -165,9 +187,15 @@ impl Integrator {
         let kind = match self.kind {
             IntegratorKind::Path | IntegratorKind::VolPath if scene.has_media() || walks => IntegratorKind::VolPath,
             IntegratorKind::Path | IntegratorKind::VolPath => IntegratorKind::Path,
-            IntegratorKind::LightPath | IntegratorKind::Bdpt if scene.has_media() || walks => IntegratorKind::VolPath,
-            IntegratorKind::LightPath | IntegratorKind::Bdpt if Self::fallback_reason(scene).is_none() => self.kind,
-            IntegratorKind::LightPath | IntegratorKind::Bdpt => IntegratorKind::Path,
+            IntegratorKind::LightPath | IntegratorKind::Bdpt | IntegratorKind::Mlt if scene.has_media() || walks => {
+                IntegratorKind::VolPath
+            }
+            IntegratorKind::LightPath | IntegratorKind::Bdpt | IntegratorKind::Mlt
+                if Self::fallback_reason(scene).is_none() =>
+            {
+                self.kind
+            }
+            IntegratorKind::LightPath | IntegratorKind::Bdpt | IntegratorKind::Mlt => IntegratorKind::Path,
             other => other,
         };
         Self { kind, ..self }
@@ -221,8 +249,9 @@ impl Integrator {
             }
             IntegratorKind::RandomWalk => self.random_walk(scene, ray, differentials, visible, w, sampler, stats),
             IntegratorKind::SimplePath => self.simple_path(scene, ray, differentials, visible, w, sampler, stats),
-            // lightpath and bdpt estimate without their splats (`li_splatting`) as the path tracer.
-            IntegratorKind::Path | IntegratorKind::LightPath | IntegratorKind::Bdpt => {
+            // lightpath, bdpt and mlt estimate without their splats (`li_splatting`) as the path
+            // tracer.
+            IntegratorKind::Path | IntegratorKind::LightPath | IntegratorKind::Bdpt | IntegratorKind::Mlt => {
                 self.path_trace(scene, ray, differentials, None, visible, w, sampler, stats)
             }
         }
@@ -252,8 +281,11 @@ impl Integrator {
                 self.light_trace(scene, camera, ray.time, w, sampler, stats, splats);
                 SampledSpectrum::zero()
             }
-            // (No geometry buffers either.)
-            IntegratorKind::Bdpt => self.bdpt_trace(scene, camera, ray, differentials, w, sampler, stats, splats),
+            // (No geometry buffers either.) mlt renders the image as a whole
+            // (`crate::render::render_range`); a single camera sample is one of bdpt's.
+            IntegratorKind::Bdpt | IntegratorKind::Mlt => {
+                self.bdpt_trace(scene, camera, ray, differentials, w, sampler, stats, splats)
+            }
             _ => self.li_camera(scene, ray, differentials, visible, w, sampler, stats),
         }
     }

@@ -8,6 +8,7 @@ mod camera_sample;
 mod collision;
 mod interface;
 mod lightpath;
+mod mlt;
 #[cfg(test)]
 mod nanovdb_tests;
 mod options;
@@ -25,7 +26,8 @@ pub mod wavefront;
 
 pub use camera_sample::{camera_sample, CameraSample};
 pub use interface::{DirectStrategy, Integrator, IntegratorKind, UNBOUNDED_DEPTH};
-pub use options::{AmbientOcclusion, SimplePath};
+pub use mlt::MltFilm;
+pub use options::{AmbientOcclusion, Mlt, SimplePath};
 pub use subsurface::SubsurfaceMethod;
 
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};

@@ -44,3 +44,34 @@ impl Default for SimplePath {
         Self { sample_lights: true, sample_bsdf: true }
     }
 }
+
+/// pbrt-v4's `mlt` parameters (its `maxdepth` and `regularize` are the shared ones; its
+/// `mutationsperpixel` is the render's samples per pixel).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Mlt {
+    /// `bootstrapsamples` (100 000): paths per depth whose luminance estimates the
+    /// normalisation b and from which the chains start.
+    pub bootstrap_samples: u32,
+    /// `chains` (1000): independent Markov chains.
+    pub chains: u32,
+    /// `mutationsperpixel` (100), the render's samples per pixel unless the command line
+    /// gives them.
+    pub mutations_per_pixel: u64,
+    /// `largestepprobability` (0.3): the chance that a proposal is an independent path.
+    pub large_step_probability: f32,
+    /// `sigma` (0.01): standard deviation of a small step's perturbation of each primary
+    /// sample.
+    pub sigma: f32,
+}
+
+impl Default for Mlt {
+    fn default() -> Self {
+        Self {
+            bootstrap_samples: 100_000,
+            chains: 1000,
+            mutations_per_pixel: 100,
+            large_step_probability: 0.3,
+            sigma: 0.01,
+        }
+    }
+}

@@ -38,13 +38,13 @@ pub const MEDIA: &[&str] = crate::media::PBRT_NAMES;
 
 /// Integrators prism runs.
 /// A scene with media is rendered by the volumetric path tracer whichever is named; without
-/// media "volpath" is "path". "lightpath" and "bdpt" render scenes whose lights and camera they
+/// media "volpath" is "path". "lightpath", "bdpt" and "mlt" render scenes whose lights and camera they
 /// can trace from and to, and fall back to "path" with a warning elsewhere
 /// (`Integrator::fallback_reason`).
 pub const PRISM_INTEGRATORS: &[&str] =
-    &["path", "volpath", "ambientocclusion", "randomwalk", "simplepath", "lightpath", "bdpt"];
+    &["path", "volpath", "ambientocclusion", "randomwalk", "simplepath", "lightpath", "bdpt", "mlt"];
 /// pbrt-v4 integrators prism replaces with its path tracer.
-pub const PBRT_ONLY_INTEGRATORS: &[(&str, &str)] = &[("mlt", "path"), ("simplevolpath", "path"), ("sppm", "path")];
+pub const PBRT_ONLY_INTEGRATORS: &[(&str, &str)] = &[("simplevolpath", "path"), ("sppm", "path")];
 
 /// Samplers (all pbrt-v4 names are accepted; the renderer picks its own sequence).
 pub const SAMPLERS: &[&str] = &["halton", "independent", "paddedsobol", "pmj02bn", "sobol", "stratified", "zsobol"];

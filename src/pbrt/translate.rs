@@ -64,6 +64,13 @@ pub struct FileSettings {
     /// Integrator "simplepath": "samplelights" and "samplebsdf".
     pub sample_lights: Option<bool>,
     pub sample_bsdf: Option<bool>,
+    /// Integrator "mlt": "bootstrapsamples", "chains", "mutationsperpixel",
+    /// "largestepprobability", "sigma".
+    pub mlt_bootstrap_samples: Option<i32>,
+    pub mlt_chains: Option<i32>,
+    pub mlt_mutations_per_pixel: Option<i32>,
+    pub mlt_large_step_probability: Option<f32>,
+    pub mlt_sigma: Option<f32>,
     /// PixelFilter with its parameters.
     pub filter: Option<crate::filter::Filter>,
     /// Sampler type mapped to prism's ("independent" or "sobol").
@@ -408,6 +415,11 @@ impl Ctx<'_> {
             ao_max_distance: d.integrator.params.float("maxdistance"),
             sample_lights: d.integrator.params.bool("samplelights"),
             sample_bsdf: d.integrator.params.bool("samplebsdf"),
+            mlt_bootstrap_samples: d.integrator.params.int("bootstrapsamples"),
+            mlt_chains: d.integrator.params.int("chains"),
+            mlt_mutations_per_pixel: d.integrator.params.int("mutationsperpixel"),
+            mlt_large_step_probability: d.integrator.params.float("largestepprobability"),
+            mlt_sigma: d.integrator.params.float("sigma"),
             filter: Some(filter),
             sampler: Some(sampler.to_string()),
             seed: d.sampler.params.int("seed").or_else(|| d.options.int("seed")).map(|s| s as u64),

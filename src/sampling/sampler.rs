@@ -20,6 +20,9 @@ pub enum Sampler {
     Independent(IndependentSampler),
     /// Owen-scrambled Sobol points, padded: each call gets its own scramble.
     Sobol(SobolSampler),
+    /// A Metropolis chain's primary sample space (`mlt`): its values follow the chain's
+    /// mutations, not (pixel, sample index).
+    Pss(super::pss::PssSampler),
 }
 
 /// Independent uniforms from a PCG32 stream per pixel, advanced to the sample. Each sample owns
@@ -99,6 +102,7 @@ impl Sampler {
                 let index_rev = ((sample_index % SOBOL_LEN) as u32).reverse_bits();
                 *s = SobolSampler { sample_state, index_rev, dimension: 0, buffer: [0.0; 4], used: 4 }
             }
+            Self::Pss(_) => {}
         }
     }
 
@@ -107,6 +111,7 @@ impl Sampler {
         match self {
             Self::Independent(s) => s.uniform(),
             Self::Sobol(s) => s.take(1)[0],
+            Self::Pss(s) => s.get_1d(),
         }
     }
 
@@ -118,6 +123,7 @@ impl Sampler {
                 let v = s.take(2);
                 Vec2::new(v[0], v[1])
             }
+            Self::Pss(s) => Vec2::new(s.get_1d(), s.get_1d()),
         }
     }
 
@@ -132,6 +138,7 @@ impl Sampler {
                 let v = s.group(PIXEL_DIM);
                 Vec3::new(v[0], v[1], v[2])
             }
+            Self::Pss(s) => Vec3::new(s.get_1d(), s.get_1d(), s.get_1d()),
         }
     }
 }

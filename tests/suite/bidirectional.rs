@@ -1,11 +1,12 @@
-//! The estimators that start paths at the lights (`lightpath`, `bdpt`) against the path
+//! The estimators that start paths at the lights (`lightpath`, `bdpt`, `mlt`) against the path
 //! tracer: the same scene must converge to the same image. Each image is cut into blocks; per
-//! block the mean over independent renders (seeds) and its standard error are measured, and
-//! every block of the two estimators must agree within 4 standard errors of their difference.
+//! block, and over the whole image, the mean over independent renders (seeds) and its standard
+//! error are measured, and the two estimators must agree within 4 standard errors of their
+//! difference.
 
 use crate::common::test_settings;
 use prism::accel::AccelKind;
-use prism::integrator::{Integrator, IntegratorKind};
+use prism::integrator::{Integrator, IntegratorKind, Mlt};
 use prism::render::render;
 use prism::scene::{Scene, SceneBuilder};
 
@@ -17,10 +18,13 @@ const BLOCK: u32 = 8;
 /// (`spp` samples per pixel, paths of at most `max_depth` bounces) and its standard error.
 fn block_means(scene: &Scene, kind: IntegratorKind, spp: u64, max_depth: u32, seeds: u64) -> Vec<(f64, f64)> {
     let blocks = (SIZE / BLOCK) as usize;
-    let mut per_seed = vec![Vec::new(); blocks * blocks];
+    // The blocks, then the whole image (whose smaller error catches a scale error).
+    let mut per_seed = vec![Vec::new(); blocks * blocks + 1];
     for seed in 0..seeds {
         let mut settings = test_settings((SIZE, SIZE), spp, 1000 + seed, max_depth);
-        settings.integrator = Integrator { kind, max_depth, ..Default::default() }.for_scene(scene);
+        // (mlt: fewer chains than pbrt-v4's default, for a small image.)
+        let mlt = Mlt { chains: 64, ..Default::default() };
+        settings.integrator = Integrator { kind, max_depth, mlt, ..Default::default() }.for_scene(scene);
         assert_eq!(settings.integrator.kind, kind, "the scene falls back to another estimator");
         let (film, stats) = render(scene, &settings, |_| {}).unwrap();
         assert_eq!(stats.nonfinite, 0);
@@ -33,6 +37,7 @@ fn block_means(scene: &Scene, kind: IntegratorKind, spp: u64, max_depth: u32, se
         for (b, s) in sums.iter().enumerate() {
             per_seed[b].push(s / (BLOCK * BLOCK) as f64);
         }
+        per_seed[blocks * blocks].push(sums.iter().sum::<f64>() / (SIZE * SIZE) as f64);
     }
     per_seed
         .iter()
@@ -71,6 +76,42 @@ fn light_tracing_renders_the_cornell_box_as_path_tracing_does() {
 #[test]
 fn bidirectional_path_tracing_renders_the_cornell_box_as_path_tracing_does() {
     agrees_with_path(&cornell(), IntegratorKind::Bdpt, (16, 8), 5);
+}
+
+#[test]
+fn metropolis_light_transport_renders_the_cornell_box_as_path_tracing_does() {
+    // 16 mutations per pixel; the seeds' images differ in their bootstrap (b) as well as in
+    // their chains, so the measured standard error covers both.
+    agrees_with_path(&cornell(), IntegratorKind::Mlt, (16, 16), 5);
+}
+
+/// pbrt-v4's mlt parameters read from the file: a render of 6×6 pixels × 4 mutations with 8
+/// chains, bit-identical with 1 and 2 threads.
+#[test]
+fn metropolis_light_transport_is_the_same_image_for_any_thread_count() {
+    let dir = crate::common::tmpdir("mlt-threads");
+    let scene = dir.join("mlt.pbrt");
+    let text = GLOSSY.replace(
+        "WorldBegin",
+        "Integrator \"mlt\" \"integer maxdepth\" [3] \"integer bootstrapsamples\" [2000] \"integer chains\" [8]\n\
+         \"integer mutationsperpixel\" [4] \"float sigma\" [0.02]\nFilm \"rgb\" \"integer xresolution\" [24] \
+         \"integer yresolution\" [24] \"bool savefp16\" false\nWorldBegin",
+    );
+    std::fs::write(&scene, text).unwrap();
+    let render = |threads: &str| {
+        let out = dir.join(format!("t{threads}.exr"));
+        let o = crate::common::prism()
+            .args(["render", scene.to_str().unwrap(), "--threads", threads, "-o", out.to_str().unwrap()])
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&o.stderr).into_owned();
+        assert!(o.status.success(), "{stderr}");
+        assert!(stderr.contains("24x24 4 spp"), "{stderr}");
+        prism::image::read(&out).unwrap().data
+    };
+    let one = render("1");
+    assert!(one.iter().any(|&v| v > 0.0));
+    assert!(one == render("2"), "the image depends on the thread count");
 }
 
 /// A rough gold sphere and a diffuse one on a diffuse floor under a small quad light: glossy
