@@ -4,6 +4,7 @@
 
 use glam::{Vec2, Vec3};
 
+use super::pattern::Pattern;
 use super::rng::{hash64, hash64_step, Rng, HASH64_START};
 
 /// Dimensions reserved per sample for the PCG stream (pbrt-v4 uses the same 2¹⁶ stride).
@@ -20,6 +21,8 @@ pub enum Sampler {
     Independent(IndependentSampler),
     /// Owen-scrambled Sobol points, padded: each call gets its own scramble.
     Sobol(SobolSampler),
+    /// One of pbrt-v4's samplers.
+    Pattern(Box<Pattern>),
 }
 
 /// Independent uniforms from a PCG32 stream per pixel, advanced to the sample. Each sample owns
@@ -84,6 +87,7 @@ impl Sampler {
 
     /// Positions the sampler at `sample_index` of `pixel` for the render seed `seed`; dimension
     /// counting restarts at 0.
+    #[inline]
     pub fn start_pixel_sample(&mut self, pixel: (u32, u32), sample_index: u64, seed: u64) {
         let pixel_seed = hash64(&[pixel.0 as u64, pixel.1 as u64, seed]);
         match self {
@@ -99,18 +103,22 @@ impl Sampler {
                 let index_rev = ((sample_index % SOBOL_LEN) as u32).reverse_bits();
                 *s = SobolSampler { sample_state, index_rev, dimension: 0, buffer: [0.0; 4], used: 4 }
             }
+            Self::Pattern(p) => p.start(pixel, sample_index),
         }
     }
 
     /// Next uniform in [0, 1).
+    #[inline]
     pub fn get_1d(&mut self) -> f32 {
         match self {
             Self::Independent(s) => s.uniform(),
             Self::Sobol(s) => s.take(1)[0],
+            Self::Pattern(p) => p.get_1d(),
         }
     }
 
     /// Next 2D uniform in [0, 1)².
+    #[inline]
     pub fn get_2d(&mut self) -> Vec2 {
         match self {
             Self::Independent(s) => Vec2::new(s.uniform(), s.uniform()),
@@ -118,19 +126,26 @@ impl Sampler {
                 let v = s.take(2);
                 Vec2::new(v[0], v[1])
             }
+            Self::Pattern(p) => p.get_2d(),
         }
     }
 
     /// The film position within the pixel (x, y) and the wavelength sample (z), in [0, 1)³.
-    /// For Sobol they are dimensions 0–2 of one scrambled sequence, independent of how many
+    /// pbrt-v4's samplers draw the wavelength's dimension, then the film position. For Sobol they are dimensions 0–2 of one scrambled sequence, independent of how many
     /// dimensions were drawn before: jointly stratified, so the samples that land on a bright
     /// region covering part of the pixel still spread over the spectrum.
+    #[inline]
     pub fn get_pixel_3d(&mut self) -> Vec3 {
         match self {
             Self::Independent(s) => Vec3::new(s.uniform(), s.uniform(), s.uniform()),
             Self::Sobol(s) => {
                 let v = s.group(PIXEL_DIM);
                 Vec3::new(v[0], v[1], v[2])
+            }
+            // pbrt-v4's order: the wavelength sample, then the film position.
+            Self::Pattern(p) => {
+                let lambda = p.get_1d();
+                p.get_pixel_2d().extend(lambda)
             }
         }
     }
