@@ -90,7 +90,7 @@ impl SamplerKind {
 fn near_square(n: u64) -> (u32, u32) {
     let n = n.clamp(1, u32::MAX as u64) as u32;
     let mut y = (n as f64).sqrt() as u32;
-    while n % y != 0 {
+    while !n.is_multiple_of(y) {
         y -= 1;
     }
     (n / y, y)

@@ -130,9 +130,8 @@ impl Halton {
         let mut offset = 0u64;
         if stride > 1 {
             let pm = [u64::from(pixel.0 % MAX_HALTON_RESOLUTION), u64::from(pixel.1 % MAX_HALTON_RESOLUTION)];
-            for i in 0..2 {
-                let base = if i == 0 { 2 } else { 3 };
-                let dim_offset = inverse_radical_inverse(pm[i], base, self.base_exponents[i]);
+            for (i, (p, base)) in pm.into_iter().zip([2, 3]).enumerate() {
+                let dim_offset = inverse_radical_inverse(p, base, self.base_exponents[i]);
                 // Each term is ≡ dim_offset (mod its own base's scale) and ≡ 0 (mod the other's).
                 let term =
                     (dim_offset as u128 * u128::from(stride / self.base_scales[i]) * u128::from(self.mult_inverse[i]))
@@ -159,7 +158,7 @@ impl Halton {
             }
             // Nested: each digit's permutation chosen by the digits before it (Owen 1995).
             Randomize::Owen | Randomize::FastOwen => {
-                let dim_seed = mix_bits(1 + ((d as u64) << 4) ^ self.seed << 32);
+                let dim_seed = mix_bits((1 + ((d as u64) << 4)) ^ (self.seed << 32));
                 permuted_radical_inverse(base, a, |k, prefix, digit| {
                     let h = mix_bits(dim_seed ^ mix_bits(prefix ^ u64::from(k) << 56));
                     permutation_element(digit, base, h as u32)

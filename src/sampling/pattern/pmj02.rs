@@ -82,8 +82,11 @@ fn unit(v: u32) -> f32 {
     super::scramble::unit_from_bits(v)
 }
 
-/// The sequences of one (samples per pixel, seed), built once per process.
-static SEQUENCES: LazyLock<Mutex<HashMap<(u64, u64), Arc<Vec<Vec<Vec2>>>>>> = LazyLock::new(Default::default);
+/// The [`SETS`] sequences of one sampler.
+type Sets = Arc<Vec<Vec<Vec2>>>;
+
+/// The sequences of each (length, seed), built once per process.
+static SEQUENCES: LazyLock<Mutex<HashMap<(u64, u64), Sets>>> = LazyLock::new(Default::default);
 
 /// pbrt-v4's `PMJ02BNSampler`: 2D draws take point `index` of one of [`SETS`] pmj02 sequences
 /// shared by all pixels, toroidally shifted per pixel and dimension (Cranley & Patterson 1976);
@@ -93,7 +96,7 @@ static SEQUENCES: LazyLock<Mutex<HashMap<(u64, u64), Arc<Vec<Vec<Vec2>>>>>> = La
 pub struct Pmj02bn {
     spp: u32,
     seed: u64,
-    sets: Arc<Vec<Vec<Vec2>>>,
+    sets: Sets,
     pixel: (u32, u32),
     index: u64,
     dimension: u64,
