@@ -17,10 +17,11 @@ const PIXEL_DIM: u64 = u64::MAX;
 /// A sampler: call [`Sampler::start_pixel_sample`], then draw dimensions in a fixed order.
 #[derive(Clone, Debug)]
 pub enum Sampler {
+    /// Owen-scrambled Sobol points, padded: each call gets its own scramble. First, so that its
+    /// path is one test of the discriminant, as with two variants.
+    Sobol(SobolSampler),
     /// Independent uniform random numbers.
     Independent(IndependentSampler),
-    /// Owen-scrambled Sobol points, padded: each call gets its own scramble.
-    Sobol(SobolSampler),
     /// One of pbrt-v4's samplers.
     Pattern(Box<Pattern>),
 }
@@ -86,7 +87,8 @@ impl Sampler {
     }
 
     /// Positions the sampler at `sample_index` of `pixel` for the render seed `seed`; dimension
-    /// counting restarts at 0.
+    /// counting restarts at 0. pbrt-v4's samplers keep the seed they were made with
+    /// ([`super::SamplerKind::make`]).
     #[inline]
     pub fn start_pixel_sample(&mut self, pixel: (u32, u32), sample_index: u64, seed: u64) {
         let pixel_seed = hash64(&[pixel.0 as u64, pixel.1 as u64, seed]);
@@ -131,9 +133,10 @@ impl Sampler {
     }
 
     /// The film position within the pixel (x, y) and the wavelength sample (z), in [0, 1)³.
-    /// pbrt-v4's samplers draw the wavelength's dimension, then the film position. For Sobol they are dimensions 0–2 of one scrambled sequence, independent of how many
+    /// For Sobol they are dimensions 0–2 of one scrambled sequence, independent of how many
     /// dimensions were drawn before: jointly stratified, so the samples that land on a bright
-    /// region covering part of the pixel still spread over the spectrum.
+    /// region covering part of the pixel still spread over the spectrum. pbrt-v4's samplers
+    /// draw the wavelength's dimension, then the film position, as pbrt-v4 does.
     #[inline]
     pub fn get_pixel_3d(&mut self) -> Vec3 {
         match self {
