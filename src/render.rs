@@ -357,7 +357,7 @@ fn render_band<S: SpectralSink>(
         px.samples += 1;
         Some(xyz)
     };
-    let mut sampler = settings.sampler.make();
+    let mut sampler = settings.sampler.make(settings.spp, settings.resolution, settings.seed);
     let mut sample_splats = Vec::new();
     for (i, px) in pixels.iter_mut().enumerate() {
         let (x, y) = pixel_at(i);

@@ -108,7 +108,8 @@ pub fn max_depth(depth: i64, what: &str) -> Result<u32, SettingsError> {
     }
 }
 
-/// A sampler: "independent", or "sobol" (also pbrt-v4's "zsobol" and "paddedsobol").
+/// A sampler by name: prism's "sobol", "independent", or one of pbrt-v4's ("zsobol",
+/// "paddedsobol", "halton", "pmj02bn", "stratified") with pbrt-v4's default parameters.
 pub fn parse_sampler(name: &str) -> Result<SamplerKind, SettingsError> {
     Ok(SamplerKind::parse(name)?)
 }
@@ -167,9 +168,9 @@ mod tests {
         assert_eq!(max_depth(-1, "d"), Ok(UNBOUNDED_DEPTH));
         assert_eq!(max_depth(-2, "d").unwrap_err().to_string(), "d must be at least 0, or -1 for no limit, got -2");
         assert_eq!(max_depth(1 << 40, "d"), Err(SettingsError::Depth { what: "d".into(), depth: 1 << 40 }));
-        assert_eq!(parse_sampler("zsobol"), Ok(SamplerKind::Sobol));
+        assert_eq!(parse_sampler("zsobol"), Ok(SamplerKind::ZSobol(crate::sampling::Randomize::FastOwen)));
         assert_eq!(parse_sampler("independent"), Ok(SamplerKind::Independent));
-        assert!(parse_sampler("halton").is_err());
+        assert!(parse_sampler("globalsobol").is_err());
         assert!(parse_filter("mitchell").is_ok() && parse_filter("sinc").is_ok() && parse_filter("cubic").is_err());
         assert_eq!(parse_duration("30s"), Ok(Duration::from_secs(30)));
         assert_eq!(parse_duration("2m"), Ok(Duration::from_secs(120)));

@@ -170,7 +170,7 @@ pub fn prepare(args: &RenderArgs) -> Result<Job> {
         }
     };
     let d = RenderSettings::default();
-    let sampler = args.sampler.as_deref().or(file.sampler.as_deref()).map(settings::parse_sampler).transpose()?;
+    let sampler = args.sampler.as_deref().map(settings::parse_sampler).transpose()?.or(file.sampler);
     let filter = match args.filter.as_deref() {
         Some(name) => Some(settings::parse_filter(name)?),
         None => file.filter.clone(),

@@ -35,6 +35,7 @@ use crate::geometry::quadric::similarity_scale;
 use crate::geometry::{AnimatedTransform, Curves, Mesh, Motion, PlacedQuadric, Quadric};
 use crate::light::{EmissionImage, LightSamplerKind};
 use crate::material::{BumpedMaterial, Ior, Material, Roughness};
+use crate::sampling::{Randomize, SamplerKind};
 use crate::scene::{CameraDesc, Emission, SceneBuilder};
 use crate::spectrum::{ColorSpace, RgbKind, SpdError, Spectrum};
 use glam::Mat4;
@@ -73,8 +74,8 @@ pub struct FileSettings {
     pub mlt_sigma: Option<f32>,
     /// PixelFilter with its parameters.
     pub filter: Option<crate::filter::Filter>,
-    /// Sampler type mapped to prism's ("independent" or "sobol").
-    pub sampler: Option<String>,
+    /// The Sampler with its parameters.
+    pub sampler: Option<SamplerKind>,
     /// Sampler/Option "seed".
     pub seed: Option<u64>,
     /// ColorSpace / film colour space.
@@ -236,41 +237,64 @@ impl Ctx<'_> {
         self.warnings.push(Warning::unsupported(loc, feature, fallback));
     }
 
-    /// The Sampler directive as prism renders it: "independent", or prism's Owen-scrambled Sobol
-    /// for every other pbrt-v4 sampler (said in a note for the non-Sobol families and for a
-    /// chosen "randomization", whose patterns differ: the image is the same within noise), and
-    /// the samples per pixel pbrt-v4 takes: "pixelsamples", for "stratified" "xsamples" ×
-    /// "ysamples", else its default (4 for "independent", 16 for the others).
-    fn sampler(&mut self) -> Result<(&'static str, u64), SceneError> {
+    /// The Sampler directive as prism renders it, and the samples per pixel pbrt-v4 takes:
+    /// "pixelsamples", for "stratified" "xsamples" × "ysamples", else its default (4 for
+    /// "independent", 16 for the others). pbrt-v4's "sobol" (one Sobol' sequence over the whole
+    /// image) is not implemented: it renders with prism's Sobol sampler, said as an unsupported
+    /// feature, as are pmj02bn's blue-noise tables. A "randomization" a sampler does not take is
+    /// an error, as in pbrt-v4.
+    fn sampler(&mut self) -> Result<(SamplerKind, u64), SceneError> {
         let (kind, p, loc) = (self.desc.sampler.kind.as_str(), &self.desc.sampler.params, &self.desc.sampler.loc);
-        let spp = if kind == "stratified" {
-            let (x, y) = (count(p, "xsamples", loc, 1)?.unwrap_or(4), count(p, "ysamples", loc, 1)?.unwrap_or(4));
-            x as u64 * y as u64
-        } else {
-            let default = if kind == "independent" { 4 } else { 16 };
-            count(p, "pixelsamples", loc, 1)?.map_or(default, |n| n as u64)
+        let randomize = |default: Randomize, allowed: &[Randomize]| -> Result<Randomize, SceneError> {
+            let Some(name) = p.string("randomization") else { return Ok(default) };
+            match Randomize::parse(name) {
+                Ok(r) if allowed.contains(&r) => Ok(r),
+                _ => {
+                    let valid = allowed.iter().map(|r| r.name()).collect::<Vec<_>>().join(", ");
+                    let message = format!("sampler \"{kind}\": unknown \"randomization\" \"{name}\" (valid: {valid})");
+                    Err(param_error(p, "randomization", loc, message))
+                }
+            }
         };
-        if kind == "independent" {
-            return Ok(("independent", spp));
-        }
-        let mut differs: Vec<String> = Vec::new();
-        if matches!(kind, "halton" | "pmj02bn" | "stratified") {
-            differs.push(format!("sampler \"{kind}\""));
-        }
-        if let Some(r) = p.string("randomization") {
-            differs.push(format!("\"randomization\" \"{r}\""));
-        }
-        if p.bool("jitter") == Some(false) {
-            differs.push("\"jitter\" false".into());
-        }
-        if !differs.is_empty() {
+        let all = [Randomize::None, Randomize::PermuteDigits, Randomize::FastOwen, Randomize::Owen];
+        let pixel_samples = |default: u64| count(p, "pixelsamples", loc, 1).map(|n| n.map_or(default, |n| n as u64));
+        let (sampler, spp) = match kind {
+            "independent" => (SamplerKind::Independent, pixel_samples(4)?),
+            "zsobol" => (SamplerKind::ZSobol(randomize(Randomize::FastOwen, &all)?), pixel_samples(16)?),
+            "paddedsobol" => (SamplerKind::PaddedSobol(randomize(Randomize::FastOwen, &all)?), pixel_samples(16)?),
+            "halton" => {
+                let allowed = [Randomize::None, Randomize::PermuteDigits, Randomize::Owen];
+                (SamplerKind::Halton(randomize(Randomize::PermuteDigits, &allowed)?), pixel_samples(16)?)
+            }
+            "pmj02bn" => {
+                let feature = "sampler \"pmj02bn\": blue-noise point sets and per-pixel blue-noise offsets".to_string();
+                let fallback = "draws pmj02 sequences it builds itself, offset per pixel by white noise";
+                let spp = pixel_samples(16)?;
+                self.unsupported(loc, feature, fallback);
+                (SamplerKind::Pmj02bn, spp)
+            }
+            "stratified" => {
+                let (x, y) = (count(p, "xsamples", loc, 1)?.unwrap_or(4), count(p, "ysamples", loc, 1)?.unwrap_or(4));
+                let jitter = p.bool("jitter").unwrap_or(true);
+                (SamplerKind::Stratified { x: x as u32, y: y as u32, jitter }, x as u64 * y as u64)
+            }
+            _ => {
+                // "sobol": the file's randomisation is read for the check, then not used.
+                randomize(Randomize::FastOwen, &all)?;
+                let spp = pixel_samples(16)?;
+                let feature = format!("sampler \"{kind}\" (one Sobol' sequence over the whole image)");
+                self.unsupported(loc, feature, "renders with its own padded Owen-scrambled Sobol sampler instead");
+                (SamplerKind::Sobol, spp)
+            }
+        };
+        if matches!(sampler, SamplerKind::ZSobol(_)) && !spp.is_power_of_two() {
             let message = format!(
-                "{}: prism draws Owen-scrambled Sobol samples instead (the same image within noise)",
-                differs.join(", ")
+                "sampler \"zsobol\" with {spp} samples per pixel: pbrt-v4 takes {} (a power of two), prism all {spp}",
+                1u64 << spp.ilog2()
             );
             self.warn(loc, message);
         }
-        Ok(("sobol", spp))
+        Ok((sampler, spp))
     }
 
     /// Integrator "maxdepth": a depth ≥ 0, or −1 for no limit (Mitsuba's convention; pbrt-v4's
@@ -421,7 +445,7 @@ impl Ctx<'_> {
             mlt_large_step_probability: d.integrator.params.float("largestepprobability"),
             mlt_sigma: d.integrator.params.float("sigma"),
             filter: Some(filter),
-            sampler: Some(sampler.to_string()),
+            sampler: Some(sampler),
             seed: d.sampler.params.int("seed").or_else(|| d.options.int("seed")).map(|s| s as u64),
             color_space: Some(d.color_space.clone()),
             crop,

@@ -4,6 +4,7 @@
 
 use glam::{Vec2, Vec3};
 
+use super::pattern::Pattern;
 use super::rng::{hash64, hash64_step, Rng, HASH64_START};
 
 /// Dimensions reserved per sample for the PCG stream (pbrt-v4 uses the same 2¹⁶ stride).
@@ -16,13 +17,16 @@ const PIXEL_DIM: u64 = u64::MAX;
 /// A sampler: call [`Sampler::start_pixel_sample`], then draw dimensions in a fixed order.
 #[derive(Clone, Debug)]
 pub enum Sampler {
+    /// Owen-scrambled Sobol points, padded: each call gets its own scramble. First, so that its
+    /// path is one test of the discriminant, as with two variants.
+    Sobol(SobolSampler),
     /// Independent uniform random numbers.
     Independent(IndependentSampler),
-    /// Owen-scrambled Sobol points, padded: each call gets its own scramble.
-    Sobol(SobolSampler),
     /// A Metropolis chain's primary sample space (`mlt`): its values follow the chain's
     /// mutations, not (pixel, sample index).
     Pss(super::pss::PssSampler),
+    /// One of pbrt-v4's samplers.
+    Pattern(Box<Pattern>),
 }
 
 /// Independent uniforms from a PCG32 stream per pixel, advanced to the sample. Each sample owns
@@ -86,7 +90,9 @@ impl Sampler {
     }
 
     /// Positions the sampler at `sample_index` of `pixel` for the render seed `seed`; dimension
-    /// counting restarts at 0.
+    /// counting restarts at 0. pbrt-v4's samplers keep the seed they were made with
+    /// ([`super::SamplerKind::make`]).
+    #[inline]
     pub fn start_pixel_sample(&mut self, pixel: (u32, u32), sample_index: u64, seed: u64) {
         let pixel_seed = hash64(&[pixel.0 as u64, pixel.1 as u64, seed]);
         match self {
@@ -103,19 +109,23 @@ impl Sampler {
                 *s = SobolSampler { sample_state, index_rev, dimension: 0, buffer: [0.0; 4], used: 4 }
             }
             Self::Pss(_) => {}
+            Self::Pattern(p) => p.start(pixel, sample_index),
         }
     }
 
     /// Next uniform in [0, 1).
+    #[inline]
     pub fn get_1d(&mut self) -> f32 {
         match self {
             Self::Independent(s) => s.uniform(),
             Self::Sobol(s) => s.take(1)[0],
             Self::Pss(s) => s.get_1d(),
+            Self::Pattern(p) => p.get_1d(),
         }
     }
 
     /// Next 2D uniform in [0, 1)².
+    #[inline]
     pub fn get_2d(&mut self) -> Vec2 {
         match self {
             Self::Independent(s) => Vec2::new(s.uniform(), s.uniform()),
@@ -124,13 +134,16 @@ impl Sampler {
                 Vec2::new(v[0], v[1])
             }
             Self::Pss(s) => Vec2::new(s.get_1d(), s.get_1d()),
+            Self::Pattern(p) => p.get_2d(),
         }
     }
 
     /// The film position within the pixel (x, y) and the wavelength sample (z), in [0, 1)³.
     /// For Sobol they are dimensions 0–2 of one scrambled sequence, independent of how many
     /// dimensions were drawn before: jointly stratified, so the samples that land on a bright
-    /// region covering part of the pixel still spread over the spectrum.
+    /// region covering part of the pixel still spread over the spectrum. pbrt-v4's samplers
+    /// draw the wavelength's dimension, then the film position, as pbrt-v4 does.
+    #[inline]
     pub fn get_pixel_3d(&mut self) -> Vec3 {
         match self {
             Self::Independent(s) => Vec3::new(s.uniform(), s.uniform(), s.uniform()),
@@ -139,6 +152,11 @@ impl Sampler {
                 Vec3::new(v[0], v[1], v[2])
             }
             Self::Pss(s) => Vec3::new(s.get_1d(), s.get_1d(), s.get_1d()),
+            // pbrt-v4's order: the wavelength sample, then the film position.
+            Self::Pattern(p) => {
+                let lambda = p.get_1d();
+                p.get_pixel_2d().extend(lambda)
+            }
         }
     }
 }

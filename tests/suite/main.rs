@@ -43,6 +43,7 @@ mod regularize;
 mod render;
 mod resource_errors;
 mod robustness;
+mod samplers;
 mod scene_files;
 mod scene_fuzz;
 mod scene_parser;

@@ -794,24 +794,57 @@ fn the_integrators_rrthreshold_is_read() {
     }
 }
 
-/// Samples per pixel as pbrt-v4 takes them for each sampler, and a note, not silence, where
-/// prism's Owen-scrambled Sobol stands in for another pattern.
+/// Samples per pixel as pbrt-v4 takes them for each sampler, the sampler the file names with
+/// its parameters, and a warning, not silence, where prism renders something else.
 #[test]
 fn samplers_take_pbrt_v4s_sample_counts_and_say_what_stands_in() {
-    for (sampler, spp, noted) in [
-        ("Sampler \"stratified\" \"integer xsamples\" 2 \"integer ysamples\" 3 \"bool jitter\" false", 6, true),
-        ("Sampler \"stratified\"", 16, true),
-        ("Sampler \"independent\"", 4, false),
-        ("Sampler \"independent\" \"integer pixelsamples\" 7", 7, false),
-        ("Sampler \"halton\" \"string randomization\" \"owen\"", 16, true),
-        ("Sampler \"zsobol\" \"integer pixelsamples\" 32", 32, false),
-        ("", 16, false),
+    use prism::sampling::{Randomize, SamplerKind};
+    for (sampler, spp, kind, warned) in [
+        (
+            "Sampler \"stratified\" \"integer xsamples\" 2 \"integer ysamples\" 3 \"bool jitter\" false",
+            6,
+            SamplerKind::Stratified { x: 2, y: 3, jitter: false },
+            None,
+        ),
+        ("Sampler \"stratified\"", 16, SamplerKind::Stratified { x: 4, y: 4, jitter: true }, None),
+        ("Sampler \"independent\"", 4, SamplerKind::Independent, None),
+        ("Sampler \"independent\" \"integer pixelsamples\" 7", 7, SamplerKind::Independent, None),
+        ("Sampler \"halton\" \"string randomization\" \"owen\"", 16, SamplerKind::Halton(Randomize::Owen), None),
+        ("Sampler \"zsobol\" \"integer pixelsamples\" 32", 32, SamplerKind::ZSobol(Randomize::FastOwen), None),
+        (
+            "Sampler \"zsobol\" \"integer pixelsamples\" 24",
+            24,
+            SamplerKind::ZSobol(Randomize::FastOwen),
+            Some("takes 16"),
+        ),
+        (
+            "Sampler \"paddedsobol\" \"string randomization\" \"none\"",
+            16,
+            SamplerKind::PaddedSobol(Randomize::None),
+            None,
+        ),
+        ("Sampler \"pmj02bn\"", 16, SamplerKind::Pmj02bn, Some("blue-noise")),
+        ("Sampler \"sobol\"", 16, SamplerKind::Sobol, Some("one Sobol' sequence")),
+        ("", 16, SamplerKind::ZSobol(Randomize::FastOwen), None),
     ] {
         let (d, mut warnings) = parse(&format!("{sampler}\nWorldBegin\n{TRI}"));
         let (_, settings) = prism::pbrt::build(&d, &mut warnings).unwrap();
         assert!(d.report_unused().is_empty(), "{sampler}: {:?}", d.report_unused());
         assert_eq!(settings.spp, Some(spp), "{sampler}");
-        let notes: Vec<_> = warnings.iter().filter(|w| w.message.contains("Owen-scrambled Sobol")).collect();
-        assert_eq!(notes.len(), noted as usize, "{sampler}: {warnings:?}");
+        assert_eq!(settings.sampler, Some(kind), "{sampler}");
+        let said: Vec<_> = warnings.iter().filter(|w| w.message.contains("sampler")).collect();
+        match warned {
+            None => assert!(said.is_empty(), "{sampler}: {warnings:?}"),
+            Some(text) => assert!(said.len() == 1 && said[0].message.contains(text), "{sampler}: {warnings:?}"),
+        }
+    }
+    // A randomisation the sampler does not take is an error, as in pbrt-v4.
+    for bad in [
+        "Sampler \"halton\" \"string randomization\" \"fastowen\"",
+        "Sampler \"zsobol\" \"string randomization\" \"scramble\"",
+    ] {
+        let (d, mut warnings) = parse(&format!("{bad}\nWorldBegin\n{TRI}"));
+        let e = prism::pbrt::build(&d, &mut warnings).err().unwrap_or_else(|| panic!("{bad} accepted"));
+        assert!(e.to_string().contains("randomization"), "{e}");
     }
 }
