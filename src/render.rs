@@ -286,6 +286,8 @@ fn wavefront_band(pass: &Pass, band: usize, pixels: &mut [Pixel]) -> Stats {
         sensor: &settings.film.sensor,
         sampler: settings.sampler,
         seed: settings.seed,
+        spp: settings.spp,
+        resolution: settings.resolution,
         differentials,
     };
     let pixel_at = |i: usize| (x0 + (i % width) as u32, y0 + (band * BAND_ROWS + i / width) as u32);

@@ -33,6 +33,9 @@ pub struct BandJob<'a> {
     pub sensor: &'a Sensor,
     pub sampler: SamplerKind,
     pub seed: u64,
+    /// The render's samples per pixel and image size (pbrt-v4's samplers depend on them).
+    pub spp: u64,
+    pub resolution: (u32, u32),
     /// The camera-ray differentials, when textures need them.
     pub differentials: Option<&'a TextureFootprint>,
 }
@@ -62,8 +65,9 @@ struct Buffers {
     blocked: Vec<bool>,
     diffuse: DiffuseQueue,
     samples: Vec<(u32, u64)>,
-    /// The kind of the samplers in `paths` (a thread may render with another next).
-    sampler_kind: Option<SamplerKind>,
+    /// What the samplers in `paths` were made for: kind, samples per pixel, image size, seed
+    /// (a thread may render with others next).
+    sampler_kind: Option<(SamplerKind, u64, (u32, u32), u64)>,
 }
 
 thread_local! {
@@ -79,9 +83,10 @@ fn render_band_with(
 ) -> Stats {
     let mut stats = Stats::default();
     let mut clock = Clock::new();
-    if b.sampler_kind != Some(job.sampler) {
+    let made_for = (job.sampler, job.spp, job.resolution, job.seed);
+    if b.sampler_kind != Some(made_for) {
         b.paths.sampler.clear();
-        b.sampler_kind = Some(job.sampler);
+        b.sampler_kind = Some(made_for);
     }
     let Buffers { paths, active, next, hits, rays, shadows, shadow_light, blocked, diffuse, samples, .. } = b;
     let mut other = OtherQueue::default();
@@ -93,7 +98,7 @@ fn render_band_with(
         active.clear();
         for (k, &(i, s)) in batch.iter().enumerate() {
             if paths.sampler.len() <= k {
-                paths.sampler.push(job.sampler.make());
+                paths.sampler.push(job.sampler.make(job.spp, job.resolution, job.seed));
             }
             let wavelengths = SampledWavelengths::sample_visible;
             let c = camera_sample(
