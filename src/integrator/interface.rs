@@ -154,10 +154,9 @@ impl Integrator {
     /// step through — participating media, or a subsurface material a path may walk (the random
     /// walk, or diffusion on an optically thin object). A scene without either gives `volpath`
     /// nothing to do but the path tracer's work; `path` cannot step through media (pbrt-v4's
-    /// `path` ignores them). The estimators that start paths at the lights need every light to
-    /// start paths ([`crate::light::Light::emits_paths`]: not lights at infinity) and a camera
-    /// with an importance function (a perspective one without a lens system); they step
-    /// through no media. Where they cannot run, the path tracer (or, with media, the volumetric
+    /// `path` ignores them). The estimators that start paths at the lights need a camera with
+    /// an importance function (a perspective one without a lens system); they step through no
+    /// media. Where they cannot run, the path tracer (or, with media, the volumetric
     /// one) renders instead ([`Self::fallback_reason`] says why).
     pub fn for_scene(self, scene: &Scene) -> Self {
         let walks =
@@ -178,8 +177,6 @@ impl Integrator {
     pub fn fallback_reason(scene: &Scene) -> Option<&'static str> {
         if scene.has_media() || scene.has_subsurface() {
             Some("they do not step through participating media or subsurface materials")
-        } else if !scene.lights_emit_paths() {
-            Some("a light at infinity (distant, infinite) or an image-projecting light cannot start light paths")
         } else if !scene.camera.camera((1, 1)).has_importance() {
             Some("only a perspective camera without a lens system has an importance function here")
         } else {
