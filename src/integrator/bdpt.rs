@@ -21,6 +21,7 @@
 use super::bdpt_weights::{balance_weight, VertexDensity};
 use super::interface::Integrator;
 use super::lightpath::light_point_error;
+use super::options::StrategyImageKind;
 use super::state::{escaped_radiance, next_surface, PathState};
 use super::{SplatSample, Stats};
 use crate::bsdf::{Bsdf, TransportMode};
@@ -32,7 +33,7 @@ use crate::sampling::Sampler;
 use crate::scene::{LightId, Scene, SurfaceInteraction};
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 use crate::texture::RayDifferentials;
-use glam::{Vec2, Vec3};
+use glam::{Vec2, Vec3, Vec4};
 
 /// What a subpath vertex is.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -212,6 +213,9 @@ fn subpath_capacity(max_depth: u32) -> usize {
     (max_depth as usize).saturating_add(2).min(1 << 16)
 }
 
+/// No contribution.
+const NOTHING: (SampledSpectrum, f32) = (SampledSpectrum(Vec4::ZERO), 0.0);
+
 impl Integrator {
     /// Extends `path` (holding its first vertex) by sampling BSDFs from `ray`, whose direction
     /// has solid-angle density `pdf` and throughput `beta`, up to `max_vertices` vertices.
@@ -384,22 +388,36 @@ impl Integrator {
                     continue;
                 }
                 let light = &light_path[..s.min(light_path.len())];
-                if t > 1 {
-                    l += self.connect(scene, camera, time, light, s, &cam[..t], w, sampler, stats);
+                let (p_raster, c, weight) = if t > 1 {
+                    let (c, weight) = self.connect(scene, camera, time, light, s, &cam[..t], w, sampler, stats);
+                    l += c * weight;
+                    (None, c, weight)
                 } else if light.len() == s {
-                    if let Some((p_raster, c)) = self.connect_to_lens(scene, camera, time, light, &cam, sampler, stats)
-                    {
-                        splats.push(SplatSample { p_raster, l: c, lambdas: *w });
-                    }
+                    let Some((p, c, weight)) = self.connect_to_lens(scene, camera, time, light, &cam, sampler, stats)
+                    else {
+                        continue;
+                    };
+                    splats.push(SplatSample { p_raster: Some(p), l: c * weight, lambdas: *w, strategy: None });
+                    (Some(p), c, weight)
+                } else {
+                    continue;
+                };
+                let image = match self.strategy_images {
+                    StrategyImageKind::Off => continue,
+                    StrategyImageKind::Unweighted => c,
+                    StrategyImageKind::Weighted => c * weight,
+                };
+                if weight > 0.0 && !image.is_black() {
+                    splats.push(SplatSample { p_raster, l: image, lambdas: *w, strategy: Some((s, t)) });
                 }
             }
         }
         l
     }
 
-    /// The weighted contribution of strategy (s, t ≥ 2): the light subpath's first s vertices
-    /// `light` joined to the camera subpath `cam` (t vertices); s = 1 samples a new point on a
-    /// light (and `light` may then be empty).
+    /// The contribution of strategy (s, t ≥ 2) and its MIS weight: the light subpath's first s
+    /// vertices `light` joined to the camera subpath `cam` (t vertices); s = 1 samples a new
+    /// point on a light (and `light` may then be empty).
     #[allow(clippy::too_many_arguments)]
     fn connect(
         &self,
@@ -412,7 +430,7 @@ impl Integrator {
         w: &SampledWavelengths,
         sampler: &mut Sampler,
         stats: &mut Stats,
-    ) -> SampledSpectrum {
+    ) -> (SampledSpectrum, f32) {
         let t = cam.len();
         let pt = &cam[t - 1];
         if s == 0 {
@@ -420,33 +438,32 @@ impl Integrator {
             let le = match (pt.kind, pt.si.as_ref()) {
                 (Kind::Sky, _) => escaped_radiance(scene, &Ray::new(pt.p, -pt.wo), w),
                 (_, Some(si)) if si.area_light().is_some() => si.emitted(w),
-                _ => return SampledSpectrum::zero(),
+                _ => return NOTHING,
             };
             if le.is_black() {
-                return SampledSpectrum::zero();
+                return NOTHING;
             }
-            let weight = self.mis_weight(scene, camera, time, light, 0, cam, None, None);
-            return pt.beta * le * weight;
+            return (pt.beta * le, self.mis_weight(scene, camera, time, light, 0, cam, None, None));
         }
         if !pt.connectible() {
-            return SampledSpectrum::zero();
+            return NOTHING;
         }
         if s == 1 {
             // A new point on a light, chosen and sampled as light subpaths start.
             let Some((id, light_src, pmf, _)) = scene.sample_emitter(sampler.get_1d()) else {
-                return SampledSpectrum::zero();
+                return NOTHING;
             };
             let u_pos = sampler.get_2d();
             if light_src.is_at_infinity() {
                 return self.connect_to_infinity(scene, camera, time, cam, (id, light_src, pmf), u_pos, w, stats);
             }
             let Some(les) = light_src.sample_le(u_pos, Vec2::splat(0.5), &scene.sphere(), w) else {
-                return SampledSpectrum::zero();
+                return NOTHING;
             };
             let to_light = les.p - pt.p;
             let d2 = to_light.length_squared();
             if d2 == 0.0 {
-                return SampledSpectrum::zero();
+                return NOTHING;
             }
             let wi = to_light / d2.sqrt();
             let le = light_src.emitted_toward(&les, -wi, w);
@@ -455,43 +472,42 @@ impl Integrator {
             let f = pt.bsdf.as_ref().map_or(SampledSpectrum::zero(), |b| b.f(pt.wo, wi, pt.mode));
             let c = pt.beta * f * le * (pt.ns.dot(wi).abs() * cos_light / (d2 * p0));
             if c.is_black() {
-                return SampledSpectrum::zero();
+                return NOTHING;
             }
             stats.rays += 1;
             let si = pt.si.as_ref().expect("a surface vertex");
             if scene.occluded(&si.spawn_ray_to(les.p)) {
-                return SampledSpectrum::zero();
+                return NOTHING;
             }
             let vertex = Vertex::point(Kind::Light(id), les.p, les.n, TransportMode::Importance, le / p0, p0);
-            let weight = self.mis_weight(scene, camera, time, light, 1, cam, Some(&vertex), None);
-            return c * weight;
+            return (c, self.mis_weight(scene, camera, time, light, 1, cam, Some(&vertex), None));
         }
         let qs = &light[s - 1];
         if !qs.connectible() {
-            return SampledSpectrum::zero();
+            return NOTHING;
         }
         let d = pt.p - qs.p;
         let d2 = d.length_squared();
         if d2 == 0.0 {
-            return SampledSpectrum::zero();
+            return NOTHING;
         }
         let wd = d / d2.sqrt();
         let g = qs.ns.dot(wd).abs() * pt.ns.dot(wd).abs() / d2;
         let c = qs.beta * qs.f(pt) * pt.f(qs) * pt.beta * g;
         if c.is_black() {
-            return SampledSpectrum::zero();
+            return NOTHING;
         }
         stats.rays += 1;
         let si = pt.si.as_ref().expect("a surface vertex");
         if scene.occluded(&si.spawn_ray_to(qs.p)) {
-            return SampledSpectrum::zero();
+            return NOTHING;
         }
-        c * self.mis_weight(scene, camera, time, light, s, cam, None, None)
+        (c, self.mis_weight(scene, camera, time, light, s, cam, None, None))
     }
 
     /// Strategy s = 1 with a light at infinity `light` (its id, the light and the probability
     /// of choosing it): a direction toward it sampled from the camera subpath's last vertex as
-    /// light sampling does, with `u`.
+    /// light sampling does, with `u`: the contribution and its MIS weight.
     #[allow(clippy::too_many_arguments)]
     fn connect_to_infinity(
         &self,
@@ -503,27 +519,27 @@ impl Integrator {
         u: Vec2,
         w: &SampledWavelengths,
         stats: &mut Stats,
-    ) -> SampledSpectrum {
+    ) -> (SampledSpectrum, f32) {
         let pt = &cam[cam.len() - 1];
-        let (Some(si), Some(bsdf)) = (pt.si.as_ref(), pt.bsdf.as_ref()) else { return SampledSpectrum::zero() };
+        let (Some(si), Some(bsdf)) = (pt.si.as_ref(), pt.bsdf.as_ref()) else { return NOTHING };
         let ctx = LightSampleContext::surface(pt.p, pt.ns);
-        let Some(ls) = light.sample_li(&ctx, u, w).filter(|ls| ls.pdf > 0.0) else { return SampledSpectrum::zero() };
+        let Some(ls) = light.sample_li(&ctx, u, w).filter(|ls| ls.pdf > 0.0) else { return NOTHING };
         let c = pt.beta * bsdf.f(pt.wo, ls.wi, pt.mode) * ls.li * (pt.ns.dot(ls.wi).abs() / (pmf * ls.pdf));
         if c.is_black() {
-            return SampledSpectrum::zero();
+            return NOTHING;
         }
         stats.rays += 1;
         if scene.occluded(&si.spawn_ray(ls.wi)) {
-            return SampledSpectrum::zero();
+            return NOTHING;
         }
         let mut vertex =
             Vertex::point(Kind::Light(id), pt.p, Vec3::ZERO, TransportMode::Importance, c, 0.0).at_infinity(-ls.wi);
         vertex.pdf_fwd = vertex.pdf_light_origin(scene, pt);
-        c * self.mis_weight(scene, camera, time, &[], 1, cam, Some(&vertex), None)
+        (c, self.mis_weight(scene, camera, time, &[], 1, cam, Some(&vertex), None))
     }
 
     /// Strategy (s ≥ 2, t = 1): the light subpath's last vertex connected to a new point on the
-    /// lens; its film position and weighted contribution.
+    /// lens; its film position, contribution and MIS weight.
     #[allow(clippy::too_many_arguments)]
     fn connect_to_lens(
         &self,
@@ -534,7 +550,7 @@ impl Integrator {
         cam: &[Vertex],
         sampler: &mut Sampler,
         stats: &mut Stats,
-    ) -> Option<(Vec2, SampledSpectrum)> {
+    ) -> Option<(Vec2, SampledSpectrum, f32)> {
         let qs = light.last()?;
         if !qs.connectible() || qs.kind != Kind::Surface {
             return None;
@@ -553,7 +569,7 @@ impl Integrator {
             Vertex::point(Kind::Camera, cs.p_lens, Vec3::ZERO, TransportMode::Radiance, SampledSpectrum::one(), 1.0);
         lens.ns = cs.n_lens;
         let weight = self.mis_weight(scene, camera, time, light, light.len(), &cam[..1], None, Some(&lens));
-        Some((cs.p_raster, c * weight))
+        Some((cs.p_raster, c, weight))
     }
 
     /// The balance-heuristic weight of joining the light subpath's first s vertices `light`

@@ -4,7 +4,7 @@
 //! [`Integrator`] from the render settings and call [`Integrator::li_camera`],
 //! [`Integrator::li`] or [`Integrator::irradiance`]; which loop runs is decided here.
 
-use super::options::{AmbientOcclusion, SimplePath};
+use super::options::{AmbientOcclusion, SimplePath, StrategyImageKind};
 use super::subsurface::SubsurfaceMethod;
 use super::{SplatSample, Stats};
 use crate::bsdf::{Bsdf, Diffuse};
@@ -107,6 +107,8 @@ pub struct Integrator {
     pub ao: AmbientOcclusion,
     /// The parameters of `simplepath`.
     pub simple: SimplePath,
+    /// `bdpt`'s per-strategy images.
+    pub strategy_images: StrategyImageKind,
 }
 
 impl Default for Integrator {
@@ -122,13 +124,16 @@ impl Default for Integrator {
             regularize: false,
             ao: AmbientOcclusion::default(),
             simple: SimplePath::default(),
+            strategy_images: StrategyImageKind::Off,
         }
     }
 }
 
 impl Integrator {
     /// The integrator a scene file asks for (its `Integrator` directive's type, "maxdepth",
-    /// "rrthreshold" and "regularize"), prism's defaults for what the file leaves out.
+    /// "rrthreshold", "regularize", the small estimators' parameters and `bdpt`'s
+    /// "visualizestrategies" and "visualizeweights"), prism's defaults for what the file leaves
+    /// out.
     pub fn from_file(file: &crate::pbrt::FileSettings) -> Self {
         let d = Self::default();
         Self {
@@ -144,6 +149,11 @@ impl Integrator {
             simple: SimplePath {
                 sample_lights: file.sample_lights.unwrap_or(d.simple.sample_lights),
                 sample_bsdf: file.sample_bsdf.unwrap_or(d.simple.sample_bsdf),
+            },
+            strategy_images: match (file.visualize_weights, file.visualize_strategies) {
+                (Some(true), _) => StrategyImageKind::Weighted,
+                (_, Some(true)) => StrategyImageKind::Unweighted,
+                _ => StrategyImageKind::Off,
             },
             ..d
         }

@@ -62,7 +62,7 @@ impl Integrator {
                 let shadow = Ray::segment(cs.p_lens, les.p - cs.p_lens, 1.0 - 1e-4).at_time(time);
                 if !scene.occluded(&shadow) {
                     let l = le * (cs.we * cos / (pmf * les.pdf_pos * cs.pdf));
-                    splats.push(SplatSample { p_raster: cs.p_raster, l, lambdas: *w });
+                    splats.push(SplatSample { p_raster: Some(cs.p_raster), l, lambdas: *w, strategy: None });
                 }
             }
         }
@@ -88,7 +88,8 @@ impl Integrator {
                         stats.rays += 1;
                         if !scene.occluded(&si.spawn_ray_to(cs.p_lens)) {
                             let l = state.beta * f * (cs.we / cs.pdf);
-                            splats.push(SplatSample { p_raster: cs.p_raster, l, lambdas: *w });
+                            let p_raster = Some(cs.p_raster);
+                            splats.push(SplatSample { p_raster, l, lambdas: *w, strategy: None });
                         }
                     }
                 }

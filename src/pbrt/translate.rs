@@ -64,6 +64,9 @@ pub struct FileSettings {
     /// Integrator "simplepath": "samplelights" and "samplebsdf".
     pub sample_lights: Option<bool>,
     pub sample_bsdf: Option<bool>,
+    /// Integrator "bdpt": "visualizestrategies" and "visualizeweights".
+    pub visualize_strategies: Option<bool>,
+    pub visualize_weights: Option<bool>,
     /// PixelFilter with its parameters.
     pub filter: Option<crate::filter::Filter>,
     /// Sampler type mapped to prism's ("independent" or "sobol").
@@ -408,6 +411,8 @@ impl Ctx<'_> {
             ao_max_distance: d.integrator.params.float("maxdistance"),
             sample_lights: d.integrator.params.bool("samplelights"),
             sample_bsdf: d.integrator.params.bool("samplebsdf"),
+            visualize_strategies: d.integrator.params.bool("visualizestrategies"),
+            visualize_weights: d.integrator.params.bool("visualizeweights"),
             filter: Some(filter),
             sampler: Some(sampler.to_string()),
             seed: d.sampler.params.int("seed").or_else(|| d.options.int("seed")).map(|s| s as u64),

@@ -5,7 +5,8 @@
 
 use crate::common::test_settings;
 use prism::accel::AccelKind;
-use prism::integrator::{Integrator, IntegratorKind};
+use prism::film::Film;
+use prism::integrator::{Integrator, IntegratorKind, StrategyImageKind};
 use prism::render::render;
 use prism::scene::{Scene, SceneBuilder};
 
@@ -271,4 +272,71 @@ fn under_an_image_sky_light_paths_render_as_path_tracing_does() {
     let scene = builder.build(AccelKind::Obvhs).unwrap();
     agrees_with_path(&scene, IntegratorKind::Bdpt, (16, 8), 4);
     agrees_with_path(&scene, IntegratorKind::LightPath, (16, 16), 4);
+}
+
+/// A strategy (depth, s, t) and its image.
+type StrategyFilm = ((usize, usize, usize), Film);
+
+/// bdpt's strategy images (`visualizeweights`, `visualizestrategies`) of the open plane under a
+/// uniform sky at depths 0 … 2, rendered with `seed`: the main film and each strategy's.
+fn strategy_films(kind: StrategyImageKind, seed: u64) -> (Film, Vec<StrategyFilm>) {
+    let scene = open_plane(r#"LightSource "infinite" "spectrum L" [300 1 900 1]"#);
+    let mut settings = test_settings((16, 16), 16, seed, 2);
+    settings.integrator =
+        Integrator { kind: IntegratorKind::Bdpt, max_depth: 2, strategy_images: kind, ..Default::default() };
+    let (film, _) = render(&scene, &settings, |_| {}).unwrap();
+    let images = film.strategies.as_ref().expect("strategy images").strategies().collect::<Vec<_>>();
+    let films = images.into_iter().map(|(d, s, t)| ((d, s, t), film.strategy_film(s, t).unwrap())).collect();
+    (film, films)
+}
+
+#[test]
+fn weighted_strategy_images_of_a_depth_sum_to_the_light_of_that_depth() {
+    // The camera sees only the plane and the plane never sees itself: all the image's light
+    // has depth 1, so the weighted depth-1 images sum to the image (rounding apart: each
+    // contribution is recorded on its own) and the others are black.
+    let (film, strategies) = strategy_films(StrategyImageKind::Weighted, 5);
+    assert_eq!(strategies.iter().filter(|((d, _, _), _)| *d == 1).count(), 3);
+    for y in 0..16 {
+        for x in 0..16 {
+            let main = film.xyz(x, y).y as f64;
+            let mut depth1 = 0.0;
+            for ((depth, s, t), f) in &strategies {
+                let v = f.xyz(x, y).y as f64;
+                if *depth == 1 {
+                    depth1 += v;
+                } else {
+                    assert_eq!(v, 0.0, "depth {depth}, ({s}, {t}) at ({x}, {y})");
+                }
+            }
+            assert!((depth1 - main).abs() <= 1e-5 * main, "({x}, {y}): Σ strategies {depth1} vs the image {main}");
+        }
+    }
+}
+
+#[test]
+fn each_unweighted_strategy_image_alone_estimates_the_light_of_its_depth() {
+    // s = 0 (the camera path finds the sky), s = 1 (light sampling) and s = 2, t = 1 (light
+    // tracing) each see the whole of ρ L = 0.5 without their weights.
+    let y_unit = unit_luminance();
+    let runs: Vec<_> = (0..6).map(|seed| strategy_films(StrategyImageKind::Unweighted, 20 + seed).1).collect();
+    for (k, ((depth, s, t), _)) in runs[0].iter().enumerate().filter(|(_, ((d, _, _), _))| *d == 1) {
+        let means: Vec<f64> = runs
+            .iter()
+            .map(|films| {
+                let f = &films[k].1;
+                (0..16).flat_map(|y| (0..16).map(move |x| (x, y))).map(|(x, y)| f.xyz(x, y).y as f64).sum::<f64>()
+                    / 256.0
+                    / y_unit
+            })
+            .collect();
+        let n = means.len() as f64;
+        let mean = means.iter().sum::<f64>() / n;
+        let se = (means.iter().map(|m| (m - mean) * (m - mean)).sum::<f64>() / (n - 1.0) / n).sqrt();
+        assert!(
+            (mean - 0.5).abs() <= 4.0 * se + 1e-3,
+            "depth {depth}, ({s}, {t}): {mean:.5} ± {se:.5} vs ρ L = 0.5 ({:.1}σ)",
+            (mean - 0.5).abs() / se
+        );
+    }
 }
