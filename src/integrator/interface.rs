@@ -38,6 +38,9 @@ pub enum IntegratorKind {
     /// `simplepath`: path tracing without MIS or Russian roulette (pbrt-v4
     /// `SimplePathIntegrator`).
     SimplePath,
+    /// `simplevolpath`: delta tracking at the hero wavelength, without light sampling (pbrt-v4
+    /// `SimpleVolPathIntegrator`).
+    SimpleVolPath,
     /// `lightpath`: light tracing, every light-path vertex connected to the camera and splatted
     /// onto the film (pbrt-v4 `LightPathIntegrator`).
     LightPath,
@@ -52,6 +55,7 @@ crate::named::name_table!(IntegratorKind, "integrator", {
     "ambientocclusion" => IntegratorKind::AmbientOcclusion,
     "randomwalk" => IntegratorKind::RandomWalk,
     "simplepath" => IntegratorKind::SimplePath,
+    "simplevolpath" => IntegratorKind::SimpleVolPath,
     "lightpath" => IntegratorKind::LightPath,
     "bdpt" => IntegratorKind::Bdpt,
 });
@@ -228,6 +232,7 @@ impl Integrator {
             }
             IntegratorKind::RandomWalk => self.random_walk(scene, ray, differentials, visible, w, sampler, stats),
             IntegratorKind::SimplePath => self.simple_path(scene, ray, differentials, visible, w, sampler, stats),
+            IntegratorKind::SimpleVolPath => self.simple_volpath(scene, ray, w, sampler, stats),
             // lightpath and bdpt estimate without their splats (`li_splatting`) as the path tracer.
             IntegratorKind::Path | IntegratorKind::LightPath | IntegratorKind::Bdpt => {
                 self.path_trace(scene, ray, differentials, None, visible, w, sampler, stats)

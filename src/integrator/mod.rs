@@ -13,6 +13,7 @@ mod options;
 mod path;
 mod random_walk;
 mod simple_path;
+mod simple_volpath;
 mod state;
 pub mod subsurface;
 mod transmittance;
