@@ -155,7 +155,7 @@ impl Light {
             }
             Light::Goniometric(_) | Light::Projection(_) => {
                 let d = sample_uniform_sphere(u_dir);
-                let (p, le) = self.point_intensity(d, w)?;
+                let (p, le) = self.point_intensity(d, w);
                 EmissionSample { p, n: Vec3::ZERO, d, le, pdf_pos: 1.0, pdf_dir: uniform_sphere_pdf() }
             }
             Light::Distant(l) => {
@@ -176,20 +176,23 @@ impl Light {
                 EmissionSample { p, n: d, d, le, pdf_pos: sphere.disk_pdf(), pdf_dir }
             }
         };
-        (s.pdf_pos > 0.0 && s.pdf_dir > 0.0 && s.pdf_pos.is_finite() && !s.le.is_black()).then_some(s)
+        // A point light's position is a sample whatever it sends along the direction drawn
+        // (bidirectional connections take the position alone).
+        let emits = !s.le.is_black() || s.n == Vec3::ZERO;
+        (s.pdf_pos > 0.0 && s.pdf_dir > 0.0 && s.pdf_pos.is_finite() && emits).then_some(s)
     }
 
     /// The position of a goniometric or projection light and the intensity I [W/(sr·nm)] it
-    /// sends along the unit direction `d`.
-    fn point_intensity(&self, d: Vec3, w: &SampledWavelengths) -> Option<(Vec3, SampledSpectrum)> {
+    /// sends along the unit direction `d` (zero for other lights).
+    fn point_intensity(&self, d: Vec3, w: &SampledWavelengths) -> (Vec3, SampledSpectrum) {
         let p = match self {
             Light::Goniometric(l) => l.position,
             Light::Projection(l) => l.position,
-            _ => return None,
+            _ => return (Vec3::ZERO, SampledSpectrum::zero()),
         };
         // At unit distance the incident radiance of a point light is its intensity.
-        let ls = self.sample_li(&LightSampleContext::medium(p + d), Vec2::ZERO, w)?;
-        Some((p, ls.li))
+        let ls = self.sample_li(&LightSampleContext::medium(p + d), Vec2::ZERO, w);
+        (p, ls.map_or(SampledSpectrum::zero(), |ls| ls.li))
     }
 
     /// The radiance (for point lights, intensity) the light sends from the point of `s` along
@@ -204,9 +207,7 @@ impl Light {
             Light::Quadric(l) if l.two_sided || s.n.dot(d) > 0.0 => s.le,
             Light::Point(_) => s.le,
             Light::Spot(l) => l.spectrum.sample(w) * (l.scale * l.falloff.factor(l.frame.n.dot(d))),
-            Light::Goniometric(_) | Light::Projection(_) => {
-                self.point_intensity(d, w).map_or(SampledSpectrum::zero(), |(_, i)| i)
-            }
+            Light::Goniometric(_) | Light::Projection(_) => self.point_intensity(d, w).1,
             _ => SampledSpectrum::zero(),
         }
     }
