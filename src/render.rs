@@ -6,9 +6,10 @@
 use crate::camera::Camera;
 use crate::film::{
     AdaptivePixel, AovPixel, AovSettings, AovSpace, Film, FilmAllocError, FilmSettings, Pixel, SpectralSettings, Splat,
+    StrategyImages,
 };
 use crate::filter::Filter;
-use crate::integrator::{camera_sample, wavefront, Integrator, Stats};
+use crate::integrator::{camera_sample, wavefront, Integrator, IntegratorKind, Stats, StrategyImageKind};
 use crate::material::Material;
 use crate::sampling::Sampler;
 pub use crate::sampling::SamplerKind;
@@ -236,12 +237,18 @@ pub fn render_pass_of(scene: &Scene, settings: &RenderSettings, film: &mut Film,
     // adaptively nor into spectral buckets.)
     let group_bands = 4 * rayon::current_num_threads();
     let height = film.height;
-    splat_buffer.paths += film.pixels.len() as u64 * (pass.range.end - pass.range.start);
+    let paths = film.pixels.len() as u64 * (pass.range.end - pass.range.start);
+    splat_buffer.paths += paths;
+    // Strategy images are box-filtered, as pbrt-v4's.
+    let box_filter = Filter::by_name("box").expect("a built-in filter");
+    for image in film.strategies.iter_mut().flat_map(|s| &mut s.images) {
+        image.paths += paths;
+    }
     let mut aov_bands = aov_bands.into_iter();
     let mut stats = Stats::default();
     for (g, group) in film.pixels.chunks_mut(band * group_bands).enumerate() {
         let aov_group: Vec<_> = aov_bands.by_ref().take(group.len().div_ceil(band)).collect();
-        let done: Vec<(Stats, Vec<Splat>)> = group
+        let done: Vec<(Stats, Vec<BandSplat>)> = group
             .par_chunks_mut(band)
             .zip(aov_group)
             .enumerate()
@@ -254,8 +261,14 @@ pub fn render_pass_of(scene: &Scene, settings: &RenderSettings, film: &mut Film,
             .collect();
         for (band_stats, splats) in done {
             stats.merge(&band_stats);
-            for sp in &splats {
-                splat_buffer.add(sp, &settings.filter, width as u32, height, origin);
+            for (sp, strategy) in &splats {
+                match (strategy, film.strategies.as_mut()) {
+                    (None, _) => splat_buffer.add(sp, &settings.filter, width as u32, height, origin),
+                    (Some(i), Some(images)) if *i < images.images.len() => {
+                        images.images[*i].add(sp, &box_filter, width as u32, height, origin)
+                    }
+                    _ => {}
+                }
             }
         }
     }
@@ -270,6 +283,12 @@ pub fn new_film(settings: &RenderSettings) -> Result<Film, FilmAllocError> {
     if settings.integrator.kind.splats() {
         let (fw, fh) = settings.resolution;
         film = film.try_with_splats(fw as u64 * fh as u64)?;
+        if settings.integrator.kind == IntegratorKind::Bdpt
+            && settings.integrator.strategy_images != StrategyImageKind::Off
+        {
+            let pixels = film.pixels.len();
+            film.strategies = Some(StrategyImages::new(settings.integrator.max_depth, pixels, fw as u64 * fh as u64));
+        }
     }
     Ok(film)
 }
@@ -293,6 +312,9 @@ fn wavefront_band(pass: &Pass, band: usize, pixels: &mut [Pixel]) -> Stats {
     let pixel_at = |i: usize| (x0 + (i % width) as u32, y0 + (band * BAND_ROWS + i / width) as u32);
     wavefront::render_band(&job, pixel_at, pass.range.clone(), pixels)
 }
+/// A splat a band made, and the strategy image it alone belongs to
+/// ([`StrategyImages::index`]; `None`: the main image).
+type BandSplat = (Splat, Option<usize>);
 
 /// Samples `pass.range` of every pixel of band `band` (its pixels, geometry buffers and
 /// spectral sink), or each adaptive pixel's planned samples.
@@ -302,7 +324,7 @@ fn render_band<S: SpectralSink>(
     pixels: &mut [Pixel],
     mut aov_pixels: Option<&mut [AovPixel]>,
     mut adaptive: Option<&mut [AdaptivePixel]>,
-    mut splats: Option<&mut Vec<Splat>>,
+    mut splats: Option<&mut Vec<BandSplat>>,
     mut spectral: S,
 ) -> Stats {
     let Pass {
@@ -328,7 +350,7 @@ fn render_band<S: SpectralSink>(
             s,
             settings.seed,
         );
-        (c.lambdas, c.filter_weight, c.ray, c.differentials)
+        (c.lambdas, c.filter_weight, c.ray, c.differentials, c.p_film)
     };
     // The sensor's response to an estimate, or `None` (counted) when it is not finite and is
     // dropped.
@@ -368,7 +390,7 @@ fn render_band<S: SpectralSink>(
             None => pass.range.clone(),
         };
         for s in samples {
-            let (mut lambdas, weight, ray, diff) = start(&mut sampler, &spectral, (x, y), s);
+            let (mut lambdas, weight, ray, diff, p_film) = start(&mut sampler, &spectral, (x, y), s);
             let diff = diff.as_ref();
             let mut visible = None;
             let record = aov_pixels.is_some().then_some(&mut visible);
@@ -391,7 +413,8 @@ fn render_band<S: SpectralSink>(
                     ) * r.weight;
                     for sp in sample_splats.drain(..) {
                         if let Some(xyz) = respond(&mut stats, (x, y), s, &(sp.l * r.weight), &sp.lambdas) {
-                            list.push(Splat { p_raster: sp.p_raster, xyz });
+                            let strategy = sp.strategy.map(|(s, t)| StrategyImages::index(s, t));
+                            list.push((Splat { p_raster: sp.p_raster.unwrap_or(p_film), xyz }, strategy));
                         }
                     }
                     l

@@ -541,6 +541,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         let meta = image_meta(&job, done - range.start, elapsed);
         let opts = WriteOptions { window, exr_sample: job.exr_sample, meta, ..Default::default() };
         write_film_image(&film, job.space, &job.output, &opts, job.write_aov)?;
+        super::render_job::write_strategy_images(&film, job.space, &job.output, &opts)?;
         denoise_with = Some(opts);
     }
     if ckpt_every.is_some() {

@@ -2,7 +2,7 @@
 //! image written from a film, and the figures of `--stats-json`. Shared by the uniform and the
 //! adaptive render.
 
-use crate::film::Film;
+use crate::film::{Film, StrategyImages};
 use crate::image::{Chromaticities, ExrSample, FileFormat, ImageMeta, WriteOptions};
 use crate::integrator::Stats;
 use crate::pbrt::InputStamp;
@@ -86,6 +86,19 @@ pub(crate) fn write_film_image(
         None => crate::image::write_with(path, &film.to_image(space)?, opts),
     };
     written.with_context(|| format!("writing {}", path.display()))
+}
+
+/// Writes the film's strategy images, if it records them, beside `output` under pbrt-v4's
+/// names (`bdpt_d01_s02_t01.exr`, …), as OpenEXR.
+pub(crate) fn write_strategy_images(film: &Film, space: &ColorSpace, output: &Path, opts: &WriteOptions) -> Result<()> {
+    let Some(images) = &film.strategies else { return Ok(()) };
+    let dir = output.parent().unwrap_or(Path::new(""));
+    for (depth, s, t) in images.strategies() {
+        let path = dir.join(StrategyImages::file_name(depth, s, t));
+        let image = film.strategy_film(s, t).expect("a recorded strategy").to_image(space)?;
+        crate::image::write_with(&path, &image, opts).with_context(|| format!("writing {}", path.display()))?;
+    }
+    Ok(())
 }
 
 /// What the image of a render of `job` says about itself: its colour space, the samples per

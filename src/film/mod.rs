@@ -7,12 +7,14 @@ mod adaptive;
 pub mod gbuffer;
 pub mod spectral;
 mod splat;
+mod strategy_images;
 mod visible_surface;
 
 pub use adaptive::AdaptivePixel;
 pub use gbuffer::{AovPixel, AovSettings, AovSpace};
 pub use spectral::{SpectralSettings, SpectralSums};
 pub use splat::{Splat, SplatBuffer};
+pub use strategy_images::StrategyImages;
 pub use visible_surface::VisibleSurface;
 
 use crate::image::Image;
@@ -133,6 +135,9 @@ pub struct Film {
     /// Light splatted onto the film by estimators that trace from the lights, when the
     /// integrator does ([`SplatBuffer`]).
     pub splats: Option<SplatBuffer>,
+    /// The bidirectional estimator's per-strategy images, when they are asked for. They hold
+    /// the samples of one render call: parts and checkpoints do not carry them.
+    pub strategies: Option<StrategyImages>,
 }
 
 /// A film (or a buffer of its size) that does not fit in memory.
@@ -157,6 +162,7 @@ impl Film {
             aov: None,
             spectral: None,
             splats: None,
+            strategies: None,
         }
     }
 
@@ -166,7 +172,7 @@ impl Film {
         let mut pixels = Vec::new();
         pixels.try_reserve_exact(n).map_err(|_| Self::alloc_error(width, height, n * size_of::<Pixel>()))?;
         pixels.resize(n, Pixel::default());
-        Ok(Self { width, height, pixels, aov: None, spectral: None, splats: None })
+        Ok(Self { width, height, pixels, aov: None, spectral: None, splats: None, strategies: None })
     }
 
     /// This film with a splat buffer, for an image of `full_pixels` pixels of which the film may
@@ -258,6 +264,15 @@ impl Film {
             None => mean.as_vec3(),
             Some(s) => (mean + s.xyz(i)).as_vec3(),
         }
+    }
+
+    /// The image of bidirectional strategy (s, t) as a film of its own (its light held as
+    /// splats), when the film records strategy images.
+    pub fn strategy_film(&self, s: usize, t: usize) -> Option<Film> {
+        let buffer = self.strategies.as_ref()?.images.get(StrategyImages::index(s, t))?;
+        let mut film = Film::new(self.width, self.height);
+        film.splats = Some(buffer.clone());
+        Some(film)
     }
 
     /// Total samples taken over all pixels.

@@ -7,6 +7,13 @@
 //! (t = 1) land at film positions of their own and are splatted; s = 1 samples a new point on a
 //! light, t = 1 a new point on the lens.
 //!
+//! Lights at infinity (Veach 1997 §10.3.5; PBR 3rd ed. §16.3): a light subpath from one starts
+//! on a disk across the scene's bounding sphere ([`Light::sample_le`]); a camera subpath that
+//! escapes the scene ends at a vertex at infinity that sees every infinite light at once. The
+//! densities at such a vertex stay per solid angle (the direction is the vertex), the light's
+//! origin density is Σ over the infinite lights of (choice probability × direction density),
+//! and the next vertex's area density is that of the disk, 1/(π r²), times its cosine.
+//!
 //! Surfaces only: scenes with media or subsurface materials are given to the volumetric path
 //! tracer ([`Integrator::for_scene`]). No Russian roulette (as pbrt-v4's): subpaths end at the
 //! depth limit or where a BSDF samples nothing.
@@ -14,26 +21,30 @@
 use super::bdpt_weights::{balance_weight, VertexDensity};
 use super::interface::Integrator;
 use super::lightpath::light_point_error;
-use super::state::{next_surface, PathState};
+use super::options::StrategyImageKind;
+use super::state::{escaped_radiance, next_surface, PathState};
 use super::{SplatSample, Stats};
 use crate::bsdf::{Bsdf, TransportMode};
 use crate::camera::Camera;
 use crate::geometry::Ray;
-use crate::light::Light;
+use crate::light::{Light, LightSampleContext};
 use crate::math::offset_ray_origin;
 use crate::sampling::{PssStream, Sampler};
 use crate::scene::{LightId, Scene, SurfaceInteraction};
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 use crate::texture::RayDifferentials;
-use glam::{Vec2, Vec3};
+use glam::{Vec2, Vec3, Vec4};
 
 /// What a subpath vertex is.
 #[derive(Clone, Copy, Debug, PartialEq)]
 enum Kind {
     /// The point on the lens.
     Camera,
-    /// The point on a light that starts the light subpath.
+    /// The point on a light that starts the light subpath (for a light at infinity, the point
+    /// its ray starts from).
     Light(LightId),
+    /// Where a camera subpath escaped the scene: light from every infinite light.
+    Sky,
     /// A surface the subpath scattered at.
     Surface,
 }
@@ -47,8 +58,11 @@ struct Vertex<'s> {
     ng: Vec3,
     /// Shading normal.
     ns: Vec3,
-    /// Unit direction toward the previous vertex of its subpath.
+    /// Unit direction toward the previous vertex of its subpath; at infinity, the direction
+    /// its light travels into the scene.
     wo: Vec3,
+    /// A vertex at infinity: a light at infinity, or the sky.
+    infinite: bool,
     si: Option<SurfaceInteraction<'s>>,
     bsdf: Option<Bsdf>,
     /// Radiance for camera subpaths, importance for light subpaths.
@@ -71,6 +85,7 @@ impl<'s> Vertex<'s> {
             ng: n,
             ns: n,
             wo: Vec3::ZERO,
+            infinite: false,
             si: None,
             bsdf: None,
             mode,
@@ -81,11 +96,30 @@ impl<'s> Vertex<'s> {
         }
     }
 
+    /// A vertex at infinity from which light travels along the unit direction `d`.
+    fn at_infinity(mut self, d: Vec3) -> Self {
+        self.infinite = true;
+        self.wo = d;
+        self
+    }
+
     /// True for vertices that connections may end at.
     fn connectible(&self) -> bool {
         match self.kind {
             Kind::Surface => !self.delta && self.bsdf.as_ref().is_some_and(|b| b.flags().is_non_specular()),
+            Kind::Sky => false,
             _ => true,
+        }
+    }
+
+    /// Unit direction from this vertex toward `other` (either may be at infinity).
+    fn dir_to(&self, other: &Vertex) -> Vec3 {
+        if other.infinite {
+            -other.wo
+        } else if self.infinite {
+            self.wo
+        } else {
+            (other.p - self.p).normalize()
         }
     }
 
@@ -97,21 +131,24 @@ impl<'s> Vertex<'s> {
         match self.kind {
             Kind::Light(id) => Some((id, &scene.lights()[id as usize])),
             Kind::Surface => self.si.as_ref().and_then(|si| si.area_light()),
-            Kind::Camera => None,
+            Kind::Camera | Kind::Sky => None,
         }
     }
 
     /// BSDF value toward `next` (f only, no cosine).
     fn f(&self, next: &Vertex) -> SampledSpectrum {
-        let wi = (next.p - self.p).normalize();
         match &self.bsdf {
-            Some(b) => b.f(self.wo, wi, self.mode),
+            Some(b) => b.f(self.wo, self.dir_to(next), self.mode),
             None => SampledSpectrum::zero(),
         }
     }
 
-    /// Area density at `next` of the solid-angle density `pdf` of a direction from here.
+    /// Area density at `next` of the solid-angle density `pdf` of a direction from here; at a
+    /// vertex at infinity the density stays per solid angle.
     fn to_area(&self, pdf: f32, next: &Vertex) -> f32 {
+        if next.infinite {
+            return pdf;
+        }
         let w = next.p - self.p;
         let d2 = w.length_squared();
         if d2 == 0.0 {
@@ -127,31 +164,46 @@ impl<'s> Vertex<'s> {
     /// Area density with which this vertex, reached from `prev`, samples `next` (pbrt
     /// `Vertex::Pdf`); a light vertex samples it by its emission.
     fn pdf(&self, scene: &Scene, camera: &Camera, time: f32, prev: Option<&Vertex>, next: &Vertex) -> f32 {
-        let wn = (next.p - self.p).normalize();
+        let wn = self.dir_to(next);
         let pdf = match self.kind {
-            Kind::Light(_) => return self.pdf_light(scene, next),
+            Kind::Light(_) | Kind::Sky => return self.pdf_light(scene, next),
             Kind::Camera => camera.pdf_we(self.p, wn, time).1,
             Kind::Surface => match (&self.bsdf, prev) {
-                (Some(b), Some(prev)) => b.pdf((prev.p - self.p).normalize(), wn, self.mode),
+                (Some(b), Some(prev)) => b.pdf(self.dir_to(prev), wn, self.mode),
                 _ => 0.0,
             },
         };
         self.to_area(pdf, next)
     }
 
-    /// Area density at `next` of this vertex, on a light, emitting toward it.
+    /// Area density at `next` of this vertex, on a light, emitting toward it. From infinity
+    /// that is the density of the disk the light's rays start on, 1/(π r²), projected onto
+    /// `next` (pbrt's planar density of infinite lights).
     fn pdf_light(&self, scene: &Scene, next: &Vertex) -> f32 {
+        if self.infinite {
+            let cos = if next.ng == Vec3::ZERO { 1.0 } else { next.ng.dot(self.wo).abs() };
+            return scene.sphere().disk_pdf() * cos;
+        }
         let Some((_, light)) = self.light(scene) else { return 0.0 };
-        let w = (next.p - self.p).normalize();
-        self.to_area(light.pdf_le(self.ng, w).1, next)
+        let w = self.dir_to(next);
+        self.to_area(light.pdf_le(self.ng, w, &scene.sphere()).1, next)
     }
 
     /// Density with which a light subpath starts at this vertex, on a light: the light's
-    /// choice probability times its point's area density.
+    /// choice probability times its point's area density. From infinity it is a density of
+    /// directions: Σ over the infinite lights of choice probability × the density of their
+    /// emitted direction (pbrt's `InfiniteLightDensity`), as a vertex at infinity stands for
+    /// all of them.
     fn pdf_light_origin(&self, scene: &Scene, next: &Vertex) -> f32 {
+        let sphere = scene.sphere();
+        if self.infinite {
+            return scene
+                .infinite_lights()
+                .map(|(id, light)| scene.emitter_pmf(id) * light.pdf_le(Vec3::ZERO, self.wo, &sphere).1)
+                .sum();
+        }
         let Some((id, light)) = self.light(scene) else { return 0.0 };
-        let w = (next.p - self.p).normalize();
-        scene.emitter_pmf(id) * light.pdf_le(self.ng, w).0
+        scene.emitter_pmf(id) * light.pdf_le(self.ng, self.dir_to(next), &sphere).0
     }
 }
 
@@ -160,6 +212,9 @@ impl<'s> Vertex<'s> {
 fn subpath_capacity(max_depth: u32) -> usize {
     (max_depth as usize).saturating_add(2).min(1 << 16)
 }
+
+/// No contribution.
+const NOTHING: (SampledSpectrum, f32) = (SampledSpectrum(Vec4::ZERO), 0.0);
 
 impl Integrator {
     /// Extends `path` (holding its first vertex) by sampling BSDFs from `ray`, whose direction
@@ -183,7 +238,15 @@ impl Integrator {
         // Depth and regularisation bookkeeping, as the path loops keep it.
         let mut state = PathState::new(ray.o);
         while path.len() < max_vertices {
-            let Some(si) = next_surface(scene, ray, stats) else { break };
+            let Some(si) = next_surface(scene, ray, stats) else {
+                // A camera subpath that escapes ends at the sky, if there is one.
+                if mode == TransportMode::Radiance && scene.infinite_lights().next().is_some() {
+                    let sky = Vertex::point(Kind::Sky, ray.o, Vec3::ZERO, mode, beta, pdf_fwd)
+                        .at_infinity(-ray.d.normalize());
+                    path.push(sky);
+                }
+                break;
+            };
             state.depth += 1;
             let bsdf = self.vertex_bsdf(&si, w, differentials.filter(|_| mode == TransportMode::Radiance), &state);
             let prev = path.last().expect("the walk starts from a vertex");
@@ -193,6 +256,7 @@ impl Integrator {
                 ng: si.shading.ng,
                 ns: bsdf.as_ref().map_or(si.shading.ns, Bsdf::ns),
                 wo: si.wo,
+                infinite: false,
                 si: None,
                 bsdf: None,
                 mode,
@@ -276,38 +340,7 @@ impl Integrator {
         }
         // The light subpath.
         let mut light_path: Vec<Vertex> = Vec::with_capacity(capacity);
-        let emitter = scene.sample_emitter(sampler.get_1d());
-        let (u_pos, u_dir) = (sampler.get_2d(), sampler.get_2d());
-        if let Some((id, light, pmf, _)) = emitter {
-            if let Some(les) = light.sample_le(u_pos, u_dir, w) {
-                let p0 = pmf * les.pdf_pos;
-                light_path.push(Vertex::point(
-                    Kind::Light(id),
-                    les.p,
-                    les.n,
-                    TransportMode::Importance,
-                    les.le / p0,
-                    p0,
-                ));
-                let cos = if les.n == Vec3::ZERO { 1.0 } else { les.n.dot(les.d).abs() };
-                let beta = les.le * (cos / (p0 * les.pdf_dir));
-                let origin = offset_ray_origin(les.p, light_point_error(les.p), les.n, les.d);
-                let ray = Ray::new(origin, les.d).at_time(time);
-                self.subpath_walk(
-                    scene,
-                    ray,
-                    beta,
-                    les.pdf_dir,
-                    TransportMode::Importance,
-                    capacity - 1,
-                    &mut light_path,
-                    None,
-                    w,
-                    sampler,
-                    stats,
-                );
-            }
-        }
+        self.light_subpath(scene, time, capacity - 1, &mut light_path, w, sampler, stats);
 
         let mut l = SampledSpectrum::zero();
         let max_depth = self.max_depth as usize;
@@ -319,22 +352,77 @@ impl Integrator {
                     continue;
                 }
                 let light = &light_path[..s.min(light_path.len())];
-                if t > 1 {
-                    l += self.connect(scene, camera, time, light, s, &cam[..t], w, sampler, stats);
+                let (p_raster, c, weight) = if t > 1 {
+                    let (c, weight) = self.connect(scene, camera, time, light, s, &cam[..t], w, sampler, stats);
+                    l += c * weight;
+                    (None, c, weight)
                 } else if light.len() == s {
-                    if let Some((p_raster, c)) = self.connect_to_lens(scene, camera, time, light, &cam, sampler, stats)
-                    {
-                        splats.push(SplatSample { p_raster, l: c, lambdas: *w });
-                    }
+                    let Some((p, c, weight)) = self.connect_to_lens(scene, camera, time, light, &cam, sampler, stats)
+                    else {
+                        continue;
+                    };
+                    splats.push(SplatSample { p_raster: Some(p), l: c * weight, lambdas: *w, strategy: None });
+                    (Some(p), c, weight)
+                } else {
+                    continue;
+                };
+                let image = match self.strategy_images {
+                    StrategyImageKind::Off => continue,
+                    StrategyImageKind::Unweighted => c,
+                    StrategyImageKind::Weighted => c * weight,
+                };
+                if weight > 0.0 && !image.is_black() {
+                    splats.push(SplatSample { p_raster, l: image, lambdas: *w, strategy: Some((s, t)) });
                 }
             }
         }
         l
     }
 
-    /// The weighted contribution of strategy (s, t ≥ 2): the light subpath's first s vertices
-    /// `light` joined to the camera subpath `cam` (t vertices); s = 1 samples a new point on a
-    /// light (and `light` may then be empty).
+    /// A light subpath of at most `max_vertices` vertices into the empty `light_path`: a light
+    /// chosen in proportion to power, a point and direction on it (from a disk of the scene's
+    /// bounding sphere for a light at infinity), and the walk from there. It stays empty when
+    /// no light emits there.
+    #[allow(clippy::too_many_arguments)]
+    fn light_subpath<'s>(
+        &self,
+        scene: &'s Scene,
+        time: f32,
+        max_vertices: usize,
+        light_path: &mut Vec<Vertex<'s>>,
+        w: &mut SampledWavelengths,
+        sampler: &mut Sampler,
+        stats: &mut Stats,
+    ) {
+        let emitter = scene.sample_emitter(sampler.get_1d());
+        let (u_pos, u_dir) = (sampler.get_2d(), sampler.get_2d());
+        let Some((id, light, pmf, _)) = emitter else { return };
+        let Some(les) = light.sample_le(u_pos, u_dir, &scene.sphere(), w) else { return };
+        let p0 = pmf * les.pdf_pos;
+        let mut x0 = Vertex::point(Kind::Light(id), les.p, les.n, TransportMode::Importance, les.le / p0, p0);
+        if light.is_at_infinity() {
+            x0 = x0.at_infinity(les.d);
+        }
+        light_path.push(x0);
+        let cos = if les.n == Vec3::ZERO { 1.0 } else { les.n.dot(les.d).abs() };
+        let beta = les.le * (cos / (p0 * les.pdf_dir));
+        let origin = offset_ray_origin(les.p, light_point_error(les.p), les.n, les.d);
+        let ray = Ray::new(origin, les.d).at_time(time);
+        let mode = TransportMode::Importance;
+        self.subpath_walk(scene, ray, beta, les.pdf_dir, mode, max_vertices, light_path, None, w, sampler, stats);
+        if light_path[0].infinite {
+            // From infinity the first vertex is a direction and the second a point of the
+            // disk's density projected onto it.
+            if let Some(x1) = light_path.get_mut(1) {
+                x1.pdf_fwd = les.pdf_pos * if x1.ng == Vec3::ZERO { 1.0 } else { x1.ng.dot(les.d).abs() };
+            }
+            light_path[0].pdf_fwd = light_path[0].pdf_light_origin(scene, &light_path[0]);
+        }
+    }
+
+    /// The contribution of strategy (s, t ≥ 2) and its MIS weight: the light subpath's first s
+    /// vertices `light` joined to the camera subpath `cam` (t vertices); s = 1 samples a new
+    /// point on a light (and `light` may then be empty).
     #[allow(clippy::too_many_arguments)]
     fn connect(
         &self,
@@ -347,36 +435,40 @@ impl Integrator {
         w: &SampledWavelengths,
         sampler: &mut Sampler,
         stats: &mut Stats,
-    ) -> SampledSpectrum {
+    ) -> (SampledSpectrum, f32) {
         let t = cam.len();
         let pt = &cam[t - 1];
         if s == 0 {
-            // The camera subpath found a light.
-            let Some(si) = pt.si.as_ref() else { return SampledSpectrum::zero() };
-            if si.area_light().is_none() {
-                return SampledSpectrum::zero();
-            }
-            let le = si.emitted(w);
+            // The camera subpath found a light: a surface's, or the sky's.
+            let le = match (pt.kind, pt.si.as_ref()) {
+                (Kind::Sky, _) => escaped_radiance(scene, &Ray::new(pt.p, -pt.wo), w),
+                (_, Some(si)) if si.area_light().is_some() => si.emitted(w),
+                _ => return NOTHING,
+            };
             if le.is_black() {
-                return SampledSpectrum::zero();
+                return NOTHING;
             }
-            let weight = self.mis_weight(scene, camera, time, light, 0, cam, None, None);
-            return pt.beta * le * weight;
+            return (pt.beta * le, self.mis_weight(scene, camera, time, light, 0, cam, None, None));
         }
         if !pt.connectible() {
-            return SampledSpectrum::zero();
+            return NOTHING;
         }
         if s == 1 {
             // A new point on a light, chosen and sampled as light subpaths start.
             let Some((id, light_src, pmf, _)) = scene.sample_emitter(sampler.get_1d()) else {
-                return SampledSpectrum::zero();
+                return NOTHING;
             };
             let u_pos = sampler.get_2d();
-            let Some(les) = light_src.sample_le(u_pos, Vec2::splat(0.5), w) else { return SampledSpectrum::zero() };
+            if light_src.is_at_infinity() {
+                return self.connect_to_infinity(scene, camera, time, cam, (id, light_src, pmf), u_pos, w, stats);
+            }
+            let Some(les) = light_src.sample_le(u_pos, Vec2::splat(0.5), &scene.sphere(), w) else {
+                return NOTHING;
+            };
             let to_light = les.p - pt.p;
             let d2 = to_light.length_squared();
             if d2 == 0.0 {
-                return SampledSpectrum::zero();
+                return NOTHING;
             }
             let wi = to_light / d2.sqrt();
             let le = light_src.emitted_toward(&les, -wi, w);
@@ -385,42 +477,74 @@ impl Integrator {
             let f = pt.bsdf.as_ref().map_or(SampledSpectrum::zero(), |b| b.f(pt.wo, wi, pt.mode));
             let c = pt.beta * f * le * (pt.ns.dot(wi).abs() * cos_light / (d2 * p0));
             if c.is_black() {
-                return SampledSpectrum::zero();
+                return NOTHING;
             }
             stats.rays += 1;
             let si = pt.si.as_ref().expect("a surface vertex");
             if scene.occluded(&si.spawn_ray_to(les.p)) {
-                return SampledSpectrum::zero();
+                return NOTHING;
             }
             let vertex = Vertex::point(Kind::Light(id), les.p, les.n, TransportMode::Importance, le / p0, p0);
-            let weight = self.mis_weight(scene, camera, time, light, 1, cam, Some(&vertex), None);
-            return c * weight;
+            return (c, self.mis_weight(scene, camera, time, light, 1, cam, Some(&vertex), None));
         }
         let qs = &light[s - 1];
         if !qs.connectible() {
-            return SampledSpectrum::zero();
+            return NOTHING;
         }
         let d = pt.p - qs.p;
         let d2 = d.length_squared();
         if d2 == 0.0 {
-            return SampledSpectrum::zero();
+            return NOTHING;
         }
         let wd = d / d2.sqrt();
         let g = qs.ns.dot(wd).abs() * pt.ns.dot(wd).abs() / d2;
         let c = qs.beta * qs.f(pt) * pt.f(qs) * pt.beta * g;
         if c.is_black() {
-            return SampledSpectrum::zero();
+            return NOTHING;
         }
         stats.rays += 1;
         let si = pt.si.as_ref().expect("a surface vertex");
         if scene.occluded(&si.spawn_ray_to(qs.p)) {
-            return SampledSpectrum::zero();
+            return NOTHING;
         }
-        c * self.mis_weight(scene, camera, time, light, s, cam, None, None)
+        (c, self.mis_weight(scene, camera, time, light, s, cam, None, None))
+    }
+
+    /// Strategy s = 1 with a light at infinity `light` (its id, the light and the probability
+    /// of choosing it): a direction toward it sampled from the camera subpath's last vertex as
+    /// light sampling does, with `u`: the contribution and its MIS weight.
+    #[allow(clippy::too_many_arguments)]
+    fn connect_to_infinity(
+        &self,
+        scene: &Scene,
+        camera: &Camera,
+        time: f32,
+        cam: &[Vertex],
+        (id, light, pmf): (LightId, &Light, f32),
+        u: Vec2,
+        w: &SampledWavelengths,
+        stats: &mut Stats,
+    ) -> (SampledSpectrum, f32) {
+        let pt = &cam[cam.len() - 1];
+        let (Some(si), Some(bsdf)) = (pt.si.as_ref(), pt.bsdf.as_ref()) else { return NOTHING };
+        let ctx = LightSampleContext::surface(pt.p, pt.ns);
+        let Some(ls) = light.sample_li(&ctx, u, w).filter(|ls| ls.pdf > 0.0) else { return NOTHING };
+        let c = pt.beta * bsdf.f(pt.wo, ls.wi, pt.mode) * ls.li * (pt.ns.dot(ls.wi).abs() / (pmf * ls.pdf));
+        if c.is_black() {
+            return NOTHING;
+        }
+        stats.rays += 1;
+        if scene.occluded(&si.spawn_ray(ls.wi)) {
+            return NOTHING;
+        }
+        let mut vertex =
+            Vertex::point(Kind::Light(id), pt.p, Vec3::ZERO, TransportMode::Importance, c, 0.0).at_infinity(-ls.wi);
+        vertex.pdf_fwd = vertex.pdf_light_origin(scene, pt);
+        (c, self.mis_weight(scene, camera, time, &[], 1, cam, Some(&vertex), None))
     }
 
     /// Strategy (s ≥ 2, t = 1): the light subpath's last vertex connected to a new point on the
-    /// lens; its film position and weighted contribution.
+    /// lens; its film position, contribution and MIS weight.
     #[allow(clippy::too_many_arguments)]
     fn connect_to_lens(
         &self,
@@ -431,7 +555,7 @@ impl Integrator {
         cam: &[Vertex],
         sampler: &mut Sampler,
         stats: &mut Stats,
-    ) -> Option<(Vec2, SampledSpectrum)> {
+    ) -> Option<(Vec2, SampledSpectrum, f32)> {
         let qs = light.last()?;
         if !qs.connectible() || qs.kind != Kind::Surface {
             return None;
@@ -450,7 +574,7 @@ impl Integrator {
             Vertex::point(Kind::Camera, cs.p_lens, Vec3::ZERO, TransportMode::Radiance, SampledSpectrum::one(), 1.0);
         lens.ns = cs.n_lens;
         let weight = self.mis_weight(scene, camera, time, light, light.len(), &cam[..1], None, Some(&lens));
-        Some((cs.p_raster, c * weight))
+        Some((cs.p_raster, c, weight))
     }
 
     /// The balance-heuristic weight of joining the light subpath's first s vertices `light`
@@ -514,7 +638,7 @@ impl Integrator {
                 path[s - 2].from_camera = qs.pdf(scene, camera, time, Some(pt), qm);
             }
         }
-        // A light found by the camera subpath (s = 0) has a surface.
+        // A light found by the camera subpath (s = 0) has a surface or is the sky.
         let point_light = s > 0 && light_at(0).light(scene).is_some_and(|(_, l)| l.is_delta());
         balance_weight(&path, s, point_light)
     }
@@ -554,28 +678,19 @@ impl Integrator {
         sampler.start_stream(PssStream::Light);
         let mut light_path: Vec<Vertex> = Vec::with_capacity(s);
         if s > 0 {
-            let (id, light, pmf, _) = scene.sample_emitter(sampler.get_1d())?;
-            let (u_pos, u_dir) = (sampler.get_2d(), sampler.get_2d());
-            let les = light.sample_le(u_pos, u_dir, w)?;
-            let p0 = pmf * les.pdf_pos;
-            let mode = TransportMode::Importance;
-            light_path.push(Vertex::point(Kind::Light(id), les.p, les.n, mode, les.le / p0, p0));
-            let cos = if les.n == Vec3::ZERO { 1.0 } else { les.n.dot(les.d).abs() };
-            let beta = les.le * (cos / (p0 * les.pdf_dir));
-            let origin = offset_ray_origin(les.p, light_point_error(les.p), les.n, les.d);
-            let ray = Ray::new(origin, les.d).at_time(time);
-            self.subpath_walk(scene, ray, beta, les.pdf_dir, mode, s, &mut light_path, None, w, sampler, stats);
+            self.light_subpath(scene, time, s, &mut light_path, w, sampler, stats);
         }
         if light_path.len() != s {
             return None;
         }
         sampler.start_stream(PssStream::Connection);
         if t > 1 {
-            let l = self.connect(scene, camera, time, &light_path, s, &cam, w, sampler, stats);
+            let (c, weight) = self.connect(scene, camera, time, &light_path, s, &cam, w, sampler, stats);
+            let l = c * weight;
             (!l.is_black()).then_some((l, None))
         } else {
-            let (p, l) = self.connect_to_lens(scene, camera, time, &light_path, &cam, sampler, stats)?;
-            Some((l, Some(p)))
+            let (p, c, weight) = self.connect_to_lens(scene, camera, time, &light_path, &cam, sampler, stats)?;
+            Some((c * weight, Some(p)))
         }
     }
 }

@@ -21,6 +21,8 @@ pub struct CameraSample {
     pub ray: Option<CameraRay>,
     /// The camera ray's differentials, when `differentials` asked for them.
     pub differentials: Option<RayDifferentials>,
+    /// The film position [pixels, full image].
+    pub p_film: Vec2,
 }
 
 /// Sample `s` of pixel `(x, y)` (in the full image) for the render seed `seed`: positions
@@ -55,5 +57,5 @@ pub fn camera_sample(
     let ray = camera.sample_ray(p_film, u_lens, time);
     let differentials =
         differentials.zip(ray.as_ref()).and_then(|(f, r)| f.camera_ray_differentials(camera, &r.ray, p_film, u_lens));
-    CameraSample { lambdas, filter_weight, ray, differentials }
+    CameraSample { lambdas, filter_weight, ray, differentials, p_film }
 }

@@ -4,7 +4,7 @@
 //! [`Integrator`] from the render settings and call [`Integrator::li_camera`],
 //! [`Integrator::li`] or [`Integrator::irradiance`]; which loop runs is decided here.
 
-use super::options::{AmbientOcclusion, Mlt, SimplePath};
+use super::options::{AmbientOcclusion, Mlt, SimplePath, StrategyImageKind};
 use super::subsurface::SubsurfaceMethod;
 use super::{SplatSample, Stats};
 use crate::bsdf::{Bsdf, Diffuse};
@@ -38,6 +38,9 @@ pub enum IntegratorKind {
     /// `simplepath`: path tracing without MIS or Russian roulette (pbrt-v4
     /// `SimplePathIntegrator`).
     SimplePath,
+    /// `simplevolpath`: delta tracking at the hero wavelength, without light sampling (pbrt-v4
+    /// `SimpleVolPathIntegrator`).
+    SimpleVolPath,
     /// `lightpath`: light tracing, every light-path vertex connected to the camera and splatted
     /// onto the film (pbrt-v4 `LightPathIntegrator`).
     LightPath,
@@ -55,6 +58,7 @@ crate::named::name_table!(IntegratorKind, "integrator", {
     "ambientocclusion" => IntegratorKind::AmbientOcclusion,
     "randomwalk" => IntegratorKind::RandomWalk,
     "simplepath" => IntegratorKind::SimplePath,
+    "simplevolpath" => IntegratorKind::SimpleVolPath,
     "lightpath" => IntegratorKind::LightPath,
     "bdpt" => IntegratorKind::Bdpt,
     "mlt" => IntegratorKind::Mlt,
@@ -113,6 +117,8 @@ pub struct Integrator {
     pub simple: SimplePath,
     /// The parameters of `mlt`.
     pub mlt: Mlt,
+    /// `bdpt`'s per-strategy images.
+    pub strategy_images: StrategyImageKind,
 }
 
 impl Default for Integrator {
@@ -129,13 +135,16 @@ impl Default for Integrator {
             ao: AmbientOcclusion::default(),
             simple: SimplePath::default(),
             mlt: Mlt::default(),
+            strategy_images: StrategyImageKind::Off,
         }
     }
 }
 
 impl Integrator {
     /// The integrator a scene file asks for (its `Integrator` directive's type, "maxdepth",
-    /// "rrthreshold" and "regularize"), prism's defaults for what the file leaves out.
+    /// "rrthreshold", "regularize", the small estimators' parameters and `bdpt`'s
+    /// "visualizestrategies" and "visualizeweights"), prism's defaults for what the file leaves
+    /// out.
     pub fn from_file(file: &crate::pbrt::FileSettings) -> Self {
         let d = Self::default();
         Self {
@@ -167,6 +176,11 @@ impl Integrator {
                 }),
                 sigma: file.mlt_sigma.map_or(d.mlt.sigma, |s| if s.is_finite() { s.abs() } else { d.mlt.sigma }),
             },
+            strategy_images: match (file.visualize_weights, file.visualize_strategies) {
+                (Some(true), _) => StrategyImageKind::Weighted,
+                (_, Some(true)) => StrategyImageKind::Unweighted,
+                _ => StrategyImageKind::Off,
+            },
             ..d
         }
     }
@@ -176,10 +190,9 @@ impl Integrator {
     /// step through — participating media, or a subsurface material a path may walk (the random
     /// walk, or diffusion on an optically thin object). A scene without either gives `volpath`
     /// nothing to do but the path tracer's work; `path` cannot step through media (pbrt-v4's
-    /// `path` ignores them). The estimators that start paths at the lights need every light to
-    /// start paths ([`crate::light::Light::emits_paths`]: not lights at infinity) and a camera
-    /// with an importance function (a perspective one without a lens system); they step
-    /// through no media. Where they cannot run, the path tracer (or, with media, the volumetric
+    /// `path` ignores them). The estimators that start paths at the lights need a camera with
+    /// an importance function (a perspective one without a lens system); they step through no
+    /// media. Where they cannot run, the path tracer (or, with media, the volumetric
     /// one) renders instead ([`Self::fallback_reason`] says why).
     pub fn for_scene(self, scene: &Scene) -> Self {
         let walks =
@@ -206,8 +219,6 @@ impl Integrator {
     pub fn fallback_reason(scene: &Scene) -> Option<&'static str> {
         if scene.has_media() || scene.has_subsurface() {
             Some("they do not step through participating media or subsurface materials")
-        } else if !scene.lights_emit_paths() {
-            Some("a light at infinity (distant, infinite) or an image-projecting light cannot start light paths")
         } else if !scene.camera.camera((1, 1)).has_importance() {
             Some("only a perspective camera without a lens system has an importance function here")
         } else {
@@ -249,6 +260,7 @@ impl Integrator {
             }
             IntegratorKind::RandomWalk => self.random_walk(scene, ray, differentials, visible, w, sampler, stats),
             IntegratorKind::SimplePath => self.simple_path(scene, ray, differentials, visible, w, sampler, stats),
+            IntegratorKind::SimpleVolPath => self.simple_volpath(scene, ray, w, sampler, stats),
             // lightpath, bdpt and mlt estimate without their splats (`li_splatting`) as the path
             // tracer.
             IntegratorKind::Path | IntegratorKind::LightPath | IntegratorKind::Bdpt | IntegratorKind::Mlt => {

@@ -6,8 +6,10 @@
 //! (M / N) Σ h_j W_e β f |cos θ| / p(lens point), M the image's pixels, N the light paths.
 //!
 //! It sees what path tracing sees but for specular chains ending at the camera (a mirror or
-//! glass seen directly shows nothing of the light it reflects or refracts) and point or
-//! pinhole-camera singularities: its strengths are caustics seen on diffuse surfaces.
+//! glass seen directly shows nothing of the light it reflects or refracts), point or
+//! pinhole-camera singularities and lights at infinity seen directly (their paths start on a
+//! disk outside the scene, [`crate::light::Light::sample_le`]): its strengths are caustics seen
+//! on diffuse surfaces.
 
 use super::interface::Integrator;
 use super::state::{next_surface, PathState};
@@ -43,14 +45,16 @@ impl Integrator {
     ) {
         let Some((_, light, pmf, _)) = scene.sample_emitter(sampler.get_1d()) else { return };
         let (u_pos, u_dir) = (sampler.get_2d(), sampler.get_2d());
-        let Some(les) = light.sample_le(u_pos, u_dir, w) else { return };
+        let Some(les) = light.sample_le(u_pos, u_dir, &scene.sphere(), w) else { return };
         let cos_light = if les.n == Vec3::ZERO { 1.0 } else { les.n.dot(les.d).abs() };
 
         // The light seen directly: its point connected to the lens. Only lights with a surface
         // (a point light seen directly is a point of infinite radiance, which neither pbrt-v4's
-        // `lightpath` nor the other estimators show).
+        // `lightpath` nor the other estimators show; a light at infinity starts its paths on a
+        // disk that is no part of the scene, and is not seen either, as in pbrt-v4).
         let u_lens = sampler.get_2d();
-        if let Some(cs) = camera.sample_wi(les.p, u_lens, time).filter(|_| les.n != Vec3::ZERO) {
+        let seen = les.n != Vec3::ZERO && !light.is_at_infinity();
+        if let Some(cs) = camera.sample_wi(les.p, u_lens, time).filter(|_| seen) {
             let le = light.emitted_toward(&les, cs.wi, w);
             let cos = les.n.dot(cs.wi).abs();
             if !le.is_black() {
@@ -58,7 +62,7 @@ impl Integrator {
                 let shadow = Ray::segment(cs.p_lens, les.p - cs.p_lens, 1.0 - 1e-4).at_time(time);
                 if !scene.occluded(&shadow) {
                     let l = le * (cs.we * cos / (pmf * les.pdf_pos * cs.pdf));
-                    splats.push(SplatSample { p_raster: cs.p_raster, l, lambdas: *w });
+                    splats.push(SplatSample { p_raster: Some(cs.p_raster), l, lambdas: *w, strategy: None });
                 }
             }
         }
@@ -84,7 +88,8 @@ impl Integrator {
                         stats.rays += 1;
                         if !scene.occluded(&si.spawn_ray_to(cs.p_lens)) {
                             let l = state.beta * f * (cs.we / cs.pdf);
-                            splats.push(SplatSample { p_raster: cs.p_raster, l, lambdas: *w });
+                            let p_raster = Some(cs.p_raster);
+                            splats.push(SplatSample { p_raster, l, lambdas: *w, strategy: None });
                         }
                     }
                 }

@@ -15,6 +15,7 @@ mod options;
 mod path;
 mod random_walk;
 mod simple_path;
+mod simple_volpath;
 mod state;
 pub mod subsurface;
 mod transmittance;
@@ -27,7 +28,7 @@ pub mod wavefront;
 pub use camera_sample::{camera_sample, CameraSample};
 pub use interface::{DirectStrategy, Integrator, IntegratorKind, UNBOUNDED_DEPTH};
 pub use mlt::MltFilm;
-pub use options::{AmbientOcclusion, Mlt, SimplePath};
+pub use options::{AmbientOcclusion, Mlt, SimplePath, StrategyImageKind};
 pub use subsurface::SubsurfaceMethod;
 
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
@@ -36,12 +37,15 @@ use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 /// the render loop turns it into the sensor's response at those wavelengths and splats it.
 #[derive(Clone, Copy, Debug)]
 pub struct SplatSample {
-    /// Position in the full image [pixels].
-    pub p_raster: glam::Vec2,
+    /// Position in the full image [pixels]; `None`: the camera sample's own.
+    pub p_raster: Option<glam::Vec2>,
     /// The contribution [the camera's measurement per path].
     pub l: SampledSpectrum,
     /// The wavelengths it was carried at (a dispersive interface may have ended all but one).
     pub lambdas: SampledWavelengths,
+    /// The bidirectional strategy (s, t) whose image alone it belongs to
+    /// ([`crate::film::StrategyImages`]); `None`: the main image.
+    pub strategy: Option<(usize, usize)>,
 }
 
 /// Counters gathered while rendering (summed over threads).

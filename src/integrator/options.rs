@@ -1,5 +1,6 @@
-//! The parameters of pbrt-v4's small estimators (`ambientocclusion`, `simplepath`), which the
-//! one [`super::Integrator`] carries beside the settings every estimator shares.
+//! The parameters of pbrt-v4's small estimators (`ambientocclusion`, `simplepath`) and `bdpt`'s
+//! debugging images, which the one [`super::Integrator`] carries beside the settings every
+//! estimator shares.
 
 use crate::spectrum::ColorSpace;
 
@@ -74,4 +75,18 @@ impl Default for Mlt {
             sigma: 0.01,
         }
     }
+}
+
+/// pbrt-v4 `bdpt`'s per-strategy images ([`crate::film::StrategyImages`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum StrategyImageKind {
+    /// None (the default).
+    #[default]
+    Off,
+    /// `visualizestrategies`: each strategy's contribution without its MIS weight (each image
+    /// alone estimates all the light of its depth that the strategy can sample).
+    Unweighted,
+    /// `visualizeweights` (taking precedence, as in pbrt-v4): the weighted contributions, which
+    /// sum to the image.
+    Weighted,
 }

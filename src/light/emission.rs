@@ -1,19 +1,23 @@
 //! Sampling the light a source emits, for paths that start at the lights (light tracing and
-//! bidirectional path tracing; Veach 1997 §10.2, PBR 3rd ed. §16.1.2): a point on the light
-//! and a direction leaving it, with their densities, and the densities of a given point and
-//! direction (pbrt-v4 `Light::SampleLe`, `Light::PDF_Le`).
+//! bidirectional path tracing; Veach 1997 §10.2, PBR 3rd ed. §16.1.2 and §16.3): a point on the
+//! light and a direction leaving it, with their densities, and the densities of a given point
+//! and direction (pbrt-v4 `Light::SampleLe`, `Light::PDF_Le`).
 //!
 //! Surface lights take the point uniformly by area and the direction cosine-distributed about
 //! the emitting side's normal (either side, each with probability ½, for two-sided ones); point
-//! lights take the direction uniformly over the sphere, spotlights over the cone they light.
-//! Lights at infinity and the image-projecting point lights do not start paths
-//! ([`Light::emits_paths`]); integrators that need them fall back to path tracing.
+//! lights take the direction uniformly over the sphere (goniometric and projection lights too),
+//! spotlights over the cone they light. Lights at infinity take the direction as their light
+//! sampling does (uniformly, by the map's importance, or a distant light's one direction) and
+//! the point uniformly on a disk of the scene's bounding-sphere radius perpendicular to it, behind
+//! the scene (PBR 3rd ed. §16.1.2: area density 1/(π r²) in the plane perpendicular to the
+//! direction). A portal light's ray starts where it crosses the portal, and carries nothing when
+//! it misses the portal.
 
-use super::Light;
-use crate::math::Frame;
+use super::{Light, LightSampleContext};
+use crate::math::{Frame, PI};
 use crate::sampling::warp::{
-    cosine_hemisphere_pdf, sample_cosine_hemisphere, sample_uniform_cone, sample_uniform_sphere, uniform_cone_pdf,
-    uniform_sphere_pdf, uniform_triangle,
+    cosine_hemisphere_pdf, sample_cosine_hemisphere, sample_uniform_cone, sample_uniform_disk_concentric,
+    sample_uniform_sphere, uniform_cone_pdf, uniform_sphere_pdf, uniform_triangle,
 };
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 use glam::{Vec2, Vec3};
@@ -23,16 +27,44 @@ use glam::{Vec2, Vec3};
 pub struct EmissionSample {
     /// The point on the light [scene units].
     pub p: Vec3,
-    /// The emitting side's unit normal there (zero for point lights).
+    /// The emitting side's unit normal there (zero for point lights; for lights at infinity,
+    /// `d`: the disk the point lies on faces the direction).
     pub n: Vec3,
     /// Unit direction of the emitted ray.
     pub d: Vec3,
-    /// Emitted radiance along `d` (for point lights, the intensity I [W/(sr·nm)]).
+    /// Emitted radiance along `d` (for point lights, the intensity I [W/(sr·nm)]; for a distant
+    /// light, the irradiance E [W/(m²·nm)] it brings perpendicular to `d`).
     pub le: SampledSpectrum,
-    /// Area density of `p` [1/m²] (1 for point lights).
+    /// Area density of `p` [1/m²] (1 for point lights; for lights at infinity, in the plane
+    /// perpendicular to `d`).
     pub pdf_pos: f32,
-    /// Solid-angle density of `d` [1/sr].
+    /// Solid-angle density of `d` [1/sr] (1 for a distant light's single direction).
     pub pdf_dir: f32,
+}
+
+/// The scene's bounding sphere, which light from infinity is sent across.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SceneSphere {
+    /// Centre [scene units].
+    pub center: Vec3,
+    /// Radius [scene units].
+    pub radius: f32,
+}
+
+impl SceneSphere {
+    /// Area density [1/m²] of a point uniform on a disk of the sphere's radius: 1/(π r²).
+    pub fn disk_pdf(&self) -> f32 {
+        1.0 / (PI * self.radius * self.radius)
+    }
+
+    /// A point uniform (with `u`) on the disk of the sphere's radius perpendicular to `d`,
+    /// moved back against `d` by the radius, so that a ray from it along `d` meets all the
+    /// scene that lies on its line.
+    fn disk_point(&self, d: Vec3, u: Vec2) -> Vec3 {
+        let frame = Frame::from_normal(d);
+        let q = sample_uniform_disk_concentric(u) * self.radius;
+        self.center + frame.s * q.x + frame.t * q.y - d * self.radius
+    }
 }
 
 /// A direction about the normal `n`, cosine-distributed on one side chosen with `u.x` when the
@@ -67,22 +99,16 @@ fn emitted_direction_pdf(n: Vec3, two_sided: bool, d: Vec3) -> f32 {
 }
 
 impl Light {
-    /// True for the lights that can start a path ([`Light::sample_le`]).
-    pub fn emits_paths(&self) -> bool {
-        matches!(
-            self,
-            Light::Area(_)
-                | Light::Rectangle(_)
-                | Light::Sphere(_)
-                | Light::Quadric(_)
-                | Light::Point(_)
-                | Light::Spot(_)
-        )
-    }
-
     /// Samples a point on the light (with `u_pos`) and a direction leaving it (with `u_dir`),
-    /// both in [0,1)²; `None` when the light does not start paths or emits nothing there.
-    pub fn sample_le(&self, u_pos: Vec2, u_dir: Vec2, w: &SampledWavelengths) -> Option<EmissionSample> {
+    /// both in [0,1)²; lights at infinity send it across `sphere`. `None` when the light emits
+    /// nothing there.
+    pub fn sample_le(
+        &self,
+        u_pos: Vec2,
+        u_dir: Vec2,
+        sphere: &SceneSphere,
+        w: &SampledWavelengths,
+    ) -> Option<EmissionSample> {
         let s = match self {
             Light::Area(l) => {
                 let b = uniform_triangle(u_pos.x, u_pos.y);
@@ -127,14 +153,52 @@ impl Light {
                 let le = l.spectrum.sample(w) * (l.scale * l.falloff.factor(l.frame.n.dot(d)));
                 EmissionSample { p: l.position, n: Vec3::ZERO, d, le, pdf_pos: 1.0, pdf_dir: uniform_cone_pdf(cos_max) }
             }
-            _ => return None,
+            Light::Goniometric(_) | Light::Projection(_) => {
+                let d = sample_uniform_sphere(u_dir);
+                let (p, le) = self.point_intensity(d, w);
+                EmissionSample { p, n: Vec3::ZERO, d, le, pdf_pos: 1.0, pdf_dir: uniform_sphere_pdf() }
+            }
+            Light::Distant(l) => {
+                let d = -l.to_light;
+                let le = l.spectrum.sample(w) * l.scale;
+                let p = sphere.disk_point(d, u_pos);
+                EmissionSample { p, n: d, d, le, pdf_pos: sphere.disk_pdf(), pdf_dir: 1.0 }
+            }
+            Light::UniformInfinite(_) | Light::EnvMap(_) => {
+                let ls = self.sample_li(&LightSampleContext::medium(sphere.center), u_dir, w)?;
+                let d = -ls.wi;
+                let p = sphere.disk_point(d, u_pos);
+                EmissionSample { p, n: d, d, le: ls.li, pdf_pos: sphere.disk_pdf(), pdf_dir: ls.pdf }
+            }
+            Light::Portal(l) => {
+                let (d, le, pdf_dir) = l.sample_emitted(u_dir, w)?;
+                let p = l.crossing(sphere.disk_point(d, u_pos), d)?;
+                EmissionSample { p, n: d, d, le, pdf_pos: sphere.disk_pdf(), pdf_dir }
+            }
         };
-        (s.pdf_pos > 0.0 && s.pdf_dir > 0.0 && s.pdf_pos.is_finite() && !s.le.is_black()).then_some(s)
+        // A point light's position is a sample whatever it sends along the direction drawn
+        // (bidirectional connections take the position alone).
+        let emits = !s.le.is_black() || s.n == Vec3::ZERO;
+        (s.pdf_pos > 0.0 && s.pdf_dir > 0.0 && s.pdf_pos.is_finite() && emits).then_some(s)
+    }
+
+    /// The position of a goniometric or projection light and the intensity I [W/(sr·nm)] it
+    /// sends along the unit direction `d` (zero for other lights).
+    fn point_intensity(&self, d: Vec3, w: &SampledWavelengths) -> (Vec3, SampledSpectrum) {
+        let p = match self {
+            Light::Goniometric(l) => l.position,
+            Light::Projection(l) => l.position,
+            _ => return (Vec3::ZERO, SampledSpectrum::zero()),
+        };
+        // At unit distance the incident radiance of a point light is its intensity.
+        let ls = self.sample_li(&LightSampleContext::medium(p + d), Vec2::ZERO, w);
+        (p, ls.map_or(SampledSpectrum::zero(), |ls| ls.li))
     }
 
     /// The radiance (for point lights, intensity) the light sends from the point of `s` along
     /// the unit direction `d`: surface lights are Lambertian emitters, the same radiance toward
-    /// every direction of an emitting side.
+    /// every direction of an emitting side. Lights at infinity send light along `s.d` only and
+    /// give 0 (light reaching a point from them is [`Light::sample_li`]'s).
     pub fn emitted_toward(&self, s: &EmissionSample, d: Vec3, w: &SampledWavelengths) -> SampledSpectrum {
         match self {
             Light::Area(l) if l.two_sided || l.n.dot(d) > 0.0 => s.le,
@@ -143,6 +207,7 @@ impl Light {
             Light::Quadric(l) if l.two_sided || s.n.dot(d) > 0.0 => s.le,
             Light::Point(_) => s.le,
             Light::Spot(l) => l.spectrum.sample(w) * (l.scale * l.falloff.factor(l.frame.n.dot(d))),
+            Light::Goniometric(_) | Light::Projection(_) => self.point_intensity(d, w).1,
             _ => SampledSpectrum::zero(),
         }
     }
@@ -151,7 +216,9 @@ impl Light {
     /// the point with emitting-side normal `n` and the unit direction `d` leaving it (pbrt-v4
     /// `PDF_Le`). A surface point's area density is 1/A, the quadrics' under a transform that
     /// is not a similarity included (there it is the mean density, which MIS weights may use).
-    pub fn pdf_le(&self, n: Vec3, d: Vec3) -> (f32, f32) {
+    /// For lights at infinity, the disk's density across `sphere` and the direction's (0 for a
+    /// distant light's delta).
+    pub fn pdf_le(&self, n: Vec3, d: Vec3, sphere: &SceneSphere) -> (f32, f32) {
         match self {
             Light::Area(l) => (1.0 / l.area, emitted_direction_pdf(l.n, l.two_sided, d)),
             Light::Rectangle(l) => (1.0 / l.area(), emitted_direction_pdf(l.n, l.two_sided, d)),
@@ -162,10 +229,19 @@ impl Light {
                 let cos_max = l.cone_cos_max();
                 (1.0, if l.frame.n.dot(d) >= cos_max { uniform_cone_pdf(cos_max) } else { 0.0 })
             }
-            _ => (0.0, 0.0),
+            Light::Goniometric(_) | Light::Projection(_) => (1.0, uniform_sphere_pdf()),
+            Light::Distant(_) => (sphere.disk_pdf(), 0.0),
+            Light::Portal(l) => (sphere.disk_pdf(), l.pdf_emitted(-d)),
+            Light::UniformInfinite(_) | Light::EnvMap(_) => {
+                (sphere.disk_pdf(), self.pdf_li(&LightSampleContext::medium(sphere.center), -d))
+            }
         }
     }
 }
+
+/// A scene sphere for tests.
+#[cfg(test)]
+const TEST_SPHERE: SceneSphere = SceneSphere { center: Vec3::new(0.5, -1.0, 2.0), radius: 3.0 };
 
 /// ∫ over the unit sphere of the density of [`Light::sample_le`]'s directions, for tests.
 #[cfg(test)]
@@ -179,7 +255,7 @@ fn direction_pdf_integral(light: &Light, n: Vec3) -> f32 {
             let phi = PI * (j as f32 + 0.5) / k as f32;
             let r = (1.0 - z * z).sqrt();
             let d = Vec3::new(r * phi.cos(), r * phi.sin(), z);
-            sum += light.pdf_le(n, d).1 as f64;
+            sum += light.pdf_le(n, d, &TEST_SPHERE).1 as f64;
         }
     }
     (sum * 4.0 * PI as f64 / (2 * k * k) as f64) as f32
@@ -188,9 +264,11 @@ fn direction_pdf_integral(light: &Light, n: Vec3) -> f32 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::light::{AreaLight, PointLight, SpotFalloff, SpotLight};
+    use crate::image::Image;
+    use crate::light::{AreaLight, EnvMapLight, PointLight, SpotFalloff, SpotLight, UniformInfiniteLight};
     use crate::sampling::rng::Rng;
     use crate::spectrum::Spectrum;
+    use glam::Mat3;
     use std::sync::Arc;
 
     fn triangle(two_sided: bool) -> Light {
@@ -210,17 +288,62 @@ mod tests {
         ));
         let point = Light::Point(PointLight::new(Vec3::ZERO, Arc::new(Spectrum::constant(1.0)), 2.0));
         let mut rng = Rng::new(1, 2);
-        for light in [triangle(false), triangle(true), spot, point] {
+        for light in [triangle(false), triangle(true), spot, point, uniform_sky(), image_sky()] {
             let mut n = Vec3::ZERO;
             for _ in 0..1000 {
                 let u = |r: &mut Rng| Vec2::new(r.uniform(), r.uniform());
-                let Some(s) = light.sample_le(u(&mut rng), u(&mut rng), &w) else { continue };
-                let (pos, dir) = light.pdf_le(s.n, s.d);
+                let Some(s) = light.sample_le(u(&mut rng), u(&mut rng), &TEST_SPHERE, &w) else { continue };
+                let (pos, dir) = light.pdf_le(s.n, s.d, &TEST_SPHERE);
                 assert!((pos - s.pdf_pos).abs() <= 1e-5 * pos && (dir - s.pdf_dir).abs() <= 1e-4 * dir, "{light:?}");
                 n = s.n;
             }
             let total = direction_pdf_integral(&light, n);
             assert!((total - 1.0).abs() < 0.01, "{light:?}: ∫ pdf_dir = {total}");
+        }
+    }
+
+    fn uniform_sky() -> Light {
+        Light::UniformInfinite(UniformInfiniteLight { spectrum: Arc::new(Spectrum::constant(1.0)), scale: 1.0 })
+    }
+
+    /// A 16 × 8 latitude–longitude map, bright toward one side.
+    fn image_sky() -> Light {
+        let mut img = Image::new(16, 8, 3);
+        for (i, v) in img.data.iter_mut().enumerate() {
+            *v = 0.1 + ((i / 3) % 16) as f32 * 0.3;
+        }
+        Light::EnvMap(EnvMapLight::new(&img, Mat3::from_rotation_x(0.3), 1.0, crate::spectrum::ColorSpace::srgb()))
+    }
+
+    #[test]
+    fn light_from_infinity_starts_uniformly_on_a_disk_behind_the_scene() {
+        // Every point lies on the disk of radius r perpendicular to its direction, r behind the
+        // centre; uniform on it, its squared distance from the disk's centre has mean r²/2.
+        let w = SampledWavelengths::sample_visible(0.5);
+        let distant = Light::Distant(crate::light::DistantLight {
+            to_light: Vec3::new(0.3, 0.9, -0.2).normalize(),
+            spectrum: Arc::new(Spectrum::constant(1.0)),
+            scale: 2.0,
+        });
+        let (c, r) = (TEST_SPHERE.center, TEST_SPHERE.radius);
+        let mut rng = Rng::new(3, 4);
+        for light in [distant, uniform_sky(), image_sky()] {
+            let (mut sum, mut count) = (0.0f64, 0);
+            for _ in 0..4000 {
+                let u = |r: &mut Rng| Vec2::new(r.uniform(), r.uniform());
+                let s = light.sample_le(u(&mut rng), u(&mut rng), &TEST_SPHERE, &w).unwrap();
+                let q = s.p - c;
+                assert!((q.dot(s.d) + r).abs() < 1e-4 * r, "{light:?}");
+                let across = (q - q.dot(s.d) * s.d).length_squared();
+                assert!(across <= r * r * (1.0 + 1e-5));
+                assert_eq!(s.n, s.d);
+                assert!((s.pdf_pos * PI * r * r - 1.0).abs() < 1e-5);
+                sum += across as f64;
+                count += 1;
+            }
+            let mean = sum / count as f64 / (r * r) as f64;
+            // σ of r²-normalised squared distance: 1/√12 per sample.
+            assert!((mean - 0.5).abs() < 4.0 * (1.0 / 12f64).sqrt() / (count as f64).sqrt(), "{light:?}: {mean}");
         }
     }
 }

@@ -22,7 +22,7 @@ mod texel_spectrum;
 
 pub use area::{AreaLight, TriangleLightLanes};
 pub use distant::DistantLight;
-pub use emission::EmissionSample;
+pub use emission::{EmissionSample, SceneSphere};
 pub use emission_image::{EmissionImage, ImageEmission};
 pub use envmap::{image_upper_hemisphere_y, EnvMapLight};
 pub use goniometric::GoniometricLight;

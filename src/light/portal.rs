@@ -200,6 +200,44 @@ impl PortalLight {
         }
     }
 
+    /// A direction of emitted light drawn over the whole rectified map (not a window: the
+    /// emitter is not at a point), with `u`: the direction the light travels (world, into the
+    /// scene), its radiance and its solid-angle density [1/sr] (pbrt-v4 `SampleLe`).
+    pub(super) fn sample_emitted(&self, u: Vec2, w: &SampledWavelengths) -> Option<(Vec3, SampledSpectrum, f32)> {
+        let whole = Window::spanning(Vec2::ZERO, Vec2::ONE);
+        let (uv, pdf_uv) = self.distribution.sample(u, &whole)?;
+        let (d, jac) = rectified_direction(uv);
+        if jac.is_nan() || jac <= 0.0 {
+            return None;
+        }
+        Some((-(self.world_from_portal * d).normalize(), self.radiance_at(uv, w), pdf_uv / jac))
+    }
+
+    /// Solid-angle density [1/sr] of [`Self::sample_emitted`] drawing the world direction
+    /// `to_sky` (pointing from the scene toward the sky).
+    pub(super) fn pdf_emitted(&self, to_sky: Vec3) -> f32 {
+        let d = (self.portal_from_world * to_sky).normalize_or_zero();
+        match rectified_uv(d) {
+            Some(uv) if jacobian(d) > 0.0 => {
+                self.distribution.pdf(uv, &Window::spanning(Vec2::ZERO, Vec2::ONE)) / jacobian(d)
+            }
+            _ => 0.0,
+        }
+    }
+
+    /// Where the line through `p` with direction `d` crosses the portal's rectangle, if it does:
+    /// light sent along `d` enters the scene there.
+    pub(super) fn crossing(&self, p: Vec3, d: Vec3) -> Option<Vec3> {
+        let local = |q: Vec3| self.portal_from_world * (q - self.corners[0]);
+        let (o, dir) = (local(p), self.portal_from_world * d);
+        if dir.z == 0.0 {
+            return None;
+        }
+        let q = o - dir * (o.z / dir.z);
+        let (w, h) = ((self.corners[3] - self.corners[0]).length(), (self.corners[1] - self.corners[0]).length());
+        ((0.0..=w).contains(&q.x) && (0.0..=h).contains(&q.y)).then(|| p + d * (-o.z / dir.z))
+    }
+
     pub(super) fn power(&self) -> f32 {
         // × the wavelength range, comparable with the other lights' ∫ dλ.
         (self.flux * self.scale as f64 * (LAMBDA_MAX - LAMBDA_MIN) as f64) as f32

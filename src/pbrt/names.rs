@@ -42,9 +42,9 @@ pub const MEDIA: &[&str] = crate::media::PBRT_NAMES;
 /// can trace from and to, and fall back to "path" with a warning elsewhere
 /// (`Integrator::fallback_reason`).
 pub const PRISM_INTEGRATORS: &[&str] =
-    &["path", "volpath", "ambientocclusion", "randomwalk", "simplepath", "lightpath", "bdpt", "mlt"];
+    &["path", "volpath", "ambientocclusion", "randomwalk", "simplepath", "simplevolpath", "lightpath", "bdpt", "mlt"];
 /// pbrt-v4 integrators prism replaces with its path tracer.
-pub const PBRT_ONLY_INTEGRATORS: &[(&str, &str)] = &[("simplevolpath", "path"), ("sppm", "path")];
+pub const PBRT_ONLY_INTEGRATORS: &[(&str, &str)] = &[("sppm", "path")];
 
 /// Samplers (all pbrt-v4 names are accepted; the renderer picks its own sequence).
 pub const SAMPLERS: &[&str] = &["halton", "independent", "paddedsobol", "pmj02bn", "sobol", "stratified", "zsobol"];

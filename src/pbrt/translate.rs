@@ -72,6 +72,9 @@ pub struct FileSettings {
     pub mlt_mutations_per_pixel: Option<i32>,
     pub mlt_large_step_probability: Option<f32>,
     pub mlt_sigma: Option<f32>,
+    /// Integrator "bdpt": "visualizestrategies" and "visualizeweights".
+    pub visualize_strategies: Option<bool>,
+    pub visualize_weights: Option<bool>,
     /// PixelFilter with its parameters.
     pub filter: Option<crate::filter::Filter>,
     /// The Sampler with its parameters.
@@ -444,6 +447,8 @@ impl Ctx<'_> {
             mlt_mutations_per_pixel: d.integrator.params.int("mutationsperpixel"),
             mlt_large_step_probability: d.integrator.params.float("largestepprobability"),
             mlt_sigma: d.integrator.params.float("sigma"),
+            visualize_strategies: d.integrator.params.bool("visualizestrategies"),
+            visualize_weights: d.integrator.params.bool("visualizeweights"),
             filter: Some(filter),
             sampler: Some(sampler),
             seed: d.sampler.params.int("seed").or_else(|| d.options.int("seed")).map(|s| s as u64),

@@ -819,9 +819,9 @@ impl Scene {
         self.emitter_sampler.pmf(&LightSampleContext::medium(Vec3::ZERO), light as usize)
     }
 
-    /// True when every light can start a path ([`Light::emits_paths`]).
-    pub fn lights_emit_paths(&self) -> bool {
-        self.lights.iter().all(Light::emits_paths)
+    /// The scene's bounding sphere, across which lights at infinity send the paths they start.
+    pub fn sphere(&self) -> crate::light::SceneSphere {
+        crate::light::SceneSphere { center: self.scene_center, radius: self.scene_radius }
     }
 
     /// The lights that rays escaping the scene see.

@@ -6,7 +6,8 @@
 
 use crate::common::test_settings;
 use prism::accel::AccelKind;
-use prism::integrator::{Integrator, IntegratorKind, Mlt};
+use prism::film::Film;
+use prism::integrator::{Integrator, IntegratorKind, Mlt, StrategyImageKind};
 use prism::render::render;
 use prism::scene::{Scene, SceneBuilder};
 
@@ -172,18 +173,56 @@ Shape "trianglemesh" "integer indices" [0 1 2 0 2 3]
     "point3 P" [-100 -100 0  100 -100 0  100 100 0  -100 100 0]
 "#;
 
+/// The mean over six seeds of the image's luminance from `scene` by `kind` (16 spp, paths of
+/// at most `max_depth` bounces) in units of `y_unit`, with its standard error.
+fn image_mean(scene: &Scene, kind: IntegratorKind, max_depth: u32, y_unit: f64) -> (f64, f64) {
+    let size = 16u32;
+    let means: Vec<f64> = (0..6)
+        .map(|seed| {
+            let mut settings = test_settings((size, size), 16, seed, max_depth);
+            settings.integrator = Integrator { kind, max_depth, ..Default::default() }.for_scene(scene);
+            assert_eq!(settings.integrator.kind, kind, "the scene falls back to another estimator");
+            let (film, stats) = render(scene, &settings, |_| {}).unwrap();
+            assert_eq!(stats.nonfinite, 0);
+            let mut sum = 0.0;
+            for y in 0..size {
+                for x in 0..size {
+                    sum += film.xyz(x, y).y as f64;
+                }
+            }
+            sum / (size * size) as f64 / y_unit
+        })
+        .collect();
+    let n = means.len() as f64;
+    let mean = means.iter().sum::<f64>() / n;
+    (mean, (means.iter().map(|m| (m - mean) * (m - mean)).sum::<f64>() / (n - 1.0) / n).sqrt())
+}
+
+/// The luminance of radiance 1 seen by [`UNIT_EMITTER`]'s camera.
+fn unit_luminance() -> f64 {
+    let unit = crate::common::pbrt_scene(UNIT_EMITTER, AccelKind::Obvhs);
+    let (film, _) = render(&unit, &test_settings((16, 16), 16, 1, 1), |_| {}).unwrap();
+    film.xyz(8, 8).y as f64
+}
+
+/// Asserts that each of `kinds` renders `scene` with the image mean `expected` (in units of
+/// radiance 1) within 4 standard errors.
+fn matches_closed_form(scene: &Scene, kinds: &[IntegratorKind], max_depth: u32, expected: f64) {
+    let y_unit = unit_luminance();
+    for &kind in kinds {
+        let (mean, se) = image_mean(scene, kind, max_depth, y_unit);
+        assert!(
+            (mean - expected).abs() <= 4.0 * se + 2e-3 * expected,
+            "{kind:?}: {mean:.6} ± {se:.6} vs the closed form {expected:.6} ({:.1}σ)",
+            (mean - expected).abs() / se
+        );
+    }
+}
+
 #[test]
 fn light_paths_reproduce_the_closed_form_radiance_of_a_plane_under_a_point_light() {
     let lit = crate::common::pbrt_scene(LIT_PLANE, AccelKind::Obvhs);
-    let unit = crate::common::pbrt_scene(UNIT_EMITTER, AccelKind::Obvhs);
     let size = 16u32;
-    let settings = |kind, seed| {
-        let mut s = test_settings((size, size), 16, seed, 1);
-        s.integrator = Integrator { kind, max_depth: 1, ..Default::default() };
-        s
-    };
-    let (unit_film, _) = render(&unit, &settings(IntegratorKind::Path, 1), |_| {}).unwrap();
-    let y_unit = unit_film.xyz(size / 2, size / 2).y as f64;
     // The expected image mean of L / (radiance 1): each pixel's radiance averaged over 8×8
     // points of it, from where its rays meet the plane (the camera at height 3 looking down,
     // tan(30°) across half the image).
@@ -198,27 +237,147 @@ fn light_paths_reproduce_the_closed_form_radiance_of_a_plane_under_a_point_light
         }
     }
     expected /= (size * size * 64) as f64;
-    for kind in [IntegratorKind::Bdpt, IntegratorKind::LightPath] {
-        let means: Vec<f64> = (0..6)
-            .map(|seed| {
-                let s = Integrator { ..settings(kind, seed).integrator }.for_scene(&lit);
-                assert_eq!(s.kind, kind);
-                let (film, _) = render(&lit, &settings(kind, seed), |_| {}).unwrap();
-                let mut sum = 0.0;
-                for y in 0..size {
-                    for x in 0..size {
-                        sum += film.xyz(x, y).y as f64;
-                    }
+    matches_closed_form(&lit, &[IntegratorKind::Bdpt, IntegratorKind::LightPath], 1, expected);
+}
+
+/// A diffuse square of reflectance ρ = 0.5 filling the view, lit by light from infinity (the
+/// `LightSource` line is `{light}`). Nothing but the sky is above it, so it never sees itself:
+/// every path has one bounce, and each bidirectional strategy can make every one of them.
+fn open_plane(light: &str) -> Scene {
+    let text = format!(
+        r#"
+LookAt 0 0 3  0 0 0  0 1 0
+Camera "perspective" "float fov" [60]
+WorldBegin
+{light}
+Material "diffuse" "spectrum reflectance" [300 0.5 900 0.5]
+Shape "trianglemesh" "integer indices" [0 1 2 0 2 3]
+    "point3 P" [-2 -2 0  2 -2 0  2 2 0  -2 2 0]
+"#
+    );
+    crate::common::pbrt_scene(&text, AccelKind::Obvhs)
+}
+
+const ALL: [IntegratorKind; 3] = [IntegratorKind::Path, IntegratorKind::Bdpt, IntegratorKind::LightPath];
+
+#[test]
+fn under_a_uniform_sky_an_open_diffuse_plane_reflects_albedo_times_the_sky() {
+    // E = π L from the whole upper hemisphere, so L_o = (ρ/π) E = ρ L.
+    let scene = open_plane(r#"LightSource "infinite" "spectrum L" [300 1 900 1]"#);
+    matches_closed_form(&scene, &ALL, 3, 0.5);
+}
+
+#[test]
+fn under_a_distant_light_an_open_diffuse_plane_reflects_its_irradiance_times_the_cosine() {
+    // E = 1 arriving at 60° from the normal: L_o = (ρ/π) E cos θ.
+    let scene = open_plane(
+        r#"LightSource "distant" "point3 from" [0 1.7320508 1] "point3 to" [0 0 0] "spectrum L" [300 1 900 1]"#,
+    );
+    matches_closed_form(&scene, &ALL, 3, 0.5 / std::f64::consts::PI * 0.5);
+}
+
+/// A diffuse floor and two spheres, one diffuse, one rough metal, under an image sky (the
+/// committed latitude–longitude map with its bright sun), seen from above so that the camera
+/// sees no sky (light tracing does not show lights at infinity).
+const IMAGE_SKY: &str = r#"
+LookAt 0 4 -3  0 0 0  0 1 0
+Camera "perspective" "float fov" [40]
+WorldBegin
+AttributeBegin
+  Rotate -90 1 0 0
+  LightSource "infinite" "string filename" "textures/sky.exr" "float scale" [0.5]
+AttributeEnd
+Material "diffuse" "spectrum reflectance" [300 0.6 900 0.6]
+Shape "trianglemesh" "integer indices" [0 1 2 0 2 3]
+    "point3 P" [-6 0 -6  -6 0 6  6 0 6  6 0 -6]
+AttributeBegin
+  Material "conductor" "spectrum eta" "metal-Cu-eta" "spectrum k" "metal-Cu-k" "float roughness" [0.2]
+  Translate -0.6 0.5 0
+  Shape "sphere" "float radius" [0.5]
+AttributeEnd
+AttributeBegin
+  Material "diffuse" "spectrum reflectance" [300 0.4 900 0.4]
+  Translate 0.6 0.4 0.3
+  Shape "sphere" "float radius" [0.4]
+AttributeEnd
+"#;
+
+#[test]
+fn under_an_image_sky_light_paths_render_as_path_tracing_does() {
+    let opts = prism::pbrt::ParseOptions {
+        base_dir: Some(std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes")),
+        ..Default::default()
+    };
+    let (desc, mut warnings) = prism::pbrt::parse_str(IMAGE_SKY, &opts).unwrap();
+    let (builder, _) = prism::pbrt::build(&desc, &mut warnings).unwrap();
+    let scene = builder.build(AccelKind::Obvhs).unwrap();
+    agrees_with_path(&scene, IntegratorKind::Bdpt, (16, 8), 4);
+    agrees_with_path(&scene, IntegratorKind::LightPath, (16, 16), 4);
+}
+
+/// A strategy (depth, s, t) and its image.
+type StrategyFilm = ((usize, usize, usize), Film);
+
+/// bdpt's strategy images (`visualizeweights`, `visualizestrategies`) of the open plane under a
+/// uniform sky at depths 0 … 2, rendered with `seed`: the main film and each strategy's.
+fn strategy_films(kind: StrategyImageKind, seed: u64) -> (Film, Vec<StrategyFilm>) {
+    let scene = open_plane(r#"LightSource "infinite" "spectrum L" [300 1 900 1]"#);
+    let mut settings = test_settings((16, 16), 16, seed, 2);
+    settings.integrator =
+        Integrator { kind: IntegratorKind::Bdpt, max_depth: 2, strategy_images: kind, ..Default::default() };
+    let (film, _) = render(&scene, &settings, |_| {}).unwrap();
+    let images = film.strategies.as_ref().expect("strategy images").strategies().collect::<Vec<_>>();
+    let films = images.into_iter().map(|(d, s, t)| ((d, s, t), film.strategy_film(s, t).unwrap())).collect();
+    (film, films)
+}
+
+#[test]
+fn weighted_strategy_images_of_a_depth_sum_to_the_light_of_that_depth() {
+    // The camera sees only the plane and the plane never sees itself: all the image's light
+    // has depth 1, so the weighted depth-1 images sum to the image (rounding apart: each
+    // contribution is recorded on its own) and the others are black.
+    let (film, strategies) = strategy_films(StrategyImageKind::Weighted, 5);
+    assert_eq!(strategies.iter().filter(|((d, _, _), _)| *d == 1).count(), 3);
+    for y in 0..16 {
+        for x in 0..16 {
+            let main = film.xyz(x, y).y as f64;
+            let mut depth1 = 0.0;
+            for ((depth, s, t), f) in &strategies {
+                let v = f.xyz(x, y).y as f64;
+                if *depth == 1 {
+                    depth1 += v;
+                } else {
+                    assert_eq!(v, 0.0, "depth {depth}, ({s}, {t}) at ({x}, {y})");
                 }
-                sum / (size * size) as f64 / y_unit
+            }
+            assert!((depth1 - main).abs() <= 1e-5 * main, "({x}, {y}): Σ strategies {depth1} vs the image {main}");
+        }
+    }
+}
+
+#[test]
+fn each_unweighted_strategy_image_alone_estimates_the_light_of_its_depth() {
+    // s = 0 (the camera path finds the sky), s = 1 (light sampling) and s = 2, t = 1 (light
+    // tracing) each see the whole of ρ L = 0.5 without their weights.
+    let y_unit = unit_luminance();
+    let runs: Vec<_> = (0..6).map(|seed| strategy_films(StrategyImageKind::Unweighted, 20 + seed).1).collect();
+    for (k, ((depth, s, t), _)) in runs[0].iter().enumerate().filter(|(_, ((d, _, _), _))| *d == 1) {
+        let means: Vec<f64> = runs
+            .iter()
+            .map(|films| {
+                let f = &films[k].1;
+                (0..16).flat_map(|y| (0..16).map(move |x| (x, y))).map(|(x, y)| f.xyz(x, y).y as f64).sum::<f64>()
+                    / 256.0
+                    / y_unit
             })
             .collect();
         let n = means.len() as f64;
         let mean = means.iter().sum::<f64>() / n;
         let se = (means.iter().map(|m| (m - mean) * (m - mean)).sum::<f64>() / (n - 1.0) / n).sqrt();
         assert!(
-            (mean - expected).abs() <= 4.0 * se + 2e-3 * expected,
-            "{kind:?}: {mean:.6} ± {se:.6} vs the closed form {expected:.6}"
+            (mean - 0.5).abs() <= 4.0 * se + 1e-3,
+            "depth {depth}, ({s}, {t}): {mean:.5} ± {se:.5} vs ρ L = 0.5 ({:.1}σ)",
+            (mean - 0.5).abs() / se
         );
     }
 }
