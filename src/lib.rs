@@ -48,4 +48,5 @@ pub mod sensor_fit;
 pub mod settings;
 pub mod simd;
 pub mod spectrum;
+pub mod sppm_render;
 pub mod texture;

@@ -3,18 +3,18 @@
 //! its samples in index order, so the image is bit-identical for any thread count, and a render
 //! can be split into disjoint sample ranges and merged.
 
-use crate::camera::Camera;
+use crate::camera::{Camera, CameraRay};
 use crate::film::{
     AdaptivePixel, AovPixel, AovSettings, AovSpace, Film, FilmAllocError, FilmSettings, Pixel, SpectralSettings, Splat,
 };
 use crate::filter::Filter;
-use crate::integrator::{Integrator, Stats};
+use crate::integrator::{Integrator, IntegratorKind, Stats};
 use crate::material::Material;
 use crate::sampling::Sampler;
 pub use crate::sampling::SamplerKind;
 use crate::scene::Scene;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
-use crate::texture::TextureFootprint;
+use crate::texture::{RayDifferentials, TextureFootprint};
 use glam::{Mat3, Mat4, Vec2};
 use rayon::prelude::*;
 use std::ops::Range;
@@ -266,6 +266,48 @@ pub fn new_film(settings: &RenderSettings) -> Result<Film, FilmAllocError> {
     Ok(film)
 }
 
+/// A camera sample: the film position drawn through the pixel filter, the shutter time, the
+/// lens point, and what they give.
+pub(crate) struct CameraSample {
+    /// The uniform [0, 1) the sample's wavelengths are drawn with.
+    pub u_lambda: f32,
+    /// The filter's weight of the film position.
+    pub weight: f32,
+    /// The ray (`None`: the lens lets none through).
+    pub ray: Option<CameraRay>,
+    /// The ray's differentials, when `differentials` asks for them.
+    pub differentials: Option<RayDifferentials>,
+}
+
+/// Camera sample `s` of full-image pixel `(x, y)`: the sampler started there, then the film
+/// position and wavelength uniform (one stratified 3D draw), the time, the lens.
+pub(crate) fn camera_sample(
+    scene: &Scene,
+    settings: &RenderSettings,
+    camera: &Camera,
+    differentials: Option<&TextureFootprint>,
+    sampler: &mut Sampler,
+    (x, y): (u32, u32),
+    s: u64,
+) -> CameraSample {
+    sampler.start_pixel_sample((x, y), s, settings.seed);
+    let u = sampler.get_pixel_3d();
+    let (offset, weight) = settings.filter.sample(u.truncate());
+    let p_film = Vec2::new(x as f32 + 0.5, y as f32 + 0.5) + offset;
+    // pbrt-v4's camera sample: a time uniform over the shutter interval, then the lens. A
+    // scene where nothing (camera included) moves draws no time sample, so its sampler
+    // dimensions (and image) stay as without motion blur.
+    let time = scene.shutter.map_or(0.0, |(open, close)| {
+        let u = sampler.get_1d();
+        open + (close - open) * u
+    });
+    let u_lens = sampler.get_2d();
+    let ray = camera.sample_ray(p_film, u_lens, time);
+    let differentials =
+        differentials.zip(ray.as_ref()).and_then(|(f, r)| f.camera_ray_differentials(camera, &r.ray, p_film, u_lens));
+    CameraSample { u_lambda: u.z, weight, ray, differentials }
+}
+
 /// Samples `pass.range` of every pixel of band `band` (its pixels, geometry buffers and
 /// spectral sink), or each adaptive pixel's planned samples.
 fn render_band<S: SpectralSink>(
@@ -288,24 +330,8 @@ fn render_band<S: SpectralSink>(
     // A camera sample of pixel `(x, y)`: its wavelengths, filter weight, ray and the ray's
     // differentials.
     let start = |sampler: &mut Sampler, spectral: &S, (x, y): (u32, u32), s: u64| {
-        sampler.start_pixel_sample((x, y), s, settings.seed);
-        let u = sampler.get_pixel_3d();
-        let lambdas = spectral.sample_wavelengths(u.z);
-        let (offset, weight) = settings.filter.sample(u.truncate());
-        let p_film = Vec2::new(x as f32 + 0.5, y as f32 + 0.5) + offset;
-        // pbrt-v4's camera sample: a time uniform over the shutter interval, then the lens. A
-        // scene where nothing (camera included) moves draws no time sample, so its sampler
-        // dimensions (and image) stay as without motion blur.
-        let time = scene.shutter.map_or(0.0, |(open, close)| {
-            let u = sampler.get_1d();
-            open + (close - open) * u
-        });
-        let u_lens = sampler.get_2d();
-        let ray = camera.sample_ray(p_film, u_lens, time);
-        let diff = differentials
-            .zip(ray.as_ref())
-            .and_then(|(f, r)| f.camera_ray_differentials(camera, &r.ray, p_film, u_lens));
-        (lambdas, weight, ray, diff)
+        let c = camera_sample(scene, settings, camera, differentials, sampler, (x, y), s);
+        (spectral.sample_wavelengths(c.u_lambda), c.weight, c.ray, c.differentials)
     };
     // The sensor's response to an estimate, or `None` (counted) when it is not finite and is
     // dropped.
@@ -412,7 +438,8 @@ pub fn render(
     Ok((film, stats))
 }
 
-/// Adds samples `range` of every pixel to `film`, in passes of 1, 1, 2, 4, … 16 samples. After
+/// Adds samples `range` of every pixel to `film`, in passes of 1, 1, 2, 4, … 16 samples (for
+/// `sppm`, iterations `range` of [`crate::sppm_render::render_sppm`], which must start at 0). After
 /// each pass `after_pass(film, end_of_samples_so_far)` may save a checkpoint or report progress;
 /// returning false stops. Stops early, at the end of a pass, once `settings.time_limit` is over,
 /// and before the next pass once `cancel` is set (from another thread or a signal handler): the
@@ -425,6 +452,10 @@ pub fn render_range(
     cancel: &AtomicBool,
     mut after_pass: impl FnMut(&Film, u64) -> bool,
 ) -> Stats {
+    // Stochastic progressive photon mapping has a loop of its own.
+    if settings.integrator.for_scene(scene).kind == IntegratorKind::Sppm {
+        return crate::sppm_render::render_sppm(scene, settings, film, range, cancel, after_pass);
+    }
     let mut stats = Stats::default();
     let start = Instant::now();
     let mut done = range.start;

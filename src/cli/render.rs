@@ -211,16 +211,39 @@ pub fn prepare(args: &RenderArgs) -> Result<Job> {
         );
         integrator.kind = IntegratorKind::Path;
     }
-    // A splatting estimator replaced (by the scene, or by the spectral film) is a substitution
-    // like any other: under --strict an error.
+    // A splatting estimator or sppm replaced (by the scene, or by the spectral film) is a
+    // substitution like any other: under --strict an error.
     let named = integrator_kind.unwrap_or(Integrator::from_file(&file).kind);
-    if args.strict && named.splats() && integrator.kind != named {
-        let why = Integrator::fallback_reason(&scene).unwrap_or("its splats would miss the spectral film's buckets");
+    if args.strict && (named.splats() || named == IntegratorKind::Sppm) && integrator.kind != named {
+        let why = match named {
+            IntegratorKind::Sppm => Integrator::sppm_fallback_reason(&scene),
+            _ => Integrator::fallback_reason(&scene),
+        };
+        let why = why.unwrap_or("its splats would miss the spectral film's buckets");
         bail!(
             "unsupported feature: integrator \"{}\" for this scene: {why} (strict mode; without --strict prism uses \"{}\" instead)",
             named.name(),
             integrator.kind.name()
         );
+    }
+    let (mut aov, mut spectral, mut write_aov) = (aov, spectral, write_aov);
+    if integrator.kind == IntegratorKind::Sppm {
+        sppm_refusals(args)?;
+        if let Some(why) = Integrator::sppm_ignores(&scene).filter(|_| args.strict) {
+            bail!("unsupported feature: integrator \"sppm\" for this scene: {why} (strict mode)");
+        }
+        // Its pixels are density estimates, not sums of samples: the file's geometry buffers
+        // and spectral buckets are left out.
+        for (film, asked) in [("gbuffer", aov.is_some()), ("spectral", spectral.is_some())] {
+            if asked {
+                let message = format!("Film \"{film}\": integrator \"sppm\" records R, G, B only");
+                if args.strict {
+                    bail!("unsupported feature: {message} (strict mode)");
+                }
+                log::warn!("{message}");
+            }
+        }
+        (aov, spectral, write_aov) = (None, None, false);
     }
     let resolution = resolution.or(file.resolution).unwrap_or(d.resolution);
     let crop = crop_arg.or(file.crop).map(|c| c.bounds(resolution)).transpose()?;
@@ -235,7 +258,11 @@ pub fn prepare(args: &RenderArgs) -> Result<Job> {
     let settings = RenderSettings {
         resolution,
         film: FilmSettings { crop, sensor, aov, spectral },
-        spp: spp.or(file.spp).unwrap_or(d.spp),
+        // sppm's "iterations" are its samples per pixel.
+        spp: spp
+            .or(file.sppm_iterations.filter(|_| integrator.kind == IntegratorKind::Sppm))
+            .or(file.spp)
+            .unwrap_or(d.spp),
         seed: args.seed.or(file.seed).unwrap_or(d.seed),
         sampler: sampler.unwrap_or(d.sampler),
         filter: filter.unwrap_or(d.filter),
@@ -298,6 +325,13 @@ pub(crate) fn integrator_for(
         let why = Integrator::fallback_reason(scene).unwrap_or("");
         log::warn!("integrator \"{}\" renders this scene as \"{}\": {why}", named.name(), integrator.kind.name());
     }
+    if named == IntegratorKind::Sppm && integrator.kind != named {
+        let why = Integrator::sppm_fallback_reason(scene).unwrap_or("");
+        log::warn!("integrator \"sppm\" renders this scene as \"{}\": {why}", integrator.kind.name());
+    }
+    if let Some(why) = Integrator::sppm_ignores(scene).filter(|_| integrator.kind == IntegratorKind::Sppm) {
+        log::warn!("integrator \"sppm\": {why}");
+    }
     integrator
 }
 
@@ -350,6 +384,26 @@ pub fn check_output(path: &Path) -> Result<()> {
         );
     }
     crate::io::check_dir_writable(path).with_context(|| format!("cannot write {}", path.display()))
+}
+
+/// The options an `sppm` render cannot honour: its pixels' state (radii, photon statistics)
+/// lives outside the film, so it can be neither split, checkpointed nor resumed, nor given
+/// per-pixel sample counts; and it records no geometry buffers.
+fn sppm_refusals(args: &RenderArgs) -> Result<()> {
+    let refused = [
+        (args.part.is_some(), "--part"),
+        (args.checkpoint_every.is_some(), "--checkpoint-every"),
+        (args.resume, "--resume"),
+        (args.target_error.is_some(), "--target-error"),
+        (args.aov, "--aov"),
+        (args.denoise, "--denoise"),
+    ];
+    match refused.iter().find(|(given, _)| *given) {
+        Some((_, flag)) => bail!(
+            "{flag} is not available with integrator \"sppm\": its pixels are progressive photon-map estimates whose state (radii, photon statistics) the film does not hold; use path or bdpt"
+        ),
+        None => Ok(()),
+    }
 }
 
 /// Parses "i/N" with 1 ≤ i ≤ N.

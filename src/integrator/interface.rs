@@ -4,7 +4,7 @@
 //! [`Integrator`] from the render settings and call [`Integrator::li_camera`],
 //! [`Integrator::li`] or [`Integrator::irradiance`]; which loop runs is decided here.
 
-use super::options::{AmbientOcclusion, SimplePath};
+use super::options::{AmbientOcclusion, SimplePath, Sppm};
 use super::subsurface::SubsurfaceMethod;
 use super::{SplatSample, Stats};
 use crate::bsdf::{Bsdf, Diffuse};
@@ -44,6 +44,11 @@ pub enum IntegratorKind {
     /// `bdpt`: bidirectional path tracing, every connection of a camera and a light subpath
     /// weighted by the balance heuristic (pbrt-v4 `BDPTIntegrator`).
     Bdpt,
+    /// `sppm`: stochastic progressive photon mapping (Hachisuka & Jensen 2009; pbrt-v4
+    /// `SPPMIntegrator`): passes of camera paths ending at visible points and of photon paths
+    /// whose hits near them estimate the light they reflect. Its loop is its own
+    /// (`crate::sppm_render`); per camera sample it estimates as `path`.
+    Sppm,
 }
 
 crate::named::name_table!(IntegratorKind, "integrator", {
@@ -54,6 +59,7 @@ crate::named::name_table!(IntegratorKind, "integrator", {
     "simplepath" => IntegratorKind::SimplePath,
     "lightpath" => IntegratorKind::LightPath,
     "bdpt" => IntegratorKind::Bdpt,
+    "sppm" => IntegratorKind::Sppm,
 });
 
 impl IntegratorKind {
@@ -107,6 +113,8 @@ pub struct Integrator {
     pub ao: AmbientOcclusion,
     /// The parameters of `simplepath`.
     pub simple: SimplePath,
+    /// The parameters of `sppm`.
+    pub sppm: Sppm,
 }
 
 impl Default for Integrator {
@@ -122,6 +130,7 @@ impl Default for Integrator {
             regularize: false,
             ao: AmbientOcclusion::default(),
             simple: SimplePath::default(),
+            sppm: Sppm::default(),
         }
     }
 }
@@ -145,6 +154,11 @@ impl Integrator {
                 sample_lights: file.sample_lights.unwrap_or(d.simple.sample_lights),
                 sample_bsdf: file.sample_bsdf.unwrap_or(d.simple.sample_bsdf),
             },
+            sppm: Sppm {
+                photons_per_iteration: file.sppm_photons_per_iteration,
+                radius: file.sppm_radius.unwrap_or(d.sppm.radius),
+                seed: file.sppm_seed.unwrap_or(d.sppm.seed),
+            },
             ..d
         }
     }
@@ -158,7 +172,9 @@ impl Integrator {
     /// start paths ([`crate::light::Light::emits_paths`]: not lights at infinity) and a camera
     /// with an importance function (a perspective one without a lens system); they step
     /// through no media. Where they cannot run, the path tracer (or, with media, the volumetric
-    /// one) renders instead ([`Self::fallback_reason`] says why).
+    /// one) renders instead ([`Self::fallback_reason`] says why). `sppm` needs lights that
+    /// start paths only (it ignores media and subsurface scattering, as pbrt-v4's does:
+    /// [`Self::sppm_ignores`]); elsewhere the path tracer renders.
     pub fn for_scene(self, scene: &Scene) -> Self {
         let walks =
             scene.has_subsurface() && (self.sss == SubsurfaceMethod::RandomWalk || scene.may_have_thin_subsurface());
@@ -168,6 +184,7 @@ impl Integrator {
             IntegratorKind::LightPath | IntegratorKind::Bdpt if scene.has_media() || walks => IntegratorKind::VolPath,
             IntegratorKind::LightPath | IntegratorKind::Bdpt if Self::fallback_reason(scene).is_none() => self.kind,
             IntegratorKind::LightPath | IntegratorKind::Bdpt => IntegratorKind::Path,
+            IntegratorKind::Sppm if Self::sppm_fallback_reason(scene).is_some() => IntegratorKind::Path,
             other => other,
         };
         Self { kind, ..self }
@@ -182,6 +199,25 @@ impl Integrator {
             Some("a light at infinity (distant, infinite) or an image-projecting light cannot start light paths")
         } else if !scene.camera.camera((1, 1)).has_importance() {
             Some("only a perspective camera without a lens system has an importance function here")
+        } else {
+            None
+        }
+    }
+
+    /// Why `sppm` cannot render `scene` (`None`: it can): every light must emit photons.
+    pub fn sppm_fallback_reason(scene: &Scene) -> Option<&'static str> {
+        (!scene.lights_emit_paths())
+            .then_some("a light at infinity (distant, infinite) or an image-projecting light cannot emit photons")
+    }
+
+    /// What `sppm` leaves out of `scene`'s light transport, as pbrt-v4's does (`None`: nothing):
+    /// it traces camera and photon paths from surface to surface through media and it takes a
+    /// subsurface material's boundary for a smooth dielectric.
+    pub fn sppm_ignores(scene: &Scene) -> Option<&'static str> {
+        if scene.has_media() {
+            Some("it ignores participating media (as pbrt-v4's does)")
+        } else if scene.has_subsurface() {
+            Some("it ignores subsurface scattering: light crosses a subsurface material's boundary as glass (as in pbrt-v4)")
         } else {
             None
         }
@@ -221,8 +257,9 @@ impl Integrator {
             }
             IntegratorKind::RandomWalk => self.random_walk(scene, ray, differentials, visible, w, sampler, stats),
             IntegratorKind::SimplePath => self.simple_path(scene, ray, differentials, visible, w, sampler, stats),
-            // lightpath and bdpt estimate without their splats (`li_splatting`) as the path tracer.
-            IntegratorKind::Path | IntegratorKind::LightPath | IntegratorKind::Bdpt => {
+            // lightpath and bdpt estimate without their splats (`li_splatting`) as the path
+            // tracer, and so does sppm per camera sample (its passes are `crate::sppm_render`).
+            IntegratorKind::Path | IntegratorKind::LightPath | IntegratorKind::Bdpt | IntegratorKind::Sppm => {
                 self.path_trace(scene, ray, differentials, None, visible, w, sampler, stats)
             }
         }

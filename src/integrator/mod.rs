@@ -13,6 +13,8 @@ mod options;
 mod path;
 mod random_walk;
 mod simple_path;
+mod sppm;
+pub mod sppm_grid;
 mod state;
 pub mod subsurface;
 mod transmittance;
@@ -22,7 +24,8 @@ mod volpath;
 mod volpath_tests;
 
 pub use interface::{DirectStrategy, Integrator, IntegratorKind, UNBOUNDED_DEPTH};
-pub use options::{AmbientOcclusion, SimplePath};
+pub use options::{AmbientOcclusion, SimplePath, Sppm};
+pub use sppm::VisiblePoint;
 pub use subsurface::SubsurfaceMethod;
 
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};

@@ -19,7 +19,7 @@ use crate::texture::RayDifferentials;
 
 impl Integrator {
     /// MIS weight of emission found by BSDF sampling, given the light's solid-angle pdf.
-    fn emission_weight(&self, state: &PathState, p_light: f32) -> f32 {
+    pub(super) fn emission_weight(&self, state: &PathState, p_light: f32) -> f32 {
         if state.specular_bounce || self.strategy == DirectStrategy::BsdfOnly {
             1.0
         } else if self.strategy == DirectStrategy::LightOnly {
