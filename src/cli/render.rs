@@ -74,8 +74,8 @@ pub struct RenderArgs {
     #[arg(long)]
     pub light_sampler: Option<String>,
     /// Integrator, by pbrt-v4's name: path or volpath (either renders a scene's media when it
-    /// has any), ambientocclusion, randomwalk, simplepath [default: the file's Integrator, else
-    /// path].
+    /// has any), ambientocclusion, randomwalk, simplepath, lightpath, bdpt, sppm [default: the
+    /// file's Integrator, else path].
     #[arg(long)]
     pub integrator: Option<String>,
     /// Output colour space: srgb, rec2020, acescg, aces2065-1, display-p3 [default: srgb].

@@ -92,9 +92,10 @@ fn sppm_agrees_with_path_on_a_closed_diffuse_box() {
 
 #[test]
 fn sppm_images_are_the_same_for_any_thread_count() {
-    // 10 000 photons per iteration: three chunks, whose deposits reach shared pixels.
+    // 40 000 photons per iteration: ten chunks (whose deposits reach shared pixels), in groups
+    // of 4 on one thread and of 8 on two.
     let dir = tmpdir("sppm-threads");
-    let sppm = "Integrator \"sppm\" \"float radius\" 0.05 \"integer photonsperiteration\" 10000";
+    let sppm = "Integrator \"sppm\" \"float radius\" 0.05 \"integer photonsperiteration\" 40000";
     let text = BOX.replace("SPP", "4");
     let one = render(&dir, "one", &text, sppm, &["--threads", "1"]);
     let two = render(&dir, "two", &text, sppm, &["--threads", "2"]);
@@ -119,4 +120,30 @@ fn sppm_refuses_what_its_state_cannot_do() {
         assert!(e.contains(&format!("{} is not available with integrator \"sppm\"", flag[0])), "{flag:?}: {e}");
         assert_eq!(e.lines().count(), 1, "{e}");
     }
+}
+
+#[test]
+fn sppm_ignores_media_with_a_warning_and_fails_under_strict() {
+    let dir = tmpdir("sppm-media");
+    let file = dir.join("fog.pbrt");
+    let text = BOX.replace("SPP", "2").replace("INTEGRATOR", "Integrator \"sppm\" \"float radius\" 0.05").replace(
+        "WorldBegin\n",
+        "WorldBegin\nMakeNamedMedium \"fog\" \"string type\" \"homogeneous\"\nMediumInterface \"\" \"fog\"\n",
+    );
+    std::fs::write(&file, text).unwrap();
+    let run = |strict: bool| {
+        let mut c = prism();
+        c.arg("render").arg(&file).arg("-o").arg(dir.join("out.exr"));
+        if strict {
+            c.arg("--strict");
+        }
+        c.output().unwrap()
+    };
+    let o = run(false);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(stderr(&o).contains("integrator \"sppm\": it ignores participating media"), "{}", stderr(&o));
+    let o = run(true);
+    assert!(!o.status.success());
+    let e = stderr(&o);
+    assert!(e.contains("unsupported feature: integrator \"sppm\" for this scene: it ignores participating media"), "{e}");
 }
