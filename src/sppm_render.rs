@@ -86,6 +86,9 @@ pub fn render_sppm(
     let width = film.width as usize;
     let origin = settings.film.crop.map_or((0, 0), |b| (b.x0, b.y0));
     let pixel_at = |i: usize| (origin.0 + (i % width) as u32, origin.1 + (i / width) as u32);
+    // The filter's weights f/pdf average ∫f: divided by it, a pixel's mean is its filtered
+    // radiance (the band loop divides by the weights' sum instead).
+    let filter_integral = settings.filter.integral();
     let photons = integrator.sppm.photons_per_iteration.unwrap_or(film.pixels.len() as u64);
     let photon_seed = hash64(&[settings.seed, integrator.sppm.seed]);
     let mut pixels = vec![
@@ -134,7 +137,7 @@ pub fn render_sppm(
                     let (l, v) = integrator.sppm_camera_path(
                         scene,
                         r.ray,
-                        SampledSpectrum::splat(r.weight * c.weight),
+                        SampledSpectrum::splat(r.weight * c.weight / filter_integral),
                         c.differentials.as_ref(),
                         &mut w,
                         &mut sampler,
