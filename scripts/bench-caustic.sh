@@ -29,7 +29,7 @@ for spp in $LADDER; do
     esac
     line=$("$PRISM" render "${args[@]}" --resolution "$RES" --spp "$spp" \
       -o "$OUT/$integ-$spp.exr" 2>&1 | grep -o 'in [0-9.]* s' | head -1 | cut -d' ' -f2)
-    err=$("$PRISM" compare "$OUT/$integ-$spp.exr" "$OUT/ref.exr" | awk '/^RMSE/ {r=$2} /^MAE/ {m=$2} END {print r "," m}')
+    err=$("$PRISM" compare "$OUT/$integ-$spp.exr" "$OUT/ref.exr" | awk '$1 == "RMSE" && NF == 2 {r=$2} $1 == "MAE" {m=$2} END {print r "," m}')
     echo "$integ,$spp,$line,$err" | tee -a "$OUT/caustic.csv"
   done
 done
