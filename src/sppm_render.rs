@@ -117,7 +117,7 @@ pub fn render_sppm(
         // seed.
         let u = (radical_inverse(3, iteration as u32) + (hash64(&[settings.seed]) >> 11) as f64 / (1u64 << 53) as f64)
             .fract();
-        let lambdas = SampledWavelengths::sample_visible(u as f32);
+        let lambdas = SampledWavelengths::sample_visible((u as f32).min(1.0 - f32::EPSILON));
 
         // 2. Camera paths.
         let camera_stats = pixels
