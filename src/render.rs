@@ -3,23 +3,24 @@
 //! its samples in index order, so the image is bit-identical for any thread count, and a render
 //! can be split into disjoint sample ranges and merged.
 
-use crate::camera::{Camera, CameraRay};
+use crate::camera::Camera;
+use crate::camera_sample::camera_sample;
 use crate::film::{
-    AdaptivePixel, AovPixel, AovSettings, AovSpace, Film, FilmAllocError, FilmSettings, Pixel, SpectralSettings, Splat,
+    AdaptivePixel, AovPixel, AovSettings, AovSpace, Film, FilmAllocError, Pixel, SpectralSettings, Splat,
 };
-use crate::filter::Filter;
 use crate::integrator::{Integrator, IntegratorKind, Stats};
 use crate::material::Material;
+pub use crate::render_settings::RenderSettings;
 use crate::sampling::Sampler;
 pub use crate::sampling::SamplerKind;
 use crate::scene::Scene;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
-use crate::texture::{RayDifferentials, TextureFootprint};
-use glam::{Mat3, Mat4, Vec2};
+use crate::texture::TextureFootprint;
+use glam::{Mat3, Mat4};
 use rayon::prelude::*;
 use std::ops::Range;
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::time::{Duration, Instant};
+use std::time::Instant;
 
 /// Version of the sample stream: what a (pixel, sample index, seed) renders. Saved films that
 /// are to be extended must come from the same version. 2: wavelengths stratified with the
@@ -29,60 +30,6 @@ pub const SAMPLE_STREAM_VERSION: u32 = 3;
 
 /// Rows per parallel work item.
 const BAND_ROWS: usize = 4;
-
-/// Everything about a render that is not the scene.
-#[derive(Clone, Debug)]
-pub struct RenderSettings {
-    /// Size of the full image [pixels].
-    pub resolution: (u32, u32),
-    /// The part of the image rendered and the sensor it is seen through.
-    pub film: FilmSettings,
-    /// Samples per pixel.
-    pub spp: u64,
-    /// Seed of all random decisions.
-    pub seed: u64,
-    /// Sampler.
-    pub sampler: SamplerKind,
-    /// Pixel filter.
-    pub filter: Filter,
-    /// The integrator and its settings.
-    pub integrator: Integrator,
-    /// Stop after the pass during which this much time has passed.
-    pub time_limit: Option<Duration>,
-}
-
-impl Default for RenderSettings {
-    /// prism's defaults, which a scene file and then the command line override: 256×256 pixels,
-    /// 16 samples per pixel, seed 0, Sobol, Gaussian filter, the path tracer's defaults (depth
-    /// 8, diffusion subsurface), the whole image, the default sensor, no time limit.
-    fn default() -> Self {
-        Self {
-            resolution: (256, 256),
-            film: FilmSettings::default(),
-            spp: 16,
-            seed: 0,
-            sampler: SamplerKind::Sobol,
-            filter: Filter::by_name("gaussian").expect("built in"),
-            integrator: Integrator::default(),
-            time_limit: None,
-        }
-    }
-}
-
-impl RenderSettings {
-    /// Size of the film: the crop, or the whole image [pixels].
-    pub fn film_size(&self) -> (u32, u32) {
-        match self.film.crop {
-            Some(b) => (b.x1 - b.x0, b.y1 - b.y0),
-            None => self.resolution,
-        }
-    }
-
-    /// The full-image pixel of the film's pixel (0, 0).
-    fn film_origin(&self) -> (u32, u32) {
-        self.film.crop.map_or((0, 0), |b| (b.x0, b.y0))
-    }
-}
 
 /// Where a camera sample's wavelengths come from and where its spectral radiance goes: nowhere
 /// for an RGB film, a band of spectral buckets for a spectral one. The render loop is
@@ -266,48 +213,6 @@ pub fn new_film(settings: &RenderSettings) -> Result<Film, FilmAllocError> {
     Ok(film)
 }
 
-/// A camera sample: the film position drawn through the pixel filter, the shutter time, the
-/// lens point, and what they give.
-pub(crate) struct CameraSample {
-    /// The uniform [0, 1) the sample's wavelengths are drawn with.
-    pub u_lambda: f32,
-    /// The filter's weight of the film position.
-    pub weight: f32,
-    /// The ray (`None`: the lens lets none through).
-    pub ray: Option<CameraRay>,
-    /// The ray's differentials, when `differentials` asks for them.
-    pub differentials: Option<RayDifferentials>,
-}
-
-/// Camera sample `s` of full-image pixel `(x, y)`: the sampler started there, then the film
-/// position and wavelength uniform (one stratified 3D draw), the time, the lens.
-pub(crate) fn camera_sample(
-    scene: &Scene,
-    settings: &RenderSettings,
-    camera: &Camera,
-    differentials: Option<&TextureFootprint>,
-    sampler: &mut Sampler,
-    (x, y): (u32, u32),
-    s: u64,
-) -> CameraSample {
-    sampler.start_pixel_sample((x, y), s, settings.seed);
-    let u = sampler.get_pixel_3d();
-    let (offset, weight) = settings.filter.sample(u.truncate());
-    let p_film = Vec2::new(x as f32 + 0.5, y as f32 + 0.5) + offset;
-    // pbrt-v4's camera sample: a time uniform over the shutter interval, then the lens. A
-    // scene where nothing (camera included) moves draws no time sample, so its sampler
-    // dimensions (and image) stay as without motion blur.
-    let time = scene.shutter.map_or(0.0, |(open, close)| {
-        let u = sampler.get_1d();
-        open + (close - open) * u
-    });
-    let u_lens = sampler.get_2d();
-    let ray = camera.sample_ray(p_film, u_lens, time);
-    let differentials =
-        differentials.zip(ray.as_ref()).and_then(|(f, r)| f.camera_ray_differentials(camera, &r.ray, p_film, u_lens));
-    CameraSample { u_lambda: u.z, weight, ray, differentials }
-}
-
 /// Samples `pass.range` of every pixel of band `band` (its pixels, geometry buffers and
 /// spectral sink), or each adaptive pixel's planned samples.
 fn render_band<S: SpectralSink>(
@@ -330,7 +235,7 @@ fn render_band<S: SpectralSink>(
     // A camera sample of pixel `(x, y)`: its wavelengths, filter weight, ray and the ray's
     // differentials.
     let start = |sampler: &mut Sampler, spectral: &S, (x, y): (u32, u32), s: u64| {
-        let c = camera_sample(scene, settings, camera, differentials, sampler, (x, y), s);
+        let c = camera_sample(scene, settings.seed, &settings.filter, camera, differentials, sampler, (x, y), s);
         (spectral.sample_wavelengths(c.u_lambda), c.weight, c.ray, c.differentials)
     };
     // The sensor's response to an estimate, or `None` (counted) when it is not finite and is

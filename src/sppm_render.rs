@@ -20,11 +20,12 @@
 //! lists are added to the pixels chunk by chunk in index order, so every pixel's sums are the
 //! same for any thread count.
 
+use crate::camera_sample::camera_sample;
 use crate::film::{Film, Pixel};
 use crate::integrator::sppm_grid::VisiblePointGrid;
 use crate::integrator::{Integrator, Stats, VisiblePoint};
 use crate::material::Material;
-use crate::render::{camera_sample, RenderSettings};
+use crate::render_settings::RenderSettings;
 use crate::sampling::{radical_inverse, rng::hash64};
 use crate::scene::Scene;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
@@ -84,7 +85,7 @@ pub fn render_sppm(
     // pbrt-v4 converts every contribution without the film's per-sample clamp.
     let sensor = settings.film.sensor.with_max_component(f32::INFINITY);
     let width = film.width as usize;
-    let origin = settings.film.crop.map_or((0, 0), |b| (b.x0, b.y0));
+    let origin = settings.film_origin();
     let pixel_at = |i: usize| (origin.0 + (i % width) as u32, origin.1 + (i / width) as u32);
     // The filter's weights f/pdf average ∫f: divided by it, a pixel's mean is its filtered
     // radiance (the band loop divides by the weights' sum instead).
@@ -129,7 +130,16 @@ pub fn render_sppm(
                 let mut sampler = settings.sampler.make();
                 for (i, (px, vp)) in pixels.iter_mut().zip(visible.iter_mut()).enumerate() {
                     let (x, y) = pixel_at(row * width + i);
-                    let c = camera_sample(scene, settings, &camera, differentials, &mut sampler, (x, y), iteration);
+                    let c = camera_sample(
+                        scene,
+                        settings.seed,
+                        &settings.filter,
+                        &camera,
+                        differentials,
+                        &mut sampler,
+                        (x, y),
+                        iteration,
+                    );
                     stats.samples += 1;
                     *vp = None;
                     let Some(r) = c.ray else { continue };

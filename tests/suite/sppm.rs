@@ -47,7 +47,8 @@ fn a_closed_emitting_box_has_radiance_le_over_one_minus_albedo() {
     // over six seeds had a standard deviation of 0.0055 (16×16, 64 iterations of 20 000
     // photons, radius 0.05): the tolerance is 4σ ≈ 0.022 (1.1 %).
     let dir = tmpdir("sppm-furnace");
-    let sppm = "Integrator \"sppm\" \"integer maxdepth\" -1 \"float radius\" 0.05 \"integer photonsperiteration\" 20000";
+    let sppm =
+        "Integrator \"sppm\" \"integer maxdepth\" -1 \"float radius\" 0.05 \"integer photonsperiteration\" 20000";
     let y = mean_y(&render(&dir, "furnace", &FURNACE.replace("RHO", "0.5"), sppm, &[]));
     assert!((y - 2.0).abs() < 0.022, "Y = {y}, want 2");
     // Without reflection only the emission is seen: Y = 1 exactly but for wavelength noise.
@@ -146,5 +147,8 @@ fn sppm_ignores_media_with_a_warning_and_fails_under_strict() {
     let o = run(true);
     assert!(!o.status.success());
     let e = stderr(&o);
-    assert!(e.contains("unsupported feature: integrator \"sppm\" for this scene: it ignores participating media"), "{e}");
+    assert!(
+        e.contains("unsupported feature: integrator \"sppm\" for this scene: it ignores participating media"),
+        "{e}"
+    );
 }
