@@ -23,6 +23,7 @@ pub(crate) struct CameraSample {
 
 /// Camera sample `s` of full-image pixel `(x, y)` for the render seed `seed`: the sampler started there, then the film
 /// position and wavelength uniform (one stratified 3D draw), the time, the lens.
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn camera_sample(
     scene: &Scene,
     seed: u64,
