@@ -112,7 +112,7 @@ print(f"files {len(files)}  edges {sum(len(v) for v in edges.values())}  cyclic 
 for comp in sorted(cyc, key=len):
     print('  SCC', len(comp), ':', ' '.join(comp[:12]), '...' if len(comp) > 12 else '')
 # layering between top-level modules
-layers = [['cli','main'], ['bench','measure','render','checkpoint','fingerprint','progress','denoise','adaptive'], ['integrator'], ['pbrt'], ['scene'],
+layers = [['cli','main'], ['bench','measure','render','sppm_render','render_settings','camera_sample','checkpoint','fingerprint','progress','denoise','adaptive'], ['integrator'], ['pbrt'], ['scene'],
           ['accel','light','material','media','bssrdf','film','filter','sensor','sensor_fit','settings'], ['texture','bsdf'],
           ['geometry','sampling','spectrum','image','io','camera'], ['simd','math','named']]
 level = {n: i for i, l in enumerate(layers) for n in l}

@@ -5,12 +5,11 @@
 
 use crate::camera::Camera;
 use crate::film::{
-    AdaptivePixel, AovPixel, AovSettings, AovSpace, Film, FilmAllocError, FilmSettings, Pixel, SpectralSettings, Splat,
-    StrategyImages,
+    AdaptivePixel, AovPixel, AovSettings, AovSpace, Film, FilmAllocError, Pixel, SpectralSettings, Splat, StrategyImages,
 };
-use crate::filter::Filter;
 use crate::integrator::{camera_sample, wavefront, Integrator, IntegratorKind, Stats, StrategyImageKind};
 use crate::material::Material;
+pub use crate::render_settings::RenderSettings;
 use crate::sampling::Sampler;
 pub use crate::sampling::SamplerKind;
 use crate::scene::Scene;
@@ -20,7 +19,7 @@ use glam::{Mat3, Mat4};
 use rayon::prelude::*;
 use std::ops::Range;
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::time::{Duration, Instant};
+use std::time::Instant;
 
 /// Version of the sample stream: what a (pixel, sample index, seed) renders. Saved films that
 /// are to be extended must come from the same version. 2: wavelengths stratified with the
@@ -30,65 +29,6 @@ pub const SAMPLE_STREAM_VERSION: u32 = 3;
 
 /// Rows per parallel work item.
 const BAND_ROWS: usize = 4;
-
-/// Everything about a render that is not the scene.
-#[derive(Clone, Debug)]
-pub struct RenderSettings {
-    /// Size of the full image [pixels].
-    pub resolution: (u32, u32),
-    /// The part of the image rendered and the sensor it is seen through.
-    pub film: FilmSettings,
-    /// Samples per pixel.
-    pub spp: u64,
-    /// Seed of all random decisions.
-    pub seed: u64,
-    /// Sampler.
-    pub sampler: SamplerKind,
-    /// Pixel filter.
-    pub filter: Filter,
-    /// The integrator and its settings.
-    pub integrator: Integrator,
-    /// Stop after the pass during which this much time has passed.
-    pub time_limit: Option<Duration>,
-    /// Render with the wavefront prototype ([`crate::integrator::wavefront`]; the caller checks
-    /// the scene with [`crate::integrator::wavefront::check`]). Ignored with geometry buffers,
-    /// spectral buckets, adaptive sampling or a splatting estimator.
-    pub wavefront: bool,
-}
-
-impl Default for RenderSettings {
-    /// prism's defaults, which a scene file and then the command line override: 256×256 pixels,
-    /// 16 samples per pixel, seed 0, Sobol, Gaussian filter, the path tracer's defaults (depth
-    /// 8, diffusion subsurface), the whole image, the default sensor, no time limit.
-    fn default() -> Self {
-        Self {
-            resolution: (256, 256),
-            film: FilmSettings::default(),
-            spp: 16,
-            seed: 0,
-            sampler: SamplerKind::Sobol,
-            filter: Filter::by_name("gaussian").expect("built in"),
-            integrator: Integrator::default(),
-            time_limit: None,
-            wavefront: false,
-        }
-    }
-}
-
-impl RenderSettings {
-    /// Size of the film: the crop, or the whole image [pixels].
-    pub fn film_size(&self) -> (u32, u32) {
-        match self.film.crop {
-            Some(b) => (b.x1 - b.x0, b.y1 - b.y0),
-            None => self.resolution,
-        }
-    }
-
-    /// The full-image pixel of the film's pixel (0, 0).
-    fn film_origin(&self) -> (u32, u32) {
-        self.film.crop.map_or((0, 0), |b| (b.x0, b.y0))
-    }
-}
 
 /// Where a camera sample's wavelengths come from and where its spectral radiance goes: nowhere
 /// for an RGB film, a band of spectral buckets for a spectral one. The render loop is
@@ -458,7 +398,8 @@ pub fn render(
     Ok((film, stats))
 }
 
-/// Adds samples `range` of every pixel to `film`, in passes of 1, 1, 2, 4, … 16 samples. After
+/// Adds samples `range` of every pixel to `film`, in passes of 1, 1, 2, 4, … 16 samples (for
+/// `sppm`, iterations `range` of [`crate::sppm_render::render_sppm`], which must start at 0). After
 /// each pass `after_pass(film, end_of_samples_so_far)` may save a checkpoint or report progress;
 /// returning false stops. Stops early, at the end of a pass, once `settings.time_limit` is over,
 /// and before the next pass once `cancel` is set (from another thread or a signal handler): the
@@ -471,8 +412,13 @@ pub fn render_range(
     cancel: &AtomicBool,
     mut after_pass: impl FnMut(&Film, u64) -> bool,
 ) -> Stats {
+    // Stochastic progressive photon mapping and Metropolis light transport have loops of
+    // their own.
     let integrator = settings.integrator.for_scene(scene);
-    if integrator.kind == crate::integrator::IntegratorKind::Mlt {
+    if integrator.kind == IntegratorKind::Sppm {
+        return crate::sppm_render::render_sppm(scene, settings, film, range, cancel, after_pass);
+    }
+    if integrator.kind == IntegratorKind::Mlt {
         return render_mlt(scene, settings, &integrator, film, range, cancel, after_pass);
     }
     let mut stats = Stats::default();

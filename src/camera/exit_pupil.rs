@@ -5,6 +5,7 @@
 //! rear element.
 
 use super::lens_system::{LensRay, LensSystem};
+use crate::sampling::radical_inverse;
 use glam::{DVec2, DVec3, Vec2};
 use rayon::prelude::*;
 
@@ -35,17 +36,6 @@ impl PupilBox {
     pub fn contains(&self, p: DVec2) -> bool {
         p.cmpge(self.min).all() && p.cmple(self.max).all()
     }
-}
-
-/// The radical inverse of `i` in prime base `b` (the Halton sequence's coordinates).
-fn radical_inverse(b: u32, mut i: u32) -> f64 {
-    let (mut inv, mut f) = (0.0, 1.0 / f64::from(b));
-    while i > 0 {
-        inv += f64::from(i % b) * f;
-        i /= b;
-        f /= f64::from(b);
-    }
-    inv
 }
 
 /// The exit-pupil boxes of a lens system for film points out to `half_diagonal` from the axis.

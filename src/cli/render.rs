@@ -74,7 +74,8 @@ pub struct RenderArgs {
     #[arg(long)]
     pub light_sampler: Option<String>,
     /// Integrator, by pbrt-v4's name: path or volpath (either renders a scene's media when it
-    /// has any), ambientocclusion, randomwalk, simplepath, lightpath, bdpt, mlt [default: the
+    /// has any), ambientocclusion, randomwalk, simplepath, simplevolpath, lightpath, bdpt, mlt,
+    /// sppm [default: the
     /// file's Integrator, else path].
     #[arg(long)]
     pub integrator: Option<String>,
@@ -227,6 +228,25 @@ pub fn prepare(args: &RenderArgs) -> Result<Job> {
             integrator.kind.name()
         );
     }
+    let (mut aov, mut spectral, mut write_aov) = (aov, spectral, write_aov);
+    if integrator.kind == IntegratorKind::Sppm {
+        sppm_refusals(args)?;
+        if let Some(why) = Integrator::sppm_ignores(&scene).filter(|_| args.strict) {
+            bail!("unsupported feature: integrator \"sppm\" for this scene: {why} (strict mode)");
+        }
+        // Its pixels are density estimates, not sums of samples: the file's geometry buffers
+        // and spectral buckets are left out.
+        for (film, asked) in [("gbuffer", aov.is_some()), ("spectral", spectral.is_some())] {
+            if asked {
+                let message = format!("Film \"{film}\": integrator \"sppm\" records R, G, B only");
+                if args.strict {
+                    bail!("unsupported feature: {message} (strict mode)");
+                }
+                log::warn!("{message}");
+            }
+        }
+        (aov, spectral, write_aov) = (None, None, false);
+    }
     let resolution = resolution.or(file.resolution).unwrap_or(d.resolution);
     let crop = crop_arg.or(file.crop).map(|c| c.bounds(resolution)).transpose()?;
     let (iso, exposure) = (file.iso.unwrap_or(100.0), file.exposure_time.unwrap_or(1.0));
@@ -240,9 +260,11 @@ pub fn prepare(args: &RenderArgs) -> Result<Job> {
     let settings = RenderSettings {
         resolution,
         film: FilmSettings { crop, sensor, aov, spectral },
-        // pbrt-v4's mlt takes its mutations per pixel from --spp, else from its own parameter.
+        // pbrt-v4's mlt takes its mutations per pixel and sppm its iterations from --spp, else
+        // from their own parameters.
         spp: spp
             .or((integrator.kind == IntegratorKind::Mlt).then_some(integrator.mlt.mutations_per_pixel))
+            .or(file.sppm_iterations.filter(|_| integrator.kind == IntegratorKind::Sppm))
             .or(file.spp)
             .unwrap_or(d.spp),
         seed: args.seed.or(file.seed).unwrap_or(d.seed),
@@ -314,6 +336,9 @@ pub(crate) fn integrator_for(
         let why = Integrator::fallback_reason(scene).unwrap_or("");
         log::warn!("integrator \"{}\" renders this scene as \"{}\": {why}", named.name(), integrator.kind.name());
     }
+    if let Some(why) = Integrator::sppm_ignores(scene).filter(|_| integrator.kind == IntegratorKind::Sppm) {
+        log::warn!("integrator \"sppm\": {why}");
+    }
     integrator
 }
 
@@ -366,6 +391,26 @@ pub fn check_output(path: &Path) -> Result<()> {
         );
     }
     crate::io::check_dir_writable(path).with_context(|| format!("cannot write {}", path.display()))
+}
+
+/// The options an `sppm` render cannot honour: its pixels' state (radii, photon statistics)
+/// lives outside the film, so it can be neither split, checkpointed nor resumed, nor given
+/// per-pixel sample counts; and it records no geometry buffers.
+fn sppm_refusals(args: &RenderArgs) -> Result<()> {
+    let refused = [
+        (args.part.is_some(), "--part"),
+        (args.checkpoint_every.is_some(), "--checkpoint-every"),
+        (args.resume, "--resume"),
+        (args.target_error.is_some(), "--target-error"),
+        (args.aov, "--aov"),
+        (args.denoise, "--denoise"),
+    ];
+    match refused.iter().find(|(given, _)| *given) {
+        Some((_, flag)) => bail!(
+            "{flag} is not available with integrator \"sppm\": its pixels are progressive photon-map estimates whose state (radii, photon statistics) the film does not hold; use path or bdpt"
+        ),
+        None => Ok(()),
+    }
 }
 
 /// Parses "i/N" with 1 ≤ i ≤ N.

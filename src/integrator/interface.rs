@@ -4,7 +4,7 @@
 //! [`Integrator`] from the render settings and call [`Integrator::li_camera`],
 //! [`Integrator::li`] or [`Integrator::irradiance`]; which loop runs is decided here.
 
-use super::options::{AmbientOcclusion, Mlt, SimplePath, StrategyImageKind};
+use super::options::{AmbientOcclusion, Mlt, SimplePath, Sppm, StrategyImageKind};
 use super::subsurface::SubsurfaceMethod;
 use super::{SplatSample, Stats};
 use crate::bsdf::{Bsdf, Diffuse};
@@ -50,6 +50,11 @@ pub enum IntegratorKind {
     /// `mlt`: Metropolis light transport in primary sample space over bdpt's strategies
     /// (pbrt-v4 `MLTIntegrator`).
     Mlt,
+    /// `sppm`: stochastic progressive photon mapping (Hachisuka & Jensen 2009; pbrt-v4
+    /// `SPPMIntegrator`): passes of camera paths ending at visible points and of photon paths
+    /// whose hits near them estimate the light they reflect. Its loop is its own
+    /// (`crate::sppm_render`); per camera sample it estimates as `path`.
+    Sppm,
 }
 
 crate::named::name_table!(IntegratorKind, "integrator", {
@@ -62,6 +67,7 @@ crate::named::name_table!(IntegratorKind, "integrator", {
     "lightpath" => IntegratorKind::LightPath,
     "bdpt" => IntegratorKind::Bdpt,
     "mlt" => IntegratorKind::Mlt,
+    "sppm" => IntegratorKind::Sppm,
 });
 
 impl IntegratorKind {
@@ -119,6 +125,8 @@ pub struct Integrator {
     pub mlt: Mlt,
     /// `bdpt`'s per-strategy images.
     pub strategy_images: StrategyImageKind,
+    /// The parameters of `sppm`.
+    pub sppm: Sppm,
 }
 
 impl Default for Integrator {
@@ -136,6 +144,7 @@ impl Default for Integrator {
             simple: SimplePath::default(),
             mlt: Mlt::default(),
             strategy_images: StrategyImageKind::Off,
+            sppm: Sppm::default(),
         }
     }
 }
@@ -181,6 +190,11 @@ impl Integrator {
                 (_, Some(true)) => StrategyImageKind::Unweighted,
                 _ => StrategyImageKind::Off,
             },
+            sppm: Sppm {
+                photons_per_iteration: file.sppm_photons_per_iteration,
+                radius: file.sppm_radius.unwrap_or(d.sppm.radius),
+                seed: file.sppm_seed.unwrap_or(d.sppm.seed),
+            },
             ..d
         }
     }
@@ -193,7 +207,8 @@ impl Integrator {
     /// `path` ignores them). The estimators that start paths at the lights need a camera with
     /// an importance function (a perspective one without a lens system); they step through no
     /// media. Where they cannot run, the path tracer (or, with media, the volumetric
-    /// one) renders instead ([`Self::fallback_reason`] says why).
+    /// one) renders instead ([`Self::fallback_reason`] says why). `sppm` ignores media and
+    /// subsurface scattering, as pbrt-v4's does ([`Self::sppm_ignores`]).
     pub fn for_scene(self, scene: &Scene) -> Self {
         let walks =
             scene.has_subsurface() && (self.sss == SubsurfaceMethod::RandomWalk || scene.may_have_thin_subsurface());
@@ -221,6 +236,19 @@ impl Integrator {
             Some("they do not step through participating media or subsurface materials")
         } else if !scene.camera.camera((1, 1)).has_importance() {
             Some("only a perspective camera without a lens system has an importance function here")
+        } else {
+            None
+        }
+    }
+
+    /// What `sppm` leaves out of `scene`'s light transport, as pbrt-v4's does (`None`: nothing):
+    /// it traces camera and photon paths from surface to surface through media and it takes a
+    /// subsurface material's boundary for a smooth dielectric.
+    pub fn sppm_ignores(scene: &Scene) -> Option<&'static str> {
+        if scene.has_media() {
+            Some("it ignores participating media (as pbrt-v4's does)")
+        } else if scene.has_subsurface() {
+            Some("it ignores subsurface scattering: light crosses a subsurface material's boundary as glass (as in pbrt-v4)")
         } else {
             None
         }
@@ -262,8 +290,12 @@ impl Integrator {
             IntegratorKind::SimplePath => self.simple_path(scene, ray, differentials, visible, w, sampler, stats),
             IntegratorKind::SimpleVolPath => self.simple_volpath(scene, ray, w, sampler, stats),
             // lightpath, bdpt and mlt estimate without their splats (`li_splatting`) as the path
-            // tracer.
-            IntegratorKind::Path | IntegratorKind::LightPath | IntegratorKind::Bdpt | IntegratorKind::Mlt => {
+            // tracer, and so does sppm per camera sample (its passes are `crate::sppm_render`).
+            IntegratorKind::Path
+            | IntegratorKind::LightPath
+            | IntegratorKind::Bdpt
+            | IntegratorKind::Mlt
+            | IntegratorKind::Sppm => {
                 self.path_trace(scene, ray, differentials, None, visible, w, sampler, stats)
             }
         }

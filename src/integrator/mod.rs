@@ -16,6 +16,8 @@ mod path;
 mod random_walk;
 mod simple_path;
 mod simple_volpath;
+mod sppm;
+pub mod sppm_grid;
 mod state;
 pub mod subsurface;
 mod transmittance;
@@ -28,7 +30,8 @@ pub mod wavefront;
 pub use camera_sample::{camera_sample, CameraSample};
 pub use interface::{DirectStrategy, Integrator, IntegratorKind, UNBOUNDED_DEPTH};
 pub use mlt::MltFilm;
-pub use options::{AmbientOcclusion, Mlt, SimplePath, StrategyImageKind};
+pub use options::{AmbientOcclusion, Mlt, SimplePath, Sppm, StrategyImageKind};
+pub use sppm::VisiblePoint;
 pub use subsurface::SubsurfaceMethod;
 
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};

@@ -1,5 +1,6 @@
-//! The parameters of pbrt-v4's small estimators (`ambientocclusion`, `simplepath`) and `bdpt`'s
-//! debugging images, which the one [`super::Integrator`] carries beside the settings every
+//! The parameters of pbrt-v4's estimators beyond the shared ones (`ambientocclusion`,
+//! `simplepath`, `mlt`, `sppm`) and `bdpt`'s debugging images, which the one
+//! [`super::Integrator`] carries beside the settings every
 //! estimator shares.
 
 use crate::spectrum::ColorSpace;
@@ -89,4 +90,20 @@ pub enum StrategyImageKind {
     /// `visualizeweights` (taking precedence, as in pbrt-v4): the weighted contributions, which
     /// sum to the image.
     Weighted,
+}
+/// pbrt-v4's `sppm` parameters (stochastic progressive photon mapping).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Sppm {
+    /// `photonsperiteration`: photon paths per pass (`None`, pbrt-v4's −1: one per film pixel).
+    pub photons_per_iteration: Option<u64>,
+    /// `radius`: every pixel's initial search radius [scene units] (pbrt-v4's default 1).
+    pub radius: f32,
+    /// `seed`: seeds the photon paths (pbrt-v4's default 6502), with the render's seed.
+    pub seed: u64,
+}
+
+impl Default for Sppm {
+    fn default() -> Self {
+        Self { photons_per_iteration: None, radius: 1.0, seed: 6502 }
+    }
 }

@@ -40,11 +40,11 @@ pub const MEDIA: &[&str] = crate::media::PBRT_NAMES;
 /// A scene with media is rendered by the volumetric path tracer whichever is named; without
 /// media "volpath" is "path". "lightpath", "bdpt" and "mlt" render scenes whose lights and camera they
 /// can trace from and to, and fall back to "path" with a warning elsewhere
-/// (`Integrator::fallback_reason`).
+/// (`Integrator::fallback_reason`); "sppm" likewise where a light cannot emit photons.
 pub const PRISM_INTEGRATORS: &[&str] =
-    &["path", "volpath", "ambientocclusion", "randomwalk", "simplepath", "simplevolpath", "lightpath", "bdpt", "mlt"];
+    &["path", "volpath", "ambientocclusion", "randomwalk", "simplepath", "simplevolpath", "lightpath", "bdpt", "mlt", "sppm"];
 /// pbrt-v4 integrators prism replaces with its path tracer.
-pub const PBRT_ONLY_INTEGRATORS: &[(&str, &str)] = &[("sppm", "path")];
+pub const PBRT_ONLY_INTEGRATORS: &[(&str, &str)] = &[];
 
 /// Samplers (all pbrt-v4 names are accepted; the renderer picks its own sequence).
 pub const SAMPLERS: &[&str] = &["halton", "independent", "paddedsobol", "pmj02bn", "sobol", "stratified", "zsobol"];

@@ -75,6 +75,11 @@ pub struct FileSettings {
     /// Integrator "bdpt": "visualizestrategies" and "visualizeweights".
     pub visualize_strategies: Option<bool>,
     pub visualize_weights: Option<bool>,
+    /// Integrator "sppm": "iterations", "photonsperiteration" (−1: `None`), "radius", "seed".
+    pub sppm_iterations: Option<u64>,
+    pub sppm_photons_per_iteration: Option<u64>,
+    pub sppm_radius: Option<f32>,
+    pub sppm_seed: Option<u64>,
     /// PixelFilter with its parameters.
     pub filter: Option<crate::filter::Filter>,
     /// The Sampler with its parameters.
@@ -310,6 +315,32 @@ impl Ctx<'_> {
             .map_err(|e| param_error(params, "maxdepth", loc, e.to_string()))
     }
 
+    /// Integrator "sppm"'s "iterations" (≥ 1), "photonsperiteration" (≥ 1, or −1: one per
+    /// pixel), "radius" (> 0) and "seed"; none for another integrator.
+    #[allow(clippy::type_complexity)]
+    fn sppm(&self) -> Result<(Option<u64>, Option<u64>, Option<f32>, Option<u64>), SceneError> {
+        let (params, loc) = (&self.desc.integrator.params, &self.desc.integrator.loc);
+        if self.desc.integrator.kind != "sppm" {
+            return Ok((None, None, None, None));
+        }
+        let bad = |name: &str, what: &str| param_error(params, name, loc, format!("\"{name}\" must be {what}"));
+        let iterations = match params.int("iterations") {
+            Some(n) if n < 1 => return Err(bad("iterations", "at least 1")),
+            n => n.map(|n| n as u64),
+        };
+        let photons = match params.int("photonsperiteration") {
+            None | Some(-1) => None,
+            Some(n) if n < 1 => return Err(bad("photonsperiteration", "at least 1, or -1 for one per pixel")),
+            Some(n) => Some(n as u64),
+        };
+        let radius = match params.float("radius") {
+            Some(r) if !(r > 0.0 && r.is_finite()) => return Err(bad("radius", "positive")),
+            r => r,
+        };
+        let seed = params.int("seed").map(|s| s as u64);
+        Ok((iterations, photons, radius, seed))
+    }
+
     /// Integrator "lightsampler": "bvh" (pbrt-v4's default), "power" or "uniform".
     fn light_sampler(&self) -> Result<LightSamplerKind, SceneError> {
         let (params, loc) = (&self.desc.integrator.params, &self.desc.integrator.loc);
@@ -429,6 +460,7 @@ impl Ctx<'_> {
         };
         let filter = pixel_filter(&d.filter.kind, &d.filter.params);
         let (sampler, spp) = self.sampler()?;
+        let (sppm_iterations, sppm_photons_per_iteration, sppm_radius, sppm_seed) = self.sppm()?;
         Ok(FileSettings {
             resolution,
             filename: film.string("filename").map(Into::into),
@@ -449,6 +481,10 @@ impl Ctx<'_> {
             mlt_sigma: d.integrator.params.float("sigma"),
             visualize_strategies: d.integrator.params.bool("visualizestrategies"),
             visualize_weights: d.integrator.params.bool("visualizeweights"),
+            sppm_iterations,
+            sppm_photons_per_iteration,
+            sppm_radius,
+            sppm_seed,
             filter: Some(filter),
             sampler: Some(sampler),
             seed: d.sampler.params.int("seed").or_else(|| d.options.int("seed")).map(|s| s as u64),

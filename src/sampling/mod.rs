@@ -25,3 +25,14 @@ pub use rng::Rng;
 pub use sampler::Sampler;
 pub use spherical_rectangle::SphericalRectangle;
 pub use windowed::{Window, WindowedDistribution2D};
+
+/// The radical inverse of `i` in prime base `b` (the Halton sequence's coordinates).
+pub fn radical_inverse(b: u32, mut i: u32) -> f64 {
+    let (mut inv, mut f) = (0.0, 1.0 / f64::from(b));
+    while i > 0 {
+        inv += f64::from(i % b) * f;
+        i /= b;
+        f /= f64::from(b);
+    }
+    inv
+}

@@ -50,6 +50,7 @@ mod scene_parser;
 mod simple_integrators;
 mod spectral_edges;
 mod spectral_film;
+mod sppm;
 mod strategies;
 mod strict;
 mod twisted_ribbons;

@@ -355,12 +355,12 @@ fn unknown_types_list_valid_names() {
 
 #[test]
 fn unsupported_features_warn_or_fail_under_strict() {
-    let (d, w) = parse("Integrator \"sppm\" \"integer maxdepth\" 3\nWorldBegin");
+    let (d, w) = parse("Integrator \"mlt\" \"integer maxdepth\" 3\nWorldBegin");
     let w: Vec<String> = w.iter().map(|w| w.to_string()).collect();
-    assert_eq!(w, ["<string>:1:12: warning: unsupported feature: integrator \"sppm\"; prism uses \"path\" instead"]);
+    assert_eq!(w, ["<string>:1:12: warning: unsupported feature: integrator \"mlt\"; prism uses \"path\" instead"]);
     assert_eq!(
-        strict_err("Integrator \"sppm\"\nWorldBegin"),
-        "<string>:1:12: unsupported feature: integrator \"sppm\" (strict mode; without --strict prism uses \"path\" instead)"
+        strict_err("Integrator \"mlt\"\nWorldBegin"),
+        "<string>:1:12: unsupported feature: integrator \"mlt\" (strict mode; without --strict prism uses \"path\" instead)"
     );
     // Every pbrt-v4 film is written as itself.
     let (d_film, w) = parse("Film \"gbuffer\"\nWorldBegin");
