@@ -5,8 +5,10 @@
 
 use crate::camera::Camera;
 use crate::film::{
-    AdaptivePixel, AovPixel, AovSettings, AovSpace, Film, FilmAllocError, Pixel, SpectralSettings, Splat, StrategyImages,
+    AdaptivePixel, AovPixel, AovSettings, AovSpace, Film, FilmAllocError, Pixel, SpectralSettings, Splat,
+    StrategyImages,
 };
+use crate::filter::Filter;
 use crate::integrator::{camera_sample, wavefront, Integrator, IntegratorKind, Stats, StrategyImageKind};
 use crate::material::Material;
 pub use crate::render_settings::RenderSettings;

@@ -20,8 +20,8 @@
 //! lists are added to the pixels chunk by chunk in index order, so every pixel's sums are the
 //! same for any thread count.
 
-use crate::integrator::camera_sample;
 use crate::film::{Film, Pixel};
+use crate::integrator::camera_sample;
 use crate::integrator::sppm_grid::VisiblePointGrid;
 use crate::integrator::{Integrator, Stats, VisiblePoint};
 use crate::material::Material;

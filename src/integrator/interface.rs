@@ -295,9 +295,7 @@ impl Integrator {
             | IntegratorKind::LightPath
             | IntegratorKind::Bdpt
             | IntegratorKind::Mlt
-            | IntegratorKind::Sppm => {
-                self.path_trace(scene, ray, differentials, None, visible, w, sampler, stats)
-            }
+            | IntegratorKind::Sppm => self.path_trace(scene, ray, differentials, None, visible, w, sampler, stats),
         }
     }
 

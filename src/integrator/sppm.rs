@@ -148,7 +148,9 @@ impl Integrator {
         let Some((_, light, pmf, _)) = scene.sample_emitter(sampler.get_1d()) else { return };
         let (u_pos, u_dir) = (sampler.get_2d(), sampler.get_2d());
         let time = scene.shutter.map_or(0.0, |(open, close)| open + (close - open) * sampler.get_1d());
-        let Some(les) = light.sample_le(u_pos, u_dir, &w).filter(|l| l.pdf_pos > 0.0 && l.pdf_dir > 0.0) else {
+        let Some(les) =
+            light.sample_le(u_pos, u_dir, &scene.sphere(), &w).filter(|l| l.pdf_pos > 0.0 && l.pdf_dir > 0.0)
+        else {
             return;
         };
         let cos_light = if les.n == Vec3::ZERO { 1.0 } else { les.n.dot(les.d).abs() };

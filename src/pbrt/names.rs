@@ -41,8 +41,18 @@ pub const MEDIA: &[&str] = crate::media::PBRT_NAMES;
 /// media "volpath" is "path". "lightpath", "bdpt" and "mlt" render scenes whose lights and camera they
 /// can trace from and to, and fall back to "path" with a warning elsewhere
 /// (`Integrator::fallback_reason`); "sppm" likewise where a light cannot emit photons.
-pub const PRISM_INTEGRATORS: &[&str] =
-    &["path", "volpath", "ambientocclusion", "randomwalk", "simplepath", "simplevolpath", "lightpath", "bdpt", "mlt", "sppm"];
+pub const PRISM_INTEGRATORS: &[&str] = &[
+    "path",
+    "volpath",
+    "ambientocclusion",
+    "randomwalk",
+    "simplepath",
+    "simplevolpath",
+    "lightpath",
+    "bdpt",
+    "mlt",
+    "sppm",
+];
 /// pbrt-v4 integrators prism replaces with its path tracer.
 pub const PBRT_ONLY_INTEGRATORS: &[(&str, &str)] = &[];
 
