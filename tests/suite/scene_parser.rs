@@ -14,10 +14,6 @@ fn err(s: &str) -> String {
     parse_str(s, &ParseOptions::default()).unwrap_err().to_string()
 }
 
-fn strict_err(s: &str) -> String {
-    parse_str(s, &ParseOptions { strict: true, ..Default::default() }).unwrap_err().to_string()
-}
-
 fn close(a: Mat4, b: Mat4) -> bool {
     a.abs_diff_eq(b, 1e-5)
 }
@@ -354,23 +350,22 @@ fn unknown_types_list_valid_names() {
 }
 
 #[test]
-fn unsupported_features_warn_or_fail_under_strict() {
-    let (d, w) = parse("Integrator \"mlt\" \"integer maxdepth\" 3\nWorldBegin");
-    let w: Vec<String> = w.iter().map(|w| w.to_string()).collect();
-    assert_eq!(w, ["<string>:1:12: warning: unsupported feature: integrator \"mlt\"; prism uses \"path\" instead"]);
-    assert_eq!(
-        strict_err("Integrator \"mlt\"\nWorldBegin"),
-        "<string>:1:12: unsupported feature: integrator \"mlt\" (strict mode; without --strict prism uses \"path\" instead)"
+fn every_pbrt_v4_integrator_and_film_is_read_as_itself() {
+    for name in ["path", "volpath", "bdpt", "lightpath", "mlt", "sppm", "simplevolpath", "ambientocclusion"] {
+        let (d, w) = parse(&format!("Integrator \"{name}\" \"integer maxdepth\" 3\nWorldBegin"));
+        assert!(w.is_empty(), "{name}: {w:?}");
+        assert_eq!((d.integrator.kind.as_str(), d.integrator.params.int("maxdepth")), (name, Some(3)));
+    }
+    // An unknown one is an error at its name.
+    assert!(
+        err("Integrator \"photonmap\"").starts_with("<string>:1:12: unknown integrator"),
+        "{}",
+        err("Integrator \"photonmap\"")
     );
     // Every pbrt-v4 film is written as itself.
     let (d_film, w) = parse("Film \"gbuffer\"\nWorldBegin");
     assert!(w.is_empty(), "{w:?}");
     assert_eq!(d_film.film.kind, "gbuffer");
-    assert_eq!((d.integrator.kind.as_str(), d.integrator.params.int("maxdepth")), ("path", Some(3)));
-    // Without media, volpath is path: no substitution, no warning.
-    let (d, w) = parse("Integrator \"volpath\" \"integer maxdepth\" 3\nWorldBegin");
-    assert!(w.is_empty(), "{w:?}");
-    assert_eq!((d.integrator.kind.as_str(), d.integrator.params.int("maxdepth")), ("volpath", Some(3)));
 }
 
 #[test]
