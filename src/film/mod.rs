@@ -198,7 +198,7 @@ impl Film {
 
     /// This film with spectral buckets, or an error naming their size when they do not fit.
     pub fn try_with_spectral(mut self, settings: SpectralSettings) -> Result<Self, FilmAllocError> {
-        let n = self.pixels.len().checked_mul(settings.stride()).unwrap_or(usize::MAX);
+        let n = self.pixels.len().saturating_mul(settings.stride());
         let mut sums = Vec::new();
         sums.try_reserve_exact(n).map_err(|_| Self::alloc_error(self.width, self.height, n.saturating_mul(8)))?;
         sums.resize(n, 0.0);
