@@ -30,6 +30,36 @@ impl Integrator {
         }
     }
 
+    /// The surface `ray` meets (`None`: it escapes), with the light it finds added to
+    /// `state.l`: the lights at infinity if it escapes, else the area light it hits, each
+    /// weighted by MIS against the previous vertex's light sample.
+    pub(super) fn next_hit_with_emission<'s>(
+        &self,
+        scene: &'s Scene,
+        ray: &Ray,
+        state: &mut PathState,
+        w: &SampledWavelengths,
+        stats: &mut Stats,
+    ) -> Option<SurfaceInteraction<'s>> {
+        stats.rays += 1;
+        let Some(si) = scene.intersect(ray) else {
+            let d = ray.d.normalize();
+            for (id, light) in scene.infinite_lights() {
+                let weight = self.emission_weight(state, scene.light_pdf(id, &state.prev, d));
+                state.l += state.beta * light.escaped_radiance(ray.o, d, w) * weight;
+            }
+            return None;
+        };
+        if let Some((id, _)) = si.area_light() {
+            let le = si.emitted(w);
+            if !le.is_black() {
+                let weight = self.emission_weight(state, scene.light_pdf(id, &state.prev, -si.wo));
+                state.l += state.beta * le * weight;
+            }
+        }
+        Some(si)
+    }
+
     /// The surface path loop. `differentials` are the camera ray's, `pending` is a vertex found
     /// without tracing the current ray (the irradiance sensor; a diffusion exit), whose BSDF is
     /// given; `visible`, when given, receives the first surface vertex.
@@ -53,22 +83,7 @@ impl Integrator {
             let (si, given_bsdf) = match pending.take() {
                 Some((si, bsdf)) => (si, Some(bsdf)),
                 None => {
-                    stats.rays += 1;
-                    let Some(si) = scene.intersect(&ray) else {
-                        let d = ray.d.normalize();
-                        for (id, light) in scene.infinite_lights() {
-                            let weight = self.emission_weight(&state, scene.light_pdf(id, &state.prev, d));
-                            state.l += state.beta * light.escaped_radiance(ray.o, d, w) * weight;
-                        }
-                        break;
-                    };
-                    if let Some((id, _)) = si.area_light() {
-                        let le = si.emitted(w);
-                        if !le.is_black() {
-                            let weight = self.emission_weight(&state, scene.light_pdf(id, &state.prev, -si.wo));
-                            state.l += state.beta * le * weight;
-                        }
-                    }
+                    let Some(si) = self.next_hit_with_emission(scene, &ray, &mut state, w, stats) else { break };
                     if si.is_passthrough() {
                         // No surface: the same ray goes on, and the previous vertex stays the
                         // one MIS weights refer to.

@@ -74,22 +74,7 @@ impl Integrator {
         let mut visible = None;
         let mut crossings = 0;
         loop {
-            stats.rays += 1;
-            let Some(si) = scene.intersect(&ray) else {
-                let d = ray.d.normalize();
-                for (id, light) in scene.infinite_lights() {
-                    let weight = self.emission_weight(&state, scene.light_pdf(id, &state.prev, d));
-                    state.l += state.beta * light.escaped_radiance(ray.o, d, w) * weight;
-                }
-                break;
-            };
-            if let Some((id, _)) = si.area_light() {
-                let le = si.emitted(w);
-                if !le.is_black() {
-                    let weight = self.emission_weight(&state, scene.light_pdf(id, &state.prev, -si.wo));
-                    state.l += state.beta * le * weight;
-                }
-            }
+            let Some(si) = self.next_hit_with_emission(scene, &ray, &mut state, w, stats) else { break };
             if si.is_passthrough() {
                 crossings += 1;
                 if crossings > MAX_INTERFACE_CROSSINGS {
