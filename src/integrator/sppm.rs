@@ -73,8 +73,7 @@ impl Integrator {
         state.beta = beta;
         let mut visible = None;
         let mut crossings = 0;
-        loop {
-            let Some(si) = self.next_hit_with_emission(scene, &ray, &mut state, w, stats) else { break };
+        while let Some(si) = self.next_hit_with_emission(scene, &ray, &mut state, w, stats) {
             if si.is_passthrough() {
                 crossings += 1;
                 if crossings > MAX_INTERFACE_CROSSINGS {
