@@ -18,7 +18,7 @@
 //! tracer ([`Integrator::for_scene`]). No Russian roulette (as pbrt-v4's): subpaths end at the
 //! depth limit or where a BSDF samples nothing.
 
-use super::bdpt_weights::{balance_weight, VertexDensity};
+use super::bdpt_weights::{balance_weight, DensityPath, VertexDensity};
 use super::interface::Integrator;
 use super::lightpath::light_point_error;
 use super::options::StrategyImageKind;
@@ -605,7 +605,7 @@ impl Integrator {
         };
         // The full path, light end first: light[0..s], then cam[t-1..0].
         let n = s + t;
-        let mut path = vec![VertexDensity::default(); n];
+        let mut path = DensityPath::new(n);
         for (i, d) in path.iter_mut().enumerate().take(s) {
             let v = light_at(i);
             *d = VertexDensity { from_light: v.pdf_fwd, from_camera: v.pdf_rev, delta: v.delta };

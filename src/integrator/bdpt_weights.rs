@@ -24,6 +24,47 @@ pub(super) struct VertexDensity {
     pub delta: bool,
 }
 
+/// Vertices of a full path [`DensityPath`] holds without a heap allocation: `maxdepth` 14
+/// (light and camera subpaths together).
+const INLINE_VERTICES: usize = 16;
+
+/// The densities of a full path's `n` vertices, on the stack up to [`INLINE_VERTICES`] and on
+/// the heap beyond, so that the weight of a connection allocates nothing at common depths.
+pub(super) enum DensityPath {
+    Inline([VertexDensity; INLINE_VERTICES], usize),
+    Heap(Vec<VertexDensity>),
+}
+
+impl DensityPath {
+    /// `n` vertices of default (zero) densities.
+    pub(super) fn new(n: usize) -> Self {
+        if n <= INLINE_VERTICES {
+            Self::Inline([VertexDensity::default(); INLINE_VERTICES], n)
+        } else {
+            Self::Heap(vec![VertexDensity::default(); n])
+        }
+    }
+}
+
+impl std::ops::Deref for DensityPath {
+    type Target = [VertexDensity];
+    fn deref(&self) -> &[VertexDensity] {
+        match self {
+            Self::Inline(v, n) => &v[..*n],
+            Self::Heap(v) => v,
+        }
+    }
+}
+
+impl std::ops::DerefMut for DensityPath {
+    fn deref_mut(&mut self) -> &mut [VertexDensity] {
+        match self {
+            Self::Inline(v, n) => &mut v[..*n],
+            Self::Heap(v) => v,
+        }
+    }
+}
+
 /// `pdf`, or 1 where it is 0.
 fn remap0(pdf: f32) -> f32 {
     if pdf == 0.0 {
@@ -122,5 +163,18 @@ mod tests {
         assert_eq!(balance_weight(&two, 0, true), 0.0);
         assert_eq!(balance_weight(&two, 0, false), 1.0);
         assert_eq!(balance_weight(&two, 1, false), 0.0);
+    }
+
+    #[test]
+    fn a_density_path_holds_n_vertices_on_the_stack_or_the_heap() {
+        for n in [0, 1, INLINE_VERTICES, INLINE_VERTICES + 1, 40] {
+            let mut path = DensityPath::new(n);
+            assert_eq!(path.len(), n);
+            assert_eq!(matches!(path, DensityPath::Heap(_)), n > INLINE_VERTICES);
+            for (i, d) in path.iter_mut().enumerate() {
+                d.from_light = i as f32;
+            }
+            assert!(path.iter().enumerate().all(|(i, d)| d.from_light == i as f32 && d.from_camera == 0.0));
+        }
     }
 }
