@@ -6,11 +6,16 @@ use std::time::{Duration, Instant};
 /// A progress bar over a render's samples per pixel (drawn on stderr when it is a terminal).
 pub fn spp_progress_bar(spp: u64) -> indicatif::ProgressBar {
     let bar = indicatif::ProgressBar::new(spp);
-    bar.set_style(
-        indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} spp  {elapsed_precise} eta {eta}")
-            .expect("static template"),
-    );
+    bar.set_style(bar_style("spp"));
     bar
+}
+
+/// The bar's look, counting `unit`.
+fn bar_style(unit: &str) -> indicatif::ProgressStyle {
+    indicatif::ProgressStyle::with_template(&format!(
+        "{{bar:40}} {{pos}}/{{len}} {unit}  {{elapsed_precise}} eta {{eta}}"
+    ))
+    .expect("a fixed template")
 }
 
 /// Seconds between two progress lines in a log.
@@ -20,8 +25,8 @@ const LINE_INTERVAL: Duration = Duration::from_secs(10);
 /// `prism: 48/256 spp, 12.3 s, ETA 53 s` after the first pass and then at most every
 /// [`LINE_INTERVAL`].
 pub enum SppProgress {
-    /// stderr is a terminal.
-    Bar(indicatif::ProgressBar),
+    /// stderr is a terminal; the render's samples per pixel.
+    Bar(indicatif::ProgressBar, u64),
     /// stderr is a file or pipe.
     Lines {
         /// Samples per pixel of the whole render.
@@ -41,7 +46,7 @@ impl SppProgress {
         if std::io::stderr().is_terminal() {
             let bar = spp_progress_bar(total);
             bar.set_position(done);
-            Self::Bar(bar)
+            Self::Bar(bar, total)
         } else {
             Self::Lines { total, first: done, start: Instant::now(), last: None }
         }
@@ -50,7 +55,7 @@ impl SppProgress {
     /// Reports `done` samples per pixel taken.
     pub fn set(&mut self, done: u64) {
         match self {
-            Self::Bar(bar) => bar.set_position(done),
+            Self::Bar(bar, _) => bar.set_position(done),
             Self::Lines { total, first, start, last } => {
                 if last.is_some_and(|t| t.elapsed() < LINE_INTERVAL) {
                     return;
@@ -67,9 +72,37 @@ impl SppProgress {
         }
     }
 
+    /// Reports `done` of Metropolis light transport's `total` bootstrap paths made, before the
+    /// first sample: the bar counts them until they are all made, then samples per pixel again;
+    /// a log gets lines as for samples.
+    pub fn bootstrap(&mut self, done: u64, total: u64) {
+        match self {
+            Self::Bar(bar, spp) => {
+                if done == 0 {
+                    bar.set_length(total);
+                    bar.set_style(bar_style("bootstrap paths"));
+                }
+                bar.set_position(done);
+                if done == total {
+                    bar.set_length(*spp);
+                    bar.set_position(0);
+                    bar.reset_eta();
+                    bar.set_style(bar_style("spp"));
+                }
+            }
+            Self::Lines { start, last, .. } => {
+                if done != total && last.is_some_and(|t| t.elapsed() < LINE_INTERVAL) {
+                    return;
+                }
+                *last = Some(Instant::now());
+                eprintln!("prism: mlt bootstrap {done}/{total} paths, {:.1} s", start.elapsed().as_secs_f64());
+            }
+        }
+    }
+
     /// Removes the bar (lines stay in the log).
     pub fn finish(&self) {
-        if let Self::Bar(bar) = self {
+        if let Self::Bar(bar, _) = self {
             bar.finish_and_clear();
         }
     }

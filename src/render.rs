@@ -412,6 +412,20 @@ pub fn render_range(
     film: &mut Film,
     range: Range<u64>,
     cancel: &AtomicBool,
+    after_pass: impl FnMut(&Film, u64) -> bool,
+) -> Stats {
+    render_range_reporting(scene, settings, film, range, cancel, |_, _| {}, after_pass)
+}
+
+/// [`render_range`], telling `bootstrap(paths done, paths)` how far `mlt`'s bootstrap, which
+/// comes before its first pass, has got.
+pub fn render_range_reporting(
+    scene: &Scene,
+    settings: &RenderSettings,
+    film: &mut Film,
+    range: Range<u64>,
+    cancel: &AtomicBool,
+    bootstrap: impl FnMut(u64, u64),
     mut after_pass: impl FnMut(&Film, u64) -> bool,
 ) -> Stats {
     // Stochastic progressive photon mapping and Metropolis light transport have loops of
@@ -421,7 +435,7 @@ pub fn render_range(
         return crate::sppm_render::render_sppm(scene, settings, film, range, cancel, after_pass);
     }
     if integrator.kind == IntegratorKind::Mlt {
-        return render_mlt(scene, settings, &integrator, film, range, cancel, after_pass);
+        return render_mlt(scene, settings, &integrator, film, range, cancel, bootstrap, after_pass);
     }
     let mut stats = Stats::default();
     let start = Instant::now();
@@ -445,7 +459,11 @@ pub fn render_range(
 
 /// Metropolis light transport renders the image as a whole rather than in passes of samples:
 /// `range.end` mutations per pixel (pbrt-v4's `mutationsperpixel`), reported to `after_pass`
-/// as they are done and recorded as every pixel's sample count. The film must be fresh.
+/// as they are done and recorded as every pixel's sample count; `bootstrap` is told the
+/// bootstrap's progress. Textures are filtered over the pixel footprint of `range.end`
+/// samples per pixel, as pbrt-v4's camera rays in `MLTIntegrator` are scaled for its
+/// mutations per pixel. The film must be fresh.
+#[allow(clippy::too_many_arguments)]
 fn render_mlt(
     scene: &Scene,
     settings: &RenderSettings,
@@ -453,9 +471,11 @@ fn render_mlt(
     film: &mut Film,
     range: Range<u64>,
     cancel: &AtomicBool,
+    bootstrap: impl FnMut(u64, u64),
     mut after_pass: impl FnMut(&Film, u64) -> bool,
 ) -> Stats {
     let camera = scene.camera.camera(settings.resolution);
+    let integrator = Integrator { footprint: Some(TextureFootprint::new(&camera, range.end)), ..*integrator };
     let mlt = crate::integrator::MltFilm {
         filter: &settings.filter,
         sensor: &settings.film.sensor,
@@ -468,7 +488,8 @@ fn render_mlt(
     // (The film seen by `after_pass` holds no splats while the chains run.)
     let Some(mut splats) = film.splats.take() else { return Stats::default() };
     let view: &Film = film;
-    let (stats, done) = integrator.render_mlt(scene, &camera, &mlt, &mut splats, cancel, |done| after_pass(view, done));
+    let (stats, done) =
+        integrator.render_mlt(scene, &camera, &mlt, &mut splats, cancel, bootstrap, |done| after_pass(view, done));
     film.splats = Some(splats);
     for p in &mut film.pixels {
         p.samples = done;

@@ -550,19 +550,30 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     let mut ckpt_error = None;
     let stats = pool.install(|| {
         let cancel = interrupt.flag();
-        crate::render::render_range(&job.scene, &job.settings, &mut film, start..range.end, cancel, |film, done| {
-            progress.set(done - range.start);
-            if let Some(every) = ckpt_every {
-                if last_ckpt.elapsed() >= every && done < range.end {
-                    if let Err(e) = crate::checkpoint::save(&ckpt_path, film, &header(range.start..done)) {
-                        ckpt_error = Some(e);
-                        return false;
+        // Both reports write to the one progress display.
+        let progress = std::cell::RefCell::new(&mut progress);
+        let bootstrap = |done, total| progress.borrow_mut().bootstrap(done, total);
+        crate::render::render_range_reporting(
+            &job.scene,
+            &job.settings,
+            &mut film,
+            start..range.end,
+            cancel,
+            bootstrap,
+            |film, done| {
+                progress.borrow_mut().set(done - range.start);
+                if let Some(every) = ckpt_every {
+                    if last_ckpt.elapsed() >= every && done < range.end {
+                        if let Err(e) = crate::checkpoint::save(&ckpt_path, film, &header(range.start..done)) {
+                            ckpt_error = Some(e);
+                            return false;
+                        }
+                        last_ckpt = Instant::now();
                     }
-                    last_ckpt = Instant::now();
                 }
-            }
-            true
-        })
+                true
+            },
+        )
     });
     if let Some(e) = ckpt_error {
         return Err(e).context("writing a checkpoint");

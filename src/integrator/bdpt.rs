@@ -645,18 +645,20 @@ impl Integrator {
 }
 
 impl Integrator {
-    /// Strategy (s, t) alone for the camera ray `ray` (pbrt-v4 `MLTIntegrator::L` after the
-    /// camera ray): a camera subpath of exactly t vertices, then — from the sampler's light
-    /// stream — a light subpath of exactly s, then — from its connection stream — their
-    /// connection, weighted by the balance heuristic over all strategies of its path. Returns
-    /// the contribution and, for t = 1, the film position it lands at; `None` when either
-    /// subpath ends early or the connection carries nothing.
+    /// Strategy (s, t) alone for the camera ray `ray` with its `differentials`, if any
+    /// (pbrt-v4 `MLTIntegrator::L` after the camera ray): a camera subpath of exactly t
+    /// vertices, then — from the sampler's light stream — a light subpath of exactly s, then
+    /// — from its connection stream — their connection, weighted by the balance heuristic
+    /// over all strategies of its path. Returns the contribution and, for t = 1, the film
+    /// position it lands at; `None` when either subpath ends early or the connection carries
+    /// nothing.
     #[allow(clippy::too_many_arguments)]
     pub(super) fn bdpt_strategy(
         &self,
         scene: &Scene,
         camera: &Camera,
         ray: Ray,
+        differentials: Option<&RayDifferentials>,
         (s, t): (usize, usize),
         w: &mut SampledWavelengths,
         sampler: &mut Sampler,
@@ -670,7 +672,7 @@ impl Integrator {
         if t > 1 && pdf_dir > 0.0 {
             let beta = SampledSpectrum::one();
             let mode = TransportMode::Radiance;
-            self.subpath_walk(scene, ray, beta, pdf_dir, mode, t, &mut cam, None, w, sampler, stats);
+            self.subpath_walk(scene, ray, beta, pdf_dir, mode, t, &mut cam, differentials, w, sampler, stats);
         }
         if cam.len() != t {
             return None;

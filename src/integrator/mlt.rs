@@ -17,11 +17,13 @@ use super::Stats;
 use crate::camera::Camera;
 use crate::film::{Splat, SplatBuffer};
 use crate::filter::Filter;
+use crate::material::Material;
 use crate::sampling::rng::hash64;
 use crate::sampling::{AliasTable, PssStream, Rng, Sampler};
 use crate::scene::Scene;
 use crate::sensor::Sensor;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
+use crate::texture::TextureFootprint;
 use glam::Vec2;
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -31,6 +33,8 @@ use std::time::{Duration, Instant};
 const CHAIN_BATCH: u64 = 16;
 /// Bootstrap paths per parallel work item.
 const BOOTSTRAP_CHUNK: u64 = 1024;
+/// Work items of bootstrap paths between two progress reports, per worker thread.
+const BOOTSTRAP_CHUNKS_PER_THREAD: u64 = 8;
 /// PCG stream of the chains' own decisions (start state, acceptance).
 const CHAIN_STREAM: u64 = 0x6d6c74;
 /// Depth limit of the strategies: a bootstrap set per depth must stay finite.
@@ -115,11 +119,15 @@ fn pss(sampler: &mut Sampler) -> &mut crate::sampling::PssSampler {
 impl Integrator {
     /// The path of the sampler's state for paths of `depth` bounces (pbrt-v4
     /// `MLTIntegrator::L`): from the camera stream the strategy, wavelengths, film position in
-    /// `bounds` (corner, size), time and lens; then bdpt's strategy (s, t).
+    /// `bounds` (corner, size), time and lens; then bdpt's strategy (s, t), its camera ray
+    /// carrying differentials when `differentials` is given (as pbrt-v4's, scaled by
+    /// max(1/8, 1/√(mutations per pixel)), the footprint's own scale).
+    #[allow(clippy::too_many_arguments)]
     fn mlt_path(
         &self,
         scene: &Scene,
         camera: &Camera,
+        differentials: Option<&TextureFootprint>,
         bounds: (Vec2, Vec2),
         depth: u32,
         sampler: &mut Sampler,
@@ -140,7 +148,18 @@ impl Integrator {
         let u_lens = sampler.get_2d();
         let dark = PathSample { p_raster: p_film, l: SampledSpectrum::zero(), lambdas, i: 0.0 };
         let Some(ray) = camera.sample_ray(p_film, u_lens, time).filter(|r| r.weight > 0.0) else { return dark };
-        let Some((l, p)) = self.bdpt_strategy(scene, camera, ray.ray, (s, t), &mut lambdas, sampler, stats) else {
+        let ray_differentials =
+            differentials.and_then(|f| f.camera_ray_differentials(camera, &ray.ray, p_film, u_lens));
+        let Some((l, p)) = self.bdpt_strategy(
+            scene,
+            camera,
+            ray.ray,
+            ray_differentials.as_ref(),
+            (s, t),
+            &mut lambdas,
+            sampler,
+            stats,
+        ) else {
             return dark;
         };
         let l = l * (ray.weight * strategies as f32);
@@ -152,10 +171,13 @@ impl Integrator {
     }
 
     /// Renders the image by Metropolis light transport into `splats` (a fresh buffer of the
-    /// film `film` describes): bootstrap, then the chains in batches of [`CHAIN_BATCH`], calling
+    /// film `film` describes): bootstrap, calling `bootstrap_progress(paths done, paths)` as
+    /// its paths are made, then the chains in batches of [`CHAIN_BATCH`], calling
     /// `progress(mutations per pixel done)` after each batch (false stops). Stops early, after
     /// whole chains, once the time limit is over or `cancel` is set; the buffer is normalised
-    /// for the chains that ran. Returns the counters and the mutations per pixel done.
+    /// for the chains that ran. Returns the counters and the mutations per pixel done. Camera
+    /// rays carry differentials when the integrator has a pixel footprint and a material is
+    /// textured.
     pub fn render_mlt(
         &self,
         scene: &Scene,
@@ -163,37 +185,46 @@ impl Integrator {
         film: &MltFilm,
         splats: &mut SplatBuffer,
         cancel: &AtomicBool,
+        mut bootstrap_progress: impl FnMut(u64, u64),
         mut progress: impl FnMut(u64) -> bool,
     ) -> (Stats, u64) {
         let start = Instant::now();
         let depths = self.max_depth.min(MAX_MLT_DEPTH) as u64 + 1;
         let bounds = film.sample_bounds();
         let (seed, sigma, large) = (film.seed, self.mlt.sigma, self.mlt.large_step_probability);
+        let differentials = self.footprint.as_ref().filter(|_| scene.materials().iter().any(Material::is_textured));
         let path = |index: u64, sampler: &mut Sampler, stats: &mut Stats| {
-            self.mlt_path(scene, camera, bounds, (index % depths) as u32, sampler, stats)
+            self.mlt_path(scene, camera, differentials, bounds, (index % depths) as u32, sampler, stats)
         };
 
         // Bootstrap: path k of depth k mod depths from sampler (seed, k); b = ∫ I du over all
-        // depths is (depths) times the mean of I.
+        // depths is (depths) times the mean of I. Made in batches of work items, in order, with
+        // a progress report after each.
         let n = self.mlt.bootstrap_samples as u64 * depths;
-        let chunks: Vec<(Vec<f32>, Stats)> = (0..n.div_ceil(BOOTSTRAP_CHUNK))
-            .into_par_iter()
-            .map(|c| {
-                let mut stats = Stats::default();
-                if cancel.load(Ordering::Relaxed) {
-                    return (Vec::new(), stats);
-                }
-                let weights = (c * BOOTSTRAP_CHUNK..((c + 1) * BOOTSTRAP_CHUNK).min(n))
-                    .map(|k| path(k, &mut Sampler::pss(seed, k, sigma, large), &mut stats).i)
-                    .collect();
-                (weights, stats)
-            })
-            .collect();
+        let chunks = n.div_ceil(BOOTSTRAP_CHUNK);
+        let batch = BOOTSTRAP_CHUNKS_PER_THREAD * rayon::current_num_threads() as u64;
         let mut stats = Stats::default();
         let mut weights = Vec::with_capacity(n as usize);
-        for (w, s) in chunks {
-            weights.extend(w);
-            stats.merge(&s);
+        bootstrap_progress(0, n);
+        for first in (0..chunks).step_by(batch as usize) {
+            if cancel.load(Ordering::Relaxed) {
+                return (stats, 0);
+            }
+            let made: Vec<(Vec<f32>, Stats)> = (first..(first + batch).min(chunks))
+                .into_par_iter()
+                .map(|c| {
+                    let mut stats = Stats::default();
+                    let weights = (c * BOOTSTRAP_CHUNK..((c + 1) * BOOTSTRAP_CHUNK).min(n))
+                        .map(|k| path(k, &mut Sampler::pss(seed, k, sigma, large), &mut stats).i)
+                        .collect();
+                    (weights, stats)
+                })
+                .collect();
+            for (w, s) in made {
+                weights.extend(w);
+                stats.merge(&s);
+            }
+            bootstrap_progress(weights.len() as u64, n);
         }
         if cancel.load(Ordering::Relaxed) {
             return (stats, 0);

@@ -91,14 +91,7 @@ fn metropolis_light_transport_renders_the_cornell_box_as_path_tracing_does() {
 #[test]
 fn metropolis_light_transport_is_the_same_image_for_any_thread_count() {
     let dir = crate::common::tmpdir("mlt-threads");
-    let scene = dir.join("mlt.pbrt");
-    let text = GLOSSY.replace(
-        "WorldBegin",
-        "Integrator \"mlt\" \"integer maxdepth\" [3] \"integer bootstrapsamples\" [2000] \"integer chains\" [8]\n\
-         \"integer mutationsperpixel\" [4] \"float sigma\" [0.02]\nFilm \"rgb\" \"integer xresolution\" [24] \
-         \"integer yresolution\" [24] \"bool savefp16\" false\nWorldBegin",
-    );
-    std::fs::write(&scene, text).unwrap();
+    let scene = small_mlt_scene(&dir);
     let render = |threads: &str| {
         let out = dir.join(format!("t{threads}.exr"));
         let o = crate::common::prism()
@@ -113,6 +106,37 @@ fn metropolis_light_transport_is_the_same_image_for_any_thread_count() {
     let one = render("1");
     assert!(one.iter().any(|&v| v > 0.0));
     assert!(one == render("2"), "the image depends on the thread count");
+}
+
+/// [`GLOSSY`] for pbrt-v4's mlt, written to `dir`: 24×24 pixels, paths of up to 3 bounces,
+/// 2000 bootstrap paths per depth, 8 chains, 4 mutations per pixel.
+fn small_mlt_scene(dir: &std::path::Path) -> std::path::PathBuf {
+    let scene = dir.join("mlt.pbrt");
+    let text = GLOSSY.replace(
+        "WorldBegin",
+        "Integrator \"mlt\" \"integer maxdepth\" [3] \"integer bootstrapsamples\" [2000] \"integer chains\" [8]\n\
+         \"integer mutationsperpixel\" [4] \"float sigma\" [0.02]\nFilm \"rgb\" \"integer xresolution\" [24] \
+         \"integer yresolution\" [24] \"bool savefp16\" false\nWorldBegin",
+    );
+    std::fs::write(&scene, text).unwrap();
+    scene
+}
+
+/// The bootstrap reports its progress before the chains' first: in a log (stderr not a
+/// terminal) a line when it starts and one when all 2000 × 4 depths' paths are made.
+#[test]
+fn metropolis_light_transport_reports_its_bootstrap_progress() {
+    let dir = crate::common::tmpdir("mlt-bootstrap-progress");
+    let scene = small_mlt_scene(&dir);
+    let out = dir.join("out.exr");
+    let o =
+        crate::common::prism().args(["render", scene.to_str().unwrap(), "-o", out.to_str().unwrap()]).output().unwrap();
+    let stderr = String::from_utf8_lossy(&o.stderr).into_owned();
+    assert!(o.status.success(), "{stderr}");
+    let start = stderr.find("mlt bootstrap 0/8000 paths").expect(&stderr);
+    let end = stderr.find("mlt bootstrap 8000/8000 paths").expect(&stderr);
+    let render = stderr.find("24x24 4 spp").expect(&stderr);
+    assert!(start < end && end < render, "{stderr}");
 }
 
 /// A rough gold sphere and a diffuse one on a diffuse floor under a small quad light: glossy
