@@ -178,6 +178,7 @@ impl Integrator {
     /// for the chains that ran. Returns the counters and the mutations per pixel done. Camera
     /// rays carry differentials when the integrator has a pixel footprint and a material is
     /// textured.
+    #[allow(clippy::too_many_arguments)]
     pub fn render_mlt(
         &self,
         scene: &Scene,
