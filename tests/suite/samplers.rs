@@ -13,6 +13,8 @@ fn kinds() -> Vec<SamplerKind> {
     vec![
         SamplerKind::ZSobol(Randomize::FastOwen),
         SamplerKind::ZSobol(Randomize::Owen),
+        SamplerKind::GlobalSobol(Randomize::FastOwen),
+        SamplerKind::GlobalSobol(Randomize::None),
         SamplerKind::PaddedSobol(Randomize::PermuteDigits),
         SamplerKind::Halton(Randomize::PermuteDigits),
         SamplerKind::Halton(Randomize::Owen),
