@@ -1,6 +1,7 @@
 //! pbrt-v4's sample patterns (`Sampler "zsobol" | "sobol" | "paddedsobol" | "halton" |
-//! "pmj02bn" | "stratified"`), each a pure function of (pixel, sample index, dimension, seed) and of the
-//! render's samples per pixel and image size, drawn in the order pbrt-v4's integrators draw.
+//! "pmj02bn" | "stratified"`), each a pure function of (pixel, sample index, dimension, seed)
+//! and of the render's samples per pixel and image size, drawn in the order pbrt-v4's
+//! integrators draw.
 
 mod global_sobol;
 mod halton;
