@@ -42,14 +42,14 @@ impl GlobalSobol {
     pub fn start(&mut self, pixel: (u32, u32), index: u64) {
         self.dimension = 2;
         let m = self.log2_scale;
-        if m == 0 {
-            self.index = index;
-            return;
-        }
         let mask = (1u32 << m) - 1;
         let mut frame = index;
         if (pixel.0 | pixel.1) > mask {
             frame = frame.wrapping_add((u64::from(pixel.0 >> m) + 1) << 32);
+        }
+        if m == 0 {
+            self.index = frame;
+            return;
         }
         let (px, py) = (pixel.0 & mask, pixel.1 & mask);
         // Dimension 0 mirrors the index bits: the low m bits are the pixel column, reversed.
@@ -194,13 +194,15 @@ mod tests {
 
     #[test]
     fn pixels_outside_the_grid_draw_points_of_their_own() {
-        let mut s = GlobalSobol::new(Randomize::None, 0, (16, 16));
-        let mut draw = |p, i| {
-            s.start(p, i);
-            s.get_2d()
-        };
-        let inside = draw((3, 15), 0);
-        assert_ne!(draw((3, u32::MAX), 0), inside);
-        assert_ne!(draw((3, u32::MAX), 0), draw((19, u32::MAX), 0));
+        for (resolution, inside) in [((16, 16), (3, 15)), ((1, 1), (0, 0))] {
+            let mut s = GlobalSobol::new(Randomize::None, 0, resolution);
+            let mut draw = |p, i| {
+                s.start(p, i);
+                s.get_2d()
+            };
+            let inside = draw(inside, 0);
+            assert_ne!(draw((3, u32::MAX), 0), inside, "{resolution:?}");
+            assert_ne!(draw((3, u32::MAX), 0), draw((19, u32::MAX), 0), "{resolution:?}");
+        }
     }
 }
