@@ -54,7 +54,10 @@ pub struct RenderArgs {
     /// Write timing figures as JSON to this file.
     #[arg(long)]
     pub stats_json: Option<PathBuf>,
-    /// Sampler: independent or sobol [default: the file's, else sobol].
+    /// Sampler: sobol (prism's padded Owen-scrambled Sobol'), independent, or pbrt-v4's
+    /// zsobol, globalsobol (pbrt-v4's "sobol": one Sobol' sequence over the image),
+    /// paddedsobol, halton, pmj02bn, stratified, with pbrt-v4's default parameters
+    /// [default: the file's, else sobol].
     #[arg(long)]
     pub sampler: Option<String>,
     /// Pixel filter with pbrt-v4's default parameters: box, gaussian, mitchell, sinc or

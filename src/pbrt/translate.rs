@@ -248,9 +248,9 @@ impl Ctx<'_> {
     /// The Sampler directive as prism renders it, and the samples per pixel pbrt-v4 takes:
     /// "pixelsamples", for "stratified" "xsamples" × "ysamples", else its default (4 for
     /// "independent", 16 for the others). pbrt-v4's "sobol" (one Sobol' sequence over the whole
-    /// image) is not implemented: it renders with prism's Sobol sampler, said as an unsupported
-    /// feature, as are pmj02bn's blue-noise tables. A "randomization" a sampler does not take is
-    /// an error, as in pbrt-v4.
+    /// image) is prism's "globalsobol" (its own "sobol" is the padded per-pixel one). pmj02bn's
+    /// blue-noise tables are an unsupported feature. A "randomization" a sampler does not take
+    /// is an error, as in pbrt-v4.
     fn sampler(&mut self) -> Result<(SamplerKind, u64), SceneError> {
         let (kind, p, loc) = (self.desc.sampler.kind.as_str(), &self.desc.sampler.params, &self.desc.sampler.loc);
         let randomize = |default: Randomize, allowed: &[Randomize]| -> Result<Randomize, SceneError> {
@@ -286,14 +286,8 @@ impl Ctx<'_> {
                 let jitter = p.bool("jitter").unwrap_or(true);
                 (SamplerKind::Stratified { x: x as u32, y: y as u32, jitter }, x as u64 * y as u64)
             }
-            _ => {
-                // "sobol": the file's randomisation is read for the check, then not used.
-                randomize(Randomize::FastOwen, &all)?;
-                let spp = pixel_samples(16)?;
-                let feature = format!("sampler \"{kind}\" (one Sobol' sequence over the whole image)");
-                self.unsupported(loc, feature, "renders with its own padded Owen-scrambled Sobol sampler instead");
-                (SamplerKind::Sobol, spp)
-            }
+            // "sobol" (the parser admits only pbrt-v4's names).
+            _ => (SamplerKind::GlobalSobol(randomize(Randomize::FastOwen, &all)?), pixel_samples(16)?),
         };
         if matches!(sampler, SamplerKind::ZSobol(_)) && !spp.is_power_of_two() {
             let message = format!(

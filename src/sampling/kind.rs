@@ -1,6 +1,6 @@
 //! The samplers chosen by name, with the parameters pbrt-v4's `Sampler` directive gives them.
 
-use super::pattern::{Halton, PaddedSobol, Pattern, Pmj02bn, Randomize, Stratified, ZSobol};
+use super::pattern::{GlobalSobol, Halton, PaddedSobol, Pattern, Pmj02bn, Randomize, Stratified, ZSobol};
 use super::Sampler;
 use crate::named::{self, UnknownName};
 
@@ -13,6 +13,9 @@ pub enum SamplerKind {
     Sobol,
     /// pbrt-v4's `zsobol` (its default): Sobol' points over a Morton order of the pixels.
     ZSobol(Randomize),
+    /// pbrt-v4's `sobol`: one Sobol' sequence over the whole image, each pixel's samples the
+    /// sequence's points in it.
+    GlobalSobol(Randomize),
     /// pbrt-v4's `paddedsobol`.
     PaddedSobol(Randomize),
     /// pbrt-v4's `halton` (randomised by `none`, `permutedigits` or `owen`).
@@ -36,6 +39,7 @@ impl SamplerKind {
         ("sobol", SamplerKind::Sobol),
         ("independent", SamplerKind::Independent),
         ("zsobol", SamplerKind::ZSobol(Randomize::FastOwen)),
+        ("globalsobol", SamplerKind::GlobalSobol(Randomize::FastOwen)),
         ("paddedsobol", SamplerKind::PaddedSobol(Randomize::FastOwen)),
         ("halton", SamplerKind::Halton(Randomize::PermuteDigits)),
         ("pmj02bn", SamplerKind::Pmj02bn),
@@ -53,6 +57,7 @@ impl SamplerKind {
             SamplerKind::Independent => "independent",
             SamplerKind::Sobol => "sobol",
             SamplerKind::ZSobol(_) => "zsobol",
+            SamplerKind::GlobalSobol(_) => "globalsobol",
             SamplerKind::PaddedSobol(_) => "paddedsobol",
             SamplerKind::Halton(_) => "halton",
             SamplerKind::Pmj02bn => "pmj02bn",
@@ -73,6 +78,7 @@ impl SamplerKind {
             SamplerKind::Independent => return Sampler::independent(),
             SamplerKind::Sobol => return Sampler::sobol(),
             SamplerKind::ZSobol(r) => Pattern::ZSobol(ZSobol::new(r, seed, spp, resolution)),
+            SamplerKind::GlobalSobol(r) => Pattern::GlobalSobol(GlobalSobol::new(r, seed, resolution)),
             SamplerKind::PaddedSobol(r) => Pattern::PaddedSobol(PaddedSobol::new(r, seed, spp)),
             SamplerKind::Halton(r) => Pattern::Halton(Halton::new(r, seed, resolution)),
             SamplerKind::Pmj02bn => Pattern::Pmj02bn(Pmj02bn::new(seed, spp)),

@@ -819,7 +819,13 @@ fn samplers_take_pbrt_v4s_sample_counts_and_say_what_stands_in() {
             None,
         ),
         ("Sampler \"pmj02bn\"", 16, SamplerKind::Pmj02bn, Some("blue-noise")),
-        ("Sampler \"sobol\"", 16, SamplerKind::Sobol, Some("one Sobol' sequence")),
+        ("Sampler \"sobol\"", 16, SamplerKind::GlobalSobol(Randomize::FastOwen), None),
+        (
+            "Sampler \"sobol\" \"string randomization\" \"owen\" \"integer pixelsamples\" 12",
+            12,
+            SamplerKind::GlobalSobol(Randomize::Owen),
+            None,
+        ),
         ("", 16, SamplerKind::ZSobol(Randomize::FastOwen), None),
     ] {
         let (d, mut warnings) = parse(&format!("{sampler}\nWorldBegin\n{TRI}"));
