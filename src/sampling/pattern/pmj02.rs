@@ -104,11 +104,7 @@ fn try_pmj02(n: usize, candidates: usize, rng: &mut Rng) -> Option<Vec<[u32; 2]>
         };
         // (point, its column's place in free_columns, squared distance to the nearest point)
         let mut best: Option<([u32; 2], usize, u64)> = None;
-        let mut found = 0;
-        for tried in 0..free_columns.len() {
-            if found == candidates {
-                break;
-            }
+        for tried in 0..free_columns.len().min(candidates) {
             // A column not tried yet, at random (a partial Fisher–Yates shuffle).
             let pick = tried + (rng.next_u32() as usize) % (free_columns.len() - tried);
             free_columns.swap(tried, pick);
@@ -116,7 +112,6 @@ fn try_pmj02(n: usize, candidates: usize, rng: &mut Rng) -> Option<Vec<[u32; 2]>
             let order = u64::from(rng.next_u32()) << 32 | u64::from(rng.next_u32());
             // Every column holds a point once the level is complete: one that cannot never will.
             let y = occupied.free_row(x, order)?;
-            found += 1;
             let p = [jitter(x, rng), jitter(y, rng)];
             let distance = if candidates == 1 { 0 } else { grid.nearest_distance_squared(p) };
             if best.is_none_or(|(_, _, d)| distance > d) {

@@ -65,8 +65,11 @@ impl Tables {
     }
 }
 
-/// The tables of each (samples per pixel, seed), built once per process.
-static TABLES: LazyLock<Mutex<HashMap<(u32, u64), Arc<Tables>>>> = LazyLock::new(Default::default);
+/// The tables of each (samples per pixel, seed).
+type TableCache = Mutex<HashMap<(u32, u64), Arc<Tables>>>;
+
+/// The tables, built once per process.
+static TABLES: LazyLock<TableCache> = LazyLock::new(Default::default);
 
 #[derive(Clone, Debug)]
 pub struct Pmj02bn {
