@@ -71,6 +71,7 @@ type TableCache = Mutex<HashMap<(u32, u64), Arc<Tables>>>;
 /// The tables, built once per process.
 static TABLES: LazyLock<TableCache> = LazyLock::new(Default::default);
 
+/// pbrt-v4's `PMJ02BNSampler`, positioned at a pixel sample (see the module's description).
 #[derive(Clone, Debug)]
 pub struct Pmj02bn {
     spp: u32,
