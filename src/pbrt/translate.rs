@@ -248,9 +248,8 @@ impl Ctx<'_> {
     /// The Sampler directive as prism renders it, and the samples per pixel pbrt-v4 takes:
     /// "pixelsamples", for "stratified" "xsamples" × "ysamples", else its default (4 for
     /// "independent", 16 for the others). pbrt-v4's "sobol" (one Sobol' sequence over the whole
-    /// image) is prism's "globalsobol" (its own "sobol" is the padded per-pixel one). pmj02bn's
-    /// blue-noise tables are an unsupported feature. A "randomization" a sampler does not take
-    /// is an error, as in pbrt-v4.
+    /// image) is prism's "globalsobol" (its own "sobol" is the padded per-pixel one). A
+    /// "randomization" a sampler does not take is an error, as in pbrt-v4.
     fn sampler(&mut self) -> Result<(SamplerKind, u64), SceneError> {
         let (kind, p, loc) = (self.desc.sampler.kind.as_str(), &self.desc.sampler.params, &self.desc.sampler.loc);
         let randomize = |default: Randomize, allowed: &[Randomize]| -> Result<Randomize, SceneError> {
@@ -274,13 +273,7 @@ impl Ctx<'_> {
                 let allowed = [Randomize::None, Randomize::PermuteDigits, Randomize::Owen];
                 (SamplerKind::Halton(randomize(Randomize::PermuteDigits, &allowed)?), pixel_samples(16)?)
             }
-            "pmj02bn" => {
-                let feature = "sampler \"pmj02bn\": blue-noise point sets and per-pixel blue-noise offsets".to_string();
-                let fallback = "draws pmj02 sequences it builds itself, offset per pixel by white noise";
-                let spp = pixel_samples(16)?;
-                self.unsupported(loc, feature, fallback);
-                (SamplerKind::Pmj02bn, spp)
-            }
+            "pmj02bn" => (SamplerKind::Pmj02bn, pixel_samples(16)?),
             "stratified" => {
                 let (x, y) = (count(p, "xsamples", loc, 1)?.unwrap_or(4), count(p, "ysamples", loc, 1)?.unwrap_or(4));
                 let jitter = p.bool("jitter").unwrap_or(true);

@@ -7,7 +7,7 @@ use crate::common::{prism, stderr, tmpdir};
 use std::path::PathBuf;
 
 /// The unsupported features the census still meets, as the strict error names them.
-const GAPS: &[&str] = &["sampler \"pmj02bn\""];
+const GAPS: &[&str] = &[];
 
 #[test]
 fn pbrt_v4s_test_scenes_render_under_strict_but_for_the_named_gaps() {

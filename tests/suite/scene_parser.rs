@@ -818,7 +818,7 @@ fn samplers_take_pbrt_v4s_sample_counts_and_say_what_stands_in() {
             SamplerKind::PaddedSobol(Randomize::None),
             None,
         ),
-        ("Sampler \"pmj02bn\"", 16, SamplerKind::Pmj02bn, Some("blue-noise")),
+        ("Sampler \"pmj02bn\"", 16, SamplerKind::Pmj02bn, None),
         ("Sampler \"sobol\"", 16, SamplerKind::GlobalSobol(Randomize::FastOwen), None),
         (
             "Sampler \"sobol\" \"string randomization\" \"owen\" \"integer pixelsamples\" 12",

@@ -55,7 +55,6 @@ fn every_unsupported_feature_warns_and_is_an_error_in_strict_mode() {
             "a moving light",
         ),
         (false, PTEX.into(), "Texture \"t\"", "ptex textures"),
-        (true, "Sampler \"pmj02bn\"".into(), "Sampler", "sampler \"pmj02bn\": blue-noise"),
     ];
     let strict = ParseOptions { strict: true, ..Default::default() };
     for (i, (in_options, directive, at, feature)) in cases.iter().enumerate() {

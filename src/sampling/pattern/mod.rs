@@ -3,20 +3,23 @@
 //! and of the render's samples per pixel and image size, drawn in the order pbrt-v4's
 //! integrators draw.
 
+mod blue_noise;
 mod global_sobol;
 mod halton;
 mod padded_sobol;
 mod pmj02;
+mod pmj02bn;
 pub mod scramble;
 mod sobol2d;
 mod sobol_matrices;
 mod stratified;
+mod torus_grid;
 mod zsobol;
 
 pub use global_sobol::GlobalSobol;
 pub use halton::Halton;
 pub use padded_sobol::PaddedSobol;
-pub use pmj02::Pmj02bn;
+pub use pmj02bn::Pmj02bn;
 pub use scramble::Randomize;
 pub use stratified::Stratified;
 pub use zsobol::ZSobol;

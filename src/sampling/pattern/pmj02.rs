@@ -1,176 +1,163 @@
 //! Progressive multi-jittered (0,2) sequences (Christensen, Kensler & Kilpatrick 2018,
-//! "Progressive multi-jittered sample sequences", §5) and pbrt-v4's `PMJ02BNSampler` on them.
+//! "Progressive multi-jittered sample sequences", §5), plain and with the blue-noise selection
+//! of their pmj02bn (§6: each new point the best of several valid candidates, the one farthest
+//! from the points already placed, Mitchell 1991's best-candidate sampling).
 //!
 //! The sequence is built point by point: point m goes where no earlier point is in any
 //! elementary interval of area 1/n, n the power of two above m, so every prefix of 2^k points
 //! is a (0,k,2)-net (one point per elementary interval of area 2^-k, in every shape) and hence
-//! stratified in both 1D projections. Each point is a random pair of unoccupied fine strata
-//! (1/n wide in x and y) whose cells of every shape are free, jittered inside.
+//! stratified in both 1D projections. A candidate is a random free column of the finest 1D
+//! strata (1/n wide) and a row found by descending the rows' binary tree, each level's half
+//! taken only where the elementary interval of that shape is free (the search of Pharr 2019,
+//! "Efficient generation of points that satisfy two-dimensional elementary intervals"),
+//! jittered inside the cell.
 
-use super::padded_sobol::{permuted_index, pixel_dimension_hash};
-use super::scramble::mix_bits;
+use super::torus_grid::TorusGrid;
 use crate::sampling::Rng;
-use glam::Vec2;
-use std::collections::HashMap;
-use std::sync::{Arc, LazyLock, Mutex};
 
-/// Independent sequences a sampler draws its 2D dimensions from (as pbrt-v4).
-const SETS: u64 = 5;
+/// Valid candidates compared per point of the blue-noise variant.
+pub const BLUE_NOISE_CANDIDATES: usize = 8;
 
-/// The first `n` points of a pmj02 sequence drawn with `rng`, as 32-bit fractions; `None`
-/// when the random choices leave no free cell (the caller starts again with other choices).
-fn try_pmj02(n: usize, rng: &mut Rng) -> Option<Vec<[u32; 2]>> {
+/// The elementary intervals of area 2^-`level` that hold a point: `shapes[k]` has 2^k columns
+/// and 2^(level-k) rows, cell (column, row) at column·2^(level-k) + row.
+struct Occupied {
+    level: u32,
+    shapes: Vec<Vec<bool>>,
+}
+
+impl Occupied {
+    /// The intervals of area 2^-`level` holding `points`.
+    fn new(level: u32, points: &[[u32; 2]]) -> Self {
+        let mut o = Self { level, shapes: (0..=level).map(|_| vec![false; 1 << level]).collect() };
+        for p in points {
+            o.insert(fine(p[0], level), fine(p[1], level));
+        }
+        o
+    }
+
+    /// The index in shape `k` of the interval holding fine cell (`x`, `y`).
+    fn cell(&self, k: u32, x: usize, y: usize) -> usize {
+        (x >> (self.level - k)) << (self.level - k) | y >> k
+    }
+
+    fn insert(&mut self, x: usize, y: usize) {
+        for k in 0..=self.level {
+            let c = self.cell(k, x, y);
+            self.shapes[k as usize][c] = true;
+        }
+    }
+
+    /// A fine row `y` such that (`x`, `y`) lies in no occupied interval, `x` a free column;
+    /// `order` picks which half is tried first at each level of the descent.
+    fn free_row(&self, x: usize, order: u64) -> Option<usize> {
+        self.descend(x, 0, 0, order)
+    }
+
+    /// Below `prefix`, the top `depth` bits of the row: shape level−depth−1 decides the next bit.
+    fn descend(&self, x: usize, depth: u32, prefix: usize, order: u64) -> Option<usize> {
+        if depth == self.level {
+            return Some(prefix);
+        }
+        let k = self.level - depth - 1;
+        let first = (order >> (depth % 64)) as usize & 1;
+        [first, first ^ 1].into_iter().find_map(|bit| {
+            let row = prefix << 1 | bit;
+            let free = !self.shapes[k as usize][(x >> (depth + 1)) << (depth + 1) | row];
+            if free {
+                self.descend(x, depth + 1, row, order.rotate_left(7) ^ row as u64)
+            } else {
+                None
+            }
+        })
+    }
+}
+
+/// The fine stratum (of 2^`bits`) of a 32-bit fraction.
+fn fine(v: u32, bits: u32) -> usize {
+    if bits == 0 {
+        0
+    } else {
+        (v >> (32 - bits)) as usize
+    }
+}
+
+/// The first `n` points of a pmj02 sequence drawn with `rng`, as 32-bit fractions, each the
+/// farthest (on the torus) of up to `candidates` valid positions from the points before it;
+/// `None` when the random choices leave a column with no valid cell (the caller starts again
+/// with other choices).
+fn try_pmj02(n: usize, candidates: usize, rng: &mut Rng) -> Option<Vec<[u32; 2]>> {
     let mut points: Vec<[u32; 2]> = Vec::with_capacity(n);
-    let mut level = 0u32;
-    // occupied[k][cell]: shape k has 2^k columns and 2^(level-k) rows.
-    let mut occupied: Vec<Vec<bool>> = vec![vec![false; 1]];
-    let fine = |v: u32, bits: u32| if bits == 0 { 0 } else { (v >> (32 - bits)) as usize };
+    let mut grid = TorusGrid::new();
+    let mut occupied = Occupied::new(0, &[]);
+    let mut free_columns = vec![0usize];
     while points.len() < n {
-        let m = points.len();
-        if m == 1 << level {
+        if points.len() == 1 << occupied.level {
             // The prefix is a full net: the next points must also keep the 2m-point net.
-            level += 1;
-            occupied = (0..=level).map(|_| vec![false; 1 << level]).collect();
-            for p in &points {
-                for (k, occ) in occupied.iter_mut().enumerate() {
-                    occ[fine(p[0], k as u32) << (level - k as u32) | fine(p[1], level - k as u32)] = true;
-                }
-            }
+            occupied = Occupied::new(occupied.level + 1, &points);
+            let last = &occupied.shapes[occupied.level as usize];
+            free_columns = (0..last.len()).filter(|&x| !last[x]).collect();
         }
-        let size = 1usize << level;
-        // Free columns and rows of the finest 1D strata, in random order.
-        let shuffled = |free: Vec<usize>, rng: &mut Rng| {
-            let mut v = free;
-            for i in (1..v.len()).rev() {
-                v.swap(i, (rng.next_u32() as usize) % (i + 1));
-            }
-            v
-        };
-        let xs = shuffled((0..size).filter(|&x| !occupied[level as usize][x]).collect(), rng);
-        let ys = shuffled((0..size).filter(|&y| !occupied[0][y]).collect(), rng);
-        let cell = |k: u32, x: usize, y: usize| (x >> (level - k)) << (level - k) | (y >> k);
-        let found = xs.iter().find_map(|&x| {
-            ys.iter().find(|&&y| (0..=level).all(|k| !occupied[k as usize][cell(k, x, y)])).map(|&y| (x, y))
-        })?;
-        for (k, occ) in occupied.iter_mut().enumerate() {
-            occ[cell(k as u32, found.0, found.1)] = true;
-        }
+        let level = occupied.level;
         let jitter = |stratum: usize, rng: &mut Rng| {
-            let width = 32 - level;
-            let inside = if width == 32 { rng.next_u32() } else { rng.next_u32() >> level };
-            ((stratum as u64) << width) as u32 | inside
+            let inside = if level == 0 { rng.next_u32() } else { rng.next_u32() >> level };
+            ((stratum as u64) << (32 - level)) as u32 | inside
         };
-        let p = [jitter(found.0, rng), jitter(found.1, rng)];
+        // (point, its column's place in free_columns, squared distance to the nearest point)
+        let mut best: Option<([u32; 2], usize, u64)> = None;
+        for tried in 0..free_columns.len().min(candidates) {
+            // A column not tried yet, at random (a partial Fisher–Yates shuffle).
+            let pick = tried + (rng.next_u32() as usize) % (free_columns.len() - tried);
+            free_columns.swap(tried, pick);
+            let x = free_columns[tried];
+            let order = u64::from(rng.next_u32()) << 32 | u64::from(rng.next_u32());
+            // Every column holds a point once the level is complete: one that cannot never will.
+            let y = occupied.free_row(x, order)?;
+            let p = [jitter(x, rng), jitter(y, rng)];
+            let distance = if candidates == 1 { 0 } else { grid.nearest_distance_squared(p) };
+            if best.is_none_or(|(_, _, d)| distance > d) {
+                best = Some((p, tried, distance));
+            }
+        }
+        let (p, slot, _) = best?;
+        occupied.insert(fine(p[0], level), fine(p[1], level));
+        free_columns.swap_remove(slot);
+        grid.insert(p);
         points.push(p);
     }
     Some(points)
 }
 
-/// The first `n` points of the pmj02 sequence for `seed`, in [0, 1)².
-pub fn pmj02(n: usize, seed: u64) -> Vec<Vec2> {
-    let mut attempt = 0u64;
-    loop {
-        let mut rng = Rng::new(seed, attempt);
-        if let Some(points) = try_pmj02(n, &mut rng) {
-            return points.iter().map(|p| Vec2::new(unit(p[0]), unit(p[1]))).collect();
-        }
-        attempt += 1;
-    }
+/// The first `n` points of the sequence for `seed` comparing `candidates` per point, as 32-bit
+/// fractions.
+fn sequence(n: usize, candidates: usize, seed: u64) -> Vec<[u32; 2]> {
+    (0u64..)
+        .find_map(|attempt| try_pmj02(n, candidates, &mut Rng::new(seed, attempt)))
+        .expect("some attempt completes the sequence")
 }
 
-fn unit(v: u32) -> f32 {
-    super::scramble::unit_from_bits(v)
+/// The first `n` points of the blue-noise pmj02bn sequence for `seed`, as 32-bit fractions.
+pub fn pmj02bn(n: usize, seed: u64) -> Vec<[u32; 2]> {
+    sequence(n, BLUE_NOISE_CANDIDATES, seed)
 }
-
-/// The [`SETS`] sequences of one sampler.
-type Sets = Arc<Vec<Vec<Vec2>>>;
-
-/// The sequences of each (length, seed), built once per process.
-static SEQUENCES: LazyLock<Mutex<HashMap<(u64, u64), Sets>>> = LazyLock::new(Default::default);
-
-/// pbrt-v4's `PMJ02BNSampler`: 2D draws take point `index` of one of [`SETS`] pmj02 sequences
-/// shared by all pixels, toroidally shifted per pixel and dimension (Cranley & Patterson 1976);
-/// beyond the sets the index is permuted per pixel. 1D draws are jittered strata of a random
-/// permutation of the pixel's samples.
-#[derive(Clone, Debug)]
-pub struct Pmj02bn {
-    spp: u32,
-    seed: u64,
-    sets: Sets,
-    pixel: (u32, u32),
-    index: u64,
-    dimension: u64,
-}
-
-impl Pmj02bn {
-    /// For `spp` samples per pixel.
-    pub fn new(seed: u64, spp: u64) -> Self {
-        let spp32 = spp.clamp(1, 1 << 20) as u32;
-        let sets = {
-            let mut cache = SEQUENCES.lock().unwrap_or_else(|e| e.into_inner());
-            let len = (spp32 as usize).next_power_of_two();
-            cache
-                .entry((len as u64, seed))
-                .or_insert_with(|| Arc::new((0..SETS).map(|s| pmj02(len, mix_bits(seed ^ s))).collect()))
-                .clone()
-        };
-        Self { spp: spp32, seed, sets, pixel: (0, 0), index: 0, dimension: 0 }
-    }
-
-    /// Positions the sampler at sample `index` of `pixel`; dimensions 0 and 1 are the film
-    /// position's, so draws start at 2 (as pbrt-v4).
-    pub fn start(&mut self, pixel: (u32, u32), index: u64) {
-        (self.pixel, self.index, self.dimension) = (pixel, index, 2);
-    }
-
-    /// The film position: point `index` of the first sequence, shifted per pixel.
-    pub fn get_pixel_2d(&self) -> Vec2 {
-        self.point(0, self.index, 0)
-    }
-
-    /// Point `index` of sequence `set`, toroidally shifted by the offsets of dimensions
-    /// `dimension` and `dimension` + 1.
-    fn point(&self, set: u64, index: u64, dimension: u64) -> Vec2 {
-        let set = &self.sets[(set % SETS) as usize];
-        // Indices past the sequence (a render extended later) wrap.
-        let u = set[(index % set.len() as u64) as usize];
-        let v = u + Vec2::new(self.shift(dimension), self.shift(dimension + 1));
-        let wrap = |x: f32| if x >= 1.0 { x - 1.0 } else { x };
-        Vec2::new(wrap(v.x).min(ONE_MINUS_EPSILON), wrap(v.y).min(ONE_MINUS_EPSILON))
-    }
-
-    /// A uniform random offset per pixel and dimension.
-    fn shift(&self, dimension: u64) -> f32 {
-        let h = pixel_dimension_hash(self.pixel, dimension, self.seed ^ 0x5851_f42d_4c95_7f2d);
-        unit((h >> 32) as u32)
-    }
-
-    pub fn get_1d(&mut self) -> f32 {
-        let hash = pixel_dimension_hash(self.pixel, self.dimension, self.seed);
-        let stratum = permuted_index(self.index, self.spp, hash) % u64::from(self.spp);
-        let delta = self.shift(self.dimension);
-        self.dimension += 1;
-        ((stratum as f32 + delta) / self.spp as f32).min(ONE_MINUS_EPSILON)
-    }
-
-    pub fn get_2d(&mut self) -> Vec2 {
-        let instance = self.dimension / 2;
-        let mut index = self.index;
-        if instance >= SETS {
-            index = permuted_index(self.index, self.spp, pixel_dimension_hash(self.pixel, self.dimension, self.seed));
-        }
-        let u = self.point(instance, index, self.dimension);
-        self.dimension += 2;
-        u
-    }
-}
-
-/// The largest f32 below 1.
-const ONE_MINUS_EPSILON: f32 = 1.0 - f32::EPSILON / 2.0;
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::sampling::pattern::scramble::unit_from_bits;
+    use glam::Vec2;
+
+    fn to_unit(points: &[[u32; 2]]) -> Vec<Vec2> {
+        points.iter().map(|p| Vec2::new(unit_from_bits(p[0]), unit_from_bits(p[1]))).collect()
+    }
+
+    /// The plain pmj02 sequence: each point a random valid position.
+    fn pmj02(n: usize, seed: u64) -> Vec<Vec2> {
+        to_unit(&sequence(n, 1, seed))
+    }
+
+    fn pmj02bn(n: usize, seed: u64) -> Vec<Vec2> {
+        to_unit(&super::pmj02bn(n, seed))
+    }
 
     /// Every elementary interval of area 1/n (all shapes 2^k × n/2^k) holds exactly one of the
     /// n points.
@@ -190,32 +177,49 @@ mod tests {
     #[test]
     fn every_power_of_two_prefix_is_a_0_m_2_net() {
         for seed in [1u64, 2, 3] {
-            let points = pmj02(1024, seed);
-            for k in 0..=10 {
-                assert!(is_0_m_2_net(&points[..1 << k]), "seed {seed}, prefix 2^{k}");
+            for points in [pmj02(1024, seed), pmj02bn(4096, seed)] {
+                for k in 0..=points.len().trailing_zeros() {
+                    assert!(is_0_m_2_net(&points[..1 << k]), "seed {seed}, prefix 2^{k}");
+                }
+                assert!(points.iter().all(|p| (0.0..1.0).contains(&p.x) && (0.0..1.0).contains(&p.y)));
             }
-            assert!(points.iter().all(|p| (0.0..1.0).contains(&p.x) && (0.0..1.0).contains(&p.y)));
         }
         assert_ne!(pmj02(16, 1), pmj02(16, 2));
+        assert_ne!(pmj02bn(16, 1), pmj02bn(16, 2));
+    }
+
+    /// The mean over the points of the toroidal distance to the nearest other point, by brute
+    /// force (independent of the generator's grid).
+    fn mean_nearest_distance(points: &[Vec2]) -> f64 {
+        let d = |a: f32, b: f32| {
+            let t = (f64::from(a) - f64::from(b)).abs();
+            t.min(1.0 - t)
+        };
+        let nearest = |i: usize| {
+            (0..points.len())
+                .filter(|&j| j != i)
+                .map(|j| d(points[i].x, points[j].x).hypot(d(points[i].y, points[j].y)))
+                .fold(f64::INFINITY, f64::min)
+        };
+        (0..points.len()).map(nearest).sum::<f64>() / points.len() as f64
     }
 
     #[test]
-    fn the_samplers_first_dimensions_keep_the_net_shifted_on_the_torus() {
-        // A toroidal shift moves a net's points together; the 1D projections of 16 points stay
-        // one per 1/16 stratum after the shift (elementary intervals 1×1/16 and 1/16×1 shift onto
-        // intervals that straddle at most two strata, but the x projections remain a shifted
-        // lattice of strata: each shifted stratum [k/16 + s, (k+1)/16 + s) holds one point).
-        let mut s = Pmj02bn::new(9, 16);
-        let mut xs = Vec::new();
-        for i in 0..16 {
-            s.start((3, 4), i);
-            xs.push(s.get_pixel_2d().x);
+    fn blue_noise_prefixes_keep_their_points_farther_apart_than_plain_pmj02() {
+        // The mean distance to the nearest other point, in units of 1/√n (the spacing of n
+        // points), over prefixes of 384 and 768 points (between powers of two: the full
+        // 2^k-point nets of both are equally constrained and about equally spaced, 0.63–0.66).
+        // Measured over seeds 1..=10: plain pmj02 0.62–0.66, pmj02bn 0.70–0.74 (the standard
+        // deviation over seeds is ≈ 0.012 for either). The bound 0.68 sits between.
+        for seed in 11..=14 {
+            let (plain, blue) = (pmj02(768, seed), pmj02bn(768, seed));
+            for n in [384, 768] {
+                let scale = (n as f64).sqrt();
+                let plain = mean_nearest_distance(&plain[..n]) * scale;
+                let blue = mean_nearest_distance(&blue[..n]) * scale;
+                assert!(plain < 0.68, "seed {seed}, {n} points: pmj02 {plain}");
+                assert!(blue > 0.68, "seed {seed}, {n} points: pmj02bn {blue}");
+            }
         }
-        let shift = s.shift(0);
-        let mut strata = vec![0; 16];
-        for x in xs {
-            strata[(((x - shift).rem_euclid(1.0)) * 16.0) as usize % 16] += 1;
-        }
-        assert!(strata.iter().all(|&c| c == 1), "{strata:?}");
     }
 }
