@@ -256,6 +256,9 @@ fn compose(
     set: &InstanceSet,
     rays: Option<u64>,
 ) -> Result<Box<dyn Accel>, AccelError> {
+    // Only Embree's build depends on the number of rays; obvhs builds one way.
+    #[cfg(not(embree))]
+    let _ = rays;
     let instanced = !set.prototypes.is_empty();
     if extra.is_empty() && !instanced && (shared.is_none() || kind == AccelKind::Obvhs) {
         return build(kind, meshes);

@@ -383,8 +383,9 @@ mod tests {
     use crate::render::{render, RenderSettings};
     use crate::scene::SceneBuilder;
 
-    /// The rays counted while rendering the closed Cornell box stay within the estimate, and
-    /// come near it where paths rarely end early (depth 3, before Russian roulette starts).
+    /// The rays counted while rendering the Cornell box at depth 3 (before Russian roulette
+    /// starts) stay within the estimate and not far below it: paths end early only by leaving
+    /// through the open front (uniform directions of `randomwalk` leave most often).
     #[test]
     fn rays_per_sample_bounds_the_rays_traced() {
         let scene = SceneBuilder::cornell_box().build(AccelKind::default_available()).unwrap();
@@ -399,7 +400,7 @@ mod tests {
             let settings = RenderSettings { resolution: (8, 8), spp: 4, integrator, ..Default::default() };
             let (_, stats) = render(&scene, &settings, |_| {}).unwrap();
             let bound = stats.samples * integrator.rays_per_sample().unwrap();
-            assert!(stats.rays <= bound && stats.rays * 2 > bound, "{kind:?}: {} rays, estimate {bound}", stats.rays);
+            assert!(stats.rays <= bound && stats.rays * 3 > bound, "{kind:?}: {} rays, estimate {bound}", stats.rays);
         }
         let unbounded = Integrator { max_depth: UNBOUNDED_DEPTH, ..Default::default() };
         assert_eq!(unbounded.rays_per_sample(), None);
