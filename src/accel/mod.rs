@@ -227,30 +227,38 @@ pub fn build_scene(
     extra: ExtraShapes,
     set: &InstanceSet,
 ) -> Result<Box<dyn Accel>, AccelError> {
-    compose(kind, meshes, None, extra, set)
+    compose(kind, meshes, None, extra, set, None)
 }
 
 /// [`build_scene`] over meshes the accelerator may keep: Embree then reads their vertex and
 /// index arrays in place (`rtcSetSharedGeometryBuffer`) instead of copying them, holding
 /// `meshes` for as long as it lives. A mesh's positions need spare capacity for this (Embree
-/// loads 16 bytes at each vertex); one without is copied.
+/// loads 16 bytes at each vertex); one without is copied. `rays`, the number of rays the render
+/// expects to trace if known, lets Embree trade BVH quality for build time when they are few
+/// (`embree::BuildChoice::for_triangles`).
 pub fn build_scene_shared(
     kind: AccelKind,
     meshes: &Arc<[Mesh]>,
     extra: ExtraShapes,
     set: &InstanceSet,
+    rays: Option<u64>,
 ) -> Result<Box<dyn Accel>, AccelError> {
-    compose(kind, meshes, Some(meshes.clone()), extra, set)
+    compose(kind, meshes, Some(meshes.clone()), extra, set, rays)
 }
 
-/// [`build_scene`], with Embree reading the arrays of `meshes` in place when `shared` holds them.
+/// [`build_scene`], with Embree reading the arrays of `meshes` in place when `shared` holds them
+/// and choosing its build for `rays`.
 fn compose(
     kind: AccelKind,
     meshes: &[Mesh],
     shared: Option<Arc<[Mesh]>>,
     extra: ExtraShapes,
     set: &InstanceSet,
+    rays: Option<u64>,
 ) -> Result<Box<dyn Accel>, AccelError> {
+    // Only Embree's build depends on the number of rays; obvhs builds one way.
+    #[cfg(not(embree))]
+    let _ = rays;
     let instanced = !set.prototypes.is_empty();
     if extra.is_empty() && !instanced && (shared.is_none() || kind == AccelKind::Obvhs) {
         return build(kind, meshes);
@@ -271,7 +279,7 @@ fn compose(
             let scene = if instanced {
                 embree::EmbreeAccel::instanced_with_shapes(meshes, &table, set, test, shared)
             } else {
-                embree::EmbreeAccel::with_extra(meshes, &curves, &fixed, test, shared)
+                embree::EmbreeAccel::with_extra(meshes, &curves, &fixed, test, shared, rays)
             }?;
             Ok(ExtraShapes { curves: &[], quadrics: &moving }.beside(Box::new(scene)))
         }

@@ -208,6 +208,15 @@ pub fn prepare(args: &RenderArgs) -> Result<Job> {
     if let Some(kind) = light_sampler {
         builder.set_light_sampler(kind);
     }
+    let resolution = resolution.or(file.resolution).unwrap_or(d.resolution);
+    let crop = crop_arg.or(file.crop).map(|c| c.bounds(resolution)).transpose()?;
+    // The rays the render will trace, about, so the accelerator's build can match them.
+    let asked = integrator_asked(&file, integrator_kind, max_depth, sss);
+    let (w, h) = crop.map_or(resolution, |b| (b.x1 - b.x0, b.y1 - b.y0));
+    if let Some(per_sample) = asked.rays_per_sample() {
+        let samples = spp.or(file.spp).unwrap_or(d.spp);
+        builder.expect_rays((u64::from(w) * u64::from(h)).saturating_mul(samples).saturating_mul(per_sample));
+    }
     let t0 = Instant::now();
     let scene = builder.build(accel).context("building the scene")?;
     let build_s = t0.elapsed().as_secs_f64();
@@ -250,8 +259,6 @@ pub fn prepare(args: &RenderArgs) -> Result<Job> {
         }
         (aov, spectral, write_aov) = (None, None, false);
     }
-    let resolution = resolution.or(file.resolution).unwrap_or(d.resolution);
-    let crop = crop_arg.or(file.crop).map(|c| c.bounds(resolution)).transpose()?;
     let (iso, exposure) = (file.iso.unwrap_or(100.0), file.exposure_time.unwrap_or(1.0));
     let white_balance = file.white_balance.unwrap_or(0.0);
     let sensor = match &file.camera_sensor {
@@ -313,6 +320,23 @@ fn writes_named_channels(output: &Path) -> bool {
     ext == "exr" || ext == "film"
 }
 
+/// The integrator asked for, before a scene resolves it: command-line values (`named`,
+/// `max_depth`, `sss`) over the file's, over prism's defaults.
+fn integrator_asked(
+    file: &FileSettings,
+    named: Option<IntegratorKind>,
+    max_depth: Option<u32>,
+    sss: Option<SubsurfaceMethod>,
+) -> Integrator {
+    let from_file = Integrator::from_file(file);
+    Integrator {
+        kind: named.unwrap_or(from_file.kind),
+        max_depth: max_depth.unwrap_or(from_file.max_depth),
+        sss: sss.unwrap_or(from_file.sss),
+        ..from_file
+    }
+}
+
 /// The integrator for `scene`: command-line values (`named`, `max_depth`, `sss`) over the
 /// file's, over prism's defaults, resolved against the scene ([`Integrator::for_scene`]). Every
 /// subcommand that renders or measures a scene takes its integrator from here.
@@ -323,15 +347,9 @@ pub(crate) fn integrator_for(
     max_depth: Option<u32>,
     sss: Option<SubsurfaceMethod>,
 ) -> Integrator {
-    let from_file = Integrator::from_file(file);
-    let named = named.unwrap_or(from_file.kind);
-    let integrator = Integrator {
-        kind: named,
-        max_depth: max_depth.unwrap_or(from_file.max_depth),
-        sss: sss.unwrap_or(from_file.sss),
-        ..from_file
-    }
-    .for_scene(scene);
+    let asked = integrator_asked(file, named, max_depth, sss);
+    let named = asked.kind;
+    let integrator = asked.for_scene(scene);
     if named == IntegratorKind::Path && integrator.kind == IntegratorKind::VolPath {
         log::info!("the scene has media: integrator \"path\" renders them as \"volpath\"");
     }

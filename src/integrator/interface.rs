@@ -199,6 +199,24 @@ impl Integrator {
         }
     }
 
+    /// The rays one camera sample of this estimator traces at most, counting a path of
+    /// `max_depth` scattering events as its camera ray and, per event, one continuation and one
+    /// shadow ray (2·max_depth + 1; `randomwalk` has no shadow rays, ambient occlusion traces
+    /// one ray past the first hit). `None` for an unbounded depth and for the estimators whose
+    /// rays do not follow the camera samples (light tracing, bdpt, mlt, sppm). An estimate for
+    /// choosing how to build the accelerator: rays through media interfaces and subsurface
+    /// probes are not counted, Russian roulette and escaping paths make it an upper bound.
+    pub fn rays_per_sample(&self) -> Option<u64> {
+        let depth = u64::from(self.max_depth);
+        match self.kind {
+            _ if self.max_depth == UNBOUNDED_DEPTH => None,
+            IntegratorKind::Path | IntegratorKind::VolPath | IntegratorKind::SimplePath => Some(2 * depth + 1),
+            IntegratorKind::SimpleVolPath | IntegratorKind::RandomWalk => Some(depth + 1),
+            IntegratorKind::AmbientOcclusion => Some(2),
+            IntegratorKind::LightPath | IntegratorKind::Bdpt | IntegratorKind::Mlt | IntegratorKind::Sppm => None,
+        }
+    }
+
     /// The estimator that renders `scene` as the named one would: `path` and `volpath` are one
     /// estimator family, whose volumetric loop is taken exactly when the scene has a medium to
     /// step through — participating media, or a subsurface material a path may walk (the random
@@ -355,5 +373,37 @@ impl Integrator {
             _ => self.path_trace(scene, probe, None, sensor, None, w, sampler, stats),
         };
         lo * PI
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{Integrator, IntegratorKind, UNBOUNDED_DEPTH};
+    use crate::accel::AccelKind;
+    use crate::render::{render, RenderSettings};
+    use crate::scene::SceneBuilder;
+
+    /// The rays counted while rendering the Cornell box at depth 3 (before Russian roulette
+    /// starts) stay within the estimate and not far below it: paths end early only by leaving
+    /// through the open front (uniform directions of `randomwalk` leave most often).
+    #[test]
+    fn rays_per_sample_bounds_the_rays_traced() {
+        let scene = SceneBuilder::cornell_box().build(AccelKind::default_available()).unwrap();
+        let kinds = [
+            IntegratorKind::Path,
+            IntegratorKind::SimplePath,
+            IntegratorKind::RandomWalk,
+            IntegratorKind::AmbientOcclusion,
+        ];
+        for kind in kinds {
+            let integrator = Integrator { kind, max_depth: 3, ..Default::default() };
+            let settings = RenderSettings { resolution: (8, 8), spp: 4, integrator, ..Default::default() };
+            let (_, stats) = render(&scene, &settings, |_| {}).unwrap();
+            let bound = stats.samples * integrator.rays_per_sample().unwrap();
+            assert!(stats.rays <= bound && stats.rays * 3 > bound, "{kind:?}: {} rays, estimate {bound}", stats.rays);
+        }
+        let unbounded = Integrator { max_depth: UNBOUNDED_DEPTH, ..Default::default() };
+        assert_eq!(unbounded.rays_per_sample(), None);
+        assert_eq!(Integrator { kind: IntegratorKind::Bdpt, ..Default::default() }.rays_per_sample(), None);
     }
 }

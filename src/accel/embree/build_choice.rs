@@ -1,6 +1,6 @@
 //! How Embree builds the BVH of a scene of triangle meshes: its build quality and its leaf
-//! layout, chosen by the scene's triangle count ([`BuildChoice::for_triangles`]) or set by
-//! [`BUILD_ENV`] for measurements.
+//! layout, chosen by the scene's triangle count and the rays the render will trace
+//! ([`BuildChoice::for_triangles`]) or set by [`BUILD_ENV`] for measurements.
 //!
 //! The choices, as Embree 3.13 makes them (`verbose=2` names the builder and the leaves):
 //! - medium quality: the SAH builder over the whole scene (`BVH8<triangle4v>`: the three
@@ -24,6 +24,14 @@ pub const BUILD_ENV: &str = "PRISM_EMBREE_BUILD";
 /// 2²³, about 1 GB at Embree's default layout.
 pub const BIG_SCENE_TRIANGLES: usize = 8 << 20;
 
+/// Scenes of fewer triangles keep the SAH build whatever the number of rays: 2²⁰, whose SAH
+/// build takes well under a CPU-second, too little for a faster build to matter.
+pub const MORTON_MIN_TRIANGLES: usize = 1 << 20;
+
+/// Rays per triangle below which the Morton build takes less time in all than the SAH build
+/// ([`BuildChoice::for_triangles`]).
+pub const MORTON_RAYS_PER_TRIANGLE: f64 = 0.4;
+
 /// Build quality and leaf layout of one Embree scene.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct BuildChoice {
@@ -37,22 +45,35 @@ impl BuildChoice {
     /// Embree's default: the SAH builder with vertex leaves.
     pub const MEDIUM: Self = Self { quality: BuildQuality::Medium, compact: false };
 
-    /// The rule for a scene of `triangles`: Embree's default below [`BIG_SCENE_TRIANGLES`], from
-    /// there the same SAH build with compact leaves. On a 20 M-triangle mesh whose arrays
-    /// Embree reads in place, compact leaves take the peak memory of the start-up from 118 to 53
-    /// bytes per triangle and Embree's build to 0.76× its CPU time, for 1.1–1.26× the render
-    /// time; the Morton builder (`low`) would halve the build's CPU time again but trace ~1.5×
-    /// slower than compact SAH leaves and hold 76 bytes per triangle (docs/benchmarks.md,
-    /// "One big mesh").
-    pub fn for_triangles(triangles: usize) -> Self {
-        Self { quality: BuildQuality::Medium, compact: triangles >= BIG_SCENE_TRIANGLES }
+    /// The rule for a scene of `triangles` through which a render will trace about `rays`
+    /// (`None`: unknown, taken as many).
+    ///
+    /// Leaves: Embree's default below [`BIG_SCENE_TRIANGLES`], compact from there. On a
+    /// 20 M-triangle mesh whose arrays Embree reads in place, compact leaves take the peak
+    /// memory of the start-up from 118 to 53 bytes per triangle and Embree's build to 0.76× its
+    /// CPU time, for 1.1–1.26× the render time.
+    ///
+    /// Quality: SAH, except for scenes of [`MORTON_MIN_TRIANGLES`] up to
+    /// [`BIG_SCENE_TRIANGLES`] through which fewer than [`MORTON_RAYS_PER_TRIANGLE`] rays per
+    /// triangle will be traced: those get the Morton builder (`low`). Measured on a
+    /// 20 M-triangle mesh (docs/benchmarks.md, "One big mesh"), the Morton build saves
+    /// B ≈ 0.18 CPU-µs per triangle and its BVH costs d ≈ 0.44 CPU-µs more per ray (path
+    /// tracing, shading included: 2.07 against 1.63), so it pays below B/d ≈ 0.4 rays per
+    /// triangle. Compact scenes keep SAH all the same: there the Morton build's temporaries
+    /// raise the peak memory from 53 to 76 bytes per triangle.
+    pub fn for_triangles(triangles: usize, rays: Option<u64>) -> Self {
+        let compact = triangles >= BIG_SCENE_TRIANGLES;
+        let few_rays = (MORTON_MIN_TRIANGLES..BIG_SCENE_TRIANGLES).contains(&triangles)
+            && rays.is_some_and(|r| (r as f64) < MORTON_RAYS_PER_TRIANGLE * triangles as f64);
+        let quality = if few_rays { BuildQuality::Low } else { BuildQuality::Medium };
+        Self { quality, compact }
     }
 
     /// [`BuildChoice::for_triangles`], unless [`BUILD_ENV`] sets the choice.
-    pub fn for_scene(triangles: usize) -> Result<Self, EmbreeError> {
+    pub fn for_scene(triangles: usize, rays: Option<u64>) -> Result<Self, EmbreeError> {
         match std::env::var(BUILD_ENV) {
             Ok(s) if !s.trim().is_empty() => Self::parse(&s),
-            _ => Ok(Self::for_triangles(triangles)),
+            _ => Ok(Self::for_triangles(triangles, rays)),
         }
     }
 
@@ -103,8 +124,28 @@ mod tests {
 
     #[test]
     fn rule_switches_at_the_threshold() {
-        assert_eq!(BuildChoice::for_triangles(BIG_SCENE_TRIANGLES - 1), BuildChoice::MEDIUM);
-        let big = BuildChoice::for_triangles(BIG_SCENE_TRIANGLES);
+        assert_eq!(BuildChoice::for_triangles(BIG_SCENE_TRIANGLES - 1, None), BuildChoice::MEDIUM);
+        let big = BuildChoice::for_triangles(BIG_SCENE_TRIANGLES, None);
         assert!(big.compact && big.quality == BuildQuality::Medium);
+    }
+
+    #[test]
+    fn few_rays_over_many_triangles_take_the_morton_build() {
+        let n = 4_000_000;
+        let low = BuildChoice { quality: BuildQuality::Low, compact: false };
+        // 128 × 128 pixels, 4 samples of up to 11 rays: 0.18 rays per triangle.
+        assert_eq!(BuildChoice::for_triangles(n, Some(128 * 128 * 4 * 11)), low);
+        // 1920 × 1080 pixels, 64 samples: far more rays than triangles.
+        assert_eq!(BuildChoice::for_triangles(n, Some(1920 * 1080 * 64 * 11)), BuildChoice::MEDIUM);
+        assert_eq!(BuildChoice::for_triangles(n, None), BuildChoice::MEDIUM);
+        // Just below and at the crossover.
+        let at = (MORTON_RAYS_PER_TRIANGLE * n as f64) as u64;
+        assert_eq!(BuildChoice::for_triangles(n, Some(at - 1)), low);
+        assert_eq!(BuildChoice::for_triangles(n, Some(at)), BuildChoice::MEDIUM);
+        // Small scenes, and big ones (compact leaves), keep SAH however few the rays.
+        assert_eq!(BuildChoice::for_triangles(MORTON_MIN_TRIANGLES - 1, Some(1)), BuildChoice::MEDIUM);
+        assert_eq!(BuildChoice::for_triangles(MORTON_MIN_TRIANGLES, Some(1)), low);
+        let big = BuildChoice::for_triangles(BIG_SCENE_TRIANGLES, Some(1));
+        assert_eq!(big, BuildChoice { quality: BuildQuality::Medium, compact: true });
     }
 }

@@ -26,7 +26,7 @@ mod scene;
 mod shared_tests;
 mod user_triangles;
 
-pub use build_choice::{BuildChoice, BIG_SCENE_TRIANGLES, BUILD_ENV};
+pub use build_choice::{BuildChoice, BIG_SCENE_TRIANGLES, BUILD_ENV, MORTON_MIN_TRIANGLES, MORTON_RAYS_PER_TRIANGLE};
 pub use device::{error_name, Device, EmbreeError, CONFIG_ENV};
 pub use error::{EmbreeVersion, LibraryMismatch};
 
@@ -91,9 +91,9 @@ impl BuildQuality {
 
 impl EmbreeAccel {
     /// Builds an Embree scene over `meshes` (geometry id = mesh index), as
-    /// [`BuildChoice::for_scene`] chooses for their triangle count.
+    /// [`BuildChoice::for_scene`] chooses for their triangle count and no known ray count.
     pub fn new(meshes: &[Mesh]) -> Result<Self, EmbreeError> {
-        Self::with_test(meshes, BuildChoice::for_scene(triangle_count(meshes))?, TriangleTest::Embree)
+        Self::with_test(meshes, BuildChoice::for_scene(triangle_count(meshes), None)?, TriangleTest::Embree)
     }
 
     /// Builds with the given quality.
@@ -116,17 +116,19 @@ impl EmbreeAccel {
     /// Builds one scene over `meshes`, `curves` ((geometry id, its curves), as Embree curve
     /// geometry: `curves.rs`) and static `quadrics` ((geometry id, its quadric), as user
     /// geometry: `quadrics.rs`) with the given triangle test; Embree's triangles are built as
-    /// [`BuildChoice::for_scene`] chooses, and read in place when `shared` holds `meshes`.
+    /// [`BuildChoice::for_scene`] chooses for their count and the `rays` the render expects to
+    /// trace (if known), and read in place when `shared` holds `meshes`.
     pub fn with_extra(
         meshes: &[Mesh],
         curves: &[(u32, &Curves)],
         quadrics: &[(u32, &PlacedQuadric)],
         test: TriangleTest,
         shared: Option<Arc<[Mesh]>>,
+        rays: Option<u64>,
     ) -> Result<Self, EmbreeError> {
         let device = device::Device::new()?;
         let choice = match test {
-            TriangleTest::Embree => BuildChoice::for_scene(triangle_count(meshes))?,
+            TriangleTest::Embree => BuildChoice::for_scene(triangle_count(meshes), rays)?,
             TriangleTest::Watertight => BuildChoice::MEDIUM,
         };
         let extra = super::ExtraShapes { curves, quadrics };

@@ -48,7 +48,7 @@ fn shared_arrays_trace_as_a_copy_without_embree_holding_one() {
     let meshes: Arc<[Mesh]> = vec![sphere()].into();
     let none = InstanceSet::default();
     let copied = build_scene(AccelKind::Embree, &meshes, ExtraShapes::default(), &none).unwrap();
-    let shared = build_scene_shared(AccelKind::Embree, &meshes, ExtraShapes::default(), &none).unwrap();
+    let shared = build_scene_shared(AccelKind::Embree, &meshes, ExtraShapes::default(), &none, None).unwrap();
     assert_same_hits(copied.as_ref(), shared.as_ref());
     let arrays = 12 * (meshes[0].positions.len() + meshes[0].indices.len());
     assert!(
@@ -66,8 +66,8 @@ fn a_mesh_without_room_after_its_last_vertex_is_copied() {
     let exact: Arc<[Mesh]> = vec![mesh].into();
     let padded: Arc<[Mesh]> = vec![sphere()].into();
     let none = InstanceSet::default();
-    let copied = build_scene_shared(AccelKind::Embree, &exact, ExtraShapes::default(), &none).unwrap();
-    let shared = build_scene_shared(AccelKind::Embree, &padded, ExtraShapes::default(), &none).unwrap();
+    let copied = build_scene_shared(AccelKind::Embree, &exact, ExtraShapes::default(), &none, None).unwrap();
+    let shared = build_scene_shared(AccelKind::Embree, &padded, ExtraShapes::default(), &none, None).unwrap();
     assert_same_hits(copied.as_ref(), shared.as_ref());
     assert!(copied.memory_bytes() > shared.memory_bytes());
 }
