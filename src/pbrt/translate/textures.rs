@@ -15,7 +15,7 @@ use crate::texture::{
     WrapMode,
 };
 use glam::{Mat4, Vec2, Vec3};
-use std::collections::HashMap;
+use rustc_hash::FxHashMap as HashMap;
 use std::sync::Arc;
 
 /// The textures built so far, by index into the scene's texture list, and the image pyramids
