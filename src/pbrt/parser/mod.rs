@@ -244,7 +244,7 @@ impl<'o> Parser<'o> {
     fn resolve_type(
         &mut self,
         name: &str,
-        loc: &Location,
+        loc: impl FnOnce() -> Location,
         kind: &'static str,
         supported: &[&str],
         pbrt_only: &[(&'static str, &'static str)],
@@ -255,15 +255,15 @@ impl<'o> Parser<'o> {
             Lookup::Substitute(s) => {
                 let feature = format!("{kind} \"{name}\"");
                 if skip {
-                    self.unsupported(loc, &feature, s);
+                    self.unsupported(&loc(), &feature, s);
                     Ok(None)
                 } else {
-                    self.unsupported(loc, &feature, &format!("uses \"{s}\" instead"));
+                    self.unsupported(&loc(), &feature, &format!("uses \"{s}\" instead"));
                     Ok(Some(s.to_string()))
                 }
             }
             Lookup::Unknown => Err(SceneError::UnknownType {
-                loc: loc.clone(),
+                loc: loc(),
                 kind,
                 name: name.to_string(),
                 valid: names::valid_list(supported, pbrt_only),

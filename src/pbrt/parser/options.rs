@@ -49,7 +49,7 @@ impl Parser<'_> {
                 let params = src.params(cs)?;
                 let kind = self.resolve_type(
                     &ty.text,
-                    &ty.loc(),
+                    || ty.loc(),
                     "camera",
                     names::PRISM_CAMERAS,
                     names::PBRT_ONLY_CAMERAS,
@@ -84,8 +84,14 @@ impl Parser<'_> {
                 self.require_options(tok)?;
                 let ty = src.string(tok, "a film type")?;
                 let params = src.params(cs)?;
-                let kind =
-                    self.resolve_type(&ty.text, &ty.loc(), "film", names::PRISM_FILMS, names::PBRT_ONLY_FILMS, false)?;
+                let kind = self.resolve_type(
+                    &ty.text,
+                    || ty.loc(),
+                    "film",
+                    names::PRISM_FILMS,
+                    names::PBRT_ONLY_FILMS,
+                    false,
+                )?;
                 self.film = Some(Directive { kind: kind.unwrap_or_default(), params, loc: tok.loc() });
             }
             "Integrator" => {
@@ -94,7 +100,7 @@ impl Parser<'_> {
                 let params = src.params(cs)?;
                 let kind = self.resolve_type(
                     &ty.text,
-                    &ty.loc(),
+                    || ty.loc(),
                     "integrator",
                     names::PRISM_INTEGRATORS,
                     names::PBRT_ONLY_INTEGRATORS,

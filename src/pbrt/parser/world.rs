@@ -176,9 +176,14 @@ impl Parser<'_> {
                 self.require_world(tok)?;
                 let ty = src.string(tok, "a light type")?;
                 let mut params = src.params(cs)?;
-                if let Some(kind) =
-                    self.resolve_type(&ty.text, &ty.loc(), "light", names::PRISM_LIGHTS, names::PBRT_ONLY_LIGHTS, true)?
-                {
+                if let Some(kind) = self.resolve_type(
+                    &ty.text,
+                    || ty.loc(),
+                    "light",
+                    names::PRISM_LIGHTS,
+                    names::PBRT_ONLY_LIGHTS,
+                    true,
+                )? {
                     if let Some(d) = self.gs.defaults.get("light") {
                         params.merge_defaults(d);
                     }
@@ -194,7 +199,7 @@ impl Parser<'_> {
                 let ty = src.string(tok, "an area light type")?;
                 let mut params = src.params(cs)?;
                 if let Some(kind) =
-                    self.resolve_type(&ty.text, &ty.loc(), "area light", names::PRISM_AREA_LIGHTS, &[], true)?
+                    self.resolve_type(&ty.text, || ty.loc(), "area light", names::PRISM_AREA_LIGHTS, &[], true)?
                 {
                     if let Some(d) = self.gs.defaults.get("light") {
                         params.merge_defaults(d);
@@ -253,7 +258,7 @@ impl Parser<'_> {
             return Ok(MaterialDesc { kind: "interface".into(), params, loc });
         }
         let kind = self
-            .resolve_type(ty, &loc, "material", names::PRISM_MATERIALS, names::PBRT_ONLY_MATERIALS, false)?
+            .resolve_type(ty, || loc.clone(), "material", names::PRISM_MATERIALS, names::PBRT_ONLY_MATERIALS, false)?
             .unwrap_or_default();
         if kind != ty {
             // The replacement's parameters mean something else: start from its defaults.
@@ -266,17 +271,18 @@ impl Parser<'_> {
 
     pub(super) fn shape(&mut self, tok: &Token, ty: &Token, mut params: ParamSet) -> Result<(), SceneError> {
         let Some(kind) =
-            self.resolve_type(&ty.text, &ty.loc(), "shape", names::PRISM_SHAPES, names::PBRT_ONLY_SHAPES, true)?
+            self.resolve_type(&ty.text, || ty.loc(), "shape", names::PRISM_SHAPES, names::PBRT_ONLY_SHAPES, true)?
         else {
             return Ok(());
         };
         if let Some(d) = self.gs.defaults.get("shape") {
             params.merge_defaults(d);
         }
-        let geometry = shapes::load(&kind, &params, &tok.loc(), &mut self.warnings)?;
+        let loc = tok.loc();
+        let geometry = shapes::load(&kind, &params, &loc, &mut self.warnings)?;
         let mut area_light = self.gs.area_light.clone();
         if self.current_object.is_some() && area_light.is_some() {
-            self.unsupported(&tok.loc(), "area light on a shape inside ObjectBegin", "makes the shape non-emissive");
+            self.unsupported(&loc, "area light on a shape inside ObjectBegin", "makes the shape non-emissive");
             area_light = None;
         }
         let motion = self.motion();
@@ -290,7 +296,7 @@ impl Parser<'_> {
             material: self.gs.material.clone(),
             area_light,
             media: self.gs.media.clone(),
-            loc: tok.loc(),
+            loc,
         };
         match &mut self.current_object {
             Some(o) => o.shapes.push(s),
