@@ -3,8 +3,9 @@
 //!
 //! As in pbrt-v4's parser, an included file's tokens take the place of the Include: the stream
 //! reads a stack of files, and at the end of an included file goes on in the file that included
-//! it, so a directive may begin in one file and end in another. Every token keeps its own file's
-//! location.
+//! it, so a directive may begin in one file and end in another. Tokens borrow their text from
+//! their file's, which is why every file read stays in the stream's [`SourceFiles`] until the
+//! stream is dropped, and keep their own file's location.
 
 use super::error::{Location, SceneError};
 use super::params::{parse_float, Param, ParamSet};
@@ -29,11 +30,6 @@ impl<'a> Source<'a> {
     pub(super) fn new(store: &'a SourceFiles, file: SourceFile, canonical: PathBuf) -> Self {
         let outer = store.add(file);
         Self { store, files: vec![(Tokenizer::new(outer), canonical)], peeked: None, outer, values: Vec::new() }
-    }
-
-    /// Where this stream keeps the texts of its files.
-    pub(super) fn store(&self) -> &'a SourceFiles {
-        self.store
     }
 
     /// Reads `file` before the rest of the stream.

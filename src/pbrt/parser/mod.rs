@@ -394,7 +394,8 @@ impl<'o> Parser<'o> {
         // objects, shapes and lights it defines belong to the scene.
         let (gs, named_cs, floor) = (self.gs.clone(), self.named_cs.clone(), self.stack_floor);
         self.stack_floor = self.stack.len();
-        self.parse_text(src.store(), text, Arc::from(path.as_path()), canon)?;
+        // Its tokens never leave that parse: its text can go when it ends.
+        self.parse_text(&SourceFiles::default(), text, Arc::from(path.as_path()), canon)?;
         if self.stack.len() != self.stack_floor {
             let (_, kind, loc) = self.stack.last().expect("deeper than the floor");
             return Err(SceneError::syntax(
