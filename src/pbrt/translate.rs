@@ -220,7 +220,7 @@ enum SpectrumError {
 }
 
 fn space_of(params: &ParamSet) -> &'static ColorSpace {
-    ColorSpace::by_name(&params.color_space).unwrap_or_else(ColorSpace::srgb)
+    ColorSpace::by_name(params.color_space).unwrap_or_else(ColorSpace::srgb)
 }
 
 /// Integer parameter `name`, which must be at least `min` (counts: the depth has its own rule);

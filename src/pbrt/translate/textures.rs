@@ -155,7 +155,7 @@ impl Kind for Spectrum {
             )),
             "imagemap" => {
                 let image = ctx.image_map(t)?;
-                let space = ColorSpace::by_name(&p.color_space).unwrap_or_else(ColorSpace::srgb);
+                let space = ColorSpace::by_name(p.color_space).unwrap_or_else(ColorSpace::srgb);
                 SpectrumSource::Image(SpectrumImage::new(
                     image.mapping,
                     &image.pyramid,
