@@ -15,14 +15,14 @@
 //!   instancing at scale;
 //! - `mesh`: one `plymesh` of N triangles, a binary little-endian PLY heightfield with
 //!   positions only (19 bytes per triangle, like a scanned model). Its line adds the seconds of
-//!   reading the file and of decoding the PLY alone (the first two parts of `parse`), and
-//!   resident memory after each stage in bytes per triangle.
+//!   reading the file and of decoding the PLY alone (the first two parts of `parse`).
 //!
 //! (default: all four at N = 1000, 10000, 100000). The stages: `parse` (`parse_file`),
 //! `translate` (the description onto a scene builder), `report` (unused parameters and the
 //! list of input files), `build` (accelerator and lights, Embree when built with it).
 //! Each line gives the wall seconds of each stage, their sum per element in microseconds, and the
-//! process CPU seconds (all threads) of each stage.
+//! process CPU seconds (all threads) of each stage; a second line the resident memory after
+//! each stage, in bytes per element (per triangle for `mesh`).
 
 use cpu_time::ProcessTime;
 use prism::accel::AccelKind;
@@ -315,10 +315,11 @@ fn run() -> Result<(), String> {
                 total / n as f64 * 1e6,
                 cpu.join(" / ")
             );
-            if kind == "mesh" {
+            {
                 let per = |b: i64| b as f64 / n as f64;
+                let unit = if kind == "mesh" { "triangle" } else { "element" };
                 println!(
-                    "  {mesh_note}resident B/triangle after parse {:.1}, translate {:.1}, report (description \
+                    "  {mesh_note}resident B/{unit} after parse {:.1}, translate {:.1}, report (description \
                      dropped) {:.1}, build {:.1}; peak {:.1}",
                     per(m[0]),
                     per(m[1]),

@@ -330,7 +330,7 @@ impl SceneDesc {
             }
         }
         for (a, copies) in area_lights {
-            let mut unused = ParamSet::new(&a.params.color_space);
+            let mut unused = ParamSet::new(a.params.color_space);
             for (j, p) in a.params.iter().enumerate() {
                 if copies.iter().all(|c| c.iter().nth(j).is_some_and(|q| !q.is_used())) {
                     unused.push(p.clone()).expect("names are unique in the original set");

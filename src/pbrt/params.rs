@@ -104,12 +104,12 @@ impl Param {
 
     /// Parses a declaration (`"float radius"`) and its value tokens.
     pub fn parse(decl: &Token, values: &[Token]) -> Result<Self, SceneError> {
-        let loc = &decl.loc;
-        let words: Vec<&str> = decl.text.split_whitespace().collect();
-        let [ty, name] = words[..] else {
+        let loc = &decl.loc();
+        let mut words = decl.text.split_whitespace();
+        let (Some(ty), Some(name), None) = (words.next(), words.next(), words.next()) else {
             return Err(SceneError::syntax(loc, &decl.display(), "a parameter declaration must be \"type name\""));
         };
-        let err = |tok: &Token, msg: String| SceneError::syntax(&tok.loc, &tok.display(), msg);
+        let err = |tok: &Token, msg: String| SceneError::syntax(&tok.loc(), &tok.display(), msg);
         let decl_err = |msg: String| SceneError::syntax(loc, &decl.display(), msg);
         if values.is_empty() {
             return Err(decl_err(format!("parameter \"{ty} {name}\" has no values")));
@@ -139,7 +139,7 @@ impl Param {
             values
                 .iter()
                 .map(|t| match t.kind {
-                    TokenKind::Str => Ok(t.text.clone()),
+                    TokenKind::Str => Ok(t.text.to_string()),
                     _ => Err(err(t, format!("expected a quoted string for \"{ty} {name}\""))),
                 })
                 .collect()
@@ -154,7 +154,7 @@ impl Param {
                 ParamValue::Bool(
                     values
                         .iter()
-                        .map(|t| match t.text.as_str() {
+                        .map(|t| match &*t.text {
                             "true" => Ok(true),
                             "false" => Ok(false),
                             _ => Err(err(t, "expected true or false".into())),
@@ -211,22 +211,22 @@ fn parse_spectrum(decl: &Token, values: &[Token], ty: &str, name: &str) -> Resul
     if values[0].kind == TokenKind::Str {
         if values.len() != 1 {
             return Err(SceneError::syntax(
-                &decl.loc,
+                &decl.loc(),
                 &decl.display(),
                 format!("parameter \"{ty} {name}\" takes one spectrum name or file name"),
             ));
         }
         let s = &values[0].text;
         return Ok(if is_named_spectrum(s) {
-            SpectrumParam::Named(s.clone())
+            SpectrumParam::Named(s.to_string())
         } else {
-            SpectrumParam::File(values[0].loc.resolve(s))
+            SpectrumParam::File(values[0].loc().resolve(&**s))
         });
     }
     let v: Vec<f32> = values.iter().map(parse_float).collect::<Result<_, _>>()?;
     if !v.len().is_multiple_of(2) {
         return Err(SceneError::syntax(
-            &decl.loc,
+            &decl.loc(),
             &decl.display(),
             format!("parameter \"{ty} {name}\" has {} values; (wavelength, value) pairs are required", v.len()),
         ));
@@ -235,7 +235,7 @@ fn parse_spectrum(decl: &Token, values: &[Token], ty: &str, name: &str) -> Resul
     for (i, w) in pairs.windows(2).enumerate() {
         if w[1].0 <= w[0].0 {
             let t = &values[2 * i + 2];
-            return Err(SceneError::syntax(&t.loc, &t.display(), "spectrum wavelengths must increase"));
+            return Err(SceneError::syntax(&t.loc(), &t.display(), "spectrum wavelengths must increase"));
         }
     }
     Ok(SpectrumParam::Samples(pairs))
@@ -243,7 +243,7 @@ fn parse_spectrum(decl: &Token, values: &[Token], ty: &str, name: &str) -> Resul
 
 /// Parses a finite number; NaN, ±Inf and overflow are errors.
 pub fn parse_float(t: &Token) -> Result<f32, SceneError> {
-    let bad = |m: &str| SceneError::syntax(&t.loc, &t.display(), m);
+    let bad = |m: &str| SceneError::syntax(&t.loc(), &t.display(), m);
     if t.kind != TokenKind::Word {
         return Err(bad("expected a number"));
     }
@@ -256,7 +256,7 @@ pub fn parse_float(t: &Token) -> Result<f32, SceneError> {
 
 /// Parses a 32-bit integer.
 pub fn parse_int(t: &Token) -> Result<i32, SceneError> {
-    let bad = |m: &str| SceneError::syntax(&t.loc, &t.display(), m);
+    let bad = |m: &str| SceneError::syntax(&t.loc(), &t.display(), m);
     if t.kind != TokenKind::Word {
         return Err(bad("expected an integer"));
     }
@@ -290,8 +290,9 @@ pub struct ParamSet {
     params: Vec<Param>,
     /// Notes about the parameters as written (repeated names), reported with the unused ones.
     notes: Vec<Warning>,
-    /// Colour space of "rgb" values (the ColorSpace in effect; "srgb" unless changed).
-    pub color_space: String,
+    /// Colour space of "rgb" values (the ColorSpace in effect, one of
+    /// [`crate::pbrt::names::COLOR_SPACES`]; "srgb" unless changed).
+    pub color_space: &'static str,
 }
 
 macro_rules! getters {
@@ -313,8 +314,8 @@ macro_rules! getters {
 
 impl ParamSet {
     /// An empty set in colour space `color_space`.
-    pub fn new(color_space: &str) -> Self {
-        Self { params: Vec::new(), notes: Vec::new(), color_space: color_space.to_string() }
+    pub fn new(color_space: &'static str) -> Self {
+        Self { params: Vec::new(), notes: Vec::new(), color_space }
     }
 
     /// Adds a parameter. A second one of the same name and kind replaces the first with a note,
@@ -517,12 +518,12 @@ impl ParamSet {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::pbrt::tokenizer::Tokenizer;
+    use crate::pbrt::tokenizer::{SourceFile, Tokenizer};
     use std::path::Path;
     use std::sync::Arc;
 
-    fn toks(s: &str) -> Vec<Token> {
-        let mut t = Tokenizer::new(s, Arc::from(Path::new("dir/p.pbrt")));
+    fn toks(f: &SourceFile) -> Vec<Token<'_>> {
+        let mut t = Tokenizer::new(f);
         let mut v = Vec::new();
         while let Some(x) = t.next_token().unwrap() {
             v.push(x);
@@ -531,8 +532,9 @@ mod tests {
     }
 
     fn param(decl: &str, vals: &str) -> Result<Param, SceneError> {
-        let d = &toks(&format!("\"{decl}\""))[0];
-        Param::parse(d, &toks(vals))
+        let file = |s: String| SourceFile::new(Arc::from(Path::new("dir/p.pbrt")), None, s);
+        let (d, v) = (file(format!("\"{decl}\"")), file(vals.to_string()));
+        Param::parse(&toks(&d)[0], &toks(&v))
     }
 
     #[test]

@@ -3,43 +3,44 @@
 //!
 //! As in pbrt-v4's parser, an included file's tokens take the place of the Include: the stream
 //! reads a stack of files, and at the end of an included file goes on in the file that included
-//! it, so a directive may begin in one file and end in another. Every token keeps its own file's
-//! location.
+//! it, so a directive may begin in one file and end in another. Tokens borrow their text from
+//! their file's, which is why every file read stays in the stream's [`SourceFiles`] until the
+//! stream is dropped, and keep their own file's location.
 
 use super::error::{Location, SceneError};
 use super::params::{parse_float, Param, ParamSet};
-use super::tokenizer::{Token, TokenKind, Tokenizer};
-use std::path::{Path, PathBuf};
-use std::sync::Arc;
+use super::tokenizer::{SourceFile, SourceFiles, Token, TokenKind, Tokenizer};
+use std::path::PathBuf;
 
 /// Tokens of a file and the files it includes, with one token of look-ahead.
-pub(super) struct Source {
+pub(super) struct Source<'a> {
+    /// Where the texts of the files read are kept while tokens borrow them.
+    store: &'a SourceFiles,
     /// The files being read, innermost last, each with its canonical path (for cycle checks).
-    files: Vec<(Tokenizer, PathBuf)>,
-    search_dir: Option<Arc<Path>>,
-    peeked: Option<Token>,
-    /// Where "unexpected end of file" errors point: the end of the outermost file.
-    end: Location,
+    files: Vec<(Tokenizer<'a>, PathBuf)>,
+    peeked: Option<Token<'a>>,
+    /// The outermost file: "unexpected end of file" errors point at its end.
+    outer: &'a SourceFile,
+    /// The value tokens of the parameter being read (kept to reuse its allocation).
+    values: Vec<Token<'a>>,
 }
 
-impl Source {
-    /// Reads `text`, reporting locations in `file` (canonically `canonical`); relative file
-    /// names resolve against `search_dir` ([`Location::resolve`]).
-    pub(super) fn new(text: String, file: Arc<Path>, canonical: PathBuf, search_dir: Option<Arc<Path>>) -> Self {
-        let end = Location::new(file.clone(), text.lines().count().max(1) as u32, 1);
-        let mut s = Self { files: Vec::new(), search_dir, peeked: None, end };
-        s.include(text, file, canonical);
-        s
+impl<'a> Source<'a> {
+    /// Reads `file` (canonically `canonical`), keeping it and the files it includes in `store`.
+    pub(super) fn new(store: &'a SourceFiles, file: SourceFile, canonical: PathBuf) -> Self {
+        let outer = store.add(file);
+        Self { store, files: vec![(Tokenizer::new(outer), canonical)], peeked: None, outer, values: Vec::new() }
     }
 
-    /// Reads `text` (the file `file`) before the rest of the stream.
-    pub(super) fn include(&mut self, mut text: String, file: Arc<Path>, canonical: PathBuf) {
+    /// Reads `file` before the rest of the stream.
+    pub(super) fn include(&mut self, file: SourceFile, canonical: PathBuf) {
         debug_assert!(self.peeked.is_none(), "a token read ahead would come before the included file");
-        // Editors on Windows may prepend a UTF-8 byte-order mark.
-        if text.starts_with('\u{feff}') {
-            text.drain(..'\u{feff}'.len_utf8());
-        }
-        self.files.push((Tokenizer::new(text, file).with_search_dir(self.search_dir.clone()), canonical));
+        self.files.push((Tokenizer::new(self.store.add(file)), canonical));
+    }
+
+    /// The last line of the outermost file.
+    fn end(&self) -> Location {
+        Location::new(self.outer.path().clone(), self.outer.text().lines().count().max(1) as u32, 1)
     }
 
     /// The canonical paths of the files being read, outermost first.
@@ -47,7 +48,7 @@ impl Source {
         self.files.iter().map(|(_, c)| c)
     }
 
-    pub(super) fn peek(&mut self) -> Result<Option<&Token>, SceneError> {
+    pub(super) fn peek(&mut self) -> Result<Option<&Token<'a>>, SceneError> {
         while self.peeked.is_none() {
             let Some((tok, _)) = self.files.last_mut() else { break };
             self.peeked = tok.next_token()?;
@@ -58,27 +59,27 @@ impl Source {
         Ok(self.peeked.as_ref())
     }
 
-    pub(super) fn next(&mut self) -> Result<Option<Token>, SceneError> {
+    pub(super) fn next(&mut self) -> Result<Option<Token<'a>>, SceneError> {
         self.peek()?;
         Ok(self.peeked.take())
     }
 
     /// The next token, which must exist; `what` names what the directive expects.
-    pub(super) fn expect(&mut self, after: &Token, what: impl std::fmt::Display) -> Result<Token, SceneError> {
+    pub(super) fn expect(&mut self, after: &Token, what: impl std::fmt::Display) -> Result<Token<'a>, SceneError> {
         match self.next()? {
             Some(t) => Ok(t),
             None => Err(SceneError::syntax(
-                &self.end,
+                &self.end(),
                 &after.text,
                 format!("unexpected end of file: {} expects {what}", after.text),
             )),
         }
     }
 
-    pub(super) fn string(&mut self, after: &Token, what: &str) -> Result<Token, SceneError> {
+    pub(super) fn string(&mut self, after: &Token, what: &str) -> Result<Token<'a>, SceneError> {
         let t = self.expect(after, what)?;
         if t.kind != TokenKind::Str {
-            return Err(SceneError::syntax(&t.loc, &t.display(), format!("{} expects {what}", after.text)));
+            return Err(SceneError::syntax(&t.loc(), &t.display(), format!("{} expects {what}", after.text)));
         }
         Ok(t)
     }
@@ -94,7 +95,7 @@ impl Source {
             let t = self.expect(after, format_args!("{n} numbers"))?;
             if t.kind != TokenKind::Word {
                 return Err(SceneError::syntax(
-                    &t.loc,
+                    &t.loc(),
                     &t.display(),
                     format!("{} expects {n} numbers, found {}", after.text, v.len()),
                 ));
@@ -105,7 +106,7 @@ impl Source {
             let t = self.expect(after, "\"]\"")?;
             if t.kind != TokenKind::Close {
                 return Err(SceneError::syntax(
-                    &t.loc,
+                    &t.loc(),
                     &t.display(),
                     format!("{} expects exactly {n} numbers", after.text),
                 ));
@@ -115,28 +116,33 @@ impl Source {
     }
 
     /// A parameter list: `"type name" value` or `"type name" [ values ]`, repeated.
-    pub(super) fn params(&mut self, color_space: &str) -> Result<ParamSet, SceneError> {
+    pub(super) fn params(&mut self, color_space: &'static str) -> Result<ParamSet, SceneError> {
         let mut ps = ParamSet::new(color_space);
+        let mut values = std::mem::take(&mut self.values);
         while matches!(self.peek()?, Some(t) if t.kind == TokenKind::Str) {
             let decl = self.next()?.expect("peeked");
-            let mut values = Vec::new();
+            values.clear();
             let first = self.expect(&decl, "a value")?;
             match first.kind {
                 TokenKind::Open => loop {
                     let t = self.next()?.ok_or_else(|| {
-                        SceneError::syntax(&first.loc, "[", format!("unterminated [ for parameter \"{}\"", decl.text))
+                        SceneError::syntax(&first.loc(), "[", format!("unterminated [ for parameter \"{}\"", decl.text))
                     })?;
                     match t.kind {
                         TokenKind::Close => break,
-                        TokenKind::Open => return Err(SceneError::syntax(&t.loc, "[", "nested [ in a parameter list")),
+                        TokenKind::Open => {
+                            return Err(SceneError::syntax(&t.loc(), "[", "nested [ in a parameter list"))
+                        }
                         _ => values.push(t),
                     }
                 },
-                TokenKind::Close => return Err(SceneError::syntax(&first.loc, "]", "unexpected ]")),
+                TokenKind::Close => return Err(SceneError::syntax(&first.loc(), "]", "unexpected ]")),
                 _ => values.push(first),
             }
             ps.push(Param::parse(&decl, &values)?)?;
         }
+        values.clear();
+        self.values = values;
         Ok(ps)
     }
 }

@@ -3,10 +3,102 @@
 //! pbrt-v4 file-format reference ("Overview"): statements are whitespace-separated tokens;
 //! strings are double-quoted and may not span lines; `#` starts a comment to the end of the line.
 
+use std::borrow::Cow;
+use std::cell::{Cell, OnceCell};
 use std::path::Path;
 use std::sync::Arc;
 
 use super::error::{Location, SceneError};
+
+/// The text of one scene file and what turning a byte offset in it into a [`Location`] needs.
+///
+/// Tokens carry a byte offset only; the line and column (in characters) are counted from the
+/// text when a location is asked for, starting from the last one computed, so that asking in
+/// reading order costs the distance read since.
+pub struct SourceFile {
+    path: Arc<Path>,
+    search_dir: Option<Arc<Path>>,
+    text: String,
+    /// The last location computed: (byte offset, line, column).
+    last: Cell<(usize, u32, u32)>,
+}
+
+impl SourceFile {
+    /// The text `text` of `path`, whose relative file names resolve against `search_dir`
+    /// ([`Location::resolve`]). A leading UTF-8 byte-order mark (prepended by some editors) is
+    /// dropped.
+    pub fn new(path: Arc<Path>, search_dir: Option<Arc<Path>>, mut text: String) -> Self {
+        if text.starts_with('\u{feff}') {
+            text.drain(..'\u{feff}'.len_utf8());
+        }
+        Self { path, search_dir, text, last: Cell::new((0, 1, 1)) }
+    }
+
+    /// The text.
+    pub fn text(&self) -> &str {
+        &self.text
+    }
+
+    /// The file's path as written.
+    pub fn path(&self) -> &Arc<Path> {
+        &self.path
+    }
+
+    /// The location of byte `offset` (a character boundary): 1-based line, and column counted in
+    /// characters.
+    pub fn location(&self, offset: usize) -> Location {
+        let bytes = self.text.as_bytes();
+        let (at, line, col) = self.last.get();
+        let newlines = |s: &[u8]| memchr::memchr_iter(b'\n', s).count() as u32;
+        let chars = |a: usize, b: usize| self.text[a..b].chars().count() as u32;
+        let (line, col) = if offset >= at {
+            match memchr::memrchr(b'\n', &bytes[at..offset]) {
+                None => (line, col + chars(at, offset)),
+                Some(i) => (line + newlines(&bytes[at..offset]), chars(at + i + 1, offset) + 1),
+            }
+        } else if memchr::memchr(b'\n', &bytes[offset..at]).is_none() {
+            (line, col - chars(offset, at))
+        } else {
+            let start = memchr::memrchr(b'\n', &bytes[..offset]).map_or(0, |i| i + 1);
+            (line - newlines(&bytes[offset..at]), chars(start, offset) + 1)
+        };
+        self.last.set((offset, line, col));
+        Location { search_dir: self.search_dir.clone(), ..Location::new(self.path.clone(), line, col) }
+    }
+}
+
+/// Scene files kept while a parse reads them, so that tokens can borrow their text: a file
+/// added stays until the collection is dropped.
+#[derive(Default)]
+pub struct SourceFiles {
+    head: OnceCell<Box<FileNode>>,
+}
+
+struct FileNode {
+    file: SourceFile,
+    next: OnceCell<Box<FileNode>>,
+}
+
+impl SourceFiles {
+    /// Keeps `file` and lends it for as long as the collection lives.
+    pub fn add(&self, file: SourceFile) -> &SourceFile {
+        let mut cell = &self.head;
+        while let Some(node) = cell.get() {
+            cell = &node.next;
+        }
+        &cell.get_or_init(|| Box::new(FileNode { file, next: OnceCell::new() })).file
+    }
+}
+
+impl Drop for SourceFiles {
+    /// One file after the other (a recursive drop of a long chain could exhaust the stack).
+    fn drop(&mut self) {
+        let mut next = self.head.take();
+        while let Some(mut node) = next {
+            next = node.next.take();
+        }
+    }
+}
 
 /// What kind of token.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -21,169 +113,157 @@ pub enum TokenKind {
     Close,
 }
 
-/// One token with the place it was written.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Token {
+/// One token: its text, borrowed from the file unless a string held escapes, and where it
+/// starts.
+#[derive(Clone)]
+pub struct Token<'a> {
     /// Kind.
     pub kind: TokenKind,
     /// The word, the unescaped string contents, or the bracket.
-    pub text: String,
-    /// Where the token starts.
-    pub loc: Location,
+    pub text: Cow<'a, str>,
+    /// Byte offset of its first character in `file`.
+    pub offset: usize,
+    /// The file it was read from.
+    pub file: &'a SourceFile,
 }
 
-impl Token {
+impl std::fmt::Debug for Token<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{:?} {:?} at {}", self.kind, self.text, self.loc())
+    }
+}
+
+impl Token<'_> {
+    /// Where the token starts.
+    pub fn loc(&self) -> Location {
+        self.file.location(self.offset)
+    }
+
     /// The token as it appeared in the file (strings re-quoted), for error messages.
     pub fn display(&self) -> String {
         match self.kind {
             TokenKind::Str => format!("\"{}\"", self.text),
-            _ => self.text.clone(),
+            _ => self.text.to_string(),
         }
     }
+}
+
+/// Whether an ASCII byte ends a word: a blank (vertical tab included), a bracket, a quote or a
+/// comment sign.
+fn ends_word(b: u8) -> bool {
+    b.is_ascii_whitespace() || matches!(b, 0x0b | b'[' | b']' | b'"' | b'#')
 }
 
 /// Splits scene text into tokens lazily.
-pub struct Tokenizer {
-    text: String,
+pub struct Tokenizer<'a> {
+    file: &'a SourceFile,
     /// Byte offset of the next character.
     pos: usize,
-    file: Arc<Path>,
-    search_dir: Option<Arc<Path>>,
-    line: u32,
-    col: u32,
 }
 
-impl Tokenizer {
-    /// A tokenizer over `text`, reporting locations in `file`.
-    pub fn new(text: impl Into<String>, file: Arc<Path>) -> Self {
-        Self { text: text.into(), pos: 0, file, search_dir: None, line: 1, col: 1 }
-    }
-
-    fn peek(&self) -> Option<char> {
-        match self.text.as_bytes().get(self.pos) {
-            Some(&b) if b.is_ascii() => Some(b as char),
-            Some(_) => self.text[self.pos..].chars().next(),
-            None => None,
-        }
-    }
-
-    /// Relative file names in the text resolve against `dir` ([`Location::resolve`]).
-    pub fn with_search_dir(mut self, dir: Option<Arc<Path>>) -> Self {
-        self.search_dir = dir;
-        self
-    }
-
-    fn bump(&mut self) -> Option<char> {
-        let c = self.peek()?;
-        self.pos += c.len_utf8();
-        if c == '\n' {
-            self.line += 1;
-            self.col = 1;
-        } else {
-            self.col += 1;
-        }
-        Some(c)
-    }
-
-    fn here(&self) -> Location {
-        Location { search_dir: self.search_dir.clone(), ..Location::new(self.file.clone(), self.line, self.col) }
+impl<'a> Tokenizer<'a> {
+    /// A tokenizer over the text of `file`.
+    pub fn new(file: &'a SourceFile) -> Self {
+        Self { file, pos: 0 }
     }
 
     /// The next token, `Ok(None)` at the end of the text.
-    pub fn next_token(&mut self) -> Result<Option<Token>, SceneError> {
+    pub fn next_token(&mut self) -> Result<Option<Token<'a>>, SceneError> {
+        let text: &'a str = &self.file.text;
+        let bytes = text.as_bytes();
+        // Blanks and comments: ASCII byte by byte, anything else as a character.
         loop {
-            // ASCII blanks byte by byte; anything else goes the general way below.
-            match self.text.as_bytes().get(self.pos) {
-                Some(b'\n') => {
-                    (self.pos, self.line, self.col) = (self.pos + 1, self.line + 1, 1);
-                    continue;
-                }
-                Some(b' ' | b'\t' | b'\r') => {
-                    (self.pos, self.col) = (self.pos + 1, self.col + 1);
-                    continue;
-                }
-                _ => {}
-            }
-            match self.peek() {
+            match bytes.get(self.pos) {
                 None => return Ok(None),
-                Some(c) if c.is_whitespace() => {
-                    self.bump();
+                Some(b' ' | b'\t' | b'\r' | b'\n' | 0x0b | 0x0c) => self.pos += 1,
+                Some(b'#') => {
+                    self.pos = memchr::memchr(b'\n', &bytes[self.pos..]).map_or(bytes.len(), |i| self.pos + i);
                 }
-                Some('#') => {
-                    while let Some(c) = self.peek() {
-                        if c == '\n' {
-                            break;
-                        }
-                        self.bump();
-                    }
-                }
-                Some(_) => break,
+                Some(b) if b.is_ascii() => break,
+                Some(_) => match text[self.pos..].chars().next() {
+                    Some(c) if c.is_whitespace() => self.pos += c.len_utf8(),
+                    _ => break,
+                },
             }
         }
-        let loc = self.here();
-        let c = self.bump().expect("peeked a character");
-        let tok = |kind, text: String, loc: Location| Ok(Some(Token { kind, text, loc }));
-        match c {
-            '[' => tok(TokenKind::Open, "[".into(), loc),
-            ']' => tok(TokenKind::Close, "]".into(), loc),
-            '"' => {
-                // Most strings hold no escape: take them whole.
-                let rest = &self.text[self.pos..];
-                if let Some(end) = rest.find(['"', '\\', '\n']).filter(|&e| rest.as_bytes()[e] == b'"') {
-                    let s = rest[..end].to_string();
-                    self.col += s.chars().count() as u32 + 1;
-                    self.pos += end + 1;
-                    return tok(TokenKind::Str, s, loc);
+        let start = self.pos;
+        let token = |kind, text: Cow<'a, str>| Ok(Some(Token { kind, text, offset: start, file: self.file }));
+        match bytes[start] {
+            b'[' => {
+                self.pos += 1;
+                token(TokenKind::Open, Cow::Borrowed(&text[start..start + 1]))
+            }
+            b']' => {
+                self.pos += 1;
+                token(TokenKind::Close, Cow::Borrowed(&text[start..start + 1]))
+            }
+            b'"' => {
+                let body = start + 1;
+                let end = memchr::memchr3(b'"', b'\\', b'\n', &bytes[body..]).map(|i| body + i);
+                if let Some(end) = end.filter(|&e| bytes[e] == b'"') {
+                    // Most strings hold no escape: borrow them whole.
+                    self.pos = end + 1;
+                    return token(TokenKind::Str, Cow::Borrowed(&text[body..end]));
                 }
-                let mut s = String::new();
-                loop {
-                    match self.bump() {
-                        None | Some('\n') => {
-                            return Err(SceneError::syntax(&loc, &format!("\"{s}"), "unterminated string"))
-                        }
-                        Some('"') => return tok(TokenKind::Str, s, loc),
-                        Some('\\') => {
-                            let e = match self.bump() {
-                                Some('n') => '\n',
-                                Some('t') => '\t',
-                                Some('r') => '\r',
-                                Some('b') => '\u{8}',
-                                Some('f') => '\u{c}',
-                                Some('\\') => '\\',
-                                Some('\'') => '\'',
-                                Some('"') => '"',
-                                other => {
-                                    let shown = other.map(String::from).unwrap_or_default();
-                                    return Err(SceneError::syntax(
-                                        &loc,
-                                        &format!("\\{shown}"),
-                                        "unknown escape sequence in string",
-                                    ));
-                                }
-                            };
-                            s.push(e);
-                        }
-                        Some(c) => s.push(c),
-                    }
-                }
+                self.escaped_string(start)
+                    .map(|s| Some(Token { kind: TokenKind::Str, text: Cow::Owned(s), offset: start, file: self.file }))
             }
             _ => {
-                // A word has no line break, so only the column moves: one per character.
-                let start = self.pos - c.len_utf8();
-                let rest = &self.text.as_bytes()[self.pos..];
-                let ascii = rest.iter().position(|&b| {
-                    !b.is_ascii() || b.is_ascii_whitespace() || matches!(b, 0x0b | b'[' | b']' | b'"' | b'#')
-                });
-                let mut len = ascii.unwrap_or(rest.len());
+                // A word has no line break and runs to a blank, a bracket, a quote or a '#'.
+                let rest = &bytes[start..];
+                let mut len = rest.iter().position(|&b| !b.is_ascii() || ends_word(b)).unwrap_or(rest.len());
                 if rest.get(len).is_some_and(|b| !b.is_ascii()) {
-                    let rest = &self.text[self.pos..];
+                    let rest = &text[start..];
                     len = rest
                         .find(|c: char| c.is_whitespace() || matches!(c, '[' | ']' | '"' | '#'))
                         .unwrap_or(rest.len());
                 }
-                self.col += self.text[self.pos..self.pos + len].chars().count() as u32;
-                self.pos += len;
-                tok(TokenKind::Word, self.text[start..self.pos].to_string(), loc)
+                self.pos = start + len;
+                token(TokenKind::Word, Cow::Borrowed(&text[start..self.pos]))
+            }
+        }
+    }
+
+    /// The contents of the string whose opening quote is at byte `start`, unescaped; the
+    /// position moves past its closing quote.
+    fn escaped_string(&mut self, start: usize) -> Result<String, SceneError> {
+        let text: &str = &self.file.text;
+        let mut chars = text[start + 1..].char_indices();
+        let mut s = String::new();
+        let at = |i: usize| start + 1 + i;
+        loop {
+            match chars.next() {
+                None | Some((_, '\n')) => {
+                    let loc = self.file.location(start);
+                    return Err(SceneError::syntax(&loc, &format!("\"{s}"), "unterminated string"));
+                }
+                Some((i, '"')) => {
+                    self.pos = at(i) + 1;
+                    return Ok(s);
+                }
+                Some((_, '\\')) => {
+                    let e = match chars.next().map(|(_, c)| c) {
+                        Some('n') => '\n',
+                        Some('t') => '\t',
+                        Some('r') => '\r',
+                        Some('b') => '\u{8}',
+                        Some('f') => '\u{c}',
+                        Some('\\') => '\\',
+                        Some('\'') => '\'',
+                        Some('"') => '"',
+                        other => {
+                            let shown = other.map(String::from).unwrap_or_default();
+                            let loc = self.file.location(start);
+                            return Err(SceneError::syntax(
+                                &loc,
+                                &format!("\\{shown}"),
+                                "unknown escape sequence in string",
+                            ));
+                        }
+                    };
+                    s.push(e);
+                }
+                Some((_, c)) => s.push(c),
             }
         }
     }
@@ -193,13 +273,47 @@ impl Tokenizer {
 mod tests {
     use super::*;
 
+    fn file(text: &str) -> SourceFile {
+        SourceFile::new(Arc::from(Path::new("t.pbrt")), None, text.to_string())
+    }
+
     fn all(text: &str) -> Result<Vec<(TokenKind, String, u32, u32)>, SceneError> {
-        let mut t = Tokenizer::new(text, Arc::from(Path::new("t.pbrt")));
+        let f = file(text);
+        let mut t = Tokenizer::new(&f);
         let mut v = Vec::new();
         while let Some(tok) = t.next_token()? {
-            v.push((tok.kind, tok.text, tok.loc.line, tok.loc.col));
+            let loc = tok.loc();
+            v.push((tok.kind, tok.text.into_owned(), loc.line, loc.col));
         }
         Ok(v)
+    }
+
+    /// Line and column of byte `offset`, counted from the start of `text`.
+    fn counted(text: &str, offset: usize) -> (u32, u32) {
+        let before = &text[..offset];
+        let line_start = before.rfind('\n').map_or(0, |i| i + 1);
+        (before.matches('\n').count() as u32 + 1, before[line_start..].chars().count() as u32 + 1)
+    }
+
+    #[test]
+    fn locations_asked_in_any_order_are_counted_from_the_start() {
+        let text = "a bb\n\n  λ \"é\" c\r\n[ 1\t2 ]   \u{2003}d\ne";
+        let offsets: Vec<usize> = text.char_indices().map(|(i, _)| i).chain([text.len()]).collect();
+        let f = file(text);
+        // Forward, backward, and jumping by 7 around the text.
+        let order = offsets
+            .iter()
+            .chain(offsets.iter().rev())
+            .chain((0..offsets.len()).map(|i| &offsets[i * 7 % offsets.len()]));
+        for &o in order {
+            let loc = f.location(o);
+            assert_eq!((loc.line, loc.col), counted(text, o), "offset {o}");
+        }
+    }
+
+    #[test]
+    fn a_byte_order_mark_is_not_a_character() {
+        assert_eq!(all("\u{feff}Shape \"x\"").unwrap()[1], (TokenKind::Str, "x".into(), 1, 7));
     }
 
     #[test]

@@ -39,7 +39,7 @@ use crate::sampling::{Randomize, SamplerKind};
 use crate::scene::{CameraDesc, Emission, SceneBuilder};
 use crate::spectrum::{ColorSpace, RgbKind, SpdError, Spectrum};
 use glam::Mat4;
-use std::collections::HashMap;
+use rustc_hash::FxHashMap as HashMap;
 use std::sync::Arc;
 
 /// What the file asks of the render (the command line may override each).
@@ -144,8 +144,8 @@ pub fn build_with(
         defs: Definitions::new(desc),
         b: SceneBuilder::new(),
         warnings,
-        materials: HashMap::new(),
-        rgb_spectra: HashMap::new(),
+        materials: HashMap::default(),
+        rgb_spectra: HashMap::default(),
         textures: Default::default(),
         media: Default::default(),
         quadrics,
@@ -220,7 +220,7 @@ enum SpectrumError {
 }
 
 fn space_of(params: &ParamSet) -> &'static ColorSpace {
-    ColorSpace::by_name(&params.color_space).unwrap_or_else(ColorSpace::srgb)
+    ColorSpace::by_name(params.color_space).unwrap_or_else(ColorSpace::srgb)
 }
 
 /// Integer parameter `name`, which must be at least `min` (counts: the depth has its own rule);
@@ -632,7 +632,7 @@ impl Ctx<'_> {
     /// warning.
     fn instances(&mut self) -> Result<(), SceneError> {
         let desc = self.desc;
-        let mut built: HashMap<usize, ObjectParts> = HashMap::new();
+        let mut built: HashMap<usize, ObjectParts> = HashMap::default();
         for inst in &desc.instances {
             if let std::collections::hash_map::Entry::Vacant(e) = built.entry(inst.object_index) {
                 e.insert(self.object_parts(&desc.objects[inst.object_index])?);

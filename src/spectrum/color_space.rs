@@ -77,15 +77,14 @@ impl ColorSpace {
     /// "dci-p3" / "display-p3". As in pbrt-v4, "dci-p3" is the P3 primaries with a D65 white
     /// (i.e. Display P3), not the theatrical DCI white.
     pub fn by_name(name: &str) -> Option<&'static ColorSpace> {
-        let key = name.to_ascii_lowercase();
-        let idx = match key.as_str() {
-            "srgb" | "rec709" | "rec.709" | "bt709" => 0,
-            "rec2020" | "rec.2020" | "bt2020" => 1,
-            "aces2065-1" | "aces" | "ap0" => 2,
-            "acescg" | "ap1" => 3,
-            "dci-p3" | "display-p3" | "p3" | "displayp3" => 4,
-            _ => return None,
-        };
+        const SPELLINGS: [&[&str]; 5] = [
+            &["srgb", "rec709", "rec.709", "bt709"],
+            &["rec2020", "rec.2020", "bt2020"],
+            &["aces2065-1", "aces", "ap0"],
+            &["acescg", "ap1"],
+            &["dci-p3", "display-p3", "p3", "displayp3"],
+        ];
+        let idx = SPELLINGS.iter().position(|s| s.iter().any(|s| s.eq_ignore_ascii_case(name)))?;
         Some(&all()[idx])
     }
 

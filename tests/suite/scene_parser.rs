@@ -527,6 +527,33 @@ fn an_include_splices_its_tokens_into_the_stream() {
 }
 
 #[test]
+fn locations_are_exact_across_files_lines_and_directives_sharing_a_line() {
+    // Locations are counted from byte offsets when asked for, in whatever order the parser asks
+    // (a directive's after its parameters', an included file's between the includer's): each
+    // must be the line and the column in characters where the token starts.
+    let d = tmp("locations");
+    std::fs::write(d.join("a.pbrt"), "# λλλ\n  Shape \"sphere\"   \"float radius\" 0.5 # é\n").unwrap();
+    std::fs::write(
+        d.join("main.pbrt"),
+        "WorldBegin # ü\nInclude \"a.pbrt\"\nShape \"sphere\" \"float radius\" 1 Shape \"sphere\"\n  \"float radius\"\n\t2 \"float ünused\" 3\n",
+    )
+    .unwrap();
+    let (s, _) = parse_file(&d.join("main.pbrt"), &ParseOptions::default()).unwrap();
+    let at =
+        |l: &prism::pbrt::Location| format!("{}:{}:{}", l.file.file_name().unwrap().to_string_lossy(), l.line, l.col);
+    let shapes: Vec<String> = s.shapes.iter().map(|s| at(&s.loc)).collect();
+    assert_eq!(shapes, ["a.pbrt:2:3", "main.pbrt:3:1", "main.pbrt:3:33"]);
+    let radii: Vec<String> = s.shapes.iter().map(|s| at(&s.params.get("radius").unwrap().loc)).collect();
+    assert_eq!(radii, ["a.pbrt:2:20", "main.pbrt:3:16", "main.pbrt:4:3"]);
+    let w: Vec<String> = s.report_unused().iter().map(|w| w.to_string()).filter(|w| w.contains("ünused")).collect();
+    assert_eq!(w.len(), 1, "{w:?}");
+    assert!(
+        w[0].starts_with(&format!("{}:5:4: warning: parameter \"float ünused\"", d.join("main.pbrt").display())),
+        "{w:?}"
+    );
+}
+
+#[test]
 fn input_files_are_every_file_the_scene_reads_and_not_the_output() {
     let d = tmp("inputs");
     std::fs::create_dir_all(d.join("sub")).unwrap();

@@ -6,7 +6,7 @@
 //! `BasicSceneBuilder` in pbrt-v4 (src/pbrt/scene.cpp): transforms post-multiply the current
 //! transformation matrix (CTM); AttributeBegin/End push and pop the whole graphics state.
 
-use std::collections::{HashMap, HashSet};
+use rustc_hash::{FxHashMap as HashMap, FxHashSet as HashSet};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
@@ -25,7 +25,7 @@ use super::error::{check_strict, Location, SceneError, Warning};
 use super::names::{self, Lookup};
 use super::params::{ParamSet, ParamValue};
 use super::source::Source;
-use super::tokenizer::{Token, TokenKind};
+use super::tokenizer::{SourceFile, SourceFiles, Token, TokenKind};
 
 /// Parser settings.
 #[derive(Clone, Debug, Default)]
@@ -67,7 +67,7 @@ pub fn parse_file(path: &Path, opts: &ParseOptions) -> Result<(SceneDesc, Vec<Wa
     let mut p = Parser::new(opts);
     p.search_dir = Some(Arc::from(path.parent().unwrap_or(Path::new(""))));
     p.files_read.push(path.to_path_buf());
-    p.parse_text(text, file, canonical(path))?;
+    p.parse_text(&SourceFiles::default(), text, file, canonical(path))?;
     p.finish()
 }
 
@@ -79,7 +79,7 @@ pub fn parse_str(text: &str, opts: &ParseOptions) -> Result<(SceneDesc, Vec<Warn
     };
     let mut p = Parser::new(opts);
     p.search_dir = opts.base_dir.as_deref().map(Arc::from);
-    p.parse_text(text.to_string(), file.clone(), file.to_path_buf())?;
+    p.parse_text(&SourceFiles::default(), text.to_string(), file.clone(), file.to_path_buf())?;
     p.finish()
 }
 
@@ -114,7 +114,7 @@ struct GraphicsState {
     reverse_orientation: bool,
     material: MaterialRef,
     area_light: Option<AreaLightDesc>,
-    color_space: String,
+    color_space: &'static str,
     /// `Attribute "shape" ...` etc.: defaults merged into later directives' parameters.
     defaults: HashMap<&'static str, ParamSet>,
     /// The current MediumInterface.
@@ -144,7 +144,7 @@ struct Parser<'o> {
     integrator: Option<Directive>,
     filter: Option<Directive>,
     accelerator: Option<Directive>,
-    color_space: String,
+    color_space: &'static str,
     options: ParamSet,
     shapes: Vec<ShapeDesc>,
     lights: Vec<LightDesc>,
@@ -191,12 +191,12 @@ impl<'o> Parser<'o> {
                 reverse_orientation: false,
                 material: MaterialRef::Default,
                 area_light: None,
-                color_space: "srgb".into(),
-                defaults: HashMap::new(),
+                color_space: "srgb",
+                defaults: HashMap::default(),
                 media: MediumNames::default(),
             },
             stack: Vec::new(),
-            named_cs: HashMap::new(),
+            named_cs: HashMap::default(),
             transform_times: (0.0, 1.0),
             in_world: None,
             camera: None,
@@ -205,22 +205,22 @@ impl<'o> Parser<'o> {
             integrator: None,
             filter: None,
             accelerator: None,
-            color_space: "srgb".into(),
+            color_space: "srgb",
             options: ParamSet::new("srgb"),
             shapes: Vec::new(),
             lights: Vec::new(),
             materials: Vec::new(),
             named_materials: Vec::new(),
-            named_material_index: HashMap::new(),
+            named_material_index: HashMap::default(),
             named_material_uses: Vec::new(),
             textures: Vec::new(),
             texture_names: Default::default(),
             objects: Vec::new(),
-            object_index: HashMap::new(),
+            object_index: HashMap::default(),
             current_object: None,
             instances: Vec::new(),
             media: Vec::new(),
-            medium_index: HashMap::new(),
+            medium_index: HashMap::default(),
             include_stack: Vec::new(),
             search_dir: None,
             files_read: Vec::new(),
@@ -243,28 +243,29 @@ impl<'o> Parser<'o> {
     /// Checks a type name; `Some(type to use)` or `None` to skip the directive.
     fn resolve_type(
         &mut self,
-        tok: &Token,
+        name: &str,
+        loc: impl FnOnce() -> Location,
         kind: &'static str,
         supported: &[&str],
         pbrt_only: &[(&'static str, &'static str)],
         skip: bool,
     ) -> Result<Option<String>, SceneError> {
-        match names::lookup(&tok.text, supported, pbrt_only) {
-            Lookup::Supported => Ok(Some(tok.text.clone())),
+        match names::lookup(name, supported, pbrt_only) {
+            Lookup::Supported => Ok(Some(name.to_string())),
             Lookup::Substitute(s) => {
-                let feature = format!("{kind} \"{}\"", tok.text);
+                let feature = format!("{kind} \"{name}\"");
                 if skip {
-                    self.unsupported(&tok.loc, &feature, s);
+                    self.unsupported(&loc(), &feature, s);
                     Ok(None)
                 } else {
-                    self.unsupported(&tok.loc, &feature, &format!("uses \"{s}\" instead"));
+                    self.unsupported(&loc(), &feature, &format!("uses \"{s}\" instead"));
                     Ok(Some(s.to_string()))
                 }
             }
             Lookup::Unknown => Err(SceneError::UnknownType {
-                loc: tok.loc.clone(),
+                loc: loc(),
                 kind,
-                name: tok.text.clone(),
+                name: name.to_string(),
                 valid: names::valid_list(supported, pbrt_only),
             }),
         }
@@ -273,7 +274,7 @@ impl<'o> Parser<'o> {
     fn require_world(&self, tok: &Token) -> Result<(), SceneError> {
         if self.in_world.is_none() {
             return Err(SceneError::syntax(
-                &tok.loc,
+                &tok.loc(),
                 &tok.text,
                 format!("{} is not allowed before WorldBegin", tok.text),
             ));
@@ -285,7 +286,7 @@ impl<'o> Parser<'o> {
     fn require_outside_object(&self, tok: &Token) -> Result<(), SceneError> {
         match &self.current_object {
             Some(o) => Err(SceneError::syntax(
-                &tok.loc,
+                &tok.loc(),
                 &tok.text,
                 format!("{} inside the definition of object \"{}\" ({})", tok.text, o.name, o.loc),
             )),
@@ -296,7 +297,7 @@ impl<'o> Parser<'o> {
     fn require_options(&self, tok: &Token) -> Result<(), SceneError> {
         if self.in_world.is_some() {
             return Err(SceneError::syntax(
-                &tok.loc,
+                &tok.loc(),
                 &tok.text,
                 format!("{} is not allowed after WorldBegin", tok.text),
             ));
@@ -304,27 +305,33 @@ impl<'o> Parser<'o> {
         Ok(())
     }
 
-    fn parse_text(&mut self, text: String, file: Arc<Path>, canonical: PathBuf) -> Result<(), SceneError> {
-        let mut src = Source::new(text, file, canonical, self.search_dir.clone());
+    fn parse_text(
+        &mut self,
+        store: &SourceFiles,
+        text: String,
+        file: Arc<Path>,
+        canonical: PathBuf,
+    ) -> Result<(), SceneError> {
+        let mut src = Source::new(store, SourceFile::new(file, self.search_dir.clone(), text), canonical);
         while let Some(tok) = src.next()? {
             if tok.kind != TokenKind::Word {
-                return Err(SceneError::syntax(&tok.loc, &tok.display(), "expected a directive"));
+                return Err(SceneError::syntax(&tok.loc(), &tok.display(), "expected a directive"));
             }
-            self.last_loc = Some(tok.loc.clone());
+            self.last_loc = Some(tok.loc());
             self.directive(&tok, &mut src)?;
         }
         Ok(())
     }
 
     fn directive(&mut self, tok: &Token, src: &mut Source) -> Result<(), SceneError> {
-        let cs = self.gs.color_space.clone();
+        let cs = self.gs.color_space;
         if self.transform_directive(tok, src)?
-            || self.options_directive(tok, src, &cs)?
-            || self.world_directive(tok, src, &cs)?
+            || self.options_directive(tok, src, cs)?
+            || self.world_directive(tok, src, cs)?
         {
             return Ok(());
         }
-        match tok.text.as_str() {
+        match &*tok.text {
             "Include" | "Import" => {
                 let name = src.string(tok, "a file name")?;
                 if tok.text == "Import" {
@@ -333,7 +340,7 @@ impl<'o> Parser<'o> {
                 self.include(tok, &name, src)?;
             }
             _ => {
-                return Err(SceneError::syntax(&tok.loc, &tok.text, format!("unknown directive \"{}\"", tok.text)));
+                return Err(SceneError::syntax(&tok.loc(), &tok.text, format!("unknown directive \"{}\"", tok.text)));
             }
         }
         Ok(())
@@ -341,17 +348,17 @@ impl<'o> Parser<'o> {
 
     /// Include splices the file's tokens into `src` (pbrt-v4); Import parses it on its own.
     fn include(&mut self, tok: &Token, name: &Token, src: &mut Source) -> Result<(), SceneError> {
-        let path = name.loc.resolve(&name.text);
+        let path = name.loc().resolve(&*name.text);
         let canon = canonical(&path);
         let open: Vec<&PathBuf> = self.include_stack.iter().chain(src.chain()).collect();
         if let Some(i) = open.iter().position(|p| **p == canon) {
             let mut chain: Vec<String> = open[i..].iter().map(|p| p.display().to_string()).collect();
             chain.push(canon.display().to_string());
-            return Err(SceneError::IncludeCycle { loc: tok.loc.clone(), chain: chain.join(" -> ") });
+            return Err(SceneError::IncludeCycle { loc: tok.loc(), chain: chain.join(" -> ") });
         }
         if open.len() >= MAX_INCLUDE_DEPTH {
             return Err(SceneError::syntax(
-                &tok.loc,
+                &tok.loc(),
                 &name.display(),
                 format!("includes nested deeper than {MAX_INCLUDE_DEPTH} files"),
             ));
@@ -362,9 +369,9 @@ impl<'o> Parser<'o> {
                 "more than {max_includes} Include/Import directives followed (a file counts each time it is \
                  read); set PRISM_MAX_INCLUDES to allow more"
             );
-            return Err(SceneError::syntax(&tok.loc, &name.display(), message));
+            return Err(SceneError::syntax(&tok.loc(), &name.display(), message));
         }
-        let text = read_text(&path, &name.loc)?;
+        let text = read_text(&path, &name.loc())?;
         self.text_bytes += text.len() as u64;
         let max_bytes = limit("PRISM_MAX_SCENE_BYTES", MAX_SCENE_TEXT_BYTES);
         if self.text_bytes > max_bytes {
@@ -372,11 +379,11 @@ impl<'o> Parser<'o> {
                 "more than {max_bytes} bytes of scene text read over all included files (a file counts each \
                  time it is read); set PRISM_MAX_SCENE_BYTES to allow more"
             );
-            return Err(SceneError::syntax(&tok.loc, &name.display(), message));
+            return Err(SceneError::syntax(&tok.loc(), &name.display(), message));
         }
         self.files_read.push(path.clone());
         if tok.text == "Include" {
-            src.include(text, Arc::from(path.as_path()), canon);
+            src.include(SourceFile::new(Arc::from(path.as_path()), self.search_dir.clone(), text), canon);
             return Ok(());
         }
         let outer = self.include_stack.len();
@@ -387,11 +394,12 @@ impl<'o> Parser<'o> {
         // objects, shapes and lights it defines belong to the scene.
         let (gs, named_cs, floor) = (self.gs.clone(), self.named_cs.clone(), self.stack_floor);
         self.stack_floor = self.stack.len();
-        self.parse_text(text, Arc::from(path.as_path()), canon)?;
+        // Its tokens never leave that parse: its text can go when it ends.
+        self.parse_text(&SourceFiles::default(), text, Arc::from(path.as_path()), canon)?;
         if self.stack.len() != self.stack_floor {
             let (_, kind, loc) = self.stack.last().expect("deeper than the floor");
             return Err(SceneError::syntax(
-                &tok.loc,
+                &tok.loc(),
                 &name.display(),
                 format!("the imported file leaves the {kind:?}Begin at {loc} open; an imported file must close every block it opens"),
             ));
@@ -465,8 +473,8 @@ impl<'o> Parser<'o> {
             medium_index[&m.name] == position - 1
         });
         let default_loc = self.in_world.clone().unwrap_or_else(|| end.clone());
-        let cs = self.color_space.clone();
-        let dflt = |kind: &str| Directive { kind: kind.into(), params: ParamSet::new(&cs), loc: default_loc.clone() };
+        let cs = self.color_space;
+        let dflt = |kind: &str| Directive { kind: kind.into(), params: ParamSet::new(cs), loc: default_loc.clone() };
         let desc = SceneDesc {
             camera: self.camera.unwrap_or_else(|| CameraDesc {
                 directive: dflt("perspective"),
@@ -479,7 +487,7 @@ impl<'o> Parser<'o> {
             integrator: self.integrator.unwrap_or_else(|| dflt("path")),
             filter: self.filter.unwrap_or_else(|| dflt("gaussian")),
             accelerator: self.accelerator,
-            color_space: self.color_space,
+            color_space: self.color_space.to_string(),
             options: self.options,
             shapes: self.shapes,
             lights: self.lights,

@@ -15,8 +15,13 @@ impl Parser<'_> {
     /// Camera, Film, Integrator, Sampler, PixelFilter, Accelerator, Option, ColorSpace,
     /// MakeNamedMedium, MediumInterface, WorldBegin, WorldEnd. `Ok(false)` if `tok` is not one
     /// of them.
-    pub(super) fn options_directive(&mut self, tok: &Token, src: &mut Source, cs: &str) -> Result<bool, SceneError> {
-        match tok.text.as_str() {
+    pub(super) fn options_directive(
+        &mut self,
+        tok: &Token,
+        src: &mut Source,
+        cs: &'static str,
+    ) -> Result<bool, SceneError> {
+        match &*tok.text {
             "Option" => {
                 let ps = src.params(cs)?;
                 let mut merged = ps;
@@ -25,31 +30,42 @@ impl Parser<'_> {
             }
             "ColorSpace" => {
                 let name = src.string(tok, "a colour space name")?;
-                if !names::COLOR_SPACES.contains(&name.text.as_str()) {
+                let Some(&space) = names::COLOR_SPACES.iter().find(|&&c| c == name.text) else {
                     return Err(SceneError::UnknownType {
-                        loc: name.loc,
+                        loc: name.loc(),
                         kind: "color space",
-                        name: name.text,
+                        name: name.text.into_owned(),
                         valid: names::COLOR_SPACES.join(", "),
                     });
-                }
-                self.gs.color_space = name.text.clone();
+                };
+                self.gs.color_space = space;
                 if self.in_world.is_none() {
-                    self.color_space = name.text;
+                    self.color_space = space;
                 }
             }
             "Camera" => {
                 self.require_options(tok)?;
                 let ty = src.string(tok, "a camera type")?;
                 let params = src.params(cs)?;
-                let kind = self.resolve_type(&ty, "camera", names::PRISM_CAMERAS, names::PBRT_ONLY_CAMERAS, false)?;
+                let kind = self.resolve_type(
+                    &ty.text,
+                    || ty.loc(),
+                    "camera",
+                    names::PRISM_CAMERAS,
+                    names::PBRT_ONLY_CAMERAS,
+                    false,
+                )?;
                 // pbrt-v4 animates the camera between the inverses of the two CTMs over the
                 // current TransformTimes.
                 let (ctm, ctm_end) = (self.gs.ctm, self.gs.ctm_end);
                 for m in [ctm, ctm_end] {
                     let det = m.determinant();
                     if det == 0.0 || !det.is_finite() {
-                        return Err(SceneError::syntax(&tok.loc, &tok.text, "the camera transform is not invertible"));
+                        return Err(SceneError::syntax(
+                            &tok.loc(),
+                            &tok.text,
+                            "the camera transform is not invertible",
+                        ));
                     }
                 }
                 let (world_from_camera, world_from_camera_end) = (ctm.inverse(), ctm_end.inverse());
@@ -58,7 +74,7 @@ impl Parser<'_> {
                     (ctm != ctm_end).then(|| AnimatedTransform::new(world_from_camera, t0, world_from_camera_end, t1));
                 self.named_cs.insert("camera".into(), [world_from_camera, world_from_camera_end]);
                 self.camera = Some(CameraDesc {
-                    directive: Directive { kind: kind.unwrap_or_default(), params, loc: tok.loc.clone() },
+                    directive: Directive { kind: kind.unwrap_or_default(), params, loc: tok.loc() },
                     camera_from_world: ctm,
                     motion,
                     medium: self.gs.media.outside.clone(),
@@ -68,35 +84,48 @@ impl Parser<'_> {
                 self.require_options(tok)?;
                 let ty = src.string(tok, "a film type")?;
                 let params = src.params(cs)?;
-                let kind = self.resolve_type(&ty, "film", names::PRISM_FILMS, names::PBRT_ONLY_FILMS, false)?;
-                self.film = Some(Directive { kind: kind.unwrap_or_default(), params, loc: tok.loc.clone() });
+                let kind = self.resolve_type(
+                    &ty.text,
+                    || ty.loc(),
+                    "film",
+                    names::PRISM_FILMS,
+                    names::PBRT_ONLY_FILMS,
+                    false,
+                )?;
+                self.film = Some(Directive { kind: kind.unwrap_or_default(), params, loc: tok.loc() });
             }
             "Integrator" => {
                 self.require_options(tok)?;
                 let ty = src.string(tok, "an integrator type")?;
                 let params = src.params(cs)?;
                 let kind = self.resolve_type(
-                    &ty,
+                    &ty.text,
+                    || ty.loc(),
                     "integrator",
                     names::PRISM_INTEGRATORS,
                     names::PBRT_ONLY_INTEGRATORS,
                     false,
                 )?;
-                self.integrator = Some(Directive { kind: kind.unwrap_or_default(), params, loc: tok.loc.clone() });
+                self.integrator = Some(Directive { kind: kind.unwrap_or_default(), params, loc: tok.loc() });
             }
             "Sampler" | "PixelFilter" | "Accelerator" => {
                 self.require_options(tok)?;
                 let ty = src.string(tok, "a type name")?;
                 let params = src.params(cs)?;
-                let (kind, valid): (&'static str, &[&str]) = match tok.text.as_str() {
+                let (kind, valid): (&'static str, &[&str]) = match &*tok.text {
                     "Sampler" => ("sampler", names::SAMPLERS),
                     "PixelFilter" => ("filter", names::FILTERS),
                     _ => ("accelerator", &["bvh", "kdtree"]),
                 };
-                if !valid.contains(&ty.text.as_str()) {
-                    return Err(SceneError::UnknownType { loc: ty.loc, kind, name: ty.text, valid: valid.join(", ") });
+                if !valid.contains(&&*ty.text) {
+                    return Err(SceneError::UnknownType {
+                        loc: ty.loc(),
+                        kind,
+                        name: ty.text.into_owned(),
+                        valid: valid.join(", "),
+                    });
                 }
-                let d = Directive { kind: ty.text, params, loc: tok.loc.clone() };
+                let d = Directive { kind: ty.text.into_owned(), params, loc: tok.loc() };
                 match kind {
                     "sampler" => self.sampler = Some(d),
                     "filter" => self.filter = Some(d),
@@ -109,36 +138,48 @@ impl Parser<'_> {
                 let kind = match params.string("type") {
                     Some(k) => k.to_string(),
                     None => {
-                        return Err(SceneError::syntax(&tok.loc, &name.text, "MakeNamedMedium needs a \"string type\""))
+                        return Err(SceneError::syntax(
+                            &tok.loc(),
+                            &name.text,
+                            "MakeNamedMedium needs a \"string type\"",
+                        ))
                     }
                 };
                 if !names::MEDIA.contains(&kind.as_str()) {
                     let feature = format!("medium type \"{kind}\" of \"{}\"", name.text);
-                    self.unsupported(&tok.loc, &feature, "renders vacuum in its place");
+                    self.unsupported(&tok.loc(), &feature, "renders vacuum in its place");
                 }
-                self.medium_index.insert(name.text.clone(), self.media.len());
+                self.medium_index.insert(name.text.to_string(), self.media.len());
                 let world_from_medium = self.start_ctm(tok, "medium");
-                self.media.push(MediumDesc { name: name.text, kind, params, world_from_medium, loc: tok.loc.clone() });
+                self.media.push(MediumDesc {
+                    name: name.text.into_owned(),
+                    kind,
+                    params,
+                    world_from_medium,
+                    loc: tok.loc(),
+                });
             }
             "MediumInterface" => {
                 let inside = src.string(tok, "a medium name")?;
                 // The outside name is optional (one name means both sides).
                 let outside = match src.peek()? {
-                    Some(t) if t.kind == TokenKind::Str && !t.text.contains(' ') => src.next()?.map(|t| t.text),
+                    Some(t) if t.kind == TokenKind::Str && !t.text.contains(' ') => {
+                        src.next()?.map(|t| t.text.into_owned())
+                    }
                     _ => None,
                 };
-                let outside = outside.unwrap_or_else(|| inside.text.clone());
-                self.gs.media = MediumNames { inside: inside.text, outside };
+                let outside = outside.unwrap_or_else(|| inside.text.to_string());
+                self.gs.media = MediumNames { inside: inside.text.into_owned(), outside };
             }
             "WorldBegin" => {
                 self.require_options(tok)?;
-                self.in_world = Some(tok.loc.clone());
+                self.in_world = Some(tok.loc());
                 (self.gs.ctm, self.gs.ctm_end) = (Mat4::IDENTITY, Mat4::IDENTITY);
                 self.named_cs.insert("world".into(), [Mat4::IDENTITY; 2]);
             }
             "WorldEnd" => {
                 self.require_world(tok)?;
-                self.warn(&tok.loc, "WorldEnd is a pbrt-v3 directive; ignored");
+                self.warn(&tok.loc(), "WorldEnd is a pbrt-v3 directive; ignored");
             }
             _ => return Ok(false),
         }

@@ -45,7 +45,7 @@ impl Parser<'_> {
         if self.gs.ctm != self.gs.ctm_end && !self.warned_motion {
             self.warned_motion = true;
             self.unsupported(
-                &tok.loc,
+                &tok.loc(),
                 &format!("a moving {what} (ActiveTransform EndTime)"),
                 "uses the start transform",
             );
@@ -57,7 +57,7 @@ impl Parser<'_> {
     /// CoordSysTransform, ActiveTransform, TransformTimes, ReverseOrientation. `Ok(false)` if
     /// `tok` is not one of them.
     pub(super) fn transform_directive(&mut self, tok: &Token, src: &mut Source) -> Result<bool, SceneError> {
-        match tok.text.as_str() {
+        match &*tok.text {
             "Identity" => self.set_ctm(Mat4::IDENTITY),
             "Translate" => {
                 let v = src.numbers(tok, 3)?;
@@ -71,7 +71,7 @@ impl Parser<'_> {
                 let v = src.numbers(tok, 4)?;
                 let axis = Vec3::new(v[1], v[2], v[3]);
                 if axis.length_squared() == 0.0 || !axis.length_squared().is_finite() {
-                    return Err(SceneError::syntax(&tok.loc, &tok.text, "rotation axis has zero length"));
+                    return Err(SceneError::syntax(&tok.loc(), &tok.text, "rotation axis has zero length"));
                 }
                 self.concat(Mat4::from_axis_angle(axis.normalize(), v[0].to_radians()));
             }
@@ -80,7 +80,7 @@ impl Parser<'_> {
                 let m = look_at(Vec3::new(v[0], v[1], v[2]), Vec3::new(v[3], v[4], v[5]), Vec3::new(v[6], v[7], v[8]))
                     .ok_or_else(|| {
                         SceneError::syntax(
-                            &tok.loc,
+                            &tok.loc(),
                             &tok.text,
                             "LookAt is degenerate: eye equals look, or up is parallel to the view direction",
                         )
@@ -102,27 +102,27 @@ impl Parser<'_> {
             }
             "CoordinateSystem" => {
                 let name = src.string(tok, "a coordinate system name")?;
-                self.named_cs.insert(name.text, [self.gs.ctm, self.gs.ctm_end]);
+                self.named_cs.insert(name.text.into_owned(), [self.gs.ctm, self.gs.ctm_end]);
             }
             "CoordSysTransform" => {
                 let name = src.string(tok, "a coordinate system name")?;
-                match self.named_cs.get(&name.text) {
+                match self.named_cs.get(&*name.text) {
                     Some(&[start, end]) => (self.gs.ctm, self.gs.ctm_end) = (start, end),
                     None => self.warn(
-                        &name.loc,
+                        &name.loc(),
                         format!("unknown coordinate system \"{}\"; CoordSysTransform ignored", name.text),
                     ),
                 }
             }
             "ActiveTransform" => {
                 let t = src.expect(tok, "StartTime, EndTime or All")?;
-                self.gs.active = match t.text.as_str() {
+                self.gs.active = match &*t.text {
                     "StartTime" => Active::Start,
                     "EndTime" => Active::End,
                     "All" => Active::All,
                     _ => {
                         return Err(SceneError::syntax(
-                            &t.loc,
+                            &t.loc(),
                             &t.display(),
                             "ActiveTransform expects StartTime, EndTime or All",
                         ))
@@ -132,7 +132,7 @@ impl Parser<'_> {
             "TransformTimes" => {
                 let v = src.numbers(tok, 2)?;
                 if v[1] < v[0] {
-                    return Err(SceneError::syntax(&tok.loc, &tok.text, "TransformTimes end is before start"));
+                    return Err(SceneError::syntax(&tok.loc(), &tok.text, "TransformTimes end is before start"));
                 }
                 self.transform_times = (v[0], v[1]);
             }

@@ -3,26 +3,31 @@
 
 use super::{Parser, Pushed};
 use crate::pbrt::desc::*;
-use crate::pbrt::error::SceneError;
+use crate::pbrt::error::{Location, SceneError};
 use crate::pbrt::names;
 use crate::pbrt::params::{Param, ParamSet, ParamValue};
 use crate::pbrt::shapes;
 use crate::pbrt::source::Source;
-use crate::pbrt::tokenizer::{Token, TokenKind};
+use crate::pbrt::tokenizer::Token;
 
 impl Parser<'_> {
     /// AttributeBegin/End, TransformBegin/End, Attribute, ObjectBegin/End, ObjectInstance,
     /// Material, MakeNamedMaterial, NamedMaterial, Texture, LightSource, AreaLightSource, Shape.
     /// `Ok(false)` if `tok` is not one of them.
-    pub(super) fn world_directive(&mut self, tok: &Token, src: &mut Source, cs: &str) -> Result<bool, SceneError> {
-        match tok.text.as_str() {
+    pub(super) fn world_directive(
+        &mut self,
+        tok: &Token,
+        src: &mut Source,
+        cs: &'static str,
+    ) -> Result<bool, SceneError> {
+        match &*tok.text {
             "AttributeBegin" | "TransformBegin" => {
                 self.require_world(tok)?;
                 let kind = if tok.text == "AttributeBegin" { Pushed::Attribute } else { Pushed::Transform };
                 if kind == Pushed::Transform {
-                    self.warn(&tok.loc, "TransformBegin is deprecated in pbrt-v4; use AttributeBegin");
+                    self.warn(&tok.loc(), "TransformBegin is deprecated in pbrt-v4; use AttributeBegin");
                 }
-                self.stack.push((self.gs.clone(), kind, tok.loc.clone()));
+                self.stack.push((self.gs.clone(), kind, tok.loc()));
             }
             "AttributeEnd" | "TransformEnd" => {
                 self.require_world(tok)?;
@@ -32,7 +37,7 @@ impl Parser<'_> {
             "Attribute" => {
                 self.require_world(tok)?;
                 let target = src.string(tok, "a target (shape, light, material, medium, texture)")?;
-                let key: &'static str = match target.text.as_str() {
+                let key: &'static str = match &*target.text {
                     "shape" => "shape",
                     "light" => "light",
                     "material" => "material",
@@ -40,7 +45,7 @@ impl Parser<'_> {
                     "texture" => "texture",
                     _ => {
                         return Err(SceneError::syntax(
-                            &target.loc,
+                            &target.loc(),
                             &target.display(),
                             "Attribute target must be one of shape, light, material, medium, texture",
                         ))
@@ -57,16 +62,17 @@ impl Parser<'_> {
                 self.require_world(tok)?;
                 let name = src.string(tok, "an object name")?;
                 self.require_outside_object(tok)?;
-                if let Some(&i) = self.object_index.get(&name.text) {
+                if let Some(&i) = self.object_index.get(&*name.text) {
                     let o = &self.objects[i];
                     return Err(SceneError::syntax(
-                        &name.loc,
+                        &name.loc(),
                         &name.display(),
                         format!("object \"{}\" redefined (first defined at {})", o.name, o.loc),
                     ));
                 }
-                self.stack.push((self.gs.clone(), Pushed::Object, tok.loc.clone()));
-                self.current_object = Some(ObjectDesc { name: name.text, shapes: Vec::new(), loc: tok.loc.clone() });
+                self.stack.push((self.gs.clone(), Pushed::Object, tok.loc()));
+                self.current_object =
+                    Some(ObjectDesc { name: name.text.into_owned(), shapes: Vec::new(), loc: tok.loc() });
             }
             "ObjectEnd" => {
                 self.require_world(tok)?;
@@ -77,13 +83,13 @@ impl Parser<'_> {
                 let name = src.string(tok, "an object name")?;
                 self.require_outside_object(tok)?;
                 let motion = self.motion();
-                self.instances.push((name.text, self.gs.ctm, motion, tok.loc.clone()));
+                self.instances.push((name.text.into_owned(), self.gs.ctm, motion, tok.loc()));
             }
             "Material" => {
                 self.require_world(tok)?;
                 let ty = src.string(tok, "a material type")?;
                 let params = src.params(cs)?;
-                let m = self.material(&ty, params)?;
+                let m = self.material(&ty.text, ty.loc(), params)?;
                 self.materials.push(m);
                 self.gs.material = MaterialRef::Anonymous(self.materials.len() - 1);
             }
@@ -91,36 +97,36 @@ impl Parser<'_> {
                 self.require_world(tok)?;
                 let name = src.string(tok, "a material name")?;
                 let params = src.params(cs)?;
-                if let Some(&i) = self.named_material_index.get(&name.text) {
+                if let Some(&i) = self.named_material_index.get(&*name.text) {
                     let m = &self.named_materials[i];
                     return Err(SceneError::syntax(
-                        &name.loc,
+                        &name.loc(),
                         &name.display(),
                         format!("named material \"{}\" redefined (first defined at {})", m.name, m.material.loc),
                     ));
                 }
-                let ty = match params.get("type") {
+                let (ty, ty_loc) = match params.get("type") {
                     Some(Param { value: ParamValue::String(s), loc, .. }) if s.len() == 1 => {
-                        Token { kind: TokenKind::Str, text: s[0].clone(), loc: loc.clone() }
+                        (s[0].clone(), loc.clone())
                     }
                     _ => {
                         return Err(SceneError::syntax(
-                            &name.loc,
+                            &name.loc(),
                             &name.display(),
                             format!("MakeNamedMaterial \"{}\" needs a \"string type\" parameter", name.text),
                         ))
                     }
                 };
-                let mut m = self.material(&ty, params)?;
-                m.loc = tok.loc.clone();
-                self.named_material_index.insert(name.text.clone(), self.named_materials.len());
-                self.named_materials.push(NamedMaterial { name: name.text, material: m });
+                let mut m = self.material(&ty, ty_loc, params)?;
+                m.loc = tok.loc();
+                self.named_material_index.insert(name.text.to_string(), self.named_materials.len());
+                self.named_materials.push(NamedMaterial { name: name.text.into_owned(), material: m });
             }
             "NamedMaterial" => {
                 self.require_world(tok)?;
                 let name = src.string(tok, "a material name")?;
-                self.named_material_uses.push((name.text.clone(), name.loc.clone()));
-                self.gs.material = MaterialRef::Named(name.text);
+                self.named_material_uses.push((name.text.to_string(), name.loc()));
+                self.gs.material = MaterialRef::Named(name.text.into_owned());
             }
             "Texture" => {
                 self.require_world(tok)?;
@@ -128,67 +134,77 @@ impl Parser<'_> {
                 let class = src.string(tok, "a texture class (\"float\" or \"spectrum\")")?;
                 let ty = src.string(tok, "a texture type")?;
                 let mut params = src.params(cs)?;
-                let class = match class.text.as_str() {
+                let class = match &*class.text {
                     "float" => TextureClass::Float,
                     "spectrum" | "color" => TextureClass::Spectrum,
                     _ => {
                         return Err(SceneError::syntax(
-                            &class.loc,
+                            &class.loc(),
                             &class.display(),
                             "texture class must be \"float\" or \"spectrum\"",
                         ))
                     }
                 };
-                if !names::TEXTURES.contains(&ty.text.as_str()) {
+                if !names::TEXTURES.contains(&&*ty.text) {
                     return Err(SceneError::UnknownType {
-                        loc: ty.loc,
+                        loc: ty.loc(),
                         kind: "texture",
-                        name: ty.text,
+                        name: ty.text.into_owned(),
                         valid: names::TEXTURES.join(", "),
                     });
                 }
                 if let Some(d) = self.gs.defaults.get("texture") {
                     params.merge_defaults(d);
                 }
-                if !self.texture_names[class as usize].insert(name.text.clone()) {
-                    self.warn(&name.loc, format!("texture \"{}\" redefined; the later definition is used", name.text));
+                if !self.texture_names[class as usize].insert(name.text.to_string()) {
+                    self.warn(
+                        &name.loc(),
+                        format!("texture \"{}\" redefined; the later definition is used", name.text),
+                    );
                 }
                 let world_from_texture = self.start_ctm(tok, "texture");
                 self.textures.push(TextureDesc {
-                    name: name.text,
+                    name: name.text.into_owned(),
                     class,
-                    kind: ty.text,
+                    kind: ty.text.into_owned(),
                     params,
                     world_from_texture,
-                    loc: tok.loc.clone(),
+                    loc: tok.loc(),
                 });
             }
             "LightSource" => {
                 self.require_world(tok)?;
                 let ty = src.string(tok, "a light type")?;
                 let mut params = src.params(cs)?;
-                if let Some(kind) =
-                    self.resolve_type(&ty, "light", names::PRISM_LIGHTS, names::PBRT_ONLY_LIGHTS, true)?
-                {
+                if let Some(kind) = self.resolve_type(
+                    &ty.text,
+                    || ty.loc(),
+                    "light",
+                    names::PRISM_LIGHTS,
+                    names::PBRT_ONLY_LIGHTS,
+                    true,
+                )? {
                     if let Some(d) = self.gs.defaults.get("light") {
                         params.merge_defaults(d);
                     }
                     if self.current_object.is_some() {
-                        self.warn(&tok.loc, "LightSource inside ObjectBegin is not instanced; it is added once");
+                        self.warn(&tok.loc(), "LightSource inside ObjectBegin is not instanced; it is added once");
                     }
                     let world_from_light = self.start_ctm(tok, "light");
-                    self.lights.push(LightDesc { kind, params, world_from_light, loc: tok.loc.clone() });
+                    self.lights.push(LightDesc { kind, params, world_from_light, loc: tok.loc() });
                 }
             }
             "AreaLightSource" => {
                 self.require_world(tok)?;
                 let ty = src.string(tok, "an area light type")?;
                 let mut params = src.params(cs)?;
-                if let Some(kind) = self.resolve_type(&ty, "area light", names::PRISM_AREA_LIGHTS, &[], true)? {
+                if let Some(kind) =
+                    self.resolve_type(&ty.text, || ty.loc(), "area light", names::PRISM_AREA_LIGHTS, &[], true)?
+                {
                     if let Some(d) = self.gs.defaults.get("light") {
                         params.merge_defaults(d);
                     }
-                    self.gs.area_light = Some(AreaLightDesc { kind, params, loc: tok.loc.clone() });
+                    self.gs.area_light = Some(AreaLightDesc { kind, params, loc: tok.loc() });
                 }
             }
             "Shape" => {
@@ -209,9 +225,9 @@ impl Parser<'_> {
             Pushed::Object => "ObjectBegin",
         };
         match self.stack.last().filter(|_| self.stack.len() > self.stack_floor) {
-            None => Err(SceneError::syntax(&tok.loc, &tok.text, format!("{} without a matching {begin}", tok.text))),
+            None => Err(SceneError::syntax(&tok.loc(), &tok.text, format!("{} without a matching {begin}", tok.text))),
             Some((_, got, loc)) if *got != want => Err(SceneError::syntax(
-                &tok.loc,
+                &tok.loc(),
                 &tok.text,
                 format!("{} does not match the open {:?}Begin at {loc}", tok.text, got),
             )),
@@ -230,35 +246,43 @@ impl Parser<'_> {
         }
     }
 
-    pub(super) fn material(&mut self, ty: &Token, mut params: ParamSet) -> Result<MaterialDesc, SceneError> {
-        if ty.text.is_empty() || ty.text == "none" {
+    pub(super) fn material(
+        &mut self,
+        ty: &str,
+        loc: Location,
+        mut params: ParamSet,
+    ) -> Result<MaterialDesc, SceneError> {
+        if ty.is_empty() || ty == "none" {
             // pbrt-v4 reads both as "interface", with a deprecation warning.
-            self.warn(&ty.loc, format!("material \"{}\" is deprecated; read as \"interface\"", ty.text));
-            return Ok(MaterialDesc { kind: "interface".into(), params, loc: ty.loc.clone() });
+            self.warn(&loc, format!("material \"{ty}\" is deprecated; read as \"interface\""));
+            return Ok(MaterialDesc { kind: "interface".into(), params, loc });
         }
         let kind = self
-            .resolve_type(ty, "material", names::PRISM_MATERIALS, names::PBRT_ONLY_MATERIALS, false)?
+            .resolve_type(ty, || loc.clone(), "material", names::PRISM_MATERIALS, names::PBRT_ONLY_MATERIALS, false)?
             .unwrap_or_default();
-        if kind != ty.text {
+        if kind != ty {
             // The replacement's parameters mean something else: start from its defaults.
-            params = ParamSet::new(&params.color_space);
+            params = ParamSet::new(params.color_space);
         } else if let Some(d) = self.gs.defaults.get("material") {
             params.merge_defaults(d);
         }
-        Ok(MaterialDesc { kind, params, loc: ty.loc.clone() })
+        Ok(MaterialDesc { kind, params, loc })
     }
 
     pub(super) fn shape(&mut self, tok: &Token, ty: &Token, mut params: ParamSet) -> Result<(), SceneError> {
-        let Some(kind) = self.resolve_type(ty, "shape", names::PRISM_SHAPES, names::PBRT_ONLY_SHAPES, true)? else {
+        let Some(kind) =
+            self.resolve_type(&ty.text, || ty.loc(), "shape", names::PRISM_SHAPES, names::PBRT_ONLY_SHAPES, true)?
+        else {
             return Ok(());
         };
         if let Some(d) = self.gs.defaults.get("shape") {
             params.merge_defaults(d);
         }
-        let geometry = shapes::load(&kind, &params, &tok.loc, &mut self.warnings)?;
+        let loc = tok.loc();
+        let geometry = shapes::load(&kind, &params, &loc, &mut self.warnings)?;
         let mut area_light = self.gs.area_light.clone();
         if self.current_object.is_some() && area_light.is_some() {
-            self.unsupported(&tok.loc, "area light on a shape inside ObjectBegin", "makes the shape non-emissive");
+            self.unsupported(&loc, "area light on a shape inside ObjectBegin", "makes the shape non-emissive");
             area_light = None;
         }
         let motion = self.motion();
@@ -272,7 +296,7 @@ impl Parser<'_> {
             material: self.gs.material.clone(),
             area_light,
             media: self.gs.media.clone(),
-            loc: tok.loc.clone(),
+            loc,
         };
         match &mut self.current_object {
             Some(o) => o.shapes.push(s),

@@ -3,7 +3,7 @@
 //! a scan over every definition of the scene.
 
 use crate::pbrt::desc::{MaterialDesc, MaterialRef, SceneDesc, TextureClass};
-use std::collections::HashMap;
+use rustc_hash::FxHashMap as HashMap;
 
 /// Which material a reference resolves to: its identity in the description, so that shapes
 /// sharing a material share one built material.
@@ -32,7 +32,7 @@ impl<'d> Definitions<'d> {
     /// Indexes `desc`, in time linear in its number of definitions.
     pub(super) fn new(desc: &'d SceneDesc) -> Self {
         let named_materials = desc.named_materials.iter().enumerate().map(|(i, m)| (m.name.as_str(), i)).collect();
-        let mut textures: HashMap<(&str, TextureClass), Vec<usize>> = HashMap::new();
+        let mut textures: HashMap<(&str, TextureClass), Vec<usize>> = HashMap::default();
         for (i, t) in desc.textures.iter().enumerate() {
             textures.entry((t.name.as_str(), t.class)).or_default().push(i);
         }

@@ -18,7 +18,7 @@ use crate::pbrt::params::{ParamSet, SpectrumParam};
 use crate::scene::MediumInterface;
 use crate::spectrum::{RgbKind, Spectrum};
 use glam::{UVec3, Vec3};
-use std::collections::HashMap;
+use rustc_hash::FxHashMap as HashMap;
 
 /// Medium ids by name.
 pub(super) type MediumIds = HashMap<String, u32>;
@@ -47,7 +47,7 @@ impl Ctx<'_> {
     /// Builds every named medium the renderer supports (others were reported by the parser and
     /// are vacuum) and sets the camera's medium.
     pub(super) fn media(&mut self) -> Result<MediumIds, SceneError> {
-        let mut ids = MediumIds::new();
+        let mut ids = MediumIds::default();
         for m in &self.desc.media {
             if let Some(medium) = self.medium(m)? {
                 ids.insert(m.name.clone(), self.b.add_medium(medium));

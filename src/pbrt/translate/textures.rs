@@ -15,7 +15,7 @@ use crate::texture::{
     WrapMode,
 };
 use glam::{Mat4, Vec2, Vec3};
-use std::collections::HashMap;
+use rustc_hash::FxHashMap as HashMap;
 use std::sync::Arc;
 
 /// The textures built so far, by index into the scene's texture list, and the image pyramids
@@ -155,7 +155,7 @@ impl Kind for Spectrum {
             )),
             "imagemap" => {
                 let image = ctx.image_map(t)?;
-                let space = ColorSpace::by_name(&p.color_space).unwrap_or_else(ColorSpace::srgb);
+                let space = ColorSpace::by_name(p.color_space).unwrap_or_else(ColorSpace::srgb);
                 SpectrumSource::Image(SpectrumImage::new(
                     image.mapping,
                     &image.pyramid,
