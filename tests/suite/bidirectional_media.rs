@@ -123,14 +123,3 @@ fn bidirectional_path_tracing_renders_a_grid_medium_under_a_spotlight_as_volpath
 fn metropolis_light_transport_renders_a_fog_sphere_as_volpath_does() {
     agrees_with_volpath(FOG_SPHERE, IntegratorKind::Mlt, (32, 16), 5);
 }
-
-#[test]
-fn tmp_two_sided_vacuum() {
-    let t = FOG_SPHERE
-        .replace(
-            r#""rgb sigma_a" [0.1 0.2 0.4] "rgb sigma_s" [1.5 1.0 0.6]"#,
-            r#""rgb sigma_a" [0 0 0] "rgb sigma_s" [0 0 0]"#,
-        )
-        .replace(r#""spectrum L" [300 8 900 8]"#, r#""spectrum L" [300 8 900 8] "bool twosided" true"#);
-    agrees_with_volpath(&t, IntegratorKind::Bdpt, (32, 16), 5);
-}
