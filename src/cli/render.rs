@@ -240,6 +240,9 @@ pub fn prepare(args: &RenderArgs) -> Result<Job> {
             integrator.kind.name()
         );
     }
+    if let Some(why) = Integrator::bidirectional_ignores(&scene).filter(|_| args.strict && integrator.kind.splats()) {
+        bail!("unsupported feature: integrator \"{}\" for this scene: {why} (strict mode)", integrator.kind.name());
+    }
     let (mut aov, mut spectral, mut write_aov) = (aov, spectral, write_aov);
     if integrator.kind == IntegratorKind::Sppm {
         sppm_refusals(args)?;
@@ -359,6 +362,9 @@ pub(crate) fn integrator_for(
     }
     if let Some(why) = Integrator::sppm_ignores(scene).filter(|_| integrator.kind == IntegratorKind::Sppm) {
         log::warn!("integrator \"sppm\": {why}");
+    }
+    if let Some(why) = Integrator::bidirectional_ignores(scene).filter(|_| integrator.kind.splats()) {
+        log::warn!("integrator \"{}\": {why}", integrator.kind.name());
     }
     integrator
 }

@@ -14,23 +14,32 @@
 //! origin density is Σ over the infinite lights of (choice probability × direction density),
 //! and the next vertex's area density is that of the disk, 1/(π r²), times its cosine.
 //!
-//! Surfaces only: scenes with media or subsurface materials are given to the volumetric path
-//! tracer ([`Integrator::for_scene`]). No Russian roulette (as pbrt-v4's): subpaths end at the
-//! depth limit or where a BSDF samples nothing.
+//! Participating media (Veach 1997 §10.3.4 and pbrt-v4's `RandomWalk`): the walks sample free
+//! flights by delta tracking ([`super::free_flight`]), and a real scattering is a vertex like a
+//! surface's, its phase function in place of a BSDF and no cosine where densities turn from
+//! solid angle to area; every connection carries the transmittance of its segment by ratio
+//! tracking, and interface surfaces (no BSDF) are passed through. As in pbrt-v4, the densities
+//! of the MIS weights leave out the free flights' distance densities (σ_s T; the weights stay a
+//! partition of unity, only less close to the balance heuristic's), and media do not emit. A
+//! subsurface material scatters as its boundary BSDF alone, as in pbrt-v4's `bdpt`.
+//! No Russian roulette (as pbrt-v4's): subpaths end at the depth limit or where a BSDF samples
+//! nothing.
 
 use super::bdpt_weights::{balance_weight, DensityPath, VertexDensity};
+use super::free_flight::{free_flight, segment_transmittance, spectral_mis, Flight};
 use super::interface::Integrator;
 use super::lightpath::light_point_error;
 use super::options::StrategyImageKind;
-use super::state::{escaped_radiance, next_surface, PathState};
+use super::state::{escaped_radiance, PathState};
 use super::{SplatSample, Stats};
 use crate::bsdf::{Bsdf, TransportMode};
 use crate::camera::Camera;
 use crate::geometry::Ray;
 use crate::light::{Light, LightSampleContext};
 use crate::math::offset_ray_origin;
+use crate::media::HenyeyGreenstein;
 use crate::sampling::{PssStream, Sampler};
-use crate::scene::{LightId, Scene, SurfaceInteraction};
+use crate::scene::{LightId, Scene, SurfaceInteraction, MAX_INTERFACE_CROSSINGS};
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 use crate::texture::RayDifferentials;
 use glam::{Vec2, Vec3, Vec4};
@@ -47,6 +56,8 @@ enum Kind {
     Sky,
     /// A surface the subpath scattered at.
     Surface,
+    /// A real scattering in a medium, with its phase function.
+    Medium(HenyeyGreenstein),
 }
 
 /// One vertex of a subpath (pbrt's `Vertex`).
@@ -67,14 +78,20 @@ struct Vertex<'s> {
     bsdf: Option<Bsdf>,
     /// Radiance for camera subpaths, importance for light subpaths.
     mode: TransportMode,
-    /// The subpath's throughput up to this vertex (for the first light vertex, L_e / p).
+    /// The subpath's throughput up to this vertex (for the first light vertex, L_e / p), at
+    /// the hero wavelength's free-flight distances.
     beta: SampledSpectrum,
+    /// The rescaled probability of the subpath's free flights up to this vertex (one outside
+    /// media): the spectral MIS of a path divides by the average of its parts' product.
+    r_u: SampledSpectrum,
     /// Scattered by a delta lobe.
     delta: bool,
     /// Area density with which its own subpath reached it.
     pdf_fwd: f32,
     /// Area density with which the other subpath would reach it (through the vertices after it).
     pdf_rev: f32,
+    /// The medium it sits in; at a surface, the one the subpath reached it through.
+    medium: Option<u32>,
 }
 
 impl<'s> Vertex<'s> {
@@ -90,9 +107,11 @@ impl<'s> Vertex<'s> {
             bsdf: None,
             mode,
             beta,
+            r_u: SampledSpectrum::one(),
             delta: false,
             pdf_fwd,
             pdf_rev: 0.0,
+            medium: None,
         }
     }
 
@@ -108,7 +127,41 @@ impl<'s> Vertex<'s> {
         match self.kind {
             Kind::Surface => !self.delta && self.bsdf.as_ref().is_some_and(|b| b.flags().is_non_specular()),
             Kind::Sky => false,
-            _ => true,
+            Kind::Camera | Kind::Light(_) | Kind::Medium(_) => true,
+        }
+    }
+
+    /// |cos θ| of the unit direction `d` to the shading normal; 1 at a point (a medium vertex,
+    /// a point light).
+    fn cos(&self, d: Vec3) -> f32 {
+        if self.ns == Vec3::ZERO {
+            1.0
+        } else {
+            self.ns.dot(d).abs()
+        }
+    }
+
+    /// The medium a ray leaving this vertex along `d` starts in.
+    fn medium_toward(&self, d: Vec3) -> Option<u32> {
+        match &self.si {
+            Some(si) => si.medium_interface().medium_toward(d, si.shading.ng, self.medium),
+            None => self.medium,
+        }
+    }
+
+    /// A shadow ray from this scattering vertex to the point `p` (short of it).
+    fn ray_to(&self, p: Vec3, time: f32) -> Ray {
+        match &self.si {
+            Some(si) => si.spawn_ray_to(p),
+            None => Ray::segment(self.p, p - self.p, 1.0 - 1e-4).at_time(time),
+        }
+    }
+
+    /// A ray from this scattering vertex along the unit direction `d`.
+    fn ray_toward(&self, d: Vec3, time: f32) -> Ray {
+        match &self.si {
+            Some(si) => si.spawn_ray(d),
+            None => Ray::new(self.p, d).at_time(time),
         }
     }
 
@@ -131,15 +184,21 @@ impl<'s> Vertex<'s> {
         match self.kind {
             Kind::Light(id) => Some((id, &scene.lights()[id as usize])),
             Kind::Surface => self.si.as_ref().and_then(|si| si.area_light()),
-            Kind::Camera | Kind::Sky => None,
+            Kind::Camera | Kind::Sky | Kind::Medium(_) => None,
         }
     }
 
-    /// BSDF value toward `next` (f only, no cosine).
+    /// BSDF (or phase function) value toward `next` (f only, no cosine).
     fn f(&self, next: &Vertex) -> SampledSpectrum {
-        match &self.bsdf {
-            Some(b) => b.f(self.wo, self.dir_to(next), self.mode),
-            None => SampledSpectrum::zero(),
+        self.f_toward(self.dir_to(next))
+    }
+
+    /// BSDF (or phase function) value toward the unit direction `wi`.
+    fn f_toward(&self, wi: Vec3) -> SampledSpectrum {
+        match (&self.bsdf, self.kind) {
+            (Some(b), _) => b.f(self.wo, wi, self.mode),
+            (None, Kind::Medium(phase)) => SampledSpectrum::splat(phase.p(-self.wo, wi)),
+            _ => SampledSpectrum::zero(),
         }
     }
 
@@ -172,6 +231,7 @@ impl<'s> Vertex<'s> {
                 (Some(b), Some(prev)) => b.pdf(self.dir_to(prev), wn, self.mode),
                 _ => 0.0,
             },
+            Kind::Medium(phase) => prev.map_or(0.0, |prev| phase.p(-self.dir_to(prev), wn)),
         };
         self.to_area(pdf, next)
     }
@@ -217,13 +277,15 @@ fn subpath_capacity(max_depth: u32) -> usize {
 const NOTHING: (SampledSpectrum, f32) = (SampledSpectrum(Vec4::ZERO), 0.0);
 
 impl Integrator {
-    /// Extends `path` (holding its first vertex) by sampling BSDFs from `ray`, whose direction
-    /// has solid-angle density `pdf` and throughput `beta`, up to `max_vertices` vertices.
+    /// Extends `path` (holding its first vertex) by sampling BSDFs and phase functions from
+    /// `ray`, which starts in `medium` and whose direction has solid-angle density `pdf` and
+    /// throughput `beta`, up to `max_vertices` vertices.
     #[allow(clippy::too_many_arguments)]
     fn subpath_walk<'s>(
         &self,
         scene: &'s Scene,
-        mut ray: Ray,
+        ray: Ray,
+        mut medium: Option<u32>,
         mut beta: SampledSpectrum,
         pdf: f32,
         mode: TransportMode,
@@ -235,64 +297,107 @@ impl Integrator {
         stats: &mut Stats,
     ) {
         let mut pdf_fwd = pdf;
+        let mut ray = Ray::new(ray.o, ray.d.normalize()).at_time(ray.time);
+        // The rescaled path probability of spectral MIS (one at every wavelength outside media).
+        let mut r_u = SampledSpectrum::one();
         // Depth and regularisation bookkeeping, as the path loops keep it.
         let mut state = PathState::new(ray.o);
+        let mut crossings = 0;
         while path.len() < max_vertices {
-            let Some(si) = next_surface(scene, ray, stats) else {
-                // A camera subpath that escapes ends at the sky, if there is one.
-                if mode == TransportMode::Radiance && scene.infinite_lights().next().is_some() {
-                    let sky = Vertex::point(Kind::Sky, ray.o, Vec3::ZERO, mode, beta, pdf_fwd)
-                        .at_infinity(-ray.d.normalize());
-                    path.push(sky);
+            stats.rays += 1;
+            let hit = scene.intersect(&ray);
+            // The solid-angle density of sampling the ray back from the new vertex, which turns
+            // into the previous vertex's reverse density.
+            let pdf_rev = match free_flight(scene, &ray, hit.as_ref(), medium, &mut beta, &mut r_u, w, sampler) {
+                Flight::Absorbed => break,
+                Flight::Scattered(p, phase) => {
+                    state.depth += 1;
+                    state.any_non_specular = true;
+                    let prev = path.last().expect("the walk starts from a vertex");
+                    if p == prev.p && !prev.infinite {
+                        // A collision at the walk's very start (a zero distance from a light
+                        // at a point) has no direction to or from the previous vertex.
+                        break;
+                    }
+                    let mut v = Vertex::point(Kind::Medium(phase), p, Vec3::ZERO, mode, beta, 0.0);
+                    v.r_u = r_u;
+                    v.wo = -ray.d;
+                    v.medium = medium;
+                    v.pdf_fwd = prev.to_area(pdf_fwd, &v);
+                    path.push(v);
+                    if path.len() == max_vertices {
+                        break;
+                    }
+                    // β ·= p / pdf = 1: HG is sampled exactly; it is symmetric, so the reverse
+                    // density is the forward one.
+                    let wi = phase.sample(ray.d, sampler.get_2d());
+                    pdf_fwd = phase.p(ray.d, wi);
+                    ray = Ray::new(p, wi).at_time(ray.time);
+                    pdf_fwd
                 }
-                break;
+                Flight::Passed => {
+                    let Some(si) = hit else {
+                        // A camera subpath that escapes ends at the sky, if there is one.
+                        if mode == TransportMode::Radiance && scene.infinite_lights().next().is_some() {
+                            let mut sky =
+                                Vertex::point(Kind::Sky, ray.o, Vec3::ZERO, mode, beta, pdf_fwd).at_infinity(-ray.d);
+                            sky.r_u = r_u;
+                            path.push(sky);
+                        }
+                        break;
+                    };
+                    if si.is_passthrough() {
+                        // A boundary between media only: the ray goes on in the medium behind it.
+                        crossings += 1;
+                        if crossings > MAX_INTERFACE_CROSSINGS {
+                            break;
+                        }
+                        medium = si.medium_interface().medium_toward(ray.d, si.shading.ng, medium);
+                        ray = si.spawn_ray(ray.d);
+                        continue;
+                    }
+                    state.depth += 1;
+                    let camera_ray = differentials.filter(|_| mode == TransportMode::Radiance);
+                    let bsdf = self.vertex_bsdf(&si, w, camera_ray, &state);
+                    let prev = path.last().expect("the walk starts from a vertex");
+                    let mut v = Vertex::point(Kind::Surface, si.p, si.shading.ng, mode, beta, 0.0);
+                    v.r_u = r_u;
+                    v.ns = bsdf.as_ref().map_or(si.shading.ns, Bsdf::ns);
+                    v.wo = si.wo;
+                    v.medium = medium;
+                    v.pdf_fwd = prev.to_area(pdf_fwd, &v);
+                    v.si = Some(si);
+                    v.bsdf = bsdf;
+                    path.push(v);
+                    let full = path.len() == max_vertices;
+                    let v = path.last_mut().expect("just pushed");
+                    let Some(bsdf) = v.bsdf.as_ref().filter(|b| !b.flags().is_empty()) else { break };
+                    if full {
+                        break;
+                    }
+                    let Some(bs) = bsdf.sample_f(v.wo, sampler.get_1d(), sampler.get_2d(), mode) else { break };
+                    let wo = v.wo;
+                    let si = v.si.as_ref().expect("a surface vertex");
+                    let wi = bs.wi.normalize();
+                    medium = si.medium_interface().medium_toward(wi, si.shading.ng, medium);
+                    ray = si.spawn_ray(wi);
+                    beta *= bs.f * (bs.wi.dot(bsdf.ns()).abs() / bs.pdf);
+                    pdf_fwd = if bs.pdf_is_proportional { bsdf.pdf(wo, bs.wi, mode) } else { bs.pdf };
+                    let mut rev = bsdf.pdf(bs.wi, wo, mode);
+                    let specular = bs.is_specular();
+                    state.any_non_specular |= !specular;
+                    if specular {
+                        pdf_fwd = 0.0;
+                        rev = 0.0;
+                    }
+                    v.delta = specular;
+                    rev
+                }
             };
-            state.depth += 1;
-            let bsdf = self.vertex_bsdf(&si, w, differentials.filter(|_| mode == TransportMode::Radiance), &state);
-            let prev = path.last().expect("the walk starts from a vertex");
-            let mut v = Vertex {
-                kind: Kind::Surface,
-                p: si.p,
-                ng: si.shading.ng,
-                ns: bsdf.as_ref().map_or(si.shading.ns, Bsdf::ns),
-                wo: si.wo,
-                infinite: false,
-                si: None,
-                bsdf: None,
-                mode,
-                beta,
-                delta: false,
-                pdf_fwd: 0.0,
-                pdf_rev: 0.0,
-            };
-            v.pdf_fwd = prev.to_area(pdf_fwd, &v);
-            v.si = Some(si);
-            v.bsdf = bsdf;
-            path.push(v);
-            let v = path.last().expect("just pushed");
-            let Some(bsdf) = v.bsdf.as_ref().filter(|b| !b.flags().is_empty()) else { break };
-            if path.len() == max_vertices {
-                break;
-            }
-            let Some(bs) = bsdf.sample_f(v.wo, sampler.get_1d(), sampler.get_2d(), mode) else { break };
-            let wo = v.wo;
-            let si = v.si.as_ref().expect("a surface vertex");
-            ray = si.spawn_ray(bs.wi);
-            beta *= bs.f * (bs.wi.dot(bsdf.ns()).abs() / bs.pdf);
-            pdf_fwd = if bs.pdf_is_proportional { bsdf.pdf(wo, bs.wi, mode) } else { bs.pdf };
-            let mut pdf_rev = bsdf.pdf(bs.wi, wo, mode);
-            let specular = bs.is_specular();
-            state.any_non_specular |= !specular;
-            if specular {
-                pdf_fwd = 0.0;
-                pdf_rev = 0.0;
-            }
             let n = path.len();
             let (before, last) = path.split_at_mut(n - 1);
-            let v = &mut last[0];
-            v.delta = specular;
             if let Some(prev) = before.last_mut() {
-                prev.pdf_rev = v.to_area(pdf_rev, prev);
+                prev.pdf_rev = last[0].to_area(pdf_rev, prev);
             }
             if beta.is_black() {
                 break;
@@ -327,6 +432,7 @@ impl Integrator {
             self.subpath_walk(
                 scene,
                 ray,
+                scene.camera_medium(),
                 beta,
                 pdf_dir,
                 TransportMode::Radiance,
@@ -357,7 +463,8 @@ impl Integrator {
                     l += c * weight;
                     (None, c, weight)
                 } else if light.len() == s {
-                    let Some((p, c, weight)) = self.connect_to_lens(scene, camera, time, light, &cam, sampler, stats)
+                    let Some((p, c, weight)) =
+                        self.connect_to_lens(scene, camera, time, light, &cam, w, sampler, stats)
                     else {
                         continue;
                     };
@@ -409,7 +516,21 @@ impl Integrator {
         let origin = offset_ray_origin(les.p, light_point_error(les.p), les.n, les.d);
         let ray = Ray::new(origin, les.d).at_time(time);
         let mode = TransportMode::Importance;
-        self.subpath_walk(scene, ray, beta, les.pdf_dir, mode, max_vertices, light_path, None, w, sampler, stats);
+        let medium = scene.light_medium(id, les.n, les.d);
+        self.subpath_walk(
+            scene,
+            ray,
+            medium,
+            beta,
+            les.pdf_dir,
+            mode,
+            max_vertices,
+            light_path,
+            None,
+            w,
+            sampler,
+            stats,
+        );
         if light_path[0].infinite {
             // From infinity the first vertex is a direction and the second a point of the
             // disk's density projected onto it.
@@ -448,7 +569,10 @@ impl Integrator {
             if le.is_black() {
                 return NOTHING;
             }
-            return (pt.beta * le, self.mis_weight(scene, camera, time, light, 0, cam, None, None));
+            return (
+                spectral_mis(pt.beta * le, pt.r_u),
+                self.mis_weight(scene, camera, time, light, 0, cam, None, None),
+            );
         }
         if !pt.connectible() {
             return NOTHING;
@@ -460,7 +584,17 @@ impl Integrator {
             };
             let u_pos = sampler.get_2d();
             if light_src.is_at_infinity() {
-                return self.connect_to_infinity(scene, camera, time, cam, (id, light_src, pmf), u_pos, w, stats);
+                return self.connect_to_infinity(
+                    scene,
+                    camera,
+                    time,
+                    cam,
+                    (id, light_src, pmf),
+                    u_pos,
+                    w,
+                    sampler,
+                    stats,
+                );
             }
             let Some(les) = light_src.sample_le(u_pos, Vec2::splat(0.5), &scene.sphere(), w) else {
                 return NOTHING;
@@ -474,14 +608,16 @@ impl Integrator {
             let le = light_src.emitted_toward(&les, -wi, w);
             let p0 = pmf * les.pdf_pos;
             let cos_light = if les.n == Vec3::ZERO { 1.0 } else { les.n.dot(wi).abs() };
-            let f = pt.bsdf.as_ref().map_or(SampledSpectrum::zero(), |b| b.f(pt.wo, wi, pt.mode));
-            let c = pt.beta * f * le * (pt.ns.dot(wi).abs() * cos_light / (d2 * p0));
+            let c = pt.beta * pt.f_toward(wi) * le * (pt.cos(wi) * cos_light / (d2 * p0));
             if c.is_black() {
                 return NOTHING;
             }
-            stats.rays += 1;
-            let si = pt.si.as_ref().expect("a surface vertex");
-            if scene.occluded(&si.spawn_ray_to(les.p)) {
+            let ray = pt.ray_to(les.p, time);
+            let Some((tr, r_l)) = segment_transmittance(scene, ray, pt.medium_toward(wi), w, sampler, stats) else {
+                return NOTHING;
+            };
+            let c = spectral_mis(c * tr, pt.r_u * r_l);
+            if c.is_black() {
                 return NOTHING;
             }
             let vertex = Vertex::point(Kind::Light(id), les.p, les.n, TransportMode::Importance, le / p0, p0);
@@ -497,14 +633,17 @@ impl Integrator {
             return NOTHING;
         }
         let wd = d / d2.sqrt();
-        let g = qs.ns.dot(wd).abs() * pt.ns.dot(wd).abs() / d2;
+        let g = qs.cos(wd) * pt.cos(wd) / d2;
         let c = qs.beta * qs.f(pt) * pt.f(qs) * pt.beta * g;
         if c.is_black() {
             return NOTHING;
         }
-        stats.rays += 1;
-        let si = pt.si.as_ref().expect("a surface vertex");
-        if scene.occluded(&si.spawn_ray_to(qs.p)) {
+        let ray = pt.ray_to(qs.p, time);
+        let Some((tr, r_l)) = segment_transmittance(scene, ray, pt.medium_toward(-wd), w, sampler, stats) else {
+            return NOTHING;
+        };
+        let c = spectral_mis(c * tr, qs.r_u * pt.r_u * r_l);
+        if c.is_black() {
             return NOTHING;
         }
         (c, self.mis_weight(scene, camera, time, light, s, cam, None, None))
@@ -523,18 +662,25 @@ impl Integrator {
         (id, light, pmf): (LightId, &Light, f32),
         u: Vec2,
         w: &SampledWavelengths,
+        sampler: &mut Sampler,
         stats: &mut Stats,
     ) -> (SampledSpectrum, f32) {
         let pt = &cam[cam.len() - 1];
-        let (Some(si), Some(bsdf)) = (pt.si.as_ref(), pt.bsdf.as_ref()) else { return NOTHING };
-        let ctx = LightSampleContext::surface(pt.p, pt.ns);
+        let ctx = match pt.kind {
+            Kind::Medium(_) => LightSampleContext::medium(pt.p),
+            _ => LightSampleContext::surface(pt.p, pt.ns),
+        };
         let Some(ls) = light.sample_li(&ctx, u, w).filter(|ls| ls.pdf > 0.0) else { return NOTHING };
-        let c = pt.beta * bsdf.f(pt.wo, ls.wi, pt.mode) * ls.li * (pt.ns.dot(ls.wi).abs() / (pmf * ls.pdf));
+        let c = pt.beta * pt.f_toward(ls.wi) * ls.li * (pt.cos(ls.wi) / (pmf * ls.pdf));
         if c.is_black() {
             return NOTHING;
         }
-        stats.rays += 1;
-        if scene.occluded(&si.spawn_ray(ls.wi)) {
+        let ray = pt.ray_toward(ls.wi, time);
+        let Some((tr, r_l)) = segment_transmittance(scene, ray, pt.medium_toward(ls.wi), w, sampler, stats) else {
+            return NOTHING;
+        };
+        let c = spectral_mis(c * tr, pt.r_u * r_l);
+        if c.is_black() {
             return NOTHING;
         }
         let mut vertex =
@@ -553,21 +699,23 @@ impl Integrator {
         time: f32,
         light: &[Vertex],
         cam: &[Vertex],
+        w: &SampledWavelengths,
         sampler: &mut Sampler,
         stats: &mut Stats,
     ) -> Option<(Vec2, SampledSpectrum, f32)> {
         let qs = light.last()?;
-        if !qs.connectible() || qs.kind != Kind::Surface {
+        if !qs.connectible() || !matches!(qs.kind, Kind::Surface | Kind::Medium(_)) {
             return None;
         }
         let cs = camera.sample_wi(qs.p, sampler.get_2d(), time)?;
-        let f = qs.bsdf.as_ref()?.f(qs.wo, cs.wi, qs.mode);
-        let c = qs.beta * f * (qs.ns.dot(cs.wi).abs() * cs.we / cs.pdf);
+        let c = qs.beta * qs.f_toward(cs.wi) * (qs.cos(cs.wi) * cs.we / cs.pdf);
         if c.is_black() {
             return None;
         }
-        stats.rays += 1;
-        if scene.occluded(&qs.si.as_ref()?.spawn_ray_to(cs.p_lens)) {
+        let ray = qs.ray_to(cs.p_lens, time);
+        let (tr, r_l) = segment_transmittance(scene, ray, qs.medium_toward(cs.wi), w, sampler, stats)?;
+        let c = spectral_mis(c * tr, qs.r_u * r_l);
+        if c.is_black() {
             return None;
         }
         let mut lens =
@@ -672,7 +820,8 @@ impl Integrator {
         if t > 1 && pdf_dir > 0.0 {
             let beta = SampledSpectrum::one();
             let mode = TransportMode::Radiance;
-            self.subpath_walk(scene, ray, beta, pdf_dir, mode, t, &mut cam, differentials, w, sampler, stats);
+            let medium = scene.camera_medium();
+            self.subpath_walk(scene, ray, medium, beta, pdf_dir, mode, t, &mut cam, differentials, w, sampler, stats);
         }
         if cam.len() != t {
             return None;
@@ -691,7 +840,7 @@ impl Integrator {
             let l = c * weight;
             (!l.is_black()).then_some((l, None))
         } else {
-            let (p, c, weight) = self.connect_to_lens(scene, camera, time, &light_path, &cam, sampler, stats)?;
+            let (p, c, weight) = self.connect_to_lens(scene, camera, time, &light_path, &cam, w, sampler, stats)?;
             Some((c * weight, Some(p)))
         }
     }

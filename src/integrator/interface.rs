@@ -223,23 +223,24 @@ impl Integrator {
     /// walk, or diffusion on an optically thin object). A scene without either gives `volpath`
     /// nothing to do but the path tracer's work; `path` cannot step through media (pbrt-v4's
     /// `path` ignores them). The estimators that start paths at the lights need a camera with
-    /// an importance function (a perspective one without a lens system); they step through no
-    /// media. Where they cannot run, the path tracer (or, with media, the volumetric
-    /// one) renders instead ([`Self::fallback_reason`] says why). `sppm` ignores media and
-    /// subsurface scattering, as pbrt-v4's does ([`Self::sppm_ignores`]).
+    /// an importance function (a perspective one without a lens system); they step through
+    /// media, and take a subsurface material for its boundary alone, as pbrt-v4's do
+    /// ([`Self::bidirectional_ignores`]). Where they cannot run, the path tracer (or, with
+    /// media, the volumetric one) renders instead ([`Self::fallback_reason`] says why). `sppm`
+    /// ignores media and subsurface scattering, as pbrt-v4's does ([`Self::sppm_ignores`]).
     pub fn for_scene(self, scene: &Scene) -> Self {
         let walks =
             scene.has_subsurface() && (self.sss == SubsurfaceMethod::RandomWalk || scene.may_have_thin_subsurface());
         let kind = match self.kind {
             IntegratorKind::Path | IntegratorKind::VolPath if scene.has_media() || walks => IntegratorKind::VolPath,
             IntegratorKind::Path | IntegratorKind::VolPath => IntegratorKind::Path,
-            IntegratorKind::LightPath | IntegratorKind::Bdpt | IntegratorKind::Mlt if scene.has_media() || walks => {
-                IntegratorKind::VolPath
-            }
             IntegratorKind::LightPath | IntegratorKind::Bdpt | IntegratorKind::Mlt
                 if Self::fallback_reason(scene).is_none() =>
             {
                 self.kind
+            }
+            IntegratorKind::LightPath | IntegratorKind::Bdpt | IntegratorKind::Mlt if scene.has_media() || walks => {
+                IntegratorKind::VolPath
             }
             IntegratorKind::LightPath | IntegratorKind::Bdpt | IntegratorKind::Mlt => IntegratorKind::Path,
             other => other,
@@ -250,10 +251,18 @@ impl Integrator {
     /// Why the estimators that start paths at the lights cannot render `scene` (`None`: they
     /// can).
     pub fn fallback_reason(scene: &Scene) -> Option<&'static str> {
-        if scene.has_media() || scene.has_subsurface() {
-            Some("they do not step through participating media or subsurface materials")
-        } else if !scene.camera.camera((1, 1)).has_importance() {
+        if !scene.camera.camera((1, 1)).has_importance() {
             Some("only a perspective camera without a lens system has an importance function here")
+        } else {
+            None
+        }
+    }
+
+    /// What the estimators that start paths at the lights leave out of `scene`'s light
+    /// transport, as pbrt-v4's do (`None`: nothing).
+    pub fn bidirectional_ignores(scene: &Scene) -> Option<&'static str> {
+        if scene.has_subsurface() {
+            Some("it ignores subsurface scattering: a subsurface material scatters as its boundary BSDF alone (as in pbrt-v4)")
         } else {
             None
         }

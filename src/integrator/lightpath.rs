@@ -10,17 +10,25 @@
 //! pinhole-camera singularities and lights at infinity seen directly (their paths start on a
 //! disk outside the scene, [`crate::light::Light::sample_le`]): its strengths are caustics seen
 //! on diffuse surfaces.
+//!
+//! In participating media (pbrt-v4's `LightPathIntegrator` walks them as its BDPT does) the
+//! path samples free flights by delta tracking ([`super::free_flight`]); a real scattering is a
+//! vertex connected to the lens like a surface's, its phase function in place of the BSDF and
+//! no cosine, and every lens connection carries the transmittance of its segment. Interface
+//! surfaces are passed through; media do not emit here, and a subsurface material scatters as
+//! its boundary BSDF.
 
+use super::free_flight::{free_flight, segment_transmittance, spectral_mis, Flight};
 use super::interface::Integrator;
-use super::state::{next_surface, PathState};
+use super::state::PathState;
 use super::{SplatSample, Stats};
 use crate::bsdf::TransportMode;
-use crate::camera::Camera;
+use crate::camera::{Camera, CameraWiSample};
 use crate::geometry::Ray;
 use crate::math::offset_ray_origin;
 use crate::sampling::Sampler;
-use crate::scene::Scene;
-use crate::spectrum::SampledWavelengths;
+use crate::scene::{Scene, MAX_INTERFACE_CROSSINGS};
+use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 use glam::Vec3;
 
 /// A conservative bound on the rounding error of a point sampled on a light [scene units]:
@@ -43,7 +51,7 @@ impl Integrator {
         stats: &mut Stats,
         splats: &mut Vec<SplatSample>,
     ) {
-        let Some((_, light, pmf, _)) = scene.sample_emitter(sampler.get_1d()) else { return };
+        let Some((id, light, pmf, _)) = scene.sample_emitter(sampler.get_1d()) else { return };
         let (u_pos, u_dir) = (sampler.get_2d(), sampler.get_2d());
         let Some(les) = light.sample_le(u_pos, u_dir, &scene.sphere(), w) else { return };
         let cos_light = if les.n == Vec3::ZERO { 1.0 } else { les.n.dot(les.d).abs() };
@@ -58,53 +66,108 @@ impl Integrator {
             let le = light.emitted_toward(&les, cs.wi, w);
             let cos = les.n.dot(cs.wi).abs();
             if !le.is_black() {
-                stats.rays += 1;
                 let shadow = Ray::segment(cs.p_lens, les.p - cs.p_lens, 1.0 - 1e-4).at_time(time);
-                if !scene.occluded(&shadow) {
-                    let l = le * (cs.we * cos / (pmf * les.pdf_pos * cs.pdf));
+                let tr = segment_transmittance(scene, shadow, scene.camera_medium(), w, sampler, stats);
+                if let Some((tr, r_l)) = tr {
+                    let l = spectral_mis(le * tr * (cs.we * cos / (pmf * les.pdf_pos * cs.pdf)), r_l);
                     splats.push(SplatSample { p_raster: Some(cs.p_raster), l, lambdas: *w, strategy: None });
                 }
             }
         }
 
         let origin = offset_ray_origin(les.p, light_point_error(les.p), les.n, les.d);
-        let mut ray = Ray::new(origin, les.d).at_time(time);
+        let mut ray = Ray::new(origin, les.d.normalize()).at_time(time);
+        let mut medium = scene.light_medium(id, les.n, les.d);
         let mut state = PathState::new(origin);
         state.beta = les.le * (cos_light / (pmf * les.pdf_pos * les.pdf_dir));
-        while let Some(si) = next_surface(scene, ray, stats) {
-            if !self.next_vertex(&mut state) {
-                break;
-            }
-            let Some(bsdf) = si.bsdf(w, None) else { break };
-            let flags = bsdf.flags();
-            if flags.is_empty() {
-                break;
-            }
-            // Connect to the lens (not through a purely specular BSDF, whose f is zero there).
-            if flags.is_non_specular() {
-                if let Some(cs) = camera.sample_wi(si.p, sampler.get_2d(), time) {
-                    let f = bsdf.f(si.wo, cs.wi, TransportMode::Importance) * cs.wi.dot(bsdf.ns()).abs();
-                    if !f.is_black() {
-                        stats.rays += 1;
-                        if !scene.occluded(&si.spawn_ray_to(cs.p_lens)) {
-                            let l = state.beta * f * (cs.we / cs.pdf);
-                            let p_raster = Some(cs.p_raster);
-                            splats.push(SplatSample { p_raster, l, lambdas: *w, strategy: None });
+        let mut crossings = 0;
+        loop {
+            stats.rays += 1;
+            let hit = scene.intersect(&ray);
+            match free_flight(scene, &ray, hit.as_ref(), medium, &mut state.beta, &mut state.r_u, w, sampler) {
+                Flight::Absorbed => break,
+                Flight::Scattered(p, phase) => {
+                    if !self.next_vertex(&mut state) {
+                        break;
+                    }
+                    // Connect to the lens: the phase function's value, no cosine.
+                    if let Some(cs) = camera.sample_wi(p, sampler.get_2d(), time) {
+                        let f = SampledSpectrum::splat(phase.p(ray.d, cs.wi));
+                        let shadow = Ray::segment(p, cs.p_lens - p, 1.0 - 1e-4).at_time(time);
+                        self.splat_at_lens(scene, &state, f, shadow, medium, &cs, w, sampler, stats, splats);
+                    }
+                    // β ·= p / pdf = 1: HG is sampled exactly.
+                    ray = Ray::new(p, phase.sample(ray.d, sampler.get_2d())).at_time(time);
+                }
+                Flight::Passed => {
+                    let Some(si) = hit else { break };
+                    if si.is_passthrough() {
+                        // A boundary between media only: the ray goes on in the medium behind it.
+                        crossings += 1;
+                        if crossings > MAX_INTERFACE_CROSSINGS {
+                            break;
+                        }
+                        medium = si.medium_interface().medium_toward(ray.d, si.shading.ng, medium);
+                        ray = si.spawn_ray(ray.d);
+                        continue;
+                    }
+                    if !self.next_vertex(&mut state) {
+                        break;
+                    }
+                    let Some(bsdf) = si.bsdf(w, None) else { break };
+                    let flags = bsdf.flags();
+                    if flags.is_empty() {
+                        break;
+                    }
+                    // Connect to the lens (not through a purely specular BSDF, whose f is zero there).
+                    if flags.is_non_specular() {
+                        if let Some(cs) = camera.sample_wi(si.p, sampler.get_2d(), time) {
+                            let f = bsdf.f(si.wo, cs.wi, TransportMode::Importance) * cs.wi.dot(bsdf.ns()).abs();
+                            let toward = si.medium_interface().medium_toward(cs.wi, si.shading.ng, medium);
+                            let shadow = si.spawn_ray_to(cs.p_lens);
+                            self.splat_at_lens(scene, &state, f, shadow, toward, &cs, w, sampler, stats, splats);
                         }
                     }
+                    let Some(bs) = bsdf.sample_f(si.wo, sampler.get_1d(), sampler.get_2d(), TransportMode::Importance)
+                    else {
+                        break;
+                    };
+                    state.beta *= bs.f * (bs.wi.dot(bsdf.ns()).abs() / bs.pdf);
+                    if bs.is_transmission() {
+                        state.eta_scale *= bs.eta * bs.eta;
+                    }
+                    let wi = bs.wi.normalize();
+                    medium = si.medium_interface().medium_toward(wi, si.shading.ng, medium);
+                    ray = si.spawn_ray(wi);
                 }
             }
-            let Some(bs) = bsdf.sample_f(si.wo, sampler.get_1d(), sampler.get_2d(), TransportMode::Importance) else {
-                break;
-            };
-            state.beta *= bs.f * (bs.wi.dot(bsdf.ns()).abs() / bs.pdf);
-            if bs.is_transmission() {
-                state.eta_scale *= bs.eta * bs.eta;
-            }
-            ray = si.spawn_ray(bs.wi);
             if state.beta.is_black() || !self.roulette(&mut state, sampler) {
                 break;
             }
         }
+    }
+
+    /// Splats the light path's vertex in `state`, scattering `f` (times |cos θ| at a surface)
+    /// toward the lens sample `cs`, along the shadow ray `shadow` that starts in `medium`.
+    #[allow(clippy::too_many_arguments)]
+    fn splat_at_lens(
+        &self,
+        scene: &Scene,
+        state: &PathState,
+        f: SampledSpectrum,
+        shadow: Ray,
+        medium: Option<u32>,
+        cs: &CameraWiSample,
+        w: &SampledWavelengths,
+        sampler: &mut Sampler,
+        stats: &mut Stats,
+        splats: &mut Vec<SplatSample>,
+    ) {
+        if f.is_black() {
+            return;
+        }
+        let Some((tr, r_l)) = segment_transmittance(scene, shadow, medium, w, sampler, stats) else { return };
+        let l = spectral_mis(state.beta * f * tr * (cs.we / cs.pdf), state.r_u * r_l);
+        splats.push(SplatSample { p_raster: Some(cs.p_raster), l, lambdas: *w, strategy: None });
     }
 }

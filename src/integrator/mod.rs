@@ -6,6 +6,7 @@ mod bdpt;
 mod bdpt_weights;
 mod camera_sample;
 mod collision;
+mod free_flight;
 mod interface;
 mod lightpath;
 mod mlt;

@@ -178,6 +178,8 @@ pub struct LightDesc {
     pub params: ParamSet,
     /// World from light space.
     pub world_from_light: Mat4,
+    /// The medium it sits in: the current outside medium at the directive ("": vacuum).
+    pub medium: String,
     /// Where it was written.
     pub loc: Location,
 }

@@ -37,10 +37,11 @@ pub const PBRT_ONLY_FILMS: &[(&str, &str)] = &[];
 pub const MEDIA: &[&str] = crate::media::PBRT_NAMES;
 
 /// Integrators prism runs.
-/// A scene with media is rendered by the volumetric path tracer whichever is named; without
-/// media "volpath" is "path". "lightpath", "bdpt" and "mlt" render scenes whose lights and camera they
-/// can trace from and to, and fall back to "path" with a warning elsewhere
-/// (`Integrator::fallback_reason`); "sppm" likewise where a light cannot emit photons.
+/// "path" renders a scene with media as "volpath"; without media "volpath" is "path".
+/// "lightpath", "bdpt" and "mlt" step through media themselves and render scenes whose lights
+/// and camera they can trace from and to, and fall back to "path" (or, with media, "volpath")
+/// with a warning elsewhere (`Integrator::fallback_reason`); "sppm" likewise where a light
+/// cannot emit photons.
 pub const PRISM_INTEGRATORS: &[&str] = &[
     "path",
     "volpath",

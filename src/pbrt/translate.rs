@@ -161,7 +161,10 @@ pub fn build_with(
     }
     ctx.instances()?;
     for l in &desc.lights {
+        let first = ctx.b.light_count();
         ctx.light(l)?;
+        let medium = ctx.media.get(&l.medium).copied();
+        ctx.b.set_medium_of_lights_from(first, medium);
     }
     let Ctx { b, .. } = ctx;
     Ok((b, settings))

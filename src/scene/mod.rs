@@ -131,6 +131,8 @@ pub struct SceneBuilder {
     instances: Vec<Instance>,
     materials: Vec<Material>,
     lights: Vec<Light>,
+    /// The medium each light of `lights` sits in (`None`: vacuum).
+    light_media: Vec<Option<u32>>,
     camera: Option<CameraDesc>,
     media: Vec<Medium>,
     camera_medium: Option<u32>,
@@ -414,6 +416,20 @@ impl SceneBuilder {
     /// Adds a light that is not attached to geometry.
     pub fn add_light(&mut self, l: Light) {
         self.lights.push(l);
+        self.light_media.push(None);
+    }
+
+    /// The number of lights not attached to geometry added so far.
+    pub fn light_count(&self) -> usize {
+        self.lights.len()
+    }
+
+    /// Places the lights added since the first `first` in `medium` (pbrt-v4: the current
+    /// outside medium at the LightSource directive).
+    pub fn set_medium_of_lights_from(&mut self, first: usize, medium: Option<u32>) {
+        for m in self.light_media.iter_mut().skip(first) {
+            *m = medium;
+        }
     }
 
     /// Sets a pinhole camera.
@@ -482,6 +498,8 @@ impl SceneBuilder {
             })
             .collect();
         let mut lights = self.lights;
+        let mut light_media: Vec<MediumInterface> =
+            self.light_media.iter().map(|&m| MediumInterface { inside: m, outside: m }).collect();
         let mut primitives = Vec::with_capacity(meshes.len());
         for (p, mesh) in pending.into_iter().zip(meshes.iter_mut()) {
             let PendingPrimitive {
@@ -511,6 +529,8 @@ impl SceneBuilder {
                 };
                 Some(first)
             });
+            // An area light emits into the media on either side of its shape.
+            light_media.resize(lights.len(), medium_interface);
             // Faces matter only to the emission above.
             mesh.faces = None;
             // Room for Embree's 16-byte load at the last vertex, so it can read them in place.
@@ -569,6 +589,7 @@ impl SceneBuilder {
             instances: set.instances,
             materials: self.materials,
             lights,
+            light_media,
             infinite_lights,
             light_sampler,
             emitter_sampler,
@@ -638,6 +659,9 @@ pub struct Scene {
     materials: Vec<Material>,
     /// All lights (area lights one per emissive triangle, or one per emissive full sphere).
     lights: Vec<Light>,
+    /// Per light, the media on either side of it (the same on both for a light not attached to
+    /// geometry).
+    light_media: Vec<MediumInterface>,
     /// Lights seen by rays that escape the scene.
     infinite_lights: Vec<u32>,
     /// Light choice for next-event estimation.
@@ -874,6 +898,14 @@ impl Scene {
     /// The medium the camera sits in (`None`: vacuum).
     pub fn camera_medium(&self) -> Option<u32> {
         self.camera_medium
+    }
+
+    /// The medium a ray leaving light `id` from a point with normal `n` (zero for a light at a
+    /// point) along `d` starts in (pbrt-v4: the light's medium interface, its side chosen by
+    /// the direction).
+    pub fn light_medium(&self, id: LightId, n: Vec3, d: Vec3) -> Option<u32> {
+        let mi = self.light_media.get(id as usize).copied().unwrap_or_default();
+        mi.medium_toward(d, n, mi.outside)
     }
 
     /// True when some material disperses light (model only what the scene needs).

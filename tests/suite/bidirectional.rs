@@ -17,7 +17,13 @@ const BLOCK: u32 = 8;
 
 /// Per block of the image, the mean luminance Y over `seeds` renders of `scene` by `kind`
 /// (`spp` samples per pixel, paths of at most `max_depth` bounces) and its standard error.
-fn block_means(scene: &Scene, kind: IntegratorKind, spp: u64, max_depth: u32, seeds: u64) -> Vec<(f64, f64)> {
+pub(super) fn block_means(
+    scene: &Scene,
+    kind: IntegratorKind,
+    spp: u64,
+    max_depth: u32,
+    seeds: u64,
+) -> Vec<(f64, f64)> {
     let blocks = (SIZE / BLOCK) as usize;
     // The blocks, then the whole image (whose smaller error catches a scale error).
     let mut per_seed = vec![Vec::new(); blocks * blocks + 1];

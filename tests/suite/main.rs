@@ -9,6 +9,7 @@ mod aov;
 mod area_image;
 mod area_power;
 mod bidirectional;
+mod bidirectional_media;
 mod bump;
 mod camera_motion;
 mod census;

@@ -460,7 +460,8 @@ impl<'o> Parser<'o> {
         let shapes = self.shapes.iter().chain(self.objects.iter().flat_map(|o| o.shapes.iter()));
         let used = shapes.flat_map(|s| [(&s.media.inside, &s.loc), (&s.media.outside, &s.loc)]);
         let camera = self.camera.as_ref().map(|c| (&c.medium, &c.directive.loc));
-        for (name, loc) in used.chain(camera) {
+        let lights = self.lights.iter().map(|l| (&l.medium, &l.loc));
+        for (name, loc) in used.chain(camera).chain(lights) {
             if !name.is_empty() && !self.medium_index.contains_key(name) {
                 return Err(SceneError::syntax(loc, name, format!("medium \"{name}\" is not defined")));
             }

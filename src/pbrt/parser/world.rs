@@ -191,7 +191,8 @@ impl Parser<'_> {
                         self.warn(&tok.loc(), "LightSource inside ObjectBegin is not instanced; it is added once");
                     }
                     let world_from_light = self.start_ctm(tok, "light");
-                    self.lights.push(LightDesc { kind, params, world_from_light, loc: tok.loc() });
+                    let medium = self.gs.media.outside.clone();
+                    self.lights.push(LightDesc { kind, params, world_from_light, medium, loc: tok.loc() });
                 }
             }
             "AreaLightSource" => {
