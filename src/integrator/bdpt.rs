@@ -596,7 +596,7 @@ impl Integrator {
                     stats,
                 );
             }
-            let Some(les) = light_src.sample_le(u_pos, Vec2::splat(0.5), &scene.sphere(), w) else {
+            let Some(les) = light_src.sample_le_point(u_pos, &scene.sphere(), w) else {
                 return NOTHING;
             };
             let to_light = les.p - pt.p;

@@ -182,6 +182,14 @@ impl Light {
         (s.pdf_pos > 0.0 && s.pdf_dir > 0.0 && s.pdf_pos.is_finite() && emits).then_some(s)
     }
 
+    /// [`Light::sample_le`] for its point alone (a bidirectional connection to the light): the
+    /// direction sample is fixed where every light emits with a positive density — the centre of
+    /// the front side's cosine lobe of a two-sided surface light (u = (¼, ½)), inside the lobe
+    /// of a one-sided one — so no light's point is lost to a direction at its horizon.
+    pub fn sample_le_point(&self, u_pos: Vec2, sphere: &SceneSphere, w: &SampledWavelengths) -> Option<EmissionSample> {
+        self.sample_le(u_pos, Vec2::new(0.25, 0.5), sphere, w)
+    }
+
     /// The position of a goniometric or projection light and the intensity I [W/(sr·nm)] it
     /// sends along the unit direction `d` (zero for other lights).
     fn point_intensity(&self, d: Vec3, w: &SampledWavelengths) -> (Vec3, SampledSpectrum) {

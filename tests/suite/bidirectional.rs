@@ -178,6 +178,30 @@ fn bidirectional_path_tracing_renders_glossy_reflections_as_path_tracing_does() 
     agrees_with_path(&scene, IntegratorKind::Bdpt, (32, 16), 4);
 }
 
+/// A two-sided quad light between a floor and a ceiling: each side lights one of them, so a
+/// strategy that loses the back side (a light point drawn with a direction at the horizon)
+/// renders the ceiling dark.
+const TWO_SIDED: &str = r#"
+LookAt 0 1 -3.5  0 1 0  0 1 0
+Camera "perspective" "float fov" [50]
+WorldBegin
+Material "diffuse" "rgb reflectance" [0.6 0.6 0.6]
+Shape "trianglemesh" "point3 P" [-2 0 -2  2 0 -2  2 0 2  -2 0 2] "integer indices" [0 1 2 0 2 3]
+Shape "trianglemesh" "point3 P" [-2 2 -2  2 2 -2  2 2 2  -2 2 2] "integer indices" [0 2 1 0 3 2]
+Shape "trianglemesh" "point3 P" [-2 0 2  2 0 2  2 2 2  -2 2 2] "integer indices" [0 1 2 0 2 3]
+AttributeBegin
+  AreaLightSource "diffuse" "rgb L" [4 4 4] "bool twosided" true
+  Translate 0 1 0.5
+  Shape "trianglemesh" "point3 P" [-0.3 0 -0.3  0.3 0 -0.3  0.3 0 0.3  -0.3 0 0.3] "integer indices" [0 1 2 0 2 3]
+AttributeEnd
+"#;
+
+#[test]
+fn bidirectional_path_tracing_sees_both_sides_of_a_two_sided_light() {
+    let scene = crate::common::pbrt_scene(TWO_SIDED, AccelKind::Obvhs);
+    agrees_with_path(&scene, IntegratorKind::Bdpt, (16, 8), 3);
+}
+
 /// A diffuse plane of reflectance ρ = 0.5 at z = 0 lit by a point light of constant intensity
 /// I at height h = 1, seen from above: the radiance it reflects at horizontal distance r from
 /// below the light is L = (ρ/π) I h / (r² + h²)^{3/2}, in closed form. Light tracing (t = 1)
