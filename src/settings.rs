@@ -170,7 +170,8 @@ mod tests {
         assert_eq!(max_depth(1 << 40, "d"), Err(SettingsError::Depth { what: "d".into(), depth: 1 << 40 }));
         assert_eq!(parse_sampler("zsobol"), Ok(SamplerKind::ZSobol(crate::sampling::Randomize::FastOwen)));
         assert_eq!(parse_sampler("independent"), Ok(SamplerKind::Independent));
-        assert!(parse_sampler("globalsobol").is_err());
+        assert_eq!(parse_sampler("globalsobol"), Ok(SamplerKind::GlobalSobol(crate::sampling::Randomize::FastOwen)));
+        assert!(parse_sampler("sobol2").is_err());
         assert!(parse_filter("mitchell").is_ok() && parse_filter("sinc").is_ok() && parse_filter("cubic").is_err());
         assert_eq!(parse_duration("30s"), Ok(Duration::from_secs(30)));
         assert_eq!(parse_duration("2m"), Ok(Duration::from_secs(120)));
