@@ -233,6 +233,17 @@ fn create_temp(path: &Path) -> Result<TempFile, ImageError> {
     TempFile::create(path).map_err(|e| ImageError::Unwritable { path: path.to_path_buf(), dir, reason: e.to_string() })
 }
 
+/// For an OpenEXR file, the indices (into [`read`]'s channels: R, G, B, A first) of its first
+/// three channels in the order the file lists them, which OpenEXR sorts by name: [2, 1, 0]
+/// (B, G, R) for an RGB image, [3, 2, 1] (A, B, G) with alpha. `None` for other formats, or
+/// fewer than three channels.
+pub fn exr_channels_in_file_order(path: &Path) -> Option<[usize; 3]> {
+    match FileFormat::from_path(path) {
+        Ok(FileFormat::Exr) => rust_io::exr_channels_in_file_order(path),
+        _ => None,
+    }
+}
+
 /// Reads `path` into linear floats with the preferred backend, or, when it cannot decode the
 /// file and OpenImageIO is built in, with OpenImageIO.
 pub fn read(path: &Path) -> Result<Image, ImageError> {

@@ -205,6 +205,25 @@ fn canonical_rank(name: &str) -> usize {
     }
 }
 
+/// The indices, in [`read_exr`]'s channel order, of the first three channels of the OpenEXR
+/// file at `path` in the order OpenEXR lists them (`Imf::ChannelList`: by name, bytewise): B,
+/// G, R for an RGB file, A, B, G with alpha. `None` if the header cannot be read or holds fewer
+/// than three channels.
+pub(crate) fn exr_channels_in_file_order(path: &Path) -> Option<[usize; 3]> {
+    let meta = exr::meta::MetaData::read_from_file(path, false).ok()?;
+    let names = meta.headers.first()?.channels.list.iter().map(|c| c.name.to_string()).collect();
+    first_channels_in_file_order(names)
+}
+
+/// [`exr_channels_in_file_order`] for the channel names `names`.
+fn first_channels_in_file_order(mut names: Vec<String>) -> Option<[usize; 3]> {
+    names.sort();
+    let mut ours = names.clone();
+    ours.sort_by_key(|n| canonical_rank(n));
+    let index = |k: usize| ours.iter().position(|n| names.get(k) == Some(n));
+    Some([index(0)?, index(1)?, index(2)?])
+}
+
 fn read_exr(path: &Path) -> Result<Image, RustIoError> {
     let image = exr_p::read_first_flat_layer_from_file(path)?;
     let layer = image.layer_data;
@@ -262,4 +281,23 @@ fn read_other(path: &Path) -> Result<Image, RustIoError> {
 
 fn normalise<T: Copy + Into<f32>>(raw: &[T], max_code: f32) -> Vec<f32> {
     raw.iter().map(|&v| v.into() / max_code).collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::first_channels_in_file_order;
+
+    fn order(names: &[&str]) -> Option<[usize; 3]> {
+        first_channels_in_file_order(names.iter().map(|n| n.to_string()).collect())
+    }
+
+    #[test]
+    fn openexr_lists_channels_by_name() {
+        // prism reads R G B (A), then the rest; OpenEXR lists A B G R Z.
+        assert_eq!(order(&["R", "G", "B"]), Some([2, 1, 0]));
+        assert_eq!(order(&["B", "G", "R"]), Some([2, 1, 0]));
+        assert_eq!(order(&["A", "B", "G", "R"]), Some([3, 2, 1]));
+        assert_eq!(order(&["R", "G", "B", "Z"]), Some([2, 1, 0]));
+        assert_eq!(order(&["Y", "A"]), None);
+    }
 }

@@ -35,12 +35,18 @@ fn mis_compensated(v: &[f32]) -> Vec<f32> {
 /// An image's texels as linear RGB, row-major; grey images repeated in three channels, negative
 /// and non-finite samples 0.
 pub(super) fn image_rgb(image: &Image) -> Vec<[f32; 3]> {
+    image_channels(image, [0, 1, 2])
+}
+
+/// The image's channels `channels` of every texel as an RGB triple (grey images: their one
+/// channel three times), negative and non-finite samples 0.
+fn image_channels(image: &Image, channels: [usize; 3]) -> Vec<[f32; 3]> {
     let c = image.channels as usize;
     let n = image.width.max(1) as usize * image.height.max(1) as usize;
     (0..n)
         .map(|i| {
             let px = |k: usize| image.data.get(i * c + k).copied().unwrap_or(0.0);
-            let rgb = if c >= 3 { [px(0), px(1), px(2)] } else { [px(0); 3] };
+            let rgb = if c >= 3 { channels.map(px) } else { [px(0); 3] };
             rgb.map(|v| if v.is_finite() { v.max(0.0) } else { 0.0 })
         })
         .collect()
@@ -55,18 +61,22 @@ fn luminance_of(rgb: &[[f32; 3]], space: &ColorSpace) -> Vec<f32> {
 /// receives, divided by K_m ∫ȳ dλ. Exact for the nearest-texel map
 /// ([`MapLayout::texel_cosine_weight`]).
 ///
-/// With `pbrt_v4_rule`, what pbrt-v4 (`Light::Create`, "illuminance") takes instead: on an
+/// With `pbrt_v4_channels`, what pbrt-v4 (`Light::Create`, "illuminance") takes instead: on an
 /// equal-area map it sums Y cos θ over the texel centres above the horizon with the weight
 /// 2π/(w h) where each texel subtends 4π/(w h), so its value is about half the true one and a
 /// map scaled to `illuminance` E gives an upward patch about 2E (1.016 · 2E for a constant 16²
 /// map, whose midpoint sum is 1.6 % low). Scenes are tuned on that, so prism's "illuminance"
 /// does the same; its "lux" is the true illuminance. pbrt-v4 has no latitude–longitude maps:
-/// there the true value.
-pub fn image_upper_hemisphere_y(image: &Image, space: &ColorSpace, pbrt_v4_rule: bool) -> f64 {
+/// there the true value. Its Y weighs the image's first three channels in the order the file
+/// lists them by the red, green and blue luminances: the channels `pbrt_v4_channels` of
+/// `image` (an OpenEXR file lists its channels by name, so that is B, G, R, or A, B, G with
+/// alpha: see [`crate::image::exr_channels_in_file_order`]).
+pub fn image_upper_hemisphere_y(image: &Image, space: &ColorSpace, pbrt_v4_channels: Option<[usize; 3]>) -> f64 {
     let layout = MapLayout::for_size(image.width, image.height);
     let (w, h) = (image.width.max(1) as usize, image.height.max(1) as usize);
-    let weight = if pbrt_v4_rule { MapLayout::pbrt_v4_cosine_weight } else { MapLayout::texel_cosine_weight };
-    let luminance = luminance_of(&image_rgb(image), space);
+    let weight =
+        if pbrt_v4_channels.is_some() { MapLayout::pbrt_v4_cosine_weight } else { MapLayout::texel_cosine_weight };
+    let luminance = luminance_of(&image_channels(image, pbrt_v4_channels.unwrap_or([0, 1, 2])), space);
     (0..h)
         .flat_map(|y| (0..w).map(move |x| (x, y)))
         .filter(|&(x, y)| luminance[y * w + x] > 0.0)

@@ -150,15 +150,21 @@ fn sampled_pdf_is_pdf_li_and_integrates_to_one() {
 /// Irradiance, in film units Y, of a patch facing +z under the lights of `world` (files
 /// relative to `dir`), with its standard error.
 fn upward_y(world: &str, dir: &Path) -> (f64, f64) {
+    let (e, se, warnings) = upward_y_warned(world, dir);
+    assert!(warnings.is_empty(), "{warnings:?}");
+    (e, se)
+}
+
+/// [`upward_y`] and the scene's warnings.
+fn upward_y_warned(world: &str, dir: &Path) -> (f64, f64, Vec<String>) {
     let opts = prism::pbrt::ParseOptions { base_dir: Some(dir.to_path_buf()), ..Default::default() };
     let (desc, mut warnings) = parse_str(&format!("Camera \"perspective\" WorldBegin\n{world}"), &opts).unwrap();
     let (b, _) = prism::pbrt::build(&desc, &mut warnings).unwrap();
-    assert!(warnings.is_empty(), "{warnings:?}");
     let scene = b.build(AccelKind::Obvhs).unwrap();
     let integ = Integrator { max_depth: 1, ..Default::default() };
     let e = irradiance(&scene, &integ, Vec3::ZERO, Vec3::Z, 40_000, 9).illuminance;
     let k = lumens_per_unit_y() as f64;
-    (e.mean / k, e.std_err / k)
+    (e.mean / k, e.std_err / k, warnings.iter().map(|w| format!("{w:?}")).collect())
 }
 
 #[test]
@@ -193,4 +199,36 @@ fn illuminance_is_pbrt_v4s_twice_on_equal_area_maps_and_right_for_a_uniform_sky(
     let (e, se) = upward_y(r#"LightSource "infinite" "string filename" "grey.exr" "float lux" 1000"#, &d);
     let (lux, lux_se) = (e * lumens_per_unit_y() as f64, se * lumens_per_unit_y() as f64);
     assert!((lux - 1000.0).abs() < 4.0 * lux_se, "lux: {lux} ± {lux_se}");
+}
+
+#[test]
+fn illuminance_takes_an_openexr_maps_channels_in_the_files_order_as_pbrt_v4() {
+    // pbrt-v4 sums lum[c] · value[c] over the first three channels in the order the file lists
+    // them, and OpenEXR lists channels by name: B, G, R, or A, B, G with alpha. So a pure red
+    // EXR map is normalised by blue's luminance weight and comes out Y_r / Y_b times as bright
+    // as the same map in a PNG (R, G, B). sRGB's luminance row (IEC 61966-2-1): 0.2126,
+    // 0.7152, 0.0722. The same directions are sampled for both maps, so the ratio is exact.
+    let d = tmpdir("equal-area-channel-order");
+    let (y_r, y_g, y_b) = (0.2126, 0.7152, 0.0722);
+    let red = equal_area_map(16, |_, _, _| [1.0, 0.0, 0.0]);
+    prism::image::write(&d.join("red.exr"), &red).unwrap();
+    prism::image::write(&d.join("red.png"), &red).unwrap();
+    let world = |f: &str| format!(r#"LightSource "infinite" "string filename" "{f}" "float illuminance" 3.14159265"#);
+    let (exr, _, warned) = upward_y_warned(&world("red.exr"), &d);
+    let (png, _) = upward_y(&world("red.png"), &d);
+    assert!(exr > 0.0 && png > 0.0);
+    let want = y_r / y_b;
+    assert!((exr / png / want - 1.0).abs() < 2e-3, "EXR / PNG {} vs {want}", exr / png);
+    assert!(warned.iter().any(|w| w.contains("file's order (B, G, R)")), "{warned:?}");
+    // With alpha: (R, G, B, A) = (1, ½, 0, 1) is weighed as (A, B, G), against (B, G, R) for the
+    // same colour without alpha.
+    let mut rgba = prism::image::Image::new(16, 16, 4);
+    rgba.data.chunks_mut(4).for_each(|t| t.copy_from_slice(&[1.0, 0.5, 0.0, 1.0]));
+    prism::image::write(&d.join("rgba.exr"), &rgba).unwrap();
+    prism::image::write(&d.join("orange.exr"), &equal_area_map(16, |_, _, _| [1.0, 0.5, 0.0])).unwrap();
+    let (with_alpha, _, warned) = upward_y_warned(&world("rgba.exr"), &d);
+    let (without, _, _) = upward_y_warned(&world("orange.exr"), &d);
+    let want = (0.5 * y_g + y_b) / (y_r + 0.5 * y_b);
+    assert!((with_alpha / without / want - 1.0).abs() < 2e-3, "RGBA / RGB {} vs {want}", with_alpha / without);
+    assert!(warned.iter().any(|w| w.contains("(A, B, G)")), "{warned:?}");
 }

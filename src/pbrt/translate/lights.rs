@@ -3,6 +3,7 @@
 //! prism's SI `lumens`/`lux`/`watts`/`irradiance`; docs/radiometry.md).
 
 use super::{param_error, space_of, Ctx};
+use crate::image::Image;
 use crate::light::photometry::{lumens_per_unit_y, spectral_integral};
 use crate::light::{
     image_upper_hemisphere_y, is_rectangle, DistantLight, EnvMapLight, GoniometricLight, Light, MapLayout, PointLight,
@@ -83,8 +84,11 @@ impl Ctx<'_> {
             self.warn(&l.loc, message);
         }
         // "illuminance" is met by the whole map, with or without a portal (as pbrt-v4).
-        let pbrt_target = p.float(ILLUMINANCE.pbrt).is_some_and(|v| v > 0.0);
-        let k_e = image_upper_hemisphere_y(&image, space, pbrt_target);
+        let k_e = if p.float(ILLUMINANCE.pbrt).is_some_and(|v| v > 0.0) {
+            self.pbrt_v4_map_illuminance(p, &image, space, &l.loc)
+        } else {
+            image_upper_hemisphere_y(&image, space, None)
+        };
         let scale = p.float_or("scale", 1.0) * brightness_factor(p, ILLUMINANCE, k_e as f32, None, &l.loc)?;
         let Some(portal) = p.get("portal") else {
             let light = EnvMapLight::new(&image, rotation, scale, space);
@@ -115,6 +119,31 @@ impl Ctx<'_> {
             self.warn(&portal.loc.clone(), "the portal's corners are not a rectangle".to_string());
         }
         Ok(Light::Portal(Box::new(PortalLight::new(&image, corners, rotation, scale, space))))
+    }
+
+    /// pbrt-v4's k_e for "illuminance" on the map `image` ([`image_upper_hemisphere_y`]). pbrt-v4
+    /// weighs the first three channels in the file's order as red, green and blue, and an
+    /// OpenEXR file lists them by name (B, G, R): prism does the same, and says so when that
+    /// changes the map's brightness.
+    fn pbrt_v4_map_illuminance(&mut self, p: &ParamSet, image: &Image, space: &ColorSpace, loc: &Location) -> f64 {
+        let channels = p.filename("filename").and_then(|f| crate::image::exr_channels_in_file_order(&f));
+        let in_rgb_order = image_upper_hemisphere_y(image, space, Some([0, 1, 2]));
+        let Some(channels) = channels.filter(|&c| c != [0, 1, 2]) else {
+            return in_rgb_order;
+        };
+        let k_e = image_upper_hemisphere_y(image, space, Some(channels));
+        let factor = in_rgb_order / k_e;
+        if (factor - 1.0).abs() > 0.005 {
+            let names = channels.map(|c| ["R", "G", "B", "A"].get(c).copied().unwrap_or("?"));
+            let message = format!(
+                "pbrt-v4's \"illuminance\" takes this OpenEXR map's channels in the file's order ({}, {}, {}) \
+                 as red, green and blue; prism does the same, which scales the map by {factor:.3} against \
+                 its luminance in RGB order",
+                names[0], names[1], names[2]
+            );
+            self.warn(loc, message);
+        }
+        k_e
     }
 
     /// The origin of pbrt-v4's rendering space in world space (`Option "string rendercoordsys"`):
