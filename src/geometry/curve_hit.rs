@@ -26,7 +26,9 @@ pub struct CurveSurface {
     /// Hit point, on the ray.
     pub p: Vec3,
     /// Per-axis error bound of `p`: the width at the hit (pbrt-v4's bound; it also keeps a
-    /// spawned ray from meeting the curve it leaves).
+    /// spawned ray from meeting the curve it leaves). For a ribbon, its width before the
+    /// foreshortening that narrowed it for the ray that found it (pbrt-v4 takes the narrowed
+    /// width): a ray leaving at another angle sees the ribbon wider.
     pub p_err: Vec3,
     /// Unit normal, ∂p/∂u × ∂p/∂v normalised.
     pub n: Vec3,
@@ -99,24 +101,41 @@ pub fn intersect_curve(seg: &CurveSegment, u0: f32, u1: f32, ray: &Ray, t_max: f
     if !overlaps(&cp, 0.5 * max_width, ray_len * t_max) {
         return None;
     }
-    // Depth so that the pieces are straight to within a twentieth of the width: the control
-    // polygon's second differences L₀ bound the deviation from the chord (PBR 4th ed. §6.7.2).
-    let l0 = (0..2).map(|i| (cp[i] - 2.0 * cp[i + 1] + cp[i + 2]).abs().max_element()).fold(0.0f32, f32::max);
-    let depth = if l0 > 0.0 {
-        let eps = seg.width[0].max(seg.width[1]) * 0.05;
-        let r = (std::f32::consts::SQRT_2 * 6.0 * l0 / (8.0 * eps)).log2();
-        // log₄ as half of log₂, rounded down as pbrt-v4's `Log2Int(·) / 2`.
-        if r.is_finite() {
-            ((r.floor() as i32) / 2).clamp(0, 10)
-        } else {
-            10
-        }
-    } else {
-        0
-    };
+    let depth = refinement_depth(&cp, seg.width);
     let mut search = Search { seg, dir: frame.z, ray_len, t_max, any, best: None };
     search.recurse(&cp, u0, u1, depth);
     search.best
+}
+
+/// How many times to halve the piece with control points `cp` (ray frame) so that each part is
+/// straight to within a twentieth of the larger of the `width`s: the control polygon's second
+/// differences L₀ bound the deviation from the chord (PBR 4th ed. §6.7.2), and pbrt-v4 takes
+/// log₄ of √2 · 6 L₀ / (8 ε) as half of the nearest integer log₂, from 0 to 10.
+fn refinement_depth(cp: &[Vec3; 4], width: [f32; 2]) -> i32 {
+    let l0 = (0..2).map(|i| (cp[i] - 2.0 * cp[i + 1] + cp[i + 2]).abs().max_element()).fold(0.0f32, f32::max);
+    if l0 <= 0.0 {
+        return 0;
+    }
+    let eps = width[0].max(width[1]) * 0.05;
+    let x = std::f32::consts::SQRT_2 * 6.0 * l0 / (8.0 * eps);
+    if x.is_finite() {
+        (log2_nearest(x) / 2).clamp(0, 10)
+    } else {
+        10
+    }
+}
+
+/// log₂ `x` rounded to the nearest integer in the log domain (up from √2 times a power of two),
+/// as pbrt-v4's `Log2Int(float)`: read off the bits of `x` > 0, and for `x` < 1, −log2_nearest(1/x).
+fn log2_nearest(x: f32) -> i32 {
+    if x < 1.0 {
+        return -log2_nearest(1.0 / x);
+    }
+    /// The significand bits of √2.
+    const SQRT_2_SIGNIFICAND: u32 = 0x0035_04f3;
+    let bits = x.to_bits();
+    let exponent = ((bits >> 23) & 0xff) as i32 - 127;
+    exponent + i32::from(bits & 0x007f_ffff >= SQRT_2_SIGNIFICAND)
 }
 
 /// The state of one recursive search.
@@ -222,7 +241,8 @@ pub fn curve_surface(seg: &CurveSegment, ray: &Ray, t: f32, u: f32) -> Option<Cu
     if n == Vec3::ZERO {
         return None;
     }
-    Some(CurveSurface { p: ray.at(t), p_err: Vec3::splat(hit_width), n, dpdu, dpdv, uv: Vec2::new(u, v) })
+    let p_err = Vec3::splat(seg.width_at(u));
+    Some(CurveSurface { p: ray.at(t), p_err, n, dpdu, dpdv, uv: Vec2::new(u, v) })
 }
 
 /// `v` rotated by `angle` [radians] about the unit `axis` (Rodrigues' formula).

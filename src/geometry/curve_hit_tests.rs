@@ -133,3 +133,25 @@ fn a_ray_spawned_at_a_curve_hit_does_not_meet_the_curve_again() {
         assert!(3 * unoffset > tried, "{kind:?}: {unoffset} of {tried} unoffset rays meet the curve again");
     }
 }
+
+#[test]
+fn log2_rounds_to_the_nearest_power_as_pbrt_v4() {
+    for (x, want) in [(2f32.powf(3.6), 4), (2f32.powf(3.4), 3), (8.0, 3), (2f32.powf(-0.6), -1), (2f32.powf(-0.4), 0)] {
+        assert_eq!(log2_nearest(x), want, "x = {x}");
+    }
+}
+
+#[test]
+fn refinement_depth_halves_the_nearest_log2() {
+    // Control points (0,0), (1,a), (2,0), (3,0): second differences 2a and a, so L₀ = 2a; width
+    // 0.1 gives ε = 0.005 and x = √2 · 6 · 2a / 0.04. With log₂ x = 5.6 the depth is
+    // round(5.6) / 2 = 3 (rounding down first would give 2).
+    let a = 2f32.powf(5.6) * 0.04 / (std::f32::consts::SQRT_2 * 12.0);
+    let cp = [Vec3::ZERO, Vec3::new(1.0, a, 0.0), Vec3::new(2.0, 0.0, 0.0), Vec3::new(3.0, 0.0, 0.0)];
+    assert_eq!(refinement_depth(&cp, [0.1, 0.05]), 3);
+    // log₂ x = 5.4: 5 / 2 = 2.
+    let a = 2f32.powf(5.4) * 0.04 / (std::f32::consts::SQRT_2 * 12.0);
+    let cp = [Vec3::ZERO, Vec3::new(1.0, a, 0.0), Vec3::new(2.0, 0.0, 0.0), Vec3::new(3.0, 0.0, 0.0)];
+    assert_eq!(refinement_depth(&cp, [0.1, 0.05]), 2);
+    assert_eq!(refinement_depth(&[Vec3::ZERO, Vec3::X, 2.0 * Vec3::X, 3.0 * Vec3::X], [0.1, 0.1]), 0);
+}

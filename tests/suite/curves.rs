@@ -1,5 +1,5 @@
-//! Curves on both backends: Embree's native curve geometry and obvhs's curve BVH with pbrt-v4's
-//! recursive intersector find the same hits on a hair bundle, and the compat scene's curves
+//! Curves on both backends: Embree (user geometry) and obvhs's curve BVH, both with pbrt-v4's
+//! recursive intersector, find the same hits on a hair bundle, and the compat scene's curves
 //! render alike on both; and a curve's normal follows pbrt-v4's orientation rule.
 
 use glam::Vec3;
@@ -113,13 +113,9 @@ mod embree_and_obvhs {
 
     #[test]
     fn embree_and_obvhs_find_the_same_hits_on_a_hair_bundle() {
-        // Both intersect a ribbon facing the ray, the width linear in u; they differ only in how
-        // they approximate the curve (Embree's own tessellation against pbrt-v4's subdivision to a
-        // twentieth of the width), which moves silhouettes by a fraction of the width: a ray that
-        // grazes a strand's edge may hit it on one backend only, or pass it on to the strand behind.
-        // A ribbon's width seen along d̂ is w·|n·d̂| in pbrt-v4, which is its projected width only
-        // when d̂ is perpendicular to the strand (Embree's ribbon is exact): ribbons are compared on
-        // rays across the strands.
+        // Both backends run pbrt-v4's curve test (Embree as user geometry), so every hit is the
+        // same, to the bit. (Embree's own flat curves, four ray-facing quads per segment, missed
+        // or gained a strand on about 1% of these rays.)
         for kind in [CurveKind::Cylinder, CurveKind::Flat, CurveKind::Ribbon] {
             let rays = 20_000;
             let a = compare(kind, rays);
@@ -128,10 +124,8 @@ mod embree_and_obvhs {
                 a.hits, a.one_sided, a.other_segment, a.max_dt, a.max_du
             );
             assert!(a.hits > rays / 10, "{kind:?}: {} hits", a.hits);
-            assert!(a.one_sided * 100 < a.hits, "{kind:?}: {} one-sided of {} hits", a.one_sided, a.hits);
-            assert!(a.other_segment * 100 < a.hits, "{kind:?}: {} on other segments", a.other_segment);
-            assert!(a.max_dt < 1e-2, "{kind:?}: |Δt|/t = {}", a.max_dt);
-            assert!(a.max_du < 1e-2, "{kind:?}: |Δu| = {}", a.max_du);
+            assert_eq!((a.one_sided, a.other_segment), (0, 0), "{kind:?}");
+            assert_eq!((a.max_dt, a.max_du), (0.0, 0.0), "{kind:?}");
         }
     }
 

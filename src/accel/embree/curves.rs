@@ -1,28 +1,17 @@
-//! Curves as Embree's own curve geometry: cubic Bézier segments with a radius per control point
-//! (x, y, z, r as float4), one index per segment (its first control point). Flat curves become
-//! `FLAT_BEZIER_CURVE` (ribbons facing the ray, as pbrt-v4's) and pbrt-v4's "cylinder" curves
-//! ray-facing flat curves too
-//! ([`CYLINDER_AS_ROUND`] switches them to Embree's round tubes). Ribbons would become
-//! `NORMAL_ORIENTED_BEZIER_CURVE` with a normal per control point, which is not pbrt-v4's ribbon:
-//! scenes attach them as user geometry instead (`ribbons.rs`), and only the test measuring the
-//! difference attaches them here. A hit's u is the segment's curve parameter; the surface is
-//! recomputed from it (`geometry::curve_hit::curve_surface`).
+//! Curves as Embree's own curve geometry, kept to measure them against pbrt-v4's (scenes attach
+//! every curve as user geometry running pbrt-v4's test: `user_curves.rs`): cubic Bézier segments
+//! with a radius per control point (x, y, z, r as float4), one index per segment (its first
+//! control point). Flat and "cylinder" curves become `FLAT_BEZIER_CURVE` (ray-facing quads),
+//! ribbons `NORMAL_ORIENTED_BEZIER_CURVE` with a normal per control point.
 
 use super::device::{Device, EmbreeError};
 use super::ffi;
 use crate::geometry::{CurveKind, Curves};
 
-/// Whether pbrt-v4's "cylinder" curves are traced as Embree's round curves (true tubes) rather
-/// than as ray-facing flat curves. pbrt-v4 intersects a flat ribbon facing the ray and only
-/// turns the shading normal; the flat curve matches its silhouettes and self-shadowing.
-pub const CYLINDER_AS_ROUND: bool = false;
-
 /// The Embree geometry type for curves of `kind`.
 fn geometry_type(kind: CurveKind) -> ffi::RTCGeometryType {
     match kind {
-        CurveKind::Flat => ffi::RTCGeometryType_RTC_GEOMETRY_TYPE_FLAT_BEZIER_CURVE,
-        CurveKind::Cylinder if CYLINDER_AS_ROUND => ffi::RTCGeometryType_RTC_GEOMETRY_TYPE_ROUND_BEZIER_CURVE,
-        CurveKind::Cylinder => ffi::RTCGeometryType_RTC_GEOMETRY_TYPE_FLAT_BEZIER_CURVE,
+        CurveKind::Flat | CurveKind::Cylinder => ffi::RTCGeometryType_RTC_GEOMETRY_TYPE_FLAT_BEZIER_CURVE,
         CurveKind::Ribbon => ffi::RTCGeometryType_RTC_GEOMETRY_TYPE_NORMAL_ORIENTED_BEZIER_CURVE,
     }
 }

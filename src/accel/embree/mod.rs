@@ -9,6 +9,7 @@
 //! `embree-watertight`.
 
 mod build_choice;
+#[cfg(test)]
 mod curves;
 mod device;
 mod error;
@@ -20,10 +21,10 @@ mod library_check;
 mod motion;
 mod quadrics;
 mod ray_context;
-mod ribbons;
 mod scene;
 #[cfg(test)]
 mod shared_tests;
+mod user_curves;
 mod user_triangles;
 
 pub use build_choice::{BuildChoice, BIG_SCENE_TRIANGLES, BUILD_ENV, MORTON_MIN_TRIANGLES, MORTON_RAYS_PER_TRIANGLE};
@@ -113,8 +114,8 @@ impl EmbreeAccel {
         Ok(Self { scene: Levels::Flat(scene::Scene::build(device, meshes, choice, test)?), test, packets })
     }
 
-    /// Builds one scene over `meshes`, `curves` ((geometry id, its curves), as Embree curve
-    /// geometry: `curves.rs`) and static `quadrics` ((geometry id, its quadric), as user
+    /// Builds one scene over `meshes`, `curves` ((geometry id, its curves), as user
+    /// geometry running pbrt-v4's curve test: `user_curves.rs`) and static `quadrics` ((geometry id, its quadric), as user
     /// geometry: `quadrics.rs`) with the given triangle test; Embree's triangles are built as
     /// [`BuildChoice::for_scene`] chooses for their count and the `rays` the render expects to
     /// trace (if known), and read in place when `shared` holds `meshes`.

@@ -4,10 +4,10 @@ use super::build_choice::BuildChoice;
 use super::device::{Device, EmbreeError};
 use super::ffi;
 use super::ray_context::{RayContext, ShearCache};
-use super::ribbons::UserRibbons;
+use super::user_curves::UserCurves;
 use super::user_triangles::{self, UserMesh};
 use super::TriangleTest;
-use crate::geometry::{Bounds3, CurveKind, Curves, Hit, Mesh, PlacedQuadric, Ray};
+use crate::geometry::{Bounds3, Curves, Hit, Mesh, PlacedQuadric, Ray};
 use glam::Vec3;
 use std::sync::Arc;
 
@@ -27,7 +27,7 @@ pub(super) struct SceneHandle {
     user_quadrics: Vec<Box<super::quadrics::UserQuadric>>,
     /// The ribbon curves of the ribbon user geometries, kept as `user_meshes` are.
     #[allow(clippy::vec_box)]
-    user_ribbons: Vec<Box<UserRibbons>>,
+    user_curves: Vec<Box<UserCurves>>,
     /// Meshes whose vertex and index arrays Embree reads in place (shared buffers) instead of
     /// copying them; dropped after `raw` is released, as `user_meshes` are.
     shared: Option<Arc<[Mesh]>>,
@@ -68,7 +68,7 @@ impl SceneHandle {
             geometry_quality: quality,
             user_meshes: Vec::new(),
             user_quadrics: Vec::new(),
-            user_ribbons: Vec::new(),
+            user_curves: Vec::new(),
             shared: None,
         })
     }
@@ -92,19 +92,16 @@ impl SceneHandle {
     pub(super) fn user_bytes(&self) -> usize {
         self.user_meshes.iter().map(|m| m.bytes()).sum::<usize>()
             + self.user_quadrics.len() * std::mem::size_of::<PlacedQuadric>()
-            + self.user_ribbons.iter().map(|r| r.bytes()).sum::<usize>()
+            + self.user_curves.iter().map(|r| r.bytes()).sum::<usize>()
     }
 
-    /// Attaches `curves` as geometry `id`: pbrt-v4's ribbons as user geometry running prism's
-    /// curve test (`ribbons.rs`), flat and cylinder curves as Embree's own (`curves.rs`).
+    /// Attaches `curves` as geometry `id`: user geometry running prism's curve test, pbrt-v4's
+    /// (`user_curves.rs`), so that Embree finds the hits obvhs finds.
     pub(super) fn attach_curves(&mut self, device: &Device, curves: &Curves, id: u32) -> Result<(), EmbreeError> {
-        if curves.segments.first().is_none_or(|s| s.kind != CurveKind::Ribbon) {
-            return super::curves::attach(self.raw, device, curves, id);
-        }
-        let (geom, user) = super::ribbons::new_geometry(device, curves)?;
-        self.user_ribbons.push(user);
+        let (geom, user) = super::user_curves::new_geometry(device, curves)?;
+        self.user_curves.push(user);
         // SAFETY: valid scene and committed geometry; the scene takes its own reference, and the
-        // ribbons it points to are kept in `user_ribbons` until after the release.
+        // curves it points to are kept in `user_curves` until after the release.
         unsafe {
             ffi::rtcAttachGeometryByID(self.raw, geom, id);
             ffi::rtcReleaseGeometry(geom);

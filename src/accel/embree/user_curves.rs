@@ -1,13 +1,16 @@
-//! pbrt-v4's ribbon curves as Embree *user geometry* (`RTC_GEOMETRY_TYPE_USER`), intersected by
+//! pbrt-v4's curves as Embree *user geometry* (`RTC_GEOMETRY_TYPE_USER`), intersected by
 //! prism's own curve test ([`intersect_curve`], pbrt-v4's `Curve::IntersectRay`, PBR 4th ed.
 //! §6.7.2) so that Embree finds the hits the obvhs backend finds.
 //!
-//! Why not Embree's `NORMAL_ORIENTED_BEZIER_CURVE`: Embree's ribbon is a true surface swept
-//! across the normal curve that Embree interpolates from per-control-point normals, while
-//! pbrt-v4 orients a ribbon at u by the spherical interpolation of its two end normals and
-//! intersects the strip facing the ray, w·|n(u)·d̂| wide, at the centre line's depth. On a ribbon
-//! whose normal turns along it the two differ by far more than rounding (docs/benchmarks.md,
-//! "Ribbon curves on Embree").
+//! Why not Embree's own curves (`curves.rs`): Embree's flat curves are ray-facing quads, four
+//! per segment by default (its tessellation rate), so a strongly bent segment renders as a
+//! polyline, and pbrt-v4 subdivides each segment until it is straight to a twentieth of the width
+//! and measures the ray's distance from the curve point nearest the chord's. Embree's
+//! `NORMAL_ORIENTED_BEZIER_CURVE` is a true surface swept across the normal curve that Embree
+//! interpolates from per-control-point normals, while pbrt-v4 orients a ribbon at u by the
+//! spherical interpolation of its two end normals and intersects the strip facing the ray,
+//! w·|n(u)·d̂| wide, at the centre line's depth. Both differ from pbrt-v4's curves by far more
+//! than rounding (docs/benchmarks.md, "Curves on Embree").
 //!
 //! The primitives are the curve pieces (each segment split into 2^splitdepth u ranges, as the
 //! obvhs curve BVH and pbrt-v4 split them), boxed by their control hulls grown by half their
@@ -29,21 +32,21 @@ use glam::Vec3;
 /// One Embree primitive: a u range of a segment.
 #[derive(Clone, Copy, Debug)]
 struct Piece {
-    /// Index into `UserRibbons::segments`.
+    /// Index into `UserCurves::segments`.
     segment: u32,
     /// The segment's index in its curves (the hit's primID).
     prim_id: u32,
     u: [f32; 2],
 }
 
-/// The ribbon segments of one curve shape and their pieces; Embree's user primitive `k` is
+/// The segments of one curve shape and their pieces; Embree's user primitive `k` is
 /// `pieces[k]`. Boxed by its owner: Embree holds its address as the geometry's user pointer.
-pub(super) struct UserRibbons {
+pub(super) struct UserCurves {
     segments: Vec<CurveSegment>,
     pieces: Vec<Piece>,
 }
 
-impl UserRibbons {
+impl UserCurves {
     /// The pieces of `curves` whose control points and widths are finite.
     fn new(curves: &Curves) -> Self {
         let finite = |s: &CurveSegment| s.cp.iter().all(|p| p.is_finite()) && s.width.iter().all(|w| w.is_finite());
@@ -76,13 +79,13 @@ impl UserRibbons {
     }
 }
 
-/// Creates a committed user geometry for the ribbons `curves`, not yet attached. The returned
+/// Creates a committed user geometry for `curves`, not yet attached. The returned
 /// box must outlive every scene the geometry is attached to.
 pub(super) fn new_geometry(
     device: &Device,
     curves: &Curves,
-) -> Result<(ffi::RTCGeometry, Box<UserRibbons>), EmbreeError> {
-    let user = Box::new(UserRibbons::new(curves));
+) -> Result<(ffi::RTCGeometry, Box<UserCurves>), EmbreeError> {
+    let user = Box::new(UserCurves::new(curves));
     let count = user.pieces.len() as u32;
     let geom = new_user_geometry(device, &*user, count, UserCallbacks { bounds, intersect, occluded })?;
     Ok((geom, user))
@@ -90,10 +93,10 @@ pub(super) fn new_geometry(
 
 unsafe extern "C" fn bounds(args: *const ffi::RTCBoundsFunctionArguments) {
     // SAFETY: Embree passes valid arguments for the duration of the call; the user pointer is
-    // the UserRibbons given to rtcSetGeometryBoundsFunction, and primID < its piece count.
+    // the UserCurves given to rtcSetGeometryBoundsFunction, and primID < its piece count.
     unsafe {
         let args = &*args;
-        let r = &*(args.geometryUserPtr as *const UserRibbons);
+        let r = &*(args.geometryUserPtr as *const UserCurves);
         let p = r.pieces[args.primID as usize];
         let b = r.segments[p.segment as usize].bounds(p.u[0], p.u[1]);
         *args.bounds_o = ffi::RTCBounds {
@@ -113,10 +116,10 @@ unsafe extern "C" fn intersect(args: *const ffi::RTCIntersectFunctionNArguments)
     // SAFETY: Embree passes valid arguments for the duration of the call: `valid` has N entries,
     // `rayhit` is an RTCRayHitN of width N (all fields up to the last instance word), `context`
     // is the caller's RayContext (every query passes one: Scene::context), and the user pointer
-    // is the geometry's UserRibbons with primID < its piece count.
+    // is the geometry's UserCurves with primID < its piece count.
     unsafe {
         let args = &*args;
-        let r = &*(args.geometryUserPtr as *const UserRibbons);
+        let r = &*(args.geometryUserPtr as *const UserCurves);
         let ctx = &*(args.context as *const RayContext);
         let inst = ffi::hit_instance_ids(&ctx.rtc);
         for_each_valid_lane(args.valid, args.N, args.rayhit as *mut f32, |lane| {
@@ -132,7 +135,7 @@ unsafe extern "C" fn occluded(args: *const ffi::RTCOccludedFunctionNArguments) {
     // SAFETY: as in `intersect`; `ray` is an RTCRayN of width N.
     unsafe {
         let args = &*args;
-        let r = &*(args.geometryUserPtr as *const UserRibbons);
+        let r = &*(args.geometryUserPtr as *const UserCurves);
         for_each_valid_lane(args.valid, args.N, args.ray as *mut f32, |lane| {
             let (o, d, tnear, tfar) = lane.ray();
             let hit = r.hit(args.primID as usize, &Ray::segment(o, d, tfar), tfar, true);
@@ -146,5 +149,5 @@ unsafe extern "C" fn occluded(args: *const ffi::RTCOccludedFunctionNArguments) {
 }
 
 #[cfg(test)]
-#[path = "ribbons_tests.rs"]
+#[path = "user_curves_tests.rs"]
 mod tests;
