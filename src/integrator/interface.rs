@@ -12,6 +12,7 @@ use crate::camera::Camera;
 use crate::film::VisibleSurface;
 use crate::geometry::Ray;
 use crate::math::PI;
+use crate::media::Medium;
 use crate::sampling::Sampler;
 use crate::scene::{Scene, SurfaceInteraction};
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
@@ -259,13 +260,22 @@ impl Integrator {
     }
 
     /// What the estimators that start paths at the lights leave out of `scene`'s light
-    /// transport, as pbrt-v4's do (`None`: nothing).
-    pub fn bidirectional_ignores(scene: &Scene) -> Option<&'static str> {
-        if scene.has_subsurface() {
-            Some("it ignores subsurface scattering: a subsurface material scatters as its boundary BSDF alone (as in pbrt-v4)")
-        } else {
-            None
-        }
+    /// transport, as pbrt-v4's do (`None`: nothing): subsurface scattering, and the emission of
+    /// media (pbrt-v4's random walks for them record a medium vertex's scattering alone, and its
+    /// lights are the scene's light sources).
+    pub fn bidirectional_ignores(scene: &Scene) -> Option<String> {
+        let reasons = [
+            scene.has_subsurface().then_some(
+                "it ignores subsurface scattering: a subsurface material scatters as its boundary BSDF alone (as in pbrt-v4)",
+            ),
+            scene
+                .media()
+                .iter()
+                .any(Medium::emits)
+                .then_some("it ignores the emission of participating media (as pbrt-v4's does; volpath renders it)"),
+        ];
+        let reasons: Vec<&str> = reasons.into_iter().flatten().collect();
+        (!reasons.is_empty()).then(|| reasons.join("; "))
     }
 
     /// What `sppm` leaves out of `scene`'s light transport, as pbrt-v4's does (`None`: nothing):

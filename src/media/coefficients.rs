@@ -45,6 +45,11 @@ pub struct Homogeneous {
 }
 
 impl Homogeneous {
+    /// True when the medium emits (L_e above zero at some visible wavelength).
+    pub fn emits(&self) -> bool {
+        self.le.max_value() > 0.0
+    }
+
     /// The coefficients at the wavelengths `w`.
     pub fn point(&self, w: &SampledWavelengths) -> MediumPoint {
         MediumPoint {

@@ -53,6 +53,17 @@ pub enum Medium {
 }
 
 impl Medium {
+    /// True when the medium emits light somewhere.
+    pub fn emits(&self) -> bool {
+        match self {
+            Medium::Homogeneous(h) => h.emits(),
+            Medium::Grid(g) => g.emission.is_some() || g.coefficients.emits(),
+            Medium::RgbGrid(g) => g.emits(),
+            Medium::Cloud(_) => false,
+            Medium::NanoVdb(v) => v.emission.is_some(),
+        }
+    }
+
     /// The coefficients at world-space point `p`; `uniform` is the homogeneous medium's
     /// (evaluated once per ray, since it does not vary).
     #[inline]

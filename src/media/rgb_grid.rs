@@ -137,6 +137,11 @@ impl RgbGridMedium {
         Some(Self { grid_from_world, sigma_a, sigma_s, scale, g, le: None, majorants })
     }
 
+    /// True when the medium has an emission grid.
+    pub fn emits(&self) -> bool {
+        self.le.is_some()
+    }
+
     /// The medium emitting `le_scale` times the trilinear interpolation of `le`.
     pub fn with_emission(self, le: SpectrumGrid, le_scale: f32) -> Self {
         Self { le: (le_scale > 0.0).then_some((le, le_scale)), ..self }

@@ -71,9 +71,38 @@ AttributeBegin
   MediumInterface "smoke" ""
   Material "interface"
   Shape "trianglemesh" "integer indices"
-      [0 2 1 0 3 2  4 5 6 4 6 7  0 1 5 0 5 4  3 7 6 3 6 2  0 4 7 0 7 3  1 2 6 1 6 5]
+      [0 1 2  0 2 3  4 6 5  4 7 6  0 5 1  0 4 5  3 6 7  3 2 6  0 7 4  0 3 7  1 6 2  1 5 6]
       "point3 P" [-0.7 0.001 -0.7  0.7 0.001 -0.7  0.7 0.001 0.7  -0.7 0.001 0.7
                   -0.7 1.4 -0.7  0.7 1.4 -0.7  0.7 1.4 0.7  -0.7 1.4 0.7]
+AttributeEnd
+"#;
+
+/// A box of fog on a floor whose lid is a two-sided area light, fog below it and vacuum above,
+/// under a diffuse ceiling: light subpaths leave the lid into the fog or into the vacuum by the
+/// side they leave from.
+const FOG_UNDER_A_TWO_SIDED_LID: &str = r#"
+LookAt 0 1.5 4  0 0.9 0  0 1 0
+Camera "perspective" "float fov" [55]
+WorldBegin
+MakeNamedMedium "fog" "string type" "homogeneous"
+    "spectrum sigma_a" [300 0.3 900 0.3] "spectrum sigma_s" [300 1.2 900 1.2]
+Material "diffuse" "spectrum reflectance" [300 0.5 900 0.5]
+Shape "trianglemesh" "integer indices" [0 1 2 0 2 3]
+    "point3 P" [-3 0 -3  -3 0 3  3 0 3  3 0 -3]
+Shape "trianglemesh" "integer indices" [0 2 1 0 3 2]
+    "point3 P" [-3 2 -3  -3 2 3  3 2 3  3 2 -3]
+AttributeBegin
+  MediumInterface "fog" ""
+  AreaLightSource "diffuse" "bool twosided" true "spectrum L" [300 3 900 3]
+  Shape "trianglemesh" "integer indices" [0 2 1 0 3 2]
+      "point3 P" [-0.7 1 -0.7  0.7 1 -0.7  0.7 1 0.7  -0.7 1 0.7]
+AttributeEnd
+AttributeBegin
+  MediumInterface "fog" ""
+  Material "interface"
+  Shape "trianglemesh" "integer indices" [0 1 2  0 2 3  0 5 1  0 4 5  3 6 7  3 2 6  0 7 4  0 3 7  1 6 2  1 5 6]
+      "point3 P" [-0.7 0.001 -0.7  0.7 0.001 -0.7  0.7 0.001 0.7  -0.7 0.001 0.7
+                  -0.7 1 -0.7  0.7 1 -0.7  0.7 1 0.7  -0.7 1 0.7]
 AttributeEnd
 "#;
 
@@ -120,6 +149,52 @@ fn bidirectional_path_tracing_renders_a_grid_medium_under_a_spotlight_as_volpath
 }
 
 #[test]
+fn bidirectional_path_tracing_starts_a_two_sided_lights_paths_in_the_medium_of_their_side() {
+    agrees_with_volpath(FOG_UNDER_A_TWO_SIDED_LID, IntegratorKind::Bdpt, (32, 16), 5);
+}
+
+#[test]
+fn light_tracing_starts_a_two_sided_lights_paths_in_the_medium_of_their_side() {
+    agrees_with_volpath(FOG_UNDER_A_TWO_SIDED_LID, IntegratorKind::LightPath, (32, 32), 5);
+}
+
+#[test]
 fn metropolis_light_transport_renders_a_fog_sphere_as_volpath_does() {
     agrees_with_volpath(FOG_SPHERE, IntegratorKind::Mlt, (32, 16), 5);
+}
+
+#[test]
+fn bidirectional_estimators_say_they_ignore_an_emitting_medium_and_fail_under_strict() {
+    // pbrt-v4's bdpt, lightpath and mlt record a medium vertex's scattering alone: an emitting
+    // medium's light is lost, which prism reproduces and says, once; under --strict it stops.
+    use crate::common::{prism, stderr, tmpdir};
+    let dir = tmpdir("bidirectional-emitting-medium");
+    let emitting = FOG_SPHERE.replace("\"float g\" 0.4", "\"float g\" 0.4 \"rgb Le\" [1 0.5 0.2]");
+    assert_ne!(emitting, FOG_SPHERE);
+    for (name, text, warns) in [("plain", FOG_SPHERE.to_string(), false), ("emitting", emitting, true)] {
+        for integrator in ["bdpt", "lightpath", "mlt"] {
+            let file = dir.join(format!("{name}-{integrator}.pbrt"));
+            let film = "Film \"rgb\" \"integer xresolution\" 8 \"integer yresolution\" 8\n";
+            let text = text.replace("WorldBegin", &format!("{film}Integrator \"{integrator}\"\nWorldBegin"));
+            std::fs::write(&file, text).unwrap();
+            let run = |strict: bool| {
+                let mut c = prism();
+                c.arg("render").arg(&file).args(["--spp", "1", "-o"]).arg(dir.join("out.exr"));
+                if strict {
+                    c.arg("--strict");
+                }
+                c.output().unwrap()
+            };
+            let why = "it ignores the emission of participating media";
+            let o = run(false);
+            assert!(o.status.success(), "{}", stderr(&o));
+            assert_eq!(stderr(&o).contains(why), warns, "{name} {integrator}: {}", stderr(&o));
+            let o = run(true);
+            assert_eq!(o.status.success(), !warns, "{name} {integrator}: {}", stderr(&o));
+            if warns {
+                let e = stderr(&o);
+                assert!(e.contains(&format!("integrator \"{integrator}\" for this scene: {why}")), "{e}");
+            }
+        }
+    }
 }
