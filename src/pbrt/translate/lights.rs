@@ -122,11 +122,14 @@ impl Ctx<'_> {
     }
 
     /// pbrt-v4's k_e for "illuminance" on the map `image` ([`image_upper_hemisphere_y`]). pbrt-v4
-    /// weighs the first three channels in the file's order as red, green and blue, and an
-    /// OpenEXR file lists them by name (B, G, R): prism does the same, and says so when that
-    /// changes the map's brightness.
+    /// weighs the first three channels of its (equal-area) map in the file's order as red,
+    /// green and blue, and an OpenEXR file lists them by name (B, G, R): prism does the same,
+    /// and says so when that changes the map's brightness.
     fn pbrt_v4_map_illuminance(&mut self, p: &ParamSet, image: &Image, space: &ColorSpace, loc: &Location) -> f64 {
-        let channels = p.filename("filename").and_then(|f| crate::image::exr_channels_in_file_order(&f));
+        // pbrt-v4 has no latitude–longitude maps: there prism's own rule, in RGB order.
+        let equal_area = MapLayout::for_size(image.width, image.height) == MapLayout::EqualArea;
+        let channels =
+            p.filename("filename").filter(|_| equal_area).and_then(|f| crate::image::exr_channels_in_file_order(&f));
         let in_rgb_order = image_upper_hemisphere_y(image, space, Some([0, 1, 2]));
         let Some(channels) = channels.filter(|&c| c != [0, 1, 2]) else {
             return in_rgb_order;
