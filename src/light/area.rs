@@ -4,8 +4,8 @@
 
 use super::emission_image::ImageEmission;
 use super::point::spectral_integral;
-use super::selection_flux::{max_value, visible_flux};
 use super::sampler::LightBounds;
+use super::selection_flux::{max_value, visible_flux};
 use super::LightSample;
 use crate::geometry::Bounds3;
 use crate::math::PI;

@@ -4,8 +4,8 @@
 //! swapped, as pbrt-v4 lays the image out.
 
 use super::point::delta_sample;
-use super::selection_flux::{max_value, visible_flux};
 use super::sampler::LightBounds;
+use super::selection_flux::{max_value, visible_flux};
 use super::LightSample;
 use crate::image::Image;
 use crate::math::{equal_area, PI};

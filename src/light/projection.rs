@@ -5,8 +5,8 @@
 //! Row 0 of the image is at the top (light-space +y), as pbrt-v4 flips y.
 
 use super::point::delta_sample;
-use super::selection_flux::visible_flux;
 use super::sampler::LightBounds;
+use super::selection_flux::visible_flux;
 use super::texel_spectrum::TexelSpectrum;
 use super::LightSample;
 use crate::image::Image;

@@ -10,8 +10,8 @@
 //! Under a transform that is not a similarity the object-space density is divided by the
 //! world area per unit object area at the point, so the density stays exact in world space.
 
-use super::selection_flux::{max_value, visible_flux};
 use super::sampler::LightBounds;
+use super::selection_flux::{max_value, visible_flux};
 use super::LightSample;
 use crate::geometry::{PlacedQuadric, Ray};
 use crate::math::PI;

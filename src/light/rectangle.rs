@@ -6,8 +6,8 @@
 //! is too small to compute well or close to a hemisphere.
 
 use super::area::AreaLight;
-use super::selection_flux::{max_value, visible_flux};
 use super::sampler::LightBounds;
+use super::selection_flux::{max_value, visible_flux};
 use super::{LightSample, LightSampleContext};
 use crate::geometry::Bounds3;
 use crate::math::PI;

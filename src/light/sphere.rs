@@ -7,8 +7,8 @@
 //! toward a sampled point stops just short of it (pbrt-v4's shadow epsilon) from outside and
 //! from inside alike.
 
-use super::selection_flux::{max_value, visible_flux};
 use super::sampler::LightBounds;
+use super::selection_flux::{max_value, visible_flux};
 use super::LightSample;
 use crate::geometry::Bounds3;
 use crate::math::{Frame, PI};

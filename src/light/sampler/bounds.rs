@@ -74,9 +74,9 @@ impl PreparedBounds {
     /// smallest angle between `n` and a direction to the box. It is 0 when θ' ≥ θ_e: no light
     /// inside can reach `p`. d² is the squared distance to the box's centre, clamped from below
     /// by r, half the box's diagonal — a length, not r²: pbrt-v4's `LightBounds::Importance`
-    /// clamps by `Length(bounds.Diagonal()) / 2`, and prism follows it so that lights are chosen
+    /// clamps by `Length(bounds.Diagonal()) / 2`, and this follows it so that lights are chosen
     /// with pbrt-v4's probabilities (the clamp then depends on the scene's unit: it acts out to
-    /// d = √r, and for r < 1 inside the bounding sphere only).
+    /// d = √r, inside the bounding sphere for r > 1 and beyond it for r < 1).
     pub fn importance(&self, p: Vec3, n: Vec3) -> f32 {
         if self.point_isotropic {
             // What `angles` and `incidence_factor` give with cos θ_o = −1 and sin θ_b = 0

@@ -7,10 +7,10 @@
 
 use crate::light::selection_flux::{max_value, visible_flux};
 use crate::light::{AreaLight, Light};
+use crate::sampling::Distribution1D;
 use crate::spectrum::Spectrum;
 use std::collections::HashMap;
 use std::sync::Arc;
-use crate::sampling::Distribution1D;
 
 /// Each light's emitted flux as the power sampler weighs it ([`Light::power`]), 0 where it is
 /// not finite and positive.
