@@ -10,6 +10,7 @@
 //! Under a transform that is not a similarity the object-space density is divided by the
 //! world area per unit object area at the point, so the density stays exact in world space.
 
+use super::point::spectral_integral;
 use super::sampler::LightBounds;
 use super::selection_flux::{max_value, visible_flux};
 use super::LightSample;
@@ -74,6 +75,13 @@ impl QuadricLight {
         } else {
             0.0
         }
+    }
+
+    /// The radiant flux Φ = π L A per emitting side [W], L integrated over 360–830 nm (what it
+    /// emits; [`QuadricLight::power`] is the weight light samplers choose it by).
+    pub fn radiant_flux(&self) -> f32 {
+        let sides = if self.two_sided { 2.0 } else { 1.0 };
+        PI * self.area * sides * self.scale * spectral_integral(&self.spectrum)
     }
 
     /// pbrt-v4's `DiffuseAreaLight::Phi` for the power sampler: π L A per emitting side, L's
@@ -171,7 +179,7 @@ mod tests {
         };
         let a = PI * 36.0;
         assert!((l.area - a).abs() < 1e-4 * a);
-        let expected = PI * a * 2.0 * visible_flux(&Spectrum::constant(1.0));
-        assert!((l.power() - expected).abs() < 1e-4 * expected);
+        let expected = PI * a * 2.0 * spectral_integral(&Spectrum::constant(1.0));
+        assert!((l.radiant_flux() - expected).abs() < 1e-4 * expected);
     }
 }

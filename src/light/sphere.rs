@@ -7,6 +7,7 @@
 //! toward a sampled point stops just short of it (pbrt-v4's shadow epsilon) from outside and
 //! from inside alike.
 
+use super::point::spectral_integral;
 use super::sampler::LightBounds;
 use super::selection_flux::{max_value, visible_flux};
 use super::LightSample;
@@ -152,6 +153,13 @@ impl SphereLight {
             return 0.0;
         }
         t * t / (cos_l * self.area())
+    }
+
+    /// The radiant flux Φ = π L A per emitting side [W], L integrated over 360–830 nm (what it
+    /// emits; [`SphereLight::power`] is the weight light samplers choose it by).
+    pub fn radiant_flux(&self) -> f32 {
+        let sides = if self.two_sided { 2.0 } else { 1.0 };
+        PI * self.area() * sides * self.scale * spectral_integral(&self.spectrum)
     }
 
     /// pbrt-v4's `DiffuseAreaLight::Phi` for the power sampler: π L A per emitting side, L's
