@@ -5,6 +5,7 @@
 use super::emission_image::ImageEmission;
 use super::point::spectral_integral;
 use super::sampler::LightBounds;
+use super::selection_flux::{max_value, visible_flux};
 use super::LightSample;
 use crate::geometry::Bounds3;
 use crate::math::PI;
@@ -118,19 +119,32 @@ impl AreaLight {
         (t > 0.0).then_some(t)
     }
 
-    /// Φ = π L A per emitting side [W] (with L integrated over 360–830 nm); for an image, L is
-    /// its mean luminance times the white (the whole image's mean, as pbrt-v4's `Phi`, though
-    /// the triangle may show only part of it).
+    /// pbrt-v4's `DiffuseAreaLight::Phi` for the power sampler: π L A per emitting side, L's
+    /// spectrum by [`visible_flux`] (see `selection_flux`); for an image, L is its mean
+    /// luminance times the white (the whole image's mean, as pbrt-v4's `Phi`, though the
+    /// triangle may show only part of it).
     pub fn power(&self) -> f32 {
-        self.power_given(spectral_integral(&self.spectrum))
+        self.power_given(visible_flux(&self.spectrum))
     }
 
-    /// [`AreaLight::power`] given ∫ s dλ of its spectrum (shared by every triangle of a mesh,
-    /// so the light sampler integrates it once per spectrum).
-    pub fn power_given(&self, spectral_integral: f32) -> f32 {
+    /// [`AreaLight::power`] given [`visible_flux`] of its spectrum (shared by every triangle of
+    /// a mesh, so the light sampler evaluates it once per spectrum).
+    pub fn power_given(&self, visible_flux: f32) -> f32 {
         let sides = if self.two_sided { 2.0 } else { 1.0 };
         let image = self.image.as_ref().map_or(1.0, |i| i.image.mean_luminance());
-        PI * self.area * sides * self.scale * spectral_integral * image
+        PI * self.area * sides * self.scale * visible_flux * image
+    }
+
+    /// pbrt-v4's `DiffuseAreaLight::Bounds` flux: π A scale MaxValue(L) for one side, two-sided
+    /// or not, an image's mean channel value standing in for MaxValue (see `selection_flux`).
+    pub fn bound_flux(&self) -> f32 {
+        self.bound_flux_given(max_value(&self.spectrum))
+    }
+
+    /// [`AreaLight::bound_flux`] given MaxValue of its spectrum (shared by a mesh's triangles).
+    pub fn bound_flux_given(&self, max_value: f32) -> f32 {
+        let l = self.image.as_ref().map_or(max_value, |i| i.image.mean_channel());
+        PI * self.area * self.scale * l
     }
 
     /// Bounds for many-light sampling, emitting flux `phi`: its box, its normal and θ_e = π/2.

@@ -1,7 +1,7 @@
 //! Distant (directional) light: irradiance E [W/(m²·nm)] on a surface perpendicular to it,
 //! E cos θ on a tilted one (Lambert's law).
 
-use super::point::spectral_integral;
+use super::selection_flux::visible_flux;
 use super::LightSample;
 use crate::math::PI;
 use crate::spectrum::{SampledWavelengths, Spectrum};
@@ -30,7 +30,9 @@ impl DistantLight {
         })
     }
 
+    /// pbrt-v4's `DistantLight::Phi` for the power sampler: E π r² over the scene's bounding
+    /// sphere of radius `scene_radius` (see `selection_flux`).
     pub(super) fn power(&self, scene_radius: f32) -> f32 {
-        PI * scene_radius * scene_radius * self.scale * spectral_integral(&self.spectrum)
+        PI * scene_radius * scene_radius * self.scale * visible_flux(&self.spectrum)
     }
 }

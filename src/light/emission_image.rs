@@ -21,6 +21,8 @@ pub struct EmissionImage {
     white: Arc<Spectrum>,
     /// Mean over texels of the luminance Y of their RGB (pbrt-v4's k_e factor for `power`).
     mean_luminance: f32,
+    /// Mean over texels and their three channels (pbrt-v4's `DiffuseAreaLight::Bounds` flux).
+    mean_channel: f32,
 }
 
 /// An emitting triangle's image and the (u, v) of its corners.
@@ -39,22 +41,29 @@ impl EmissionImage {
         let (width, height) = (image.width.max(1) as usize, image.height.max(1) as usize);
         let c = image.channels.max(1) as usize;
         let mut rgbs = Vec::with_capacity(width * height);
-        let mut sum = 0.0f64;
+        let (mut sum, mut channels) = (0.0f64, 0.0f64);
         for p in image.data.chunks_exact(c) {
             let px = |k: usize| p.get(k.min(c - 1)).copied().filter(|v| v.is_finite()).unwrap_or(0.0).max(0.0);
             let rgb = [px(0), px(1), px(2)];
             rgbs.push(rgb);
             sum += f64::from(space.rgb_to_xyz(Vec3::from_array(rgb)).y);
+            channels += rgb.iter().map(|&v| f64::from(v)).sum::<f64>() / 3.0;
         }
         let mut texels = TexelSpectrum::from_rgbs(&rgbs, space);
         texels.resize(width * height, TexelSpectrum::default());
         let mean_luminance = (sum / (width * height) as f64) as f32;
-        Self { width, height, texels, white: Arc::new(space.illuminant.clone()), mean_luminance }
+        let mean_channel = (channels / (width * height) as f64) as f32;
+        Self { width, height, texels, white: Arc::new(space.illuminant.clone()), mean_luminance, mean_channel }
     }
 
     /// Mean luminance of the texels (unitless; 1 for a white image).
     pub fn mean_luminance(&self) -> f32 {
         self.mean_luminance
+    }
+
+    /// Mean of the texels' R, G and B (unitless; 1 for a white image).
+    pub fn mean_channel(&self) -> f32 {
+        self.mean_channel
     }
 
     /// The image's spectrum at `uv` before the light's scale.

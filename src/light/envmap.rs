@@ -17,7 +17,7 @@ use super::LightSample;
 use crate::image::Image;
 use crate::math::PI;
 use crate::sampling::Distribution2D;
-use crate::spectrum::{ColorSpace, SampledSpectrum, SampledWavelengths, Spectrum, LAMBDA_MAX, LAMBDA_MIN};
+use crate::spectrum::{ColorSpace, SampledSpectrum, SampledWavelengths, Spectrum};
 use glam::{Mat3, Vec2, Vec3};
 use std::sync::Arc;
 
@@ -221,9 +221,9 @@ impl EnvMapLight {
     }
 
     pub(super) fn power(&self, scene_radius: f32) -> f32 {
-        // Φ ≈ π r² ∫ L dω; × the wavelength range, to be comparable with the other lights'
-        // ∫ dλ (only used to choose between lights).
-        let range = LAMBDA_MAX - LAMBDA_MIN;
-        PI * scene_radius * scene_radius * self.scale * self.luminance_integral as f32 * range
+        // Φ ≈ π r² ∫ L dω (pbrt-v4's `ImageInfiniteLight::Phi`), with the texels' spectra as
+        // their luminance times the white, weighed as the other lights' (`selection_flux`).
+        let white = super::selection_flux::visible_flux(&self.white);
+        PI * scene_radius * scene_radius * self.scale * self.luminance_integral as f32 * white
     }
 }

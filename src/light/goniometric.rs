@@ -3,8 +3,9 @@
 //! RGB) at the nearest pixel of Clarberg's square for the light-space direction with y and z
 //! swapped, as pbrt-v4 lays the image out.
 
-use super::point::{delta_sample, spectral_integral};
+use super::point::delta_sample;
 use super::sampler::LightBounds;
+use super::selection_flux::{max_value, visible_flux};
 use super::LightSample;
 use crate::image::Image;
 use crate::math::{equal_area, PI};
@@ -67,8 +68,15 @@ impl GoniometricLight {
         delta_sample(self.position, p, self.spectrum.sample(w) * (self.scale * value))
     }
 
+    /// pbrt-v4's `GoniometricLight::Phi` for the power sampler: 4π I times the image's mean
+    /// (see `selection_flux`).
     pub(super) fn power(&self) -> f32 {
-        4.0 * PI * self.scale * self.mean_value() * spectral_integral(&self.spectrum)
+        4.0 * PI * self.scale * self.mean_value() * visible_flux(&self.spectrum)
+    }
+
+    /// pbrt-v4's `GoniometricLight::Bounds` flux: 4π scale MaxValue(I) times the image's mean.
+    pub(super) fn bound_flux(&self) -> f32 {
+        4.0 * PI * self.scale * self.mean_value() * max_value(&self.spectrum)
     }
 
     /// Bounds for many-light sampling, emitting flux `phi`: a point emitting over the whole

@@ -1,6 +1,6 @@
 //! Infinite lights: radiance arriving from every direction at infinity.
 
-use super::point::spectral_integral;
+use super::selection_flux::visible_flux;
 use super::LightSample;
 use crate::math::PI;
 use crate::sampling::warp::sample_uniform_sphere;
@@ -34,7 +34,9 @@ impl UniformInfiniteLight {
         Some(LightSample { li: self.le(w), wi, pdf: uniform_sphere_pdf(), p_light: Vec3::ZERO, dist: f32::INFINITY })
     }
 
+    /// pbrt-v4's `UniformInfiniteLight::Phi` for the power sampler: 4π² r² L over the scene's
+    /// bounding sphere of radius `scene_radius` (see `selection_flux`).
     pub(super) fn power(&self, scene_radius: f32) -> f32 {
-        4.0 * PI * PI * scene_radius * scene_radius * self.scale * spectral_integral(&self.spectrum)
+        4.0 * PI * PI * scene_radius * scene_radius * self.scale * visible_flux(&self.spectrum)
     }
 }

@@ -1,6 +1,7 @@
 //! Light sources in SI units (PBR 4th ed. §4.1). Spectral quantities are per nanometre:
 //! radiance L [W/(sr·m²·nm)], intensity I [W/(sr·nm)], irradiance E [W/(m²·nm)], flux Φ [W/nm].
-//! A light's `power` parameter is its radiometric flux integrated over 360–830 nm [W].
+//! A light's `power` parameter is its radiometric flux integrated over 360–830 nm [W]; the
+//! fluxes by which lights are chosen are pbrt-v4's (`selection_flux`).
 
 mod area;
 mod distant;
@@ -17,6 +18,7 @@ mod projection;
 mod quadric;
 mod rectangle;
 mod sampler;
+mod selection_flux;
 mod sphere;
 mod texel_spectrum;
 
@@ -133,7 +135,9 @@ impl Light {
         }
     }
 
-    /// Approximate total emitted flux (any consistent unit), used only to choose lights.
+    /// Emitted flux as pbrt-v4's power light sampler estimates it (`Light::Phi` at four visible
+    /// wavelengths; see `selection_flux`), in any unit common to all lights: used only to
+    /// choose lights.
     pub fn power(&self, scene_radius: f32) -> f32 {
         match self {
             Light::Point(l) => l.power(),
@@ -151,19 +155,37 @@ impl Light {
         }
     }
 
-    /// Bounds for many-light sampling of this light emitting `power` (as [`Light::power`]): its
-    /// box, normal cone and emission angle, each light working out its own. `None` for lights at
-    /// infinity (sampled apart from the tree) and for lights without finite flux (never chosen).
-    pub fn bounds(&self, power: f32) -> Option<LightBounds> {
+    /// The flux the BVH light sampler weighs this light by: pbrt-v4's `LightBounds::phi` of the
+    /// light (`Light::Bounds`; see `selection_flux`, in the unit of [`Light::power`]); 0 for
+    /// lights at infinity.
+    pub fn bound_flux(&self) -> f32 {
+        match self {
+            Light::Point(l) => l.bound_flux(),
+            Light::Spot(l) => l.bound_flux(),
+            Light::Goniometric(l) => l.bound_flux(),
+            Light::Projection(l) => l.bound_flux(),
+            Light::Area(l) => l.bound_flux(),
+            Light::Rectangle(l) => l.bound_flux(),
+            Light::Sphere(l) => l.bound_flux(),
+            Light::Quadric(l) => l.bound_flux(),
+            Light::Distant(_) | Light::UniformInfinite(_) | Light::EnvMap(_) | Light::Portal(_) => 0.0,
+        }
+    }
+
+    /// Bounds for many-light sampling of this light with flux `phi` (as [`Light::bound_flux`]):
+    /// its box, normal cone and emission angle, each light working out its own. `None` for
+    /// lights at infinity (sampled apart from the tree) and for lights without finite flux
+    /// (never chosen).
+    pub fn bounds(&self, phi: f32) -> Option<LightBounds> {
         let bounds = match self {
-            Light::Point(l) => l.bounds(power),
-            Light::Spot(l) => l.bounds(power),
-            Light::Goniometric(l) => l.bounds(power),
-            Light::Projection(l) => l.bounds(power),
-            Light::Area(l) => l.bounds(power),
-            Light::Rectangle(l) => l.bounds(power),
-            Light::Sphere(l) => l.bounds(power),
-            Light::Quadric(l) => l.bounds(power),
+            Light::Point(l) => l.bounds(phi),
+            Light::Spot(l) => l.bounds(phi),
+            Light::Goniometric(l) => l.bounds(phi),
+            Light::Projection(l) => l.bounds(phi),
+            Light::Area(l) => l.bounds(phi),
+            Light::Rectangle(l) => l.bounds(phi),
+            Light::Sphere(l) => l.bounds(phi),
+            Light::Quadric(l) => l.bounds(phi),
             Light::Distant(_) | Light::UniformInfinite(_) | Light::EnvMap(_) | Light::Portal(_) => return None,
         };
         (bounds.phi > 0.0 && bounds.phi.is_finite()).then_some(bounds)

@@ -3,6 +3,7 @@
 //! "Lighting Controls for Synthetic Images", SIGGRAPH 1983).
 
 use super::sampler::LightBounds;
+use super::selection_flux::{max_value, visible_flux};
 use super::LightSample;
 use crate::geometry::Bounds3;
 use crate::math::{Frame, PI};
@@ -37,8 +38,14 @@ impl PointLight {
         delta_sample(self.position, p, self.spectrum.sample(w) * self.scale)
     }
 
+    /// pbrt-v4's `PointLight::Phi` for the power sampler: 4π I (see `selection_flux`).
     pub(super) fn power(&self) -> f32 {
-        4.0 * PI * self.scale * spectral_integral(&self.spectrum)
+        4.0 * PI * self.scale * visible_flux(&self.spectrum)
+    }
+
+    /// pbrt-v4's `PointLight::Bounds` flux: 4π scale MaxValue(I) (see `selection_flux`).
+    pub(super) fn bound_flux(&self) -> f32 {
+        4.0 * PI * self.scale * max_value(&self.spectrum)
     }
 
     /// Bounds for many-light sampling, emitting flux `phi`: a point emitting over the whole
@@ -150,21 +157,29 @@ impl SpotLight {
         self.frame.n.dot((p - self.position).normalize_or_zero())
     }
 
+    /// pbrt-v4's `SpotLight::Phi` for the power sampler: I₀ times the falloff's solid-angle
+    /// integral (see `selection_flux`).
     pub(super) fn power(&self) -> f32 {
-        self.scale * self.falloff.solid_angle_integral() * spectral_integral(&self.spectrum)
+        self.scale * self.falloff.solid_angle_integral() * visible_flux(&self.spectrum)
     }
 
-    /// Bounds for many-light sampling, emitting `power`: a point emitting over a cone about the
-    /// axis, full within θ_start and falling to 0 at θ_end (Warn's cos^s lobe: all of the
-    /// forward hemisphere). The flux they carry is not the power but 4π I₀, so that the
-    /// importance inside the cone is that of an isotropic point light of the same on-axis
-    /// intensity (as pbrt-v4's `SpotLight::Bounds`).
-    pub(super) fn bounds(&self, power: f32) -> LightBounds {
-        let phi = power * 4.0 * PI / self.falloff.solid_angle_integral();
+    /// pbrt-v4's `SpotLight::Bounds` flux: 4π scale MaxValue(I), as an isotropic point light of
+    /// the on-axis intensity, so that the importance inside the cone is that light's (the cone
+    /// is in the bounds' angles, not in the flux).
+    pub(super) fn bound_flux(&self) -> f32 {
+        4.0 * PI * self.scale * max_value(&self.spectrum)
+    }
+
+    /// Bounds for many-light sampling, with flux `phi` ([`SpotLight::bound_flux`]): a point
+    /// emitting over a cone about the axis, full within θ_start and falling to 0 at θ_end
+    /// (Warn's cos^s lobe: all of the forward hemisphere). Where θ_end − θ_start rounds to a
+    /// cosine of 1 in a cone that does fall off, cos θ_e is 0.999, as in pbrt-v4.
+    pub(super) fn bounds(&self, phi: f32) -> LightBounds {
         let (cos_theta_o, cos_theta_e) = match self.falloff {
             SpotFalloff::Cone { cos_start, cos_end } => {
                 let (start, end) = (cos_start.clamp(-1.0, 1.0).acos(), cos_end.clamp(-1.0, 1.0).acos());
-                (cos_start, (end - start).max(0.0).cos())
+                let cos_theta_e = (end - start).max(0.0).cos();
+                (cos_start, if cos_theta_e == 1.0 && cos_end != cos_start { 0.999 } else { cos_theta_e })
             }
             SpotFalloff::Warn { .. } => (1.0, 0.0),
         };

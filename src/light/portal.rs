@@ -19,7 +19,7 @@ use super::LightSample;
 use crate::image::Image;
 use crate::math::{equal_area, PI};
 use crate::sampling::{Window, WindowedDistribution2D};
-use crate::spectrum::{ColorSpace, SampledSpectrum, SampledWavelengths, Spectrum, LAMBDA_MAX, LAMBDA_MIN};
+use crate::spectrum::{ColorSpace, SampledSpectrum, SampledWavelengths, Spectrum};
 use glam::{Mat3, Vec2, Vec3};
 use rayon::prelude::*;
 use std::sync::Arc;
@@ -239,8 +239,10 @@ impl PortalLight {
     }
 
     pub(super) fn power(&self) -> f32 {
-        // × the wavelength range, comparable with the other lights' ∫ dλ.
-        (self.flux * self.scale as f64 * (LAMBDA_MAX - LAMBDA_MIN) as f64) as f32
+        // The texels' spectra as their luminance times the white, weighed as the other lights'
+        // (`selection_flux`).
+        let white = super::selection_flux::visible_flux(&self.white);
+        (self.flux * self.scale as f64 * white as f64) as f32
     }
 }
 

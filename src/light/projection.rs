@@ -4,8 +4,9 @@
 //! is its nearest pixel's RGB, as an illuminant spectrum of the colour space, times `scale`.
 //! Row 0 of the image is at the top (light-space +y), as pbrt-v4 flips y.
 
-use super::point::{delta_sample, spectral_integral};
+use super::point::delta_sample;
 use super::sampler::LightBounds;
+use super::selection_flux::visible_flux;
 use super::texel_spectrum::TexelSpectrum;
 use super::LightSample;
 use crate::image::Image;
@@ -33,6 +34,8 @@ pub struct ProjectionLight {
     texels: Vec<TexelSpectrum>,
     /// Mean over pixels of Y × cos³θ (the pixels' share of the solid angle), for the power.
     mean_y_cos3: f32,
+    /// Mean over pixels of their largest channel (pbrt-v4's `ProjectionLight::Bounds` flux).
+    mean_max_channel: f32,
     /// The colour space's white illuminant (unit luminance).
     white: Arc<Spectrum>,
     /// Multiplier turning the texels' spectra into intensity I [W/(sr·nm)].
@@ -56,11 +59,12 @@ impl ProjectionLight {
         let c = image.channels.max(1) as usize;
         let tan_half_fov = (fov_deg.to_radians() * 0.5).tan();
         let mut rgbs = Vec::with_capacity(width * height);
-        let mut sum = 0.0f64;
+        let (mut sum, mut max_channels) = (0.0f64, 0.0f64);
         for (i, p) in image.data.chunks_exact(c).enumerate() {
             let px = |k: usize| p.get(k.min(c - 1)).copied().filter(|v| v.is_finite()).unwrap_or(0.0).max(0.0);
             let rgb = [px(0), px(1), px(2)];
             rgbs.push(rgb);
+            max_channels += f64::from(rgb[0].max(rgb[1]).max(rgb[2]));
             let (x, y) = ((i % width) as f32 + 0.5, (i / width) as f32 + 0.5);
             let sx = (screen[0] + (screen[1] - screen[0]) * x / width as f32) * tan_half_fov;
             let sy = (screen[2] + (screen[3] - screen[2]) * y / height as f32) * tan_half_fov;
@@ -68,6 +72,7 @@ impl ProjectionLight {
             sum += f64::from(space.rgb_to_xyz(Vec3::from_array(rgb)).y * cos * cos * cos);
         }
         let mean_y_cos3 = (sum / rgbs.len().max(1) as f64) as f32;
+        let mean_max_channel = (max_channels / rgbs.len().max(1) as f64) as f32;
         let texels = TexelSpectrum::from_rgbs(&rgbs, space);
         Self {
             position,
@@ -78,6 +83,7 @@ impl ProjectionLight {
             height,
             texels,
             mean_y_cos3,
+            mean_max_channel,
             white: Arc::new(space.illuminant.clone()),
             scale,
         }
@@ -119,15 +125,27 @@ impl ProjectionLight {
         self.screen_area() * self.mean_y_cos3
     }
 
+    /// pbrt-v4's `ProjectionLight::Phi` for the power sampler, the texels' spectra as their
+    /// luminance times the white (see `selection_flux`).
     pub(super) fn power(&self) -> f32 {
-        // Y integrates the white to 1; ∫ W dλ puts the flux in the unit the other lights use.
-        self.scale * self.k_e() * spectral_integral(&self.white)
+        self.scale * self.k_e() * visible_flux(&self.white)
     }
 
-    /// Bounds for many-light sampling, emitting flux `phi`: a point emitting over the whole
-    /// sphere.
+    /// pbrt-v4's `ProjectionLight::Bounds` flux: scale times the mean over pixels of their
+    /// largest channel, with no solid angle (see `selection_flux`).
+    pub(super) fn bound_flux(&self) -> f32 {
+        self.scale * self.mean_max_channel
+    }
+
+    /// Bounds for many-light sampling with flux `phi` ([`ProjectionLight::bound_flux`]), as
+    /// pbrt-v4's `ProjectionLight::Bounds`: a point emitting along the light's +z (θ_o = 0) out
+    /// to the angle of the screen window's corner (θ_e).
     pub(super) fn bounds(&self, phi: f32) -> LightBounds {
-        LightBounds::isotropic_point(self.position, phi)
+        let [_, x1, _, y1] = self.screen;
+        let cos_theta_e = Vec3::new(x1 * self.tan_half_fov, y1 * self.tan_half_fov, 1.0).normalize().z;
+        let w = (self.light_from_world.inverse() * Vec3::Z).normalize();
+        let bounds = crate::geometry::Bounds3::EMPTY.union_point(self.position);
+        LightBounds { bounds, w, phi, cos_theta_o: 1.0, cos_theta_e, two_sided: false }
     }
 }
 

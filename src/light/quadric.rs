@@ -12,6 +12,7 @@
 
 use super::point::spectral_integral;
 use super::sampler::LightBounds;
+use super::selection_flux::{max_value, visible_flux};
 use super::LightSample;
 use crate::geometry::{PlacedQuadric, Ray};
 use crate::math::PI;
@@ -76,10 +77,24 @@ impl QuadricLight {
         }
     }
 
-    /// Φ = π L A per emitting side [W] (with L integrated over 360–830 nm).
-    pub fn power(&self) -> f32 {
+    /// The radiant flux Φ = π L A per emitting side [W], L integrated over 360–830 nm (what it
+    /// emits; [`QuadricLight::power`] is the weight light samplers choose it by).
+    pub fn radiant_flux(&self) -> f32 {
         let sides = if self.two_sided { 2.0 } else { 1.0 };
         PI * self.area * sides * self.scale * spectral_integral(&self.spectrum)
+    }
+
+    /// pbrt-v4's `DiffuseAreaLight::Phi` for the power sampler: π L A per emitting side, L's
+    /// spectrum by `visible_flux` (see `selection_flux`).
+    pub fn power(&self) -> f32 {
+        let sides = if self.two_sided { 2.0 } else { 1.0 };
+        PI * self.area * sides * self.scale * visible_flux(&self.spectrum)
+    }
+
+    /// pbrt-v4's `DiffuseAreaLight::Bounds` flux: π A scale MaxValue(L) for one side, two-sided
+    /// or not (see `selection_flux`).
+    pub fn bound_flux(&self) -> f32 {
+        PI * self.area * self.scale * max_value(&self.spectrum)
     }
 
     /// Bounds for many-light sampling, emitting flux `phi`: the placed shape's box and θ_e =
@@ -165,6 +180,6 @@ mod tests {
         let a = PI * 36.0;
         assert!((l.area - a).abs() < 1e-4 * a);
         let expected = PI * a * 2.0 * spectral_integral(&Spectrum::constant(1.0));
-        assert!((l.power() - expected).abs() < 1e-4 * expected);
+        assert!((l.radiant_flux() - expected).abs() < 1e-4 * expected);
     }
 }

@@ -6,8 +6,8 @@
 //! is too small to compute well or close to a hemisphere.
 
 use super::area::AreaLight;
-use super::point::spectral_integral;
 use super::sampler::LightBounds;
+use super::selection_flux::{max_value, visible_flux};
 use super::{LightSample, LightSampleContext};
 use crate::geometry::Bounds3;
 use crate::math::PI;
@@ -48,10 +48,17 @@ impl RectangleLight {
         self.ex.cross(self.ey).length()
     }
 
-    /// Φ = π L A per emitting side [W] (L integrated over 360–830 nm).
+    /// pbrt-v4's `DiffuseAreaLight::Phi` for the power sampler: π L A per emitting side, L's
+    /// spectrum by `visible_flux` (see `selection_flux`).
     pub fn power(&self) -> f32 {
         let sides = if self.two_sided { 2.0 } else { 1.0 };
-        PI * self.area() * sides * self.scale * spectral_integral(&self.spectrum)
+        PI * self.area() * sides * self.scale * visible_flux(&self.spectrum)
+    }
+
+    /// pbrt-v4's `DiffuseAreaLight::Bounds` flux: π A scale MaxValue(L) for one side, two-sided
+    /// or not (see `selection_flux`).
+    pub fn bound_flux(&self) -> f32 {
+        PI * self.area() * self.scale * max_value(&self.spectrum)
     }
 
     /// Bounds for many-light sampling, emitting flux `phi`: its box, its normal and θ_e = π/2.

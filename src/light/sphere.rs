@@ -9,6 +9,7 @@
 
 use super::point::spectral_integral;
 use super::sampler::LightBounds;
+use super::selection_flux::{max_value, visible_flux};
 use super::LightSample;
 use crate::geometry::Bounds3;
 use crate::math::{Frame, PI};
@@ -154,10 +155,24 @@ impl SphereLight {
         t * t / (cos_l * self.area())
     }
 
-    /// Φ = π L A per emitting side [W] (with L integrated over 360–830 nm).
-    pub fn power(&self) -> f32 {
+    /// The radiant flux Φ = π L A per emitting side [W], L integrated over 360–830 nm (what it
+    /// emits; [`SphereLight::power`] is the weight light samplers choose it by).
+    pub fn radiant_flux(&self) -> f32 {
         let sides = if self.two_sided { 2.0 } else { 1.0 };
         PI * self.area() * sides * self.scale * spectral_integral(&self.spectrum)
+    }
+
+    /// pbrt-v4's `DiffuseAreaLight::Phi` for the power sampler: π L A per emitting side, L's
+    /// spectrum by `visible_flux` (see `selection_flux`).
+    pub fn power(&self) -> f32 {
+        let sides = if self.two_sided { 2.0 } else { 1.0 };
+        PI * self.area() * sides * self.scale * visible_flux(&self.spectrum)
+    }
+
+    /// pbrt-v4's `DiffuseAreaLight::Bounds` flux: π A scale MaxValue(L) for one side, two-sided
+    /// or not (see `selection_flux`).
+    pub fn bound_flux(&self) -> f32 {
+        PI * self.area() * self.scale * max_value(&self.spectrum)
     }
 
     /// Bounds for many-light sampling, emitting flux `phi`: the sphere's box, emitting along

@@ -199,7 +199,7 @@ AttributeEnd
         assert_eq!(s.lights().len(), 1);
         let Light::Quadric(light) = &s.lights()[0] else { panic!("the annulus is one quadric light") };
         // π L from the flux Φ = π L A.
-        let pi_l = (light.power() / light.area) as f64;
+        let pi_l = (light.radiant_flux() / light.area) as f64;
         let expected = pi_l * (form(1.0) - form(0.3));
         for strategy in [DirectStrategy::LightOnly, DirectStrategy::BsdfOnly, DirectStrategy::Mis] {
             let integ = Integrator { max_depth: 1, strategy, ..Default::default() };

@@ -29,6 +29,7 @@ mod instancing;
 mod integrators;
 mod interrupt;
 mod light_sampler;
+mod light_selection;
 mod measured;
 mod media;
 mod merge;

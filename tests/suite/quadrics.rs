@@ -60,7 +60,7 @@ AttributeEnd
 "#;
     // E = π L sin²θmax = Φ / (4π r²) · sin²θmax, with L (integrated over the measured
     // wavelengths) from the light's flux Φ = π L · 4π r².
-    let expected = |l: &SphereLight| (l.power() / (4.0 * PI * l.radius * l.radius)) as f64 / 9.0;
+    let expected = |l: &SphereLight| (l.radiant_flux() / (4.0 * PI * l.radius * l.radius)) as f64 / 9.0;
     let strategies = [DirectStrategy::LightOnly, DirectStrategy::BsdfOnly, DirectStrategy::Mis];
     assert_sphere_irradiance(text, (Vec3::ZERO, Vec3::Y), &strategies, 40_000, expected);
 }
@@ -80,7 +80,7 @@ AttributeBegin
 AttributeEnd
 "#;
     // E = π L = Φ / (4π r²), with L from the flux Φ = π L · 4π r².
-    let expected = |l: &SphereLight| (l.power() / (4.0 * PI * l.radius * l.radius)) as f64;
+    let expected = |l: &SphereLight| (l.radiant_flux() / (4.0 * PI * l.radius * l.radius)) as f64;
     let at = (Vec3::new(2.0, -3.0, 1.0), Vec3::new(0.3, 1.0, 0.2));
     assert_sphere_irradiance(text, at, &[DirectStrategy::LightOnly, DirectStrategy::Mis], 20_000, expected);
 }

@@ -72,8 +72,11 @@ impl PreparedBounds {
     /// (θ_w that angle for the axis, θ_b the half-angle the box's bounding sphere subtends from
     /// `p`: sin²θ_b = r²/d², all directions from inside it), and θ'_i = max(0, θ_i − θ_b) the
     /// smallest angle between `n` and a direction to the box. It is 0 when θ' ≥ θ_e: no light
-    /// inside can reach `p`. d² is the squared distance to the box's centre, at least r² so
-    /// that points inside stay finite.
+    /// inside can reach `p`. d² is the squared distance to the box's centre, clamped from below
+    /// by r, half the box's diagonal — a length, not r²: pbrt-v4's `LightBounds::Importance`
+    /// clamps by `Length(bounds.Diagonal()) / 2`, and this follows it so that lights are chosen
+    /// with pbrt-v4's probabilities (the clamp then depends on the scene's unit: it acts out to
+    /// d = √r, inside the bounding sphere for r > 1 and beyond it for r < 1).
     pub fn importance(&self, p: Vec3, n: Vec3) -> f32 {
         if self.point_isotropic {
             // What `angles` and `incidence_factor` give with cos θ_o = −1 and sin θ_b = 0
@@ -88,7 +91,7 @@ impl PreparedBounds {
             }
         }
         let Some(a) = self.angles(p) else { return 0.0 };
-        let mut importance = self.phi * a.cos_p / a.dist2.max(self.radius2);
+        let mut importance = self.phi * a.cos_p / a.dist2.max(self.radius);
         if n != Vec3::ZERO {
             importance *= incidence_factor(&a, n);
         }
@@ -324,6 +327,21 @@ mod tests {
             assert!((in_medium - 7.0 / d.length_squared()).abs() <= 1e-5 * in_medium, "at {p} in a medium");
         }
         assert!(b.importance(c, Vec3::Z).is_finite() && b.importance(c, Vec3::ZERO).is_finite());
+    }
+
+    /// pbrt-v4 clamps d² from below by half the box's diagonal length r, not by r²: a light
+    /// emitting every way (cos θ' = 1) in a box of half-side 2 (r = √12) has, in a medium,
+    /// importance Φ / max(d², r) at points inside and near it, and Φ / d² beyond d = √r.
+    #[test]
+    fn the_squared_distance_is_clamped_by_half_the_diagonal_length() {
+        let bounds = Bounds3 { min: Vec3::splat(-2.0), max: Vec3::splat(2.0) };
+        let b = LightBounds { bounds, w: Vec3::Z, phi: 3.0, cos_theta_o: -1.0, cos_theta_e: 0.0, two_sided: false };
+        let r = 12.0f64.sqrt();
+        for d in [0.0f64, 0.5, 1.5, 1.8, 2.5, 10.0] {
+            let want = 3.0 / (d * d).max(r);
+            let got = b.importance(Vec3::new(0.0, d as f32, 0.0), Vec3::ZERO) as f64;
+            assert!((got - want).abs() < 1e-5 * want, "at distance {d}: {got} vs {want}");
+        }
     }
 
     /// The union keeps both boxes, a cone around both normals, the summed flux, the wider

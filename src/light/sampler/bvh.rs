@@ -271,7 +271,9 @@ fn partition_by_cost(items: &mut [(u32, LightBounds)], bounds: &LightBounds) -> 
                 .flatten()
                 .fold(None, |acc: Option<LightBounds>, b| Some(acc.map_or(*b, |a| LightBounds::union(&a, b))))
         };
-        for split in 0..BUCKETS - 1 {
+        // From the second bucket boundary on, as pbrt-v4's `BVHLightSampler::buildBVH`, which
+        // never cuts after the first bucket (it computes that cost but does not compare it).
+        for split in 1..BUCKETS - 1 {
             let (Some(below), Some(above)) = (merge(&buckets[..=split]), merge(&buckets[split + 1..])) else {
                 continue;
             };

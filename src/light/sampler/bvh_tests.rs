@@ -361,3 +361,27 @@ fn one_rectangle_of_two_triangles_is_split_evenly_where_it_shines() {
 fn lights_face_down(lights: &[Light]) -> bool {
     matches!(&lights[0], Light::Area(a) if a.n.y < 0.0)
 }
+
+/// pbrt-v4's `buildBVH` never cuts after the first of its 12 buckets. Three tiny lights with
+/// centroids at x = 0, 0.1 and 1 fall in buckets 0, 1 and 11; the first carries 10⁴ times the
+/// others' flux, which makes the cut after bucket 0 ({0} | {0.1, 1}) the cheapest by the cost
+/// Φ M_Ω K_r A, but pbrt-v4 cuts after bucket 1 or later: {0, 0.1} | {1}. The probability of
+/// the light at x = 1 at a point in a medium is then, the lights emitting over every direction
+/// (cos θ' = 1), Φ₂/d₂² / (Φ₀₁/d₀₁² + Φ₂/d₂²), d the distance to each node's box centre;
+/// the other tree would make it (2/d₁₂²)/(10⁴/d₀² + 2/d₁₂²) · (1/d₂²)/(1/d₁² + 1/d₂²).
+#[test]
+fn the_tree_is_never_cut_after_the_first_bucket() {
+    let tiny = |x: f32, phi: f32| {
+        let c = Vec3::new(x, 0.0, 0.0);
+        let bounds = crate::geometry::Bounds3 { min: c - Vec3::splat(0.01), max: c + Vec3::splat(0.01) };
+        let b = super::LightBounds { bounds, w: Vec3::Z, phi, cos_theta_o: -1.0, cos_theta_e: 0.0, two_sided: false };
+        super::BoundedLight { bounds: Some(b), infinite: false }
+    };
+    let sampler = BvhLightSampler::new(&[tiny(0.0, 1.0e4), tiny(0.1, 1.0), tiny(1.0, 1.0)]);
+    let p = Vec3::new(0.5, 0.0, 3.0);
+    let inv_d2 = |x: f64| 1.0 / (p.as_dvec3() - glam::DVec3::new(x, 0.0, 0.0)).length_squared();
+    let (near, far) = ((1.0e4 + 1.0) * inv_d2(0.05), inv_d2(1.0));
+    let want = far / (near + far);
+    let got = sampler.pmf(p, Vec3::ZERO, 2) as f64;
+    assert!((got - want).abs() < 1e-4 * want, "light at x = 1: {got}, pbrt-v4's tree gives {want}");
+}

@@ -79,11 +79,11 @@ impl LightSampler {
             LightSamplerKind::Uniform => Self::Uniform(lights.len()),
             LightSamplerKind::Power => Self::Power(PowerLightSampler::new(&power::light_powers(lights, scene_radius))),
             LightSamplerKind::Bvh => {
-                let powers = power::light_powers(lights, scene_radius);
+                let fluxes = power::light_bound_fluxes(lights);
                 let bounded: Vec<bvh::BoundedLight> = lights
                     .iter()
-                    .zip(powers)
-                    .map(|(l, power)| bvh::BoundedLight { bounds: l.bounds(power), infinite: l.is_at_infinity() })
+                    .zip(fluxes)
+                    .map(|(l, phi)| bvh::BoundedLight { bounds: l.bounds(phi), infinite: l.is_at_infinity() })
                     .collect();
                 Self::Bvh(Box::new(BvhLightSampler::new(&bounded)))
             }

@@ -5,23 +5,43 @@
 //! `DiscreteDistribution::sample_reuse`). (An alias table is O(1) but not monotone, and would
 //! scatter the strata.)
 
-use crate::light::Light;
+use crate::light::selection_flux::{max_value, visible_flux};
+use crate::light::{AreaLight, Light};
 use crate::sampling::Distribution1D;
+use crate::spectrum::Spectrum;
+use std::collections::HashMap;
+use std::sync::Arc;
 
-/// Each light's emitted flux [W] (any consistent unit), 0 where it is not finite and positive.
+/// Each light's emitted flux as the power sampler weighs it ([`Light::power`]), 0 where it is
+/// not finite and positive.
 pub(super) fn light_powers(lights: &[Light], scene_radius: f32) -> Vec<f32> {
-    // An emissive mesh is one light per triangle sharing one spectrum: integrate it once.
-    let mut integrals: std::collections::HashMap<*const crate::spectrum::Spectrum, f32> = Default::default();
+    // An emissive mesh is one light per triangle sharing one spectrum: weigh it once.
+    per_light(lights, visible_flux, |a, v| a.power_given(v), |l| l.power(scene_radius))
+}
+
+/// Each light's flux as the BVH sampler weighs it ([`Light::bound_flux`]), 0 where it is not
+/// finite and positive.
+pub(super) fn light_bound_fluxes(lights: &[Light]) -> Vec<f32> {
+    per_light(lights, max_value, |a, v| a.bound_flux_given(v), Light::bound_flux)
+}
+
+/// `area(light, of_spectrum(spectrum))` for a triangle, `of_spectrum` evaluated once per shared
+/// spectrum, and `other(light)` for every other light; non-finite or negative values become 0.
+fn per_light(
+    lights: &[Light],
+    of_spectrum: fn(&Spectrum) -> f32,
+    area: impl Fn(&AreaLight, f32) -> f32,
+    other: impl Fn(&Light) -> f32,
+) -> Vec<f32> {
+    let mut cache: HashMap<*const Spectrum, f32> = HashMap::new();
     lights
         .iter()
         .map(|l| match l {
             Light::Area(a) => {
-                let key = std::sync::Arc::as_ptr(&a.spectrum);
-                a.power_given(
-                    *integrals.entry(key).or_insert_with(|| crate::light::point::spectral_integral(&a.spectrum)),
-                )
+                let v = *cache.entry(Arc::as_ptr(&a.spectrum)).or_insert_with(|| of_spectrum(&a.spectrum));
+                area(a, v)
             }
-            l => l.power(scene_radius),
+            l => other(l),
         })
         .map(|p| if p.is_finite() { p.max(0.0) } else { 0.0 })
         .collect()
