@@ -70,8 +70,9 @@ pub enum MaterialRef {
     Default,
     /// An anonymous `Material` directive: index into [`SceneDesc::materials`].
     Anonymous(usize),
-    /// `NamedMaterial "name"`: a key of [`SceneDesc::named_materials`] (checked to exist).
-    Named(String),
+    /// `NamedMaterial "name"`: a key of [`SceneDesc::named_materials`] (checked to exist); the
+    /// shapes that name it share the text.
+    Named(Arc<str>),
 }
 
 /// A Material or MakeNamedMaterial directive.
@@ -88,8 +89,8 @@ pub struct MaterialDesc {
 /// A named material.
 #[derive(Clone, Debug)]
 pub struct NamedMaterial {
-    /// The name given to MakeNamedMaterial.
-    pub name: String,
+    /// The name given to MakeNamedMaterial (shared by the shapes that use it).
+    pub name: Arc<str>,
     /// The material.
     pub material: MaterialDesc,
 }
@@ -155,8 +156,9 @@ pub struct ShapeDesc {
     /// World from object (inside ObjectBegin: instance space from object); for a moving shape,
     /// at the start time.
     pub world_from_object: Mat4,
-    /// The motion from `world_from_object` to the end transform, for a moving shape.
-    pub motion: Option<AnimatedTransform>,
+    /// The motion from `world_from_object` to the end transform, for a moving shape (boxed: most
+    /// shapes do not move, and a description holds one `ShapeDesc` per Shape directive).
+    pub motion: Option<Box<AnimatedTransform>>,
     /// ReverseOrientation was in effect: flip the normals (pbrt-v4 semantics).
     pub reverse_orientation: bool,
     /// The material in effect.
@@ -254,7 +256,7 @@ impl SceneDesc {
     /// The named material `name` (a scan of every definition; translating a whole scene
     /// resolves names through an index instead).
     pub fn named_material(&self, name: &str) -> Option<&MaterialDesc> {
-        self.named_materials.iter().find(|m| m.name == name).map(|m| &m.material)
+        self.named_materials.iter().find(|m| *m.name == *name).map(|m| &m.material)
     }
 
     /// The material a reference points at (`None` for [`MaterialRef::Default`]).
@@ -351,7 +353,7 @@ impl SceneDesc {
         for s in all_shapes {
             match &s.material {
                 MaterialRef::Named(n) => {
-                    used.insert(n.as_str());
+                    used.insert(&**n);
                 }
                 MaterialRef::Anonymous(i) => {
                     used_anonymous.insert(*i);
@@ -365,7 +367,7 @@ impl SceneDesc {
             }
         }
         for m in &self.named_materials {
-            if used.contains(m.name.as_str()) {
+            if used.contains(&*m.name) {
                 d(&m.material.params, "MakeNamedMaterial", &m.name);
             }
         }

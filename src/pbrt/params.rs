@@ -4,7 +4,8 @@
 //! and [`ParamSet::report_unused`] warns about the rest, so typos like `"float radisu"` are seen.
 
 use std::path::PathBuf;
-use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU32, Ordering};
+use std::sync::Arc;
 
 use glam::{Vec2, Vec3};
 
@@ -56,11 +57,28 @@ pub enum ParamValue {
     Spectrum(SpectrumParam),
 }
 
+/// The parameter names one parse has read, each held once: every parameter of a name shares
+/// its text.
+#[derive(Debug, Default)]
+pub struct ParamNames(rustc_hash::FxHashSet<Arc<str>>);
+
+impl ParamNames {
+    /// The shared text of `name`.
+    pub fn intern(&mut self, name: &str) -> Arc<str> {
+        if let Some(n) = self.0.get(name) {
+            return n.clone();
+        }
+        let n: Arc<str> = Arc::from(name);
+        self.0.insert(n.clone());
+        n
+    }
+}
+
 /// One named, typed parameter and where it was written.
 #[derive(Debug)]
 pub struct Param {
-    /// Parameter name ("radius").
-    pub name: String,
+    /// Parameter name ("radius"), shared by the parameters of that name ([`ParamNames`]).
+    pub name: Arc<str>,
     /// Canonical type name as pbrt-v4 spells it ("float", "point3", "rgb", ...).
     pub type_name: &'static str,
     /// Values.
@@ -70,7 +88,7 @@ pub struct Param {
     used: AtomicBool,
     /// How many values it held when read as a single one (0: never; more than 1: the rest were
     /// ignored).
-    read_as_one: AtomicUsize,
+    read_as_one: AtomicU32,
 }
 
 impl Clone for Param {
@@ -81,15 +99,15 @@ impl Clone for Param {
             value: self.value.clone(),
             loc: self.loc.clone(),
             used: AtomicBool::new(self.used.load(Ordering::Relaxed)),
-            read_as_one: AtomicUsize::new(self.read_as_one.load(Ordering::Relaxed)),
+            read_as_one: AtomicU32::new(self.read_as_one.load(Ordering::Relaxed)),
         }
     }
 }
 
 impl Param {
     /// A parameter that has not been read yet.
-    pub fn new(name: String, type_name: &'static str, value: ParamValue, loc: Location) -> Self {
-        Self { name, type_name, value, loc, used: AtomicBool::new(false), read_as_one: AtomicUsize::new(0) }
+    pub fn new(name: Arc<str>, type_name: &'static str, value: ParamValue, loc: Location) -> Self {
+        Self { name, type_name, value, loc, used: AtomicBool::new(false), read_as_one: AtomicU32::new(0) }
     }
 
     /// True once a getter read it.
@@ -102,8 +120,9 @@ impl Param {
         self
     }
 
-    /// Parses a declaration (`"float radius"`) and its value tokens.
-    pub fn parse(decl: &Token, values: &[Token]) -> Result<Self, SceneError> {
+    /// Parses a declaration (`"float radius"`) and its value tokens; the name is shared through
+    /// `names`.
+    pub fn parse(decl: &Token, values: &[Token], names: &mut ParamNames) -> Result<Self, SceneError> {
         let loc = &decl.loc();
         let mut words = decl.text.split_whitespace();
         let (Some(ty), Some(name), None) = (words.next(), words.next(), words.next()) else {
@@ -203,7 +222,7 @@ impl Param {
                 )))
             }
         };
-        Ok(Self::new(name.to_string(), type_name, value, loc.clone()))
+        Ok(Self::new(names.intern(name), type_name, value, loc.clone()))
     }
 }
 
@@ -318,6 +337,22 @@ impl ParamSet {
         Self { params: Vec::new(), notes: Vec::new(), color_space }
     }
 
+    /// An empty set in colour space `color_space` that collects its parameters in `buffer`
+    /// (emptied first); [`ParamSet::compact`] hands the buffer back.
+    pub(crate) fn with_buffer(mut buffer: Vec<Param>, color_space: &'static str) -> Self {
+        buffer.clear();
+        Self { params: buffer, notes: Vec::new(), color_space }
+    }
+
+    /// The set with its parameters moved into a vector of exactly their number, and the emptied
+    /// vector they were in (to collect the next set in: a set grown one parameter at a time
+    /// holds room for more than it has).
+    pub(crate) fn compact(mut self) -> (Self, Vec<Param>) {
+        let params = self.params.drain(..).collect();
+        let buffer = std::mem::replace(&mut self.params, params);
+        (self, buffer)
+    }
+
     /// Adds a parameter. A second one of the same name and kind replaces the first with a note,
     /// as in pbrt-v4 (whose lookups find the last one written); one of another kind ("float
     /// eta" beside "spectrum eta") is kept beside it, and each getter finds its own.
@@ -348,12 +383,12 @@ impl ParamSet {
 
     /// True when a parameter with this name exists (does not mark it used).
     pub fn has(&self, name: &str) -> bool {
-        self.params.iter().any(|p| p.name == name)
+        self.params.iter().any(|p| *p.name == *name)
     }
 
     /// Marks every parameter named `name` read, for one a directive reads only to ignore.
     pub fn mark_used(&self, name: &str) {
-        self.params.iter().filter(|p| p.name == name).for_each(|p| p.used.store(true, Ordering::Relaxed));
+        self.params.iter().filter(|p| *p.name == *name).for_each(|p| p.used.store(true, Ordering::Relaxed));
     }
 
     /// All parameters.
@@ -373,11 +408,11 @@ impl ParamSet {
 
     /// The parameter `name` regardless of type, marking it used.
     pub fn get(&self, name: &str) -> Option<&Param> {
-        self.params.iter().find(|p| p.name == name).map(Param::mark)
+        self.params.iter().find(|p| *p.name == *name).map(Param::mark)
     }
 
     fn find<'a, T: ?Sized>(&'a self, name: &str, f: impl Fn(&'a ParamValue) -> Option<&'a T>) -> Option<&'a T> {
-        let (p, v) = self.params.iter().filter(|p| p.name == name).find_map(|p| Some((p, f(&p.value)?)))?;
+        let (p, v) = self.params.iter().filter(|p| *p.name == *name).find_map(|p| Some((p, f(&p.value)?)))?;
         p.mark();
         Some(v)
     }
@@ -422,8 +457,8 @@ impl ParamSet {
     /// The first of the values `v` of parameter `name`, noting when there were more.
     fn first<'a, T>(&self, name: &str, v: &'a [T]) -> Option<&'a T> {
         if v.len() > 1 {
-            if let Some(p) = self.params.iter().find(|p| p.name == name) {
-                p.read_as_one.store(v.len(), Ordering::Relaxed);
+            if let Some(p) = self.params.iter().find(|p| *p.name == *name) {
+                p.read_as_one.store(u32::try_from(v.len()).unwrap_or(u32::MAX), Ordering::Relaxed);
             }
         }
         v.first()
@@ -432,7 +467,7 @@ impl ParamSet {
     /// A "string" parameter naming a file, resolved as [`Location::resolve`] does.
     pub fn filename(&self, name: &str) -> Option<PathBuf> {
         let s = self.string(name)?;
-        let p = self.params.iter().find(|p| p.name == name)?;
+        let p = self.params.iter().find(|p| *p.name == *name)?;
         Some(p.loc.resolve(s))
     }
 
@@ -441,7 +476,7 @@ impl ParamSet {
     /// file. Does not mark them used.
     pub fn named_files(&self) -> impl Iterator<Item = PathBuf> + '_ {
         self.params.iter().flat_map(|p| match &p.value {
-            ParamValue::String(v) if p.name == "filename" || p.name == "lensfile" => {
+            ParamValue::String(v) if matches!(&*p.name, "filename" | "lensfile") => {
                 v.iter().map(|s| p.loc.resolve(s)).collect()
             }
             ParamValue::Spectrum(SpectrumParam::File(f)) => vec![f.clone()],
@@ -534,7 +569,7 @@ mod tests {
     fn param(decl: &str, vals: &str) -> Result<Param, SceneError> {
         let file = |s: String| SourceFile::new(Arc::from(Path::new("dir/p.pbrt")), None, s);
         let (d, v) = (file(format!("\"{decl}\"")), file(vals.to_string()));
-        Param::parse(&toks(&d)[0], &toks(&v))
+        Param::parse(&toks(&d)[0], &toks(&v), &mut ParamNames::default())
     }
 
     #[test]

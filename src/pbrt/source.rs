@@ -8,7 +8,7 @@
 //! stream is dropped, and keep their own file's location.
 
 use super::error::{Location, SceneError};
-use super::params::{parse_float, Param, ParamSet};
+use super::params::{parse_float, Param, ParamNames, ParamSet};
 use super::tokenizer::{SourceFile, SourceFiles, Token, TokenKind, Tokenizer};
 use std::path::PathBuf;
 
@@ -23,13 +23,25 @@ pub(super) struct Source<'a> {
     outer: &'a SourceFile,
     /// The value tokens of the parameter being read (kept to reuse its allocation).
     values: Vec<Token<'a>>,
+    /// The parameters of the list being read (kept to reuse its allocation).
+    params: Vec<Param>,
+    /// The parameter names read so far.
+    names: ParamNames,
 }
 
 impl<'a> Source<'a> {
     /// Reads `file` (canonically `canonical`), keeping it and the files it includes in `store`.
     pub(super) fn new(store: &'a SourceFiles, file: SourceFile, canonical: PathBuf) -> Self {
         let outer = store.add(file);
-        Self { store, files: vec![(Tokenizer::new(outer), canonical)], peeked: None, outer, values: Vec::new() }
+        Self {
+            store,
+            files: vec![(Tokenizer::new(outer), canonical)],
+            peeked: None,
+            outer,
+            values: Vec::new(),
+            params: Vec::new(),
+            names: ParamNames::default(),
+        }
     }
 
     /// Reads `file` before the rest of the stream.
@@ -117,7 +129,7 @@ impl<'a> Source<'a> {
 
     /// A parameter list: `"type name" value` or `"type name" [ values ]`, repeated.
     pub(super) fn params(&mut self, color_space: &'static str) -> Result<ParamSet, SceneError> {
-        let mut ps = ParamSet::new(color_space);
+        let mut ps = ParamSet::with_buffer(std::mem::take(&mut self.params), color_space);
         let mut values = std::mem::take(&mut self.values);
         while matches!(self.peek()?, Some(t) if t.kind == TokenKind::Str) {
             let decl = self.next()?.expect("peeked");
@@ -139,10 +151,12 @@ impl<'a> Source<'a> {
                 TokenKind::Close => return Err(SceneError::syntax(&first.loc(), "]", "unexpected ]")),
                 _ => values.push(first),
             }
-            ps.push(Param::parse(&decl, &values)?)?;
+            ps.push(Param::parse(&decl, &values, &mut self.names)?)?;
         }
         values.clear();
         self.values = values;
+        let (ps, buffer) = ps.compact();
+        self.params = buffer;
         Ok(ps)
     }
 }

@@ -671,8 +671,8 @@ impl Ctx<'_> {
     fn object_parts(&mut self, obj: &ObjectDesc) -> Result<ObjectParts, SceneError> {
         let mut parts = ObjectParts { fixed: None, moving: Vec::new() };
         for s in &obj.shapes {
-            match s.motion {
-                Some(motion) => parts.moving.push((self.shape_prototype(s)?, motion)),
+            match s.motion.as_deref() {
+                Some(&motion) => parts.moving.push((self.shape_prototype(s)?, motion)),
                 None => {
                     let id = self.geometry(s, &s.world_from_object)?;
                     let proto = match parts.fixed {
@@ -759,7 +759,7 @@ impl Ctx<'_> {
         if curves && s.area_light.is_some() {
             self.unsupported(&s.loc, "area light on a curve".into(), "makes the curve non-emissive");
         }
-        if let Some(motion) = s.motion {
+        if let Some(&motion) = s.motion.as_deref() {
             return self.moving_shape(s, motion);
         }
         if curves {

@@ -151,8 +151,9 @@ struct Parser<'o> {
     materials: Vec<MaterialDesc>,
     named_materials: Vec<NamedMaterial>,
     /// Index into `named_materials` by name.
-    named_material_index: HashMap<String, usize>,
-    named_material_uses: Vec<(String, Location)>,
+    named_material_index: HashMap<Arc<str>, usize>,
+    /// NamedMaterial directives that named a material not defined before them.
+    named_material_uses: Vec<(Arc<str>, Location)>,
     textures: Vec<TextureDesc>,
     /// The names of the float textures defined so far, and of the spectrum ones.
     texture_names: [HashSet<String>; 2],
@@ -313,12 +314,23 @@ impl<'o> Parser<'o> {
         canonical: PathBuf,
     ) -> Result<(), SceneError> {
         let mut src = Source::new(store, SourceFile::new(file, self.search_dir.clone(), text), canonical);
+        // The last directive read, whose location is counted when the file ends (an Import's at
+        // once: the imported file's directives come after it).
+        let mut last = None;
         while let Some(tok) = src.next()? {
             if tok.kind != TokenKind::Word {
                 return Err(SceneError::syntax(&tok.loc(), &tok.display(), "expected a directive"));
             }
-            self.last_loc = Some(tok.loc());
+            if tok.text == "Import" {
+                self.last_loc = Some(tok.loc());
+                last = None;
+            } else {
+                last = Some((tok.file, tok.offset));
+            }
             self.directive(&tok, &mut src)?;
+        }
+        if let Some((file, offset)) = last {
+            self.last_loc = Some(file.location(offset));
         }
         Ok(())
     }

@@ -9,6 +9,7 @@ use crate::pbrt::params::{Param, ParamSet, ParamValue};
 use crate::pbrt::shapes;
 use crate::pbrt::source::Source;
 use crate::pbrt::tokenizer::Token;
+use std::sync::Arc;
 
 impl Parser<'_> {
     /// AttributeBegin/End, TransformBegin/End, Attribute, ObjectBegin/End, ObjectInstance,
@@ -119,14 +120,23 @@ impl Parser<'_> {
                 };
                 let mut m = self.material(&ty, ty_loc, params)?;
                 m.loc = tok.loc();
-                self.named_material_index.insert(name.text.to_string(), self.named_materials.len());
-                self.named_materials.push(NamedMaterial { name: name.text.into_owned(), material: m });
+                let name: Arc<str> = Arc::from(&*name.text);
+                self.named_material_index.insert(name.clone(), self.named_materials.len());
+                self.named_materials.push(NamedMaterial { name, material: m });
             }
             "NamedMaterial" => {
                 self.require_world(tok)?;
                 let name = src.string(tok, "a material name")?;
-                self.named_material_uses.push((name.text.to_string(), name.loc()));
-                self.gs.material = MaterialRef::Named(name.text.into_owned());
+                // A material defined by now shares its name; one that is not must be by the end.
+                let name = match self.named_material_index.get_key_value(&*name.text) {
+                    Some((defined, _)) => defined.clone(),
+                    None => {
+                        let undefined: Arc<str> = Arc::from(&*name.text);
+                        self.named_material_uses.push((undefined.clone(), name.loc()));
+                        undefined
+                    }
+                };
+                self.gs.material = MaterialRef::Named(name);
             }
             "Texture" => {
                 self.require_world(tok)?;
@@ -286,7 +296,7 @@ impl Parser<'_> {
             self.unsupported(&loc, "area light on a shape inside ObjectBegin", "makes the shape non-emissive");
             area_light = None;
         }
-        let motion = self.motion();
+        let motion = self.motion().map(Box::new);
         let s = ShapeDesc {
             kind,
             params,

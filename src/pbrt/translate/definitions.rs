@@ -31,7 +31,7 @@ pub(super) struct Definitions<'d> {
 impl<'d> Definitions<'d> {
     /// Indexes `desc`, in time linear in its number of definitions.
     pub(super) fn new(desc: &'d SceneDesc) -> Self {
-        let named_materials = desc.named_materials.iter().enumerate().map(|(i, m)| (m.name.as_str(), i)).collect();
+        let named_materials = desc.named_materials.iter().enumerate().map(|(i, m)| (&*m.name, i)).collect();
         let mut textures: HashMap<(&str, TextureClass), Vec<usize>> = HashMap::default();
         for (i, t) in desc.textures.iter().enumerate() {
             textures.entry((t.name.as_str(), t.class)).or_default().push(i);
