@@ -96,23 +96,24 @@ impl<'a> Source<'a> {
         Ok(t)
     }
 
-    /// `n` numbers, bare or in one bracketed list.
-    pub(super) fn numbers(&mut self, after: &Token, n: usize) -> Result<Vec<f32>, SceneError> {
+    /// `N` numbers, bare or in one bracketed list.
+    pub(super) fn numbers<const N: usize>(&mut self, after: &Token) -> Result<[f32; N], SceneError> {
         let bracketed = matches!(self.peek()?, Some(t) if t.kind == TokenKind::Open);
         if bracketed {
             self.next()?;
         }
-        let mut v = Vec::with_capacity(n);
-        for _ in 0..n {
+        let n = N;
+        let mut v = [0.0; N];
+        for (found, x) in v.iter_mut().enumerate() {
             let t = self.expect(after, format_args!("{n} numbers"))?;
             if t.kind != TokenKind::Word {
                 return Err(SceneError::syntax(
                     &t.loc(),
                     &t.display(),
-                    format!("{} expects {n} numbers, found {}", after.text, v.len()),
+                    format!("{} expects {n} numbers, found {found}", after.text),
                 ));
             }
-            v.push(parse_float(&t)?);
+            *x = parse_float(&t)?;
         }
         if bracketed {
             let t = self.expect(after, "\"]\"")?;

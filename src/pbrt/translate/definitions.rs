@@ -23,18 +23,32 @@ pub(super) struct Definitions<'d> {
     /// Index into [`SceneDesc::named_materials`] by name (names are unique: the parser refuses
     /// a redefinition).
     named_materials: HashMap<&'d str, usize>,
-    /// For each name and class, the indices into [`SceneDesc::textures`] of its definitions in
-    /// ascending order.
-    textures: HashMap<(&'d str, TextureClass), Vec<usize>>,
+    /// For each name and class, the indices into [`SceneDesc::textures`] of its definitions.
+    textures: HashMap<(&'d str, TextureClass), TextureDefs>,
+}
+
+/// The definitions of one texture name and class: indices into [`SceneDesc::textures`].
+enum TextureDefs {
+    /// Defined once (most names): no list to allocate.
+    One(usize),
+    /// Defined again: every definition in ascending order.
+    Many(Vec<usize>),
 }
 
 impl<'d> Definitions<'d> {
     /// Indexes `desc`, in time linear in its number of definitions.
     pub(super) fn new(desc: &'d SceneDesc) -> Self {
         let named_materials = desc.named_materials.iter().enumerate().map(|(i, m)| (&*m.name, i)).collect();
-        let mut textures: HashMap<(&str, TextureClass), Vec<usize>> = HashMap::default();
+        let mut textures: HashMap<(&str, TextureClass), TextureDefs> = HashMap::default();
+        textures.reserve(desc.textures.len());
         for (i, t) in desc.textures.iter().enumerate() {
-            textures.entry((t.name.as_str(), t.class)).or_default().push(i);
+            textures
+                .entry((t.name.as_str(), t.class))
+                .and_modify(|d| match d {
+                    TextureDefs::One(j) => *d = TextureDefs::Many(vec![*j, i]),
+                    TextureDefs::Many(v) => v.push(i),
+                })
+                .or_insert(TextureDefs::One(i));
         }
         Self { desc, named_materials, textures }
     }
@@ -61,7 +75,10 @@ impl<'d> Definitions<'d> {
     /// The index of the last definition of texture `name` of class `class` among the first
     /// `visible` texture directives.
     pub(super) fn texture_before(&self, name: &str, class: TextureClass, visible: usize) -> Option<usize> {
-        let defs = self.textures.get(&(name, class))?;
+        let defs = match self.textures.get(&(name, class))? {
+            TextureDefs::One(i) => std::slice::from_ref(i),
+            TextureDefs::Many(v) => v.as_slice(),
+        };
         let n = defs.partition_point(|&i| i < visible);
         n.checked_sub(1).map(|k| defs[k])
     }
