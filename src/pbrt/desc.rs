@@ -3,7 +3,7 @@
 //! Transforms follow pbrt-v4: `world_from_object` maps object space to world space; glam
 //! matrices are column-major like the numbers of pbrt's `Transform` directive.
 
-use std::collections::{HashMap, HashSet};
+use rustc_hash::{FxHashMap as HashMap, FxHashSet as HashSet};
 use std::path::PathBuf;
 use std::sync::Arc;
 
@@ -79,7 +79,7 @@ pub enum MaterialRef {
 #[derive(Clone, Debug)]
 pub struct MaterialDesc {
     /// Material type ("diffuse", "conductor", "dielectric", "coateddiffuse").
-    pub kind: String,
+    pub kind: &'static str,
     /// Its parameters (for MakeNamedMaterial, without "type").
     pub params: ParamSet,
     /// Where it was written.
@@ -107,12 +107,12 @@ pub enum TextureClass {
 /// A Texture directive.
 #[derive(Clone, Debug)]
 pub struct TextureDesc {
-    /// Name that "texture" parameters refer to.
-    pub name: String,
+    /// Name that "texture" parameters refer to (shared with the parser's index of names).
+    pub name: Arc<str>,
     /// Float or spectrum.
     pub class: TextureClass,
     /// Texture type ("imagemap", "checkerboard", ...).
-    pub kind: String,
+    pub kind: &'static str,
     /// Its parameters.
     pub params: ParamSet,
     /// World space from texture space (the current transform at the directive).
@@ -137,7 +137,7 @@ pub enum ShapeGeometry {
 #[derive(Clone, Debug)]
 pub struct AreaLightDesc {
     /// "diffuse".
-    pub kind: String,
+    pub kind: &'static str,
     /// Its parameters ("L", "scale", "twosided", "power", "filename").
     pub params: ParamSet,
     /// Where it was written.
@@ -148,7 +148,7 @@ pub struct AreaLightDesc {
 #[derive(Clone, Debug)]
 pub struct ShapeDesc {
     /// Shape type as written ("plymesh", "sphere", ...).
-    pub kind: String,
+    pub kind: &'static str,
     /// Its parameters (geometry parameters are already marked used; "alpha" etc. remain).
     pub params: ParamSet,
     /// The loaded geometry in object space.
@@ -175,7 +175,7 @@ pub struct ShapeDesc {
 #[derive(Clone, Debug)]
 pub struct LightDesc {
     /// Light type ("point", "spot", "distant", "infinite").
-    pub kind: String,
+    pub kind: &'static str,
     /// Its parameters.
     pub params: ParamSet,
     /// World from light space.
@@ -276,7 +276,7 @@ impl SceneDesc {
     /// The texture `name` of class `class` (the last definition wins, as in pbrt-v4; a scan of
     /// every definition).
     pub fn texture(&self, name: &str, class: TextureClass) -> Option<&TextureDesc> {
-        self.textures.iter().rev().find(|t| t.name == name && t.class == class)
+        self.textures.iter().rev().find(|t| *t.name == *name && t.class == class)
     }
 
     /// Every file rendering this scene reads, each once in first-use order: the scene files,
@@ -320,7 +320,7 @@ impl SceneDesc {
         // Every shape under one AreaLightSource carries its own copy of the parameters: report
         // each directive once, naming only parameters that no shape's copy used.
         let mut area_lights: Vec<(&AreaLightDesc, Vec<&ParamSet>)> = Vec::new();
-        let mut area_light_at: HashMap<&Location, usize> = HashMap::new();
+        let mut area_light_at: HashMap<&Location, usize> = HashMap::default();
         for s in shapes {
             d(&s.params, "Shape", &s.kind);
             if let Some(a) = &s.area_light {
@@ -349,7 +349,7 @@ impl SceneDesc {
         // normal, and an anonymous Material may be replaced before any shape), so only
         // referenced ones can have unread parameters worth reporting.
         let all_shapes = self.shapes.iter().chain(self.objects.iter().flat_map(|o| o.shapes.iter()));
-        let (mut used, mut used_anonymous) = (HashSet::new(), HashSet::new());
+        let (mut used, mut used_anonymous) = (HashSet::default(), HashSet::default());
         for s in all_shapes {
             match &s.material {
                 MaterialRef::Named(n) => {

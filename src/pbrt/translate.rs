@@ -571,7 +571,7 @@ impl Ctx<'_> {
     fn base_material(&mut self, m: &MaterialDesc) -> Result<Material, SceneError> {
         let p = &m.params;
         let loc = &m.loc;
-        Ok(match m.kind.as_str() {
+        Ok(match m.kind {
             "diffuse" => Material::Diffuse { reflectance: self.spectrum_texture(p, "reflectance", 0.5, loc)? },
             "diffusetransmission" => Material::DiffuseTransmission {
                 reflectance: self.spectrum_texture(p, "reflectance", 0.25, loc)?,
@@ -793,7 +793,7 @@ impl Ctx<'_> {
                 // shape it creates, and a mesh creates one shape per face (triangle or bilinear
                 // patch): its `power` is each face's, so k_e is taken per unit area here and each
                 // triangle's scale divided by the area of its face.
-                per_face = p.float("power").is_some_and(|v| v > 0.0) && FACETED_SHAPES.contains(&s.kind.as_str());
+                per_face = p.float("power").is_some_and(|v| v > 0.0) && FACETED_SHAPES.contains(&s.kind);
                 let mean = image.as_ref().map_or(1.0, |i| i.mean_luminance());
                 let k_area = if per_face { 1.0 } else { area };
                 let k_e = crate::math::PI * k_area * if two_sided { 2.0 } else { 1.0 } * mean;

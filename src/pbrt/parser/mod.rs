@@ -156,7 +156,7 @@ struct Parser<'o> {
     named_material_uses: Vec<(Arc<str>, Location)>,
     textures: Vec<TextureDesc>,
     /// The names of the float textures defined so far, and of the spectrum ones.
-    texture_names: [HashSet<String>; 2],
+    texture_names: [HashSet<Arc<str>>; 2],
     objects: Vec<ObjectDesc>,
     /// Index into `objects` by name.
     object_index: HashMap<String, usize>,
@@ -247,12 +247,12 @@ impl<'o> Parser<'o> {
         name: &str,
         loc: impl FnOnce() -> Location,
         kind: &'static str,
-        supported: &[&str],
+        supported: &[&'static str],
         pbrt_only: &[(&'static str, &'static str)],
         skip: bool,
-    ) -> Result<Option<String>, SceneError> {
+    ) -> Result<Option<&'static str>, SceneError> {
         match names::lookup(name, supported, pbrt_only) {
-            Lookup::Supported => Ok(Some(name.to_string())),
+            Lookup::Supported(s) => Ok(Some(s)),
             Lookup::Substitute(s) => {
                 let feature = format!("{kind} \"{name}\"");
                 if skip {
@@ -260,7 +260,7 @@ impl<'o> Parser<'o> {
                     Ok(None)
                 } else {
                     self.unsupported(&loc(), &feature, &format!("uses \"{s}\" instead"));
-                    Ok(Some(s.to_string()))
+                    Ok(Some(s))
                 }
             }
             Lookup::Unknown => Err(SceneError::UnknownType {
@@ -456,7 +456,7 @@ impl<'o> Parser<'o> {
         let check_textures = |ps: &ParamSet| -> Result<(), SceneError> {
             for p in ps.iter() {
                 if let ParamValue::Texture(t) = &p.value {
-                    if !texture_names.iter().any(|names| names.contains(t)) {
+                    if !texture_names.iter().any(|names| names.contains(&**t)) {
                         return Err(SceneError::syntax(&p.loc, t, format!("texture \"{t}\" is not defined")));
                     }
                 }

@@ -155,28 +155,35 @@ impl Parser<'_> {
                         ))
                     }
                 };
-                if !names::TEXTURES.contains(&&*ty.text) {
+                let Some(&kind) = names::TEXTURES.iter().find(|k| **k == ty.text) else {
                     return Err(SceneError::UnknownType {
                         loc: ty.loc(),
                         kind: "texture",
                         name: ty.text.into_owned(),
                         valid: names::TEXTURES.join(", "),
                     });
-                }
+                };
                 if let Some(d) = self.gs.defaults.get("texture") {
                     params.merge_defaults(d);
                 }
-                if !self.texture_names[class as usize].insert(name.text.to_string()) {
-                    self.warn(
-                        &name.loc(),
-                        format!("texture \"{}\" redefined; the later definition is used", name.text),
-                    );
-                }
+                let names = &mut self.texture_names[class as usize];
+                let shared = match names.get(&*name.text) {
+                    Some(n) => {
+                        let n = n.clone();
+                        self.warn(&name.loc(), format!("texture \"{n}\" redefined; the later definition is used"));
+                        n
+                    }
+                    None => {
+                        let n: Arc<str> = Arc::from(&*name.text);
+                        names.insert(n.clone());
+                        n
+                    }
+                };
                 let world_from_texture = self.start_ctm(tok, "texture");
                 self.textures.push(TextureDesc {
-                    name: name.text.into_owned(),
+                    name: shared,
                     class,
-                    kind: ty.text.into_owned(),
+                    kind,
                     params,
                     world_from_texture,
                     loc: tok.loc(),

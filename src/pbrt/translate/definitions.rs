@@ -43,7 +43,7 @@ impl<'d> Definitions<'d> {
         textures.reserve(desc.textures.len());
         for (i, t) in desc.textures.iter().enumerate() {
             textures
-                .entry((t.name.as_str(), t.class))
+                .entry((&*t.name, t.class))
                 .and_modify(|d| match d {
                     TextureDefs::One(j) => *d = TextureDefs::Many(vec![*j, i]),
                     TextureDefs::Many(v) => v.push(i),
@@ -112,7 +112,7 @@ mod tests {
         for visible in 0..=desc.textures.len() {
             for name in (0..14).map(|k| format!("t{k}")) {
                 for class in [TextureClass::Float, TextureClass::Spectrum] {
-                    let scan = desc.textures[..visible].iter().rposition(|t| t.name == name && t.class == class);
+                    let scan = desc.textures[..visible].iter().rposition(|t| *t.name == *name && t.class == class);
                     assert_eq!(defs.texture_before(&name, class, visible), scan, "{name} {class:?} before {visible}");
                 }
             }
