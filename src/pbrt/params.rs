@@ -134,23 +134,18 @@ impl Param {
             return Err(decl_err(format!("parameter \"{ty} {name}\" has no values")));
         }
         let floats = || -> Result<Vec<f32>, SceneError> { values.iter().map(parse_float).collect() };
-        let grouped = |n: usize| -> Result<Vec<f32>, SceneError> {
-            let v = floats()?;
-            if !v.len().is_multiple_of(n) {
-                return Err(decl_err(format!(
-                    "parameter \"{ty} {name}\" has {} values; a multiple of {n} is required",
-                    v.len()
-                )));
-            }
-            Ok(v)
+        let not_multiple = |n: usize| {
+            let len = values.len();
+            decl_err(format!("parameter \"{ty} {name}\" has {len} values; a multiple of {n} is required"))
+        };
+        let not_exactly = |n: usize| {
+            let len = values.len();
+            decl_err(format!("parameter \"{ty} {name}\" has {len} values; exactly {n} are required"))
         };
         let exactly = |n: usize| -> Result<Vec<f32>, SceneError> {
             let v = floats()?;
             if v.len() != n {
-                return Err(decl_err(format!(
-                    "parameter \"{ty} {name}\" has {} values; exactly {n} are required",
-                    v.len()
-                )));
+                return Err(not_exactly(n));
             }
             Ok(v)
         };
@@ -163,8 +158,8 @@ impl Param {
                 })
                 .collect()
         };
-        let vec3s = |v: Vec<f32>| v.chunks_exact(3).map(|c| Vec3::new(c[0], c[1], c[2])).collect();
-        let vec2s = |v: Vec<f32>| v.chunks_exact(2).map(|c| Vec2::new(c[0], c[1])).collect();
+        let vec3s = || groups(values, Vec3::from_array, || not_multiple(3));
+        let vec2s = || groups(values, Vec2::from_array, || not_multiple(2));
         let (type_name, value) = match ty {
             "float" => ("float", ParamValue::Float(floats()?)),
             "integer" => ("integer", ParamValue::Integer(values.iter().map(parse_int).collect::<Result<_, _>>()?)),
@@ -182,6 +177,9 @@ impl Param {
                 ),
             ),
             "string" => ("string", ParamValue::String(strings()?)),
+            "texture" if values.len() == 1 && values[0].kind == TokenKind::Str => {
+                ("texture", ParamValue::Texture(values[0].text.to_string()))
+            }
             "texture" => {
                 let s = strings()?;
                 if s.len() != 1 {
@@ -189,23 +187,24 @@ impl Param {
                 }
                 ("texture", ParamValue::Texture(s.into_iter().next().unwrap_or_default()))
             }
-            "point3" | "point" => ("point3", ParamValue::Point3(vec3s(grouped(3)?))),
-            "vector3" | "vector" => ("vector3", ParamValue::Vector3(vec3s(grouped(3)?))),
-            "normal" | "normal3" => ("normal", ParamValue::Normal(vec3s(grouped(3)?))),
-            "point2" => ("point2", ParamValue::Point2(vec2s(grouped(2)?))),
-            "vector2" => ("vector2", ParamValue::Vector2(vec2s(grouped(2)?))),
+            "point3" | "point" => ("point3", ParamValue::Point3(vec3s()?)),
+            "vector3" | "vector" => ("vector3", ParamValue::Vector3(vec3s()?)),
+            "normal" | "normal3" => ("normal", ParamValue::Normal(vec3s()?)),
+            "point2" => ("point2", ParamValue::Point2(vec2s()?)),
+            "vector2" => ("vector2", ParamValue::Vector2(vec2s()?)),
             "rgb" | "color" if values.len() > 3 => {
-                let v = grouped(3)?;
-                (
-                    "rgb",
-                    ParamValue::Spectrum(SpectrumParam::RgbArray(
-                        v.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect(),
-                    )),
-                )
+                ("rgb", ParamValue::Spectrum(SpectrumParam::RgbArray(groups(values, |c| c, || not_multiple(3))?)))
             }
             "rgb" | "color" => {
-                let v = exactly(3)?;
-                ("rgb", ParamValue::Spectrum(SpectrumParam::Rgb([v[0], v[1], v[2]])))
+                // At most three values: read them into place, then check there were three.
+                let mut c = [0.0; 3];
+                for (x, t) in c.iter_mut().zip(values) {
+                    *x = parse_float(t)?;
+                }
+                if values.len() != 3 {
+                    return Err(not_exactly(3));
+                }
+                ("rgb", ParamValue::Spectrum(SpectrumParam::Rgb(c)))
             }
             "blackbody" => {
                 let t = exactly(1)?[0];
@@ -224,6 +223,28 @@ impl Param {
         };
         Ok(Self::new(names.intern(name), type_name, value, loc.clone()))
     }
+}
+
+/// `values` read as numbers in groups of `N`, each made into a `T` by `make`; `not_multiple()`
+/// when their count is not a multiple of `N`. Every number is read before the count is checked,
+/// so a bad number is the error even when the count is wrong too.
+fn groups<const N: usize, T>(
+    values: &[Token],
+    make: impl Fn([f32; N]) -> T,
+    not_multiple: impl FnOnce() -> SceneError,
+) -> Result<Vec<T>, SceneError> {
+    let mut out = Vec::with_capacity(values.len() / N);
+    let mut group = [0.0; N];
+    for (i, t) in values.iter().enumerate() {
+        group[i % N] = parse_float(t)?;
+        if i % N == N - 1 {
+            out.push(make(group));
+        }
+    }
+    if !values.len().is_multiple_of(N) {
+        return Err(not_multiple());
+    }
+    Ok(out)
 }
 
 fn parse_spectrum(decl: &Token, values: &[Token], ty: &str, name: &str) -> Result<SpectrumParam, SceneError> {
