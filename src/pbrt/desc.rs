@@ -163,8 +163,9 @@ pub struct ShapeDesc {
     pub reverse_orientation: bool,
     /// The material in effect.
     pub material: MaterialRef,
-    /// The area light in effect, if any (never set inside object definitions).
-    pub area_light: Option<AreaLightDesc>,
+    /// The area light in effect, if any (never set inside object definitions; boxed like
+    /// `motion`, as most shapes emit nothing).
+    pub area_light: Option<Box<AreaLightDesc>>,
     /// The media on either side.
     pub media: MediumNames,
     /// Where it was written.

@@ -298,7 +298,7 @@ impl Parser<'_> {
         }
         let loc = tok.loc();
         let geometry = shapes::load(&kind, &params, &loc, &mut self.warnings)?;
-        let mut area_light = self.gs.area_light.clone();
+        let mut area_light = self.gs.area_light.clone().map(Box::new);
         if self.current_object.is_some() && area_light.is_some() {
             self.unsupported(&loc, "area light on a shape inside ObjectBegin", "makes the shape non-emissive");
             area_light = None;
