@@ -323,7 +323,7 @@ impl SceneDesc {
         let mut area_lights: Vec<(&AreaLightDesc, Vec<&ParamSet>)> = Vec::new();
         let mut area_light_at: HashMap<&Location, usize> = HashMap::default();
         for s in shapes {
-            d(&s.params, "Shape", &s.kind);
+            d(&s.params, "Shape", s.kind);
             if let Some(a) = &s.area_light {
                 match area_light_at.get(&a.loc) {
                     Some(&i) => area_lights[i].1.push(&a.params),
@@ -341,10 +341,10 @@ impl SceneDesc {
                     unused.push(p.clone()).expect("names are unique in the original set");
                 }
             }
-            d(&unused, "AreaLightSource", &a.kind);
+            d(&unused, "AreaLightSource", a.kind);
         }
         for l in &self.lights {
-            d(&l.params, "LightSource", &l.kind);
+            d(&l.params, "LightSource", l.kind);
         }
         // Materials no shape uses are never built (a shared library of named materials is
         // normal, and an anonymous Material may be replaced before any shape), so only
@@ -364,7 +364,7 @@ impl SceneDesc {
         }
         for (i, m) in self.materials.iter().enumerate() {
             if used_anonymous.contains(&i) {
-                d(&m.params, "Material", &m.kind);
+                d(&m.params, "Material", m.kind);
             }
         }
         for m in &self.named_materials {

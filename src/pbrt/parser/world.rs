@@ -273,7 +273,7 @@ impl Parser<'_> {
         if ty.is_empty() || ty == "none" {
             // pbrt-v4 reads both as "interface", with a deprecation warning.
             self.warn(&loc, format!("material \"{ty}\" is deprecated; read as \"interface\""));
-            return Ok(MaterialDesc { kind: "interface".into(), params, loc });
+            return Ok(MaterialDesc { kind: "interface", params, loc });
         }
         let kind = self
             .resolve_type(ty, || loc.clone(), "material", names::PRISM_MATERIALS, names::PBRT_ONLY_MATERIALS, false)?
@@ -297,7 +297,7 @@ impl Parser<'_> {
             params.merge_defaults(d);
         }
         let loc = tok.loc();
-        let geometry = shapes::load(&kind, &params, &loc, &mut self.warnings)?;
+        let geometry = shapes::load(kind, &params, &loc, &mut self.warnings)?;
         let mut area_light = self.gs.area_light.clone().map(Box::new);
         if self.current_object.is_some() && area_light.is_some() {
             self.unsupported(&loc, "area light on a shape inside ObjectBegin", "makes the shape non-emissive");
