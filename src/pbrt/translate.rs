@@ -21,7 +21,7 @@ mod textures;
 pub use inputs::{input_stamps, InputStamp};
 pub use load::{load_file, LoadedScene};
 
-use definitions::{Definitions, MaterialKey};
+use definitions::{ByMaterial, Definitions};
 use lights::{brightness_factor, FLUX};
 
 use super::desc::{MaterialDesc, MaterialRef, ObjectDesc, SceneDesc, ShapeDesc, ShapeGeometry};
@@ -144,7 +144,7 @@ pub fn build_with(
         defs: Definitions::new(desc),
         b: SceneBuilder::new(),
         warnings,
-        materials: HashMap::default(),
+        materials: ByMaterial::default(),
         rgb_spectra: HashMap::default(),
         textures: Default::default(),
         media: Default::default(),
@@ -177,7 +177,7 @@ struct Ctx<'a> {
     b: SceneBuilder,
     warnings: &'a mut Vec<Warning>,
     /// Material id per definition, so shared materials are built once.
-    materials: HashMap<MaterialKey, u32>,
+    materials: ByMaterial<u32>,
     /// The spectrum of each RGB parameter value met so far, by its bits, kind and colour space:
     /// each fit (a Newton solve, ~0.1 ms) is done once per distinct colour.
     rgb_spectra: HashMap<([u32; 3], RgbKind, &'static str), Spectrum>,
@@ -545,7 +545,7 @@ impl Ctx<'_> {
     /// The id of the material `r` refers to (built on first use).
     fn material(&mut self, r: &MaterialRef) -> Result<u32, SceneError> {
         let (key, m) = self.defs.material(r);
-        if let Some(&id) = self.materials.get(&key) {
+        if let Some(id) = self.materials.get(key) {
             return Ok(id);
         }
         let mat = match m {
@@ -553,7 +553,7 @@ impl Ctx<'_> {
             Some(m) => self.make_material(m)?,
         };
         let id = self.b.add_material(mat);
-        self.materials.insert(key, id);
+        self.materials.set(key, id);
         Ok(id)
     }
 

@@ -17,6 +17,46 @@ pub(super) enum MaterialKey {
     Named(usize),
 }
 
+/// A value per [`MaterialKey`], kept in vectors indexed like the description's lists of
+/// materials: a slot per definition instead of a hash map's entry.
+pub(super) struct ByMaterial<T> {
+    default: Option<T>,
+    anonymous: Vec<Option<T>>,
+    named: Vec<Option<T>>,
+}
+
+impl<T> Default for ByMaterial<T> {
+    fn default() -> Self {
+        Self { default: None, anonymous: Vec::new(), named: Vec::new() }
+    }
+}
+
+impl<T: Copy> ByMaterial<T> {
+    /// The value of `key`, if one was set.
+    pub(super) fn get(&self, key: MaterialKey) -> Option<T> {
+        match key {
+            MaterialKey::Default => self.default,
+            MaterialKey::Anonymous(i) => self.anonymous.get(i).copied().flatten(),
+            MaterialKey::Named(i) => self.named.get(i).copied().flatten(),
+        }
+    }
+
+    /// Sets the value of `key`.
+    pub(super) fn set(&mut self, key: MaterialKey, value: T) {
+        let slot = |list: &mut Vec<Option<T>>, i: usize| {
+            if list.len() <= i {
+                list.resize(i + 1, None);
+            }
+            list[i] = Some(value);
+        };
+        match key {
+            MaterialKey::Default => self.default = Some(value),
+            MaterialKey::Anonymous(i) => slot(&mut self.anonymous, i),
+            MaterialKey::Named(i) => slot(&mut self.named, i),
+        }
+    }
+}
+
 /// Named materials and textures of one [`SceneDesc`] by name.
 pub(super) struct Definitions<'d> {
     desc: &'d SceneDesc,
@@ -131,5 +171,20 @@ mod tests {
         assert_eq!(defs.material(&MaterialRef::Anonymous(0)).1.unwrap().kind, "conductor");
         assert!(matches!(defs.material(&MaterialRef::Default), (MaterialKey::Default, None)));
         assert!(defs.named_material("m20").is_none());
+    }
+
+    #[test]
+    fn values_by_material_are_kept_per_key() {
+        let mut ids = ByMaterial::default();
+        let keys = [MaterialKey::Named(5), MaterialKey::Default, MaterialKey::Anonymous(0), MaterialKey::Named(2)];
+        for (v, &k) in keys.iter().enumerate() {
+            assert_eq!(ids.get(k), None);
+            ids.set(k, v);
+        }
+        for (v, &k) in keys.iter().enumerate() {
+            assert_eq!(ids.get(k), Some(v));
+        }
+        assert_eq!(ids.get(MaterialKey::Named(3)), None);
+        assert_eq!(ids.get(MaterialKey::Anonymous(7)), None);
     }
 }
