@@ -3,7 +3,7 @@
 //! Transforms follow pbrt-v4: `world_from_object` maps object space to world space; glam
 //! matrices are column-major like the numbers of pbrt's `Transform` directive.
 
-use std::collections::{HashMap, HashSet};
+use rustc_hash::{FxHashMap as HashMap, FxHashSet as HashSet};
 use std::path::PathBuf;
 use std::sync::Arc;
 
@@ -70,15 +70,16 @@ pub enum MaterialRef {
     Default,
     /// An anonymous `Material` directive: index into [`SceneDesc::materials`].
     Anonymous(usize),
-    /// `NamedMaterial "name"`: a key of [`SceneDesc::named_materials`] (checked to exist).
-    Named(String),
+    /// `NamedMaterial "name"`: a key of [`SceneDesc::named_materials`] (checked to exist); the
+    /// shapes that name it share the text.
+    Named(Arc<str>),
 }
 
 /// A Material or MakeNamedMaterial directive.
 #[derive(Clone, Debug)]
 pub struct MaterialDesc {
     /// Material type ("diffuse", "conductor", "dielectric", "coateddiffuse").
-    pub kind: String,
+    pub kind: &'static str,
     /// Its parameters (for MakeNamedMaterial, without "type").
     pub params: ParamSet,
     /// Where it was written.
@@ -88,8 +89,8 @@ pub struct MaterialDesc {
 /// A named material.
 #[derive(Clone, Debug)]
 pub struct NamedMaterial {
-    /// The name given to MakeNamedMaterial.
-    pub name: String,
+    /// The name given to MakeNamedMaterial (shared by the shapes that use it).
+    pub name: Arc<str>,
     /// The material.
     pub material: MaterialDesc,
 }
@@ -106,12 +107,12 @@ pub enum TextureClass {
 /// A Texture directive.
 #[derive(Clone, Debug)]
 pub struct TextureDesc {
-    /// Name that "texture" parameters refer to.
-    pub name: String,
+    /// Name that "texture" parameters refer to (shared with the parser's index of names).
+    pub name: Arc<str>,
     /// Float or spectrum.
     pub class: TextureClass,
     /// Texture type ("imagemap", "checkerboard", ...).
-    pub kind: String,
+    pub kind: &'static str,
     /// Its parameters.
     pub params: ParamSet,
     /// World space from texture space (the current transform at the directive).
@@ -136,7 +137,7 @@ pub enum ShapeGeometry {
 #[derive(Clone, Debug)]
 pub struct AreaLightDesc {
     /// "diffuse".
-    pub kind: String,
+    pub kind: &'static str,
     /// Its parameters ("L", "scale", "twosided", "power", "filename").
     pub params: ParamSet,
     /// Where it was written.
@@ -147,7 +148,7 @@ pub struct AreaLightDesc {
 #[derive(Clone, Debug)]
 pub struct ShapeDesc {
     /// Shape type as written ("plymesh", "sphere", ...).
-    pub kind: String,
+    pub kind: &'static str,
     /// Its parameters (geometry parameters are already marked used; "alpha" etc. remain).
     pub params: ParamSet,
     /// The loaded geometry in object space.
@@ -155,14 +156,16 @@ pub struct ShapeDesc {
     /// World from object (inside ObjectBegin: instance space from object); for a moving shape,
     /// at the start time.
     pub world_from_object: Mat4,
-    /// The motion from `world_from_object` to the end transform, for a moving shape.
-    pub motion: Option<AnimatedTransform>,
+    /// The motion from `world_from_object` to the end transform, for a moving shape (boxed: most
+    /// shapes do not move, and a description holds one `ShapeDesc` per Shape directive).
+    pub motion: Option<Box<AnimatedTransform>>,
     /// ReverseOrientation was in effect: flip the normals (pbrt-v4 semantics).
     pub reverse_orientation: bool,
     /// The material in effect.
     pub material: MaterialRef,
-    /// The area light in effect, if any (never set inside object definitions).
-    pub area_light: Option<AreaLightDesc>,
+    /// The area light in effect, if any (never set inside object definitions; boxed like
+    /// `motion`, as most shapes emit nothing).
+    pub area_light: Option<Box<AreaLightDesc>>,
     /// The media on either side.
     pub media: MediumNames,
     /// Where it was written.
@@ -173,7 +176,7 @@ pub struct ShapeDesc {
 #[derive(Clone, Debug)]
 pub struct LightDesc {
     /// Light type ("point", "spot", "distant", "infinite").
-    pub kind: String,
+    pub kind: &'static str,
     /// Its parameters.
     pub params: ParamSet,
     /// World from light space.
@@ -254,7 +257,7 @@ impl SceneDesc {
     /// The named material `name` (a scan of every definition; translating a whole scene
     /// resolves names through an index instead).
     pub fn named_material(&self, name: &str) -> Option<&MaterialDesc> {
-        self.named_materials.iter().find(|m| m.name == name).map(|m| &m.material)
+        self.named_materials.iter().find(|m| *m.name == *name).map(|m| &m.material)
     }
 
     /// The material a reference points at (`None` for [`MaterialRef::Default`]).
@@ -274,7 +277,7 @@ impl SceneDesc {
     /// The texture `name` of class `class` (the last definition wins, as in pbrt-v4; a scan of
     /// every definition).
     pub fn texture(&self, name: &str, class: TextureClass) -> Option<&TextureDesc> {
-        self.textures.iter().rev().find(|t| t.name == name && t.class == class)
+        self.textures.iter().rev().find(|t| *t.name == *name && t.class == class)
     }
 
     /// Every file rendering this scene reads, each once in first-use order: the scene files,
@@ -318,9 +321,9 @@ impl SceneDesc {
         // Every shape under one AreaLightSource carries its own copy of the parameters: report
         // each directive once, naming only parameters that no shape's copy used.
         let mut area_lights: Vec<(&AreaLightDesc, Vec<&ParamSet>)> = Vec::new();
-        let mut area_light_at: HashMap<&Location, usize> = HashMap::new();
+        let mut area_light_at: HashMap<&Location, usize> = HashMap::default();
         for s in shapes {
-            d(&s.params, "Shape", &s.kind);
+            d(&s.params, "Shape", s.kind);
             if let Some(a) = &s.area_light {
                 match area_light_at.get(&a.loc) {
                     Some(&i) => area_lights[i].1.push(&a.params),
@@ -338,20 +341,20 @@ impl SceneDesc {
                     unused.push(p.clone()).expect("names are unique in the original set");
                 }
             }
-            d(&unused, "AreaLightSource", &a.kind);
+            d(&unused, "AreaLightSource", a.kind);
         }
         for l in &self.lights {
-            d(&l.params, "LightSource", &l.kind);
+            d(&l.params, "LightSource", l.kind);
         }
         // Materials no shape uses are never built (a shared library of named materials is
         // normal, and an anonymous Material may be replaced before any shape), so only
         // referenced ones can have unread parameters worth reporting.
         let all_shapes = self.shapes.iter().chain(self.objects.iter().flat_map(|o| o.shapes.iter()));
-        let (mut used, mut used_anonymous) = (HashSet::new(), HashSet::new());
+        let (mut used, mut used_anonymous) = (HashSet::default(), HashSet::default());
         for s in all_shapes {
             match &s.material {
                 MaterialRef::Named(n) => {
-                    used.insert(n.as_str());
+                    used.insert(&**n);
                 }
                 MaterialRef::Anonymous(i) => {
                     used_anonymous.insert(*i);
@@ -361,11 +364,11 @@ impl SceneDesc {
         }
         for (i, m) in self.materials.iter().enumerate() {
             if used_anonymous.contains(&i) {
-                d(&m.params, "Material", &m.kind);
+                d(&m.params, "Material", m.kind);
             }
         }
         for m in &self.named_materials {
-            if used.contains(m.name.as_str()) {
+            if used.contains(&*m.name) {
                 d(&m.material.params, "MakeNamedMaterial", &m.name);
             }
         }

@@ -83,8 +83,8 @@ pub const TEXTURES: &[&str] = &[
 /// How a type name is classified.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Lookup {
-    /// prism renders it.
-    Supported,
+    /// prism renders it: the name as the list spells it.
+    Supported(&'static str),
     /// pbrt-v4 knows it; prism does what the `&str` says instead.
     Substitute(&'static str),
     /// Nobody knows it.
@@ -92,9 +92,9 @@ pub enum Lookup {
 }
 
 /// Classifies `name` against a supported list and a pbrt-only table.
-pub fn lookup(name: &str, supported: &[&str], pbrt_only: &[(&'static str, &'static str)]) -> Lookup {
-    if supported.contains(&name) {
-        Lookup::Supported
+pub fn lookup(name: &str, supported: &[&'static str], pbrt_only: &[(&'static str, &'static str)]) -> Lookup {
+    if let Some(&s) = supported.iter().find(|s| **s == name) {
+        Lookup::Supported(s)
     } else if let Some(&(_, s)) = pbrt_only.iter().find(|(n, _)| *n == name) {
         Lookup::Substitute(s)
     } else {

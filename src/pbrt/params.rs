@@ -4,7 +4,8 @@
 //! and [`ParamSet::report_unused`] warns about the rest, so typos like `"float radisu"` are seen.
 
 use std::path::PathBuf;
-use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU32, Ordering};
+use std::sync::Arc;
 
 use glam::{Vec2, Vec3};
 
@@ -56,11 +57,28 @@ pub enum ParamValue {
     Spectrum(SpectrumParam),
 }
 
+/// The parameter names one parse has read, each held once: every parameter of a name shares
+/// its text.
+#[derive(Debug, Default)]
+pub struct ParamNames(rustc_hash::FxHashSet<Arc<str>>);
+
+impl ParamNames {
+    /// The shared text of `name`.
+    pub fn intern(&mut self, name: &str) -> Arc<str> {
+        if let Some(n) = self.0.get(name) {
+            return n.clone();
+        }
+        let n: Arc<str> = Arc::from(name);
+        self.0.insert(n.clone());
+        n
+    }
+}
+
 /// One named, typed parameter and where it was written.
 #[derive(Debug)]
 pub struct Param {
-    /// Parameter name ("radius").
-    pub name: String,
+    /// Parameter name ("radius"), shared by the parameters of that name ([`ParamNames`]).
+    pub name: Arc<str>,
     /// Canonical type name as pbrt-v4 spells it ("float", "point3", "rgb", ...).
     pub type_name: &'static str,
     /// Values.
@@ -70,7 +88,7 @@ pub struct Param {
     used: AtomicBool,
     /// How many values it held when read as a single one (0: never; more than 1: the rest were
     /// ignored).
-    read_as_one: AtomicUsize,
+    read_as_one: AtomicU32,
 }
 
 impl Clone for Param {
@@ -81,15 +99,15 @@ impl Clone for Param {
             value: self.value.clone(),
             loc: self.loc.clone(),
             used: AtomicBool::new(self.used.load(Ordering::Relaxed)),
-            read_as_one: AtomicUsize::new(self.read_as_one.load(Ordering::Relaxed)),
+            read_as_one: AtomicU32::new(self.read_as_one.load(Ordering::Relaxed)),
         }
     }
 }
 
 impl Param {
     /// A parameter that has not been read yet.
-    pub fn new(name: String, type_name: &'static str, value: ParamValue, loc: Location) -> Self {
-        Self { name, type_name, value, loc, used: AtomicBool::new(false), read_as_one: AtomicUsize::new(0) }
+    pub fn new(name: Arc<str>, type_name: &'static str, value: ParamValue, loc: Location) -> Self {
+        Self { name, type_name, value, loc, used: AtomicBool::new(false), read_as_one: AtomicU32::new(0) }
     }
 
     /// True once a getter read it.
@@ -102,8 +120,9 @@ impl Param {
         self
     }
 
-    /// Parses a declaration (`"float radius"`) and its value tokens.
-    pub fn parse(decl: &Token, values: &[Token]) -> Result<Self, SceneError> {
+    /// Parses a declaration (`"float radius"`) and its value tokens; the name is shared through
+    /// `names`.
+    pub fn parse(decl: &Token, values: &[Token], names: &mut ParamNames) -> Result<Self, SceneError> {
         let loc = &decl.loc();
         let mut words = decl.text.split_whitespace();
         let (Some(ty), Some(name), None) = (words.next(), words.next(), words.next()) else {
@@ -115,23 +134,18 @@ impl Param {
             return Err(decl_err(format!("parameter \"{ty} {name}\" has no values")));
         }
         let floats = || -> Result<Vec<f32>, SceneError> { values.iter().map(parse_float).collect() };
-        let grouped = |n: usize| -> Result<Vec<f32>, SceneError> {
-            let v = floats()?;
-            if !v.len().is_multiple_of(n) {
-                return Err(decl_err(format!(
-                    "parameter \"{ty} {name}\" has {} values; a multiple of {n} is required",
-                    v.len()
-                )));
-            }
-            Ok(v)
+        let not_multiple = |n: usize| {
+            let len = values.len();
+            decl_err(format!("parameter \"{ty} {name}\" has {len} values; a multiple of {n} is required"))
+        };
+        let not_exactly = |n: usize| {
+            let len = values.len();
+            decl_err(format!("parameter \"{ty} {name}\" has {len} values; exactly {n} are required"))
         };
         let exactly = |n: usize| -> Result<Vec<f32>, SceneError> {
             let v = floats()?;
             if v.len() != n {
-                return Err(decl_err(format!(
-                    "parameter \"{ty} {name}\" has {} values; exactly {n} are required",
-                    v.len()
-                )));
+                return Err(not_exactly(n));
             }
             Ok(v)
         };
@@ -144,8 +158,8 @@ impl Param {
                 })
                 .collect()
         };
-        let vec3s = |v: Vec<f32>| v.chunks_exact(3).map(|c| Vec3::new(c[0], c[1], c[2])).collect();
-        let vec2s = |v: Vec<f32>| v.chunks_exact(2).map(|c| Vec2::new(c[0], c[1])).collect();
+        let vec3s = || groups(values, Vec3::from_array, || not_multiple(3));
+        let vec2s = || groups(values, Vec2::from_array, || not_multiple(2));
         let (type_name, value) = match ty {
             "float" => ("float", ParamValue::Float(floats()?)),
             "integer" => ("integer", ParamValue::Integer(values.iter().map(parse_int).collect::<Result<_, _>>()?)),
@@ -163,6 +177,9 @@ impl Param {
                 ),
             ),
             "string" => ("string", ParamValue::String(strings()?)),
+            "texture" if values.len() == 1 && values[0].kind == TokenKind::Str => {
+                ("texture", ParamValue::Texture(values[0].text.to_string()))
+            }
             "texture" => {
                 let s = strings()?;
                 if s.len() != 1 {
@@ -170,23 +187,24 @@ impl Param {
                 }
                 ("texture", ParamValue::Texture(s.into_iter().next().unwrap_or_default()))
             }
-            "point3" | "point" => ("point3", ParamValue::Point3(vec3s(grouped(3)?))),
-            "vector3" | "vector" => ("vector3", ParamValue::Vector3(vec3s(grouped(3)?))),
-            "normal" | "normal3" => ("normal", ParamValue::Normal(vec3s(grouped(3)?))),
-            "point2" => ("point2", ParamValue::Point2(vec2s(grouped(2)?))),
-            "vector2" => ("vector2", ParamValue::Vector2(vec2s(grouped(2)?))),
+            "point3" | "point" => ("point3", ParamValue::Point3(vec3s()?)),
+            "vector3" | "vector" => ("vector3", ParamValue::Vector3(vec3s()?)),
+            "normal" | "normal3" => ("normal", ParamValue::Normal(vec3s()?)),
+            "point2" => ("point2", ParamValue::Point2(vec2s()?)),
+            "vector2" => ("vector2", ParamValue::Vector2(vec2s()?)),
             "rgb" | "color" if values.len() > 3 => {
-                let v = grouped(3)?;
-                (
-                    "rgb",
-                    ParamValue::Spectrum(SpectrumParam::RgbArray(
-                        v.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect(),
-                    )),
-                )
+                ("rgb", ParamValue::Spectrum(SpectrumParam::RgbArray(groups(values, |c| c, || not_multiple(3))?)))
             }
             "rgb" | "color" => {
-                let v = exactly(3)?;
-                ("rgb", ParamValue::Spectrum(SpectrumParam::Rgb([v[0], v[1], v[2]])))
+                // At most three values: read them into place, then check there were three.
+                let mut c = [0.0; 3];
+                for (x, t) in c.iter_mut().zip(values) {
+                    *x = parse_float(t)?;
+                }
+                if values.len() != 3 {
+                    return Err(not_exactly(3));
+                }
+                ("rgb", ParamValue::Spectrum(SpectrumParam::Rgb(c)))
             }
             "blackbody" => {
                 let t = exactly(1)?[0];
@@ -203,8 +221,30 @@ impl Param {
                 )))
             }
         };
-        Ok(Self::new(name.to_string(), type_name, value, loc.clone()))
+        Ok(Self::new(names.intern(name), type_name, value, loc.clone()))
     }
+}
+
+/// `values` read as numbers in groups of `N`, each made into a `T` by `make`; `not_multiple()`
+/// when their count is not a multiple of `N`. Every number is read before the count is checked,
+/// so a bad number is the error even when the count is wrong too.
+fn groups<const N: usize, T>(
+    values: &[Token],
+    make: impl Fn([f32; N]) -> T,
+    not_multiple: impl FnOnce() -> SceneError,
+) -> Result<Vec<T>, SceneError> {
+    let mut out = Vec::with_capacity(values.len() / N);
+    let mut group = [0.0; N];
+    for (i, t) in values.iter().enumerate() {
+        group[i % N] = parse_float(t)?;
+        if i % N == N - 1 {
+            out.push(make(group));
+        }
+    }
+    if !values.len().is_multiple_of(N) {
+        return Err(not_multiple());
+    }
+    Ok(out)
 }
 
 fn parse_spectrum(decl: &Token, values: &[Token], ty: &str, name: &str) -> Result<SpectrumParam, SceneError> {
@@ -247,11 +287,48 @@ pub fn parse_float(t: &Token) -> Result<f32, SceneError> {
     if t.kind != TokenKind::Word {
         return Err(bad("expected a number"));
     }
-    match t.text.parse::<f32>() {
+    match short_decimal(&t.text).map_or_else(|| t.text.parse::<f32>(), Ok) {
         Ok(v) if v.is_finite() => Ok(v),
         Ok(_) => Err(bad("number is not finite")),
         Err(_) => Err(bad("expected a number")),
     }
+}
+
+/// `s` as an `f32` when it is a short plain decimal, `-?digits` or `-?digits.digits` whose
+/// digits read as an integer make at most 2²⁴ with at most 10 of them after the point; `None`
+/// for anything else. The integer and the power of ten are then both exact in `f32`, and their
+/// quotient, one correctly rounded division, is the correctly rounded value of `s` (Clinger,
+/// "How to read floating point numbers accurately", 1990): what `str::parse` returns, found
+/// without its general machinery for the numbers scene files are mostly made of.
+fn short_decimal(s: &str) -> Option<f32> {
+    const POW10: [f32; 11] = [1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10];
+    let (negative, digits) = match s.as_bytes() {
+        [b'-', rest @ ..] => (true, rest),
+        all => (false, all),
+    };
+    let (mut m, mut after_point) = (0u32, None::<usize>);
+    for (i, &b) in digits.iter().enumerate() {
+        match b {
+            b'0'..=b'9' => {
+                m = m * 10 + u32::from(b - b'0');
+                if m > 1 << 24 {
+                    return None;
+                }
+                if let Some(k) = &mut after_point {
+                    *k += 1;
+                }
+            }
+            b'.' if i > 0 && after_point.is_none() => after_point = Some(0),
+            _ => return None,
+        }
+    }
+    let k = match after_point {
+        None if !digits.is_empty() => 0,
+        Some(k @ 1..=10) => k,
+        _ => return None,
+    };
+    let v = m as f32 / POW10[k];
+    Some(if negative { -v } else { v })
 }
 
 /// Parses a 32-bit integer.
@@ -318,6 +395,22 @@ impl ParamSet {
         Self { params: Vec::new(), notes: Vec::new(), color_space }
     }
 
+    /// An empty set in colour space `color_space` that collects its parameters in `buffer`
+    /// (emptied first); [`ParamSet::compact`] hands the buffer back.
+    pub(crate) fn with_buffer(mut buffer: Vec<Param>, color_space: &'static str) -> Self {
+        buffer.clear();
+        Self { params: buffer, notes: Vec::new(), color_space }
+    }
+
+    /// The set with its parameters moved into a vector of exactly their number, and the emptied
+    /// vector they were in (to collect the next set in: a set grown one parameter at a time
+    /// holds room for more than it has).
+    pub(crate) fn compact(mut self) -> (Self, Vec<Param>) {
+        let params = self.params.drain(..).collect();
+        let buffer = std::mem::replace(&mut self.params, params);
+        (self, buffer)
+    }
+
     /// Adds a parameter. A second one of the same name and kind replaces the first with a note,
     /// as in pbrt-v4 (whose lookups find the last one written); one of another kind ("float
     /// eta" beside "spectrum eta") is kept beside it, and each getter finds its own.
@@ -348,12 +441,12 @@ impl ParamSet {
 
     /// True when a parameter with this name exists (does not mark it used).
     pub fn has(&self, name: &str) -> bool {
-        self.params.iter().any(|p| p.name == name)
+        self.params.iter().any(|p| *p.name == *name)
     }
 
     /// Marks every parameter named `name` read, for one a directive reads only to ignore.
     pub fn mark_used(&self, name: &str) {
-        self.params.iter().filter(|p| p.name == name).for_each(|p| p.used.store(true, Ordering::Relaxed));
+        self.params.iter().filter(|p| *p.name == *name).for_each(|p| p.used.store(true, Ordering::Relaxed));
     }
 
     /// All parameters.
@@ -373,11 +466,11 @@ impl ParamSet {
 
     /// The parameter `name` regardless of type, marking it used.
     pub fn get(&self, name: &str) -> Option<&Param> {
-        self.params.iter().find(|p| p.name == name).map(Param::mark)
+        self.params.iter().find(|p| *p.name == *name).map(Param::mark)
     }
 
     fn find<'a, T: ?Sized>(&'a self, name: &str, f: impl Fn(&'a ParamValue) -> Option<&'a T>) -> Option<&'a T> {
-        let (p, v) = self.params.iter().filter(|p| p.name == name).find_map(|p| Some((p, f(&p.value)?)))?;
+        let (p, v) = self.params.iter().filter(|p| *p.name == *name).find_map(|p| Some((p, f(&p.value)?)))?;
         p.mark();
         Some(v)
     }
@@ -422,8 +515,8 @@ impl ParamSet {
     /// The first of the values `v` of parameter `name`, noting when there were more.
     fn first<'a, T>(&self, name: &str, v: &'a [T]) -> Option<&'a T> {
         if v.len() > 1 {
-            if let Some(p) = self.params.iter().find(|p| p.name == name) {
-                p.read_as_one.store(v.len(), Ordering::Relaxed);
+            if let Some(p) = self.params.iter().find(|p| *p.name == *name) {
+                p.read_as_one.store(u32::try_from(v.len()).unwrap_or(u32::MAX), Ordering::Relaxed);
             }
         }
         v.first()
@@ -432,7 +525,7 @@ impl ParamSet {
     /// A "string" parameter naming a file, resolved as [`Location::resolve`] does.
     pub fn filename(&self, name: &str) -> Option<PathBuf> {
         let s = self.string(name)?;
-        let p = self.params.iter().find(|p| p.name == name)?;
+        let p = self.params.iter().find(|p| *p.name == *name)?;
         Some(p.loc.resolve(s))
     }
 
@@ -441,7 +534,7 @@ impl ParamSet {
     /// file. Does not mark them used.
     pub fn named_files(&self) -> impl Iterator<Item = PathBuf> + '_ {
         self.params.iter().flat_map(|p| match &p.value {
-            ParamValue::String(v) if p.name == "filename" || p.name == "lensfile" => {
+            ParamValue::String(v) if matches!(&*p.name, "filename" | "lensfile") => {
                 v.iter().map(|s| p.loc.resolve(s)).collect()
             }
             ParamValue::Spectrum(SpectrumParam::File(f)) => vec![f.clone()],
@@ -534,7 +627,7 @@ mod tests {
     fn param(decl: &str, vals: &str) -> Result<Param, SceneError> {
         let file = |s: String| SourceFile::new(Arc::from(Path::new("dir/p.pbrt")), None, s);
         let (d, v) = (file(format!("\"{decl}\"")), file(vals.to_string()));
-        Param::parse(&toks(&d)[0], &toks(&v))
+        Param::parse(&toks(&d)[0], &toks(&v), &mut ParamNames::default())
     }
 
     #[test]
@@ -564,6 +657,35 @@ mod tests {
             param("spectrum k", "\"spd/cu.spd\"").unwrap().value,
             ParamValue::Spectrum(SpectrumParam::File(PathBuf::from("dir/spd/cu.spd")))
         );
+    }
+
+    #[test]
+    fn short_decimals_read_as_str_parse_reads_them() {
+        // Digits from a fixed linear congruential sequence, with and without sign, leading zeros
+        // and points, against the standard library's correctly rounded reading.
+        let mut state = 0x2545_f491_u64;
+        let mut next = |n: u64| {
+            state = state.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
+            (state >> 33) % n
+        };
+        for _ in 0..200_000 {
+            let m = next(1 << 25);
+            let k = next(12) as usize;
+            let digits = format!("{}{m:0>width$}", "0".repeat(next(3) as usize), width = k + 1);
+            let (int, frac) = digits.split_at(digits.len() - k);
+            let sign = if next(2) == 0 { "-" } else { "" };
+            let s = if k == 0 { format!("{sign}{int}") } else { format!("{sign}{int}.{frac}") };
+            let want: f32 = s.parse().unwrap();
+            match short_decimal(&s) {
+                Some(v) => assert_eq!(v.to_bits(), want.to_bits(), "{s}"),
+                None => assert!(m > 1 << 24 || k > 10, "{s} not read"),
+            }
+        }
+        assert_eq!(short_decimal("16777216"), Some(16_777_216.0));
+        assert_eq!(short_decimal("-0").map(f32::to_bits), Some((-0.0f32).to_bits()));
+        for other in ["", "-", ".5", "5.", "1e3", "+1", "1.2.3", "16777217", "0.00000000001", "inf", "nan", "1_0"] {
+            assert_eq!(short_decimal(other), None, "{other}");
+        }
     }
 
     #[test]

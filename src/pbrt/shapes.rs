@@ -63,7 +63,7 @@ pub fn load(
 /// own (u, v) within a stated error: `geometry::bilinear`) from "P", "indices", "N", "uv".
 fn inline_mesh(ps: &ParamSet, loc: &Location, corners: usize) -> Result<Mesh, SceneError> {
     let decl = |name: &str, ty: &str| {
-        let l = ps.iter().find(|p| p.name == name).map_or(loc.clone(), |p| p.loc.clone());
+        let l = ps.iter().find(|p| *p.name == *name).map_or(loc.clone(), |p| p.loc.clone());
         (l, format!("{ty} {name}"))
     };
     let err = |name: &str, ty: &str, m: String| {
@@ -74,9 +74,10 @@ fn inline_mesh(ps: &ParamSet, loc: &Location, corners: usize) -> Result<Mesh, Sc
         return Err(SceneError::syntax(loc, "Shape", "mesh needs a \"point3 P\" parameter"));
     };
     let n = p.len();
-    let indices: Vec<i32> = match ps.ints("indices") {
-        Some(i) => i.to_vec(),
-        None if n == corners => (0..corners as i32).collect(),
+    let implicit = [0, 1, 2, 3];
+    let indices: &[i32] = match ps.ints("indices") {
+        Some(i) => i,
+        None if n == corners => &implicit[..corners],
         None => {
             return Err(SceneError::syntax(
                 loc,
@@ -96,14 +97,13 @@ fn inline_mesh(ps: &ParamSet, loc: &Location, corners: usize) -> Result<Mesh, Sc
     }
     let mut tris = Vec::with_capacity(indices.len() / corners * (corners - 2));
     let mut patches = Vec::new();
-    let mut checked = Vec::with_capacity(corners);
+    let mut checked = [0u32; 4];
     for prim in indices.chunks_exact(corners) {
-        checked.clear();
-        for &i in prim {
+        for (c, &i) in checked.iter_mut().zip(prim) {
             if i < 0 || i as usize >= n {
                 return Err(err("indices", "integer", format!("index {i} is out of range: the mesh has {n} vertices")));
             }
-            checked.push(i as u32);
+            *c = i as u32;
         }
         if corners == 3 {
             tris.push([checked[0], checked[1], checked[2]]);
@@ -139,7 +139,7 @@ fn inline_mesh(ps: &ParamSet, loc: &Location, corners: usize) -> Result<Mesh, Sc
 /// times (default 3) and pushed to the limit surface, with limit normals. pbrt-v4 reads no other
 /// parameter ("scheme" is read and ignored), so others are reported unused.
 fn loop_subdivision(ps: &ParamSet, loc: &Location, warnings: &mut Vec<Warning>) -> Result<Mesh, SceneError> {
-    let at = |name: &str| ps.iter().find(|p| p.name == name).map_or(loc.clone(), |p| p.loc.clone());
+    let at = |name: &str| ps.iter().find(|p| *p.name == *name).map_or(loc.clone(), |p| p.loc.clone());
     let err = |m: String| SceneError::syntax(loc, "Shape \"loopsubdiv\"", m);
     let levels = ps.int_or("levels", 3);
     let _ = ps.string("scheme");

@@ -8,7 +8,7 @@
 //! stream is dropped, and keep their own file's location.
 
 use super::error::{Location, SceneError};
-use super::params::{parse_float, Param, ParamSet};
+use super::params::{parse_float, Param, ParamNames, ParamSet};
 use super::tokenizer::{SourceFile, SourceFiles, Token, TokenKind, Tokenizer};
 use std::path::PathBuf;
 
@@ -23,13 +23,25 @@ pub(super) struct Source<'a> {
     outer: &'a SourceFile,
     /// The value tokens of the parameter being read (kept to reuse its allocation).
     values: Vec<Token<'a>>,
+    /// The parameters of the list being read (kept to reuse its allocation).
+    params: Vec<Param>,
+    /// The parameter names read so far.
+    names: ParamNames,
 }
 
 impl<'a> Source<'a> {
     /// Reads `file` (canonically `canonical`), keeping it and the files it includes in `store`.
     pub(super) fn new(store: &'a SourceFiles, file: SourceFile, canonical: PathBuf) -> Self {
         let outer = store.add(file);
-        Self { store, files: vec![(Tokenizer::new(outer), canonical)], peeked: None, outer, values: Vec::new() }
+        Self {
+            store,
+            files: vec![(Tokenizer::new(outer), canonical)],
+            peeked: None,
+            outer,
+            values: Vec::new(),
+            params: Vec::new(),
+            names: ParamNames::default(),
+        }
     }
 
     /// Reads `file` before the rest of the stream.
@@ -84,23 +96,24 @@ impl<'a> Source<'a> {
         Ok(t)
     }
 
-    /// `n` numbers, bare or in one bracketed list.
-    pub(super) fn numbers(&mut self, after: &Token, n: usize) -> Result<Vec<f32>, SceneError> {
+    /// `N` numbers, bare or in one bracketed list.
+    pub(super) fn numbers<const N: usize>(&mut self, after: &Token) -> Result<[f32; N], SceneError> {
         let bracketed = matches!(self.peek()?, Some(t) if t.kind == TokenKind::Open);
         if bracketed {
             self.next()?;
         }
-        let mut v = Vec::with_capacity(n);
-        for _ in 0..n {
+        let n = N;
+        let mut v = [0.0; N];
+        for (found, x) in v.iter_mut().enumerate() {
             let t = self.expect(after, format_args!("{n} numbers"))?;
             if t.kind != TokenKind::Word {
                 return Err(SceneError::syntax(
                     &t.loc(),
                     &t.display(),
-                    format!("{} expects {n} numbers, found {}", after.text, v.len()),
+                    format!("{} expects {n} numbers, found {found}", after.text),
                 ));
             }
-            v.push(parse_float(&t)?);
+            *x = parse_float(&t)?;
         }
         if bracketed {
             let t = self.expect(after, "\"]\"")?;
@@ -117,7 +130,7 @@ impl<'a> Source<'a> {
 
     /// A parameter list: `"type name" value` or `"type name" [ values ]`, repeated.
     pub(super) fn params(&mut self, color_space: &'static str) -> Result<ParamSet, SceneError> {
-        let mut ps = ParamSet::new(color_space);
+        let mut ps = ParamSet::with_buffer(std::mem::take(&mut self.params), color_space);
         let mut values = std::mem::take(&mut self.values);
         while matches!(self.peek()?, Some(t) if t.kind == TokenKind::Str) {
             let decl = self.next()?.expect("peeked");
@@ -139,10 +152,12 @@ impl<'a> Source<'a> {
                 TokenKind::Close => return Err(SceneError::syntax(&first.loc(), "]", "unexpected ]")),
                 _ => values.push(first),
             }
-            ps.push(Param::parse(&decl, &values)?)?;
+            ps.push(Param::parse(&decl, &values, &mut self.names)?)?;
         }
         values.clear();
         self.values = values;
+        let (ps, buffer) = ps.compact();
+        self.params = buffer;
         Ok(ps)
     }
 }

@@ -150,9 +150,21 @@ impl Token<'_> {
 
 /// Whether an ASCII byte ends a word: a blank (vertical tab included), a bracket, a quote or a
 /// comment sign.
-fn ends_word(b: u8) -> bool {
+const fn ends_word(b: u8) -> bool {
     b.is_ascii_whitespace() || matches!(b, 0x0b | b'[' | b']' | b'"' | b'#')
 }
+
+/// For each byte, whether a word's ASCII fast path stops at it: [`ends_word`], or a byte of a
+/// non-ASCII character (looked at as a character).
+static STOPS_WORD: [bool; 256] = {
+    let mut t = [false; 256];
+    let mut b = 0;
+    while b < 256 {
+        t[b] = b >= 0x80 || ends_word(b as u8);
+        b += 1;
+    }
+    t
+};
 
 /// Splits scene text into tokens lazily.
 pub struct Tokenizer<'a> {
@@ -211,7 +223,7 @@ impl<'a> Tokenizer<'a> {
             _ => {
                 // A word has no line break and runs to a blank, a bracket, a quote or a '#'.
                 let rest = &bytes[start..];
-                let mut len = rest.iter().position(|&b| !b.is_ascii() || ends_word(b)).unwrap_or(rest.len());
+                let mut len = rest.iter().position(|&b| STOPS_WORD[usize::from(b)]).unwrap_or(rest.len());
                 if rest.get(len).is_some_and(|b| !b.is_ascii()) {
                     let rest = &text[start..];
                     len = rest

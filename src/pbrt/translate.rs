@@ -21,7 +21,7 @@ mod textures;
 pub use inputs::{input_stamps, InputStamp};
 pub use load::{load_file, LoadedScene};
 
-use definitions::{Definitions, MaterialKey};
+use definitions::{ByMaterial, Definitions};
 use lights::{brightness_factor, FLUX};
 
 use super::desc::{MaterialDesc, MaterialRef, ObjectDesc, SceneDesc, ShapeDesc, ShapeGeometry};
@@ -144,7 +144,7 @@ pub fn build_with(
         defs: Definitions::new(desc),
         b: SceneBuilder::new(),
         warnings,
-        materials: HashMap::default(),
+        materials: ByMaterial::default(),
         rgb_spectra: HashMap::default(),
         textures: Default::default(),
         media: Default::default(),
@@ -177,7 +177,7 @@ struct Ctx<'a> {
     b: SceneBuilder,
     warnings: &'a mut Vec<Warning>,
     /// Material id per definition, so shared materials are built once.
-    materials: HashMap<MaterialKey, u32>,
+    materials: ByMaterial<u32>,
     /// The spectrum of each RGB parameter value met so far, by its bits, kind and colour space:
     /// each fit (a Newton solve, ~0.1 ms) is done once per distinct colour.
     rgb_spectra: HashMap<([u32; 3], RgbKind, &'static str), Spectrum>,
@@ -545,7 +545,7 @@ impl Ctx<'_> {
     /// The id of the material `r` refers to (built on first use).
     fn material(&mut self, r: &MaterialRef) -> Result<u32, SceneError> {
         let (key, m) = self.defs.material(r);
-        if let Some(&id) = self.materials.get(&key) {
+        if let Some(id) = self.materials.get(key) {
             return Ok(id);
         }
         let mat = match m {
@@ -553,7 +553,7 @@ impl Ctx<'_> {
             Some(m) => self.make_material(m)?,
         };
         let id = self.b.add_material(mat);
-        self.materials.insert(key, id);
+        self.materials.set(key, id);
         Ok(id)
     }
 
@@ -571,7 +571,7 @@ impl Ctx<'_> {
     fn base_material(&mut self, m: &MaterialDesc) -> Result<Material, SceneError> {
         let p = &m.params;
         let loc = &m.loc;
-        Ok(match m.kind.as_str() {
+        Ok(match m.kind {
             "diffuse" => Material::Diffuse { reflectance: self.spectrum_texture(p, "reflectance", 0.5, loc)? },
             "diffusetransmission" => Material::DiffuseTransmission {
                 reflectance: self.spectrum_texture(p, "reflectance", 0.25, loc)?,
@@ -671,8 +671,8 @@ impl Ctx<'_> {
     fn object_parts(&mut self, obj: &ObjectDesc) -> Result<ObjectParts, SceneError> {
         let mut parts = ObjectParts { fixed: None, moving: Vec::new() };
         for s in &obj.shapes {
-            match s.motion {
-                Some(motion) => parts.moving.push((self.shape_prototype(s)?, motion)),
+            match s.motion.as_deref() {
+                Some(&motion) => parts.moving.push((self.shape_prototype(s)?, motion)),
                 None => {
                     let id = self.geometry(s, &s.world_from_object)?;
                     let proto = match parts.fixed {
@@ -759,7 +759,7 @@ impl Ctx<'_> {
         if curves && s.area_light.is_some() {
             self.unsupported(&s.loc, "area light on a curve".into(), "makes the curve non-emissive");
         }
-        if let Some(motion) = s.motion {
+        if let Some(&motion) = s.motion.as_deref() {
             return self.moving_shape(s, motion);
         }
         if curves {
@@ -793,7 +793,7 @@ impl Ctx<'_> {
                 // shape it creates, and a mesh creates one shape per face (triangle or bilinear
                 // patch): its `power` is each face's, so k_e is taken per unit area here and each
                 // triangle's scale divided by the area of its face.
-                per_face = p.float("power").is_some_and(|v| v > 0.0) && FACETED_SHAPES.contains(&s.kind.as_str());
+                per_face = p.float("power").is_some_and(|v| v > 0.0) && FACETED_SHAPES.contains(&s.kind);
                 let mean = image.as_ref().map_or(1.0, |i| i.mean_luminance());
                 let k_area = if per_face { 1.0 } else { area };
                 let k_e = crate::math::PI * k_area * if two_sided { 2.0 } else { 1.0 } * mean;

@@ -156,7 +156,7 @@ fn instanced_orchard_parses() {
     assert_eq!(tree.shapes.len(), 2);
     assert_eq!(mesh_triangles(&tree.shapes[1]), 320);
     assert_eq!(d.material(&tree.shapes[1].material).unwrap().kind, "coateddiffuse");
-    assert_eq!(d.lights.iter().map(|l| l.kind.as_str()).collect::<Vec<_>>(), ["distant", "infinite"]);
+    assert_eq!(d.lights.iter().map(|l| l.kind).collect::<Vec<_>>(), ["distant", "infinite"]);
     // Second instance of the first row: Translate −6 0 −3 then +3 in x.
     assert_eq!(d.instances[1].world_from_instance.w_axis.truncate(), Vec3::new(-3., 0., -3.));
 }
@@ -164,10 +164,9 @@ fn instanced_orchard_parses() {
 #[test]
 fn material_row_parses() {
     let d = load("material_row.pbrt");
-    assert_eq!(d.lights.iter().map(|l| l.kind.as_str()).collect::<Vec<_>>(), ["spot", "point"]);
+    assert_eq!(d.lights.iter().map(|l| l.kind).collect::<Vec<_>>(), ["spot", "point"]);
     assert_eq!(d.instances.len(), 2);
-    let kinds: Vec<&str> =
-        d.shapes.iter().map(|s| d.material(&s.material).map_or("default", |m| m.kind.as_str())).collect();
+    let kinds: Vec<&str> = d.shapes.iter().map(|s| d.material(&s.material).map_or("default", |m| m.kind)).collect();
     assert_eq!(kinds, ["diffuse", "diffuse", "dielectric", "conductor", "coateddiffuse"]);
     // The copper hemisphere sits at the "row" coordinate system + 1.1 x.
     assert_eq!(d.shapes[3].world_from_object.w_axis.truncate(), Vec3::new(1.1, 0.45, 0.));

@@ -155,7 +155,7 @@ MakeNamedMaterial "later" "string type" "coateddiffuse" "float roughness" 0.1"#
     assert_eq!(red.params.spectrum_or_texture("reflectance"), Some(SpectrumOrTexture::Texture("checks")));
     assert_eq!(d.material(&d.shapes[1].material).unwrap().kind, "coateddiffuse");
     let t = d.texture("checks", TextureClass::Spectrum).unwrap();
-    assert_eq!((t.kind.as_str(), t.params.spectrum("tex1")), ("checkerboard", Some(&SpectrumParam::Rgb([1., 0., 0.]))));
+    assert_eq!((t.kind, t.params.spectrum("tex1")), ("checkerboard", Some(&SpectrumParam::Rgb([1., 0., 0.]))));
     assert_eq!(
         err("WorldBegin\nNamedMaterial \"ghost\""),
         "<string>:2:15: named material \"ghost\" is not defined (at \"ghost\")"

@@ -151,11 +151,12 @@ struct Parser<'o> {
     materials: Vec<MaterialDesc>,
     named_materials: Vec<NamedMaterial>,
     /// Index into `named_materials` by name.
-    named_material_index: HashMap<String, usize>,
-    named_material_uses: Vec<(String, Location)>,
+    named_material_index: HashMap<Arc<str>, usize>,
+    /// NamedMaterial directives that named a material not defined before them.
+    named_material_uses: Vec<(Arc<str>, Location)>,
     textures: Vec<TextureDesc>,
     /// The names of the float textures defined so far, and of the spectrum ones.
-    texture_names: [HashSet<String>; 2],
+    texture_names: [HashSet<Arc<str>>; 2],
     objects: Vec<ObjectDesc>,
     /// Index into `objects` by name.
     object_index: HashMap<String, usize>,
@@ -246,12 +247,12 @@ impl<'o> Parser<'o> {
         name: &str,
         loc: impl FnOnce() -> Location,
         kind: &'static str,
-        supported: &[&str],
+        supported: &[&'static str],
         pbrt_only: &[(&'static str, &'static str)],
         skip: bool,
-    ) -> Result<Option<String>, SceneError> {
+    ) -> Result<Option<&'static str>, SceneError> {
         match names::lookup(name, supported, pbrt_only) {
-            Lookup::Supported => Ok(Some(name.to_string())),
+            Lookup::Supported(s) => Ok(Some(s)),
             Lookup::Substitute(s) => {
                 let feature = format!("{kind} \"{name}\"");
                 if skip {
@@ -259,7 +260,7 @@ impl<'o> Parser<'o> {
                     Ok(None)
                 } else {
                     self.unsupported(&loc(), &feature, &format!("uses \"{s}\" instead"));
-                    Ok(Some(s.to_string()))
+                    Ok(Some(s))
                 }
             }
             Lookup::Unknown => Err(SceneError::UnknownType {
@@ -313,12 +314,23 @@ impl<'o> Parser<'o> {
         canonical: PathBuf,
     ) -> Result<(), SceneError> {
         let mut src = Source::new(store, SourceFile::new(file, self.search_dir.clone(), text), canonical);
+        // The last directive read, whose location is counted when the file ends (an Import's at
+        // once: the imported file's directives come after it).
+        let mut last = None;
         while let Some(tok) = src.next()? {
             if tok.kind != TokenKind::Word {
                 return Err(SceneError::syntax(&tok.loc(), &tok.display(), "expected a directive"));
             }
-            self.last_loc = Some(tok.loc());
+            if tok.text == "Import" {
+                self.last_loc = Some(tok.loc());
+                last = None;
+            } else {
+                last = Some((tok.file, tok.offset));
+            }
             self.directive(&tok, &mut src)?;
+        }
+        if let Some((file, offset)) = last {
+            self.last_loc = Some(file.location(offset));
         }
         Ok(())
     }
@@ -444,7 +456,7 @@ impl<'o> Parser<'o> {
         let check_textures = |ps: &ParamSet| -> Result<(), SceneError> {
             for p in ps.iter() {
                 if let ParamValue::Texture(t) = &p.value {
-                    if !texture_names.iter().any(|names| names.contains(t)) {
+                    if !texture_names.iter().any(|names| names.contains(&**t)) {
                         return Err(SceneError::syntax(&p.loc, t, format!("texture \"{t}\" is not defined")));
                     }
                 }

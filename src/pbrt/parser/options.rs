@@ -74,7 +74,7 @@ impl Parser<'_> {
                     (ctm != ctm_end).then(|| AnimatedTransform::new(world_from_camera, t0, world_from_camera_end, t1));
                 self.named_cs.insert("camera".into(), [world_from_camera, world_from_camera_end]);
                 self.camera = Some(CameraDesc {
-                    directive: Directive { kind: kind.unwrap_or_default(), params, loc: tok.loc() },
+                    directive: Directive { kind: kind.unwrap_or_default().into(), params, loc: tok.loc() },
                     camera_from_world: ctm,
                     motion,
                     medium: self.gs.media.outside.clone(),
@@ -92,7 +92,7 @@ impl Parser<'_> {
                     names::PBRT_ONLY_FILMS,
                     false,
                 )?;
-                self.film = Some(Directive { kind: kind.unwrap_or_default(), params, loc: tok.loc() });
+                self.film = Some(Directive { kind: kind.unwrap_or_default().into(), params, loc: tok.loc() });
             }
             "Integrator" => {
                 self.require_options(tok)?;
@@ -106,7 +106,7 @@ impl Parser<'_> {
                     names::PBRT_ONLY_INTEGRATORS,
                     false,
                 )?;
-                self.integrator = Some(Directive { kind: kind.unwrap_or_default(), params, loc: tok.loc() });
+                self.integrator = Some(Directive { kind: kind.unwrap_or_default().into(), params, loc: tok.loc() });
             }
             "Sampler" | "PixelFilter" | "Accelerator" => {
                 self.require_options(tok)?;

@@ -60,15 +60,15 @@ impl Parser<'_> {
         match &*tok.text {
             "Identity" => self.set_ctm(Mat4::IDENTITY),
             "Translate" => {
-                let v = src.numbers(tok, 3)?;
+                let v = src.numbers::<3>(tok)?;
                 self.concat(Mat4::from_translation(Vec3::new(v[0], v[1], v[2])));
             }
             "Scale" => {
-                let v = src.numbers(tok, 3)?;
+                let v = src.numbers::<3>(tok)?;
                 self.concat(Mat4::from_scale(Vec3::new(v[0], v[1], v[2])));
             }
             "Rotate" => {
-                let v = src.numbers(tok, 4)?;
+                let v = src.numbers::<4>(tok)?;
                 let axis = Vec3::new(v[1], v[2], v[3]);
                 if axis.length_squared() == 0.0 || !axis.length_squared().is_finite() {
                     return Err(SceneError::syntax(&tok.loc(), &tok.text, "rotation axis has zero length"));
@@ -76,7 +76,7 @@ impl Parser<'_> {
                 self.concat(Mat4::from_axis_angle(axis.normalize(), v[0].to_radians()));
             }
             "LookAt" => {
-                let v = src.numbers(tok, 9)?;
+                let v = src.numbers::<9>(tok)?;
                 let m = look_at(Vec3::new(v[0], v[1], v[2]), Vec3::new(v[3], v[4], v[5]), Vec3::new(v[6], v[7], v[8]))
                     .ok_or_else(|| {
                         SceneError::syntax(
@@ -88,9 +88,7 @@ impl Parser<'_> {
                 self.concat(m);
             }
             "Transform" | "ConcatTransform" => {
-                let v = src.numbers(tok, 16)?;
-                let mut a = [0.0f32; 16];
-                a.copy_from_slice(&v);
+                let a = src.numbers::<16>(tok)?;
                 // pbrt lists the matrix column by column (translation in elements 12–14),
                 // which is glam's column-major order.
                 let m = Mat4::from_cols_array(&a);
@@ -130,7 +128,7 @@ impl Parser<'_> {
                 };
             }
             "TransformTimes" => {
-                let v = src.numbers(tok, 2)?;
+                let v = src.numbers::<2>(tok)?;
                 if v[1] < v[0] {
                     return Err(SceneError::syntax(&tok.loc(), &tok.text, "TransformTimes end is before start"));
                 }

@@ -9,6 +9,7 @@ use crate::pbrt::params::{Param, ParamSet, ParamValue};
 use crate::pbrt::shapes;
 use crate::pbrt::source::Source;
 use crate::pbrt::tokenizer::Token;
+use std::sync::Arc;
 
 impl Parser<'_> {
     /// AttributeBegin/End, TransformBegin/End, Attribute, ObjectBegin/End, ObjectInstance,
@@ -119,14 +120,23 @@ impl Parser<'_> {
                 };
                 let mut m = self.material(&ty, ty_loc, params)?;
                 m.loc = tok.loc();
-                self.named_material_index.insert(name.text.to_string(), self.named_materials.len());
-                self.named_materials.push(NamedMaterial { name: name.text.into_owned(), material: m });
+                let name: Arc<str> = Arc::from(&*name.text);
+                self.named_material_index.insert(name.clone(), self.named_materials.len());
+                self.named_materials.push(NamedMaterial { name, material: m });
             }
             "NamedMaterial" => {
                 self.require_world(tok)?;
                 let name = src.string(tok, "a material name")?;
-                self.named_material_uses.push((name.text.to_string(), name.loc()));
-                self.gs.material = MaterialRef::Named(name.text.into_owned());
+                // A material defined by now shares its name; one that is not must be by the end.
+                let name = match self.named_material_index.get_key_value(&*name.text) {
+                    Some((defined, _)) => defined.clone(),
+                    None => {
+                        let undefined: Arc<str> = Arc::from(&*name.text);
+                        self.named_material_uses.push((undefined.clone(), name.loc()));
+                        undefined
+                    }
+                };
+                self.gs.material = MaterialRef::Named(name);
             }
             "Texture" => {
                 self.require_world(tok)?;
@@ -145,28 +155,35 @@ impl Parser<'_> {
                         ))
                     }
                 };
-                if !names::TEXTURES.contains(&&*ty.text) {
+                let Some(&kind) = names::TEXTURES.iter().find(|k| **k == ty.text) else {
                     return Err(SceneError::UnknownType {
                         loc: ty.loc(),
                         kind: "texture",
                         name: ty.text.into_owned(),
                         valid: names::TEXTURES.join(", "),
                     });
-                }
+                };
                 if let Some(d) = self.gs.defaults.get("texture") {
                     params.merge_defaults(d);
                 }
-                if !self.texture_names[class as usize].insert(name.text.to_string()) {
-                    self.warn(
-                        &name.loc(),
-                        format!("texture \"{}\" redefined; the later definition is used", name.text),
-                    );
-                }
+                let names = &mut self.texture_names[class as usize];
+                let shared = match names.get(&*name.text) {
+                    Some(n) => {
+                        let n = n.clone();
+                        self.warn(&name.loc(), format!("texture \"{n}\" redefined; the later definition is used"));
+                        n
+                    }
+                    None => {
+                        let n: Arc<str> = Arc::from(&*name.text);
+                        names.insert(n.clone());
+                        n
+                    }
+                };
                 let world_from_texture = self.start_ctm(tok, "texture");
                 self.textures.push(TextureDesc {
-                    name: name.text.into_owned(),
+                    name: shared,
                     class,
-                    kind: ty.text.into_owned(),
+                    kind,
                     params,
                     world_from_texture,
                     loc: tok.loc(),
@@ -256,7 +273,7 @@ impl Parser<'_> {
         if ty.is_empty() || ty == "none" {
             // pbrt-v4 reads both as "interface", with a deprecation warning.
             self.warn(&loc, format!("material \"{ty}\" is deprecated; read as \"interface\""));
-            return Ok(MaterialDesc { kind: "interface".into(), params, loc });
+            return Ok(MaterialDesc { kind: "interface", params, loc });
         }
         let kind = self
             .resolve_type(ty, || loc.clone(), "material", names::PRISM_MATERIALS, names::PBRT_ONLY_MATERIALS, false)?
@@ -280,13 +297,13 @@ impl Parser<'_> {
             params.merge_defaults(d);
         }
         let loc = tok.loc();
-        let geometry = shapes::load(&kind, &params, &loc, &mut self.warnings)?;
-        let mut area_light = self.gs.area_light.clone();
+        let geometry = shapes::load(kind, &params, &loc, &mut self.warnings)?;
+        let mut area_light = self.gs.area_light.clone().map(Box::new);
         if self.current_object.is_some() && area_light.is_some() {
             self.unsupported(&loc, "area light on a shape inside ObjectBegin", "makes the shape non-emissive");
             area_light = None;
         }
-        let motion = self.motion();
+        let motion = self.motion().map(Box::new);
         let s = ShapeDesc {
             kind,
             params,

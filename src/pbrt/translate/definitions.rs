@@ -17,24 +17,78 @@ pub(super) enum MaterialKey {
     Named(usize),
 }
 
+/// A value per [`MaterialKey`], kept in vectors indexed like the description's lists of
+/// materials: a slot per definition instead of a hash map's entry.
+pub(super) struct ByMaterial<T> {
+    default: Option<T>,
+    anonymous: Vec<Option<T>>,
+    named: Vec<Option<T>>,
+}
+
+impl<T> Default for ByMaterial<T> {
+    fn default() -> Self {
+        Self { default: None, anonymous: Vec::new(), named: Vec::new() }
+    }
+}
+
+impl<T: Copy> ByMaterial<T> {
+    /// The value of `key`, if one was set.
+    pub(super) fn get(&self, key: MaterialKey) -> Option<T> {
+        match key {
+            MaterialKey::Default => self.default,
+            MaterialKey::Anonymous(i) => self.anonymous.get(i).copied().flatten(),
+            MaterialKey::Named(i) => self.named.get(i).copied().flatten(),
+        }
+    }
+
+    /// Sets the value of `key`.
+    pub(super) fn set(&mut self, key: MaterialKey, value: T) {
+        let slot = |list: &mut Vec<Option<T>>, i: usize| {
+            if list.len() <= i {
+                list.resize(i + 1, None);
+            }
+            list[i] = Some(value);
+        };
+        match key {
+            MaterialKey::Default => self.default = Some(value),
+            MaterialKey::Anonymous(i) => slot(&mut self.anonymous, i),
+            MaterialKey::Named(i) => slot(&mut self.named, i),
+        }
+    }
+}
+
 /// Named materials and textures of one [`SceneDesc`] by name.
 pub(super) struct Definitions<'d> {
     desc: &'d SceneDesc,
     /// Index into [`SceneDesc::named_materials`] by name (names are unique: the parser refuses
     /// a redefinition).
     named_materials: HashMap<&'d str, usize>,
-    /// For each name and class, the indices into [`SceneDesc::textures`] of its definitions in
-    /// ascending order.
-    textures: HashMap<(&'d str, TextureClass), Vec<usize>>,
+    /// For each name and class, the indices into [`SceneDesc::textures`] of its definitions.
+    textures: HashMap<(&'d str, TextureClass), TextureDefs>,
+}
+
+/// The definitions of one texture name and class: indices into [`SceneDesc::textures`].
+enum TextureDefs {
+    /// Defined once (most names): no list to allocate.
+    One(usize),
+    /// Defined again: every definition in ascending order.
+    Many(Vec<usize>),
 }
 
 impl<'d> Definitions<'d> {
     /// Indexes `desc`, in time linear in its number of definitions.
     pub(super) fn new(desc: &'d SceneDesc) -> Self {
-        let named_materials = desc.named_materials.iter().enumerate().map(|(i, m)| (m.name.as_str(), i)).collect();
-        let mut textures: HashMap<(&str, TextureClass), Vec<usize>> = HashMap::default();
+        let named_materials = desc.named_materials.iter().enumerate().map(|(i, m)| (&*m.name, i)).collect();
+        let mut textures: HashMap<(&str, TextureClass), TextureDefs> = HashMap::default();
+        textures.reserve(desc.textures.len());
         for (i, t) in desc.textures.iter().enumerate() {
-            textures.entry((t.name.as_str(), t.class)).or_default().push(i);
+            textures
+                .entry((&*t.name, t.class))
+                .and_modify(|d| match d {
+                    TextureDefs::One(j) => *d = TextureDefs::Many(vec![*j, i]),
+                    TextureDefs::Many(v) => v.push(i),
+                })
+                .or_insert(TextureDefs::One(i));
         }
         Self { desc, named_materials, textures }
     }
@@ -61,7 +115,10 @@ impl<'d> Definitions<'d> {
     /// The index of the last definition of texture `name` of class `class` among the first
     /// `visible` texture directives.
     pub(super) fn texture_before(&self, name: &str, class: TextureClass, visible: usize) -> Option<usize> {
-        let defs = self.textures.get(&(name, class))?;
+        let defs = match self.textures.get(&(name, class))? {
+            TextureDefs::One(i) => std::slice::from_ref(i),
+            TextureDefs::Many(v) => v.as_slice(),
+        };
         let n = defs.partition_point(|&i| i < visible);
         n.checked_sub(1).map(|k| defs[k])
     }
@@ -95,7 +152,7 @@ mod tests {
         for visible in 0..=desc.textures.len() {
             for name in (0..14).map(|k| format!("t{k}")) {
                 for class in [TextureClass::Float, TextureClass::Spectrum] {
-                    let scan = desc.textures[..visible].iter().rposition(|t| t.name == name && t.class == class);
+                    let scan = desc.textures[..visible].iter().rposition(|t| *t.name == *name && t.class == class);
                     assert_eq!(defs.texture_before(&name, class, visible), scan, "{name} {class:?} before {visible}");
                 }
             }
@@ -114,5 +171,20 @@ mod tests {
         assert_eq!(defs.material(&MaterialRef::Anonymous(0)).1.unwrap().kind, "conductor");
         assert!(matches!(defs.material(&MaterialRef::Default), (MaterialKey::Default, None)));
         assert!(defs.named_material("m20").is_none());
+    }
+
+    #[test]
+    fn values_by_material_are_kept_per_key() {
+        let mut ids = ByMaterial::default();
+        let keys = [MaterialKey::Named(5), MaterialKey::Default, MaterialKey::Anonymous(0), MaterialKey::Named(2)];
+        for (v, &k) in keys.iter().enumerate() {
+            assert_eq!(ids.get(k), None);
+            ids.set(k, v);
+        }
+        for (v, &k) in keys.iter().enumerate() {
+            assert_eq!(ids.get(k), Some(v));
+        }
+        assert_eq!(ids.get(MaterialKey::Named(3)), None);
+        assert_eq!(ids.get(MaterialKey::Anonymous(7)), None);
     }
 }

@@ -233,7 +233,7 @@ impl Ctx<'_> {
         let p = &l.params;
         let m = l.world_from_light;
         let scale = p.float_or("scale", 1.0);
-        match l.kind.as_str() {
+        match l.kind {
             "point" => {
                 let (s, norm) = self.light_spectrum(p, "I", &l.loc)?;
                 let pos = m.transform_point3(p.point3("from").unwrap_or(Vec3::ZERO));

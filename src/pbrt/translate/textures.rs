@@ -22,15 +22,15 @@ use std::sync::Arc;
 /// by what they were made from.
 #[derive(Default)]
 pub(super) struct Built {
-    float: HashMap<usize, FloatTexture>,
-    spectrum: HashMap<usize, SpectrumTexture>,
+    float: Vec<Option<FloatTexture>>,
+    spectrum: Vec<Option<SpectrumTexture>>,
     pyramids: HashMap<String, Arc<MipMap<[f32; 3]>>>,
     /// Normal maps by file.
     pub(super) normal_maps: HashMap<std::path::PathBuf, Arc<crate::material::NormalMap>>,
     /// Measured BRDFs by file, read once however many materials name them.
     pub(super) measured: HashMap<std::path::PathBuf, Arc<crate::bsdf::MeasuredBrdf>>,
-    /// The depth and expanded size of each texture built, by class (float?) and index.
-    costs: HashMap<(bool, usize), Cost>,
+    /// The depth and expanded size of each texture built, by class (float, spectrum) and index.
+    costs: [Vec<Cost>; 2],
     /// The greatest depth among the textures the texture being built names, and the sum of
     /// their expanded sizes.
     children: Cost,
@@ -69,7 +69,7 @@ trait Kind: TextureValue + Sized {
     /// The constant `v`.
     fn constant(v: f32) -> Self;
     /// The built textures of this class.
-    fn built<'c>(ctx: &'c mut Ctx) -> &'c mut HashMap<usize, Texture<Self>>;
+    fn built<'c>(ctx: &'c mut Ctx) -> &'c mut Vec<Option<Texture<Self>>>;
     /// The types only this class has, or `None` for a type it does not have.
     fn own_type(ctx: &mut Ctx, t: &TextureDesc) -> Result<Option<Self::Source>, SceneError>;
 }
@@ -88,14 +88,14 @@ impl Kind for f32 {
         v
     }
 
-    fn built<'c>(ctx: &'c mut Ctx) -> &'c mut HashMap<usize, FloatTexture> {
+    fn built<'c>(ctx: &'c mut Ctx) -> &'c mut Vec<Option<FloatTexture>> {
         &mut ctx.textures.float
     }
 
     fn own_type(ctx: &mut Ctx, t: &TextureDesc) -> Result<Option<FloatSource>, SceneError> {
         let p = &t.params;
         let octaves = |p: &ParamSet| p.int_or("octaves", 8).clamp(0, 64) as u32;
-        Ok(Some(match t.kind.as_str() {
+        Ok(Some(match t.kind {
             "fbm" => {
                 FloatSource::Fbm { mapping: mapping_3d(t)?, omega: p.float_or("roughness", 0.5), octaves: octaves(p) }
             }
@@ -139,13 +139,13 @@ impl Kind for Spectrum {
         Spectrum::constant(v)
     }
 
-    fn built<'c>(ctx: &'c mut Ctx) -> &'c mut HashMap<usize, SpectrumTexture> {
+    fn built<'c>(ctx: &'c mut Ctx) -> &'c mut Vec<Option<SpectrumTexture>> {
         &mut ctx.textures.spectrum
     }
 
     fn own_type(ctx: &mut Ctx, t: &TextureDesc) -> Result<Option<SpectrumSource>, SceneError> {
         let p = &t.params;
-        Ok(Some(match t.kind.as_str() {
+        Ok(Some(match t.kind {
             "marble" => SpectrumSource::Marble(Marble::new(
                 mapping_3d(t)?,
                 p.int_or("octaves", 8).clamp(0, 64) as u32,
@@ -244,7 +244,7 @@ impl Ctx<'_> {
                     return Err(param_error(p, name, loc, message));
                 };
                 let t = self.texture_at::<V>(i)?;
-                let cost = self.textures.costs.get(&(V::CLASS == TextureClass::Float, i)).copied().unwrap_or_default();
+                let cost = self.textures.costs[V::CLASS as usize].get(i).copied().unwrap_or_default();
                 let children = &mut self.textures.children;
                 children.depth = children.depth.max(cost.depth);
                 children.size = children.size.saturating_add(cost.size);
@@ -255,7 +255,7 @@ impl Ctx<'_> {
 
     /// The texture of directive `index` (built on first use).
     fn texture_at<V: Kind>(&mut self, index: usize) -> Result<Texture<V>, SceneError> {
-        if let Some(t) = V::built(self).get(&index) {
+        if let Some(Some(t)) = V::built(self).get(index) {
             return Ok(t.clone());
         }
         let outer = std::mem::take(&mut self.textures.children);
@@ -276,8 +276,13 @@ impl Ctx<'_> {
             );
             return Err(SceneError::syntax(&d.loc, &d.name, message));
         }
-        self.textures.costs.insert((V::CLASS == TextureClass::Float, index), cost);
-        V::built(self).insert(index, t.clone());
+        let n = self.desc.textures.len();
+        let costs = &mut self.textures.costs[V::CLASS as usize];
+        costs.resize(n, Cost::default());
+        costs[index] = cost;
+        let built = V::built(self);
+        built.resize_with(n, || None);
+        built[index] = Some(t.clone());
         Ok(t)
     }
 
@@ -286,7 +291,7 @@ impl Ctx<'_> {
         let t = &desc.textures[index];
         let (p, loc) = (&t.params, &t.loc);
         let arg = |ctx: &mut Self, name: &str, default: f32| ctx.argument::<V>(p, name, default, loc, index);
-        Ok(match t.kind.as_str() {
+        Ok(match t.kind {
             "constant" => Arc::unwrap_or_clone(arg(self, "value", 1.0)?),
             "bilerp" => {
                 let mut corner = |name: &str, default: f32| -> Result<V, SceneError> {
