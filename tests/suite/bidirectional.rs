@@ -435,3 +435,48 @@ fn each_unweighted_strategy_image_alone_estimates_the_light_of_its_depth() {
         );
     }
 }
+
+#[test]
+fn splatting_estimators_give_one_image_for_any_thread_count_and_for_merged_parts() {
+    // Light-tracing splats land on any pixel: the image must not depend on which thread or
+    // which part rendered a sample, and `prism merge` of two parts is the whole render.
+    use crate::common::{prism, stderr, tmpdir};
+    let d = tmpdir("splat-parts");
+    let scene = d.join("s.pbrt");
+    std::fs::write(
+        &scene,
+        "LookAt 0 1 4  0 0.5 0  0 1 0\nCamera \"perspective\" \"float fov\" 45\nWorldBegin\n\
+         AttributeBegin\nAreaLightSource \"diffuse\" \"rgb L\" [4 4 4]\n\
+         Shape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3] \"point3 P\" [-0.4 2 -0.4  0.4 2 -0.4  0.4 2 0.4  -0.4 2 0.4]\n\
+         AttributeEnd\nMaterial \"diffuse\" \"rgb reflectance\" [0.6 0.5 0.4]\n\
+         Shape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3] \"point3 P\" [-3 0 -3  -3 0 3  3 0 3  3 0 -3]\n\
+         Shape \"sphere\" \"float radius\" 0.5\n",
+    )
+    .unwrap();
+    let run = |args: &[&str]| {
+        let o = prism().arg("render").arg(&scene).args(args).output().unwrap();
+        assert!(o.status.success(), "{args:?}: {}", stderr(&o));
+    };
+    for integrator in ["bdpt", "lightpath"] {
+        let path = |name: &str| d.join(format!("{integrator}-{name}")).to_str().unwrap().to_string();
+        let common = ["--integrator", integrator, "--spp", "4", "--resolution", "24x16", "--accel", "obvhs"];
+        for threads in ["1", "2"] {
+            run(&[&common[..], &["--threads", threads, "-o", &path(&format!("t{threads}.exr"))]].concat());
+        }
+        let (one, two) = (path("t1.exr"), path("t2.exr"));
+        let (a, b) = (prism::image::read(one.as_ref()).unwrap(), prism::image::read(two.as_ref()).unwrap());
+        assert!(a.data.iter().any(|&v| v > 0.01), "{integrator}: black image");
+        assert_eq!(a.data, b.data, "{integrator}: one and two threads differ");
+        for i in 1..=2 {
+            run(&[&common[..], &["--part", &format!("{i}/2"), "-o", &path(&format!("p{i}.film"))]].concat());
+        }
+        let merged = path("merged.exr");
+        let o = prism().arg("merge").args([path("p1.film"), path("p2.film")]).args(["-o", &merged]).output().unwrap();
+        assert!(o.status.success(), "{}", stderr(&o));
+        let m = prism::image::read(merged.as_ref()).unwrap();
+        // The same samples summed in another grouping, stored as half floats.
+        for (x, y) in a.data.iter().zip(&m.data) {
+            assert!((x - y).abs() <= 1e-3 * x.abs().max(1e-2), "{integrator}: whole {x} vs merged parts {y}");
+        }
+    }
+}
