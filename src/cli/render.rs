@@ -78,8 +78,8 @@ pub struct RenderArgs {
     pub light_sampler: Option<String>,
     /// Integrator, by pbrt-v4's name: path or volpath (either renders a scene's media when it
     /// has any), ambientocclusion, randomwalk, simplepath, simplevolpath, lightpath, bdpt, mlt,
-    /// sppm [default: the
-    /// file's Integrator, else path].
+    /// sppm, or function (pbrt-v4's sampler test: writes the MSE per sample count as text to
+    /// the output) [default: the file's Integrator, else path].
     #[arg(long)]
     pub integrator: Option<String>,
     /// Output colour space: srgb, rec2020, acescg, aces2065-1, display-p3 [default: srgb].
@@ -140,9 +140,17 @@ fn parse_four<T: std::str::FromStr>(flag: &str, s: &str) -> Result<[T; 4]> {
     v.try_into().map_err(|_| anyhow::anyhow!("--{flag} '{s}' is not x0,x1,y0,y1"))
 }
 
+/// What `prism render` runs: a render, or pbrt-v4's sampler test (integrator `function`).
+pub enum Prepared {
+    /// A render of the scene.
+    Render(Box<Job>),
+    /// The sampler test, which renders nothing.
+    Function(super::render_function::FunctionJob),
+}
+
 /// Checks every argument and loads the scene, before any rendering starts. Command-line values
 /// override the scene file's, which override prism's defaults ([`RenderSettings::default`]).
-pub fn prepare(args: &RenderArgs) -> Result<Job> {
+pub fn prepare(args: &RenderArgs) -> Result<Prepared> {
     let spp = args.spp.map(|n| settings::count(n, "--spp")).transpose()?;
     let accel = match &args.accel {
         Some(a) => AccelKind::parse(a)?,
@@ -173,6 +181,10 @@ pub fn prepare(args: &RenderArgs) -> Result<Job> {
             (loaded.builder, loaded.settings, name, input_stamps(&loaded.inputs, base))
         }
     };
+    if integrator_kind.unwrap_or(Integrator::from_file(&file).kind) == IntegratorKind::Function {
+        let job = super::render_function::prepare(args, &file, spp, resolution, crop_arg)?;
+        return Ok(Prepared::Function(job));
+    }
     let d = RenderSettings::default();
     let sampler = args.sampler.as_deref().map(settings::parse_sampler).transpose()?.or(file.sampler);
     let filter = match args.filter.as_deref() {
@@ -294,7 +306,17 @@ pub fn prepare(args: &RenderArgs) -> Result<Job> {
         }
     }
     let exr_sample = if file.save_fp16 == Some(false) { ExrSample::Float } else { ExrSample::Half };
-    Ok(Job { scene, settings, output, space, build_s, scene_name, inputs, exr_sample, write_aov })
+    Ok(Prepared::Render(Box::new(Job {
+        scene,
+        settings,
+        output,
+        space,
+        build_s,
+        scene_name,
+        inputs,
+        exr_sample,
+        write_aov,
+    })))
 }
 
 /// The geometry buffers to record: asked for by `--aov` (`flag`) or by the file's `gbuffer` film
@@ -481,7 +503,10 @@ fn check_mlt(args: &RenderArgs, job: &Job) -> Result<()> {
 /// Runs `prism render`.
 pub fn run(args: &RenderArgs) -> Result<()> {
     let pool = super::worker_pool(args.threads)?;
-    let job = prepare(args)?;
+    let job = match prepare(args)? {
+        Prepared::Render(job) => job,
+        Prepared::Function(job) => return super::render_function::run(&job, &pool),
+    };
     let spp = job.settings.spp;
     let range = match &args.part {
         Some(p) => {
