@@ -8,6 +8,8 @@ mod camera_sample;
 mod collision;
 mod free_flight;
 mod function;
+#[cfg(test)]
+mod function_tests;
 mod interface;
 mod lightpath;
 mod mlt;
