@@ -1,5 +1,6 @@
 //! `prism render`: load a scene (or the built-in Cornell box), render it, write the image.
 
+use super::render_function::{FunctionArgs, FunctionJob};
 pub(crate) use super::render_job::write_film_image;
 use super::render_job::{image_meta, summarize};
 pub use super::render_job::{Job, RenderStats};
@@ -145,7 +146,7 @@ pub enum Prepared {
     /// A render of the scene.
     Render(Box<Job>),
     /// The sampler test, which renders nothing.
-    Function(super::render_function::FunctionJob),
+    Function(FunctionJob),
 }
 
 /// Checks every argument and loads the scene, before any rendering starts. Command-line values
@@ -182,8 +183,23 @@ pub fn prepare(args: &RenderArgs) -> Result<Prepared> {
         }
     };
     if integrator_kind.unwrap_or(Integrator::from_file(&file).kind) == IntegratorKind::Function {
-        let job = super::render_function::prepare(args, &file, spp, resolution, crop_arg)?;
-        return Ok(Prepared::Function(job));
+        let refused = [
+            (args.part.is_some(), "--part"),
+            (args.checkpoint_every.is_some(), "--checkpoint-every"),
+            (args.resume, "--resume"),
+            (args.target_error.is_some(), "--target-error"),
+            (args.aov, "--aov"),
+            (args.denoise, "--denoise"),
+            (args.wavefront, "--wavefront"),
+            (args.stats_json.is_some(), "--stats-json"),
+        ];
+        if let Some((_, flag)) = refused.iter().find(|(given, _)| *given) {
+            bail!("{flag} is not available with integrator \"function\": it writes the error of a sampler test, not an image");
+        }
+        let sampler = args.sampler.as_deref().map(settings::parse_sampler).transpose()?;
+        let (output, seed) = (args.output.clone(), args.seed);
+        let function = FunctionArgs { output, spp, resolution, crop: crop_arg, sampler, seed };
+        return Ok(Prepared::Function(super::render_function::prepare(function, &file)?));
     }
     let d = RenderSettings::default();
     let sampler = args.sampler.as_deref().map(settings::parse_sampler).transpose()?.or(file.sampler);

@@ -2,13 +2,12 @@
 //! image, the mean squared error of each film pixel's estimate of a known integral, per sample
 //! count, written as text ([`crate::integrator::FunctionTest`]).
 
-use super::render::RenderArgs;
 use crate::film::Crop;
 use crate::integrator::{function_image, FunctionTest, Integrator};
 use crate::pbrt::FileSettings;
 use crate::render::RenderSettings;
-use crate::settings;
-use anyhow::{bail, Context, Result};
+use crate::sampling::SamplerKind;
+use anyhow::{Context, Result};
 use std::path::PathBuf;
 
 /// A checked function test and where its results go.
@@ -20,41 +19,28 @@ pub struct FunctionJob {
     image: Option<PathBuf>,
 }
 
-/// The test the file and the command line ask for (the command line's values over the file's,
-/// as for a render; `-o` names the text file, as pbrt-v4's `--outfile`), refusing the options
-/// that only make sense for an image.
-pub(super) fn prepare(
-    args: &RenderArgs,
-    file: &FileSettings,
-    spp: Option<u64>,
-    resolution: Option<(u32, u32)>,
-    crop: Option<Crop>,
-) -> Result<FunctionJob> {
-    let refused = [
-        (args.part.is_some(), "--part"),
-        (args.checkpoint_every.is_some(), "--checkpoint-every"),
-        (args.resume, "--resume"),
-        (args.target_error.is_some(), "--target-error"),
-        (args.aov, "--aov"),
-        (args.denoise, "--denoise"),
-        (args.wavefront, "--wavefront"),
-        (args.stats_json.is_some(), "--stats-json"),
-    ];
-    if let Some((_, flag)) = refused.iter().find(|(given, _)| *given) {
-        bail!(
-            "{flag} is not available with integrator \"function\": it writes the error of a sampler test, not an image"
-        );
-    }
+/// What the command line gives the test (each overriding the file's).
+pub(super) struct FunctionArgs {
+    /// `-o`: the text file (pbrt-v4's `--outfile`).
+    pub output: Option<PathBuf>,
+    pub spp: Option<u64>,
+    pub resolution: Option<(u32, u32)>,
+    pub crop: Option<Crop>,
+    pub sampler: Option<SamplerKind>,
+    pub seed: Option<u64>,
+}
+
+/// The test the file and the command line ask for, as for a render.
+pub(super) fn prepare(args: FunctionArgs, file: &FileSettings) -> Result<FunctionJob> {
     let d = RenderSettings::default();
     let options = Integrator::from_file(file).function;
-    let resolution = resolution.or(file.resolution).unwrap_or(d.resolution);
-    let bounds = crop.or(file.crop).map(|c| c.bounds(resolution)).transpose()?;
+    let resolution = args.resolution.or(file.resolution).unwrap_or(d.resolution);
+    let bounds = args.crop.or(file.crop).map(|c| c.bounds(resolution)).transpose()?;
     let pixels = bounds.map_or(((0, resolution.0), (0, resolution.1)), |b| ((b.x0, b.x1), (b.y0, b.y1)));
-    let sampler = args.sampler.as_deref().map(settings::parse_sampler).transpose()?.or(file.sampler);
     let test = FunctionTest {
         function: options.function,
-        sampler: sampler.unwrap_or(d.sampler),
-        spp: spp.or(file.spp).unwrap_or(d.spp),
+        sampler: args.sampler.or(file.sampler).unwrap_or(d.sampler),
+        spp: args.spp.or(file.spp).unwrap_or(d.spp),
         resolution,
         pixels,
         seed: args.seed.or(file.seed).unwrap_or(d.seed),
@@ -62,7 +48,6 @@ pub(super) fn prepare(
     };
     let output = args
         .output
-        .clone()
         .or_else(|| file.function_filename.clone())
         .unwrap_or_else(|| PathBuf::from(format!("{}-mse.txt", test.function.name())));
     crate::io::check_dir_writable(&output).with_context(|| format!("cannot write {}", output.display()))?;

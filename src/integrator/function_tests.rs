@@ -2,8 +2,8 @@
 //! the samplers' constructions imply: 1/n for independent samples, zero for the step at the
 //! counts whose strata split the square at x = ½.
 
-use super::{FunctionTest, FunctionTestError, TestFunction};
-use crate::sampling::{Randomize, SamplerKind};
+use super::{FunctionTest, FunctionTestError};
+use crate::sampling::{Randomize, SamplerKind, TestFunction};
 
 /// ∫f over [0, 1]² by rows: 2048 rows at their midpoints, each integrated over x by 2048
 /// midpoints shifted by its own fraction of a step (the golden-ratio sequence), so that the

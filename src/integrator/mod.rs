@@ -32,7 +32,7 @@ mod volpath_tests;
 pub mod wavefront;
 
 pub use camera_sample::{camera_sample, CameraSample};
-pub use function::{function_image, FunctionTest, FunctionTestError, MseCurve, TestFunction};
+pub use function::{function_image, FunctionTest, FunctionTestError, MseCurve};
 pub use interface::{DirectStrategy, Integrator, IntegratorKind, UNBOUNDED_DEPTH};
 pub use mlt::MltFilm;
 pub use options::{AmbientOcclusion, FunctionOptions, Mlt, SimplePath, Sppm, StrategyImageKind};

@@ -112,7 +112,7 @@ impl Default for Sppm {
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct FunctionOptions {
     /// `function` (default `step`): the integrand.
-    pub function: super::TestFunction,
+    pub function: crate::sampling::TestFunction,
     /// `skipbad` (default true): report only the sample counts the sampler's patterns are made
     /// for ([`super::FunctionTest::natural_count`]).
     pub skip_bad: bool,
@@ -120,6 +120,6 @@ pub struct FunctionOptions {
 
 impl Default for FunctionOptions {
     fn default() -> Self {
-        Self { function: super::TestFunction::Step, skip_bad: true }
+        Self { function: crate::sampling::TestFunction::Step, skip_bad: true }
     }
 }

@@ -82,7 +82,7 @@ pub struct FileSettings {
     pub sppm_seed: Option<u64>,
     /// Integrator "function": "function", "skipbad", "filename" (the MSE text file) and
     /// "imagefilename" (an image of the function).
-    pub function: Option<crate::integrator::TestFunction>,
+    pub function: Option<crate::sampling::TestFunction>,
     pub function_skip_bad: Option<bool>,
     pub function_filename: Option<std::path::PathBuf>,
     pub function_image_filename: Option<std::path::PathBuf>,
@@ -337,15 +337,15 @@ impl Ctx<'_> {
         Ok((iterations, photons, radius, seed))
     }
 
-    /// Integrator "function"'s "function" (one of [`crate::integrator::TestFunction`]); none for
+    /// Integrator "function"'s "function" (one of [`crate::sampling::TestFunction`]); none for
     /// another integrator.
-    fn test_function(&self) -> Result<Option<crate::integrator::TestFunction>, SceneError> {
+    fn test_function(&self) -> Result<Option<crate::sampling::TestFunction>, SceneError> {
         let (params, loc) = (&self.desc.integrator.params, &self.desc.integrator.loc);
         if self.desc.integrator.kind != "function" {
             return Ok(None);
         }
         let Some(name) = params.string("function") else { return Ok(None) };
-        crate::integrator::TestFunction::parse(name).map(Some).map_err(|e| {
+        crate::sampling::TestFunction::parse(name).map(Some).map_err(|e| {
             let message = format!("unknown \"function\" \"{name}\" (valid: {})", e.valid);
             param_error(params, "function", loc, message)
         })
