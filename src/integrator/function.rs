@@ -110,60 +110,63 @@ impl FunctionTest {
     }
 
     /// Measures the curve: every pixel's estimate at every reported count (in parallel over
-    /// rows; the same result for any thread count).
+    /// rows, summed in row order: the same result for any thread count).
     pub fn run(&self) -> Result<MseCurve, FunctionTestError> {
         if matches!(self.sampler, SamplerKind::GlobalSobol(_)) {
             return Err(FunctionTestError::GlobalSobol);
         }
         let counts = self.counts();
         let ((x0, x1), (y0, y1)) = self.pixels;
-        // Per row: Σ_p (I_n − 1)² per count, and Σ_p I_n at the last count.
-        let rows: Vec<(Vec<f64>, f64)> = (y0..y1)
-            .into_par_iter()
-            .map(|y| {
-                let mut squared = vec![0.0; counts.len()];
-                let mut last = 0.0;
-                if self.nested() {
-                    let mut sampler = self.sampler(self.spp);
-                    for x in x0..x1 {
-                        let (mut sum, mut k) = (0.0, 0);
-                        for n in 1..=counts[counts.len() - 1] {
-                            sum += self.sample(&mut sampler, (x, y), n - 1);
-                            if n == counts[k] {
-                                squared[k] += (sum / n as f64 - 1.0).powi(2);
-                                k += 1;
-                            }
-                        }
-                        last += sum / counts[k - 1] as f64;
-                    }
-                } else {
-                    for (k, &n) in counts.iter().enumerate() {
-                        let mut sampler = self.sampler(n);
-                        for x in x0..x1 {
-                            let estimate = (0..n).map(|i| self.sample(&mut sampler, (x, y), i)).sum::<f64>() / n as f64;
-                            squared[k] += (estimate - 1.0).powi(2);
-                            if k + 1 == counts.len() {
-                                last += estimate;
-                            }
-                        }
-                    }
+        let (mut squared, mut last) = (vec![0.0; counts.len()], 0.0);
+        // Rows a batch at a time, so that the rows' sums held at once stay few.
+        let rows: Vec<u32> = (y0..y1).collect();
+        for batch in rows.chunks(64) {
+            let sums: Vec<(Vec<f64>, f64)> = batch.par_iter().map(|&y| self.row(y, &counts)).collect();
+            for (row, row_last) in sums {
+                for (s, r) in squared.iter_mut().zip(row) {
+                    *s += r;
                 }
-                (squared, last)
-            })
-            .collect();
-        let pixels = f64::from(x1 - x0) * f64::from(y1 - y0);
-        let mut squared = vec![0.0; counts.len()];
-        let mut last = 0.0;
-        for (row, row_last) in &rows {
-            for (s, r) in squared.iter_mut().zip(row) {
-                *s += r;
+                last += row_last;
             }
-            last += row_last;
         }
+        let pixels = f64::from(x1 - x0) * f64::from(y1 - y0);
         Ok(MseCurve {
             points: counts.iter().zip(squared).map(|(&n, s)| (n, s / pixels)).collect(),
             mean_estimate: last / pixels,
         })
+    }
+
+    /// Row `y`'s Σ_p (I_n − 1)² for each of the `counts`, and its Σ_p I_n at the last.
+    fn row(&self, y: u32, counts: &[u64]) -> (Vec<f64>, f64) {
+        let ((x0, x1), _) = self.pixels;
+        let (mut squared, mut last) = (vec![0.0; counts.len()], 0.0);
+        let largest = counts[counts.len() - 1];
+        if self.nested() {
+            let mut sampler = self.sampler(self.spp);
+            for x in x0..x1 {
+                let (mut sum, mut k) = (0.0, 0);
+                for n in 1..=largest {
+                    sum += self.sample(&mut sampler, (x, y), n - 1);
+                    if n == counts[k] {
+                        squared[k] += (sum / n as f64 - 1.0).powi(2);
+                        k += 1;
+                    }
+                }
+                last += sum / largest as f64;
+            }
+        } else {
+            for (k, &n) in counts.iter().enumerate() {
+                let mut sampler = self.sampler(n);
+                for x in x0..x1 {
+                    let estimate = (0..n).map(|i| self.sample(&mut sampler, (x, y), i)).sum::<f64>() / n as f64;
+                    squared[k] += (estimate - 1.0).powi(2);
+                    if n == largest {
+                        last += estimate;
+                    }
+                }
+            }
+        }
+        (squared, last)
     }
 }
 
