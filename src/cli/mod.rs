@@ -14,6 +14,7 @@ pub mod measure;
 pub mod merge;
 pub mod render;
 mod render_adaptive;
+mod render_function;
 mod render_job;
 pub mod sss_report;
 pub mod sss_scenes;

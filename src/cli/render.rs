@@ -1,5 +1,6 @@
 //! `prism render`: load a scene (or the built-in Cornell box), render it, write the image.
 
+use super::render_function::{FunctionArgs, FunctionJob};
 pub(crate) use super::render_job::write_film_image;
 use super::render_job::{image_meta, summarize};
 pub use super::render_job::{Job, RenderStats};
@@ -78,8 +79,8 @@ pub struct RenderArgs {
     pub light_sampler: Option<String>,
     /// Integrator, by pbrt-v4's name: path or volpath (either renders a scene's media when it
     /// has any), ambientocclusion, randomwalk, simplepath, simplevolpath, lightpath, bdpt, mlt,
-    /// sppm [default: the
-    /// file's Integrator, else path].
+    /// sppm, or function (pbrt-v4's sampler test: writes the MSE per sample count as text to
+    /// the output) [default: the file's Integrator, else path].
     #[arg(long)]
     pub integrator: Option<String>,
     /// Output colour space: srgb, rec2020, acescg, aces2065-1, display-p3 [default: srgb].
@@ -140,9 +141,17 @@ fn parse_four<T: std::str::FromStr>(flag: &str, s: &str) -> Result<[T; 4]> {
     v.try_into().map_err(|_| anyhow::anyhow!("--{flag} '{s}' is not x0,x1,y0,y1"))
 }
 
+/// What `prism render` runs: a render, or pbrt-v4's sampler test (integrator `function`).
+pub enum Prepared {
+    /// A render of the scene.
+    Render(Box<Job>),
+    /// The sampler test, which renders nothing.
+    Function(FunctionJob),
+}
+
 /// Checks every argument and loads the scene, before any rendering starts. Command-line values
 /// override the scene file's, which override prism's defaults ([`RenderSettings::default`]).
-pub fn prepare(args: &RenderArgs) -> Result<Job> {
+pub fn prepare(args: &RenderArgs) -> Result<Prepared> {
     let spp = args.spp.map(|n| settings::count(n, "--spp")).transpose()?;
     let accel = match &args.accel {
         Some(a) => AccelKind::parse(a)?,
@@ -173,6 +182,25 @@ pub fn prepare(args: &RenderArgs) -> Result<Job> {
             (loaded.builder, loaded.settings, name, input_stamps(&loaded.inputs, base))
         }
     };
+    if integrator_kind.unwrap_or(Integrator::from_file(&file).kind) == IntegratorKind::Function {
+        let refused = [
+            (args.part.is_some(), "--part"),
+            (args.checkpoint_every.is_some(), "--checkpoint-every"),
+            (args.resume, "--resume"),
+            (args.target_error.is_some(), "--target-error"),
+            (args.aov, "--aov"),
+            (args.denoise, "--denoise"),
+            (args.wavefront, "--wavefront"),
+            (args.stats_json.is_some(), "--stats-json"),
+        ];
+        if let Some((_, flag)) = refused.iter().find(|(given, _)| *given) {
+            bail!("{flag} is not available with integrator \"function\": it writes the error of a sampler test, not an image");
+        }
+        let sampler = args.sampler.as_deref().map(settings::parse_sampler).transpose()?;
+        let (output, seed) = (args.output.clone(), args.seed);
+        let function = FunctionArgs { output, spp, resolution, crop: crop_arg, sampler, seed };
+        return Ok(Prepared::Function(super::render_function::prepare(function, &file)?));
+    }
     let d = RenderSettings::default();
     let sampler = args.sampler.as_deref().map(settings::parse_sampler).transpose()?.or(file.sampler);
     let filter = match args.filter.as_deref() {
@@ -294,7 +322,17 @@ pub fn prepare(args: &RenderArgs) -> Result<Job> {
         }
     }
     let exr_sample = if file.save_fp16 == Some(false) { ExrSample::Float } else { ExrSample::Half };
-    Ok(Job { scene, settings, output, space, build_s, scene_name, inputs, exr_sample, write_aov })
+    Ok(Prepared::Render(Box::new(Job {
+        scene,
+        settings,
+        output,
+        space,
+        build_s,
+        scene_name,
+        inputs,
+        exr_sample,
+        write_aov,
+    })))
 }
 
 /// The geometry buffers to record: asked for by `--aov` (`flag`) or by the file's `gbuffer` film
@@ -481,7 +519,10 @@ fn check_mlt(args: &RenderArgs, job: &Job) -> Result<()> {
 /// Runs `prism render`.
 pub fn run(args: &RenderArgs) -> Result<()> {
     let pool = super::worker_pool(args.threads)?;
-    let job = prepare(args)?;
+    let job = match prepare(args)? {
+        Prepared::Render(job) => job,
+        Prepared::Function(job) => return super::render_function::run(&job, &pool),
+    };
     let spp = job.settings.spp;
     let range = match &args.part {
         Some(p) => {

@@ -4,7 +4,7 @@
 //! [`Integrator`] from the render settings and call [`Integrator::li_camera`],
 //! [`Integrator::li`] or [`Integrator::irradiance`]; which loop runs is decided here.
 
-use super::options::{AmbientOcclusion, Mlt, SimplePath, Sppm, StrategyImageKind};
+use super::options::{AmbientOcclusion, FunctionOptions, Mlt, SimplePath, Sppm, StrategyImageKind};
 use super::subsurface::SubsurfaceMethod;
 use super::{SplatSample, Stats};
 use crate::bsdf::{Bsdf, Diffuse};
@@ -56,6 +56,11 @@ pub enum IntegratorKind {
     /// whose hits near them estimate the light they reflect. Its loop is its own
     /// (`crate::sppm_render`); per camera sample it estimates as `path`.
     Sppm,
+    /// `function`: pbrt-v4's test of the samplers (`FunctionIntegrator`), which integrates a
+    /// fixed function of the pixel samples, not the scene ([`super::FunctionTest`]; the command
+    /// line runs it instead of a render). Asked for a camera sample's radiance, it estimates as
+    /// `path`.
+    Function,
 }
 
 crate::named::name_table!(IntegratorKind, "integrator", {
@@ -69,6 +74,7 @@ crate::named::name_table!(IntegratorKind, "integrator", {
     "bdpt" => IntegratorKind::Bdpt,
     "mlt" => IntegratorKind::Mlt,
     "sppm" => IntegratorKind::Sppm,
+    "function" => IntegratorKind::Function,
 });
 
 impl IntegratorKind {
@@ -128,6 +134,8 @@ pub struct Integrator {
     pub strategy_images: StrategyImageKind,
     /// The parameters of `sppm`.
     pub sppm: Sppm,
+    /// The parameters of `function`.
+    pub function: FunctionOptions,
 }
 
 impl Default for Integrator {
@@ -146,6 +154,7 @@ impl Default for Integrator {
             mlt: Mlt::default(),
             strategy_images: StrategyImageKind::Off,
             sppm: Sppm::default(),
+            function: FunctionOptions::default(),
         }
     }
 }
@@ -196,6 +205,10 @@ impl Integrator {
                 radius: file.sppm_radius.unwrap_or(d.sppm.radius),
                 seed: file.sppm_seed.unwrap_or(d.sppm.seed),
             },
+            function: FunctionOptions {
+                function: file.function.unwrap_or(d.function.function),
+                skip_bad: file.function_skip_bad.unwrap_or(d.function.skip_bad),
+            },
             ..d
         }
     }
@@ -211,7 +224,9 @@ impl Integrator {
         let depth = u64::from(self.max_depth);
         match self.kind {
             _ if self.max_depth == UNBOUNDED_DEPTH => None,
-            IntegratorKind::Path | IntegratorKind::VolPath | IntegratorKind::SimplePath => Some(2 * depth + 1),
+            IntegratorKind::Path | IntegratorKind::VolPath | IntegratorKind::SimplePath | IntegratorKind::Function => {
+                Some(2 * depth + 1)
+            }
             IntegratorKind::SimpleVolPath | IntegratorKind::RandomWalk => Some(depth + 1),
             IntegratorKind::AmbientOcclusion => Some(2),
             IntegratorKind::LightPath | IntegratorKind::Bdpt | IntegratorKind::Mlt | IntegratorKind::Sppm => None,
@@ -327,12 +342,14 @@ impl Integrator {
             IntegratorKind::SimplePath => self.simple_path(scene, ray, differentials, visible, w, sampler, stats),
             IntegratorKind::SimpleVolPath => self.simple_volpath(scene, ray, w, sampler, stats),
             // lightpath, bdpt and mlt estimate without their splats (`li_splatting`) as the path
-            // tracer, and so does sppm per camera sample (its passes are `crate::sppm_render`).
+            // tracer, and so does sppm per camera sample (its passes are `crate::sppm_render`),
+            // and the function test, which renders no scene.
             IntegratorKind::Path
             | IntegratorKind::LightPath
             | IntegratorKind::Bdpt
             | IntegratorKind::Mlt
-            | IntegratorKind::Sppm => self.path_trace(scene, ray, differentials, None, visible, w, sampler, stats),
+            | IntegratorKind::Sppm
+            | IntegratorKind::Function => self.path_trace(scene, ray, differentials, None, visible, w, sampler, stats),
         }
     }
 

@@ -7,6 +7,9 @@ mod bdpt_weights;
 mod camera_sample;
 mod collision;
 mod free_flight;
+mod function;
+#[cfg(test)]
+mod function_tests;
 mod interface;
 mod lightpath;
 mod mlt;
@@ -29,9 +32,10 @@ mod volpath_tests;
 pub mod wavefront;
 
 pub use camera_sample::{camera_sample, CameraSample};
+pub use function::{function_image, FunctionTest, FunctionTestError, MseCurve};
 pub use interface::{DirectStrategy, Integrator, IntegratorKind, UNBOUNDED_DEPTH};
 pub use mlt::MltFilm;
-pub use options::{AmbientOcclusion, Mlt, SimplePath, Sppm, StrategyImageKind};
+pub use options::{AmbientOcclusion, FunctionOptions, Mlt, SimplePath, Sppm, StrategyImageKind};
 pub use sppm::VisiblePoint;
 pub use subsurface::SubsurfaceMethod;
 

@@ -1,5 +1,5 @@
 //! The parameters of pbrt-v4's estimators beyond the shared ones (`ambientocclusion`,
-//! `simplepath`, `mlt`, `sppm`) and `bdpt`'s debugging images, which the one
+//! `simplepath`, `mlt`, `sppm`, `function`) and `bdpt`'s debugging images, which the one
 //! [`super::Integrator`] carries beside the settings every
 //! estimator shares.
 
@@ -105,5 +105,21 @@ pub struct Sppm {
 impl Default for Sppm {
     fn default() -> Self {
         Self { photons_per_iteration: None, radius: 1.0, seed: 6502 }
+    }
+}
+
+/// pbrt-v4's `function` parameters (its output files are the command line's business).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct FunctionOptions {
+    /// `function` (default `step`): the integrand.
+    pub function: crate::sampling::TestFunction,
+    /// `skipbad` (default true): report only the sample counts the sampler's patterns are made
+    /// for ([`super::FunctionTest::natural_count`]).
+    pub skip_bad: bool,
+}
+
+impl Default for FunctionOptions {
+    fn default() -> Self {
+        Self { function: crate::sampling::TestFunction::Step, skip_bad: true }
     }
 }

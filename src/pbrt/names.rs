@@ -41,7 +41,8 @@ pub const MEDIA: &[&str] = crate::media::PBRT_NAMES;
 /// "lightpath", "bdpt" and "mlt" step through media themselves and render scenes whose lights
 /// and camera they can trace from and to, and fall back to "path" (or, with media, "volpath")
 /// with a warning elsewhere (`Integrator::fallback_reason`); "sppm" likewise where a light
-/// cannot emit photons.
+/// cannot emit photons. "function" is pbrt-v4's sampler test, run by `prism render` instead
+/// of a render.
 pub const PRISM_INTEGRATORS: &[&str] = &[
     "path",
     "volpath",
@@ -53,6 +54,7 @@ pub const PRISM_INTEGRATORS: &[&str] = &[
     "bdpt",
     "mlt",
     "sppm",
+    "function",
 ];
 /// pbrt-v4 integrators prism replaces with its path tracer.
 pub const PBRT_ONLY_INTEGRATORS: &[(&str, &str)] = &[];

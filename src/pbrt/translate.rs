@@ -80,6 +80,12 @@ pub struct FileSettings {
     pub sppm_photons_per_iteration: Option<u64>,
     pub sppm_radius: Option<f32>,
     pub sppm_seed: Option<u64>,
+    /// Integrator "function": "function", "skipbad", "filename" (the MSE text file) and
+    /// "imagefilename" (an image of the function).
+    pub function: Option<crate::sampling::TestFunction>,
+    pub function_skip_bad: Option<bool>,
+    pub function_filename: Option<std::path::PathBuf>,
+    pub function_image_filename: Option<std::path::PathBuf>,
     /// PixelFilter with its parameters.
     pub filter: Option<crate::filter::Filter>,
     /// The Sampler with its parameters.
@@ -331,6 +337,20 @@ impl Ctx<'_> {
         Ok((iterations, photons, radius, seed))
     }
 
+    /// Integrator "function"'s "function" (one of [`crate::sampling::TestFunction`]); none for
+    /// another integrator.
+    fn test_function(&self) -> Result<Option<crate::sampling::TestFunction>, SceneError> {
+        let (params, loc) = (&self.desc.integrator.params, &self.desc.integrator.loc);
+        if self.desc.integrator.kind != "function" {
+            return Ok(None);
+        }
+        let Some(name) = params.string("function") else { return Ok(None) };
+        crate::sampling::TestFunction::parse(name).map(Some).map_err(|e| {
+            let message = format!("unknown \"function\" \"{name}\" (valid: {})", e.valid);
+            param_error(params, "function", loc, message)
+        })
+    }
+
     /// Integrator "lightsampler": "bvh" (pbrt-v4's default), "power" or "uniform".
     fn light_sampler(&self) -> Result<LightSamplerKind, SceneError> {
         let (params, loc) = (&self.desc.integrator.params, &self.desc.integrator.loc);
@@ -451,6 +471,10 @@ impl Ctx<'_> {
         let filter = pixel_filter(&d.filter.kind, &d.filter.params);
         let (sampler, spp) = self.sampler()?;
         let (sppm_iterations, sppm_photons_per_iteration, sppm_radius, sppm_seed) = self.sppm()?;
+        let function = self.test_function()?;
+        // Read only for "function", so another integrator's stray ones are reported unused.
+        let (integrator, is_function) = (&d.integrator.params, d.integrator.kind == "function");
+        let function_file = |name: &str| is_function.then(|| integrator.string(name)).flatten().map(Into::into);
         Ok(FileSettings {
             resolution,
             filename: film.string("filename").map(Into::into),
@@ -475,6 +499,10 @@ impl Ctx<'_> {
             sppm_photons_per_iteration,
             sppm_radius,
             sppm_seed,
+            function,
+            function_skip_bad: is_function.then(|| integrator.bool("skipbad")).flatten(),
+            function_filename: function_file("filename"),
+            function_image_filename: function_file("imagefilename"),
             filter: Some(filter),
             sampler: Some(sampler),
             seed: d.sampler.params.int("seed").or_else(|| d.options.int("seed")).map(|s| s as u64),

@@ -12,6 +12,7 @@ pub mod rng;
 pub mod sampler;
 mod sobol;
 pub mod spherical_rectangle;
+mod test_function;
 pub mod warp;
 pub mod windowed;
 
@@ -24,6 +25,7 @@ pub use pss::{PssSampler, PssStream};
 pub use rng::Rng;
 pub use sampler::Sampler;
 pub use spherical_rectangle::SphericalRectangle;
+pub use test_function::TestFunction;
 pub use windowed::{Window, WindowedDistribution2D};
 
 /// The radical inverse of `i` in prime base `b` (the Halton sequence's coordinates).

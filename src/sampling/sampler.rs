@@ -138,6 +138,17 @@ impl Sampler {
         }
     }
 
+    /// The film position within the pixel alone, in [0, 1)², as the first draw of a pixel
+    /// sample (pbrt-v4's `GetPixel2D`; the `function` integrator's samples): [`Self::get_pixel_3d`]'s
+    /// x, y for Sobol, the pattern's own film dimensions for pbrt-v4's samplers.
+    #[inline]
+    pub fn get_pixel_2d(&mut self) -> Vec2 {
+        match self {
+            Self::Pattern(p) => p.get_pixel_2d(),
+            _ => self.get_pixel_3d().truncate(),
+        }
+    }
+
     /// The film position within the pixel (x, y) and the wavelength sample (z), in [0, 1)³.
     /// For Sobol they are dimensions 0–2 of one scrambled sequence, independent of how many
     /// dimensions were drawn before: jointly stratified, so the samples that land on a bright

@@ -22,6 +22,7 @@ mod envmap;
 mod envmap_transform;
 mod equal_area_envmap;
 mod film;
+mod function_integrator;
 mod fuzz;
 mod header_matrices;
 mod instanced_shapes;
