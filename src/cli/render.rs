@@ -183,17 +183,8 @@ pub fn prepare(args: &RenderArgs) -> Result<Prepared> {
         }
     };
     if integrator_kind.unwrap_or(Integrator::from_file(&file).kind) == IntegratorKind::Function {
-        let refused = [
-            (args.part.is_some(), "--part"),
-            (args.checkpoint_every.is_some(), "--checkpoint-every"),
-            (args.resume, "--resume"),
-            (args.target_error.is_some(), "--target-error"),
-            (args.aov, "--aov"),
-            (args.denoise, "--denoise"),
-            (args.wavefront, "--wavefront"),
-            (args.stats_json.is_some(), "--stats-json"),
-        ];
-        if let Some((_, flag)) = refused.iter().find(|(given, _)| *given) {
+        let more = [(args.wavefront, "--wavefront"), (args.stats_json.is_some(), "--stats-json")];
+        if let Some(flag) = film_state_refused(args, &more) {
             bail!("{flag} is not available with integrator \"function\": it writes the error of a sampler test, not an image");
         }
         let sampler = args.sampler.as_deref().map(settings::parse_sampler).transpose()?;
@@ -462,6 +453,17 @@ pub fn check_output(path: &Path) -> Result<()> {
 /// lives outside the film, so it can be neither split, checkpointed nor resumed, nor given
 /// per-pixel sample counts; and it records no geometry buffers.
 fn sppm_refusals(args: &RenderArgs) -> Result<()> {
+    match film_state_refused(args, &[]) {
+        Some(flag) => bail!(
+            "{flag} is not available with integrator \"sppm\": its pixels are progressive photon-map estimates whose state (radii, photon statistics) the film does not hold; use path or bdpt"
+        ),
+        None => Ok(()),
+    }
+}
+
+/// The first of the options that split, checkpoint, resume or adapt a render through its film,
+/// or add geometry buffers, given in `args` — or of `more` (given, flag) — if any.
+fn film_state_refused(args: &RenderArgs, more: &[(bool, &'static str)]) -> Option<&'static str> {
     let refused = [
         (args.part.is_some(), "--part"),
         (args.checkpoint_every.is_some(), "--checkpoint-every"),
@@ -470,12 +472,7 @@ fn sppm_refusals(args: &RenderArgs) -> Result<()> {
         (args.aov, "--aov"),
         (args.denoise, "--denoise"),
     ];
-    match refused.iter().find(|(given, _)| *given) {
-        Some((_, flag)) => bail!(
-            "{flag} is not available with integrator \"sppm\": its pixels are progressive photon-map estimates whose state (radii, photon statistics) the film does not hold; use path or bdpt"
-        ),
-        None => Ok(()),
-    }
+    refused.iter().chain(more).find(|(given, _)| *given).map(|&(_, flag)| flag)
 }
 
 /// Parses "i/N" with 1 ≤ i ≤ N.
