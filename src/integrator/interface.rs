@@ -279,17 +279,13 @@ impl Integrator {
     /// media (pbrt-v4's random walks for them record a medium vertex's scattering alone, and its
     /// lights are the scene's light sources).
     pub fn bidirectional_ignores(scene: &Scene) -> Option<String> {
-        let reasons = [
-            scene.has_subsurface().then_some(
-                "it ignores subsurface scattering: a subsurface material scatters as its boundary BSDF alone (as in pbrt-v4)",
-            ),
-            scene
-                .media()
-                .iter()
-                .any(Medium::emits)
-                .then_some("it ignores the emission of participating media (as pbrt-v4's does; volpath renders it)"),
-        ];
-        let reasons: Vec<&str> = reasons.into_iter().flatten().collect();
+        let mut reasons = Vec::new();
+        if scene.has_subsurface() {
+            reasons.push("it ignores subsurface scattering: a subsurface material scatters as its boundary BSDF alone (as in pbrt-v4)");
+        }
+        if scene.media().iter().any(Medium::emits) {
+            reasons.push("it ignores the emission of participating media (as pbrt-v4's does; volpath renders it)");
+        }
         (!reasons.is_empty()).then(|| reasons.join("; "))
     }
 
