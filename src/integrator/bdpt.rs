@@ -39,7 +39,7 @@ use crate::light::{Light, LightSampleContext};
 use crate::math::offset_ray_origin;
 use crate::media::HenyeyGreenstein;
 use crate::sampling::{PssStream, Sampler};
-use crate::scene::{LightId, Scene, SurfaceInteraction, MAX_INTERFACE_CROSSINGS};
+use crate::scene::{Crossings, LightId, Scene, SurfaceInteraction};
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 use crate::texture::RayDifferentials;
 use glam::{Vec2, Vec3, Vec4};
@@ -302,7 +302,7 @@ impl Integrator {
         let mut r_u = SampledSpectrum::one();
         // Depth and regularisation bookkeeping, as the path loops keep it.
         let mut state = PathState::new(ray.o);
-        let mut crossings = 0;
+        let mut crossings = Crossings::default();
         while path.len() < max_vertices {
             stats.rays += 1;
             let hit = scene.intersect(&ray);
@@ -348,12 +348,10 @@ impl Integrator {
                     };
                     if si.is_passthrough() {
                         // A boundary between media only: the ray goes on in the medium behind it.
-                        crossings += 1;
-                        if crossings > MAX_INTERFACE_CROSSINGS {
+                        if !crossings.allow_another() {
                             break;
                         }
-                        medium = si.medium_interface().medium_toward(ray.d, si.shading.ng, medium);
-                        ray = si.spawn_ray(ray.d);
+                        (ray, medium) = si.pass_through(&ray, medium);
                         continue;
                     }
                     state.depth += 1;

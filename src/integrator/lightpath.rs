@@ -27,7 +27,7 @@ use crate::camera::{Camera, CameraWiSample};
 use crate::geometry::Ray;
 use crate::math::offset_ray_origin;
 use crate::sampling::Sampler;
-use crate::scene::{Scene, MAX_INTERFACE_CROSSINGS};
+use crate::scene::{Crossings, Scene};
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 use glam::Vec3;
 
@@ -80,7 +80,7 @@ impl Integrator {
         let mut medium = scene.light_medium(id, les.n, les.d);
         let mut state = PathState::new(origin);
         state.beta = les.le * (cos_light / (pmf * les.pdf_pos * les.pdf_dir));
-        let mut crossings = 0;
+        let mut crossings = Crossings::default();
         loop {
             stats.rays += 1;
             let hit = scene.intersect(&ray);
@@ -103,12 +103,10 @@ impl Integrator {
                     let Some(si) = hit else { break };
                     if si.is_passthrough() {
                         // A boundary between media only: the ray goes on in the medium behind it.
-                        crossings += 1;
-                        if crossings > MAX_INTERFACE_CROSSINGS {
+                        if !crossings.allow_another() {
                             break;
                         }
-                        medium = si.medium_interface().medium_toward(ray.d, si.shading.ng, medium);
-                        ray = si.spawn_ray(ray.d);
+                        (ray, medium) = si.pass_through(&ray, medium);
                         continue;
                     }
                     if !self.next_vertex(&mut state) {

@@ -13,7 +13,7 @@ use crate::geometry::Ray;
 use crate::light::{Light, LightSampleContext};
 use crate::sampling::mis::power_heuristic;
 use crate::sampling::Sampler;
-use crate::scene::{Scene, SurfaceInteraction, MAX_INTERFACE_CROSSINGS};
+use crate::scene::{Crossings, Scene, SurfaceInteraction};
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 use crate::texture::RayDifferentials;
 use glam::Vec2;
@@ -77,7 +77,7 @@ impl Integrator {
     ) -> SampledSpectrum {
         let mut state = PathState::new(ray.o);
         let use_nee = self.strategy != DirectStrategy::BsdfOnly;
-        let mut crossings = 0;
+        let mut crossings = Crossings::default();
         loop {
             // The next vertex, and the emission the ray finds there.
             let (si, given_bsdf) = match pending.take() {
@@ -87,8 +87,7 @@ impl Integrator {
                     if si.is_passthrough() {
                         // No surface: the same ray goes on, and the previous vertex stays the
                         // one MIS weights refer to.
-                        crossings += 1;
-                        if crossings > MAX_INTERFACE_CROSSINGS {
+                        if !crossings.allow_another() {
                             break;
                         }
                         ray = si.spawn_ray(ray.d);

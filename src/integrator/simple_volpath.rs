@@ -17,7 +17,7 @@ use crate::bsdf::HenyeyGreenstein;
 use crate::geometry::Ray;
 use crate::media::sample_t_maj;
 use crate::sampling::Sampler;
-use crate::scene::{Scene, MAX_INTERFACE_CROSSINGS};
+use crate::scene::{Crossings, Scene};
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 
 impl Integrator {
@@ -36,7 +36,7 @@ impl Integrator {
         let mut depth = 0;
         let mut ray = Ray::new(ray.o, ray.d.normalize()).at_time(ray.time);
         let mut medium = scene.camera_medium();
-        let mut crossings = 0;
+        let mut crossings = Crossings::default();
         loop {
             stats.rays += 1;
             let si = scene.intersect(&ray);
@@ -84,12 +84,10 @@ impl Integrator {
             if !si.is_passthrough() {
                 break;
             }
-            crossings += 1;
-            if crossings > MAX_INTERFACE_CROSSINGS {
+            if !crossings.allow_another() {
                 break;
             }
-            medium = si.medium_interface().medium_toward(ray.d, si.shading.ng, medium);
-            ray = si.spawn_ray(ray.d);
+            (ray, medium) = si.pass_through(&ray, medium);
         }
         stats.last_depth = depth;
         l

@@ -14,7 +14,7 @@ use crate::bsdf::{Bsdf, TransportMode};
 use crate::geometry::Ray;
 use crate::math::offset_ray_origin;
 use crate::sampling::Sampler;
-use crate::scene::{Scene, MAX_INTERFACE_CROSSINGS};
+use crate::scene::{Crossings, Scene};
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 use crate::texture::RayDifferentials;
 use glam::Vec3;
@@ -72,11 +72,10 @@ impl Integrator {
         let mut state = PathState::new(ray.o);
         state.beta = beta;
         let mut visible = None;
-        let mut crossings = 0;
+        let mut crossings = Crossings::default();
         while let Some(si) = self.next_hit_with_emission(scene, &ray, &mut state, w, stats) {
             if si.is_passthrough() {
-                crossings += 1;
-                if crossings > MAX_INTERFACE_CROSSINGS {
+                if !crossings.allow_another() {
                     break;
                 }
                 ray = si.spawn_ray(ray.d);

@@ -28,7 +28,7 @@ use crate::geometry::Ray;
 use crate::light::LightSampleContext;
 use crate::media::{sample_t_maj, sample_t_maj_homogeneous, HenyeyGreenstein};
 use crate::sampling::Sampler;
-use crate::scene::{Scene, SurfaceInteraction, MAX_INTERFACE_CROSSINGS};
+use crate::scene::{Crossings, Scene, SurfaceInteraction};
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 use crate::texture::RayDifferentials;
 use glam::Vec3;
@@ -76,7 +76,7 @@ impl Integrator {
         let mut medium = scene.camera_medium();
         // The subsurface object a random walk is in; its interior is the medium then.
         let mut interior: Option<Interior> = None;
-        let mut crossings = 0;
+        let mut crossings = Crossings::default();
         loop {
             let (si, given_bsdf) = match pending.take() {
                 Some((si, bsdf)) => (si, Some(bsdf)),
@@ -178,12 +178,10 @@ impl Integrator {
                     }
                     if si.is_passthrough() {
                         // A boundary between media only: the ray goes on in the medium behind it.
-                        crossings += 1;
-                        if crossings > MAX_INTERFACE_CROSSINGS {
+                        if !crossings.allow_another() {
                             break;
                         }
-                        medium = si.medium_interface().medium_toward(ray.d, si.shading.ng, medium);
-                        ray = si.spawn_ray(ray.d);
+                        (ray, medium) = si.pass_through(&ray, medium);
                         continue;
                     }
                     (si, None)

@@ -343,6 +343,14 @@ impl<'s> SurfaceInteraction<'s> {
         Ray::new(offset_ray_origin(self.p, self.p_err, self.shading.ng, d), d).at_time(self.time)
     }
 
+    /// `ray` continued through this surface, which only bounds media (see
+    /// [`Self::is_passthrough`]): the same direction from here, and the medium on the side it
+    /// enters, given `medium`, the one it arrived in.
+    #[inline]
+    pub fn pass_through(&self, ray: &Ray, medium: Option<u32>) -> (Ray, Option<u32>) {
+        (self.spawn_ray(ray.d), self.medium_interface().medium_toward(ray.d, self.shading.ng, medium))
+    }
+
     /// A shadow ray from this point to `target` (a point on a light), stopping just short of it.
     #[inline]
     pub fn spawn_ray_to(&self, target: Vec3) -> Ray {

@@ -699,6 +699,21 @@ pub struct Scene {
 /// degenerate geometry that would trap a ray; real scenes nest a handful).
 pub const MAX_INTERFACE_CROSSINGS: u32 = 256;
 
+/// The boundaries between media a path has passed through without scattering, counted
+/// against [`MAX_INTERFACE_CROSSINGS`].
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Crossings(u32);
+
+impl Crossings {
+    /// Counts one more crossing; false once there have been more than
+    /// [`MAX_INTERFACE_CROSSINGS`], when the path is taken as blocked.
+    #[inline]
+    pub fn allow_another(&mut self) -> bool {
+        self.0 += 1;
+        self.0 <= MAX_INTERFACE_CROSSINGS
+    }
+}
+
 impl Scene {
     /// The closest surface along `ray` (t in (0, ray.t_max]), with its shading geometry,
     /// material and emission.
