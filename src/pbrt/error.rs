@@ -1,55 +1,12 @@
-//! Source locations, scene errors and warnings.
+//! Scene errors and warnings, each at a [`Location`].
 //!
 //! Every message a person reads starts with `file:line:col` so editors can jump to it, and names
 //! the offending token (pbrt-v4 `ErrorExit(&loc, ...)`, Mitsuba's parser errors).
 
 use std::fmt;
-use std::path::{Path, PathBuf};
-use std::sync::Arc;
+use std::path::PathBuf;
 
-/// A position in a scene file: 1-based line and column (columns count characters).
-#[derive(Clone, Debug, PartialEq, Eq, Hash)]
-pub struct Location {
-    /// The file the token came from (`<string>` for [`crate::pbrt::parse_str`]).
-    pub file: Arc<Path>,
-    /// Line, starting at 1.
-    pub line: u32,
-    /// Column in characters, starting at 1.
-    pub col: u32,
-    /// The directory of the scene file parsing started from, when known: relative file names
-    /// resolve against it (pbrt-v4's search directory), whichever file wrote them.
-    pub search_dir: Option<Arc<Path>>,
-}
-
-impl Location {
-    /// A location in `file`.
-    pub fn new(file: Arc<Path>, line: u32, col: u32) -> Self {
-        Self { file, line, col, search_dir: None }
-    }
-
-    /// The file a name written at this location means. As in pbrt-v4, a relative name is taken
-    /// relative to the main scene file's directory ([`Location::search_dir`]); when nothing exists
-    /// there but the name exists relative to the file that wrote it, that file is meant (names
-    /// relative to the including file, which earlier versions of prism required). Absolute
-    /// names are returned as they are.
-    pub fn resolve(&self, name: impl AsRef<Path>) -> PathBuf {
-        let name = name.as_ref();
-        let local = self.file.parent().unwrap_or(Path::new("")).join(name);
-        let Some(dir) = &self.search_dir else { return local };
-        let main = dir.join(name);
-        if name.is_absolute() || main.exists() || !local.exists() {
-            main
-        } else {
-            local
-        }
-    }
-}
-
-impl fmt::Display for Location {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "{}:{}:{}", self.file.display(), self.line, self.col)
-    }
-}
+pub use super::location::Location;
 
 /// Everything that stops a scene from loading.
 #[derive(Debug, thiserror::Error)]

@@ -6,6 +6,7 @@ mod curve_params;
 pub mod desc;
 pub mod error;
 pub mod input;
+pub mod location;
 pub mod mesh_io;
 pub mod names;
 pub mod params;

@@ -11,6 +11,7 @@ use super::error::{Location, SceneError};
 use super::params::{parse_float, Param, ParamNames, ParamSet};
 use super::tokenizer::{SourceFile, SourceFiles, Token, TokenKind, Tokenizer};
 use std::path::PathBuf;
+use std::sync::Arc;
 
 /// Tokens of a file and the files it includes, with one token of look-ahead.
 pub(super) struct Source<'a> {
@@ -52,7 +53,7 @@ impl<'a> Source<'a> {
 
     /// The last line of the outermost file.
     fn end(&self) -> Location {
-        Location::new(self.outer.path().clone(), self.outer.text().lines().count().max(1) as u32, 1)
+        Location::new(Arc::from(self.outer.path()), self.outer.text().lines().count().max(1) as u32, 1)
     }
 
     /// The canonical paths of the files being read, outermost first.

@@ -4,23 +4,20 @@
 //! strings are double-quoted and may not span lines; `#` starts a comment to the end of the line.
 
 use std::borrow::Cow;
-use std::cell::{Cell, OnceCell};
+use std::cell::OnceCell;
 use std::path::Path;
 use std::sync::Arc;
 
 use super::error::{Location, SceneError};
+use super::location::SourceName;
 
-/// The text of one scene file and what turning a byte offset in it into a [`Location`] needs.
+/// The text of one scene file and its [`SourceName`], which locations in it share.
 ///
-/// Tokens carry a byte offset only; the line and column (in characters) are counted from the
-/// text when a location is asked for, starting from the last one computed, so that asking in
-/// reading order costs the distance read since.
+/// Tokens carry a byte offset only; a location is that offset and the shared name, whose line
+/// and column are found when a message is written.
 pub struct SourceFile {
-    path: Arc<Path>,
-    search_dir: Option<Arc<Path>>,
+    name: Arc<SourceName>,
     text: String,
-    /// The last location computed: (byte offset, line, column).
-    last: Cell<(usize, u32, u32)>,
 }
 
 impl SourceFile {
@@ -31,7 +28,7 @@ impl SourceFile {
         if text.starts_with('\u{feff}') {
             text.drain(..'\u{feff}'.len_utf8());
         }
-        Self { path, search_dir, text, last: Cell::new((0, 1, 1)) }
+        Self { name: Arc::new(SourceName::new(path, search_dir, &text)), text }
     }
 
     /// The text.
@@ -40,30 +37,13 @@ impl SourceFile {
     }
 
     /// The file's path as written.
-    pub fn path(&self) -> &Arc<Path> {
-        &self.path
+    pub fn path(&self) -> &Path {
+        self.name.path()
     }
 
-    /// The location of byte `offset` (a character boundary): 1-based line, and column counted in
-    /// characters.
+    /// The location of byte `offset` (a character boundary).
     pub fn location(&self, offset: usize) -> Location {
-        let bytes = self.text.as_bytes();
-        let (at, line, col) = self.last.get();
-        let newlines = |s: &[u8]| memchr::memchr_iter(b'\n', s).count() as u32;
-        let chars = |a: usize, b: usize| self.text[a..b].chars().count() as u32;
-        let (line, col) = if offset >= at {
-            match memchr::memrchr(b'\n', &bytes[at..offset]) {
-                None => (line, col + chars(at, offset)),
-                Some(i) => (line + newlines(&bytes[at..offset]), chars(at + i + 1, offset) + 1),
-            }
-        } else if memchr::memchr(b'\n', &bytes[offset..at]).is_none() {
-            (line, col - chars(offset, at))
-        } else {
-            let start = memchr::memrchr(b'\n', &bytes[..offset]).map_or(0, |i| i + 1);
-            (line - newlines(&bytes[offset..at]), chars(start, offset) + 1)
-        };
-        self.last.set((offset, line, col));
-        Location { search_dir: self.search_dir.clone(), ..Location::new(self.path.clone(), line, col) }
+        Location::at_offset(&self.name, offset)
     }
 }
 
@@ -101,7 +81,13 @@ impl Drop for SourceFiles {
 }
 
 /// What kind of token.
+///
+/// As wide as a pointer, so that a [`Token`] has no padding: moving one (tokens are returned,
+/// peeked and collected by value) then copies whole words, where a one-byte kind left seven
+/// bytes of padding that were copied in overlapping pieces, which stalls store-to-load
+/// forwarding.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[repr(usize)]
 pub enum TokenKind {
     /// An unquoted word: a directive name, a number or `true`/`false`.
     Word,
@@ -294,8 +280,8 @@ mod tests {
         let mut t = Tokenizer::new(&f);
         let mut v = Vec::new();
         while let Some(tok) = t.next_token()? {
-            let loc = tok.loc();
-            v.push((tok.kind, tok.text.into_owned(), loc.line, loc.col));
+            let (line, col) = tok.loc().line_col();
+            v.push((tok.kind, tok.text.into_owned(), line, col));
         }
         Ok(v)
     }
@@ -318,8 +304,7 @@ mod tests {
             .chain(offsets.iter().rev())
             .chain((0..offsets.len()).map(|i| &offsets[i * 7 % offsets.len()]));
         for &o in order {
-            let loc = f.location(o);
-            assert_eq!((loc.line, loc.col), counted(text, o), "offset {o}");
+            assert_eq!(f.location(o).line_col(), counted(text, o), "offset {o}");
         }
     }
 
@@ -356,7 +341,7 @@ mod tests {
         let e = all("Shape\n  \"sphere").unwrap_err();
         assert_eq!(e.to_string(), "t.pbrt:2:3: unterminated string (at \"\"sphere\")");
         let e = all("\"a\nb\"").unwrap_err();
-        assert_eq!(e.location().line, 1);
+        assert_eq!(e.location().line(), 1);
     }
 
     #[test]

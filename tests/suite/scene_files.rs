@@ -144,7 +144,7 @@ fn cornell_torus_parses() {
     let flip = if lights[0].reverse_orientation { -1.0 } else { 1.0 };
     assert!(flip * (b - a).cross(c - a).y < 0.0, "the ceiling light emits upwards");
     // Camera from the included file.
-    assert!(d.camera.directive.loc.file.ends_with("common/studio_camera.pbrt"));
+    assert!(d.camera.directive.loc.file().ends_with("common/studio_camera.pbrt"));
 }
 
 #[test]

@@ -90,7 +90,7 @@ WorldBegin"#,
         [&d.camera.directive.kind, &d.film.kind, &d.sampler.kind, &d.integrator.kind, &d.filter.kind],
         ["perspective", "rgb", "zsobol", "path", "gaussian"]
     );
-    assert_eq!(d.film.loc.line, 1);
+    assert_eq!(d.film.loc.line(), 1);
 }
 
 #[test]
@@ -114,7 +114,7 @@ AttributeEnd
     assert_eq!(d.material(&b.material).unwrap().kind, "conductor");
     assert_eq!(a.world_from_object.w_axis.x, 1.0);
     assert_eq!(b.world_from_object, Mat4::IDENTITY);
-    assert_eq!(a.area_light.as_ref().unwrap().loc.line, 7);
+    assert_eq!(a.area_light.as_ref().unwrap().loc.line(), 7);
     assert_eq!(
         err("WorldBegin\nAttributeEnd"),
         "<string>:2:1: AttributeEnd without a matching AttributeBegin (at \"AttributeEnd\")"
@@ -388,7 +388,7 @@ fn block_placement_and_syntax_errors() {
     );
     // A byte-order mark and CRLF line ends are accepted; columns count from after the BOM.
     let (d, _) = parse("\u{feff}WorldBegin\r\nShape \"sphere\"\r\n");
-    assert_eq!((d.shapes[0].loc.line, d.shapes[0].loc.col), (2, 1));
+    assert_eq!(d.shapes[0].loc.line_col(), (2, 1));
     assert_eq!(err("Rotate 30 0 0 0"), "<string>:1:1: rotation axis has zero length (at \"Rotate\")");
     // A parameter given twice: pbrt-v4 reads the last one.
     let (d, _) = parse("WorldBegin\nShape \"sphere\" \"float radius\" 1 \"float radius\" 2");
@@ -447,8 +447,8 @@ fn include_is_relative_to_the_including_file_and_shares_state() {
     std::fs::write(d.join("sub/deeper/b.pbrt"), "Translate 0 0 4\nShape \"sphere\"\n").unwrap();
     let (s, _) = parse_file(&d.join("main.pbrt"), &ParseOptions::default()).unwrap();
     assert_eq!(s.shapes.len(), 2);
-    assert!(s.shapes[0].loc.file.ends_with("sub/deeper/b.pbrt"));
-    assert_eq!(s.shapes[0].loc.line, 2);
+    assert!(s.shapes[0].loc.file().ends_with("sub/deeper/b.pbrt"));
+    assert_eq!(s.shapes[0].loc.line(), 2);
     // Include shares the graphics state: the included Translate and Material persist.
     assert_eq!(s.shapes[1].world_from_object.w_axis.z, 4.0);
     assert_eq!(s.material(&s.shapes[1].material).unwrap().kind, "conductor");
@@ -516,7 +516,7 @@ fn an_include_splices_its_tokens_into_the_stream() {
     assert_eq!((s.media.len(), s.shapes.len()), (1, 1));
     let at = |name: &str| {
         let l = &s.media[0].params.get(name).unwrap().loc;
-        format!("{}:{}:{}", l.file.file_name().unwrap().to_string_lossy(), l.line, l.col)
+        format!("{}:{}:{}", l.file().file_name().unwrap().to_string_lossy(), l.line(), l.col())
     };
     assert_eq!(at("scale"), "medium.pbrt:2:3");
     assert_eq!(at("sigma_a"), "main.pbrt:3:3");
@@ -539,8 +539,9 @@ fn locations_are_exact_across_files_lines_and_directives_sharing_a_line() {
     )
     .unwrap();
     let (s, _) = parse_file(&d.join("main.pbrt"), &ParseOptions::default()).unwrap();
-    let at =
-        |l: &prism::pbrt::Location| format!("{}:{}:{}", l.file.file_name().unwrap().to_string_lossy(), l.line, l.col);
+    let at = |l: &prism::pbrt::Location| {
+        format!("{}:{}:{}", l.file().file_name().unwrap().to_string_lossy(), l.line(), l.col())
+    };
     let shapes: Vec<String> = s.shapes.iter().map(|s| at(&s.loc)).collect();
     assert_eq!(shapes, ["a.pbrt:2:3", "main.pbrt:3:1", "main.pbrt:3:33"]);
     let radii: Vec<String> = s.shapes.iter().map(|s| at(&s.params.get("radius").unwrap().loc)).collect();

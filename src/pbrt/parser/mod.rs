@@ -314,7 +314,7 @@ impl<'o> Parser<'o> {
         canonical: PathBuf,
     ) -> Result<(), SceneError> {
         let mut src = Source::new(store, SourceFile::new(file, self.search_dir.clone(), text), canonical);
-        // The last directive read, whose location is counted when the file ends (an Import's at
+        // The last directive read, whose location is taken when the file ends (an Import's at
         // once: the imported file's directives come after it).
         let mut last = None;
         while let Some(tok) = src.next()? {

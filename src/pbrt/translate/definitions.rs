@@ -4,6 +4,14 @@
 
 use crate::pbrt::desc::{MaterialDesc, MaterialRef, SceneDesc, TextureClass};
 use rustc_hash::FxHashMap as HashMap;
+use std::cell::OnceCell;
+use std::sync::Arc;
+
+/// The address of a shared name's text: while the description holds the name, no other text
+/// has it.
+fn address(name: &Arc<str>) -> *const u8 {
+    Arc::as_ptr(name).cast()
+}
 
 /// Which material a reference resolves to: its identity in the description, so that shapes
 /// sharing a material share one built material.
@@ -60,9 +68,13 @@ impl<T: Copy> ByMaterial<T> {
 /// Named materials and textures of one [`SceneDesc`] by name.
 pub(super) struct Definitions<'d> {
     desc: &'d SceneDesc,
+    /// Index into [`SceneDesc::named_materials`] by the address of the name's shared text: a
+    /// `MaterialRef::Named` written after its definition shares that text, and finding it so
+    /// reads neither name.
+    named_by_address: HashMap<*const u8, usize>,
     /// Index into [`SceneDesc::named_materials`] by name (names are unique: the parser refuses
-    /// a redefinition).
-    named_materials: HashMap<&'d str, usize>,
+    /// a redefinition), made when a name is first looked up by its text.
+    named_by_text: OnceCell<HashMap<&'d str, usize>>,
     /// For each name and class, the indices into [`SceneDesc::textures`] of its definitions.
     textures: HashMap<(&'d str, TextureClass), TextureDefs>,
 }
@@ -78,7 +90,7 @@ enum TextureDefs {
 impl<'d> Definitions<'d> {
     /// Indexes `desc`, in time linear in its number of definitions.
     pub(super) fn new(desc: &'d SceneDesc) -> Self {
-        let named_materials = desc.named_materials.iter().enumerate().map(|(i, m)| (&*m.name, i)).collect();
+        let named_by_address = desc.named_materials.iter().enumerate().map(|(i, m)| (address(&m.name), i)).collect();
         let mut textures: HashMap<(&str, TextureClass), TextureDefs> = HashMap::default();
         textures.reserve(desc.textures.len());
         for (i, t) in desc.textures.iter().enumerate() {
@@ -90,12 +102,15 @@ impl<'d> Definitions<'d> {
                 })
                 .or_insert(TextureDefs::One(i));
         }
-        Self { desc, named_materials, textures }
+        Self { desc, named_by_address, named_by_text: OnceCell::new(), textures }
     }
 
     /// The named material `name`.
     pub(super) fn named_material(&self, name: &str) -> Option<(MaterialKey, &'d MaterialDesc)> {
-        let &i = self.named_materials.get(name)?;
+        let by_text = self
+            .named_by_text
+            .get_or_init(|| self.desc.named_materials.iter().enumerate().map(|(i, m)| (&*m.name, i)).collect());
+        let &i = by_text.get(name)?;
         Some((MaterialKey::Named(i), &self.desc.named_materials[i].material))
     }
 
@@ -104,10 +119,11 @@ impl<'d> Definitions<'d> {
         match r {
             MaterialRef::Default => (MaterialKey::Default, None),
             MaterialRef::Anonymous(i) => (MaterialKey::Anonymous(*i), self.desc.materials.get(*i)),
-            MaterialRef::Named(n) => match self.named_material(n) {
-                Some((key, m)) => (key, Some(m)),
-                // The parser refuses undefined names; an unknown one is the default material.
-                None => (MaterialKey::Default, None),
+            MaterialRef::Named(n) => match self.named_by_address.get(&address(n)) {
+                Some(&i) => (MaterialKey::Named(i), Some(&self.desc.named_materials[i].material)),
+                // A use written before the definition holds its own copy of the name. The parser
+                // refuses undefined names; an unknown one is the default material.
+                None => self.named_material(n).map_or((MaterialKey::Default, None), |(key, m)| (key, Some(m))),
             },
         }
     }
@@ -164,9 +180,12 @@ mod tests {
         let desc = scene();
         let defs = Definitions::new(&desc);
         for (i, m) in desc.named_materials.iter().enumerate() {
-            let (key, found) = defs.material(&MaterialRef::Named(m.name.clone()));
-            assert_eq!(key, MaterialKey::Named(i));
-            assert!(std::ptr::eq(found.unwrap(), &m.material));
+            // The definition's own text, and a copy of it (as a use before the definition has).
+            for name in [m.name.clone(), Arc::from(&*m.name)] {
+                let (key, found) = defs.material(&MaterialRef::Named(name));
+                assert_eq!(key, MaterialKey::Named(i));
+                assert!(std::ptr::eq(found.unwrap(), &m.material));
+            }
         }
         assert_eq!(defs.material(&MaterialRef::Anonymous(0)).1.unwrap().kind, "conductor");
         assert!(matches!(defs.material(&MaterialRef::Default), (MaterialKey::Default, None)));
