@@ -16,8 +16,12 @@
 //! - `mesh`: one `plymesh` of N triangles, a binary little-endian PLY heightfield with
 //!   positions only (19 bytes per triangle, like a scanned model). Its line adds the seconds of
 //!   reading the file and of decoding the PLY alone (the first two parts of `parse`).
+//! - `emissive-mesh`, `emissive-mesh-rgb`: the same PLY of N triangles as `mesh`, every triangle
+//!   an area light (`AreaLightSource "diffuse"` with a 6500 K "blackbody L", or an "rgb L"), over
+//!   a diffuse floor it lights: the cost of N lights sharing one spectrum. Their lines add the
+//!   same parts as `mesh`'s, so `build` less the accelerator alone is the lights' share.
 //!
-//! (default: all four at N = 1000, 10000, 100000). The stages: `parse` (`parse_file`),
+//! (default: every kind at N = 1000, 10000, 100000). The stages: `parse` (`parse_file`),
 //! `translate` (the description onto a scene builder), `report` (unused parameters and the
 //! list of input files), `build` (accelerator and lights, Embree when built with it).
 //! Each line gives the wall seconds of each stage, their sum per element in microseconds, and the
@@ -47,7 +51,11 @@ impl Clock {
     }
 }
 
-const KINDS: [&str; 6] = ["materials", "media", "objects", "shapes", "mesh", "forest"];
+const KINDS: [&str; 8] =
+    ["materials", "media", "objects", "shapes", "mesh", "forest", "emissive-mesh", "emissive-mesh-rgb"];
+
+/// The kinds whose triangles are one PLY file, written beside the scene as `KIND-N.ply`.
+const PLY_KINDS: [&str; 3] = ["mesh", "emissive-mesh", "emissive-mesh-rgb"];
 
 /// Camera, film and one light: what every generated scene starts with.
 const HEADER: &str = r#"LookAt 0 0 -10  0 0 0  0 1 0
@@ -120,6 +128,17 @@ fn scene(kind: &str, n: usize) -> String {
         }
         "mesh" => {
             writeln!(s, "Shape \"plymesh\" \"string filename\" \"mesh-{n}.ply\"").unwrap();
+        }
+        "emissive-mesh" | "emissive-mesh-rgb" => {
+            // The heightfield's triangles face +z, away from the camera, toward a floor 0.5 behind.
+            let l = if kind == "emissive-mesh" { r#""blackbody L" [ 6500 ]"# } else { r#""rgb L" [ 1 0.6 0.3 ]"# };
+            writeln!(
+                s,
+                "AttributeBegin\n  AreaLightSource \"diffuse\" {l}\n  Shape \"plymesh\" \"string filename\" \
+                 \"{kind}-{n}.ply\"\nAttributeEnd\nMaterial \"diffuse\"\n\
+                 Shape \"bilinearmesh\" \"point3 P\" [ -3 -3 0.5  3 -3 0.5  -3 3 0.5  3 3 0.5 ] \"integer indices\" [ 0 1 2 3 ]"
+            )
+            .unwrap();
         }
         "shapes" => {
             for i in 0..n {
@@ -281,8 +300,8 @@ fn run() -> Result<(), String> {
             std::fs::write(&path, &text).map_err(|e| format!("{}: {e}", path.display()))?;
             let (mut n, mut bytes) = (n, text.len());
             let mut mesh_note = String::new();
-            if kind == "mesh" {
-                let ply_path = dir.join(format!("mesh-{n}.ply"));
+            if PLY_KINDS.contains(&kind.as_str()) {
+                let ply_path = dir.join(format!("{kind}-{n}.ply"));
                 let tris = write_ply(&ply_path, n)?;
                 n = tris;
                 bytes += std::fs::metadata(&ply_path).map_or(0, |m| m.len() as usize);
@@ -317,7 +336,7 @@ fn run() -> Result<(), String> {
             );
             {
                 let per = |b: i64| b as f64 / n as f64;
-                let unit = if kind == "mesh" { "triangle" } else { "element" };
+                let unit = if PLY_KINDS.contains(&kind.as_str()) { "triangle" } else { "element" };
                 println!(
                     "  {mesh_note}resident B/{unit} after parse {:.1}, translate {:.1}, report (description \
                      dropped) {:.1}, build {:.1}; peak {:.1}",

@@ -7,7 +7,7 @@
 //! direction to p, shrunk by the angle the box subtends from p. Each light works out its own
 //! bounds (`Light::bounds`, in the light's file); this file holds what they have in common.
 
-use super::cone::DirectionCone;
+use super::cone::{AngledCone, DirectionCone};
 use crate::geometry::Bounds3;
 use glam::Vec3;
 
@@ -182,24 +182,7 @@ impl LightBounds {
     /// The union: the box around both, the cone around both normal cones, the larger emission
     /// angle, the summed flux. Bounds without flux add nothing.
     pub fn union(a: &Self, b: &Self) -> Self {
-        if a.phi == 0.0 {
-            return *b;
-        }
-        if b.phi == 0.0 {
-            return *a;
-        }
-        let cone = DirectionCone::union(
-            DirectionCone { w: a.w, cos_theta: a.cos_theta_o },
-            DirectionCone { w: b.w, cos_theta: b.cos_theta_o },
-        );
-        Self {
-            bounds: a.bounds.union(b.bounds),
-            w: cone.w,
-            phi: a.phi + b.phi,
-            cos_theta_o: cone.cos_theta,
-            cos_theta_e: a.cos_theta_e.min(b.cos_theta_e),
-            two_sided: a.two_sided || b.two_sided,
-        }
+        AngledBounds::new(*a).union(&AngledBounds::new(*b)).bounds
     }
 
     /// Centre of the box.
@@ -247,6 +230,56 @@ impl LightBounds {
     pub fn isotropic_point(position: Vec3, phi: f32) -> Self {
         let bounds = Bounds3::EMPTY.union_point(position);
         Self { bounds, w: Vec3::Z, phi, cos_theta_o: -1.0, cos_theta_e: 0.0, two_sided: false }
+    }
+}
+
+/// [`LightBounds`] with the half-angles θ_o and θ_e [rad] worked out (acos of their cosines),
+/// which every union and every split cost of the tree's build takes: a fold of many unions
+/// works each out once per new cone instead of twice per union. Unions give exactly
+/// [`LightBounds::union`]'s bounds.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AngledBounds {
+    /// The bounds.
+    pub bounds: LightBounds,
+    /// θ_o, the half-angle of the normal cone.
+    pub theta_o: f32,
+    /// θ_e, the angle beyond the normals over which the emitters emit.
+    pub theta_e: f32,
+}
+
+impl AngledBounds {
+    /// `bounds` with their half-angles.
+    pub fn new(bounds: LightBounds) -> Self {
+        let theta_o = AngledCone::new(DirectionCone { w: bounds.w, cos_theta: bounds.cos_theta_o }).theta;
+        Self { bounds, theta_o, theta_e: bounds.cos_theta_e.clamp(-1.0, 1.0).acos() }
+    }
+
+    /// [`LightBounds::union`] of the two, with its half-angles.
+    pub fn union(&self, other: &Self) -> Self {
+        let (a, b) = (&self.bounds, &other.bounds);
+        if a.phi == 0.0 {
+            return *other;
+        }
+        if b.phi == 0.0 {
+            return *self;
+        }
+        let cone = |x: &Self| AngledCone {
+            cone: DirectionCone { w: x.bounds.w, cos_theta: x.bounds.cos_theta_o },
+            theta: x.theta_o,
+        };
+        let cone = AngledCone::union(&cone(self), &cone(other));
+        // The smaller cosine is one of the two, and so is its angle.
+        let cos_theta_e = a.cos_theta_e.min(b.cos_theta_e);
+        let theta_e = if cos_theta_e == a.cos_theta_e { self.theta_e } else { other.theta_e };
+        let bounds = LightBounds {
+            bounds: a.bounds.union(b.bounds),
+            w: cone.cone.w,
+            phi: a.phi + b.phi,
+            cos_theta_o: cone.cone.cos_theta,
+            cos_theta_e,
+            two_sided: a.two_sided || b.two_sided,
+        };
+        Self { bounds, theta_o: cone.theta, theta_e }
     }
 }
 

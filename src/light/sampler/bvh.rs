@@ -11,7 +11,7 @@
 //! solid-angle measure of its normal cone widened by θ_e, K_r the parent box's longest side over
 //! its side along the axis (which favours cutting long boxes across).
 
-use super::bounds::{LightBounds, PreparedBounds};
+use super::bounds::{AngledBounds, LightBounds, PreparedBounds};
 use crate::geometry::Bounds3;
 use crate::math::PI;
 use glam::Vec3;
@@ -20,6 +20,8 @@ use glam::Vec3;
 const BUCKETS: usize = 12;
 /// Depth below which splits stop searching and halve the list (bounds the recursion).
 const MAX_SEARCH_DEPTH: u32 = 64;
+/// Lights below which a node's children are built one after the other, not in parallel.
+const PARALLEL_BUILD: usize = 4096;
 /// A light's entry in `leaf_of` when it has no leaf.
 const NO_LEAF: u32 = u32::MAX;
 
@@ -74,19 +76,18 @@ fn surface_area(b: &Bounds3) -> f32 {
 /// The solid-angle measure M_Ω of a normal cone of half-angle θ_o whose emitters reach θ_e
 /// beyond their normal (Conty Estevez & Kulla 2018, eq. 1): 2π(1 − cos θ_o) plus the cosine-
 /// weighted band out to θ_w = min(θ_o + θ_e, π).
-fn orientation_measure(b: &LightBounds) -> f32 {
-    let theta_o = b.cos_theta_o.clamp(-1.0, 1.0).acos();
-    let theta_e = b.cos_theta_e.clamp(-1.0, 1.0).acos();
+fn orientation_measure(b: &AngledBounds) -> f32 {
+    let (theta_o, theta_e, cos_theta_o) = (b.theta_o, b.theta_e, b.bounds.cos_theta_o);
     let theta_w = (theta_o + theta_e).min(PI);
-    let sin_o = (1.0 - b.cos_theta_o * b.cos_theta_o).max(0.0).sqrt();
-    2.0 * PI * (1.0 - b.cos_theta_o)
-        + PI / 2.0 * (2.0 * theta_w * sin_o - (theta_o - 2.0 * theta_w).cos() - 2.0 * theta_o * sin_o + b.cos_theta_o)
+    let sin_o = (1.0 - cos_theta_o * cos_theta_o).max(0.0).sqrt();
+    2.0 * PI * (1.0 - cos_theta_o)
+        + PI / 2.0 * (2.0 * theta_w * sin_o - (theta_o - 2.0 * theta_w).cos() - 2.0 * theta_o * sin_o + cos_theta_o)
 }
 
 /// Cost of a half with bounds `b` split from a parent box of extent `parent_extent` along `axis`.
-fn split_cost(b: &LightBounds, parent_extent: Vec3, axis: usize) -> f32 {
+fn split_cost(b: &AngledBounds, parent_extent: Vec3, axis: usize) -> f32 {
     let k_r = parent_extent.max_element() / parent_extent[axis];
-    b.phi * orientation_measure(b) * k_r * surface_area(&b.bounds)
+    b.bounds.phi * orientation_measure(b) * k_r * surface_area(&b.bounds.bounds)
 }
 
 /// The children's probabilities c0/(c0 + c1) and c1/(c0 + c1), in f64 so that two importances
@@ -119,52 +120,27 @@ impl BvhLightSampler {
             is_infinite: lights.iter().map(|l| l.infinite).collect(),
             p_infinite: 0.0,
         };
-        let mut bounded: Vec<(u32, LightBounds)> = Vec::new();
+        let mut bounded: Vec<(u32, AngledBounds)> = Vec::new();
         for (i, l) in lights.iter().enumerate() {
             if l.infinite {
                 s.infinite.push(i as u32);
             } else if let Some(b) = l.bounds {
-                bounded.push((i as u32, b));
+                bounded.push((i as u32, AngledBounds::new(b)));
             }
         }
-        if !bounded.is_empty() {
-            s.build(&mut bounded, 0, 0);
+        if let Some((_, first)) = bounded.first() {
+            // A tree over n lights, one per leaf, has 2n − 1 nodes.
+            let filler =
+                Node { bounds: first.bounds.prepare(), child_or_light: 0, parent: 0, leaf: true, flux_split: None };
+            s.nodes = vec![filler; 2 * bounded.len() - 1];
+            build(&mut s.nodes, 0, &mut bounded, 0, 0);
+            for (index, node) in s.nodes.iter().enumerate().filter(|(_, n)| n.leaf) {
+                s.leaf_of[node.child_or_light as usize] = index as u32;
+            }
         }
         let n_inf = s.infinite.len();
         s.p_infinite = n_inf as f32 / (n_inf + usize::from(!s.nodes.is_empty())).max(1) as f32;
         s
-    }
-
-    /// Adds the subtree over `items` below `parent`; returns its root's index and bounds.
-    fn build(&mut self, items: &mut [(u32, LightBounds)], parent: u32, depth: u32) -> (u32, LightBounds) {
-        let index = self.nodes.len() as u32;
-        if let [(light, bounds)] = items {
-            self.nodes.push(Node {
-                bounds: bounds.prepare(),
-                child_or_light: *light,
-                parent,
-                leaf: true,
-                flux_split: None,
-            });
-            self.leaf_of[*light as usize] = index;
-            return (index, *bounds);
-        }
-        let bounds = items.iter().skip(1).fold(items[0].1, |acc, (_, b)| LightBounds::union(&acc, b));
-        self.nodes.push(Node { bounds: bounds.prepare(), child_or_light: 0, parent, leaf: false, flux_split: None });
-        let mid = if depth < MAX_SEARCH_DEPTH { partition_by_cost(items, &bounds) } else { None };
-        let mid = mid.unwrap_or(items.len() / 2);
-        let (left, right) = items.split_at_mut(mid);
-        let (_, b0) = self.build(left, index, depth + 1);
-        let (second, b1) = self.build(right, index, depth + 1);
-        let node = &mut self.nodes[index as usize];
-        node.child_or_light = second;
-        if b0.same_but_flux(&b1) {
-            // The union of equal bounds is those bounds (with the summed flux): this node's
-            // importance is positive where its children's are.
-            debug_assert!(bounds.same_but_flux(&b0));
-            node.flux_split = Some(child_probabilities(b0.phi, b1.phi));
-        }
-        (index, bounds)
     }
 
     /// Picks a light for the point `p` with normal `n` (zero in a medium) and `u` in [0, 1):
@@ -246,10 +222,41 @@ impl BvhLightSampler {
     }
 }
 
+/// Writes the subtree over `items` below node `parent` into `nodes` (its 2 n − 1 nodes, depth
+/// first, each node's first child after it; `nodes[0]` is node `index` of the tree); returns
+/// its bounds. A subtree's size is known before it is built, so the two children of a large
+/// node are built in parallel, each into its own part of `nodes`, into the tree a serial build
+/// makes.
+fn build(nodes: &mut [Node], index: u32, items: &mut [(u32, AngledBounds)], parent: u32, depth: u32) -> LightBounds {
+    if let [(light, bounds)] = items {
+        nodes[0] =
+            Node { bounds: bounds.bounds.prepare(), child_or_light: *light, parent, leaf: true, flux_split: None };
+        return bounds.bounds;
+    }
+    let bounds = items.iter().skip(1).fold(items[0].1, |acc, (_, b)| acc.union(b)).bounds;
+    let mid = if depth < MAX_SEARCH_DEPTH { partition_by_cost(items, &bounds) } else { None };
+    let mid = mid.unwrap_or(items.len() / 2);
+    let parallel = items.len() >= PARALLEL_BUILD;
+    let (left, right) = items.split_at_mut(mid);
+    let (node, below) = nodes.split_first_mut().expect("a subtree has a node");
+    let (left_nodes, right_nodes) = below.split_at_mut(2 * mid - 1);
+    let second = index + 2 * mid as u32;
+    let mut build_left = || build(left_nodes, index + 1, left, index, depth + 1);
+    let mut build_right = || build(right_nodes, second, right, index, depth + 1);
+    let (b0, b1) = if parallel { rayon::join(build_left, build_right) } else { (build_left(), build_right()) };
+    // Children that differ in flux alone: the union of equal bounds is those bounds (with the
+    // summed flux), so this node's importance is positive where its children's are.
+    let flux_split = b0.same_but_flux(&b1).then(|| child_probabilities(b0.phi, b1.phi));
+    debug_assert!(flux_split.is_none() || bounds.same_but_flux(&b0));
+    *node = Node { bounds: bounds.prepare(), child_or_light: second, parent, leaf: false, flux_split };
+    bounds
+}
+
 /// Reorders `items` into the two halves of the cheapest bucket split and returns the size of the
 /// first, or `None` when no axis separates the centroids.
-fn partition_by_cost(items: &mut [(u32, LightBounds)], bounds: &LightBounds) -> Option<usize> {
-    let centroids = items.iter().fold(Bounds3::EMPTY, |b, (_, l)| b.union_point(l.centroid()));
+fn partition_by_cost(items: &mut [(u32, AngledBounds)], bounds: &LightBounds) -> Option<usize> {
+    let centroid = |l: &AngledBounds| l.bounds.centroid();
+    let centroids = items.iter().fold(Bounds3::EMPTY, |b, (_, l)| b.union_point(centroid(l)));
     let extent = bounds.bounds.max - bounds.bounds.min;
     let bucket_of = |c: Vec3, axis: usize| {
         let t = (c[axis] - centroids.min[axis]) / (centroids.max[axis] - centroids.min[axis]);
@@ -260,24 +267,28 @@ fn partition_by_cost(items: &mut [(u32, LightBounds)], bounds: &LightBounds) -> 
         if centroids.max[axis] <= centroids.min[axis] {
             continue;
         }
-        let mut buckets: [Option<LightBounds>; BUCKETS] = [None; BUCKETS];
+        let mut buckets: [Option<AngledBounds>; BUCKETS] = [None; BUCKETS];
         for (_, l) in items.iter() {
-            let b = &mut buckets[bucket_of(l.centroid(), axis)];
-            *b = Some(b.map_or(*l, |acc| LightBounds::union(&acc, l)));
+            let b = &mut buckets[bucket_of(centroid(l), axis)];
+            *b = Some(b.map_or(*l, |acc| acc.union(l)));
         }
-        let merge = |range: &[Option<LightBounds>]| {
-            range
-                .iter()
-                .flatten()
-                .fold(None, |acc: Option<LightBounds>, b| Some(acc.map_or(*b, |a| LightBounds::union(&a, b))))
+        // The union of buckets in order, from the first that has lights (pbrt-v4 unions them
+        // in this order, and the order decides the union's cone and the rounding of its flux).
+        let add = |acc: Option<AngledBounds>, b: &Option<AngledBounds>| match (acc, b) {
+            (Some(a), Some(b)) => Some(a.union(b)),
+            (a, b) => a.or(*b),
         };
         // From the second bucket boundary on, as pbrt-v4's `BVHLightSampler::buildBVH`, which
         // never cuts after the first bucket (it computes that cost but does not compare it).
+        // The buckets below a boundary are those below the previous one and one more.
+        let mut below = buckets[0];
         for split in 1..BUCKETS - 1 {
-            let (Some(below), Some(above)) = (merge(&buckets[..=split]), merge(&buckets[split + 1..])) else {
+            below = add(below, &buckets[split]);
+            let above = buckets[split + 1..].iter().fold(None, add);
+            let (Some(b0), Some(b1)) = (below, above) else {
                 continue;
             };
-            let cost = split_cost(&below, extent, axis) + split_cost(&above, extent, axis);
+            let cost = split_cost(&b0, extent, axis) + split_cost(&b1, extent, axis);
             if cost > 0.0 && best.is_none_or(|(c, _, _)| cost < c) {
                 best = Some((cost, axis, split));
             }
@@ -286,7 +297,7 @@ fn partition_by_cost(items: &mut [(u32, LightBounds)], bounds: &LightBounds) -> 
     let (_, axis, split) = best?;
     let mut first = 0;
     for j in 0..items.len() {
-        if bucket_of(items[j].1.centroid(), axis) <= split {
+        if bucket_of(centroid(&items[j].1), axis) <= split {
             items.swap(first, j);
             first += 1;
         }

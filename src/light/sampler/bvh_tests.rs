@@ -385,3 +385,64 @@ fn the_tree_is_never_cut_after_the_first_bucket() {
     let got = sampler.pmf(p, Vec3::ZERO, 2) as f64;
     assert!((got - want).abs() < 1e-4 * want, "light at x = 1: {got}, pbrt-v4's tree gives {want}");
 }
+
+/// `many_lights` with two emissive meshes of one shared spectrum each (6,400 triangles, past
+/// the size from which subtrees are built in parallel): a curved patch (every
+/// triangle's normal its own) and a flat, subdivided square (every normal the same).
+fn lights_with_meshes(seed: u64) -> Vec<Light> {
+    let mut lights = many_lights(seed, 0.5, true);
+    let spectra = [white(), Arc::new(Spectrum::blackbody(4000.0))];
+    let mesh = |corner: [Vec3; 4], scale: f32, spectrum: &Arc<Spectrum>| {
+        let corner = corner.map(|c| c * scale);
+        Light::Area(AreaLight {
+            p: [corner[0], corner[1], corner[2]],
+            n: (corner[1] - corner[0]).cross(corner[2] - corner[0]).normalize(),
+            area: 0.5 * (corner[1] - corner[0]).cross(corner[2] - corner[0]).length(),
+            spectrum: spectrum.clone(),
+            scale: 2.0,
+            two_sided: false,
+            image: None,
+        })
+    };
+    let k = 40;
+    for i in 0..k {
+        for j in 0..k {
+            // A piece of the sphere of radius 4 about the origin, facing inward.
+            let at = |a: usize, b: usize| {
+                let (t, f) = (0.3 + 0.8 * a as f32 / k as f32, 0.2 + 1.0 * b as f32 / k as f32);
+                Vec3::new(t.sin() * f.cos(), t.cos(), t.sin() * f.sin())
+            };
+            let q = [at(i, j), at(i, j + 1), at(i + 1, j), at(i + 1, j + 1)];
+            lights.push(mesh([q[0], q[1], q[2], q[3]], 4.0, &spectra[1]));
+            lights.push(mesh([q[1], q[3], q[2], q[0]], 4.0, &spectra[1]));
+            // A square of side 2 at y = 3, facing down.
+            let at = |a: usize, b: usize| Vec3::new(a as f32 / k as f32 - 0.5, 1.5, b as f32 / k as f32 - 0.5);
+            let q = [at(i, j), at(i + 1, j), at(i, j + 1), at(i + 1, j + 1)];
+            lights.push(mesh([q[0], q[1], q[2], q[3]], 2.0, &spectra[0]));
+            lights.push(mesh([q[1], q[3], q[2], q[0]], 2.0, &spectra[0]));
+        }
+    }
+    lights
+}
+
+/// The tree is the same however many threads build it: subtrees built in parallel fill the
+/// slots a serial build would, so every light keeps its probability bit for bit.
+#[test]
+fn a_parallel_build_gives_the_serial_builds_probabilities() {
+    let lights = lights_with_meshes(17);
+    let build = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+        pool.install(|| LightSampler::new(LightSamplerKind::Bvh, &lights, 10.0))
+    };
+    let (serial, parallel) = (build(1), build(4));
+    let points = [
+        LightSampleContext::surface(Vec3::new(0.0, -1.0, 0.0), Vec3::Y),
+        LightSampleContext::surface(Vec3::new(2.0, 0.5, 1.0), Vec3::new(-1.0, 0.2, 0.3).normalize()),
+        LightSampleContext::medium(Vec3::new(-3.0, 2.0, 4.0)),
+    ];
+    for ctx in &points {
+        for i in 0..lights.len() {
+            assert_eq!(serial.pmf(ctx, i).to_bits(), parallel.pmf(ctx, i).to_bits(), "light {i}");
+        }
+    }
+}
