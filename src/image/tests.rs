@@ -347,41 +347,6 @@ fn reading_missing_or_corrupt_files_fails_cleanly() {
 }
 
 #[test]
-fn backend_availability_matches_the_build() {
-    let img = pattern(2, 2, 3, 1.0);
-    let dir = Scratch::new("backend");
-    let result = write_with(&dir.path("x.exr"), &img, &opts(Backend::Oiio));
-    if cfg!(feature = "oiio") {
-        assert!(result.is_ok());
-    } else {
-        assert!(matches!(result, Err(ImageError::BackendUnavailable)));
-    }
-}
-
-/// A TIFF of 64-bit float samples (16×8 RGB: R = 0.25, G = 0.5, B = 2 for x < 8 and 0.125
-/// beyond), written by OpenImageIO 3.2 from PyPI (scripts/make-image-fixtures.py), which the
-/// `image` crate does not decode: `read` falls back to OpenImageIO when it is built in.
-#[test]
-fn read_falls_back_to_openimageio_for_what_the_rust_path_cannot_decode() {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/images/float64.tif");
-    let rust = read_with(&path, Backend::Rust);
-    assert!(matches!(rust, Err(ImageError::Decode { .. })), "the image crate reads float64 TIFF now: {rust:?}");
-    let read = read(&path);
-    if !cfg!(feature = "oiio") {
-        assert!(matches!(read, Err(ImageError::Decode { .. })));
-        return;
-    }
-    let img = read.unwrap();
-    assert_eq!((img.width, img.height, img.channels), (16, 8, 3));
-    for y in 0..8 {
-        for x in 0..16 {
-            let expected = [0.25, 0.5, if x < 8 { 2.0 } else { 0.125 }];
-            assert_eq!(img.pixel(x, y).unwrap(), expected, "({x}, {y})");
-        }
-    }
-}
-
-#[test]
 fn a_cropped_exr_keeps_its_place_in_the_full_image() {
     // pbrt-v4 writes a crop as the data window inside the full image's display window.
     let dir = Scratch::new("window");

@@ -25,6 +25,7 @@ mod film;
 mod function_integrator;
 mod fuzz;
 mod header_matrices;
+mod image_backends;
 mod instanced_shapes;
 mod instancing;
 mod integrators;
