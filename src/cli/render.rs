@@ -547,6 +547,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     }
     // Before rendering: a missing library must not cost a render.
     let denoiser = args.denoise.then(crate::denoise::Denoiser::load).transpose()?;
+    let denoiser = denoiser.map(|d| d.with_threads(args.threads));
     // Tessellated quadrics change the image: the backend's name carries the choice.
     let accel = match args.quadrics.as_deref().map(QuadricMode::parse) {
         Some(Ok(QuadricMode::Tessellated)) => format!("{} (tessellated quadrics)", job.scene.accel().name()),

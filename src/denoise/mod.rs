@@ -97,6 +97,8 @@ pub struct Denoiser {
     oidn: &'static oidn_ffi::Oidn,
     /// The library file (or bare name, as the dynamic loader searched it).
     pub library: PathBuf,
+    /// Worker threads the denoiser runs (`None`: OIDN's default, every core).
+    pub threads: Option<usize>,
 }
 
 impl std::fmt::Debug for Denoiser {
@@ -148,7 +150,7 @@ impl Denoiser {
             Err(last)
         });
         match loaded {
-            Ok((oidn, path)) => Ok(Denoiser { oidn, library: path.clone() }),
+            Ok((oidn, path)) => Ok(Denoiser { oidn, library: path.clone(), threads: None }),
             Err(e) => Err(e.clone()),
         }
     }
@@ -157,6 +159,11 @@ impl Denoiser {
     #[cfg(not(feature = "oidn"))]
     pub fn load() -> Result<Self, DenoiseError> {
         Err(DenoiseError::NotBuilt)
+    }
+
+    /// This denoiser running `threads` worker threads (`None`: OIDN's default, every core).
+    pub fn with_threads(self, threads: Option<usize>) -> Self {
+        Self { threads, ..self }
     }
 
     /// The denoised beauty of `inputs`: a 3-channel linear RGB image of the same size.
@@ -173,7 +180,7 @@ impl Denoiser {
         };
         let (mut albedo, mut normal, mut output) = (zeros()?, zeros()?, zeros()?);
         let mut run = || -> Result<(), String> {
-            let device = Device::new(self.oidn)?;
+            let device = Device::new(self.oidn, self.threads)?;
             // Prefiltering: each auxiliary image denoised by its own RT filter.
             device.filter("RT", &mut [Oidn::In("albedo", &inputs.albedo), Oidn::Out(&mut albedo)], &[], w, h)?;
             device.filter("RT", &mut [Oidn::In("normal", &inputs.normal), Oidn::Out(&mut normal)], &[], w, h)?;
@@ -193,5 +200,26 @@ impl Denoiser {
     #[cfg(not(feature = "oidn"))]
     pub fn denoise(&self, _inputs: &DenoiseInputs) -> Result<Image, DenoiseError> {
         Err(DenoiseError::NotBuilt)
+    }
+}
+
+#[cfg(all(test, feature = "oidn"))]
+mod tests {
+    use super::*;
+
+    /// `--threads n` reaches the device: OIDN reports the worker count it was given, every core
+    /// when none was (it runs at most one a core, so only one thread tells the two apart on a
+    /// machine of several). Skips, saying so, without the library.
+    #[test]
+    fn the_device_runs_the_threads_it_is_given() {
+        let denoiser = match Denoiser::load() {
+            Ok(d) => d,
+            Err(e) => return eprintln!("skipped: {e}"),
+        };
+        let cores = std::thread::available_parallelism().map_or(1, |n| n.get()) as i32;
+        for (threads, reported) in [(None, cores), (Some(1), 1)] {
+            let device = oidn_ffi::Device::new(denoiser.oidn, threads).unwrap();
+            assert_eq!(device.threads(), reported, "{threads:?}");
+        }
     }
 }

@@ -19,6 +19,11 @@ type NewDeviceFn = unsafe extern "C" fn(c_int) -> Handle;
 /// `void oidnCommitDevice(OIDNDevice)`, `oidnReleaseDevice`, `oidnCommitFilter`,
 /// `oidnExecuteFilter`, `oidnReleaseFilter`: one handle, nothing returned.
 type HandleFn = unsafe extern "C" fn(Handle);
+/// `void oidnSetDeviceInt(OIDNDevice, const char* name, int value)`.
+type SetDeviceIntFn = unsafe extern "C" fn(Handle, *const c_char, c_int);
+/// `int oidnGetDeviceInt(OIDNDevice, const char* name)` (the tests read a device's parameters).
+#[cfg(test)]
+type GetDeviceIntFn = unsafe extern "C" fn(Handle, *const c_char) -> c_int;
 /// `OIDNError oidnGetDeviceError(OIDNDevice, const char** outMessage)`.
 type GetDeviceErrorFn = unsafe extern "C" fn(Handle, *mut *const c_char) -> c_int;
 /// `OIDNFilter oidnNewFilter(OIDNDevice, const char* type)`.
@@ -34,6 +39,9 @@ type SetFilterBoolFn = unsafe extern "C" fn(Handle, *const c_char, bool);
 pub(super) struct Oidn {
     new_device: NewDeviceFn,
     commit_device: HandleFn,
+    set_device_int: SetDeviceIntFn,
+    #[cfg(test)]
+    get_device_int: GetDeviceIntFn,
     release_device: HandleFn,
     get_device_error: GetDeviceErrorFn,
     new_filter: NewFilterFn,
@@ -66,6 +74,9 @@ impl Oidn {
             Ok(Oidn {
                 new_device: *library.get(b"oidnNewDevice\0")?,
                 commit_device: *library.get(b"oidnCommitDevice\0")?,
+                set_device_int: *library.get(b"oidnSetDeviceInt\0")?,
+                #[cfg(test)]
+                get_device_int: *library.get(b"oidnGetDeviceInt\0")?,
                 release_device: *library.get(b"oidnReleaseDevice\0")?,
                 get_device_error: *library.get(b"oidnGetDeviceError\0")?,
                 new_filter: *library.get(b"oidnNewFilter\0")?,
@@ -87,12 +98,19 @@ pub(super) struct Device<'a> {
 }
 
 impl<'a> Device<'a> {
-    /// A new CPU device, committed.
-    pub(super) fn new(oidn: &'a Oidn) -> Result<Self, String> {
+    /// A new CPU device of `threads` worker threads (`None`: OIDN's default, every core),
+    /// committed.
+    pub(super) fn new(oidn: &'a Oidn, threads: Option<usize>) -> Result<Self, String> {
         // SAFETY: oidnNewDevice takes an OIDNDeviceType by value and returns a new handle or NULL.
         let raw = unsafe { (oidn.new_device)(DEVICE_TYPE_CPU) };
         error(oidn, raw)?;
         let device = Device { oidn, raw: NonNull::new(raw).ok_or("oidnNewDevice returned no device")? };
+        if let Some(n) = threads {
+            let n = c_int::try_from(n).map_err(|_| format!("{n} threads"))?;
+            // SAFETY: a live device handle not yet committed (OIDN reads numThreads at commit)
+            // and a NUL-terminated name.
+            unsafe { (oidn.set_device_int)(device.raw.as_ptr(), c"numThreads".as_ptr(), n) };
+        }
         // SAFETY: a live device handle, owned by `device`.
         unsafe { (oidn.commit_device)(device.raw.as_ptr()) };
         device.check()?;
@@ -174,6 +192,13 @@ impl<'a> Device<'a> {
     }
 
     /// The device's pending error.
+    /// The worker threads the committed device runs (its "numThreads" parameter).
+    #[cfg(test)]
+    pub(super) fn threads(&self) -> i32 {
+        // SAFETY: a live device handle and a NUL-terminated name.
+        unsafe { (self.oidn.get_device_int)(self.raw.as_ptr(), c"numThreads".as_ptr()) }
+    }
+
     fn check(&self) -> Result<(), String> {
         error(self.oidn, self.raw.as_ptr())
     }
