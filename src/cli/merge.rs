@@ -22,6 +22,9 @@ pub struct MergeArgs {
     /// (out.exr -> out.denoised.exr); the parts must hold geometry buffers (`render --aov`).
     #[arg(long)]
     pub denoise: bool,
+    /// Worker threads of the denoiser (default: all cores).
+    #[arg(long)]
+    pub threads: Option<usize>,
 }
 
 /// Runs `prism merge`.
@@ -34,7 +37,7 @@ pub fn run(args: &MergeArgs) -> Result<()> {
     if args.denoise && film_output {
         anyhow::bail!("--denoise writes an image beside an image output, not a .film");
     }
-    let denoiser = args.denoise.then(crate::denoise::Denoiser::load).transpose()?;
+    let denoiser = args.denoise.then(crate::denoise::Denoiser::load).transpose()?.map(|d| d.with_threads(args.threads));
     let parts = args.parts.iter().map(|p| checkpoint::load(p)).collect::<Result<Vec<_>, _>>()?;
     let (film, header) = checkpoint::merge(parts)?;
     let name = args.color_space.as_deref().or(header.color_space.as_deref()).unwrap_or("srgb");

@@ -43,7 +43,16 @@ pub struct ZSobol {
     base4_digits: u32,
     morton_index: u64,
     dimension: u64,
+    /// Per dimension, the permuted digits above the sample's own: they depend only on the
+    /// pixel (and on indices past the samples per pixel), so a pixel's samples share them.
+    /// Held for the pixel sample positions whose `morton_index >> log2_spp` is `high_key`.
+    high: Vec<Option<u64>>,
+    high_key: u64,
 }
+
+/// Dimensions whose permuted high digits [`ZSobol`] keeps (a path draws fewer; a longer one
+/// computes the rest afresh).
+const CACHED_DIMENSIONS: usize = 256;
 
 /// Interleaves the bits of `x` (even bits) and `y` (odd bits).
 fn encode_morton(x: u32, y: u32) -> u64 {
@@ -64,7 +73,7 @@ impl ZSobol {
         let log2_spp = spp.max(1).next_power_of_two().trailing_zeros();
         let log2_res = resolution.0.max(resolution.1).max(1).next_power_of_two().trailing_zeros();
         let base4_digits = log2_res + log2_spp.div_ceil(2);
-        Self { randomize, seed, log2_spp, base4_digits, morton_index: 0, dimension: 0 }
+        Self { randomize, seed, log2_spp, base4_digits, morton_index: 0, dimension: 0, high: Vec::new(), high_key: 0 }
     }
 
     /// Positions the sampler at sample `index` of `pixel`. Indices past the samples per pixel
@@ -75,25 +84,55 @@ impl ZSobol {
         let beyond = (index >> self.log2_spp).checked_shl(low_bits).unwrap_or(0);
         self.morton_index = beyond | encode_morton(pixel.0, pixel.1) << self.log2_spp | (index & spp_mask);
         self.dimension = 0;
+        let key = self.morton_index >> self.log2_spp;
+        if key != self.high_key {
+            self.high.clear();
+            self.high_key = key;
+        }
     }
 
     /// The Sobol' index of the current pixel sample for the current dimension: the Morton index
     /// with each base-4 digit permuted by a permutation chosen by the digits above it.
-    fn sample_index(&self) -> u64 {
-        let odd = self.log2_spp & 1 == 1;
-        let mut index = self.morton_index & !((1u64 << (2 * self.base4_digits - odd as u32)) - 1);
+    fn sample_index(&mut self) -> u64 {
+        let odd = self.log2_spp & 1;
         let dim_hash = self.dimension.wrapping_mul(0x5555_5555);
-        for i in (odd as u32..self.base4_digits).rev() {
-            let shift = 2 * i - odd as u32;
+        // Digits from `first_high` up lie above the sample's bits.
+        let first_high = self.log2_spp.div_ceil(2);
+        let d = self.dimension as usize;
+        let high = match self.high.get(d) {
+            Some(&Some(h)) => h,
+            _ => {
+                let top = self.morton_index & !((1u64 << (2 * self.base4_digits - odd)) - 1);
+                let h = top | self.permuted_digits(first_high..self.base4_digits, dim_hash);
+                if d < CACHED_DIMENSIONS {
+                    if self.high.len() <= d {
+                        self.high.resize(d + 1, None);
+                    }
+                    self.high[d] = Some(h);
+                }
+                h
+            }
+        };
+        let mut index = high | self.permuted_digits(odd..first_high, dim_hash);
+        if odd == 1 {
+            // An odd power of two: the last digit is a single bit, flipped at random.
+            let flip = mix_bits((self.morton_index >> 1) ^ dim_hash) & 1;
+            index |= (self.morton_index & 1) ^ flip;
+        }
+        index
+    }
+
+    /// Base-4 digits `digits` of the Morton index, each permuted by the permutation the digits
+    /// above it and the dimension's hash choose, in place.
+    fn permuted_digits(&self, digits: std::ops::Range<u32>, dim_hash: u64) -> u64 {
+        let odd = self.log2_spp & 1;
+        let mut index = 0;
+        for i in digits {
+            let shift = 2 * i - odd;
             let digit = (self.morton_index >> shift) & 3;
             let higher = self.morton_index >> (shift + 2);
             let p = (mix_bits(higher ^ dim_hash) >> 24) % 24;
             index |= u64::from(PERMUTATIONS[p as usize][digit as usize]) << shift;
-        }
-        if odd {
-            // An odd power of two: the last digit is a single bit, flipped at random.
-            let flip = mix_bits((self.morton_index >> 1) ^ dim_hash) & 1;
-            index |= (self.morton_index & 1) ^ flip;
         }
         index
     }
@@ -160,6 +199,41 @@ mod tests {
                             assert!(c.iter().all(|&n| n == 1), "{how:?} spp {spp} {pixel:?} draw {draw} shape {k}");
                         }
                     }
+                }
+            }
+        }
+    }
+
+    /// The Sobol' index of `s`'s current pixel sample and dimension, every digit permuted afresh.
+    fn uncached_index(s: &ZSobol) -> u64 {
+        let odd = s.log2_spp & 1;
+        let mut index = s.morton_index & !((1u64 << (2 * s.base4_digits - odd)) - 1);
+        let dim_hash = s.dimension.wrapping_mul(0x5555_5555);
+        for i in odd..s.base4_digits {
+            let shift = 2 * i - odd;
+            let (digit, higher) = ((s.morton_index >> shift) & 3, s.morton_index >> (shift + 2));
+            let p = (mix_bits(higher ^ dim_hash) >> 24) % 24;
+            index |= u64::from(PERMUTATIONS[p as usize][digit as usize]) << shift;
+        }
+        if odd == 1 {
+            index |=
+                (s.morton_index & 1) ^ (mix_bits((s.morton_index >> 1) ^ s.dimension.wrapping_mul(0x5555_5555)) & 1);
+        }
+        index
+    }
+
+    #[test]
+    fn a_pixels_shared_digits_are_reused_exactly() {
+        // Pixels visited, left and revisited; indices past the samples per pixel; paths longer
+        // than the dimensions kept; even and odd powers of two.
+        for spp in [1u64, 2, 8, 16, 64, 128] {
+            let mut s = ZSobol::new(Randomize::FastOwen, 3, spp, (300, 200));
+            for (pixel, index) in [((0, 0), 0), ((0, 0), 1), ((7, 9), 0), ((0, 0), 2), ((7, 9), spp + 3), ((7, 9), 1)] {
+                s.start(pixel, index);
+                for draw in 0..300 {
+                    let want = uncached_index(&s);
+                    assert_eq!(s.sample_index(), want, "spp {spp} {pixel:?} {index} draw {draw}");
+                    s.dimension += 1 + draw % 2;
                 }
             }
         }
