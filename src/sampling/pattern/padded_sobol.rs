@@ -3,8 +3,8 @@
 //! draw ("padding" low-dimensional points instead of using high Sobol' dimensions; Kollig &
 //! Keller 2002).
 
-use super::scramble::{mix_bits, permutation_element, scramble_base2, unit_from_bits, Randomize};
-use super::sobol2d::{sobol_0, sobol_1};
+use super::scramble::{mix_bits, permutation_element, scramble_base2_rev, unit_from_bits, Randomize};
+use super::sobol2d::{sobol_0_rev, sobol_1_rev};
 use glam::Vec2;
 
 /// The sampler's settings and its place (pixel sample, dimension).
@@ -52,14 +52,14 @@ impl PaddedSobol {
 
     pub fn get_1d(&mut self) -> f32 {
         let (a, hash) = self.next(1);
-        unit_from_bits(scramble_base2(sobol_0(a), self.randomize, (hash >> 32) as u32))
+        unit_from_bits(scramble_base2_rev(sobol_0_rev(a), self.randomize, (hash >> 32) as u32))
     }
 
     pub fn get_2d(&mut self) -> Vec2 {
         let (a, hash) = self.next(2);
         Vec2::new(
-            unit_from_bits(scramble_base2(sobol_0(a), self.randomize, hash as u32)),
-            unit_from_bits(scramble_base2(sobol_1(a), self.randomize, (hash >> 32) as u32)),
+            unit_from_bits(scramble_base2_rev(sobol_0_rev(a), self.randomize, hash as u32)),
+            unit_from_bits(scramble_base2_rev(sobol_1_rev(a), self.randomize, (hash >> 32) as u32)),
         )
     }
 }

@@ -82,6 +82,17 @@ pub fn scramble_base2(v: u32, how: Randomize, seed: u32) -> u32 {
     }
 }
 
+/// [`scramble_base2`] of the fraction whose bits reversed are `v_rev` (bit 0 = ½): the same
+/// value, with the two reversals of the hash-based Owen scramble (which works on reversed bits)
+/// left out.
+#[inline]
+pub fn scramble_base2_rev(v_rev: u32, how: Randomize, seed: u32) -> u32 {
+    match how {
+        Randomize::FastOwen => sobol_burley::parts::owen_scramble_rev(v_rev, seed).reverse_bits(),
+        _ => scramble_base2(v_rev.reverse_bits(), how, seed),
+    }
+}
+
 /// Nested uniform scrambling of the 32-bit fraction `v`: bit 31 − b is flipped when a hash of
 /// `seed` and the b bits above it says so, so points that share a prefix share its flips.
 fn owen_scramble(v: u32, seed: u32) -> u32 {
@@ -103,6 +114,22 @@ pub fn unit_from_bits(v: u32) -> f32 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn scrambling_reversed_bits_gives_the_same_value() {
+        let mut x = 0x2545_f491_4f6c_dd1du64;
+        for _ in 0..20_000 {
+            x = mix_bits(x);
+            let (v, seed) = (x as u32, (x >> 32) as u32);
+            for how in [Randomize::None, Randomize::PermuteDigits, Randomize::FastOwen, Randomize::Owen] {
+                assert_eq!(
+                    scramble_base2_rev(v.reverse_bits(), how, seed),
+                    scramble_base2(v, how, seed),
+                    "{how:?} {v} {seed}"
+                );
+            }
+        }
+    }
 
     #[test]
     fn permutation_element_is_a_permutation_for_any_length_and_seed() {

@@ -30,10 +30,10 @@ pub fn sobol_0(a: u64) -> u32 {
     (a as u32).reverse_bits()
 }
 
-/// Dimension 1's points for each value of each of the index's eight bytes: the generator
-/// matrix is linear over GF(2), so point `a` is the XOR of the points of its bytes, each one
-/// lookup (8 KiB, L1-resident) instead of one XOR per set bit of `a`.
-static BYTE_COLUMNS: [[u32; 256]; 8] = {
+/// Dimension 1's points, bits reversed, for each value of each of the index's eight bytes: the
+/// generator matrix is linear over GF(2), so point `a` is the XOR of the points of its bytes,
+/// each one lookup (8 KiB, L1-resident) instead of one XOR per set bit of `a`.
+static BYTE_COLUMNS_REV: [[u32; 256]; 8] = {
     let mut t = [[0u32; 256]; 8];
     let mut k = 0;
     while k < 8 {
@@ -47,7 +47,7 @@ static BYTE_COLUMNS: [[u32; 256]; 8] = {
                 }
                 i += 1;
             }
-            t[k][b] = v;
+            t[k][b] = v.reverse_bits();
             b += 1;
         }
         k += 1;
@@ -58,8 +58,20 @@ static BYTE_COLUMNS: [[u32; 256]; 8] = {
 /// Dimension 1 of Sobol' point `a` as a 32-bit fraction.
 #[inline]
 pub fn sobol_1(a: u64) -> u32 {
+    sobol_1_rev(a).reverse_bits()
+}
+
+/// [`sobol_0`] with its bits reversed (bit 0 = ½): the index's low 32 bits.
+#[inline]
+pub fn sobol_0_rev(a: u64) -> u32 {
+    a as u32
+}
+
+/// [`sobol_1`] with its bits reversed (bit 0 = ½).
+#[inline]
+pub fn sobol_1_rev(a: u64) -> u32 {
     let mut v = 0;
-    for (k, column) in BYTE_COLUMNS.iter().enumerate() {
+    for (k, column) in BYTE_COLUMNS_REV.iter().enumerate() {
         v ^= column[(a >> (8 * k)) as usize & 0xff];
     }
     v

@@ -5,8 +5,8 @@
 //! it), so neighbouring pixels get complementary points. Every draw is dimensions 0 (and 1) of
 //! the sequence, randomised per dimension.
 
-use super::scramble::{mix_bits, scramble_base2, unit_from_bits, Randomize};
-use super::sobol2d::{sobol_0, sobol_1};
+use super::scramble::{mix_bits, scramble_base2_rev, unit_from_bits, Randomize};
+use super::sobol2d::{sobol_0_rev, sobol_1_rev};
 use glam::Vec2;
 
 /// The 24 orders of four base-4 digit values, lexicographic.
@@ -144,7 +144,7 @@ impl ZSobol {
     pub fn get_1d(&mut self) -> f32 {
         let a = self.sample_index();
         self.dimension += 1;
-        unit_from_bits(scramble_base2(sobol_0(a), self.randomize, self.scramble_seed() as u32))
+        unit_from_bits(scramble_base2_rev(sobol_0_rev(a), self.randomize, self.scramble_seed() as u32))
     }
 
     pub fn get_2d(&mut self) -> Vec2 {
@@ -152,8 +152,8 @@ impl ZSobol {
         self.dimension += 2;
         let h = self.scramble_seed();
         Vec2::new(
-            unit_from_bits(scramble_base2(sobol_0(a), self.randomize, h as u32)),
-            unit_from_bits(scramble_base2(sobol_1(a), self.randomize, (h >> 32) as u32)),
+            unit_from_bits(scramble_base2_rev(sobol_0_rev(a), self.randomize, h as u32)),
+            unit_from_bits(scramble_base2_rev(sobol_1_rev(a), self.randomize, (h >> 32) as u32)),
         )
     }
 }
