@@ -29,22 +29,30 @@ const FEW: usize = 4;
 const FEW_PAD: f32 = 1.0 / (1u32 << 18) as f32;
 
 impl BoxTree {
-    /// Builds over `boxes`; returns the tree and, for each leaf slot, the index of its box.
+    /// Builds over `boxes`; returns the tree and, for each leaf slot, the index of its box. A
+    /// box with a coordinate that is not finite (a shape scaled or sized to ±∞ or NaN) gets no
+    /// slot: nothing can hit it, and the tree's quantised boxes cannot hold it.
     pub fn new(boxes: &[Bounds3]) -> (Self, Vec<u32>) {
-        if boxes.is_empty() {
+        let finite: Vec<u32> =
+            (0..boxes.len() as u32).filter(|&k| boxes[k as usize].min.is_finite() && boxes[k as usize].max.is_finite()).collect();
+        if finite.is_empty() {
             return (Self { nodes: Vec::new(), len: 0, linear: false, few: Vec::new() }, Vec::new());
         }
-        let aabbs: Vec<Aabb> = boxes.iter().map(|b| Aabb::new(Vec3A::from(b.min), Vec3A::from(b.max))).collect();
+        let aabbs: Vec<Aabb> = finite
+            .iter()
+            .map(|&k| Aabb::new(Vec3A::from(boxes[k as usize].min), Vec3A::from(boxes[k as usize].max)))
+            .collect();
         let bvh = build_cwbvh(&aabbs, BuildQuality::default().params(), &mut Duration::default());
-        if boxes.len() <= FEW {
+        let order: Vec<u32> = bvh.primitive_indices.iter().map(|&i| finite[i as usize]).collect();
+        if order.len() <= FEW {
             // Grown as the quantised boxes of the tree are rounded outwards: `Bounds3::may_hit`
             // may rule out a ray lying in the plane of a face. (The tree is built for its leaf
             // order only.)
-            let few = bvh.primitive_indices.iter().map(|&k| boxes[k as usize].padded(FEW_PAD)).collect();
-            return (Self { nodes: Vec::new(), len: boxes.len(), linear: false, few }, bvh.primitive_indices);
+            let few = order.iter().map(|&k| boxes[k as usize].padded(FEW_PAD)).collect();
+            return (Self { nodes: Vec::new(), len: order.len(), linear: false, few }, order);
         }
         let linear = super::max_depth(&bvh.nodes) as usize + 1 >= traverse::STACK_SIZE;
-        (Self { nodes: bvh.nodes, len: boxes.len(), linear, few: Vec::new() }, bvh.primitive_indices)
+        (Self { nodes: bvh.nodes, len: order.len(), linear, few: Vec::new() }, order)
     }
 
     /// Bytes of nodes.

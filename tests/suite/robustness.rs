@@ -110,3 +110,43 @@ fn degenerate_geometry_is_skipped_with_one_warning_and_no_nans() {
         assert!(bad <= film.pixels.len() / 50, "{accel:?}: {bad} pixels differ wildly");
     }
 }
+
+#[test]
+fn quadrics_of_infinite_size_are_never_hit_and_break_nothing() {
+    // A sphere scaled to 1e30 on one axis at the end of its motion, and a static one whose
+    // transform overflows: their bounds are not finite, which the quadric trees cannot hold.
+    // Beside them a unit sphere in front of the camera must still be seen.
+    let text = r#"
+        LookAt 0 0 5  0 0 0  0 1 0
+        Camera "perspective" "float fov" [ 30 ]
+        Sampler "independent" "integer pixelsamples" [ 4 ]
+        Film "rgb" "integer xresolution" [ 16 ] "integer yresolution" [ 16 ]
+        WorldBegin
+        LightSource "infinite" "rgb L" [ 1 1 1 ]
+        Material "diffuse" "rgb reflectance" [ 0.5 0.5 0.5 ]
+        Shape "sphere" "float radius" [ 1 ]
+        AttributeBegin
+          ActiveTransform StartTime
+          Translate 3 0 0
+          ActiveTransform EndTime
+          Scale 1 1 1e30
+          ActiveTransform All
+          Shape "sphere" "float radius" [ 0.5 ]
+        AttributeEnd
+        AttributeBegin
+          Translate -3 0 0
+          Scale 1e30 1e30 1e30
+          Shape "sphere" "float radius" [ 1e30 ]
+        AttributeEnd
+    "#;
+    for accel in crate::common::backends() {
+        let scene = crate::common::pbrt_scene(text, accel);
+        let (film, stats) = render(&scene, &test_settings((16, 16), 4, 1, 5), |_| {}).unwrap();
+        assert_eq!(stats.nonfinite, 0, "{accel:?}");
+        // The unit sphere fills the centre pixel: a diffuse 0.5 under a white sky of unit
+        // luminance, which every point of the convex sphere sees whole, has Y = 0.5.
+        let centre = &film.pixels[8 * 16 + 8];
+        let y = centre.xyz_sum.y / centre.weight_sum;
+        assert!((y - 0.5).abs() < 0.1, "{accel:?}: centre Y {y}");
+    }
+}
