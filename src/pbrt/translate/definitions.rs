@@ -68,15 +68,17 @@ impl<T: Copy> ByMaterial<T> {
 /// Named materials and textures of one [`SceneDesc`] by name.
 pub(super) struct Definitions<'d> {
     desc: &'d SceneDesc,
-    /// Index into [`SceneDesc::named_materials`] by the address of the name's shared text: a
-    /// `MaterialRef::Named` written after its definition shares that text, and finding it so
-    /// reads neither name.
-    named_by_address: HashMap<*const u8, usize>,
     /// Index into [`SceneDesc::named_materials`] by name (names are unique: the parser refuses
     /// a redefinition), made when a name is first looked up by its text.
     named_by_text: OnceCell<HashMap<&'d str, usize>>,
-    /// For each name and class, the indices into [`SceneDesc::textures`] of its definitions.
-    textures: HashMap<(&'d str, TextureClass), TextureDefs>,
+    /// For each texture name, by the address of its shared text (one text per name, shared
+    /// by its definitions of either class), and class, the indices into
+    /// [`SceneDesc::textures`] of its definitions.
+    textures: HashMap<(*const u8, TextureClass), TextureDefs>,
+    /// The address of each texture name's shared text by the text, made when a name is first
+    /// looked up by its text (a parameter written before every definition of its name holds
+    /// its own copy).
+    texture_names: OnceCell<HashMap<&'d str, *const u8>>,
 }
 
 /// The definitions of one texture name and class: indices into [`SceneDesc::textures`].
@@ -90,19 +92,18 @@ enum TextureDefs {
 impl<'d> Definitions<'d> {
     /// Indexes `desc`, in time linear in its number of definitions.
     pub(super) fn new(desc: &'d SceneDesc) -> Self {
-        let named_by_address = desc.named_materials.iter().enumerate().map(|(i, m)| (address(&m.name), i)).collect();
-        let mut textures: HashMap<(&str, TextureClass), TextureDefs> = HashMap::default();
+        let mut textures: HashMap<(*const u8, TextureClass), TextureDefs> = HashMap::default();
         textures.reserve(desc.textures.len());
         for (i, t) in desc.textures.iter().enumerate() {
             textures
-                .entry((&*t.name, t.class))
+                .entry((address(&t.name), t.class))
                 .and_modify(|d| match d {
                     TextureDefs::One(j) => *d = TextureDefs::Many(vec![*j, i]),
                     TextureDefs::Many(v) => v.push(i),
                 })
                 .or_insert(TextureDefs::One(i));
         }
-        Self { desc, named_by_address, named_by_text: OnceCell::new(), textures }
+        Self { desc, named_by_text: OnceCell::new(), textures, texture_names: OnceCell::new() }
     }
 
     /// The named material `name`.
@@ -119,19 +120,31 @@ impl<'d> Definitions<'d> {
         match r {
             MaterialRef::Default => (MaterialKey::Default, None),
             MaterialRef::Anonymous(i) => (MaterialKey::Anonymous(*i), self.desc.materials.get(*i)),
-            MaterialRef::Named(n) => match self.named_by_address.get(&address(n)) {
-                Some(&i) => (MaterialKey::Named(i), Some(&self.desc.named_materials[i].material)),
-                // A use written before the definition holds its own copy of the name. The parser
-                // refuses undefined names; an unknown one is the default material.
-                None => self.named_material(n).map_or((MaterialKey::Default, None), |(key, m)| (key, Some(m))),
+            // The parser refuses undefined names; an index past the definitions is the default
+            // material.
+            MaterialRef::Named(_, i) => match self.desc.named_materials.get(*i) {
+                Some(m) => (MaterialKey::Named(*i), Some(&m.material)),
+                None => (MaterialKey::Default, None),
             },
         }
     }
 
     /// The index of the last definition of texture `name` of class `class` among the first
     /// `visible` texture directives.
-    pub(super) fn texture_before(&self, name: &str, class: TextureClass, visible: usize) -> Option<usize> {
-        let defs = match self.textures.get(&(name, class))? {
+    pub(super) fn texture_before(&self, name: &Arc<str>, class: TextureClass, visible: usize) -> Option<usize> {
+        let defs = match self.textures.get(&(address(name), class)) {
+            Some(defs) => defs,
+            None => {
+                // A copy of the name (or a name without definitions of this class): find the
+                // shared text by the text.
+                let names = self
+                    .texture_names
+                    .get_or_init(|| self.desc.textures.iter().map(|t| (&*t.name, address(&t.name))).collect());
+                let &shared = names.get(&**name).filter(|&&a| a != address(name))?;
+                self.textures.get(&(shared, class))?
+            }
+        };
+        let defs = match defs {
             TextureDefs::One(i) => std::slice::from_ref(i),
             TextureDefs::Many(v) => v.as_slice(),
         };
@@ -169,7 +182,12 @@ mod tests {
             for name in (0..14).map(|k| format!("t{k}")) {
                 for class in [TextureClass::Float, TextureClass::Spectrum] {
                     let scan = desc.textures[..visible].iter().rposition(|t| *t.name == *name && t.class == class);
-                    assert_eq!(defs.texture_before(&name, class, visible), scan, "{name} {class:?} before {visible}");
+                    // The definitions' shared text, and a copy of it (as a parameter written
+                    // before every definition holds).
+                    let shared = desc.textures.iter().find(|t| *t.name == *name).map(|t| t.name.clone());
+                    for n in shared.into_iter().chain([Arc::from(&*name)]) {
+                        assert_eq!(defs.texture_before(&n, class, visible), scan, "{name} {class:?} before {visible}");
+                    }
                 }
             }
         }
@@ -180,12 +198,9 @@ mod tests {
         let desc = scene();
         let defs = Definitions::new(&desc);
         for (i, m) in desc.named_materials.iter().enumerate() {
-            // The definition's own text, and a copy of it (as a use before the definition has).
-            for name in [m.name.clone(), Arc::from(&*m.name)] {
-                let (key, found) = defs.material(&MaterialRef::Named(name));
-                assert_eq!(key, MaterialKey::Named(i));
-                assert!(std::ptr::eq(found.unwrap(), &m.material));
-            }
+            let (key, found) = defs.material(&MaterialRef::Named(m.name.clone(), i));
+            assert_eq!(key, MaterialKey::Named(i));
+            assert!(std::ptr::eq(found.unwrap(), &m.material));
         }
         assert_eq!(defs.material(&MaterialRef::Anonymous(0)).1.unwrap().kind, "conductor");
         assert!(matches!(defs.material(&MaterialRef::Default), (MaterialKey::Default, None)));
