@@ -108,8 +108,12 @@ pub enum TextureClass {
 /// A Texture directive.
 #[derive(Clone, Debug)]
 pub struct TextureDesc {
-    /// Name that "texture" parameters refer to (shared with the parser's index of names).
+    /// Name that "texture" parameters refer to (shared with the parser's index of names, with
+    /// every definition of the name and with the parameters written after the first).
     pub name: Arc<str>,
+    /// Which of the scene's texture names this is: names are numbered from 0 in the order of
+    /// their first definitions, whatever their class.
+    pub name_id: u32,
     /// Float or spectrum.
     pub class: TextureClass,
     /// Texture type ("imagemap", "checkerboard", ...).

@@ -41,9 +41,10 @@ pub enum ParamValue {
     Bool(Vec<bool>),
     /// "string"
     String(Vec<String>),
-    /// "texture": the name of a texture (the parser shares the text of a texture defined before
-    /// the parameter: [`crate::pbrt::TextureDesc::name`]).
-    Texture(Arc<str>),
+    /// "texture": the name of a texture, and which of the scene's texture names it is
+    /// ([`crate::pbrt::TextureDesc::name_id`]) when a texture of that name is defined before the
+    /// parameter (whose text the parameter then shares); `None` when none is.
+    Texture(Arc<str>, Option<u32>),
     /// "point3" / "point"
     Point3(Vec<Vec3>),
     /// "vector3" / "vector"
@@ -229,14 +230,14 @@ impl Param {
             ),
             "string" => (ParamType::String, ParamValue::String(strings()?)),
             "texture" if values.len() == 1 && values[0].kind == TokenKind::Str => {
-                (ParamType::Texture, ParamValue::Texture(Arc::from(&*values[0].text)))
+                (ParamType::Texture, ParamValue::Texture(Arc::from(&*values[0].text), None))
             }
             "texture" => {
                 let s = strings()?;
                 if s.len() != 1 {
                     return Err(decl_err(format!("parameter \"{ty} {name}\" needs exactly one texture name")));
                 }
-                (ParamType::Texture, ParamValue::Texture(Arc::from(s.into_iter().next().unwrap_or_default())))
+                (ParamType::Texture, ParamValue::Texture(Arc::from(s.into_iter().next().unwrap_or_default()), None))
             }
             "point3" | "point" => (ParamType::Point3, ParamValue::Point3(vec3s()?)),
             "vector3" | "vector" => (ParamType::Vector3, ParamValue::Vector3(vec3s()?)),
@@ -635,16 +636,18 @@ impl ParamSet {
 
     /// A "texture" parameter: the texture's name.
     pub fn texture(&self, name: &str) -> Option<&str> {
-        self.shared_texture(name).map(|s| &**s)
+        self.texture_ref(name).map(|(s, _)| s)
     }
 
-    /// A "texture" parameter: the texture's name as the parameter holds it (shared with the
-    /// texture's definition when that came first).
-    pub(crate) fn shared_texture(&self, name: &str) -> Option<&Arc<str>> {
-        self.find(name, |v| match v {
-            ParamValue::Texture(s) => Some(s),
+    /// A "texture" parameter: the texture's name, and its id when a texture of that name is
+    /// defined before the parameter.
+    pub(crate) fn texture_ref(&self, name: &str) -> Option<(&str, Option<u32>)> {
+        let (p, v) = self.params.iter().filter(|p| *p.name == *name).find_map(|p| match &p.value {
+            ParamValue::Texture(s, id) => Some((p, (&**s, *id))),
             _ => None,
-        })
+        })?;
+        p.mark();
+        Some(v)
     }
 
     /// A spectrum or a texture reference (material inputs such as "reflectance").
@@ -726,7 +729,7 @@ mod tests {
         assert_eq!(param("integer n", "-3 4").unwrap().value, ParamValue::Integer(vec![-3, 4]));
         assert_eq!(param("bool b", "true \"false\"").unwrap().value, ParamValue::Bool(vec![true, false]));
         assert_eq!(param("string s", "\"x\"").unwrap().value, ParamValue::String(vec!["x".into()]));
-        assert_eq!(param("texture t", "\"checks\"").unwrap().value, ParamValue::Texture("checks".into()));
+        assert_eq!(param("texture t", "\"checks\"").unwrap().value, ParamValue::Texture("checks".into(), None));
         let p = param("point P", "0 1 2 3 4 5").unwrap();
         assert_eq!(p.type_name(), "point3");
         assert_eq!(p.value, ParamValue::Point3(vec![Vec3::new(0., 1., 2.), Vec3::new(3., 4., 5.)]));

@@ -190,14 +190,18 @@ NamedMaterial "later"
 MakeNamedMaterial "later" "string type" "diffuse""#
     ));
     let reflectance = |m: usize| match &d.named_materials[m].material.params.get("reflectance").unwrap().value {
-        ParamValue::Texture(t) => t.clone(),
+        ParamValue::Texture(t, id) => (t.clone(), *id),
         v => panic!("{v:?}"),
     };
-    // One text per texture name, whatever its class; a parameter written after a definition
-    // shares it, one written before every definition holds its own.
+    // One text and one id per texture name, whatever its class; a parameter written after a
+    // definition
+    // shares it and its id, one written before every definition holds its own text and no id.
     assert!(Arc::ptr_eq(&d.textures[0].name, &d.textures[1].name));
-    assert!(Arc::ptr_eq(&reflectance(1), &d.textures[0].name));
-    assert!(!Arc::ptr_eq(&reflectance(0), &d.textures[0].name) && *reflectance(0) == *"checks");
+    assert_eq!((d.textures[0].name_id, d.textures[1].name_id), (0, 0));
+    let (after, id) = reflectance(1);
+    assert!(Arc::ptr_eq(&after, &d.textures[0].name) && id == Some(0));
+    let (ahead, id) = reflectance(0);
+    assert!(!Arc::ptr_eq(&ahead, &d.textures[0].name) && *ahead == *"checks" && id.is_none());
     // A named material's users hold its index, also when the definition comes after them.
     assert_eq!(d.shapes[0].material, MaterialRef::Named("after".into(), 1));
     assert_eq!(d.shapes[1].material, MaterialRef::Named("later".into(), 2));

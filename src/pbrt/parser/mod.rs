@@ -159,9 +159,10 @@ struct Parser<'o> {
     /// NamedMaterial directives that named a material not defined before them.
     named_material_uses: Vec<(Arc<str>, Location)>,
     textures: Vec<TextureDesc>,
-    /// The texture names defined so far, each with whether a float texture and whether a
-    /// spectrum texture of that name is: one shared text per name, whatever its class.
-    texture_names: HashMap<Arc<str>, [bool; 2]>,
+    /// The texture names defined so far, each with its id ([`TextureDesc::name_id`]) and whether
+    /// a float texture and whether a spectrum texture of that name is: one shared text per
+    /// name, whatever its class.
+    texture_names: HashMap<Arc<str>, (u32, [bool; 2])>,
     /// A "texture" parameter named a texture not defined before it: whether the materials'
     /// and textures' names are defined is checked when the file ends.
     texture_named_ahead: bool,
@@ -433,12 +434,12 @@ impl<'o> Parser<'o> {
     }
 
     /// Gives each "texture" parameter of `params` that names a texture defined by now that
-    /// texture's shared name; notes when one names a texture not (yet) defined.
+    /// texture's shared name and its id; notes when one names a texture not (yet) defined.
     fn share_texture_names(&mut self, params: &mut ParamSet) {
         for p in params.iter_mut() {
-            if let ParamValue::Texture(t) = &mut p.value {
+            if let ParamValue::Texture(t, id) = &mut p.value {
                 match self.texture_names.get_key_value(&**t) {
-                    Some((shared, _)) => *t = shared.clone(),
+                    Some((shared, &(i, _))) => (*t, *id) = (shared.clone(), Some(i)),
                     None => self.texture_named_ahead = true,
                 }
             }
@@ -490,7 +491,7 @@ impl<'o> Parser<'o> {
             let texture_names = &self.texture_names;
             let check_textures = |ps: &ParamSet| -> Result<(), SceneError> {
                 for p in ps.iter() {
-                    if let ParamValue::Texture(t) = &p.value {
+                    if let ParamValue::Texture(t, _) = &p.value {
                         if !texture_names.contains_key(&**t) {
                             return Err(SceneError::syntax(&p.loc, t, format!("texture \"{t}\" is not defined")));
                         }

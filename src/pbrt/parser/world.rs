@@ -167,18 +167,25 @@ impl Parser<'_> {
                     params.merge_defaults(d);
                 }
                 self.share_texture_names(&mut params);
-                let (shared, redefined) = match self.texture_names.get_key_value(&*name.text) {
-                    Some((n, defined)) => {
+                let (shared, name_id, redefined) = match self.texture_names.get_key_value(&*name.text) {
+                    Some((n, &(id, defined))) => {
                         let (n, redefined) = (n.clone(), defined[class as usize]);
-                        self.texture_names.get_mut(&n).expect("just found")[class as usize] = true;
-                        (n, redefined)
+                        self.texture_names.get_mut(&n).expect("just found").1[class as usize] = true;
+                        (n, id, redefined)
                     }
                     None => {
+                        let Ok(id) = u32::try_from(self.texture_names.len()) else {
+                            return Err(SceneError::syntax(
+                                &name.loc(),
+                                &name.display(),
+                                "more than 2³² texture names",
+                            ));
+                        };
                         let n: Arc<str> = Arc::from(&*name.text);
                         let mut defined = [false; 2];
                         defined[class as usize] = true;
-                        self.texture_names.insert(n.clone(), defined);
-                        (n, false)
+                        self.texture_names.insert(n.clone(), (id, defined));
+                        (n, id, false)
                     }
                 };
                 if redefined {
@@ -187,6 +194,7 @@ impl Parser<'_> {
                 let world_from_texture = self.start_ctm(tok, "texture");
                 self.textures.push(TextureDesc {
                     name: shared,
+                    name_id,
                     class,
                     kind,
                     params,

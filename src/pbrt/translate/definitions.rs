@@ -5,13 +5,6 @@
 use crate::pbrt::desc::{MaterialDesc, MaterialRef, SceneDesc, TextureClass};
 use rustc_hash::FxHashMap as HashMap;
 use std::cell::OnceCell;
-use std::sync::Arc;
-
-/// The address of a shared name's text: while the description holds the name, no other text
-/// has it.
-fn address(name: &Arc<str>) -> *const u8 {
-    Arc::as_ptr(name).cast()
-}
 
 /// Which material a reference resolves to: its identity in the description, so that shapes
 /// sharing a material share one built material.
@@ -71,18 +64,20 @@ pub(super) struct Definitions<'d> {
     /// Index into [`SceneDesc::named_materials`] by name (names are unique: the parser refuses
     /// a redefinition), made when a name is first looked up by its text.
     named_by_text: OnceCell<HashMap<&'d str, usize>>,
-    /// For each texture name, by the address of its shared text (one text per name, shared
-    /// by its definitions of either class), and class, the indices into
-    /// [`SceneDesc::textures`] of its definitions.
-    textures: HashMap<(*const u8, TextureClass), TextureDefs>,
-    /// The address of each texture name's shared text by the text, made when a name is first
-    /// looked up by its text (a parameter written before every definition of its name holds
-    /// its own copy).
-    texture_names: OnceCell<HashMap<&'d str, *const u8>>,
+    /// For each texture name, by its id ([`crate::pbrt::TextureDesc::name_id`]), and class
+    /// (float, spectrum), the indices into [`SceneDesc::textures`] of its definitions.
+    textures: Vec<[TextureDefs; 2]>,
+    /// Each texture name's id by its text, made when a name is first looked up by its text (a
+    /// parameter written before every definition of its name has no id).
+    texture_ids: OnceCell<HashMap<&'d str, u32>>,
 }
 
 /// The definitions of one texture name and class: indices into [`SceneDesc::textures`].
+#[derive(Default)]
 enum TextureDefs {
+    /// Not defined with this class.
+    #[default]
+    None,
     /// Defined once (most names): no list to allocate.
     One(usize),
     /// Defined again: every definition in ascending order.
@@ -92,18 +87,25 @@ enum TextureDefs {
 impl<'d> Definitions<'d> {
     /// Indexes `desc`, in time linear in its number of definitions.
     pub(super) fn new(desc: &'d SceneDesc) -> Self {
-        let mut textures: HashMap<(*const u8, TextureClass), TextureDefs> = HashMap::default();
-        textures.reserve(desc.textures.len());
+        // Ids count the names in the order of their first definitions: each is at most the
+        // number of definitions before it.
+        let mut textures: Vec<[TextureDefs; 2]> = Vec::new();
         for (i, t) in desc.textures.iter().enumerate() {
-            textures
-                .entry((address(&t.name), t.class))
-                .and_modify(|d| match d {
-                    TextureDefs::One(j) => *d = TextureDefs::Many(vec![*j, i]),
-                    TextureDefs::Many(v) => v.push(i),
-                })
-                .or_insert(TextureDefs::One(i));
+            let id = t.name_id as usize;
+            if id >= textures.len() {
+                textures.resize_with(id + 1, Default::default);
+            }
+            let defs = &mut textures[id][t.class as usize];
+            *defs = match std::mem::take(defs) {
+                TextureDefs::None => TextureDefs::One(i),
+                TextureDefs::One(j) => TextureDefs::Many(vec![j, i]),
+                TextureDefs::Many(mut v) => {
+                    v.push(i);
+                    TextureDefs::Many(v)
+                }
+            };
         }
-        Self { desc, named_by_text: OnceCell::new(), textures, texture_names: OnceCell::new() }
+        Self { desc, named_by_text: OnceCell::new(), textures, texture_ids: OnceCell::new() }
     }
 
     /// The named material `name`.
@@ -129,22 +131,24 @@ impl<'d> Definitions<'d> {
         }
     }
 
-    /// The index of the last definition of texture `name` of class `class` among the first
-    /// `visible` texture directives.
-    pub(super) fn texture_before(&self, name: &Arc<str>, class: TextureClass, visible: usize) -> Option<usize> {
-        let defs = match self.textures.get(&(address(name), class)) {
-            Some(defs) => defs,
-            None => {
-                // A copy of the name (or a name without definitions of this class): find the
-                // shared text by the text.
-                let names = self
-                    .texture_names
-                    .get_or_init(|| self.desc.textures.iter().map(|t| (&*t.name, address(&t.name))).collect());
-                let &shared = names.get(&**name).filter(|&&a| a != address(name))?;
-                self.textures.get(&(shared, class))?
-            }
+    /// The index of the last definition of texture `name` (whose id is `id`, when known) of
+    /// class `class` among the first `visible` texture directives.
+    pub(super) fn texture_before(
+        &self,
+        name: &str,
+        id: Option<u32>,
+        class: TextureClass,
+        visible: usize,
+    ) -> Option<usize> {
+        let id = match id {
+            Some(id) => id,
+            None => *self
+                .texture_ids
+                .get_or_init(|| self.desc.textures.iter().map(|t| (&*t.name, t.name_id)).collect())
+                .get(name)?,
         };
-        let defs = match defs {
+        let defs = match &self.textures.get(id as usize)?[class as usize] {
+            TextureDefs::None => return None,
             TextureDefs::One(i) => std::slice::from_ref(i),
             TextureDefs::Many(v) => v.as_slice(),
         };
@@ -182,11 +186,15 @@ mod tests {
             for name in (0..14).map(|k| format!("t{k}")) {
                 for class in [TextureClass::Float, TextureClass::Spectrum] {
                     let scan = desc.textures[..visible].iter().rposition(|t| *t.name == *name && t.class == class);
-                    // The definitions' shared text, and a copy of it (as a parameter written
-                    // before every definition holds).
-                    let shared = desc.textures.iter().find(|t| *t.name == *name).map(|t| t.name.clone());
-                    for n in shared.into_iter().chain([Arc::from(&*name)]) {
-                        assert_eq!(defs.texture_before(&n, class, visible), scan, "{name} {class:?} before {visible}");
+                    // By the name's id (as a parameter written after a definition holds it), and
+                    // by its text alone (as one written before every definition).
+                    let id = desc.textures.iter().find(|t| *t.name == *name).map(|t| t.name_id);
+                    for id in id.into_iter().map(Some).chain([None]) {
+                        assert_eq!(
+                            defs.texture_before(&name, id, class, visible),
+                            scan,
+                            "{name} {class:?} before {visible}"
+                        );
                     }
                 }
             }

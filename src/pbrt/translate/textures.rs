@@ -56,7 +56,8 @@ pub const MAX_TEXTURE_EXPANSION: u64 = 1 << 16;
 /// A texture parameter's value: given in place, or the name of a texture.
 enum Arg<'p, V> {
     Value(V),
-    Named(&'p Arc<str>),
+    /// A texture's name, and its id when a texture of that name is defined before it.
+    Named(&'p str, Option<u32>),
 }
 
 /// What building differs in between float and spectrum textures.
@@ -78,8 +79,8 @@ impl Kind for f32 {
     const CLASS: TextureClass = TextureClass::Float;
 
     fn arg<'p>(_: &mut Ctx, p: &'p ParamSet, name: &str, _: &Location) -> Result<Option<Arg<'p, f32>>, SceneError> {
-        if let Some(t) = p.shared_texture(name) {
-            return Ok(Some(Arg::Named(t)));
+        if let Some((t, id)) = p.texture_ref(name) {
+            return Ok(Some(Arg::Named(t, id)));
         }
         Ok(p.float(name).map(Arg::Value))
     }
@@ -123,8 +124,8 @@ impl Kind for Spectrum {
         name: &str,
         loc: &Location,
     ) -> Result<Option<Arg<'p, Spectrum>>, SceneError> {
-        if let Some(t) = p.shared_texture(name) {
-            return Ok(Some(Arg::Named(t)));
+        if let Some((t, id)) = p.texture_ref(name) {
+            return Ok(Some(Arg::Named(t, id)));
         }
         Ok(match p.spectrum(name) {
             None => None,
@@ -239,8 +240,8 @@ impl Ctx<'_> {
         Ok(match V::arg(self, p, name, loc)? {
             None => Texture::Constant(V::constant(default)),
             Some(Arg::Value(v)) => Texture::Constant(v),
-            Some(Arg::Named(t)) => {
-                let Some(i) = self.defs.texture_before(t, V::CLASS, visible) else {
+            Some(Arg::Named(t, id)) => {
+                let Some(i) = self.defs.texture_before(t, id, V::CLASS, visible) else {
                     let class = if V::CLASS == TextureClass::Float { "float" } else { "spectrum" };
                     let message = format!("no {class} texture named \"{t}\" is defined before this");
                     return Err(param_error(p, name, loc, message));
@@ -301,7 +302,7 @@ impl Ctx<'_> {
                     match V::arg(self, p, name, loc)? {
                         None => Ok(V::constant(default)),
                         Some(Arg::Value(v)) => Ok(v),
-                        Some(Arg::Named(_)) => {
+                        Some(Arg::Named(..)) => {
                             Err(param_error(p, name, loc, "bilerp corners are values, not textures".into()))
                         }
                     }
