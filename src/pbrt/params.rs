@@ -505,8 +505,9 @@ impl ParamSet {
     }
 
     /// Drops the parameters already read that have nothing left to report (none read as one
-    /// value of several, no RGB values) and name no file: those a shape's mesh has taken its
-    /// values from, so that the description holds them once.
+    /// value of several, no spectra, whose negative RGB components are reported) and name no
+    /// file: those a shape's mesh has taken its values from, so that the description holds them
+    /// once.
     pub(crate) fn drop_consumed(&mut self) {
         self.params.retain(|p| {
             let reported = p.read_as_one.load(Ordering::Relaxed) > 1 || matches!(p.value, ParamValue::Spectrum(_));
@@ -533,7 +534,7 @@ impl ParamSet {
         self.params.iter()
     }
 
-    /// All parameters, to change (their use is tracked as before).
+    /// All parameters, mutably.
     pub(crate) fn iter_mut(&mut self) -> impl Iterator<Item = &mut Param> {
         self.params.iter_mut()
     }

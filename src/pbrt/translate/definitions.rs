@@ -1,6 +1,7 @@
-//! The named definitions of a scene description indexed by name, so that resolving a name
-//! costs a hash lookup (and a binary search among the definitions of that one name) instead of
-//! a scan over every definition of the scene.
+//! The named definitions of a scene description indexed, so that resolving a reference costs
+//! an index into a vector (or, for a name written before its definition, a hash lookup) and a
+//! binary search among the definitions of that one name, instead of a scan over every
+//! definition of the scene.
 
 use crate::pbrt::desc::{MaterialDesc, MaterialRef, SceneDesc, TextureClass};
 use rustc_hash::FxHashMap as HashMap;
@@ -88,10 +89,13 @@ impl<'d> Definitions<'d> {
     /// Indexes `desc`, in time linear in its number of definitions.
     pub(super) fn new(desc: &'d SceneDesc) -> Self {
         // Ids count the names in the order of their first definitions: each is at most the
-        // number of definitions before it.
+        // number of definitions before it (a larger one is no parser's and finds nothing).
         let mut textures: Vec<[TextureDefs; 2]> = Vec::new();
         for (i, t) in desc.textures.iter().enumerate() {
             let id = t.name_id as usize;
+            if id > i {
+                continue;
+            }
             if id >= textures.len() {
                 textures.resize_with(id + 1, Default::default);
             }
