@@ -70,9 +70,10 @@ pub enum MaterialRef {
     Default,
     /// An anonymous `Material` directive: index into [`SceneDesc::materials`].
     Anonymous(usize),
-    /// `NamedMaterial "name"`: a key of [`SceneDesc::named_materials`] (checked to exist); the
-    /// shapes that name it share the text.
-    Named(Arc<str>),
+    /// `NamedMaterial "name"`: the name (checked to exist; the text its definition holds when
+    /// the definition came first) and the index of its definition in
+    /// [`SceneDesc::named_materials`].
+    Named(Arc<str>, usize),
 }
 
 /// A Material or MakeNamedMaterial directive.
@@ -107,8 +108,12 @@ pub enum TextureClass {
 /// A Texture directive.
 #[derive(Clone, Debug)]
 pub struct TextureDesc {
-    /// Name that "texture" parameters refer to (shared with the parser's index of names).
+    /// Name that "texture" parameters refer to (shared with the parser's index of names, with
+    /// every definition of the name and with the parameters written after the first).
     pub name: Arc<str>,
+    /// Which of the scene's texture names this is: names are numbered from 0 in the order of
+    /// their first definitions, whatever their class.
+    pub name_id: u32,
     /// Float or spectrum.
     pub class: TextureClass,
     /// Texture type ("imagemap", "checkerboard", ...).
@@ -265,7 +270,7 @@ impl SceneDesc {
         match r {
             MaterialRef::Default => None,
             MaterialRef::Anonymous(i) => self.materials.get(*i),
-            MaterialRef::Named(n) => self.named_material(n),
+            MaterialRef::Named(_, i) => self.named_materials.get(*i).map(|m| &m.material),
         }
     }
 
@@ -350,11 +355,13 @@ impl SceneDesc {
         // normal, and an anonymous Material may be replaced before any shape), so only
         // referenced ones can have unread parameters worth reporting.
         let all_shapes = self.shapes.iter().chain(self.objects.iter().flat_map(|o| o.shapes.iter()));
-        let (mut used, mut used_anonymous) = (HashSet::default(), HashSet::default());
+        let (mut used, mut used_anonymous) = (vec![false; self.named_materials.len()], HashSet::default());
         for s in all_shapes {
             match &s.material {
-                MaterialRef::Named(n) => {
-                    used.insert(&**n);
+                MaterialRef::Named(_, i) => {
+                    if let Some(u) = used.get_mut(*i) {
+                        *u = true;
+                    }
                 }
                 MaterialRef::Anonymous(i) => {
                     used_anonymous.insert(*i);
@@ -367,8 +374,8 @@ impl SceneDesc {
                 d(&m.params, "Material", m.kind);
             }
         }
-        for m in &self.named_materials {
-            if used.contains(&*m.name) {
+        for (m, used) in self.named_materials.iter().zip(used) {
+            if used {
                 d(&m.material.params, "MakeNamedMaterial", &m.name);
             }
         }

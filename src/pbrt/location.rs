@@ -26,6 +26,9 @@ pub struct SourceName {
     /// non-ASCII character), ascending: columns count characters, not bytes. Empty for ASCII
     /// text.
     continuations: Vec<usize>,
+    /// The line and column of the one location made with them ([`Location::new`]), which has
+    /// a name of its own.
+    given: Option<(u32, u32)>,
 }
 
 impl SourceName {
@@ -38,7 +41,7 @@ impl SourceName {
         } else {
             bytes.iter().enumerate().filter(|(_, &b)| b & 0xc0 == 0x80).map(|(i, _)| i).collect()
         };
-        Self { path, search_dir, line_starts, continuations }
+        Self { path, search_dir, line_starts, continuations, given: None }
     }
 
     /// The file.
@@ -46,13 +49,18 @@ impl SourceName {
         &self.path
     }
 
-    /// A name without text: locations in it give their line and column themselves.
-    fn bare(path: Arc<Path>) -> Self {
-        Self { path, search_dir: None, line_starts: LineStarts::Narrow(vec![0]), continuations: Vec::new() }
+    /// A name without text for the one location at line `line` and column `col`.
+    fn given(path: Arc<Path>, line: u32, col: u32) -> Self {
+        let line_starts = LineStarts::Narrow(vec![0]);
+        Self { path, search_dir: None, line_starts, continuations: Vec::new(), given: Some((line, col)) }
     }
 
-    /// The 1-based line and column (in characters) of byte `offset` (a character boundary).
+    /// The 1-based line and column (in characters) of byte `offset` (a character boundary), or
+    /// the ones given.
     fn line_col(&self, offset: usize) -> (u32, u32) {
+        if let Some(given) = self.given {
+            return given;
+        }
         let (line, start) = self.line_starts.line_of(offset);
         let before = |at: usize| self.continuations.partition_point(|&c| c < at);
         let chars = offset - start - (before(offset) - before(start));
@@ -90,30 +98,24 @@ impl LineStarts {
     }
 }
 
-/// Where in a file: a byte offset (line and column found when asked), or a line and column
-/// given as they are (a location in a file the scene names, such as a lens file).
-#[derive(Clone, Copy, Debug)]
-enum Position {
-    Offset(usize),
-    LineCol(u32, u32),
-}
-
 /// A position in a scene file: 1-based line and column (columns count characters).
 #[derive(Clone, Debug)]
 pub struct Location {
     source: Arc<SourceName>,
-    at: Position,
+    /// The byte offset in the file (line and column found when asked; unused for a location
+    /// whose line and column were given as they are, such as one in a lens file).
+    at: usize,
 }
 
 impl Location {
     /// Line `line` and column `col` of `file`.
     pub fn new(file: Arc<Path>, line: u32, col: u32) -> Self {
-        Self { source: Arc::new(SourceName::bare(file)), at: Position::LineCol(line, col) }
+        Self { source: Arc::new(SourceName::given(file, line, col)), at: 0 }
     }
 
     /// Byte `offset` (a character boundary) of the file `source` names.
     pub fn at_offset(source: &Arc<SourceName>, offset: usize) -> Self {
-        Self { source: source.clone(), at: Position::Offset(offset) }
+        Self { source: source.clone(), at: offset }
     }
 
     /// The file.
@@ -129,10 +131,7 @@ impl Location {
 
     /// The line and column, both 1-based.
     pub fn line_col(&self) -> (u32, u32) {
-        match self.at {
-            Position::Offset(o) => self.source.line_col(o),
-            Position::LineCol(l, c) => (l, c),
-        }
+        self.source.line_col(self.at)
     }
 
     /// The line, starting at 1.

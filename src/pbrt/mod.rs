@@ -24,7 +24,7 @@ pub use desc::{
     NamedMaterial, ObjectDesc, SceneDesc, ShapeDesc, ShapeGeometry, TextureClass, TextureDesc,
 };
 pub use error::{Location, SceneError, Warning};
-pub use params::{FloatOrTexture, ParamSet, ParamValue, SpectrumOrTexture, SpectrumParam};
+pub use params::{FloatOrTexture, ParamSet, ParamType, ParamValue, SpectrumOrTexture, SpectrumParam};
 pub use parser::{look_at, parse_file, parse_str, ParseOptions};
 pub use quadric_mode::QuadricMode;
 pub use translate::{

@@ -41,8 +41,10 @@ pub enum ParamValue {
     Bool(Vec<bool>),
     /// "string"
     String(Vec<String>),
-    /// "texture": the name of a texture.
-    Texture(String),
+    /// "texture": the name of a texture, and which of the scene's texture names it is
+    /// ([`crate::pbrt::TextureDesc::name_id`]) when a texture of that name is defined before the
+    /// parameter (whose text the parameter then shares); `None` when none is.
+    Texture(Arc<str>, Option<u32>),
     /// "point3" / "point"
     Point3(Vec<Vec3>),
     /// "vector3" / "vector"
@@ -74,13 +76,66 @@ impl ParamNames {
     }
 }
 
+/// A parameter's type, as pbrt-v4 spells it canonically.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[repr(u8)]
+pub enum ParamType {
+    /// "float"
+    Float,
+    /// "integer"
+    Integer,
+    /// "bool"
+    Bool,
+    /// "string"
+    String,
+    /// "texture"
+    Texture,
+    /// "point3" (also "point")
+    Point3,
+    /// "vector3" (also "vector")
+    Vector3,
+    /// "normal" (also "normal3")
+    Normal,
+    /// "point2"
+    Point2,
+    /// "vector2"
+    Vector2,
+    /// "rgb" (also "color")
+    Rgb,
+    /// "blackbody"
+    Blackbody,
+    /// "spectrum"
+    Spectrum,
+}
+
+impl ParamType {
+    /// The canonical name ("float", "point3", "rgb", ...).
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Float => "float",
+            Self::Integer => "integer",
+            Self::Bool => "bool",
+            Self::String => "string",
+            Self::Texture => "texture",
+            Self::Point3 => "point3",
+            Self::Vector3 => "vector3",
+            Self::Normal => "normal",
+            Self::Point2 => "point2",
+            Self::Vector2 => "vector2",
+            Self::Rgb => "rgb",
+            Self::Blackbody => "blackbody",
+            Self::Spectrum => "spectrum",
+        }
+    }
+}
+
 /// One named, typed parameter and where it was written.
 #[derive(Debug)]
 pub struct Param {
     /// Parameter name ("radius"), shared by the parameters of that name ([`ParamNames`]).
     pub name: Arc<str>,
-    /// Canonical type name as pbrt-v4 spells it ("float", "point3", "rgb", ...).
-    pub type_name: &'static str,
+    /// Its type.
+    pub ty: ParamType,
     /// Values.
     pub value: ParamValue,
     /// Location of the `"type name"` declaration.
@@ -95,7 +150,7 @@ impl Clone for Param {
     fn clone(&self) -> Self {
         Self {
             name: self.name.clone(),
-            type_name: self.type_name,
+            ty: self.ty,
             value: self.value.clone(),
             loc: self.loc.clone(),
             used: AtomicBool::new(self.used.load(Ordering::Relaxed)),
@@ -106,8 +161,13 @@ impl Clone for Param {
 
 impl Param {
     /// A parameter that has not been read yet.
-    pub fn new(name: Arc<str>, type_name: &'static str, value: ParamValue, loc: Location) -> Self {
-        Self { name, type_name, value, loc, used: AtomicBool::new(false), read_as_one: AtomicU32::new(0) }
+    pub fn new(name: Arc<str>, ty: ParamType, value: ParamValue, loc: Location) -> Self {
+        Self { name, ty, value, loc, used: AtomicBool::new(false), read_as_one: AtomicU32::new(0) }
+    }
+
+    /// Canonical type name as pbrt-v4 spells it ("float", "point3", "rgb", ...).
+    pub fn type_name(&self) -> &'static str {
+        self.ty.name()
     }
 
     /// True once a getter read it.
@@ -133,7 +193,7 @@ impl Param {
         if values.is_empty() {
             return Err(decl_err(format!("parameter \"{ty} {name}\" has no values")));
         }
-        let floats = || -> Result<Vec<f32>, SceneError> { values.iter().map(parse_float).collect() };
+        let floats = || each(values, parse_float);
         let not_multiple = |n: usize| {
             let len = values.len();
             decl_err(format!("parameter \"{ty} {name}\" has {len} values; a multiple of {n} is required"))
@@ -149,52 +209,45 @@ impl Param {
             }
             Ok(v)
         };
-        let strings = || -> Result<Vec<String>, SceneError> {
-            values
-                .iter()
-                .map(|t| match t.kind {
-                    TokenKind::Str => Ok(t.text.to_string()),
-                    _ => Err(err(t, format!("expected a quoted string for \"{ty} {name}\""))),
-                })
-                .collect()
+        let strings = || {
+            each(values, |t| match t.kind {
+                TokenKind::Str => Ok(t.text.to_string()),
+                _ => Err(err(t, format!("expected a quoted string for \"{ty} {name}\""))),
+            })
         };
         let vec3s = || groups(values, Vec3::from_array, || not_multiple(3));
         let vec2s = || groups(values, Vec2::from_array, || not_multiple(2));
-        let (type_name, value) = match ty {
-            "float" => ("float", ParamValue::Float(floats()?)),
-            "integer" => ("integer", ParamValue::Integer(values.iter().map(parse_int).collect::<Result<_, _>>()?)),
+        let (param_type, value) = match ty {
+            "float" => (ParamType::Float, ParamValue::Float(floats()?)),
+            "integer" => (ParamType::Integer, ParamValue::Integer(each(values, parse_int)?)),
             "bool" => (
-                "bool",
-                ParamValue::Bool(
-                    values
-                        .iter()
-                        .map(|t| match &*t.text {
-                            "true" => Ok(true),
-                            "false" => Ok(false),
-                            _ => Err(err(t, "expected true or false".into())),
-                        })
-                        .collect::<Result<_, _>>()?,
-                ),
+                ParamType::Bool,
+                ParamValue::Bool(each(values, |t| match &*t.text {
+                    "true" => Ok(true),
+                    "false" => Ok(false),
+                    _ => Err(err(t, "expected true or false".into())),
+                })?),
             ),
-            "string" => ("string", ParamValue::String(strings()?)),
+            "string" => (ParamType::String, ParamValue::String(strings()?)),
             "texture" if values.len() == 1 && values[0].kind == TokenKind::Str => {
-                ("texture", ParamValue::Texture(values[0].text.to_string()))
+                (ParamType::Texture, ParamValue::Texture(Arc::from(&*values[0].text), None))
             }
             "texture" => {
                 let s = strings()?;
                 if s.len() != 1 {
                     return Err(decl_err(format!("parameter \"{ty} {name}\" needs exactly one texture name")));
                 }
-                ("texture", ParamValue::Texture(s.into_iter().next().unwrap_or_default()))
+                (ParamType::Texture, ParamValue::Texture(Arc::from(s.into_iter().next().unwrap_or_default()), None))
             }
-            "point3" | "point" => ("point3", ParamValue::Point3(vec3s()?)),
-            "vector3" | "vector" => ("vector3", ParamValue::Vector3(vec3s()?)),
-            "normal" | "normal3" => ("normal", ParamValue::Normal(vec3s()?)),
-            "point2" => ("point2", ParamValue::Point2(vec2s()?)),
-            "vector2" => ("vector2", ParamValue::Vector2(vec2s()?)),
-            "rgb" | "color" if values.len() > 3 => {
-                ("rgb", ParamValue::Spectrum(SpectrumParam::RgbArray(groups(values, |c| c, || not_multiple(3))?)))
-            }
+            "point3" | "point" => (ParamType::Point3, ParamValue::Point3(vec3s()?)),
+            "vector3" | "vector" => (ParamType::Vector3, ParamValue::Vector3(vec3s()?)),
+            "normal" | "normal3" => (ParamType::Normal, ParamValue::Normal(vec3s()?)),
+            "point2" => (ParamType::Point2, ParamValue::Point2(vec2s()?)),
+            "vector2" => (ParamType::Vector2, ParamValue::Vector2(vec2s()?)),
+            "rgb" | "color" if values.len() > 3 => (
+                ParamType::Rgb,
+                ParamValue::Spectrum(SpectrumParam::RgbArray(groups(values, |c| c, || not_multiple(3))?)),
+            ),
             "rgb" | "color" => {
                 // At most three values: read them into place, then check there were three.
                 let mut c = [0.0; 3];
@@ -204,16 +257,16 @@ impl Param {
                 if values.len() != 3 {
                     return Err(not_exactly(3));
                 }
-                ("rgb", ParamValue::Spectrum(SpectrumParam::Rgb(c)))
+                (ParamType::Rgb, ParamValue::Spectrum(SpectrumParam::Rgb(c)))
             }
             "blackbody" => {
                 let t = exactly(1)?[0];
                 if t <= 0.0 {
                     return Err(err(&values[0], "blackbody temperature must be positive [K]".into()));
                 }
-                ("blackbody", ParamValue::Spectrum(SpectrumParam::Blackbody(t)))
+                (ParamType::Blackbody, ParamValue::Spectrum(SpectrumParam::Blackbody(t)))
             }
-            "spectrum" => ("spectrum", ParamValue::Spectrum(parse_spectrum(decl, values, ty, name)?)),
+            "spectrum" => (ParamType::Spectrum, ParamValue::Spectrum(parse_spectrum(decl, values, ty, name)?)),
             _ => {
                 return Err(decl_err(format!(
                     "unknown parameter type \"{ty}\"; valid types: blackbody, bool, float, integer, \
@@ -221,8 +274,18 @@ impl Param {
                 )))
             }
         };
-        Ok(Self::new(names.intern(name), type_name, value, loc.clone()))
+        Ok(Self::new(names.intern(name), param_type, value, loc.clone()))
     }
+}
+
+/// Each of `values` read by `read`, into a vector of exactly their number (collecting a
+/// `Result` grows the vector as it goes, from room for four values).
+fn each<T>(values: &[Token], read: impl FnMut(&Token) -> Result<T, SceneError>) -> Result<Vec<T>, SceneError> {
+    let mut out = Vec::with_capacity(values.len());
+    for v in values.iter().map(read) {
+        out.push(v?);
+    }
+    Ok(out)
 }
 
 /// `values` read as numbers in groups of `N`, each made into a `T` by `make`; `not_multiple()`
@@ -263,7 +326,7 @@ fn parse_spectrum(decl: &Token, values: &[Token], ty: &str, name: &str) -> Resul
             SpectrumParam::File(values[0].loc().resolve(&**s))
         });
     }
-    let v: Vec<f32> = values.iter().map(parse_float).collect::<Result<_, _>>()?;
+    let v = each(values, parse_float)?;
     if !v.len().is_multiple_of(2) {
         return Err(SceneError::syntax(
             &decl.loc(),
@@ -420,7 +483,9 @@ impl ParamSet {
             let old = self.params.remove(i);
             let message = format!(
                 "parameter \"{} {}\" given again (first at {}); the last value is used, as in pbrt-v4",
-                p.type_name, p.name, old.loc
+                p.type_name(),
+                p.name,
+                old.loc
             );
             self.notes.push(Warning::note(&p.loc, message));
         }
@@ -439,6 +504,21 @@ impl ParamSet {
         }
     }
 
+    /// Drops the parameters already read that have nothing left to report (none read as one
+    /// value of several, no spectra, whose negative RGB components are reported) and name no
+    /// file: those a shape's mesh has taken its values from, so that the description holds them
+    /// once.
+    pub(crate) fn drop_consumed(&mut self) {
+        self.params.retain(|p| {
+            let reported = p.read_as_one.load(Ordering::Relaxed) > 1 || matches!(p.value, ParamValue::Spectrum(_));
+            let names_file = matches!(&*p.name, "filename" | "lensfile");
+            !p.is_used() || reported || names_file
+        });
+        if self.params.is_empty() {
+            self.params = Vec::new();
+        }
+    }
+
     /// True when a parameter with this name exists (does not mark it used).
     pub fn has(&self, name: &str) -> bool {
         self.params.iter().any(|p| *p.name == *name)
@@ -452,6 +532,11 @@ impl ParamSet {
     /// All parameters.
     pub fn iter(&self) -> impl Iterator<Item = &Param> {
         self.params.iter()
+    }
+
+    /// All parameters, mutably.
+    pub(crate) fn iter_mut(&mut self) -> impl Iterator<Item = &mut Param> {
+        self.params.iter_mut()
     }
 
     /// Number of parameters.
@@ -552,10 +637,18 @@ impl ParamSet {
 
     /// A "texture" parameter: the texture's name.
     pub fn texture(&self, name: &str) -> Option<&str> {
-        self.find(name, |v| match v {
-            ParamValue::Texture(s) => Some(s.as_str()),
+        self.texture_ref(name).map(|(s, _)| s)
+    }
+
+    /// A "texture" parameter: the texture's name, and its id when a texture of that name is
+    /// defined before the parameter.
+    pub(crate) fn texture_ref(&self, name: &str) -> Option<(&str, Option<u32>)> {
+        let (p, v) = self.params.iter().filter(|p| *p.name == *name).find_map(|p| match &p.value {
+            ParamValue::Texture(s, id) => Some((p, (&**s, *id))),
             _ => None,
-        })
+        })?;
+        p.mark();
+        Some(v)
     }
 
     /// A spectrum or a texture reference (material inputs such as "reflectance").
@@ -579,12 +672,12 @@ impl ParamSet {
     /// "sphere"`).
     pub fn report_unused(&self, context: impl std::fmt::Display) -> Vec<Warning> {
         let unused = self.params.iter().filter(|p| !p.is_used()).map(|p| {
-            Warning::refused(&p.loc, format!("parameter \"{} {}\" of {context} was not used", p.type_name, p.name))
+            Warning::refused(&p.loc, format!("parameter \"{} {}\" of {context} was not used", p.type_name(), p.name))
         });
         let extra = self.params.iter().filter(|p| p.read_as_one.load(Ordering::Relaxed) > 1).map(|p| {
             let message = format!(
                 "parameter \"{} {}\" of {context} takes one value, but {} were given; the rest were ignored",
-                p.type_name,
+                p.type_name(),
                 p.name,
                 p.read_as_one.load(Ordering::Relaxed)
             );
@@ -598,7 +691,8 @@ impl ParamSet {
                     &p.loc,
                     format!(
                         "parameter \"{} {}\" of {context} has negative components {c:?}; they are taken as 0",
-                        p.type_name, p.name
+                        p.type_name(),
+                        p.name
                     ),
                 ))
             }
@@ -636,12 +730,12 @@ mod tests {
         assert_eq!(param("integer n", "-3 4").unwrap().value, ParamValue::Integer(vec![-3, 4]));
         assert_eq!(param("bool b", "true \"false\"").unwrap().value, ParamValue::Bool(vec![true, false]));
         assert_eq!(param("string s", "\"x\"").unwrap().value, ParamValue::String(vec!["x".into()]));
-        assert_eq!(param("texture t", "\"checks\"").unwrap().value, ParamValue::Texture("checks".into()));
+        assert_eq!(param("texture t", "\"checks\"").unwrap().value, ParamValue::Texture("checks".into(), None));
         let p = param("point P", "0 1 2 3 4 5").unwrap();
-        assert_eq!(p.type_name, "point3");
+        assert_eq!(p.type_name(), "point3");
         assert_eq!(p.value, ParamValue::Point3(vec![Vec3::new(0., 1., 2.), Vec3::new(3., 4., 5.)]));
-        assert_eq!(param("normal3 N", "0 0 1").unwrap().type_name, "normal");
-        assert_eq!(param("vector3 v", "0 0 1").unwrap().type_name, "vector3");
+        assert_eq!(param("normal3 N", "0 0 1").unwrap().type_name(), "normal");
+        assert_eq!(param("vector3 v", "0 0 1").unwrap().type_name(), "vector3");
         assert_eq!(param("point2 uv", "0 1").unwrap().value, ParamValue::Point2(vec![Vec2::new(0., 1.)]));
         assert_eq!(param("color Kd", ".5 .5 .5").unwrap().value, ParamValue::Spectrum(SpectrumParam::Rgb([0.5; 3])));
         assert_eq!(param("blackbody L", "6500").unwrap().value, ParamValue::Spectrum(SpectrumParam::Blackbody(6500.)));
@@ -657,6 +751,22 @@ mod tests {
             param("spectrum k", "\"spd/cu.spd\"").unwrap().value,
             ParamValue::Spectrum(SpectrumParam::File(PathBuf::from("dir/spd/cu.spd")))
         );
+    }
+
+    #[test]
+    fn values_are_held_in_vectors_of_their_length() {
+        for (decl, values, n) in
+            [("string s", "\"x\"", 1), ("integer i", "0 1 2", 3), ("float f", "1 2 3 4 5", 5), ("bool b", "true", 1)]
+        {
+            let capacity = match param(decl, values).unwrap().value {
+                ParamValue::String(v) => v.capacity(),
+                ParamValue::Integer(v) => v.capacity(),
+                ParamValue::Float(v) => v.capacity(),
+                ParamValue::Bool(v) => v.capacity(),
+                v => panic!("{v:?}"),
+            };
+            assert_eq!(capacity, n, "{decl}");
+        }
     }
 
     #[test]

@@ -1,6 +1,7 @@
 //! Parser tests: one per directive group, and exact error-message text.
 
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 use glam::{Mat4, Vec3};
 use prism::geometry::Quadric;
@@ -149,7 +150,7 @@ NamedMaterial "later"
 {TRI}
 MakeNamedMaterial "later" "string type" "coateddiffuse" "float roughness" 0.1"#
     ));
-    assert_eq!(d.shapes[0].material, MaterialRef::Named("red".into()));
+    assert_eq!(d.shapes[0].material, MaterialRef::Named("red".into(), 0));
     let red = d.named_material("red").unwrap();
     assert_eq!(red.kind, "diffuse");
     assert_eq!(red.params.spectrum_or_texture("reflectance"), Some(SpectrumOrTexture::Texture("checks")));
@@ -171,6 +172,49 @@ MakeNamedMaterial "later" "string type" "coateddiffuse" "float roughness" 0.1"#
     assert_eq!(
         err("WorldBegin\nMaterial \"diffuse\" \"texture reflectance\" \"nope\""),
         "<string>:2:20: texture \"nope\" is not defined (at \"nope\")"
+    );
+}
+
+#[test]
+fn names_are_shared_and_a_mesh_holds_its_values_once() {
+    let (d, _) = parse(&format!(
+        r#"WorldBegin
+MakeNamedMaterial "ahead" "string type" "diffuse" "texture reflectance" "checks"
+Texture "checks" "spectrum" "checkerboard"
+Texture "checks" "float" "constant"
+MakeNamedMaterial "after" "string type" "diffuse" "texture reflectance" "checks"
+NamedMaterial "after"
+Shape "trianglemesh" "point3 P" [0 0 0 1 0 0 0 1 0] "integer indices" [0 1 2] "float foo" 1
+NamedMaterial "later"
+{TRI}
+MakeNamedMaterial "later" "string type" "diffuse""#
+    ));
+    let reflectance = |m: usize| match &d.named_materials[m].material.params.get("reflectance").unwrap().value {
+        ParamValue::Texture(t, id) => (t.clone(), *id),
+        v => panic!("{v:?}"),
+    };
+    // One text and one id per texture name, whatever its class; a parameter written after a
+    // definition
+    // shares it and its id, one written before every definition holds its own text and no id.
+    assert!(Arc::ptr_eq(&d.textures[0].name, &d.textures[1].name));
+    assert_eq!((d.textures[0].name_id, d.textures[1].name_id), (0, 0));
+    let (after, id) = reflectance(1);
+    assert!(Arc::ptr_eq(&after, &d.textures[0].name) && id == Some(0));
+    let (ahead, id) = reflectance(0);
+    assert!(!Arc::ptr_eq(&ahead, &d.textures[0].name) && *ahead == *"checks" && id.is_none());
+    // A named material's users hold its index, also when the definition comes after them.
+    assert_eq!(d.shapes[0].material, MaterialRef::Named("after".into(), 1));
+    assert_eq!(d.shapes[1].material, MaterialRef::Named("later".into(), 2));
+    assert_eq!(d.material(&d.shapes[1].material).unwrap().loc.line(), 10);
+    // The mesh has taken "P" and "indices": the shape keeps only the parameter it did not read,
+    // which is still reported.
+    let kept: Vec<&str> = d.shapes[0].params.iter().map(|p| &*p.name).collect();
+    assert_eq!(kept, ["foo"]);
+    assert!(d.shapes[1].params.is_empty());
+    let w: Vec<String> = d.report_unused().iter().map(|w| w.to_string()).collect();
+    assert!(
+        w.contains(&"<string>:7:79: warning: parameter \"float foo\" of Shape \"trianglemesh\" was not used".into()),
+        "{w:?}"
     );
 }
 
@@ -637,7 +681,7 @@ AttributeEnd
     assert!(!after.reverse_orientation && after.area_light.is_none());
     assert_eq!(after.material, MaterialRef::Default);
     // Named materials, textures and objects it defines are the scene's.
-    assert_eq!(s.shapes[2].material, MaterialRef::Named("m".into()));
+    assert_eq!(s.shapes[2].material, MaterialRef::Named("m".into(), 0));
     assert!(s.texture("t", TextureClass::Float).is_some());
     assert_eq!(s.instances.len(), 1);
     // Coordinate-system names it defines stay in it.

@@ -6,7 +6,7 @@
 //! `BasicSceneBuilder` in pbrt-v4 (src/pbrt/scene.cpp): transforms post-multiply the current
 //! transformation matrix (CTM); AttributeBegin/End push and pop the whole graphics state.
 
-use rustc_hash::{FxHashMap as HashMap, FxHashSet as HashSet};
+use rustc_hash::FxHashMap as HashMap;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
@@ -95,6 +95,10 @@ fn read_text(path: &Path, loc: &Location) -> Result<String, SceneError> {
     })
 }
 
+/// The index a `MaterialRef::Named` holds while its definition is still to come: the end of
+/// the file sets it.
+const DEFINED_LATER: usize = usize::MAX;
+
 /// Which transforms of a (start, end) motion pair directives affect.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Active {
@@ -155,8 +159,13 @@ struct Parser<'o> {
     /// NamedMaterial directives that named a material not defined before them.
     named_material_uses: Vec<(Arc<str>, Location)>,
     textures: Vec<TextureDesc>,
-    /// The names of the float textures defined so far, and of the spectrum ones.
-    texture_names: [HashSet<Arc<str>>; 2],
+    /// The texture names defined so far, each with its id ([`TextureDesc::name_id`]) and whether
+    /// a float texture and whether a spectrum texture of that name is: one shared text per
+    /// name, whatever its class.
+    texture_names: HashMap<Arc<str>, (u32, [bool; 2])>,
+    /// A "texture" parameter named a texture not defined before it: whether the materials'
+    /// and textures' names are defined is checked when the file ends.
+    texture_named_ahead: bool,
     objects: Vec<ObjectDesc>,
     /// Index into `objects` by name.
     object_index: HashMap<String, usize>,
@@ -215,7 +224,8 @@ impl<'o> Parser<'o> {
             named_material_index: HashMap::default(),
             named_material_uses: Vec::new(),
             textures: Vec::new(),
-            texture_names: Default::default(),
+            texture_names: HashMap::default(),
+            texture_named_ahead: false,
             objects: Vec::new(),
             object_index: HashMap::default(),
             current_object: None,
@@ -423,6 +433,19 @@ impl<'o> Parser<'o> {
         Ok(())
     }
 
+    /// Gives each "texture" parameter of `params` that names a texture defined by now that
+    /// texture's shared name and its id; notes when one names a texture not (yet) defined.
+    fn share_texture_names(&mut self, params: &mut ParamSet) {
+        for p in params.iter_mut() {
+            if let ParamValue::Texture(t, id) = &mut p.value {
+                match self.texture_names.get_key_value(&**t) {
+                    Some((shared, &(i, _))) => (*t, *id) = (shared.clone(), Some(i)),
+                    None => self.texture_named_ahead = true,
+                }
+            }
+        }
+    }
+
     /// Closes the object being defined: it joins the scene's objects.
     fn end_object(&mut self) {
         let o = self.current_object.take().expect("ObjectBegin pushed an object");
@@ -445,6 +468,17 @@ impl<'o> Parser<'o> {
                 return Err(SceneError::syntax(loc, name, format!("named material \"{name}\" is not defined")));
             }
         }
+        if !self.named_material_uses.is_empty() {
+            let index = &self.named_material_index;
+            let shapes = self.shapes.iter_mut().chain(self.objects.iter_mut().flat_map(|o| o.shapes.iter_mut()));
+            for s in shapes {
+                if let MaterialRef::Named(name, i) = &mut s.material {
+                    if *i == DEFINED_LATER {
+                        *i = index[name];
+                    }
+                }
+            }
+        }
         let mut instances = Vec::with_capacity(self.instances.len());
         for (object, m, motion, loc) in self.instances.drain(..) {
             let Some(&object_index) = self.object_index.get(&object) else {
@@ -452,22 +486,25 @@ impl<'o> Parser<'o> {
             };
             instances.push(InstanceDesc { object, object_index, world_from_instance: m, motion, loc });
         }
-        let texture_names = &self.texture_names;
-        let check_textures = |ps: &ParamSet| -> Result<(), SceneError> {
-            for p in ps.iter() {
-                if let ParamValue::Texture(t) = &p.value {
-                    if !texture_names.iter().any(|names| names.contains(&**t)) {
-                        return Err(SceneError::syntax(&p.loc, t, format!("texture \"{t}\" is not defined")));
+        // Names defined before their use were found as they were read.
+        if self.texture_named_ahead {
+            let texture_names = &self.texture_names;
+            let check_textures = |ps: &ParamSet| -> Result<(), SceneError> {
+                for p in ps.iter() {
+                    if let ParamValue::Texture(t, _) = &p.value {
+                        if !texture_names.contains_key(&**t) {
+                            return Err(SceneError::syntax(&p.loc, t, format!("texture \"{t}\" is not defined")));
+                        }
                     }
                 }
+                Ok(())
+            };
+            for m in self.materials.iter().chain(self.named_materials.iter().map(|n| &n.material)) {
+                check_textures(&m.params)?;
             }
-            Ok(())
-        };
-        for m in self.materials.iter().chain(self.named_materials.iter().map(|n| &n.material)) {
-            check_textures(&m.params)?;
-        }
-        for t in &self.textures {
-            check_textures(&t.params)?;
+            for t in &self.textures {
+                check_textures(&t.params)?;
+            }
         }
         let shapes = self.shapes.iter().chain(self.objects.iter().flat_map(|o| o.shapes.iter()));
         let used = shapes.flat_map(|s| [(&s.media.inside, &s.loc), (&s.media.outside, &s.loc)]);

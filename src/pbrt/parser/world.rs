@@ -127,16 +127,16 @@ impl Parser<'_> {
             "NamedMaterial" => {
                 self.require_world(tok)?;
                 let name = src.string(tok, "a material name")?;
-                // A material defined by now shares its name; one that is not must be by the end.
-                let name = match self.named_material_index.get_key_value(&*name.text) {
-                    Some((defined, _)) => defined.clone(),
+                // A material defined by now shares its name; one that is not must be by the end,
+                // which finds its index.
+                self.gs.material = match self.named_material_index.get_key_value(&*name.text) {
+                    Some((defined, &i)) => MaterialRef::Named(defined.clone(), i),
                     None => {
                         let undefined: Arc<str> = Arc::from(&*name.text);
                         self.named_material_uses.push((undefined.clone(), name.loc()));
-                        undefined
+                        MaterialRef::Named(undefined, super::DEFINED_LATER)
                     }
                 };
-                self.gs.material = MaterialRef::Named(name);
             }
             "Texture" => {
                 self.require_world(tok)?;
@@ -166,22 +166,35 @@ impl Parser<'_> {
                 if let Some(d) = self.gs.defaults.get("texture") {
                     params.merge_defaults(d);
                 }
-                let names = &mut self.texture_names[class as usize];
-                let shared = match names.get(&*name.text) {
-                    Some(n) => {
-                        let n = n.clone();
-                        self.warn(&name.loc(), format!("texture \"{n}\" redefined; the later definition is used"));
-                        n
+                self.share_texture_names(&mut params);
+                let (shared, name_id, redefined) = match self.texture_names.get_key_value(&*name.text) {
+                    Some((n, &(id, defined))) => {
+                        let (n, redefined) = (n.clone(), defined[class as usize]);
+                        self.texture_names.get_mut(&n).expect("just found").1[class as usize] = true;
+                        (n, id, redefined)
                     }
                     None => {
+                        let Ok(id) = u32::try_from(self.texture_names.len()) else {
+                            return Err(SceneError::syntax(
+                                &name.loc(),
+                                &name.display(),
+                                "more than 2³² texture names",
+                            ));
+                        };
                         let n: Arc<str> = Arc::from(&*name.text);
-                        names.insert(n.clone());
-                        n
+                        let mut defined = [false; 2];
+                        defined[class as usize] = true;
+                        self.texture_names.insert(n.clone(), (id, defined));
+                        (n, id, false)
                     }
                 };
+                if redefined {
+                    self.warn(&name.loc(), format!("texture \"{shared}\" redefined; the later definition is used"));
+                }
                 let world_from_texture = self.start_ctm(tok, "texture");
                 self.textures.push(TextureDesc {
                     name: shared,
+                    name_id,
                     class,
                     kind,
                     params,
@@ -273,6 +286,7 @@ impl Parser<'_> {
         if ty.is_empty() || ty == "none" {
             // pbrt-v4 reads both as "interface", with a deprecation warning.
             self.warn(&loc, format!("material \"{ty}\" is deprecated; read as \"interface\""));
+            self.share_texture_names(&mut params);
             return Ok(MaterialDesc { kind: "interface", params, loc });
         }
         let kind = self
@@ -284,6 +298,7 @@ impl Parser<'_> {
         } else if let Some(d) = self.gs.defaults.get("material") {
             params.merge_defaults(d);
         }
+        self.share_texture_names(&mut params);
         Ok(MaterialDesc { kind, params, loc })
     }
 
@@ -296,8 +311,13 @@ impl Parser<'_> {
         if let Some(d) = self.gs.defaults.get("shape") {
             params.merge_defaults(d);
         }
+        self.share_texture_names(&mut params);
         let loc = tok.loc();
         let geometry = shapes::load(kind, &params, &loc, &mut self.warnings)?;
+        if matches!(kind, "trianglemesh" | "bilinearmesh" | "loopsubdiv") {
+            // The mesh holds the values now.
+            params.drop_consumed();
+        }
         let mut area_light = self.gs.area_light.clone().map(Box::new);
         if self.current_object.is_some() && area_light.is_some() {
             self.unsupported(&loc, "area light on a shape inside ObjectBegin", "makes the shape non-emissive");

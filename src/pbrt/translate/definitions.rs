@@ -1,17 +1,11 @@
-//! The named definitions of a scene description indexed by name, so that resolving a name
-//! costs a hash lookup (and a binary search among the definitions of that one name) instead of
-//! a scan over every definition of the scene.
+//! The named definitions of a scene description indexed, so that resolving a reference costs
+//! an index into a vector (or, for a name written before its definition, a hash lookup) and a
+//! binary search among the definitions of that one name, instead of a scan over every
+//! definition of the scene.
 
 use crate::pbrt::desc::{MaterialDesc, MaterialRef, SceneDesc, TextureClass};
 use rustc_hash::FxHashMap as HashMap;
 use std::cell::OnceCell;
-use std::sync::Arc;
-
-/// The address of a shared name's text: while the description holds the name, no other text
-/// has it.
-fn address(name: &Arc<str>) -> *const u8 {
-    Arc::as_ptr(name).cast()
-}
 
 /// Which material a reference resolves to: its identity in the description, so that shapes
 /// sharing a material share one built material.
@@ -68,19 +62,23 @@ impl<T: Copy> ByMaterial<T> {
 /// Named materials and textures of one [`SceneDesc`] by name.
 pub(super) struct Definitions<'d> {
     desc: &'d SceneDesc,
-    /// Index into [`SceneDesc::named_materials`] by the address of the name's shared text: a
-    /// `MaterialRef::Named` written after its definition shares that text, and finding it so
-    /// reads neither name.
-    named_by_address: HashMap<*const u8, usize>,
     /// Index into [`SceneDesc::named_materials`] by name (names are unique: the parser refuses
     /// a redefinition), made when a name is first looked up by its text.
     named_by_text: OnceCell<HashMap<&'d str, usize>>,
-    /// For each name and class, the indices into [`SceneDesc::textures`] of its definitions.
-    textures: HashMap<(&'d str, TextureClass), TextureDefs>,
+    /// For each texture name, by its id ([`crate::pbrt::TextureDesc::name_id`]), and class
+    /// (float, spectrum), the indices into [`SceneDesc::textures`] of its definitions.
+    textures: Vec<[TextureDefs; 2]>,
+    /// Each texture name's id by its text, made when a name is first looked up by its text (a
+    /// parameter written before every definition of its name has no id).
+    texture_ids: OnceCell<HashMap<&'d str, u32>>,
 }
 
 /// The definitions of one texture name and class: indices into [`SceneDesc::textures`].
+#[derive(Default)]
 enum TextureDefs {
+    /// Not defined with this class.
+    #[default]
+    None,
     /// Defined once (most names): no list to allocate.
     One(usize),
     /// Defined again: every definition in ascending order.
@@ -90,19 +88,28 @@ enum TextureDefs {
 impl<'d> Definitions<'d> {
     /// Indexes `desc`, in time linear in its number of definitions.
     pub(super) fn new(desc: &'d SceneDesc) -> Self {
-        let named_by_address = desc.named_materials.iter().enumerate().map(|(i, m)| (address(&m.name), i)).collect();
-        let mut textures: HashMap<(&str, TextureClass), TextureDefs> = HashMap::default();
-        textures.reserve(desc.textures.len());
+        // Ids count the names in the order of their first definitions: each is at most the
+        // number of definitions before it (a larger one is no parser's and finds nothing).
+        let mut textures: Vec<[TextureDefs; 2]> = Vec::new();
         for (i, t) in desc.textures.iter().enumerate() {
-            textures
-                .entry((&*t.name, t.class))
-                .and_modify(|d| match d {
-                    TextureDefs::One(j) => *d = TextureDefs::Many(vec![*j, i]),
-                    TextureDefs::Many(v) => v.push(i),
-                })
-                .or_insert(TextureDefs::One(i));
+            let id = t.name_id as usize;
+            if id > i {
+                continue;
+            }
+            if id >= textures.len() {
+                textures.resize_with(id + 1, Default::default);
+            }
+            let defs = &mut textures[id][t.class as usize];
+            *defs = match std::mem::take(defs) {
+                TextureDefs::None => TextureDefs::One(i),
+                TextureDefs::One(j) => TextureDefs::Many(vec![j, i]),
+                TextureDefs::Many(mut v) => {
+                    v.push(i);
+                    TextureDefs::Many(v)
+                }
+            };
         }
-        Self { desc, named_by_address, named_by_text: OnceCell::new(), textures }
+        Self { desc, named_by_text: OnceCell::new(), textures, texture_ids: OnceCell::new() }
     }
 
     /// The named material `name`.
@@ -119,19 +126,33 @@ impl<'d> Definitions<'d> {
         match r {
             MaterialRef::Default => (MaterialKey::Default, None),
             MaterialRef::Anonymous(i) => (MaterialKey::Anonymous(*i), self.desc.materials.get(*i)),
-            MaterialRef::Named(n) => match self.named_by_address.get(&address(n)) {
-                Some(&i) => (MaterialKey::Named(i), Some(&self.desc.named_materials[i].material)),
-                // A use written before the definition holds its own copy of the name. The parser
-                // refuses undefined names; an unknown one is the default material.
-                None => self.named_material(n).map_or((MaterialKey::Default, None), |(key, m)| (key, Some(m))),
+            // The parser refuses undefined names; an index past the definitions is the default
+            // material.
+            MaterialRef::Named(_, i) => match self.desc.named_materials.get(*i) {
+                Some(m) => (MaterialKey::Named(*i), Some(&m.material)),
+                None => (MaterialKey::Default, None),
             },
         }
     }
 
-    /// The index of the last definition of texture `name` of class `class` among the first
-    /// `visible` texture directives.
-    pub(super) fn texture_before(&self, name: &str, class: TextureClass, visible: usize) -> Option<usize> {
-        let defs = match self.textures.get(&(name, class))? {
+    /// The index of the last definition of texture `name` (whose id is `id`, when known) of
+    /// class `class` among the first `visible` texture directives.
+    pub(super) fn texture_before(
+        &self,
+        name: &str,
+        id: Option<u32>,
+        class: TextureClass,
+        visible: usize,
+    ) -> Option<usize> {
+        let id = match id {
+            Some(id) => id,
+            None => *self
+                .texture_ids
+                .get_or_init(|| self.desc.textures.iter().map(|t| (&*t.name, t.name_id)).collect())
+                .get(name)?,
+        };
+        let defs = match &self.textures.get(id as usize)?[class as usize] {
+            TextureDefs::None => return None,
             TextureDefs::One(i) => std::slice::from_ref(i),
             TextureDefs::Many(v) => v.as_slice(),
         };
@@ -169,7 +190,16 @@ mod tests {
             for name in (0..14).map(|k| format!("t{k}")) {
                 for class in [TextureClass::Float, TextureClass::Spectrum] {
                     let scan = desc.textures[..visible].iter().rposition(|t| *t.name == *name && t.class == class);
-                    assert_eq!(defs.texture_before(&name, class, visible), scan, "{name} {class:?} before {visible}");
+                    // By the name's id (as a parameter written after a definition holds it), and
+                    // by its text alone (as one written before every definition).
+                    let id = desc.textures.iter().find(|t| *t.name == *name).map(|t| t.name_id);
+                    for id in id.into_iter().map(Some).chain([None]) {
+                        assert_eq!(
+                            defs.texture_before(&name, id, class, visible),
+                            scan,
+                            "{name} {class:?} before {visible}"
+                        );
+                    }
                 }
             }
         }
@@ -180,12 +210,9 @@ mod tests {
         let desc = scene();
         let defs = Definitions::new(&desc);
         for (i, m) in desc.named_materials.iter().enumerate() {
-            // The definition's own text, and a copy of it (as a use before the definition has).
-            for name in [m.name.clone(), Arc::from(&*m.name)] {
-                let (key, found) = defs.material(&MaterialRef::Named(name));
-                assert_eq!(key, MaterialKey::Named(i));
-                assert!(std::ptr::eq(found.unwrap(), &m.material));
-            }
+            let (key, found) = defs.material(&MaterialRef::Named(m.name.clone(), i));
+            assert_eq!(key, MaterialKey::Named(i));
+            assert!(std::ptr::eq(found.unwrap(), &m.material));
         }
         assert_eq!(defs.material(&MaterialRef::Anonymous(0)).1.unwrap().kind, "conductor");
         assert!(matches!(defs.material(&MaterialRef::Default), (MaterialKey::Default, None)));

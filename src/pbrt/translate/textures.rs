@@ -7,7 +7,7 @@
 use super::{param_error, Ctx};
 use crate::pbrt::desc::{TextureClass, TextureDesc};
 use crate::pbrt::error::{Location, SceneError};
-use crate::pbrt::params::{FloatOrTexture, ParamSet, SpectrumOrTexture};
+use crate::pbrt::params::ParamSet;
 use crate::spectrum::{ColorSpace, RgbKind, Spectrum};
 use crate::texture::{
     rgb_texels, Checkerboard, ColorEncoding, FilterFunction, FloatImage, FloatSource, FloatTexture, Mapping2D,
@@ -56,7 +56,8 @@ pub const MAX_TEXTURE_EXPANSION: u64 = 1 << 16;
 /// A texture parameter's value: given in place, or the name of a texture.
 enum Arg<'p, V> {
     Value(V),
-    Named(&'p str),
+    /// A texture's name, and its id when a texture of that name is defined before it.
+    Named(&'p str, Option<u32>),
 }
 
 /// What building differs in between float and spectrum textures.
@@ -78,10 +79,10 @@ impl Kind for f32 {
     const CLASS: TextureClass = TextureClass::Float;
 
     fn arg<'p>(_: &mut Ctx, p: &'p ParamSet, name: &str, _: &Location) -> Result<Option<Arg<'p, f32>>, SceneError> {
-        Ok(p.float_or_texture(name).map(|a| match a {
-            FloatOrTexture::Float(v) => Arg::Value(v),
-            FloatOrTexture::Texture(t) => Arg::Named(t),
-        }))
+        if let Some((t, id)) = p.texture_ref(name) {
+            return Ok(Some(Arg::Named(t, id)));
+        }
+        Ok(p.float(name).map(Arg::Value))
     }
 
     fn constant(v: f32) -> f32 {
@@ -123,10 +124,12 @@ impl Kind for Spectrum {
         name: &str,
         loc: &Location,
     ) -> Result<Option<Arg<'p, Spectrum>>, SceneError> {
-        Ok(match p.spectrum_or_texture(name) {
+        if let Some((t, id)) = p.texture_ref(name) {
+            return Ok(Some(Arg::Named(t, id)));
+        }
+        Ok(match p.spectrum(name) {
             None => None,
-            Some(SpectrumOrTexture::Texture(t)) => Some(Arg::Named(t)),
-            Some(SpectrumOrTexture::Spectrum(s)) => {
+            Some(s) => {
                 let s = s.clone();
                 let v =
                     ctx.spectrum(&s, RgbKind::Albedo, p).map_err(|e| SceneError::syntax(loc, name, e.to_string()))?;
@@ -214,14 +217,14 @@ impl Ctx<'_> {
         loc: &Location,
     ) -> Result<SpectrumTexture, SceneError> {
         let all = self.desc.textures.len();
-        self.argument::<Spectrum>(params, name, default, loc, all).map(Arc::unwrap_or_clone)
+        self.argument::<Spectrum>(params, name, default, loc, all)
     }
 
     /// A material's float parameter `name`, `default` when not given.
     pub(super) fn float_texture(&mut self, p: &ParamSet, name: &str, default: f32) -> Result<FloatTexture, SceneError> {
         let (all, loc) = (self.desc.textures.len(), p.get(name).map(|q| q.loc.clone()));
         let loc = loc.unwrap_or_else(|| self.desc.camera.directive.loc.clone());
-        self.argument::<f32>(p, name, default, &loc, all).map(Arc::unwrap_or_clone)
+        self.argument::<f32>(p, name, default, &loc, all)
     }
 
     /// Parameter `name` of `p` as a texture: the value given, the texture it names (among the
@@ -233,12 +236,12 @@ impl Ctx<'_> {
         default: f32,
         loc: &Location,
         visible: usize,
-    ) -> Result<Arc<Texture<V>>, SceneError> {
-        Ok(Arc::new(match V::arg(self, p, name, loc)? {
+    ) -> Result<Texture<V>, SceneError> {
+        Ok(match V::arg(self, p, name, loc)? {
             None => Texture::Constant(V::constant(default)),
             Some(Arg::Value(v)) => Texture::Constant(v),
-            Some(Arg::Named(t)) => {
-                let Some(i) = self.defs.texture_before(t, V::CLASS, visible) else {
+            Some(Arg::Named(t, id)) => {
+                let Some(i) = self.defs.texture_before(t, id, V::CLASS, visible) else {
                     let class = if V::CLASS == TextureClass::Float { "float" } else { "spectrum" };
                     let message = format!("no {class} texture named \"{t}\" is defined before this");
                     return Err(param_error(p, name, loc, message));
@@ -250,7 +253,7 @@ impl Ctx<'_> {
                 children.size = children.size.saturating_add(cost.size);
                 t
             }
-        }))
+        })
     }
 
     /// The texture of directive `index` (built on first use).
@@ -290,15 +293,16 @@ impl Ctx<'_> {
         let desc = self.desc;
         let t = &desc.textures[index];
         let (p, loc) = (&t.params, &t.loc);
-        let arg = |ctx: &mut Self, name: &str, default: f32| ctx.argument::<V>(p, name, default, loc, index);
+        let arg =
+            |ctx: &mut Self, name: &str, default: f32| ctx.argument::<V>(p, name, default, loc, index).map(Arc::new);
         Ok(match t.kind {
-            "constant" => Arc::unwrap_or_clone(arg(self, "value", 1.0)?),
+            "constant" => self.argument::<V>(p, "value", 1.0, loc, index)?,
             "bilerp" => {
                 let mut corner = |name: &str, default: f32| -> Result<V, SceneError> {
                     match V::arg(self, p, name, loc)? {
                         None => Ok(V::constant(default)),
                         Some(Arg::Value(v)) => Ok(v),
-                        Some(Arg::Named(_)) => {
+                        Some(Arg::Named(..)) => {
                             Err(param_error(p, name, loc, "bilerp corners are values, not textures".into()))
                         }
                     }
@@ -327,7 +331,7 @@ impl Ctx<'_> {
             }
             "mix" => {
                 let tex = [arg(self, "tex1", 0.0)?, arg(self, "tex2", 1.0)?];
-                Texture::Mix { tex, amount: self.argument::<f32>(p, "amount", 0.5, loc, index)? }
+                Texture::Mix { tex, amount: Arc::new(self.argument::<f32>(p, "amount", 0.5, loc, index)?) }
             }
             "directionmix" => {
                 let tex = [arg(self, "tex1", 0.0)?, arg(self, "tex2", 1.0)?];
@@ -339,7 +343,7 @@ impl Ctx<'_> {
             }
             "scale" => {
                 let tex = arg(self, "tex", 1.0)?;
-                Texture::Scale { tex, scale: self.argument::<f32>(p, "scale", 1.0, loc, index)? }
+                Texture::Scale { tex, scale: Arc::new(self.argument::<f32>(p, "scale", 1.0, loc, index)?) }
             }
             "ptex" => {
                 let _ = (p.string("filename"), p.string("encoding"), p.float("scale"));
