@@ -33,8 +33,9 @@ impl BoxTree {
     /// box with a coordinate that is not finite (a shape scaled or sized to ±∞ or NaN) gets no
     /// slot: nothing can hit it, and the tree's quantised boxes cannot hold it.
     pub fn new(boxes: &[Bounds3]) -> (Self, Vec<u32>) {
-        let finite: Vec<u32> =
-            (0..boxes.len() as u32).filter(|&k| boxes[k as usize].min.is_finite() && boxes[k as usize].max.is_finite()).collect();
+        let finite: Vec<u32> = (0..boxes.len() as u32)
+            .filter(|&k| boxes[k as usize].min.is_finite() && boxes[k as usize].max.is_finite())
+            .collect();
         if finite.is_empty() {
             return (Self { nodes: Vec::new(), len: 0, linear: false, few: Vec::new() }, Vec::new());
         }
