@@ -30,12 +30,10 @@ const FEW_PAD: f32 = 1.0 / (1u32 << 18) as f32;
 
 impl BoxTree {
     /// Builds over `boxes`; returns the tree and, for each leaf slot, the index of its box. A
-    /// box with a coordinate that is not finite (a shape scaled or sized to ±∞ or NaN) gets no
-    /// slot: nothing can hit it, and the tree's quantised boxes cannot hold it.
+    /// box the tree cannot hold ([`Bounds3::fits_bvh`]: a shape scaled or sized to ±∞, NaN or
+    /// beyond ±10¹⁸) gets no slot: nothing hits it.
     pub fn new(boxes: &[Bounds3]) -> (Self, Vec<u32>) {
-        let finite: Vec<u32> = (0..boxes.len() as u32)
-            .filter(|&k| boxes[k as usize].min.is_finite() && boxes[k as usize].max.is_finite())
-            .collect();
+        let finite: Vec<u32> = (0..boxes.len() as u32).filter(|&k| boxes[k as usize].fits_bvh()).collect();
         if finite.is_empty() {
             return (Self { nodes: Vec::new(), len: 0, linear: false, few: Vec::new() }, Vec::new());
         }

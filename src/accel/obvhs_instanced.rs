@@ -172,6 +172,10 @@ impl ObvhsInstancedAccel {
                 continue;
             }
             let wb = inst.world_bounds(b);
+            if !wb.fits_bvh() {
+                // Placed at infinity (or NaN) by its transform: nothing can hit it.
+                continue;
+            }
             bounds = bounds.union(wb);
             boxes.push(padded(wb));
             placed.push(Placed {

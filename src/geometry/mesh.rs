@@ -77,9 +77,11 @@ impl Mesh {
         faces.iter().map(|&f| sums[f as usize]).collect()
     }
 
-    /// Drops triangles with out-of-range indices, non-finite vertices or zero area; returns how
-    /// many were dropped. Vertices are kept, so per-vertex data stays aligned; face ids go with
-    /// their triangles.
+    /// Drops triangles with out-of-range indices, vertices that are not finite or lie beyond
+    /// [`Bounds3::MAX_COORDINATE`], or an edge cross product whose squared length is 0 or
+    /// overflows (the geometric normal could not be found from it); returns how many were
+    /// dropped. Vertices are kept, so per-vertex data stays aligned; face ids go with their
+    /// triangles.
     pub fn remove_degenerate(&mut self) -> usize {
         let before = self.indices.len();
         let pos = &self.positions;
@@ -88,7 +90,9 @@ impl Mesh {
                 return false;
             }
             let [a, b, c] = t.map(|i| pos[i as usize]);
-            a.is_finite() && b.is_finite() && c.is_finite() && (b - a).cross(c - a).length_squared() > 0.0
+            let within = |p: Vec3| Bounds3 { min: p, max: p }.fits_bvh();
+            let area2 = (b - a).cross(c - a).length_squared();
+            within(a) && within(b) && within(c) && area2 > 0.0 && area2.is_finite()
         };
         if let Some(faces) = self.faces.as_mut() {
             let mut triangles = self.indices.iter();
@@ -120,6 +124,16 @@ pub struct Bounds3 {
 impl Bounds3 {
     /// The empty box (union identity).
     pub const EMPTY: Self = Self { min: Vec3::splat(f32::INFINITY), max: Vec3::splat(f32::NEG_INFINITY) };
+
+    /// The largest coordinate of a box a BVH takes ([`Self::fits_bvh`]): its surface area stays
+    /// within f32 (at most about 2.4·10³⁷) for the build's cost function.
+    pub const MAX_COORDINATE: f32 = 1e18;
+
+    /// True when every coordinate is finite and within ±[`Self::MAX_COORDINATE`].
+    pub fn fits_bvh(&self) -> bool {
+        let within = |p: Vec3| p.is_finite() && p.abs().max_element() <= Self::MAX_COORDINATE;
+        within(self.min) && within(self.max)
+    }
 
     /// Grows the box to contain `p`.
     pub fn union_point(self, p: Vec3) -> Self {

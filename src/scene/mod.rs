@@ -183,7 +183,7 @@ impl SceneBuilder {
         let dropped = mesh.remove_degenerate();
         if dropped > 0 {
             self.warnings
-                .push(format!("mesh {id}: skipped {dropped} degenerate triangle(s) (zero area or NaN/Inf vertices)"));
+                .push(format!("mesh {id}: skipped {dropped} degenerate triangle(s) (zero or overflowing area, or vertices not finite or beyond ±1e18)"));
         }
         self.push_primitive(Shape::Mesh(mesh), material, emission)
     }

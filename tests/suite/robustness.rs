@@ -112,10 +112,11 @@ fn degenerate_geometry_is_skipped_with_one_warning_and_no_nans() {
 }
 
 #[test]
-fn quadrics_of_infinite_size_are_never_hit_and_break_nothing() {
-    // A sphere scaled to 1e30 on one axis at the end of its motion, and a static one whose
-    // transform overflows: their bounds are not finite, which the quadric trees cannot hold.
-    // Beside them a unit sphere in front of the camera must still be seen.
+fn geometry_beyond_any_bvh_is_never_hit_and_breaks_nothing() {
+    // A sphere scaled to 1e30 on one axis at the end of its motion, one whose transform
+    // overflows, triangles with a vertex at -1e30 among sound ones and an instance scaled to
+    // 1e30: no BVH can hold their boxes (obvhs's build panicked on them). Beside them a unit sphere in front of
+    // the camera must still be seen.
     let text = r#"
         LookAt 0 0 5  0 0 0  0 1 0
         Camera "perspective" "float fov" [ 30 ]
@@ -124,6 +125,9 @@ fn quadrics_of_infinite_size_are_never_hit_and_break_nothing() {
         WorldBegin
         LightSource "infinite" "rgb L" [ 1 1 1 ]
         Material "diffuse" "rgb reflectance" [ 0.5 0.5 0.5 ]
+        ObjectBegin "pebble"
+          Shape "trianglemesh" "integer indices" [ 0 1 2 ] "point3 P" [ 0 0 0  1 0 0  0 1 0 ]
+        ObjectEnd
         Shape "sphere" "float radius" [ 1 ]
         AttributeBegin
           ActiveTransform StartTime
@@ -137,6 +141,21 @@ fn quadrics_of_infinite_size_are_never_hit_and_break_nothing() {
           Translate -3 0 0
           Scale 1e30 1e30 1e30
           Shape "sphere" "float radius" [ 1e30 ]
+        AttributeEnd
+        Shape "trianglemesh" "integer indices" [ 0 1 2  0 2 3  1 2 3  0 1 3  4 5 6  5 6 7 ]
+          "point3 P" [ -50 -3 -50  50 -3 -50  50 -3 50  -50 -3 -1e30
+                       -2 -2 -2  -1 -2 -2  -2 -1 -2  -1 -1 -2 ]
+        AttributeBegin
+          Translate 0 -2 -3
+          ObjectInstance "pebble"
+        AttributeEnd
+        AttributeBegin
+          Scale 1e30 1e30 1e30
+          ObjectInstance "pebble"
+        AttributeEnd
+        AttributeBegin
+          Translate 1 -2 -3
+          ObjectInstance "pebble"
         AttributeEnd
     "#;
     for accel in crate::common::backends() {
