@@ -44,11 +44,14 @@ fn no_byte_past_the_hit_record_is_written_flat_or_instanced_by_either_triangle_t
     let mut instance_words = Vec::new();
     for test in [TriangleTest::Embree, TriangleTest::Watertight] {
         let q = ffi::RTCBuildQuality_RTC_BUILD_QUALITY_MEDIUM;
-        let flat = Scene::build(Device::new().unwrap(), &[quad()], super::BuildChoice::MEDIUM, test).unwrap();
-        let mut g = probe(0.0);
-        flat.raw_intersect(&mut g.rh);
-        assert_record_kept(&g, &format!("{test:?}, flat"));
-        assert_eq!(g.instance_words()[0], ffi::RTC_INVALID_GEOMETRY_ID, "{test:?}, flat: no instance");
+        // Triangles, and (with Embree's test) the two triangles paired into an Embree quad.
+        for choice in [super::BuildChoice::MEDIUM, super::BuildChoice { quads: true, ..super::BuildChoice::MEDIUM }] {
+            let flat = Scene::build(Device::new().unwrap(), &[quad()], choice, test).unwrap();
+            let mut g = probe(0.0);
+            flat.raw_intersect(&mut g.rh);
+            assert_record_kept(&g, &format!("{test:?}, flat, {choice:?}"));
+            assert_eq!(g.instance_words()[0], ffi::RTC_INVALID_GEOMETRY_ID, "{test:?}, flat: no instance");
+        }
 
         // One world mesh (top-level geometry 0, far away) and one instance (geometry 1) of the
         // quad moved by +10 in x.

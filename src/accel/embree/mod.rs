@@ -20,6 +20,7 @@ mod instanced;
 mod library_check;
 mod motion;
 mod quadrics;
+mod quads;
 mod ray_context;
 mod scene;
 #[cfg(test)]
@@ -27,7 +28,10 @@ mod shared_tests;
 mod user_curves;
 mod user_triangles;
 
-pub use build_choice::{BuildChoice, BIG_SCENE_TRIANGLES, BUILD_ENV, MORTON_MIN_TRIANGLES, MORTON_RAYS_PER_TRIANGLE};
+pub use build_choice::{
+    BuildChoice, BIG_SCENE_TRIANGLES, BUILD_ENV, MORTON_MIN_TRIANGLES, MORTON_RAYS_PER_TRIANGLE,
+    QUADS_RAYS_PER_TRIANGLE,
+};
 pub use device::{error_name, Device, EmbreeError, CONFIG_ENV};
 pub use error::{EmbreeVersion, LibraryMismatch};
 
@@ -64,8 +68,10 @@ pub enum TriangleTest {
 pub struct EmbreeAccel {
     scene: Levels,
     test: TriangleTest,
-    /// Batches are traced as 16-ray packets: one level, Embree's own triangle kernel and no
-    /// user geometry (whose callbacks take one ray at a time).
+    /// Batches are traced as 16-ray packets (with Embree 3; the Embree 4 build traces them one
+    /// ray at a time): one level, Embree's own triangle kernel and no user geometry (whose
+    /// callbacks take one ray at a time).
+    #[cfg_attr(not(feature = "embree"), allow(dead_code))]
     packets: bool,
 }
 
@@ -99,7 +105,7 @@ impl EmbreeAccel {
 
     /// Builds with the given quality.
     pub fn with_quality(meshes: &[Mesh], quality: BuildQuality) -> Result<Self, EmbreeError> {
-        Self::with_test(meshes, BuildChoice { quality, compact: false }, TriangleTest::Embree)
+        Self::with_test(meshes, BuildChoice { quality, compact: false, quads: false }, TriangleTest::Embree)
     }
 
     /// Builds over `meshes` with the watertight triangle test ([`TriangleTest::Watertight`]).

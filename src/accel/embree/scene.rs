@@ -3,6 +3,7 @@
 use super::build_choice::BuildChoice;
 use super::device::{Device, EmbreeError};
 use super::ffi;
+use super::quads::QuadPairs;
 use super::ray_context::{RayContext, ShearCache};
 use super::user_curves::UserCurves;
 use super::user_triangles::{self, UserMesh};
@@ -31,6 +32,11 @@ pub(super) struct SceneHandle {
     /// Meshes whose vertex and index arrays Embree reads in place (shared buffers) instead of
     /// copying them; dropped after `raw` is released, as `user_meshes` are.
     shared: Option<Arc<[Mesh]>>,
+    /// Attach triangle meshes as Embree quads ([`BuildChoice::quads`]).
+    pair_quads: bool,
+    /// By geometry id, the quads of the meshes attached as quads (Embree reads their index
+    /// buffers in place); dropped after `raw` is released.
+    quads: Vec<Option<QuadPairs>>,
 }
 
 impl SceneHandle {
@@ -43,7 +49,9 @@ impl SceneHandle {
 
     /// A new scene built as `choice` says (quality and leaf layout).
     pub(super) fn with_choice(device: &Device, choice: BuildChoice, test: TriangleTest) -> Result<Self, EmbreeError> {
-        Self::with_flags(device, choice.quality.rtc(), choice.scene_flags(), test)
+        let mut scene = Self::with_flags(device, choice.quality.rtc(), choice.scene_flags(), test)?;
+        scene.pair_quads = choice.quads;
+        Ok(scene)
     }
 
     fn with_flags(
@@ -70,6 +78,8 @@ impl SceneHandle {
             user_quadrics: Vec::new(),
             user_curves: Vec::new(),
             shared: None,
+            pair_quads: false,
+            quads: Vec::new(),
         })
     }
 
@@ -93,6 +103,7 @@ impl SceneHandle {
         self.user_meshes.iter().map(|m| m.bytes()).sum::<usize>()
             + self.user_quadrics.len() * std::mem::size_of::<PlacedQuadric>()
             + self.user_curves.iter().map(|r| r.bytes()).sum::<usize>()
+            + self.quads.iter().flatten().map(QuadPairs::bytes).sum::<usize>()
     }
 
     /// Attaches `curves` as geometry `id`: user geometry running prism's curve test, pbrt-v4's
@@ -141,7 +152,8 @@ impl SceneHandle {
     /// the watertight test, as chosen at [`SceneHandle::new`].
     pub(super) fn attach_mesh(&mut self, device: &Device, mesh: &Mesh, id: u32) -> Result<(), EmbreeError> {
         match self.test {
-            TriangleTest::Embree => self.attach_triangles(device, mesh, id),
+            TriangleTest::Embree if self.pair_quads => self.attach_quads(device, mesh, id),
+            TriangleTest::Embree => self.attach_triangles(device, mesh, id, None),
             TriangleTest::Watertight => {
                 let (geom, user) = user_triangles::new_geometry(device, mesh)?;
                 self.user_meshes.push(user);
@@ -156,44 +168,90 @@ impl SceneHandle {
         }
     }
 
-    /// Attaches `mesh` as triangle geometry `id`: its arrays read in place when shared
-    /// ([`SceneHandle::share`]), else copied into Embree's buffers.
-    fn attach_triangles(&self, device: &Device, mesh: &Mesh, id: u32) -> Result<(), EmbreeError> {
+    /// Attaches `mesh` as quad geometry `id` ([`QuadPairs`]). A mesh of which fewer than half
+    /// the triangles pair up is attached as triangles: its quads would hold more bytes (21 per
+    /// quad) than the BVH saves.
+    fn attach_quads(&mut self, device: &Device, mesh: &Mesh, id: u32) -> Result<(), EmbreeError> {
+        let quads = QuadPairs::new(&mesh.indices);
+        if 4 * quads.len() > 3 * mesh.len() {
+            return self.attach_triangles(device, mesh, id, None);
+        }
+        self.attach_triangles(device, mesh, id, Some(&quads))?;
+        let slot = id as usize;
+        if self.quads.len() <= slot {
+            self.quads.resize_with(slot + 1, || None);
+        }
+        // Embree reads the quads' index array (a heap buffer that stays where it is when the
+        // `QuadPairs` moves) until the scene is released, which happens before this drops.
+        self.quads[slot] = Some(quads);
+        Ok(())
+    }
+
+    /// Attaches `mesh` as triangle geometry `id`, or as the quad geometry of `quads` (which the
+    /// caller keeps until the scene is released): its arrays read in place when shared
+    /// ([`SceneHandle::share`]), else copied into Embree's buffers; quad indices read in place.
+    fn attach_triangles(
+        &self,
+        device: &Device,
+        mesh: &Mesh,
+        id: u32,
+        quads: Option<&QuadPairs>,
+    ) -> Result<(), EmbreeError> {
         let (vertex, index) = (ffi::RTCBufferType_RTC_BUFFER_TYPE_VERTEX, ffi::RTCBufferType_RTC_BUFFER_TYPE_INDEX);
         let (float3, uint3) = (ffi::RTCFormat_RTC_FORMAT_FLOAT3, ffi::RTCFormat_RTC_FORMAT_UINT3);
+        let kind = match quads {
+            Some(_) => ffi::RTCGeometryType_RTC_GEOMETRY_TYPE_QUAD,
+            None => ffi::RTCGeometryType_RTC_GEOMETRY_TYPE_TRIANGLE,
+        };
+        let out_of_memory = |geom| {
+            // SAFETY: `geom` is the new geometry, not attached, released once here.
+            unsafe { ffi::rtcReleaseGeometry(geom) };
+            Err(EmbreeError::Call(device.take_error().unwrap_or_else(|| "out of memory for geometry buffers".into())))
+        };
         // SAFETY: valid device; the geometry is released below after attaching (the scene keeps
         // its own reference).
         unsafe {
-            let geom = ffi::rtcNewGeometry(device.raw(), ffi::RTCGeometryType_RTC_GEOMETRY_TYPE_TRIANGLE);
+            let geom = ffi::rtcNewGeometry(device.raw(), kind);
             if geom.is_null() {
                 return Err(EmbreeError::Call(device.take_error().unwrap_or_default()));
             }
             ffi::rtcSetGeometryBuildQuality(geom, self.geometry_quality);
-            if self.can_share(mesh) {
-                // `Vec3` and `[u32; 3]` are three packed 4-byte values, as FLOAT3 and UINT3 are;
-                // `shared` keeps the arrays alive and unchanged (behind an Arc) until after the
-                // scene is released, and `can_share` checked the vertex array's padding.
+            // `Vec3`, `[u32; 3]` and `[u32; 4]` are packed 4-byte values, as FLOAT3, UINT3 and
+            // UINT4 are; `shared` keeps the mesh's arrays alive and unchanged (behind an Arc)
+            // until after the scene is released, and `can_share` checked the vertex array's
+            // padding. Embree-allocated buffers are padded for the 16-byte loads past the last
+            // vertex.
+            let shared = self.can_share(mesh);
+            if shared {
                 let (p, n) = (mesh.positions.as_ptr().cast(), mesh.positions.len());
                 ffi::rtcSetSharedGeometryBuffer(geom, vertex, 0, float3, p, 0, 12, n);
-                let (p, n) = (mesh.indices.as_ptr().cast(), mesh.indices.len());
-                ffi::rtcSetSharedGeometryBuffer(geom, index, 0, uint3, p, 0, 12, n);
             } else {
-                // Embree-allocated buffers are padded for the 16-byte loads past the last vertex.
-                let vb =
-                    ffi::rtcSetNewGeometryBuffer(geom, vertex, 0, float3, 12, mesh.positions.len()) as *mut [f32; 3];
-                let ib = ffi::rtcSetNewGeometryBuffer(geom, index, 0, uint3, 12, mesh.indices.len()) as *mut [u32; 3];
-                if vb.is_null() || ib.is_null() {
-                    ffi::rtcReleaseGeometry(geom);
-                    return Err(EmbreeError::Call(
-                        device.take_error().unwrap_or_else(|| "out of memory for geometry buffers".into()),
-                    ));
+                let n = mesh.positions.len();
+                let vb = ffi::rtcSetNewGeometryBuffer(geom, vertex, 0, float3, 12, n) as *mut [f32; 3];
+                if vb.is_null() {
+                    return out_of_memory(geom);
                 }
-                let verts = std::slice::from_raw_parts_mut(vb, mesh.positions.len());
-                for (dst, p) in verts.iter_mut().zip(&mesh.positions) {
+                for (dst, p) in std::slice::from_raw_parts_mut(vb, n).iter_mut().zip(&mesh.positions) {
                     *dst = p.to_array();
                 }
-                let idx = std::slice::from_raw_parts_mut(ib, mesh.indices.len());
-                idx.copy_from_slice(&mesh.indices);
+            }
+            match quads {
+                Some(q) => {
+                    let (p, n) = (q.indices.as_ptr().cast(), q.len());
+                    ffi::rtcSetSharedGeometryBuffer(geom, index, 0, ffi::RTCFormat_RTC_FORMAT_UINT4, p, 0, 16, n);
+                }
+                None if shared => {
+                    let (p, n) = (mesh.indices.as_ptr().cast(), mesh.indices.len());
+                    ffi::rtcSetSharedGeometryBuffer(geom, index, 0, uint3, p, 0, 12, n);
+                }
+                None => {
+                    let n = mesh.indices.len();
+                    let ib = ffi::rtcSetNewGeometryBuffer(geom, index, 0, uint3, 12, n) as *mut [u32; 3];
+                    if ib.is_null() {
+                        return out_of_memory(geom);
+                    }
+                    std::slice::from_raw_parts_mut(ib, n).copy_from_slice(&mesh.indices);
+                }
             }
             ffi::rtcCommitGeometry(geom);
             ffi::rtcAttachGeometryByID(self.raw, geom, id);
@@ -337,6 +395,18 @@ impl Scene {
         }
     }
 
+    /// The hit Embree reported on primitive `prim` of geometry `geom` at (u, v): on a mesh
+    /// attached as quads, the triangle and its own barycentrics ([`QuadPairs::triangle_hit`]);
+    /// on a quad's diagonal `ng` may then be the other half's (the point is on both).
+    #[inline]
+    fn hit(&self, t: f32, geom: u32, prim: u32, u: f32, v: f32, ng: Vec3) -> Hit {
+        let (prim_id, u, v) = match self.raw.quads.get(geom as usize) {
+            Some(Some(quads)) => quads.triangle_hit(prim, u, v),
+            _ => (prim, u, v),
+        };
+        Hit { t, geom_id: geom, prim_id, u, v, ng, inst_id: Hit::NO_INSTANCE }
+    }
+
     /// Closest hit.
     #[inline]
     pub fn intersect(&self, ray: &Ray) -> Option<Hit> {
@@ -353,15 +423,8 @@ impl Scene {
         if rh.hit.geomID == ffi::RTC_INVALID_GEOMETRY_ID {
             return None;
         }
-        Some(Hit {
-            t: rh.ray.tfar,
-            geom_id: rh.hit.geomID,
-            prim_id: rh.hit.primID,
-            u: rh.hit.u,
-            v: rh.hit.v,
-            ng: Vec3::new(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z),
-            inst_id: Hit::NO_INSTANCE,
-        })
+        let ng = Vec3::new(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z);
+        Some(self.hit(rh.ray.tfar, rh.hit.geomID, rh.hit.primID, rh.hit.u, rh.hit.v, ng))
     }
 
     /// Any hit before `ray.t_max`.
@@ -409,14 +472,9 @@ impl Scene {
         unsafe { ffi::intersect16(&valid, self.raw.raw, ctx.as_mut_ptr(), &mut rh) };
         let h = &rh.hit;
         for (i, out) in hits.iter_mut().enumerate().take(rays.len()) {
-            *out = (valid.0[i] != 0 && h.geomID[i] != ffi::RTC_INVALID_GEOMETRY_ID).then(|| Hit {
-                t: rh.ray.tfar[i],
-                geom_id: h.geomID[i],
-                prim_id: h.primID[i],
-                u: h.u[i],
-                v: h.v[i],
-                ng: Vec3::new(h.Ng_x[i], h.Ng_y[i], h.Ng_z[i]),
-                inst_id: Hit::NO_INSTANCE,
+            *out = (valid.0[i] != 0 && h.geomID[i] != ffi::RTC_INVALID_GEOMETRY_ID).then(|| {
+                let ng = Vec3::new(h.Ng_x[i], h.Ng_y[i], h.Ng_z[i]);
+                self.hit(rh.ray.tfar[i], h.geomID[i], h.primID[i], h.u[i], h.v[i], ng)
             });
         }
     }

@@ -53,6 +53,7 @@ pub const RTCSceneFlags_RTC_SCENE_FLAG_ROBUST: RTCSceneFlags = 1 << 2;
 
 pub type RTCGeometryType = c_uint;
 pub const RTCGeometryType_RTC_GEOMETRY_TYPE_TRIANGLE: RTCGeometryType = 0;
+pub const RTCGeometryType_RTC_GEOMETRY_TYPE_QUAD: RTCGeometryType = 1;
 pub const RTCGeometryType_RTC_GEOMETRY_TYPE_ROUND_BEZIER_CURVE: RTCGeometryType = 24;
 pub const RTCGeometryType_RTC_GEOMETRY_TYPE_FLAT_BEZIER_CURVE: RTCGeometryType = 25;
 pub const RTCGeometryType_RTC_GEOMETRY_TYPE_NORMAL_ORIENTED_BEZIER_CURVE: RTCGeometryType = 26;
@@ -67,6 +68,7 @@ pub const RTCBufferType_RTC_BUFFER_TYPE_NORMAL: RTCBufferType = 3;
 pub type RTCFormat = c_uint;
 pub const RTCFormat_RTC_FORMAT_UINT: RTCFormat = 0x5001;
 pub const RTCFormat_RTC_FORMAT_UINT3: RTCFormat = 0x5003;
+pub const RTCFormat_RTC_FORMAT_UINT4: RTCFormat = 0x5004;
 pub const RTCFormat_RTC_FORMAT_FLOAT3: RTCFormat = 0x9003;
 pub const RTCFormat_RTC_FORMAT_FLOAT4: RTCFormat = 0x9004;
 pub const RTCFormat_RTC_FORMAT_FLOAT3X4_COLUMN_MAJOR: RTCFormat = 0x9234;
