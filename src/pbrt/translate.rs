@@ -687,6 +687,16 @@ impl Ctx<'_> {
         Ok(())
     }
 
+    /// [`SceneBuilder::add_mesh`], its warning (degenerate triangles skipped) at the shape's
+    /// location `loc`.
+    fn add_mesh(&mut self, mesh: Mesh, material: u32, emission: Option<Emission>, loc: &Location) -> u32 {
+        let before = self.b.warnings.len();
+        let id = self.b.add_mesh(mesh, material, emission);
+        let notes: Vec<String> = self.b.warnings.drain(before..).collect();
+        self.warnings.extend(notes.into_iter().map(|message| Warning::note(loc, message)));
+        id
+    }
+
     /// The builder's warning about an instance it did not place, at `loc`.
     fn note_unplaced(&mut self, placed: bool, loc: &Location) {
         if !placed {
@@ -735,9 +745,9 @@ impl Ctx<'_> {
             }
             ShapeGeometry::Quadric(q) => match self.analytic(q, m, s.reverse_orientation) {
                 Some(placed) => self.b.add_quadric(placed, material, None),
-                None => self.b.add_mesh(shape_mesh(s, m), material, None),
+                None => self.add_mesh(shape_mesh(s, m), material, None, &s.loc),
             },
-            ShapeGeometry::Mesh(_) => self.b.add_mesh(shape_mesh(s, m), material, None),
+            ShapeGeometry::Mesh(_) => self.add_mesh(shape_mesh(s, m), material, None, &s.loc),
         };
         self.finish(id, s)?;
         Ok(id)
@@ -838,7 +848,7 @@ impl Ctx<'_> {
         }
         let id = match analytic {
             Some(q) => self.b.add_quadric(q, material, emission),
-            None => self.b.add_mesh(mesh, material, emission),
+            None => self.add_mesh(mesh, material, emission, &s.loc),
         };
         if let Some(image) = image.flatten() {
             self.b.set_emission_image(id, image);

@@ -921,3 +921,17 @@ fn samplers_take_pbrt_v4s_sample_counts_and_say_what_stands_in() {
         assert!(e.to_string().contains("randomization"), "{e}");
     }
 }
+
+#[test]
+fn skipped_degenerate_triangles_are_reported_at_their_shape() {
+    // One sound triangle and one of zero area (a repeated vertex), plain and emitting.
+    let mesh = "Shape \"trianglemesh\" \"point3 P\" [0 0 0 1 0 0 0 1 0] \"integer indices\" [0 1 2 0 0 1]";
+    let (d, _) =
+        parse(&format!("WorldBegin\n{mesh}\nAttributeBegin\nAreaLightSource \"diffuse\"\n  {mesh}\nAttributeEnd"));
+    let mut warnings = Vec::new();
+    let (builder, _) = pbrt::build(&d, &mut warnings).expect("builds");
+    let w: Vec<String> = warnings.iter().map(|w| w.to_string()).collect();
+    let what = "skipped 1 degenerate triangle(s) (zero or overflowing area, or vertices not finite or beyond ±1e18)";
+    assert_eq!(w, [format!("<string>:2:1: warning: mesh 0: {what}"), format!("<string>:5:3: warning: mesh 1: {what}")]);
+    assert!(builder.warnings.is_empty(), "{:?}", builder.warnings);
+}
