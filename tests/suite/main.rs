@@ -45,6 +45,7 @@ mod radiometry;
 mod readme;
 mod regularize;
 mod render;
+mod render_fuzz;
 mod resource_errors;
 mod robustness;
 mod samplers;
