@@ -153,7 +153,7 @@ impl SceneHandle {
     pub(super) fn attach_mesh(&mut self, device: &Device, mesh: &Mesh, id: u32) -> Result<(), EmbreeError> {
         match self.test {
             TriangleTest::Embree if self.pair_quads => self.attach_quads(device, mesh, id),
-            TriangleTest::Embree => self.attach_triangles(device, mesh, id, None),
+            TriangleTest::Embree => self.attach_polygons(device, mesh, id, None),
             TriangleTest::Watertight => {
                 let (geom, user) = user_triangles::new_geometry(device, mesh)?;
                 self.user_meshes.push(user);
@@ -174,9 +174,9 @@ impl SceneHandle {
     fn attach_quads(&mut self, device: &Device, mesh: &Mesh, id: u32) -> Result<(), EmbreeError> {
         let quads = QuadPairs::new(&mesh.indices);
         if 4 * quads.len() > 3 * mesh.len() {
-            return self.attach_triangles(device, mesh, id, None);
+            return self.attach_polygons(device, mesh, id, None);
         }
-        self.attach_triangles(device, mesh, id, Some(&quads))?;
+        self.attach_polygons(device, mesh, id, Some(&quads))?;
         let slot = id as usize;
         if self.quads.len() <= slot {
             self.quads.resize_with(slot + 1, || None);
@@ -187,10 +187,10 @@ impl SceneHandle {
         Ok(())
     }
 
-    /// Attaches `mesh` as triangle geometry `id`, or as the quad geometry of `quads` (which the
+    /// Attaches `mesh` as Embree triangle geometry `id`, or as the quad geometry of `quads` (which the
     /// caller keeps until the scene is released): its arrays read in place when shared
     /// ([`SceneHandle::share`]), else copied into Embree's buffers; quad indices read in place.
-    fn attach_triangles(
+    fn attach_polygons(
         &self,
         device: &Device,
         mesh: &Mesh,
