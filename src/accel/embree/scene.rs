@@ -187,9 +187,10 @@ impl SceneHandle {
         Ok(())
     }
 
-    /// Attaches `mesh` as Embree triangle geometry `id`, or as the quad geometry of `quads` (which the
-    /// caller keeps until the scene is released): its arrays read in place when shared
-    /// ([`SceneHandle::share`]), else copied into Embree's buffers; quad indices read in place.
+    /// Attaches `mesh` as Embree triangle geometry `id`, or as the quad geometry of `quads`
+    /// (which the caller keeps until the scene is released): its arrays read in place when
+    /// shared ([`SceneHandle::share`]), else copied into Embree's buffers; quad indices read in
+    /// place.
     fn attach_polygons(
         &self,
         device: &Device,
