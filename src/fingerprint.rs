@@ -19,7 +19,7 @@ pub fn fingerprint(
     let mut fields = vec![format!("scene={scene}")];
     for i in inputs {
         let bytes = i.bytes.map_or("unreadable".to_string(), |b| b.to_string());
-        fields.push(format!("input {}={bytes}:{}", i.file, i.fnv1a.as_deref().unwrap_or("-")));
+        fields.push(format!("input {}={bytes}:{}", i.file, i.xxh3.as_deref().unwrap_or("-")));
     }
     let st = settings;
     fields.extend([

@@ -1,8 +1,12 @@
 //! Triangle meshes (indexed, structure of arrays) and axis-aligned bounds.
 
 use glam::{Vec2, Vec3};
+use rayon::prelude::*;
 
 use crate::math::offset::gamma;
+
+/// Meshes of at least this many triangles are checked and bounded on every thread.
+const PARALLEL_TRIANGLES: usize = 1 << 16;
 
 /// An indexed triangle mesh in world space.
 #[derive(Clone, Debug, Default)]
@@ -94,6 +98,14 @@ impl Mesh {
             let area2 = (b - a).cross(c - a).length_squared();
             within(a) && within(b) && within(c) && area2 > 0.0 && area2.is_finite()
         };
+        let all_sound = if before >= PARALLEL_TRIANGLES {
+            self.indices.par_iter().all(sound)
+        } else {
+            self.indices.iter().all(sound)
+        };
+        if all_sound {
+            return 0;
+        }
         if let Some(faces) = self.faces.as_mut() {
             let mut triangles = self.indices.iter();
             faces.retain(|_| triangles.next().is_some_and(sound));
@@ -104,11 +116,14 @@ impl Mesh {
 
     /// Bounds of all vertices of triangles (indices out of range are ignored).
     pub fn bounds(&self) -> Bounds3 {
-        self.indices
-            .iter()
-            .flat_map(|t| t.iter())
-            .filter_map(|&i| self.positions.get(i as usize))
-            .fold(Bounds3::EMPTY, |b, &p| b.union_point(p))
+        let add = |b: Bounds3, t: &[u32; 3]| {
+            t.iter().filter_map(|&i| self.positions.get(i as usize)).fold(b, |b, &p| b.union_point(p))
+        };
+        if self.indices.len() >= PARALLEL_TRIANGLES {
+            self.indices.par_iter().fold(|| Bounds3::EMPTY, add).reduce(|| Bounds3::EMPTY, Bounds3::union)
+        } else {
+            self.indices.iter().fold(Bounds3::EMPTY, add)
+        }
     }
 }
 
@@ -199,6 +214,34 @@ pub fn slab_inverse(d: Vec3) -> Vec3 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_big_mesh_is_checked_and_bounded_on_all_threads_as_one_by_one() {
+        // A strip of 2¹⁷ triangles zigzagging in y and z (no three consecutive vertices in a
+        // line), every 1000th of zero area (two equal vertices) and every 777th naming a vertex
+        // past the end.
+        let n = 1 << 17;
+        let positions: Vec<Vec3> = (0..n + 2).map(|i| Vec3::new(i as f32, (i % 2) as f32, (i % 3) as f32)).collect();
+        let indices: Vec<[u32; 3]> = (0..n as u32)
+            .map(|i| match i {
+                i if i % 1000 == 0 => [i, i, i + 1],
+                i if i % 777 == 0 => [i, i + 1, u32::MAX],
+                i => [i, i + 1, i + 2],
+            })
+            .collect();
+        assert!(indices.len() >= PARALLEL_TRIANGLES);
+        let bad = indices.iter().filter(|t| t[0] == t[1] || t[2] == u32::MAX).count();
+        let mut mesh = Mesh::new(positions.clone(), indices.clone());
+        // Bounds of the referenced vertices, one by one (indices past the end are ignored).
+        let mut want = Bounds3::EMPTY;
+        for &i in indices.iter().flatten().filter(|&&i| (i as usize) < positions.len()) {
+            want = want.union_point(positions[i as usize]);
+        }
+        assert_eq!(mesh.bounds(), want);
+        assert_eq!(mesh.remove_degenerate(), bad);
+        assert_eq!(mesh.indices.len(), indices.len() - bad);
+        assert_eq!(mesh.remove_degenerate(), 0);
+    }
 
     /// The slab test never rules out a ray that meets the box, and rules out one that misses
     /// it by more than rounding: checked against the same test in double precision on random
