@@ -65,12 +65,18 @@ fn no_byte_past_the_hit_record_is_written_flat_or_instanced_by_either_triangle_t
             instances: vec![Instance::new(0, Mat4::from_translation(Vec3::new(10.0, 0.0, 0.0))).unwrap()],
         };
         let shapes = crate::accel::ShapeTable::new(Default::default());
-        let inst = InstancedScene::build(Device::new().unwrap(), &[quad(), far], &shapes, &set, q, test, None).unwrap();
-        let mut g = probe(10.0);
-        inst.raw_intersect(&mut g.rh);
-        assert_record_kept(&g, &format!("{test:?}, instanced"));
-        assert_eq!(g.instance_words()[0], 1, "{test:?}: the instance is top-level geometry 1");
-        instance_words.push(g.instance_words());
+        for quads in [false, true] {
+            let meshes = [quad(), far.clone()];
+            let inst =
+                InstancedScene::build(Device::new().unwrap(), &meshes, &shapes, &set, q, test, None, quads).unwrap();
+            let mut g = probe(10.0);
+            inst.raw_intersect(&mut g.rh);
+            assert_record_kept(&g, &format!("{test:?}, instanced, quads {quads}"));
+            assert_eq!(g.instance_words()[0], 1, "{test:?}: the instance is top-level geometry 1");
+            if !quads {
+                instance_words.push(g.instance_words());
+            }
+        }
     }
     // The watertight callbacks copy the same instance words Embree's own kernel writes.
     assert_eq!(instance_words[0], instance_words[1], "instance words: Embree's kernel vs the user geometry");

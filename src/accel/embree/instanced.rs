@@ -82,7 +82,9 @@ fn attach(
 impl InstancedScene {
     /// Builds the prototype scenes and the top scene over the meshes, and the curves and static
     /// quadrics of `shapes` (moving ones are left out). Instances of empty prototypes are skipped.
-    /// When `shared` holds `meshes`, Embree reads their arrays in place.
+    /// When `shared` holds `meshes`, Embree reads their arrays in place; with `quads`, triangle
+    /// meshes are attached as Embree quads where they pair (`quads.rs`).
+    #[allow(clippy::too_many_arguments)]
     pub(crate) fn build(
         device: Device,
         meshes: &[Mesh],
@@ -91,12 +93,14 @@ impl InstancedScene {
         quality: ffi::RTCBuildQuality,
         test: TriangleTest,
         shared: Option<Arc<[Mesh]>>,
+        quads: bool,
     ) -> Result<Self, EmbreeError> {
         let mut prototypes = Vec::with_capacity(set.prototypes.len());
         let mut proto_ids = Vec::with_capacity(set.prototypes.len());
         let mut proto_bounds = Vec::with_capacity(set.prototypes.len());
         let new_scene = || -> Result<SceneHandle, EmbreeError> {
             let mut scene = SceneHandle::new(&device, quality, test)?;
+            scene.pair_quads(quads);
             if let Some(shared) = &shared {
                 scene.share(shared.clone());
             }
@@ -211,8 +215,9 @@ impl InstancedScene {
         }
         let ng = Vec3::new(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z);
         let top_id = rh.hit.instID[0];
-        let (geom_id, inst_id, ng) = if top_id == ffi::RTC_INVALID_GEOMETRY_ID {
-            (self.world_ids[rh.hit.geomID as usize], Hit::NO_INSTANCE, ng)
+        let (geom, prim, u, v) = (rh.hit.geomID, rh.hit.primID, rh.hit.u, rh.hit.v);
+        let (geom_id, inst_id, ng, (prim_id, u, v)) = if top_id == ffi::RTC_INVALID_GEOMETRY_ID {
+            (self.world_ids[geom as usize], Hit::NO_INSTANCE, ng, self.top.triangle_hit(geom, prim, u, v))
         } else {
             let inst = top_id - self.world_ids.len() as u32;
             let (proto, mut cofactor) = self.instances[inst as usize];
@@ -222,9 +227,10 @@ impl InstancedScene {
                 }
             }
             // Embree reports Ng of instanced geometry in object space.
-            (self.proto_ids[proto as usize][rh.hit.geomID as usize], inst, cofactor * ng)
+            let hit = self.prototypes[proto as usize].triangle_hit(geom, prim, u, v);
+            (self.proto_ids[proto as usize][geom as usize], inst, cofactor * ng, hit)
         };
-        Some(Hit { t: rh.ray.tfar, geom_id, prim_id: rh.hit.primID, u: rh.hit.u, v: rh.hit.v, ng, inst_id })
+        Some(Hit { t: rh.ray.tfar, geom_id, prim_id, u, v, ng, inst_id })
     }
 
     /// Raw closest-hit call of the top scene on a prepared RTCRayHit (the hit-record tests).

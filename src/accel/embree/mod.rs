@@ -168,7 +168,9 @@ impl EmbreeAccel {
     ) -> Result<Self, EmbreeError> {
         let device = device::Device::new()?;
         let q = BuildQuality::Medium.rtc();
-        let scene = instanced::InstancedScene::build(device, meshes, shapes, set, q, test, shared)?;
+        // Vertex leaves throughout: quads, as for a flat scene of as many stored triangles.
+        let quads = test == TriangleTest::Embree && triangle_count(meshes) >= MORTON_MIN_TRIANGLES;
+        let scene = instanced::InstancedScene::build(device, meshes, shapes, set, q, test, shared, quads)?;
         Ok(Self { scene: Levels::Instanced(scene), test, packets: false })
     }
 

@@ -50,7 +50,7 @@ impl SceneHandle {
     /// A new scene built as `choice` says (quality and leaf layout).
     pub(super) fn with_choice(device: &Device, choice: BuildChoice, test: TriangleTest) -> Result<Self, EmbreeError> {
         let mut scene = Self::with_flags(device, choice.quality.rtc(), choice.scene_flags(), test)?;
-        scene.pair_quads = choice.quads;
+        scene.pair_quads(choice.quads);
         Ok(scene)
     }
 
@@ -81,6 +81,23 @@ impl SceneHandle {
             pair_quads: false,
             quads: Vec::new(),
         })
+    }
+
+    /// Attaches the triangle meshes added from now on as Embree quads where they pair
+    /// ([`BuildChoice::quads`]).
+    pub(super) fn pair_quads(&mut self, on: bool) {
+        self.pair_quads = on;
+    }
+
+    /// The triangle hit behind Embree's hit on primitive `prim` of geometry `geom` at (u, v),
+    /// and its barycentrics: the same, or on a mesh attached as quads the triangle and its own
+    /// barycentrics ([`QuadPairs::triangle_hit`]).
+    #[inline]
+    pub(super) fn triangle_hit(&self, geom: u32, prim: u32, u: f32, v: f32) -> (u32, f32, f32) {
+        match self.quads.get(geom as usize) {
+            Some(Some(quads)) => quads.triangle_hit(prim, u, v),
+            _ => (prim, u, v),
+        }
     }
 
     /// Lets Embree read the vertex and index arrays of `meshes` in place when they are attached
@@ -401,10 +418,7 @@ impl Scene {
     /// on a quad's diagonal `ng` may then be the other half's (the point is on both).
     #[inline]
     fn hit(&self, t: f32, geom: u32, prim: u32, u: f32, v: f32, ng: Vec3) -> Hit {
-        let (prim_id, u, v) = match self.raw.quads.get(geom as usize) {
-            Some(Some(quads)) => quads.triangle_hit(prim, u, v),
-            _ => (prim, u, v),
-        };
+        let (prim_id, u, v) = self.raw.triangle_hit(geom, prim, u, v);
         Hit { t, geom_id: geom, prim_id, u, v, ng, inst_id: Hit::NO_INSTANCE }
     }
 

@@ -177,3 +177,44 @@ fn a_mesh_that_pairs_few_triangles_stays_triangles() {
     assert_same_hits(&triangles, &quads);
     assert_eq!(quads.memory_bytes(), triangles.memory_bytes());
 }
+
+#[test]
+fn instanced_quads_give_the_instanced_triangles_hits_in_less_memory() {
+    use super::device::Device;
+    use super::instanced::InstancedScene;
+    use crate::geometry::{Instance, Prototype};
+    let meshes = [quad_sphere(40)];
+    let shift = Vec3::new(3.0, 0.0, 0.0);
+    let set = InstanceSet {
+        world_meshes: vec![],
+        prototypes: vec![Prototype { meshes: vec![0] }],
+        instances: vec![Instance::new(0, glam::Mat4::from_translation(shift)).unwrap()],
+    };
+    let shapes = crate::accel::ShapeTable::new(Default::default());
+    let q = super::ffi::RTCBuildQuality_RTC_BUILD_QUALITY_MEDIUM;
+    let build = |quads| {
+        InstancedScene::build(Device::new().unwrap(), &meshes, &shapes, &set, q, TriangleTest::Embree, None, quads)
+            .unwrap()
+    };
+    let (triangles, quads) = (build(false), build(true));
+    let mut hits = 0;
+    for r in rays(20_000).iter().map(|r| Ray::new(r.o + shift, r.d)) {
+        let (a, b) = (triangles.intersect(&r), quads.intersect(&r));
+        assert_eq!(triangles.occluded(&r), quads.occluded(&r), "{r:?}");
+        let (Some(a), Some(b)) = (a, b) else {
+            assert_eq!(a, b, "{r:?}");
+            continue;
+        };
+        hits += 1;
+        let point = |h: &crate::geometry::Hit| {
+            let t = meshes[0].indices[h.prim_id as usize].map(|i| meshes[0].positions[i as usize]);
+            (1.0 - h.u - h.v) * t[0] + h.u * t[1] + h.v * t[2]
+        };
+        assert_eq!((a.geom_id, a.inst_id), (b.geom_id, b.inst_id), "{r:?}");
+        assert!((a.t - b.t).abs() <= 1e-5 * a.t, "{r:?}: {a:?} {b:?}");
+        assert!(point(&a).distance(point(&b)) < 1e-5, "{r:?}: {a:?} {b:?}");
+        assert!(a.prim_id == b.prim_id || a.prim_id / 2 == b.prim_id / 2, "{r:?}: {a:?} {b:?}");
+    }
+    assert!(hits > 4_000, "{hits}");
+    assert!(quads.memory_bytes() < triangles.memory_bytes());
+}
