@@ -1,10 +1,10 @@
 //! The one integrator interface end to end: every command takes the integrator the scene needs,
 //! and Russian roulette ends every path of the volumetric loop too.
 
-use crate::common::{film, prism, stderr, tmpdir};
+use crate::common::{film, prism, stderr, tmpdir, wait_within};
 use std::path::Path;
 use std::process::Stdio;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 /// A closed white sphere (reflectance 1, normals inward) filled with a purely scattering medium,
 /// a point light and the camera inside, no depth limit: every scattering keeps the throughput at
@@ -40,18 +40,8 @@ fn an_unbounded_volumetric_path_in_a_closed_white_scattering_sphere_ends() {
         .stderr(Stdio::null())
         .spawn()
         .unwrap();
-    let start = Instant::now();
-    let status = loop {
-        if let Some(status) = child.try_wait().unwrap() {
-            break status;
-        }
-        if start.elapsed() > Duration::from_secs(60) {
-            child.kill().unwrap();
-            child.wait().unwrap();
-            panic!("an 8x8, 1 spp render did not end in 60 s: some path never ends");
-        }
-        std::thread::sleep(Duration::from_millis(20));
-    };
+    let status = wait_within(&mut child, Duration::from_secs(60))
+        .expect("an 8x8, 1 spp render did not end in 60 s: some path never ends");
     assert!(status.success());
     let f = film(&out);
     let lit = f.pixels.iter().filter(|p| p.xyz_sum.y > 0.0).count();

@@ -5,11 +5,11 @@
 //! (`scene_fuzz.rs`) cannot reach what only a build or a render meets: BVH builds over boxes
 //! that overflow, lights with infinite power, cameras with singular matrices.
 
-use crate::common::{backends, prism, tmpdir};
+use crate::common::{backends, prism, tmpdir, wait_within};
 use prism::sampling::Rng;
 use std::path::{Path, PathBuf};
 use std::process::Stdio;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 /// Mutated scenes rendered (half on each backend when there are two).
 const CASES: usize = 240;
@@ -107,16 +107,8 @@ fn mutated_scenes_render_or_fail_cleanly_on_both_backends() {
             .stderr(std::fs::File::create(&log).unwrap())
             .spawn()
             .unwrap();
-        let start = Instant::now();
-        let status = loop {
-            if let Some(status) = child.try_wait().unwrap() {
-                break status;
-            }
-            if start.elapsed() > TIME_LIMIT {
-                let _ = child.kill();
-                panic!("{}: no end after {TIME_LIMIT:?} on {accel:?}:\n{text}", source.display());
-            }
-            std::thread::sleep(Duration::from_millis(2));
+        let Some(status) = wait_within(&mut child, TIME_LIMIT) else {
+            panic!("{}: no end after {TIME_LIMIT:?} on {accel:?}:\n{text}", source.display());
         };
         let stderr = std::fs::read_to_string(&log).unwrap();
         let clean = matches!(status.code(), Some(0 | 1)) && !stderr.contains("panicked");
