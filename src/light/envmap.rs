@@ -62,26 +62,53 @@ fn luminance_of(rgb: &[[f32; 3]], space: &ColorSpace) -> Vec<f32> {
 /// ([`MapLayout::texel_cosine_weight`]).
 ///
 /// With `pbrt_v4_channels`, what pbrt-v4 (`Light::Create`, "illuminance") takes instead: on an
-/// equal-area map it sums Y cos θ over the texel centres above the horizon with the weight
-/// 2π/(w h) where each texel subtends 4π/(w h), so its value is about half the true one and a
-/// map scaled to `illuminance` E gives an upward patch about 2E (1.016 · 2E for a constant 16²
-/// map, whose midpoint sum is 1.6 % low). Scenes are tuned on that, so prism's "illuminance"
-/// does the same; its "lux" is the true illuminance. pbrt-v4 has no latitude–longitude maps:
-/// there the true value. Its Y weighs the image's first three channels in the order the file
-/// lists them by the red, green and blue luminances: the channels `pbrt_v4_channels` of
-/// `image` (an OpenEXR file lists its channels by name, so that is B, G, R, or A, B, G with
-/// alpha: see [`crate::image::exr_channels_in_file_order`]).
+/// equal-area map, [`pbrt_v4_equal_area_sum`]; pbrt-v4 has no latitude–longitude maps: there
+/// the true value.
 pub fn image_upper_hemisphere_y(image: &Image, space: &ColorSpace, pbrt_v4_channels: Option<[usize; 3]>) -> f64 {
     let layout = MapLayout::for_size(image.width, image.height);
+    if let (Some(channels), MapLayout::EqualArea) = (pbrt_v4_channels, layout) {
+        return pbrt_v4_equal_area_sum(image, space, channels);
+    }
     let (w, h) = (image.width.max(1) as usize, image.height.max(1) as usize);
-    let weight =
-        if pbrt_v4_channels.is_some() { MapLayout::pbrt_v4_cosine_weight } else { MapLayout::texel_cosine_weight };
-    let luminance = luminance_of(&image_channels(image, pbrt_v4_channels.unwrap_or([0, 1, 2])), space);
+    let luminance = luminance_of(&image_rgb(image), space);
     (0..h)
         .flat_map(|y| (0..w).map(move |x| (x, y)))
         .filter(|&(x, y)| luminance[y * w + x] > 0.0)
-        .map(|(x, y)| luminance[y * w + x] as f64 * weight(layout, x, y, w, h))
+        .map(|(x, y)| luminance[y * w + x] as f64 * layout.texel_cosine_weight(x, y, w, h))
         .sum()
+}
+
+/// pbrt-v4's "illuminance" sum over an equal-area map, evaluated as pbrt-v4 evaluates it: for
+/// each texel whose centre lies above the horizon (rows outer, columns inner), for each of the
+/// image's first three channels `channels` in the order its file lists them, value · luminance
+/// weight of red, green, blue in turn · cos θ of the centre, added to one single-precision
+/// accumulator, which is then multiplied by 2π/(w h).
+///
+/// Each texel subtends 4π/(w h), so the value is about half the true integral, and a map
+/// scaled to `illuminance` E gives an upward patch about 2E (1.016 · 2E for a constant 16²
+/// map, whose midpoint sum is 1.6 % low); scenes are tuned on that, so prism's "illuminance"
+/// does the same (its "lux" is the true illuminance). An OpenEXR file lists its channels by
+/// name, so they are B, G, R, or A, B, G with alpha: see
+/// [`crate::image::exr_channels_in_file_order`]. The accumulator's rounding matters on big
+/// maps: once the sum is 2²⁴ times a term, the term is lost, so a 2048² map comes out ~1–3 %
+/// low and a 4096² one 5–7 %, and pbrt-v4's scale E / k_e, and its image, that much brighter.
+fn pbrt_v4_equal_area_sum(image: &Image, space: &ColorSpace, channels: [usize; 3]) -> f64 {
+    let (w, h) = (image.width.max(1) as usize, image.height.max(1) as usize);
+    let luminance_weights = space.rgb_to_xyz_matrix.row(1).to_array();
+    let texels = image_channels(image, channels);
+    let mut sum = 0.0f32;
+    for y in 0..h {
+        let v = (y as f32 + 0.5) / h as f32;
+        for x in 0..w {
+            let cos_theta = crate::math::equal_area::square_to_sphere(Vec2::new((x as f32 + 0.5) / w as f32, v)).z;
+            if cos_theta > 0.0 {
+                for (value, weight) in texels[y * w + x].iter().zip(luminance_weights) {
+                    sum += value * weight * cos_theta;
+                }
+            }
+        }
+    }
+    (sum * (2.0 * PI / (w * h) as f32)) as f64
 }
 
 /// An image-based infinite light.

@@ -111,25 +111,6 @@ impl MapLayout {
             }
         }
     }
-
-    /// pbrt-v4's weight of texel (x, y) in its "illuminance" sum (`Light::Create`): on an
-    /// equal-area map 2π/(w h) · cos θ of the texel's centre when that is above the horizon,
-    /// where the texel subtends 4π/(w h), so the sum is half the irradiance integral.
-    /// Latitude–longitude maps are prism's: the true weight.
-    pub fn pbrt_v4_cosine_weight(self, x: usize, y: usize, width: usize, height: usize) -> f64 {
-        match self {
-            MapLayout::EqualArea => {
-                let centre = Vec2::new((x as f32 + 0.5) / width as f32, (y as f32 + 0.5) / height as f32);
-                let z = equal_area::square_to_sphere(centre).z as f64;
-                if z > 0.0 {
-                    0.5 * self.texel_solid_angle(y, width, height) * z
-                } else {
-                    0.0
-                }
-            }
-            MapLayout::LatLong => self.texel_cosine_weight(x, y, width, height),
-        }
-    }
 }
 
 /// ∫∫ max(1 − (|u'| + |v'|)², 0) du' dv' over the rectangle `u` × `v`: 2 × 2 Gauss–Legendre
@@ -191,16 +172,6 @@ mod tests {
             let sum = weight_sum(MapLayout::EqualArea, n, n, MapLayout::texel_cosine_weight);
             assert!((sum - pi).abs() < 1e-4 * pi, "{n}²: {sum}");
         }
-    }
-
-    #[test]
-    fn pbrt_v4_weights_are_half_the_midpoint_rule() {
-        // pbrt-v4's sum at 16²: (2π/256) Σ (1 − r²) over the centres inside the diamond,
-        // 1.54625 (π/2 less the midpoint rule's error), against π for the true integral.
-        let pbrt = weight_sum(MapLayout::EqualArea, 16, 16, MapLayout::pbrt_v4_cosine_weight);
-        assert!((pbrt - 1.546_253).abs() < 1e-5, "{pbrt}");
-        let latlong = weight_sum(MapLayout::LatLong, 16, 8, MapLayout::pbrt_v4_cosine_weight);
-        assert!((latlong - std::f64::consts::PI).abs() < 1e-12);
     }
 
     #[test]

@@ -232,3 +232,53 @@ fn illuminance_takes_an_openexr_maps_channels_in_the_files_order_as_pbrt_v4() {
     assert!((with_alpha / without / want - 1.0).abs() < 2e-3, "RGBA / RGB {} vs {want}", with_alpha / without);
     assert!(warned.iter().any(|w| w.contains("(A, B, G)")), "{warned:?}");
 }
+
+/// pbrt-v4's "illuminance" sum over an equal-area map, written from its definition: each
+/// texel centre above the horizon, rows outer, its three channels weighed by sRGB's luminance
+/// row (IEC 61966-2-1) and cos θ = z = 1 − r², added one term at a time to an f32 (or, for
+/// comparison, an f64) accumulator, times 2π / texels.
+fn pbrt_v4_sum<T: Copy + Into<f64> + std::ops::AddAssign + From<f32>>(img: &Image) -> f64 {
+    let n = img.width as usize;
+    let weights = [0.2126f32, 0.7152, 0.0722];
+    let mut sum = T::from(0.0);
+    for y in 0..n {
+        for x in 0..n {
+            let (u, v) = (2.0 * (x as f32 + 0.5) / n as f32 - 1.0, 2.0 * (y as f32 + 0.5) / n as f32 - 1.0);
+            let inside = 1.0 - (u.abs() + v.abs());
+            if inside > 0.0 {
+                let z = 1.0 - (1.0 - inside) * (1.0 - inside);
+                for (value, weight) in img.data[(y * n + x) * 3..][..3].iter().zip(weights) {
+                    sum += T::from(value * weight * z);
+                }
+            }
+        }
+    }
+    sum.into() * 2.0 * std::f64::consts::PI / (n * n) as f64
+}
+
+#[test]
+fn pbrt_v4_illuminance_sum_is_half_the_midpoint_rule() {
+    // A constant white 16² map: (2π/256) Σ (1 − r²) over the centres inside the diamond,
+    // 1.54625 (π/2 less the midpoint rule's error), where the true integral is π.
+    let white = equal_area_map(16, |_, _, _| [1.0; 3]);
+    let k_e = prism::light::image_upper_hemisphere_y(&white, ColorSpace::srgb(), Some([0, 1, 2]));
+    assert!((k_e - 1.546_253).abs() < 1e-5, "{k_e}");
+    assert!((k_e - pbrt_v4_sum::<f64>(&white)).abs() < 1e-5);
+}
+
+#[test]
+fn pbrt_v4_illuminance_sum_rounds_as_its_single_precision_accumulator() {
+    // A 2048² sky with a sun of 3 × 3 texels: once the accumulator is 2²⁴ times a term, the
+    // term is lost, so pbrt-v4's f32 sum falls over 1 % below the exact sum of the same terms
+    // and its images are that much brighter. prism's k_e is pbrt-v4's.
+    let n = 2048;
+    let img = equal_area_map(n, |x, y, d| {
+        let (dx, dy) = (x as i64 - (n as i64) * 3 / 10, y as i64 - (n as i64) * 4 / 10);
+        let sun = if dx * dx + dy * dy < 9 { 2e4 } else { 0.0 };
+        [0.1, 0.3, 1.0].map(|c| c * (0.5 + d.z.max(0.0)) + sun)
+    });
+    let (single, exact) = (pbrt_v4_sum::<f32>(&img), pbrt_v4_sum::<f64>(&img));
+    assert!(single < 0.99 * exact, "rounding loss {}", single / exact);
+    let k_e = prism::light::image_upper_hemisphere_y(&img, ColorSpace::srgb(), Some([0, 1, 2]));
+    assert!((k_e / single - 1.0).abs() < 1e-3, "prism {k_e}, pbrt-v4 {single}, exact {exact}");
+}
