@@ -152,6 +152,7 @@ pub enum Prepared {
 /// Checks every argument and loads the scene, before any rendering starts. Command-line values
 /// override the scene file's, which override prism's defaults ([`RenderSettings::default`]).
 pub fn prepare(args: &RenderArgs) -> Result<Prepared> {
+    let started = Instant::now();
     let spp = args.spp.map(|n| settings::count(n, "--spp")).transpose()?;
     let accel = match &args.accel {
         Some(a) => AccelKind::parse(a)?,
@@ -319,6 +320,7 @@ pub fn prepare(args: &RenderArgs) -> Result<Prepared> {
         output,
         space,
         build_s,
+        startup_s: started.elapsed().as_secs_f64(),
         scene_name,
         inputs,
         exr_sample,

@@ -35,6 +35,9 @@ pub struct RenderStats {
     pub nonfinite_samples: u64,
     /// Scene build time (accelerator and lights) [s].
     pub build_s: f64,
+    /// Time from the command's start to the first sample [s]: reading and translating the
+    /// scene, and building it (the time to first pixel).
+    pub startup_s: f64,
     /// Subsurface method (`--sss`).
     pub sss: String,
 }
@@ -51,6 +54,8 @@ pub struct Job {
     pub space: &'static ColorSpace,
     /// Scene build time [s].
     pub build_s: f64,
+    /// Reading, translating and building the scene [s].
+    pub startup_s: f64,
     /// The scene's name: the built-in Cornell box's, or the scene file's.
     pub scene_name: String,
     /// The files the scene reads, identified by their contents (none for the built-in scene).
@@ -134,6 +139,7 @@ pub(crate) fn summarize(job: &Job, stats: &Stats, elapsed: f64) -> RenderStats {
         accel: job.scene.accel().name().to_string(),
         nonfinite_samples: stats.nonfinite,
         build_s: job.build_s,
+        startup_s: job.startup_s,
         sss: job.settings.integrator.sss.name().to_string(),
     }
 }

@@ -21,21 +21,36 @@ impl Mesh {
         // One spare slot: Embree reads the positions in place only with room for its 16-byte
         // load at the last vertex (`accel::build_scene_shared`).
         let mut positions = Vec::with_capacity(self.positions.len() + 1);
-        if *m == Mat4::IDENTITY {
-            positions.extend_from_slice(&self.positions);
-        } else {
-            positions.extend(self.positions.iter().map(|&p| m.transform_point3(p)));
+        positions.extend_from_slice(&self.positions);
+        let copy = Mesh {
+            positions,
+            indices: self.indices.clone(),
+            normals: self.normals.clone(),
+            uvs: self.uvs.clone(),
+            faces: self.faces.clone(),
+        };
+        copy.into_transformed(m)
+    }
+
+    /// [`Self::transformed`], in place: no copy of a mesh whose transform is the identity.
+    pub fn into_transformed(mut self, m: &Mat4) -> Mesh {
+        use rayon::prelude::*;
+        const MIN_LEN: usize = 1 << 14;
+        if self.positions.capacity() == self.positions.len() {
+            self.positions.reserve_exact(1);
+        }
+        if *m != Mat4::IDENTITY {
+            self.positions.par_iter_mut().with_min_len(MIN_LEN).for_each(|p| *p = m.transform_point3(*p));
         }
         let linear = Mat3::from_mat4(*m);
-        let normal_matrix = linear.inverse().transpose();
-        let normals =
-            self.normals.as_ref().map(|ns| ns.iter().map(|&n| (normal_matrix * n).normalize_or_zero()).collect());
-        let indices = if linear.determinant() < 0.0 {
-            self.indices.iter().map(|&[a, b, c]| [a, c, b]).collect()
-        } else {
-            self.indices.clone()
-        };
-        Mesh { positions, indices, normals, uvs: self.uvs.clone(), faces: self.faces.clone() }
+        if let Some(normals) = &mut self.normals {
+            let normal_matrix = linear.inverse().transpose();
+            normals.par_iter_mut().with_min_len(MIN_LEN).for_each(|n| *n = (normal_matrix * *n).normalize_or_zero());
+        }
+        if linear.determinant() < 0.0 {
+            self.indices.par_iter_mut().with_min_len(MIN_LEN).for_each(|t| t.swap(1, 2));
+        }
+        self
     }
 }
 

@@ -13,13 +13,45 @@ const GZIP_MAGIC: [u8; 2] = [0x1f, 0x8b];
 /// any real scene's meshes (pbrt-v4's largest test scenes hold a few GB).
 pub const MAX_DECOMPRESSED_BYTES: u64 = 64 << 30;
 
+/// Files from this size on are read by every thread, a chunk each at a time [bytes].
+const PARALLEL_READ_BYTES: u64 = 64 << 20;
+
 /// The contents of `path`, decompressed when it is gzip.
 pub fn read(path: &Path) -> std::io::Result<Vec<u8>> {
-    let bytes = std::fs::read(path)?;
+    let bytes = read_file(path)?;
     if !bytes.starts_with(&GZIP_MAGIC) {
         return Ok(bytes);
     }
     gunzip(&bytes, decompression_limit())
+}
+
+/// The bytes of `path`; a big file is read in chunks by all threads, so that the copies out of
+/// the page cache and the first touches of the buffer's pages run side by side.
+#[cfg(unix)]
+fn read_file(path: &Path) -> std::io::Result<Vec<u8>> {
+    use rayon::prelude::*;
+    use std::os::unix::fs::FileExt;
+    const CHUNK: usize = 8 << 20;
+    let file = std::fs::File::open(path)?;
+    let len = file.metadata()?.len();
+    if len < PARALLEL_READ_BYTES {
+        return std::fs::read(path);
+    }
+    let len = usize::try_from(len).map_err(|_| std::io::ErrorKind::OutOfMemory)?;
+    // A failed reservation is an error; the zeroed buffer is then mapped, not written, until read into.
+    Vec::<u8>::new().try_reserve_exact(len).map_err(|_| std::io::ErrorKind::OutOfMemory)?;
+    let mut bytes = vec![0u8; len];
+    bytes.par_chunks_mut(CHUNK).enumerate().try_for_each(|(i, chunk)| file.read_exact_at(chunk, (i * CHUNK) as u64))?;
+    // A file that grew since its size was read is read again whole.
+    if file.read_at(&mut [0u8], len as u64)? != 0 {
+        return std::fs::read(path);
+    }
+    Ok(bytes)
+}
+
+#[cfg(not(unix))]
+fn read_file(path: &Path) -> std::io::Result<Vec<u8>> {
+    std::fs::read(path)
 }
 
 /// The decompressed size accepted now: [`MAX_DECOMPRESSED_BYTES`], or less when less memory is
@@ -67,6 +99,18 @@ mod tests {
         let mut e = GzEncoder::new(Vec::new(), flate2::Compression::default());
         e.write_all(data).unwrap();
         e.finish().unwrap()
+    }
+
+    #[test]
+    fn a_big_file_read_in_chunks_is_its_bytes() {
+        let dir = std::env::temp_dir().join(format!("prism-big-read-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("big.ply");
+        // Not a whole number of chunks, and a pattern that no chunk repeats at the same offset.
+        let data: Vec<u8> = (0..PARALLEL_READ_BYTES as usize + 12_345).map(|i| (i % 251) as u8).collect();
+        std::fs::write(&path, &data).unwrap();
+        assert!(read(&path).unwrap() == data);
+        std::fs::remove_dir_all(&dir).ok();
     }
 
     #[test]

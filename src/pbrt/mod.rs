@@ -28,5 +28,6 @@ pub use params::{FloatOrTexture, ParamSet, ParamType, ParamValue, SpectrumOrText
 pub use parser::{look_at, parse_file, parse_str, ParseOptions};
 pub use quadric_mode::QuadricMode;
 pub use translate::{
-    build, build_with, input_stamps, load_file, FileSettings, InputStamp, LoadedScene, PBRT_DEFAULT_MAX_DEPTH,
+    build, build_moving_meshes, build_with, input_stamps, load_file, FileSettings, InputStamp, LoadedScene,
+    PBRT_DEFAULT_MAX_DEPTH,
 };

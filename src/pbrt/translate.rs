@@ -145,6 +145,36 @@ pub fn build_with(
     warnings: &mut Vec<Warning>,
     quadrics: QuadricMode,
 ) -> Result<(SceneBuilder, FileSettings), SceneError> {
+    translate(desc, Vec::new(), warnings, quadrics)
+}
+
+/// [`build_with`] that moves the meshes of the world's static shapes out of `desc` into the
+/// scene (transformed in place) instead of copying them: for a description that is afterwards
+/// only asked for its unused parameters and its input files. (A mesh still held elsewhere is
+/// copied.)
+pub fn build_moving_meshes(
+    desc: &mut SceneDesc,
+    warnings: &mut Vec<Warning>,
+    quadrics: QuadricMode,
+) -> Result<(SceneBuilder, FileSettings), SceneError> {
+    let moved = desc
+        .shapes
+        .iter_mut()
+        .map(|s| match &mut s.geometry {
+            ShapeGeometry::Mesh(mesh) if s.motion.is_none() => Some(std::mem::take(mesh)),
+            _ => None,
+        })
+        .collect();
+    translate(desc, moved, warnings, quadrics)
+}
+
+/// The translation of `desc`; `moved[i]`, when given, is the mesh of `desc.shapes[i]`.
+fn translate(
+    desc: &SceneDesc,
+    mut moved: Vec<Option<Arc<Mesh>>>,
+    warnings: &mut Vec<Warning>,
+    quadrics: QuadricMode,
+) -> Result<(SceneBuilder, FileSettings), SceneError> {
     let mut ctx = Ctx {
         desc,
         defs: Definitions::new(desc),
@@ -162,8 +192,8 @@ pub fn build_with(
     let light_sampler = ctx.light_sampler()?;
     ctx.b.set_light_sampler(light_sampler);
     ctx.all_textures()?;
-    for shape in &desc.shapes {
-        ctx.shape(shape)?;
+    for (i, shape) in desc.shapes.iter().enumerate() {
+        ctx.shape(shape, moved.get_mut(i).and_then(Option::take))?;
     }
     ctx.instances()?;
     for l in &desc.lights {
@@ -745,9 +775,9 @@ impl Ctx<'_> {
             }
             ShapeGeometry::Quadric(q) => match self.analytic(q, m, s.reverse_orientation) {
                 Some(placed) => self.b.add_quadric(placed, material, None),
-                None => self.add_mesh(shape_mesh(s, m), material, None, &s.loc),
+                None => self.add_mesh(shape_mesh(s, m, None), material, None, &s.loc),
             },
-            ShapeGeometry::Mesh(_) => self.add_mesh(shape_mesh(s, m), material, None, &s.loc),
+            ShapeGeometry::Mesh(_) => self.add_mesh(shape_mesh(s, m, None), material, None, &s.loc),
         };
         self.finish(id, s)?;
         Ok(id)
@@ -792,7 +822,8 @@ impl Ctx<'_> {
         Ok(())
     }
 
-    fn shape(&mut self, s: &ShapeDesc) -> Result<(), SceneError> {
+    /// World shape `s`; `moved`: its mesh, taken from the description.
+    fn shape(&mut self, s: &ShapeDesc, moved: Option<Arc<Mesh>>) -> Result<(), SceneError> {
         let curves = matches!(s.geometry, ShapeGeometry::Curves(_));
         if curves && s.area_light.is_some() {
             self.unsupported(&s.loc, "area light on a curve".into(), "makes the curve non-emissive");
@@ -809,8 +840,9 @@ impl Ctx<'_> {
             ShapeGeometry::Quadric(q) => self.analytic(q, &s.world_from_object, s.reverse_orientation),
             _ => None,
         };
-        let mut mesh = if analytic.is_some() { Mesh::default() } else { shape_mesh(s, &s.world_from_object) };
-        let area = match (&s.geometry, &analytic) {
+        let mut mesh = if analytic.is_some() { Mesh::default() } else { shape_mesh(s, &s.world_from_object, moved) };
+        // The shape's world-space area, asked for by an area light only.
+        let area = || match (&s.geometry, &analytic) {
             (_, Some(q)) => q.area(),
             (ShapeGeometry::Quadric(q), None) => {
                 similarity_scale(&s.world_from_object).map_or_else(|| mesh.area(), |k| q.area() * k * k)
@@ -833,7 +865,7 @@ impl Ctx<'_> {
                 // triangle's scale divided by the area of its face.
                 per_face = p.float("power").is_some_and(|v| v > 0.0) && FACETED_SHAPES.contains(&s.kind);
                 let mean = image.as_ref().map_or(1.0, |i| i.mean_luminance());
-                let k_area = if per_face { 1.0 } else { area };
+                let k_area = if per_face { 1.0 } else { area() };
                 let k_e = crate::math::PI * k_area * if two_sided { 2.0 } else { 1.0 } * mean;
                 let scale =
                     p.float_or("scale", 1.0) * norm * brightness_factor(p, FLUX, k_e, Some((&spectrum, norm)), &a.loc)?;
@@ -844,7 +876,7 @@ impl Ctx<'_> {
         if analytic.is_some() && image.as_ref().is_some_and(Option::is_some) {
             // An emission image needs the triangles' (u, v) corners: tessellate.
             analytic = None;
-            mesh = shape_mesh(s, &s.world_from_object);
+            mesh = shape_mesh(s, &s.world_from_object, None);
         }
         let id = match analytic {
             Some(q) => self.b.add_quadric(q, material, emission),
@@ -874,11 +906,16 @@ struct ObjectParts {
 const FACETED_SHAPES: &[&str] = &["trianglemesh", "loopsubdiv", "plymesh", "bilinearmesh"];
 
 /// A shape's triangles under `m` (its own transform into world space, or instance space inside
-/// an object definition; the identity keeps them in object space), oriented.
-fn shape_mesh(s: &ShapeDesc, m: &Mat4) -> Mesh {
+/// an object definition; the identity keeps them in object space), oriented; `moved`: the
+/// shape's mesh when it was taken from the description.
+fn shape_mesh(s: &ShapeDesc, m: &Mat4, moved: Option<Arc<Mesh>>) -> Mesh {
     let mesh = match &s.geometry {
         ShapeGeometry::Mesh(mesh) => {
-            let mut mesh = mesh.transformed(m);
+            let mut mesh = match moved.map(Arc::try_unwrap) {
+                Some(Ok(owned)) => owned.into_transformed(m),
+                Some(Err(shared)) => shared.transformed(m),
+                None => mesh.transformed(m),
+            };
             // pbrt-v4's `TriangleMesh` negates its per-vertex normals under ReverseOrientation,
             // and the geometric normal then follows them.
             if s.reverse_orientation {
@@ -905,19 +942,20 @@ fn shape_mesh(s: &ShapeDesc, m: &Mat4) -> Mesh {
 /// (they are already flipped under ReverseOrientation); otherwise ReverseOrientation flips it. (Mirroring transforms are already handled by
 /// `Mesh::transformed`.)
 fn orient(mut mesh: Mesh, reverse: bool) -> Mesh {
-    if let Some(normals) = &mesh.normals {
-        for t in mesh.indices.iter_mut() {
-            let [a, b, c] = t.map(|i| mesh.positions[i as usize]);
+    use rayon::prelude::*;
+    const MIN_LEN: usize = 1 << 14;
+    let Mesh { positions, indices, normals, .. } = &mut mesh;
+    if let Some(normals) = normals {
+        indices.par_iter_mut().with_min_len(MIN_LEN).for_each(|t| {
+            let [a, b, c] = t.map(|i| positions[i as usize]);
             let n = (b - a).cross(c - a);
             let ns = normals[t[0] as usize] + normals[t[1] as usize] + normals[t[2] as usize];
             if n.dot(ns) < 0.0 {
                 t.swap(1, 2);
             }
-        }
+        });
     } else if reverse {
-        for t in mesh.indices.iter_mut() {
-            t.swap(1, 2);
-        }
+        indices.par_iter_mut().with_min_len(MIN_LEN).for_each(|t| t.swap(1, 2));
     }
     mesh
 }

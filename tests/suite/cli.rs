@@ -116,6 +116,9 @@ fn render_writes_image_and_stats_json_and_leaves_no_temp_files() {
     assert_eq!(stats["spp"], 2);
     assert_eq!(stats["accel"], "obvhs");
     assert_eq!(stats["nonfinite_samples"], 0);
+    // The time to first pixel holds the build.
+    let (build, startup) = (stats["build_s"].as_f64().unwrap(), stats["startup_s"].as_f64().unwrap());
+    assert!(build > 0.0 && startup >= build, "build {build} s, start-up {startup} s");
     let leftovers: Vec<_> = std::fs::read_dir(&d)
         .unwrap()
         .filter_map(|e| e.ok())

@@ -36,6 +36,7 @@ mod measured;
 mod media;
 mod merge;
 mod motion;
+mod moved_meshes;
 mod naive_fails;
 mod pbrt_defaults;
 mod pbrt_materials;

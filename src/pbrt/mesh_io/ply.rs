@@ -206,6 +206,9 @@ pub fn parse(bytes: &[u8]) -> Result<Mesh, MeshError> {
     // first polygon of more than three vertices on (every triangle before it is its own).
     let mut faces: Option<Vec<u32>> = None;
     let mut have_vertices = false;
+    // The largest index of the triangles read by the parallel path, and whether every triangle
+    // was read by it.
+    let (mut max_index, mut all_fast) = (0u32, true);
     for e in &elements {
         // Every element takes at least one byte (binary) or two characters (ASCII) per scalar
         // property; a count the remaining data cannot hold is rejected before allocating.
@@ -239,7 +242,8 @@ pub fn parse(bytes: &[u8]) -> Result<Mesh, MeshError> {
                     .or_else(|| pick(["s", "t"]))
                     .or_else(|| pick(["texture_u", "texture_v"]))
                     .or_else(|| pick(["texture_s", "texture_t"]));
-                reserve(&mut positions, e.count, "vertices")?;
+                // One spare slot, as `Mesh::transformed` leaves, for Embree's reads in place.
+                reserve(&mut positions, e.count + 1, "vertices")?;
                 if format != Format::Ascii && e.props.iter().all(|p| p.list.is_none()) {
                     // Records of one size: decoded in parallel.
                     let offsets: Vec<usize> = e
@@ -256,7 +260,7 @@ pub fn parse(bytes: &[u8]) -> Result<Mesh, MeshError> {
                     let records = || data.par_chunks_exact(stride);
                     let get = |r: &[u8], k: usize| binary_value(&r[offsets[k]..], e.props[k].ty, format) as f32;
                     positions.par_extend(records().map(|r| Vec3::new(get(r, x), get(r, y), get(r, z))));
-                    if let Some(i) = positions.iter().position(|p| !p.is_finite()) {
+                    if let Some(i) = positions.par_iter().position_first(|p| !p.is_finite()) {
                         return Err(MeshError::NonFiniteVertex(i));
                     }
                     if let Some([a, b, c]) = n {
@@ -317,22 +321,24 @@ pub fn parse(bytes: &[u8]) -> Result<Mesh, MeshError> {
                 {
                     // The common layout (an 8-bit count, then 32-bit indices) read without the
                     // general per-value path; when every face is a triangle, in parallel.
-                    if let Some(t) = all_triangles(&body, e.count, p.ty) {
-                        tris.par_extend(t.par_chunks_exact(TRIANGLE_RECORD).map(|r| triangle_record(r, format)));
-                        if let Some(f) = (p.ty == Scalar::I32)
-                            .then(|| tris.par_iter().position_first(|t| t.iter().any(|&i| i > i32::MAX as u32)))
-                            .flatten()
-                        {
-                            let index = triangle_record(&t[f * TRIANGLE_RECORD..], format)
-                                .map(|i| i as i32)
-                                .into_iter()
-                                .find(|&i| i < 0)
-                                .unwrap_or_default();
+                    if let Some((t, max)) = binary_triangles(&body, e.count, format) {
+                        if p.ty == Scalar::I32 && max > i32::MAX as u32 {
+                            // A negative `int`: named as the one-by-one reader names it.
+                            let f = t.par_iter().position_first(|t| t.iter().any(|&i| i > i32::MAX as u32));
+                            let f = f.expect("an index above i32::MAX");
+                            let index = t[f].map(|i| i as i32).into_iter().find(|&i| i < 0).unwrap_or_default();
                             return Err(MeshError::InvalidFaceIndex { face: f, index: index as f64 });
                         }
-                        body.take(t.len())?;
+                        body.take(e.count * TRIANGLE_RECORD)?;
+                        max_index = max_index.max(max);
+                        if tris.is_empty() {
+                            tris = t;
+                        } else {
+                            tris.extend_from_slice(&t);
+                        }
                         continue;
                     }
+                    all_fast = false;
                     let count_ty = p.list.expect("checked");
                     for f in 0..e.count {
                         let len = list_len(body.value(count_ty)?)?;
@@ -348,6 +354,7 @@ pub fn parse(bytes: &[u8]) -> Result<Mesh, MeshError> {
                     }
                     continue;
                 }
+                all_fast = false;
                 for f in 0..e.count {
                     for (k, p) in e.props.iter().enumerate() {
                         match p.list {
@@ -390,8 +397,11 @@ pub fn parse(bytes: &[u8]) -> Result<Mesh, MeshError> {
         }
     }
     let n = positions.len();
-    if let Some(t) = tris.par_iter().find_first(|t| t.iter().any(|&i| i as usize >= n)) {
-        return Err(MeshError::VertexIndexOutOfRange { index: t.iter().copied().max().unwrap_or(0), count: n });
+    // Triangles read by the fast path are known to be below `max_index`; others are checked.
+    if !all_fast || max_index as usize >= n {
+        if let Some(t) = tris.par_iter().find_first(|t| t.iter().any(|&i| i as usize >= n)) {
+            return Err(MeshError::VertexIndexOutOfRange { index: t.iter().copied().max().unwrap_or(0), count: n });
+        }
     }
     let mut mesh = Mesh::new(positions, tris);
     mesh.faces = faces;
@@ -408,13 +418,30 @@ pub fn parse(bytes: &[u8]) -> Result<Mesh, MeshError> {
 const TRIANGLE_RECORD: usize = 13;
 
 /// The next `count` face records of `body` when all of them are binary triangles (an 8-bit
-/// count of 3, then three 32-bit indices of type `ty`).
-fn all_triangles<'a>(body: &Body<'a>, count: usize, ty: Scalar) -> Option<&'a [u8]> {
+/// count of 3, then three 32-bit indices): their indices (a negative `int` becomes one above
+/// i32::MAX) and the largest of them, decoded in one parallel pass that stops at the first
+/// record that is not a triangle (`None`).
+fn binary_triangles(body: &Body, count: usize, format: Format) -> Option<(Vec<[u32; 3]>, u32)> {
+    const CHUNK: usize = 1 << 14;
     let len = count.checked_mul(TRIANGLE_RECORD)?;
     let data = body.data.get(body.pos..body.pos.checked_add(len)?)?;
-    let triangles =
-        matches!(ty, Scalar::I32 | Scalar::U32) && data.par_chunks_exact(TRIANGLE_RECORD).all(|r| r[0] == 3);
-    triangles.then_some(data)
+    let mut tris = vec![[0u32; 3]; count];
+    let max = tris
+        .par_chunks_mut(CHUNK)
+        .zip(data.par_chunks(CHUNK * TRIANGLE_RECORD))
+        .map(|(out, records)| {
+            let mut max = 0;
+            for (t, r) in out.iter_mut().zip(records.chunks_exact(TRIANGLE_RECORD)) {
+                if r[0] != 3 {
+                    return None;
+                }
+                *t = triangle_record(r, format);
+                max = t.iter().fold(max, |m, &i| m.max(i));
+            }
+            Some(max)
+        })
+        .try_reduce(|| 0, |a, b| Some(a.max(b)))?;
+    Some((tris, max))
 }
 
 /// The three indices of a triangle record (as unsigned; a negative `int` becomes > i32::MAX).
@@ -586,6 +613,18 @@ property double z\nproperty float s\nproperty float t\nelement face 1\nproperty 
         let at = bad.len() - 13 * (n as usize - 1234) + 5;
         bad[at..at + 4].copy_from_slice(&(-3i32).to_le_bytes());
         assert_eq!(parse(&bad).unwrap_err().to_string(), "face 1234 has invalid vertex index -3");
+        // An index of no vertex, found from the parallel pass's largest index.
+        let mut bad = bytes.clone();
+        bad[at..at + 4].copy_from_slice(&(n + 2).to_le_bytes());
+        let e = parse(&bad).unwrap_err().to_string();
+        assert_eq!(e, format!("vertex index {} is out of range: the file has {} vertices", n + 2, n + 2));
+        // A quad late in the file sends the whole element to the one-by-one reader.
+        let mut mixed = faces.clone();
+        mixed[4321].push(0);
+        let r = parse(&write(&m, &mixed, true)).unwrap();
+        assert_eq!(r.indices.len(), n as usize + 1);
+        assert_eq!(r.indices[4321..4323], [[4321, 4322, mixed[4321][2]], [4321, mixed[4321][2], 0]]);
+        assert_eq!(r.faces.as_ref().map(|f| f[4322]), Some(4321));
     }
 
     #[test]

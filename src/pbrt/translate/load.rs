@@ -1,7 +1,7 @@
 //! A pbrt-v4 scene file from disk to a [`SceneBuilder`]: parse, build, report what was not
 //! used, and in strict mode refuse every feature prism does not render.
 
-use super::{build_with, FileSettings};
+use super::{build_moving_meshes, FileSettings};
 use crate::pbrt::error::{check_strict, SceneError, Warning};
 use crate::pbrt::{parse_file, ParseOptions};
 use crate::scene::SceneBuilder;
@@ -23,8 +23,8 @@ pub struct LoadedScene {
 /// Loads the scene file at `path`. With `opts.strict` the first warning about an unsupported
 /// feature, wherever it arose (parser, shapes, materials, lights, film), is the error.
 pub fn load_file(path: &Path, opts: &ParseOptions) -> Result<LoadedScene, SceneError> {
-    let (desc, mut warnings) = parse_file(path, opts)?;
-    let (builder, settings) = build_with(&desc, &mut warnings, opts.quadrics)?;
+    let (mut desc, mut warnings) = parse_file(path, opts)?;
+    let (builder, settings) = build_moving_meshes(&mut desc, &mut warnings, opts.quadrics)?;
     warnings.extend(desc.report_unused());
     if opts.strict {
         check_strict(&warnings)?;
