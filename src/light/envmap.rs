@@ -62,8 +62,10 @@ fn luminance_of(rgb: &[[f32; 3]], space: &ColorSpace) -> Vec<f32> {
 /// ([`MapLayout::texel_cosine_weight`]).
 ///
 /// With `pbrt_v4_channels`, what pbrt-v4 (`Light::Create`, "illuminance") takes instead: on an
-/// equal-area map, [`pbrt_v4_equal_area_sum`]; pbrt-v4 has no latitude–longitude maps: there
-/// the true value.
+/// equal-area map its midpoint sum, about half the true integral, weighing the channels
+/// `pbrt_v4_channels` in the order the file lists them and rounded as pbrt-v4's
+/// single-precision accumulator rounds it (`pbrt_v4_equal_area_sum`); pbrt-v4 has no
+/// latitude–longitude maps: there the true value.
 pub fn image_upper_hemisphere_y(image: &Image, space: &ColorSpace, pbrt_v4_channels: Option<[usize; 3]>) -> f64 {
     let layout = MapLayout::for_size(image.width, image.height);
     if let (Some(channels), MapLayout::EqualArea) = (pbrt_v4_channels, layout) {
