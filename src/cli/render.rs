@@ -518,7 +518,9 @@ fn check_mlt(args: &RenderArgs, job: &Job) -> Result<()> {
 /// Runs `prism render`.
 pub fn run(args: &RenderArgs) -> Result<()> {
     let pool = super::worker_pool(args.threads)?;
-    let job = match prepare(args)? {
+    // Loading runs on the render's threads too: no second pool, and the many small parallel
+    // passes of a scene of many small meshes run inline instead of being handed to a pool.
+    let job = match pool.install(|| prepare(args))? {
         Prepared::Render(job) => job,
         Prepared::Function(job) => return super::render_function::run(&job, &pool),
     };

@@ -257,10 +257,12 @@ pub fn parse(bytes: &[u8]) -> Result<Mesh, MeshError> {
                         .collect();
                     let stride: usize = e.props.iter().map(|p| p.ty.size()).sum();
                     let data = body.take(e.count * stride)?;
-                    let records = || data.par_chunks_exact(stride);
+                    let records = || data.par_chunks_exact(stride).with_min_len(MIN_PARALLEL_RECORDS);
                     let get = |r: &[u8], k: usize| binary_value(&r[offsets[k]..], e.props[k].ty, format) as f32;
                     positions.par_extend(records().map(|r| Vec3::new(get(r, x), get(r, y), get(r, z))));
-                    if let Some(i) = positions.par_iter().position_first(|p| !p.is_finite()) {
+                    if let Some(i) =
+                        positions.par_iter().with_min_len(MIN_PARALLEL_RECORDS).position_first(|p| !p.is_finite())
+                    {
                         return Err(MeshError::NonFiniteVertex(i));
                     }
                     if let Some([a, b, c]) = n {
@@ -413,6 +415,10 @@ pub fn parse(bytes: &[u8]) -> Result<Mesh, MeshError> {
     }
     Ok(mesh)
 }
+
+/// The fewest records a thread takes on in the parallel passes: a small mesh (of which a scene
+/// may have thousands) is read on the calling thread alone.
+const MIN_PARALLEL_RECORDS: usize = 1 << 13;
 
 /// Bytes of a binary triangle record: an 8-bit count (3) and three 32-bit indices.
 const TRIANGLE_RECORD: usize = 13;
