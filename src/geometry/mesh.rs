@@ -8,6 +8,10 @@ use crate::math::offset::gamma;
 /// Meshes of at least this many triangles are checked and bounded on every thread.
 const PARALLEL_TRIANGLES: usize = 1 << 16;
 
+/// The fewest elements (vertices, normals, triangles) one thread takes on in a mesh's
+/// element-wise parallel passes: a small mesh is done on the calling thread alone.
+pub(crate) const MIN_ELEMENTS_PER_THREAD: usize = 1 << 14;
+
 /// An indexed triangle mesh in world space.
 #[derive(Clone, Debug, Default)]
 pub struct Mesh {

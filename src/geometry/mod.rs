@@ -19,6 +19,7 @@ pub mod weingarten;
 pub use animated::AnimatedTransform;
 pub use curve::{CurveKind, CurveSegment, Curves};
 pub use instance::{Instance, InstanceSet, Prototype};
+pub(crate) use mesh::MIN_ELEMENTS_PER_THREAD;
 pub use mesh::{slab_inverse, Bounds3, Mesh};
 pub use motion::Motion;
 pub use placed_quadric::{PlacedQuadric, QuadricSurface};

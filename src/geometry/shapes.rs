@@ -34,21 +34,27 @@ impl Mesh {
 
     /// [`Self::transformed`], in place: no copy of a mesh whose transform is the identity.
     pub fn into_transformed(mut self, m: &Mat4) -> Mesh {
+        use crate::geometry::MIN_ELEMENTS_PER_THREAD;
         use rayon::prelude::*;
-        const MIN_LEN: usize = 1 << 14;
         if self.positions.capacity() == self.positions.len() {
             self.positions.reserve_exact(1);
         }
         if *m != Mat4::IDENTITY {
-            self.positions.par_iter_mut().with_min_len(MIN_LEN).for_each(|p| *p = m.transform_point3(*p));
+            self.positions
+                .par_iter_mut()
+                .with_min_len(MIN_ELEMENTS_PER_THREAD)
+                .for_each(|p| *p = m.transform_point3(*p));
         }
         let linear = Mat3::from_mat4(*m);
         if let Some(normals) = &mut self.normals {
             let normal_matrix = linear.inverse().transpose();
-            normals.par_iter_mut().with_min_len(MIN_LEN).for_each(|n| *n = (normal_matrix * *n).normalize_or_zero());
+            normals
+                .par_iter_mut()
+                .with_min_len(MIN_ELEMENTS_PER_THREAD)
+                .for_each(|n| *n = (normal_matrix * *n).normalize_or_zero());
         }
         if linear.determinant() < 0.0 {
-            self.indices.par_iter_mut().with_min_len(MIN_LEN).for_each(|t| t.swap(1, 2));
+            self.indices.par_iter_mut().with_min_len(MIN_ELEMENTS_PER_THREAD).for_each(|t| t.swap(1, 2));
         }
         self
     }

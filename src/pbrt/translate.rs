@@ -942,11 +942,11 @@ fn shape_mesh(s: &ShapeDesc, m: &Mat4, moved: Option<Arc<Mesh>>) -> Mesh {
 /// (they are already flipped under ReverseOrientation); otherwise ReverseOrientation flips it. (Mirroring transforms are already handled by
 /// `Mesh::transformed`.)
 fn orient(mut mesh: Mesh, reverse: bool) -> Mesh {
+    use crate::geometry::MIN_ELEMENTS_PER_THREAD;
     use rayon::prelude::*;
-    const MIN_LEN: usize = 1 << 14;
     let Mesh { positions, indices, normals, .. } = &mut mesh;
     if let Some(normals) = normals {
-        indices.par_iter_mut().with_min_len(MIN_LEN).for_each(|t| {
+        indices.par_iter_mut().with_min_len(MIN_ELEMENTS_PER_THREAD).for_each(|t| {
             let [a, b, c] = t.map(|i| positions[i as usize]);
             let n = (b - a).cross(c - a);
             let ns = normals[t[0] as usize] + normals[t[1] as usize] + normals[t[2] as usize];
@@ -955,7 +955,7 @@ fn orient(mut mesh: Mesh, reverse: bool) -> Mesh {
             }
         });
     } else if reverse {
-        indices.par_iter_mut().with_min_len(MIN_LEN).for_each(|t| t.swap(1, 2));
+        indices.par_iter_mut().with_min_len(MIN_ELEMENTS_PER_THREAD).for_each(|t| t.swap(1, 2));
     }
     mesh
 }
