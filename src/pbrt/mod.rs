@@ -9,6 +9,7 @@ pub mod input;
 pub mod location;
 pub mod mesh_io;
 pub mod names;
+mod number_list;
 pub mod params;
 pub mod parser;
 mod quadric_mode;

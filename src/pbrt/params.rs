@@ -10,6 +10,7 @@ use std::sync::Arc;
 use glam::{Vec2, Vec3};
 
 use super::error::{Location, SceneError, Warning};
+use super::number_list::{NumberKind, Numbers};
 use super::tokenizer::{Token, TokenKind};
 use crate::spectrum::is_named_spectrum;
 
@@ -184,14 +185,19 @@ impl Param {
     /// `names`.
     pub fn parse(decl: &Token, values: &[Token], names: &mut ParamNames) -> Result<Self, SceneError> {
         let loc = &decl.loc();
-        let mut words = decl.text.split_whitespace();
-        let (Some(ty), Some(name), None) = (words.next(), words.next(), words.next()) else {
-            return Err(SceneError::syntax(loc, &decl.display(), "a parameter declaration must be \"type name\""));
-        };
+        let (ty, name) = declaration(decl)?;
         let err = |tok: &Token, msg: String| SceneError::syntax(&tok.loc(), &tok.display(), msg);
         let decl_err = |msg: String| SceneError::syntax(loc, &decl.display(), msg);
         if values.is_empty() {
-            return Err(decl_err(format!("parameter \"{ty} {name}\" has no values")));
+            return Err(decl_err(no_values(ty, name)));
+        }
+        if let Some(kind) = number_kind(ty) {
+            let numbers = match kind {
+                NumberKind::Integer => Numbers::Integers(each(values, parse_int)?),
+                NumberKind::Float => Numbers::Floats(each(values, parse_float)?),
+            };
+            let (param_type, value) = numeric_value(ty, name, numbers).map_err(decl_err)?;
+            return Ok(Self::new(names.intern(name), param_type, value, loc.clone()));
         }
         let floats = || each(values, parse_float);
         let not_multiple = |n: usize| {
@@ -215,11 +221,7 @@ impl Param {
                 _ => Err(err(t, format!("expected a quoted string for \"{ty} {name}\""))),
             })
         };
-        let vec3s = || groups(values, Vec3::from_array, || not_multiple(3));
-        let vec2s = || groups(values, Vec2::from_array, || not_multiple(2));
         let (param_type, value) = match ty {
-            "float" => (ParamType::Float, ParamValue::Float(floats()?)),
-            "integer" => (ParamType::Integer, ParamValue::Integer(each(values, parse_int)?)),
             "bool" => (
                 ParamType::Bool,
                 ParamValue::Bool(each(values, |t| match &*t.text {
@@ -239,11 +241,6 @@ impl Param {
                 }
                 (ParamType::Texture, ParamValue::Texture(Arc::from(s.into_iter().next().unwrap_or_default()), None))
             }
-            "point3" | "point" => (ParamType::Point3, ParamValue::Point3(vec3s()?)),
-            "vector3" | "vector" => (ParamType::Vector3, ParamValue::Vector3(vec3s()?)),
-            "normal" | "normal3" => (ParamType::Normal, ParamValue::Normal(vec3s()?)),
-            "point2" => (ParamType::Point2, ParamValue::Point2(vec2s()?)),
-            "vector2" => (ParamType::Vector2, ParamValue::Vector2(vec2s()?)),
             "rgb" | "color" if values.len() > 3 => (
                 ParamType::Rgb,
                 ParamValue::Spectrum(SpectrumParam::RgbArray(groups(values, |c| c, || not_multiple(3))?)),
@@ -276,6 +273,78 @@ impl Param {
         };
         Ok(Self::new(names.intern(name), param_type, value, loc.clone()))
     }
+
+    /// The parameter declared by `decl` (a type [`number_kind_of`] accepts) with the values of a
+    /// list read from the file's text ([`super::number_list`]).
+    pub(super) fn from_numbers(decl: &Token, numbers: Numbers, names: &mut ParamNames) -> Result<Self, SceneError> {
+        let loc = decl.loc();
+        let (ty, name) = declaration(decl)?;
+        let decl_err = |msg: String| SceneError::syntax(&loc, &decl.display(), msg);
+        if numbers.is_empty() {
+            return Err(decl_err(no_values(ty, name)));
+        }
+        let (param_type, value) = numeric_value(ty, name, numbers).map_err(decl_err)?;
+        Ok(Self::new(names.intern(name), param_type, value, loc))
+    }
+}
+
+/// The type and name of the declaration `decl` (`"float radius"`).
+fn declaration<'t>(decl: &'t Token) -> Result<(&'t str, &'t str), SceneError> {
+    let mut words = decl.text.split_whitespace();
+    match (words.next(), words.next(), words.next()) {
+        (Some(ty), Some(name), None) => Ok((ty, name)),
+        _ => Err(SceneError::syntax(&decl.loc(), &decl.display(), "a parameter declaration must be \"type name\"")),
+    }
+}
+
+fn no_values(ty: &str, name: &str) -> String {
+    format!("parameter \"{ty} {name}\" has no values")
+}
+
+/// Which numbers a parameter of type `ty` holds; `None` for a type that holds anything else
+/// (or, for "rgb", "blackbody" and "spectrum", numbers with rules of their own).
+fn number_kind(ty: &str) -> Option<NumberKind> {
+    match ty {
+        "float" | "point3" | "point" | "vector3" | "vector" | "normal" | "normal3" | "point2" | "vector2" => {
+            Some(NumberKind::Float)
+        }
+        "integer" => Some(NumberKind::Integer),
+        _ => None,
+    }
+}
+
+/// Which numbers the parameter declared by `decl` holds, if it is a well-formed declaration of
+/// a [`number_kind`] type.
+pub(super) fn number_kind_of(decl: &Token) -> Option<NumberKind> {
+    declaration(decl).ok().and_then(|(ty, _)| number_kind(ty))
+}
+
+/// The value of a parameter of a [`number_kind`] type `ty` named `name` holding `numbers`
+/// (integers for "integer", floats for the others); the message when their count does not fit
+/// the type.
+fn numeric_value(ty: &str, name: &str, numbers: Numbers) -> Result<(ParamType, ParamValue), String> {
+    let v = match numbers {
+        Numbers::Integers(v) => return Ok((ParamType::Integer, ParamValue::Integer(v))),
+        Numbers::Floats(v) => v,
+    };
+    let not_multiple =
+        |n: usize| format!("parameter \"{ty} {name}\" has {} values; a multiple of {n} is required", v.len());
+    let vec3s = || match v.len() % 3 {
+        0 => Ok(v.chunks_exact(3).map(Vec3::from_slice).collect()),
+        _ => Err(not_multiple(3)),
+    };
+    let vec2s = || match v.len() % 2 {
+        0 => Ok(v.chunks_exact(2).map(Vec2::from_slice).collect()),
+        _ => Err(not_multiple(2)),
+    };
+    Ok(match ty {
+        "point3" | "point" => (ParamType::Point3, ParamValue::Point3(vec3s()?)),
+        "vector3" | "vector" => (ParamType::Vector3, ParamValue::Vector3(vec3s()?)),
+        "normal" | "normal3" => (ParamType::Normal, ParamValue::Normal(vec3s()?)),
+        "point2" => (ParamType::Point2, ParamValue::Point2(vec2s()?)),
+        "vector2" => (ParamType::Vector2, ParamValue::Vector2(vec2s()?)),
+        _ => (ParamType::Float, ParamValue::Float(v)),
+    })
 }
 
 /// Each of `values` read by `read`, into a vector of exactly their number (collecting a
@@ -346,14 +415,23 @@ fn parse_spectrum(decl: &Token, values: &[Token], ty: &str, name: &str) -> Resul
 
 /// Parses a finite number; NaN, ±Inf and overflow are errors.
 pub fn parse_float(t: &Token) -> Result<f32, SceneError> {
-    let bad = |m: &str| SceneError::syntax(&t.loc(), &t.display(), m);
-    if t.kind != TokenKind::Word {
-        return Err(bad("expected a number"));
+    word_of(t, "expected a number").and_then(|w| read_float(w).map_err(|m| SceneError::syntax(&t.loc(), w, m)))
+}
+
+/// The text of `t` if it is a word; else the error `message` at it.
+fn word_of<'t>(t: &'t Token, message: &str) -> Result<&'t str, SceneError> {
+    match t.kind {
+        TokenKind::Word => Ok(&t.text),
+        _ => Err(SceneError::syntax(&t.loc(), &t.display(), message)),
     }
-    match short_decimal(&t.text).map_or_else(|| t.text.parse::<f32>(), Ok) {
+}
+
+/// `word` as a finite `f32`, or why it is not one.
+pub(super) fn read_float(word: &str) -> Result<f32, &'static str> {
+    match short_decimal(word).map_or_else(|| word.parse::<f32>(), Ok) {
         Ok(v) if v.is_finite() => Ok(v),
-        Ok(_) => Err(bad("number is not finite")),
-        Err(_) => Err(bad("expected a number")),
+        Ok(_) => Err("number is not finite"),
+        Err(_) => Err("expected a number"),
     }
 }
 
@@ -396,13 +474,23 @@ fn short_decimal(s: &str) -> Option<f32> {
 
 /// Parses a 32-bit integer.
 pub fn parse_int(t: &Token) -> Result<i32, SceneError> {
-    let bad = |m: &str| SceneError::syntax(&t.loc(), &t.display(), m);
-    if t.kind != TokenKind::Word {
-        return Err(bad("expected an integer"));
+    word_of(t, "expected an integer").and_then(|w| read_int(w).map_err(|m| SceneError::syntax(&t.loc(), w, m)))
+}
+
+/// `word` as an `i32`, or why it is not one.
+pub(super) fn read_int(word: &str) -> Result<i32, &'static str> {
+    // Nine digits or fewer fit an i32 whatever they are: read them without the general parser.
+    let (negative, digits) = match word.as_bytes() {
+        [b'-', rest @ ..] => (true, rest),
+        all => (false, all),
+    };
+    if (1..=9).contains(&digits.len()) && digits.iter().all(u8::is_ascii_digit) {
+        let m = digits.iter().fold(0, |m, &d| 10 * m + i32::from(d - b'0'));
+        return Ok(if negative { -m } else { m });
     }
-    match t.text.parse::<i64>() {
-        Ok(v) => i32::try_from(v).map_err(|_| bad("integer out of range")),
-        Err(_) => Err(bad("expected an integer")),
+    match word.parse::<i64>() {
+        Ok(v) => i32::try_from(v).map_err(|_| "integer out of range"),
+        Err(_) => Err("expected an integer"),
     }
 }
 

@@ -8,7 +8,8 @@
 //! stream is dropped, and keep their own file's location.
 
 use super::error::{Location, SceneError};
-use super::params::{parse_float, Param, ParamNames, ParamSet};
+use super::number_list;
+use super::params::{number_kind_of, parse_float, Param, ParamNames, ParamSet};
 use super::tokenizer::{SourceFile, SourceFiles, Token, TokenKind, Tokenizer};
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -129,6 +130,18 @@ impl<'a> Source<'a> {
         Ok(v)
     }
 
+    /// Right after the `[` of parameter `decl`: when `decl` holds numbers and the list is
+    /// plain numbers up to its `]` in the same file, reads it from the text straight into `ps`
+    /// and says so; else leaves it to the tokens.
+    fn number_list(&mut self, decl: &Token, ps: &mut ParamSet) -> Result<bool, SceneError> {
+        debug_assert!(self.peeked.is_none(), "the list's first token was read ahead");
+        let Some(kind) = number_kind_of(decl) else { return Ok(false) };
+        let Some(span) = self.files.last_mut().and_then(|(t, _)| t.number_span()) else { return Ok(false) };
+        let numbers = number_list::read(&span, kind)?;
+        ps.push(Param::from_numbers(decl, numbers, &mut self.names)?)?;
+        Ok(true)
+    }
+
     /// A parameter list: `"type name" value` or `"type name" [ values ]`, repeated.
     pub(super) fn params(&mut self, color_space: &'static str) -> Result<ParamSet, SceneError> {
         let mut ps = ParamSet::with_buffer(std::mem::take(&mut self.params), color_space);
@@ -138,6 +151,7 @@ impl<'a> Source<'a> {
             values.clear();
             let first = self.expect(&decl, "a value")?;
             match first.kind {
+                TokenKind::Open if self.number_list(&decl, &mut ps)? => continue,
                 TokenKind::Open => loop {
                     let t = self.next()?.ok_or_else(|| {
                         SceneError::syntax(&first.loc(), "[", format!("unterminated [ for parameter \"{}\"", decl.text))

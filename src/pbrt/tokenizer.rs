@@ -152,6 +152,17 @@ static STOPS_WORD: [bool; 256] = {
     t
 };
 
+/// The text between a `[` and the `]` that closes it, when it is all ASCII words and blanks:
+/// a list of numbers to be read without tokens ([`super::number_list`]).
+pub struct NumberSpan<'a> {
+    /// The file it is in.
+    pub file: &'a SourceFile,
+    /// Byte offset of its first character in `file`.
+    pub offset: usize,
+    /// The text, brackets excluded.
+    pub text: &'a str,
+}
+
 /// Splits scene text into tokens lazily.
 pub struct Tokenizer<'a> {
     file: &'a SourceFile,
@@ -220,6 +231,22 @@ impl<'a> Tokenizer<'a> {
                 token(TokenKind::Word, Cow::Borrowed(&text[start..self.pos]))
             }
         }
+    }
+
+    /// Right after a `[`: the text up to the next `]` of this file, which then comes next, if
+    /// that text holds no string, comment, bracket or non-ASCII character; `None`, with the
+    /// position unchanged, otherwise (also when the file has no `]` left: a list may go on in
+    /// the file that included this one).
+    pub fn number_span(&mut self) -> Option<NumberSpan<'a>> {
+        let text: &'a str = &self.file.text;
+        let start = self.pos;
+        let close = start + memchr::memchr(b']', &text.as_bytes()[start..])?;
+        let span = &text[start..close];
+        if !span.is_ascii() || memchr::memchr3(b'"', b'[', b'#', span.as_bytes()).is_some() {
+            return None;
+        }
+        self.pos = close + 1;
+        Some(NumberSpan { file: self.file, offset: start, text: span })
     }
 
     /// The contents of the string whose opening quote is at byte `start`, unescaped; the
