@@ -10,7 +10,7 @@ use std::sync::Arc;
 use glam::{Vec2, Vec3};
 
 use super::error::{Location, SceneError, Warning};
-use super::number_list::{NumberKind, Numbers};
+use super::number_list::{read_float, read_int, NumberKind, Numbers};
 use super::tokenizer::{Token, TokenKind};
 use crate::spectrum::is_named_spectrum;
 
@@ -426,72 +426,9 @@ fn word_of<'t>(t: &'t Token, message: &str) -> Result<&'t str, SceneError> {
     }
 }
 
-/// `word` as a finite `f32`, or why it is not one.
-pub(super) fn read_float(word: &str) -> Result<f32, &'static str> {
-    match short_decimal(word).map_or_else(|| word.parse::<f32>(), Ok) {
-        Ok(v) if v.is_finite() => Ok(v),
-        Ok(_) => Err("number is not finite"),
-        Err(_) => Err("expected a number"),
-    }
-}
-
-/// `s` as an `f32` when it is a short plain decimal, `-?digits` or `-?digits.digits` whose
-/// digits read as an integer make at most 2²⁴ with at most 10 of them after the point; `None`
-/// for anything else. The integer and the power of ten are then both exact in `f32`, and their
-/// quotient, one correctly rounded division, is the correctly rounded value of `s` (Clinger,
-/// "How to read floating point numbers accurately", 1990): what `str::parse` returns, found
-/// without its general machinery for the numbers scene files are mostly made of.
-fn short_decimal(s: &str) -> Option<f32> {
-    const POW10: [f32; 11] = [1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10];
-    let (negative, digits) = match s.as_bytes() {
-        [b'-', rest @ ..] => (true, rest),
-        all => (false, all),
-    };
-    let (mut m, mut after_point) = (0u32, None::<usize>);
-    for (i, &b) in digits.iter().enumerate() {
-        match b {
-            b'0'..=b'9' => {
-                m = m * 10 + u32::from(b - b'0');
-                if m > 1 << 24 {
-                    return None;
-                }
-                if let Some(k) = &mut after_point {
-                    *k += 1;
-                }
-            }
-            b'.' if i > 0 && after_point.is_none() => after_point = Some(0),
-            _ => return None,
-        }
-    }
-    let k = match after_point {
-        None if !digits.is_empty() => 0,
-        Some(k @ 1..=10) => k,
-        _ => return None,
-    };
-    let v = m as f32 / POW10[k];
-    Some(if negative { -v } else { v })
-}
-
 /// Parses a 32-bit integer.
 pub fn parse_int(t: &Token) -> Result<i32, SceneError> {
     word_of(t, "expected an integer").and_then(|w| read_int(w).map_err(|m| SceneError::syntax(&t.loc(), w, m)))
-}
-
-/// `word` as an `i32`, or why it is not one.
-pub(super) fn read_int(word: &str) -> Result<i32, &'static str> {
-    // Nine digits or fewer fit an i32 whatever they are: read them without the general parser.
-    let (negative, digits) = match word.as_bytes() {
-        [b'-', rest @ ..] => (true, rest),
-        all => (false, all),
-    };
-    if (1..=9).contains(&digits.len()) && digits.iter().all(u8::is_ascii_digit) {
-        let m = digits.iter().fold(0, |m, &d| 10 * m + i32::from(d - b'0'));
-        return Ok(if negative { -m } else { m });
-    }
-    match word.parse::<i64>() {
-        Ok(v) => i32::try_from(v).map_err(|_| "integer out of range"),
-        Err(_) => Err("expected an integer"),
-    }
 }
 
 /// A spectrum-valued input that may instead name a texture.
@@ -854,35 +791,6 @@ mod tests {
                 v => panic!("{v:?}"),
             };
             assert_eq!(capacity, n, "{decl}");
-        }
-    }
-
-    #[test]
-    fn short_decimals_read_as_str_parse_reads_them() {
-        // Digits from a fixed linear congruential sequence, with and without sign, leading zeros
-        // and points, against the standard library's correctly rounded reading.
-        let mut state = 0x2545_f491_u64;
-        let mut next = |n: u64| {
-            state = state.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
-            (state >> 33) % n
-        };
-        for _ in 0..200_000 {
-            let m = next(1 << 25);
-            let k = next(12) as usize;
-            let digits = format!("{}{m:0>width$}", "0".repeat(next(3) as usize), width = k + 1);
-            let (int, frac) = digits.split_at(digits.len() - k);
-            let sign = if next(2) == 0 { "-" } else { "" };
-            let s = if k == 0 { format!("{sign}{int}") } else { format!("{sign}{int}.{frac}") };
-            let want: f32 = s.parse().unwrap();
-            match short_decimal(&s) {
-                Some(v) => assert_eq!(v.to_bits(), want.to_bits(), "{s}"),
-                None => assert!(m > 1 << 24 || k > 10, "{s} not read"),
-            }
-        }
-        assert_eq!(short_decimal("16777216"), Some(16_777_216.0));
-        assert_eq!(short_decimal("-0").map(f32::to_bits), Some((-0.0f32).to_bits()));
-        for other in ["", "-", ".5", "5.", "1e3", "+1", "1.2.3", "16777217", "0.00000000001", "inf", "nan", "1_0"] {
-            assert_eq!(short_decimal(other), None, "{other}");
         }
     }
 
