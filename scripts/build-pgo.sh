@@ -18,7 +18,7 @@ if [ ! -x "$profdata" ]; then
   if [ "$(id -u)" -ne 0 ]; then sudo="sudo"; fi
   echo "build-pgo: installing llvm-$major (llvm-profdata for rustc's LLVM $major)"
   $sudo apt-get update -qq
-  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq "llvm-$major" || {
+  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "llvm-$major" || {
     echo "build-pgo: no Debian package llvm-$major; install llvm-profdata of LLVM $major as $profdata" >&2
     exit 1
   }
@@ -29,7 +29,8 @@ raw="$target/profiles"
 rm -rf "$raw" && mkdir -p "$raw"
 RUSTFLAGS="-Cprofile-generate=$PWD/$raw" cargo build --release --target-dir "$target/generate"
 for scene in tests/data/compat/*.pbrt; do
-  "$target/generate/release/prism" render "$scene" --spp 8 --resolution 64x64 -o "$target/training.exr" >/dev/null
+  "$target/generate/release/prism" render "$scene" --spp 8 --resolution 64x64 -o "$target/training.exr" \
+    >"$target/training.log" 2>&1 || { cat "$target/training.log" >&2; exit 1; }
 done
 "$profdata" merge -o "$target/prism.profdata" "$raw"
 RUSTFLAGS="-Cprofile-use=$PWD/$target/prism.profdata" cargo build --release --target-dir "$target"
