@@ -69,6 +69,7 @@ fn is_blank(b: u8) -> bool {
 /// A word that is not a number: its byte offset in the file and the message.
 type BadWord = (usize, &'static str);
 
+/// The words of `span`, each read by `read`: in pieces by all threads when it is long.
 fn read_words<T: Send>(
     span: &NumberSpan,
     read: impl Fn(&str) -> Result<T, &'static str> + Sync,
@@ -80,7 +81,9 @@ fn read_words<T: Send>(
     };
     let pieces = pieces(text.as_bytes(), rayon::current_num_threads());
     if pieces.len() == 1 {
-        return read_piece(text, span.offset, &read).map_err(bad);
+        let mut values = read_piece(text, span.offset, &read).map_err(bad)?;
+        values.shrink_to_fit();
+        return Ok(values);
     }
     let read_pieces: Vec<Result<Vec<T>, BadWord>> =
         pieces.par_iter().map(|&(a, b)| read_piece(&text[a..b], span.offset + a, &read)).collect();
@@ -135,7 +138,6 @@ fn read_piece<T>(
             Err(message) => return Err((offset + start, message)),
         }
     }
-    values.shrink_to_fit();
     Ok(values)
 }
 
