@@ -7,7 +7,10 @@
 //! comment in the list is read token by token instead, [`super::tokenizer::Tokenizer::number_span`]),
 //! so the list splits into independent pieces at any blank: each piece is read by one thread,
 //! and the values are joined in the file's order. A bad number is reported as the token path
-//! reports it: the first one in the file, at its line and column.
+//! reports it: the first one in the file, at its line and column. A transform's bracketed
+//! numbers (`Transform [ … ]`, one per instance in a scene of many) are read from the text too
+//! ([`read_exactly`]); a list that is not exactly its numbers goes to the tokens, which say what
+//! is wrong.
 
 use rayon::prelude::*;
 
@@ -59,6 +62,17 @@ pub fn read(span: &NumberSpan, kind: NumberKind) -> Result<Numbers, SceneError> 
         NumberKind::Float => read_words(span, read_float).map(Numbers::Floats),
         NumberKind::Integer => read_words(span, read_int).map(Numbers::Integers),
     }
+}
+
+/// Exactly `N` numbers, the words of `text` read as [`read_float`] reads a word; `None` when
+/// there are more or fewer words or one is not a number.
+pub(super) fn read_exactly<const N: usize>(text: &str) -> Option<[f32; N]> {
+    let mut words = text.split(|c: char| c.is_ascii() && is_blank(c as u8)).filter(|w| !w.is_empty());
+    let mut v = [0.0; N];
+    for x in &mut v {
+        *x = read_float(words.next()?).ok()?;
+    }
+    words.next().is_none().then_some(v)
 }
 
 /// A blank of the scene format (the tokenizer's ASCII blanks, vertical tab included).

@@ -103,6 +103,17 @@ impl<'a> Source<'a> {
         let bracketed = matches!(self.peek()?, Some(t) if t.kind == TokenKind::Open);
         if bracketed {
             self.next()?;
+            // Plain numbers up to the `]` are read from the text (a scene of many instances
+            // has a `Transform [ … ]` each); anything else goes through the tokens, which
+            // also say what is wrong.
+            if let Some(tokens) = self.files.last_mut().map(|(t, _)| t) {
+                if let Some(span) = tokens.number_span() {
+                    match number_list::read_exactly(span.text) {
+                        Some(v) => return Ok(v),
+                        None => tokens.unread(&span),
+                    }
+                }
+            }
         }
         let n = N;
         let mut v = [0.0; N];

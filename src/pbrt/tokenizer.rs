@@ -249,6 +249,11 @@ impl<'a> Tokenizer<'a> {
         Some(NumberSpan { file: self.file, offset: start, text: span })
     }
 
+    /// Puts `span` back: its text comes next again, as tokens.
+    pub fn unread(&mut self, span: &NumberSpan<'a>) {
+        self.pos = span.offset;
+    }
+
     /// The contents of the string whose opening quote is at byte `start`, unescaped; the
     /// position moves past its closing quote.
     fn escaped_string(&mut self, start: usize) -> Result<String, SceneError> {

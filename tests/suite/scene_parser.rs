@@ -45,6 +45,31 @@ fn transforms_post_multiply_the_ctm() {
     assert_eq!(d.shapes[2].world_from_object, Mat4::from_scale(Vec3::splat(2.)));
 }
 
+/// A bracketed transform of plain numbers is read from the text, one with a comment inside
+/// through the tokens: both give the same matrix to the bit, and the same errors.
+#[test]
+fn bracketed_transforms_read_from_the_text_equal_the_tokens() {
+    let words = ["1", "-0", "+2.", ".5", "1e-3", "-3.25E+2", "0.1234567", "16777217", "7", "-1", "0", "2.5e-7"];
+    for k in 0..words.len() {
+        let m: Vec<&str> = (0..16).map(|i| words[(i * 5 + k) % words.len()]).collect();
+        let list = m.join("\t");
+        let (text, _) = parse(&format!("WorldBegin\nTransform [ {list} ]\n{TRI}"));
+        let (tokens, _) = parse(&format!("WorldBegin\nTransform [ {list} # a comment\n ]\n{TRI}"));
+        let bits = |d: &SceneDesc| d.shapes[0].world_from_object.to_cols_array().map(f32::to_bits);
+        assert_eq!(bits(&text), bits(&tokens), "{list}");
+        let want: Vec<u32> = m.iter().map(|w| w.parse::<f32>().unwrap().to_bits()).collect();
+        assert_eq!(bits(&text).to_vec(), want, "{list}");
+    }
+    assert_eq!(err("Translate [ 1 2 ]"), "<string>:1:17: Translate expects 3 numbers, found 2 (at \"]\")");
+    assert_eq!(err("Translate [ 1 2 3 4 ]"), "<string>:1:19: Translate expects exactly 3 numbers (at \"4\")");
+    assert_eq!(err("Translate [ 1 nan 3 ]"), "<string>:1:15: number is not finite (at \"nan\")");
+    assert_eq!(err("Translate [ 1 2 \"3\" ]"), "<string>:1:17: Translate expects 3 numbers, found 2 (at \"\"3\"\")");
+    assert_eq!(
+        err("Translate [ 1 2"),
+        "<string>:1:1: unexpected end of file: Translate expects 3 numbers (at \"Translate\")"
+    );
+}
+
 #[test]
 fn lookat_camera_transform_matches_pbrt_convention() {
     let (d, _) = parse("LookAt 0 0 -5  0 0 0  0 1 0\nCamera \"perspective\" \"float fov\" 45\nWorldBegin");
