@@ -7,10 +7,10 @@
 //! comment in the list is read token by token instead, [`super::tokenizer::Tokenizer::number_span`]),
 //! so the list splits into independent pieces at any blank: each piece is read by one thread,
 //! and the values are joined in the file's order. A bad number is reported as the token path
-//! reports it: the first one in the file, at its line and column. A transform's bracketed
-//! numbers (`Transform [ … ]`, one per instance in a scene of many) are read from the text too
-//! ([`read_exactly`]); a list that is not exactly its numbers goes to the tokens, which say what
-//! is wrong.
+//! reports it: the first one in the file, at its line and column. A transform's numbers
+//! (`Transform [ … ]`, `Translate x y z`: one or more per instance in a scene of many) are read
+//! from the text too ([`read_exactly`]); numbers that are not exactly the transform's go to the
+//! tokens, which say what is wrong.
 
 use rayon::prelude::*;
 
@@ -64,15 +64,17 @@ pub fn read(span: &NumberSpan, kind: NumberKind) -> Result<Numbers, SceneError> 
     }
 }
 
-/// Exactly `N` numbers, the words of `text` read as [`read_float`] reads a word; `None` when
-/// there are more or fewer words or one is not a number.
-pub(super) fn read_exactly<const N: usize>(text: &str) -> Option<[f32; N]> {
+/// Fills `out` with the words of `text` read as [`read_float`] reads a word; false when there
+/// are more or fewer words than `out` holds or one is not a number.
+pub(super) fn read_exactly(text: &str, out: &mut [f32]) -> bool {
     let mut words = text.split(|c: char| c.is_ascii() && is_blank(c as u8)).filter(|w| !w.is_empty());
-    let mut v = [0.0; N];
-    for x in &mut v {
-        *x = read_float(words.next()?).ok()?;
+    for x in out {
+        match words.next().map(read_float) {
+            Some(Ok(v)) => *x = v,
+            _ => return false,
+        }
     }
-    words.next().is_none().then_some(v)
+    words.next().is_none()
 }
 
 /// A blank of the scene format (the tokenizer's ASCII blanks, vertical tab included).

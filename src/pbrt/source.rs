@@ -101,22 +101,25 @@ impl<'a> Source<'a> {
     /// `N` numbers, bare or in one bracketed list.
     pub(super) fn numbers<const N: usize>(&mut self, after: &Token) -> Result<[f32; N], SceneError> {
         let bracketed = matches!(self.peek()?, Some(t) if t.kind == TokenKind::Open);
+        let mut v = [0.0; N];
+        // Plain numbers are read from the text (a scene of many instances has a `Transform [ … ]`
+        // or a `Translate x y z` each); anything else goes through the tokens, which also say
+        // what is wrong.
         if bracketed {
             self.next()?;
-            // Plain numbers up to the `]` are read from the text (a scene of many instances
-            // has a `Transform [ … ]` each); anything else goes through the tokens, which
-            // also say what is wrong.
-            if let Some(tokens) = self.files.last_mut().map(|(t, _)| t) {
-                if let Some(span) = tokens.number_span() {
-                    match number_list::read_exactly(span.text) {
-                        Some(v) => return Ok(v),
-                        None => tokens.unread(&span),
-                    }
+            if self.text_numbers(&mut v, TokenKind::Close) {
+                return Ok(v);
+            }
+        } else if let Some(first) = self.peeked.as_ref().filter(|t| t.kind == TokenKind::Word) {
+            if let Ok(x) = number_list::read_float(&first.text) {
+                v[0] = x;
+                if self.text_numbers(&mut v[1..], TokenKind::Word) {
+                    self.peeked = None;
+                    return Ok(v);
                 }
             }
         }
         let n = N;
-        let mut v = [0.0; N];
         for (found, x) in v.iter_mut().enumerate() {
             let t = self.expect(after, format_args!("{n} numbers"))?;
             if t.kind != TokenKind::Word {
@@ -139,6 +142,24 @@ impl<'a> Source<'a> {
             }
         }
         Ok(v)
+    }
+
+    /// Reads `out` from the current file's text: the numbers up to the next `]` (`until`
+    /// [`TokenKind::Close`], right after a `[`), or the next `out.len()` words
+    /// ([`TokenKind::Word`]); false, with nothing read, unless they are plain numbers and
+    /// exactly as many as `out` holds.
+    fn text_numbers(&mut self, out: &mut [f32], until: TokenKind) -> bool {
+        let Some((tokens, _)) = self.files.last_mut() else { return false };
+        let span = match until {
+            TokenKind::Close => tokens.number_span(),
+            _ => tokens.word_span(out.len()),
+        };
+        let Some(span) = span else { return false };
+        let read = number_list::read_exactly(span.text, out);
+        if !read {
+            tokens.unread(&span);
+        }
+        read
     }
 
     /// Right after the `[` of parameter `decl`: when `decl` holds numbers and the list is

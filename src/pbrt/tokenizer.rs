@@ -249,6 +249,33 @@ impl<'a> Tokenizer<'a> {
         Some(NumberSpan { file: self.file, offset: start, text: span })
     }
 
+    /// The text from here to the end of the `n`-th word ahead, which then comes next, when the
+    /// `n` words come before any string, bracket, comment or non-ASCII character; `None`, with
+    /// the position unchanged, otherwise.
+    pub fn word_span(&mut self, n: usize) -> Option<NumberSpan<'a>> {
+        let text: &'a str = &self.file.text;
+        let bytes = text.as_bytes();
+        let (start, mut i) = (self.pos, self.pos);
+        for _ in 0..n {
+            while bytes.get(i).is_some_and(|&b| b.is_ascii() && ends_word(b) && !matches!(b, b'[' | b']' | b'"' | b'#'))
+            {
+                i += 1;
+            }
+            let word = i;
+            while bytes.get(i).is_some_and(|&b| !STOPS_WORD[usize::from(b)]) {
+                i += 1;
+            }
+            if i == word {
+                return None;
+            }
+        }
+        if bytes.get(i).is_some_and(|b| !b.is_ascii()) {
+            return None;
+        }
+        self.pos = i;
+        Some(NumberSpan { file: self.file, offset: start, text: &text[start..i] })
+    }
+
     /// Puts `span` back: its text comes next again, as tokens.
     pub fn unread(&mut self, span: &NumberSpan<'a>) {
         self.pos = span.offset;

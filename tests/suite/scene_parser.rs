@@ -45,8 +45,8 @@ fn transforms_post_multiply_the_ctm() {
     assert_eq!(d.shapes[2].world_from_object, Mat4::from_scale(Vec3::splat(2.)));
 }
 
-/// A bracketed transform of plain numbers is read from the text, one with a comment inside
-/// through the tokens: both give the same matrix to the bit, and the same errors.
+/// A transform's plain numbers, bracketed or bare, are read from the text, ones with a comment
+/// among them through the tokens: both give the same matrix to the bit, and the same errors.
 #[test]
 fn bracketed_transforms_read_from_the_text_equal_the_tokens() {
     let words = ["1", "-0", "+2.", ".5", "1e-3", "-3.25E+2", "0.1234567", "16777217", "7", "-1", "0", "2.5e-7"];
@@ -60,6 +60,20 @@ fn bracketed_transforms_read_from_the_text_equal_the_tokens() {
         let want: Vec<u32> = m.iter().map(|w| w.parse::<f32>().unwrap().to_bits()).collect();
         assert_eq!(bits(&text).to_vec(), want, "{list}");
     }
+    // Bare numbers likewise, on one line or several.
+    for k in 0..words.len() {
+        let w: Vec<&str> = (0..9).map(|i| words[(i * 7 + k) % words.len()]).collect();
+        let scale = format!("{}\n {}\t{}", w[0], w[1], w[2]);
+        let (text, _) = parse(&format!("WorldBegin\nScale {scale}\n{TRI}"));
+        let (tokens, _) = parse(&format!("WorldBegin\nScale {} # a comment\n {} {}\n{TRI}", w[0], w[1], w[2]));
+        let bits = |d: &SceneDesc| d.shapes[0].world_from_object.to_cols_array().map(f32::to_bits);
+        assert_eq!(bits(&text), bits(&tokens), "{scale}");
+        let diagonal = [0, 5, 10].map(|i| bits(&text)[i]);
+        // The CTM's product with the scale adds +0, which turns −0 into +0.
+        let want: Vec<u32> = w[..3].iter().map(|w| (w.parse::<f32>().unwrap() + 0.0).to_bits()).collect();
+        assert_eq!(diagonal.to_vec(), want, "{scale}");
+    }
+    assert_eq!(err("Translate 1 2 x"), "<string>:1:15: expected a number (at \"x\")");
     assert_eq!(err("Translate [ 1 2 ]"), "<string>:1:17: Translate expects 3 numbers, found 2 (at \"]\")");
     assert_eq!(err("Translate [ 1 2 3 4 ]"), "<string>:1:19: Translate expects exactly 3 numbers (at \"4\")");
     assert_eq!(err("Translate [ 1 nan 3 ]"), "<string>:1:15: number is not finite (at \"nan\")");
