@@ -15,7 +15,7 @@
 use rayon::prelude::*;
 
 use super::error::SceneError;
-use super::tokenizer::NumberSpan;
+use super::tokenizer::{is_blank, NumberSpan};
 
 /// Lists shorter than this [bytes] are read by one thread.
 const MIN_PARALLEL_BYTES: usize = 1 << 20;
@@ -75,11 +75,6 @@ pub(super) fn read_exactly(text: &str, out: &mut [f32]) -> bool {
         }
     }
     words.next().is_none()
-}
-
-/// A blank of the scene format (the tokenizer's ASCII blanks, vertical tab included).
-fn is_blank(b: u8) -> bool {
-    matches!(b, b' ' | b'\t' | b'\r' | b'\n' | 0x0b | 0x0c)
 }
 
 /// A word that is not a number: its byte offset in the file and the message.

@@ -107,13 +107,13 @@ impl<'a> Source<'a> {
         // what is wrong.
         if bracketed {
             self.next()?;
-            if self.text_numbers(&mut v, TokenKind::Close) {
+            if self.text_numbers(&mut v, true) {
                 return Ok(v);
             }
         } else if let Some(first) = self.peeked.as_ref().filter(|t| t.kind == TokenKind::Word) {
             if let Ok(x) = number_list::read_float(&first.text) {
                 v[0] = x;
-                if self.text_numbers(&mut v[1..], TokenKind::Word) {
+                if self.text_numbers(&mut v[1..], false) {
                     self.peeked = None;
                     return Ok(v);
                 }
@@ -144,16 +144,12 @@ impl<'a> Source<'a> {
         Ok(v)
     }
 
-    /// Reads `out` from the current file's text: the numbers up to the next `]` (`until`
-    /// [`TokenKind::Close`], right after a `[`), or the next `out.len()` words
-    /// ([`TokenKind::Word`]); false, with nothing read, unless they are plain numbers and
-    /// exactly as many as `out` holds.
-    fn text_numbers(&mut self, out: &mut [f32], until: TokenKind) -> bool {
+    /// Reads `out` from the current file's text: the numbers up to the next `]` (`bracketed`,
+    /// right after a `[`), or the next `out.len()` words; false, with nothing read, unless they
+    /// are plain numbers and exactly as many as `out` holds.
+    fn text_numbers(&mut self, out: &mut [f32], bracketed: bool) -> bool {
         let Some((tokens, _)) = self.files.last_mut() else { return false };
-        let span = match until {
-            TokenKind::Close => tokens.number_span(),
-            _ => tokens.word_span(out.len()),
-        };
+        let span = if bracketed { tokens.number_span() } else { tokens.word_span(out.len()) };
         let Some(span) = span else { return false };
         let read = number_list::read_exactly(span.text, out);
         if !read {

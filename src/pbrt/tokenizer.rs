@@ -136,6 +136,11 @@ impl Token<'_> {
 
 /// Whether an ASCII byte ends a word: a blank (vertical tab included), a bracket, a quote or a
 /// comment sign.
+/// An ASCII blank of the scene format (vertical tab included).
+pub(super) fn is_blank(b: u8) -> bool {
+    matches!(b, b' ' | b'\t' | b'\r' | b'\n' | 0x0b | 0x0c)
+}
+
 const fn ends_word(b: u8) -> bool {
     b.is_ascii_whitespace() || matches!(b, 0x0b | b'[' | b']' | b'"' | b'#')
 }
@@ -184,7 +189,7 @@ impl<'a> Tokenizer<'a> {
         loop {
             match bytes.get(self.pos) {
                 None => return Ok(None),
-                Some(b' ' | b'\t' | b'\r' | b'\n' | 0x0b | 0x0c) => self.pos += 1,
+                Some(&b) if is_blank(b) => self.pos += 1,
                 Some(b'#') => {
                     self.pos = memchr::memchr(b'\n', &bytes[self.pos..]).map_or(bytes.len(), |i| self.pos + i);
                 }
@@ -257,8 +262,7 @@ impl<'a> Tokenizer<'a> {
         let bytes = text.as_bytes();
         let (start, mut i) = (self.pos, self.pos);
         for _ in 0..n {
-            while bytes.get(i).is_some_and(|&b| b.is_ascii() && ends_word(b) && !matches!(b, b'[' | b']' | b'"' | b'#'))
-            {
+            while bytes.get(i).is_some_and(|&b| is_blank(b)) {
                 i += 1;
             }
             let word = i;
