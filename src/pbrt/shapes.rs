@@ -1,5 +1,6 @@
 //! Shape parameters → geometry: inline meshes, mesh files, quadrics, curves.
 
+use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use glam::Vec2;
@@ -33,30 +34,49 @@ pub fn load(
         "bilinearmesh" => Ok(ShapeGeometry::Mesh(Arc::new(inline_mesh(ps, loc, 4)?))),
         "loopsubdiv" => Ok(ShapeGeometry::Mesh(Arc::new(loop_subdivision(ps, loc, warnings)?))),
         "plymesh" | "objmesh" => {
-            let Some(path) = ps.filename("filename") else {
-                return Err(err(format!("{kind} needs a \"string filename\" parameter")));
-            };
-            if ps.texture("displacement").is_some() {
-                warnings.push(Warning::unsupported(loc, "displacement mapping", "ignores it"));
-                let _ = ps.float("edgelength");
-            }
-            let bytes = super::input::read(&path).map_err(|e| SceneError::Io {
-                loc: loc.clone(),
-                path: path.clone(),
-                reason: e.to_string(),
-            })?;
-            let mesh = if kind == "plymesh" { mesh_io::ply::parse(&bytes) } else { mesh_io::obj::parse(&bytes) };
-            let mesh =
-                mesh.map_err(|e| SceneError::Mesh { loc: loc.clone(), path: path.clone(), message: e.to_string() })?;
-            if mesh.indices.is_empty() {
-                // OBJ readers skip what they do not know, so a wrong file can parse to nothing.
-                let message = format!("mesh file \"{}\" holds no triangles; the shape is empty", path.display());
-                warnings.push(Warning::note(loc, message));
-            }
+            let path = mesh_file_path(kind, ps, loc, warnings)?;
+            let (mesh, note) = read_mesh_file(kind, &path, loc)?;
+            warnings.extend(note);
             Ok(ShapeGeometry::Mesh(Arc::new(mesh)))
         }
         _ => Err(err(format!("no geometry loader for shape type \"{kind}\""))),
     }
+}
+
+/// The file a `plymesh` or `objmesh` shape (`kind`) names, marking its parameters used.
+pub fn mesh_file_path(
+    kind: &str,
+    ps: &ParamSet,
+    loc: &Location,
+    warnings: &mut Vec<Warning>,
+) -> Result<PathBuf, SceneError> {
+    let Some(path) = ps.filename("filename") else {
+        let message = format!("{kind} needs a \"string filename\" parameter");
+        return Err(SceneError::syntax(loc, &format!("Shape \"{kind}\""), message));
+    };
+    if ps.texture("displacement").is_some() {
+        warnings.push(Warning::unsupported(loc, "displacement mapping", "ignores it"));
+        let _ = ps.float("edgelength");
+    }
+    Ok(path)
+}
+
+/// The mesh of the PLY (`kind` "plymesh") or OBJ ("objmesh") file `path`, named by the shape at
+/// `loc`, and a note when it holds no triangles.
+pub fn read_mesh_file(kind: &str, path: &Path, loc: &Location) -> Result<(Mesh, Option<Warning>), SceneError> {
+    let bytes = super::input::read(path).map_err(|e| SceneError::Io {
+        loc: loc.clone(),
+        path: path.to_path_buf(),
+        reason: e.to_string(),
+    })?;
+    let mesh = if kind == "plymesh" { mesh_io::ply::parse(&bytes) } else { mesh_io::obj::parse(&bytes) };
+    let mesh =
+        mesh.map_err(|e| SceneError::Mesh { loc: loc.clone(), path: path.to_path_buf(), message: e.to_string() })?;
+    // OBJ readers skip what they do not know, so a wrong file can parse to nothing.
+    let note = mesh.indices.is_empty().then(|| {
+        Warning::note(loc, format!("mesh file \"{}\" holds no triangles; the shape is empty", path.display()))
+    });
+    Ok((mesh, note))
 }
 
 /// `trianglemesh` (`corners` = 3) or `bilinearmesh` (`corners` = 4, triangulated on the patch's

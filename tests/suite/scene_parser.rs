@@ -843,6 +843,59 @@ fn plymesh_and_objmesh_load_relative_to_the_scene() {
     assert!(w.len() == 1 && w[0].contains("2:1:") && w[0].contains("x.obj\" holds no triangles"), "{w:?}");
 }
 
+/// Mesh files are read when the parse ends, all at once: what a scene gets is what reading each
+/// where its shape stands gives — meshes in their shapes (objects included, one left open too),
+/// notes in order among the warnings, and the first failing file, in the scene's order, as the
+/// error, even when a syntax error comes after it.
+#[test]
+fn mesh_files_read_together_behave_as_read_in_order() {
+    let d = tmp("mesh_files_in_order");
+    std::fs::write(d.join("t.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
+    std::fs::write(d.join("q.obj"), "v 0 0 0\nv 2 0 0\nv 2 2 0\nv 0 2 0\nf 1 2 3 4\n").unwrap();
+    std::fs::write(d.join("x.obj"), "not an obj file\n").unwrap();
+    let obj = |f: &str| format!("Shape \"objmesh\" \"string filename\" \"{f}\"\n");
+    let scene = format!(
+        "WorldBegin\n{}ObjectBegin \"o\"\n{}{}ObjectEnd\n{}WorldEnd\n{}ObjectBegin \"p\"\n{}",
+        obj("t.obj"),
+        obj("q.obj"),
+        obj("x.obj"),
+        obj("q.obj"),
+        obj("x.obj"),
+        obj("t.obj")
+    );
+    std::fs::write(d.join("s.pbrt"), &scene).unwrap();
+    let (s, w) = parse_file(&d.join("s.pbrt"), &ParseOptions::default()).unwrap();
+    let area = |g: &ShapeGeometry| match g {
+        ShapeGeometry::Mesh(m) => m.area(),
+        _ => -1.0,
+    };
+    let world: Vec<f32> = s.shapes.iter().map(|sh| area(&sh.geometry)).collect();
+    assert_eq!(world, [0.5, 4.0, 0.0]);
+    let objects: Vec<Vec<f32>> =
+        s.objects.iter().map(|o| o.shapes.iter().map(|sh| area(&sh.geometry)).collect()).collect();
+    assert_eq!(objects, [vec![4.0, 0.0], vec![0.5]]);
+    // The notes of the two empty meshes, each where its shape stands: before the WorldEnd
+    // warning and after it, then the unclosed ObjectBegin's.
+    let w: Vec<String> = w.iter().map(|w| w.to_string()).collect();
+    let line = |k: usize| w.get(k).map_or("", |s| s.as_str());
+    assert_eq!(w.len(), 4, "{w:?}");
+    assert!(line(0).contains("s.pbrt:5:1:") && line(0).contains("holds no triangles"), "{w:?}");
+    assert!(line(1).contains("WorldEnd"), "{w:?}");
+    assert!(line(2).contains("s.pbrt:9:1:") && line(2).contains("holds no triangles"), "{w:?}");
+    assert!(line(3).contains("ObjectBegin"), "{w:?}");
+    // A file that cannot be read is the error, though a later directive is wrong too.
+    std::fs::write(d.join("s.pbrt"), format!("WorldBegin\n{}{}Shape \"cube\"\n", obj("t.obj"), obj("none.obj")))
+        .unwrap();
+    let e = parse_file(&d.join("s.pbrt"), &ParseOptions::default()).unwrap_err().to_string();
+    assert!(
+        e.starts_with(&format!("{}:3:1: cannot read \"{}\"", d.join("s.pbrt").display(), d.join("none.obj").display())),
+        "{e}"
+    );
+    std::fs::write(d.join("s.pbrt"), format!("WorldBegin\n{}Shape \"cube\"\n", obj("t.obj"))).unwrap();
+    let e = parse_file(&d.join("s.pbrt"), &ParseOptions::default()).unwrap_err().to_string();
+    assert!(e.contains("unknown shape type \"cube\""), "{e}");
+}
+
 #[test]
 fn large_inline_mesh_parses() {
     // A 100k-vertex strip: 300k floats and ~100k triangles of text (about 3 MB).

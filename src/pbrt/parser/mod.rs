@@ -10,6 +10,7 @@ use rustc_hash::FxHashMap as HashMap;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
+mod mesh_files;
 mod options;
 mod transforms;
 mod world;
@@ -67,7 +68,9 @@ pub fn parse_file(path: &Path, opts: &ParseOptions) -> Result<(SceneDesc, Vec<Wa
     let mut p = Parser::new(opts);
     p.search_dir = Some(Arc::from(path.parent().unwrap_or(Path::new(""))));
     p.files_read.push(path.to_path_buf());
-    p.parse_text(&SourceFiles::default(), text, file, canonical(path))?;
+    if let Err(e) = p.parse_text(&SourceFiles::default(), text, file, canonical(path)) {
+        return Err(p.first_error(e));
+    }
     p.finish()
 }
 
@@ -79,7 +82,9 @@ pub fn parse_str(text: &str, opts: &ParseOptions) -> Result<(SceneDesc, Vec<Warn
     };
     let mut p = Parser::new(opts);
     p.search_dir = opts.base_dir.as_deref().map(Arc::from);
-    p.parse_text(&SourceFiles::default(), text.to_string(), file.clone(), file.to_path_buf())?;
+    if let Err(e) = p.parse_text(&SourceFiles::default(), text.to_string(), file.clone(), file.to_path_buf()) {
+        return Err(p.first_error(e));
+    }
     p.finish()
 }
 
@@ -187,6 +192,8 @@ struct Parser<'o> {
     stack_floor: usize,
     warned_motion: bool,
     last_loc: Option<Location>,
+    /// Mesh files named so far, read when the parse ends ([`mesh_files`]).
+    pending_meshes: Vec<mesh_files::PendingMesh>,
 }
 
 impl<'o> Parser<'o> {
@@ -238,6 +245,7 @@ impl<'o> Parser<'o> {
             text_bytes: 0,
             stack_floor: 0,
             warned_motion: false,
+            pending_meshes: Vec::new(),
             last_loc: None,
         }
     }
@@ -463,6 +471,7 @@ impl<'o> Parser<'o> {
                 self.warn(&loc, format!("{kind:?}Begin without a matching End"));
             }
         }
+        self.read_mesh_files()?;
         for (name, loc) in &self.named_material_uses {
             if !self.named_material_index.contains_key(name) {
                 return Err(SceneError::syntax(loc, name, format!("named material \"{name}\" is not defined")));

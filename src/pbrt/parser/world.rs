@@ -313,7 +313,13 @@ impl Parser<'_> {
         }
         self.share_texture_names(&mut params);
         let loc = tok.loc();
-        let geometry = shapes::load(kind, &params, &loc, &mut self.warnings)?;
+        let geometry = match kind {
+            "plymesh" | "objmesh" => {
+                let path = shapes::mesh_file_path(kind, &params, &loc, &mut self.warnings)?;
+                self.defer_mesh_file(kind, path, &loc)
+            }
+            _ => shapes::load(kind, &params, &loc, &mut self.warnings)?,
+        };
         if matches!(kind, "trianglemesh" | "bilinearmesh" | "loopsubdiv") {
             // The mesh holds the values now.
             params.drop_consumed();
