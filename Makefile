@@ -16,7 +16,7 @@
 CARGO ?= cargo
 SPP ?= 64
 
-.PHONY: deps oidn pgo render test test-default test-pure test-embree4 test-slurm lint bench docs compat
+.PHONY: deps oidn pgo render test test-default test-pure test-embree4 test-slurm lint compat
 
 deps:
 	bash scripts/install-deps.sh
