@@ -12,7 +12,8 @@ use super::params::ParamSet;
 use crate::geometry::{bilinear, loop_subdivision, Mesh};
 
 /// Loads the geometry of a Shape of type `kind` (a name from `names::PRISM_SHAPES`), marking
-/// the geometry parameters used.
+/// the geometry parameters used. Mesh files (`plymesh`, `objmesh`) are named by
+/// [`mesh_file_path`] and read later by [`read_mesh_file`], all together.
 pub fn load(
     kind: &str,
     ps: &ParamSet,
@@ -33,12 +34,6 @@ pub fn load(
         "trianglemesh" => Ok(ShapeGeometry::Mesh(Arc::new(inline_mesh(ps, loc, 3)?))),
         "bilinearmesh" => Ok(ShapeGeometry::Mesh(Arc::new(inline_mesh(ps, loc, 4)?))),
         "loopsubdiv" => Ok(ShapeGeometry::Mesh(Arc::new(loop_subdivision(ps, loc, warnings)?))),
-        "plymesh" | "objmesh" => {
-            let path = mesh_file_path(kind, ps, loc, warnings)?;
-            let (mesh, note) = read_mesh_file(kind, &path, loc)?;
-            warnings.extend(note);
-            Ok(ShapeGeometry::Mesh(Arc::new(mesh)))
-        }
         _ => Err(err(format!("no geometry loader for shape type \"{kind}\""))),
     }
 }
